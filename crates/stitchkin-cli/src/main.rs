@@ -1,0 +1,307 @@
+//! `stitchkin`: the command line, a thin shell over the `stitchkin` library.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use miette::{Diagnostic, LabeledSpan, NamedSource, SourceCode};
+use stitchkin::error::{Error, ModelError};
+use stitchkin::eval::{self, CycleOptions};
+use stitchkin::model::{Model, Params};
+use stitchkin::{output, presets};
+
+#[derive(Parser)]
+#[command(
+    name = "stitchkin",
+    version,
+    about = "Kinematics of sewing-machine mechanisms and the thread they move",
+    long_about = "Kinematics of sewing-machine mechanisms and the thread they move.\n\n\
+        Describe a machine in one TOML model file (docs/model-format.md) or pick a shipped preset, \
+        and get every position, exact velocity/acceleration analog and transmission angle over a \
+        main-shaft cycle.",
+    after_help = "Examples:\n  stitchkin run                         # the default preset, CSV on stdout\n  \
+        stitchkin run --preset needle876 --set alpha=30 --format json -o run.json\n  \
+        stitchkin check my-machine.toml\n  stitchkin presets"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// List the shipped presets (name, machine, seed).
+    #[command(after_help = "Example:\n  stitchkin presets")]
+    Presets,
+    /// Evaluate a model over one main-shaft cycle: positions, analogs,
+    /// velocities, link and transmission angles, measures.
+    #[command(after_help = "Examples:\n  stitchkin run\n  \
+        stitchkin run --preset needle876 --set alpha=35 --step 0.5 --rpm 3000\n  \
+        stitchkin run my-machine.toml --points G,E --format json -o out.json\n\n\
+        Columns carry their units: phi_deg, G.y_mm, G.dy_dphi_mm_per_rad, G.d2y_dphi2_mm_per_rad2,\n\
+        G.vy_mm_per_s (with --rpm), angle_A_B_deg, mu_23_deg, needle_y_mm, ...\n\
+        A summary (transmission angles, measure ranges, warnings) goes to stderr.")]
+    Run(RunArgs),
+    /// Check a model file: load, validate, solve a full cycle, and report
+    /// its parameters, solve order and transmission angles.
+    #[command(after_help = "Examples:\n  stitchkin check my-machine.toml\n  stitchkin check --preset overlock500 --set alpha=10")]
+    Check(CheckArgs),
+    /// Print the JSON Schema of the model file format.
+    #[command(after_help = "Example:\n  stitchkin schema > stitchkin-model.schema.json")]
+    Schema,
+}
+
+#[derive(Args)]
+struct ModelArgs {
+    /// Model file (TOML). Without it, --preset or the default preset is used.
+    model: Option<PathBuf>,
+    /// A shipped preset by name (see `stitchkin presets`).
+    #[arg(long, conflicts_with = "model")]
+    preset: Option<String>,
+    /// Override a parameter: NAME=VALUE in the parameter's unit (mm or deg).
+    /// Repeatable. Values outside the parameter's adjustable range are rejected.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    set: Vec<String>,
+}
+
+#[derive(Args)]
+struct RunArgs {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Step of the main-shaft angle φ, degrees.
+    #[arg(long, default_value_t = 1.0, value_name = "DEG")]
+    step: f64,
+    /// Main-shaft speed, rev/min: adds real velocities and accelerations
+    /// (default: the model's `rpm`, if any).
+    #[arg(long, value_name = "N")]
+    rpm: Option<f64>,
+    /// Points to tabulate, comma-separated (default: the model's output points).
+    #[arg(long, value_delimiter = ',', value_name = "A,B,…")]
+    points: Option<Vec<String>>,
+    /// Positions only, without analogs.
+    #[arg(long)]
+    no_analogs: bool,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Csv)]
+    format: Format,
+    /// Write to FILE instead of stdout (written completely or not at all).
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct CheckArgs {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// φ step of the assembly check, degrees.
+    #[arg(long, default_value_t = 1.0, value_name = "DEG")]
+    step: f64,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Format {
+    Csv,
+    Json,
+}
+
+/// A model-file error shown with its place in the file.
+#[derive(Debug)]
+struct FileDiagnostic {
+    err: ModelError,
+    src: NamedSource<String>,
+}
+
+impl std::fmt::Display for FileDiagnostic {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.err.line_col() {
+            Some((l, c)) => write!(f, "{}:{l}:{c}: ", self.err.file)?,
+            None => write!(f, "{}: ", self.err.file)?,
+        }
+        if !self.err.path.is_empty() {
+            write!(f, "{}: ", self.err.path)?;
+        }
+        write!(f, "{}", self.err.message)
+    }
+}
+
+impl std::error::Error for FileDiagnostic {}
+
+impl Diagnostic for FileDiagnostic {
+    fn help<'a>(&'a self) -> Option<Box<dyn std::fmt::Display + 'a>> {
+        self.err.help.as_ref().map(|h| Box::new(h) as Box<dyn std::fmt::Display>)
+    }
+    fn source_code(&self) -> Option<&dyn SourceCode> {
+        self.err.span.as_ref().map(|_| &self.src as &dyn SourceCode)
+    }
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        let span = self.err.span.clone()?;
+        let len = span.len().max(1);
+        Some(Box::new(std::iter::once(LabeledSpan::new(Some("here".into()), span.start, len))))
+    }
+}
+
+fn report(e: Error) -> miette::Report {
+    match e {
+        Error::Model(m) => {
+            let src = NamedSource::new(m.file.clone(), m.text.to_string());
+            miette::Report::new(FileDiagnostic { err: *m, src })
+        }
+        Error::Param(p) => match p.help {
+            Some(h) => miette::miette!(help = h, "{}", p.message),
+            None => miette::miette!("{}", p.message),
+        },
+        Error::Assembly(a) => miette::miette!(
+            help = "check the dimensions and the branch of that group, or the φ range (`stitchkin check` shows where assembly is lost)",
+            "{a}"
+        ),
+        Error::NotFinite(m) => miette::miette!("{m}"),
+        Error::Io(m) => miette::miette!("{m}"),
+    }
+}
+
+fn load(args: &ModelArgs) -> Result<(Model, Params), Error> {
+    let model = match (&args.model, &args.preset) {
+        (Some(path), _) => Model::from_path(path)?,
+        (None, Some(name)) => Model::preset(name)?,
+        (None, None) => Model::preset(presets::DEFAULT)?,
+    };
+    let mut params = model.defaults();
+    for s in &args.set {
+        model.set_str(&mut params, s)?;
+    }
+    // Impossible geometry with the overrides is reported before evaluation.
+    model.mechanism::<f64>(&params)?;
+    Ok((model, params))
+}
+
+fn emit(bytes: &[u8], out: Option<&PathBuf>) -> Result<(), Error> {
+    match out {
+        Some(path) => output::write_atomic(path, bytes),
+        None => {
+            let mut stdout = std::io::stdout().lock();
+            match stdout.write_all(bytes).and_then(|_| stdout.flush()) {
+                Ok(()) => Ok(()),
+                // A closed pipe (`| head`) is not an error.
+                Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+                Err(e) => Err(Error::Io(format!("cannot write to stdout: {e}"))),
+            }
+        }
+    }
+}
+
+fn run(args: RunArgs) -> Result<(), Error> {
+    let (model, params) = load(&args.model)?;
+    let points = match &args.points {
+        Some(names) => Some(
+            names
+                .iter()
+                .map(|n| {
+                    model.point_names.iter().position(|p| p == n).ok_or_else(|| {
+                        Error::Param(stitchkin::error::ParamError {
+                            message: format!("the model has no point `{n}` (in --points)"),
+                            help: Some(format!("its points are: {}", model.point_names.join(", "))),
+                        })
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()?,
+        ),
+        None => None,
+    };
+    let opts = CycleOptions {
+        step_deg: args.step,
+        rpm: args.rpm.or(model.file.model.rpm),
+        analogs: !args.no_analogs,
+        points,
+    };
+    let table = eval::run_cycle(&model, &params, &opts)?;
+    let mut buf = Vec::new();
+    match args.format {
+        Format::Csv => output::write_csv(&table, &mut buf),
+        Format::Json => output::write_json(&model, &params, &table, &mut buf),
+    }
+    .map_err(|e| Error::Io(e.to_string()))?;
+    emit(&buf, args.output.as_ref())?;
+    if matches!(args.format, Format::Csv) || args.output.is_some() {
+        eprint!("{}", summary(&model, &table));
+    }
+    Ok(())
+}
+
+fn summary(model: &Model, table: &eval::CycleTable) -> String {
+    let mut s = String::new();
+    let m = &model.file.model;
+    s += &format!(
+        "# {} — {} rows, φ from {}° in steps of {}°{}\n",
+        m.title.as_deref().unwrap_or(&m.name),
+        table.rows(),
+        model.phi_start_deg(),
+        table.step_deg,
+        table.rpm.map(|r| format!(", {r} rpm")).unwrap_or_default()
+    );
+    for t in &table.transmission {
+        s += &format!(
+            "# mu_{:<8} {:>7.2}° (φ = {:>6.1}°) … {:>7.2}° (φ = {:>6.1}°)  {}  [{}]\n",
+            t.key,
+            t.min_deg,
+            t.phi_at_min_deg,
+            t.max_deg,
+            t.phi_at_max_deg,
+            if t.ok { "ok" } else { "OUTSIDE 30°…150°" },
+            t.group
+        );
+    }
+    for r in &table.ranges {
+        s += &format!(
+            "# {:<10} {:.4} … {:.4} {} (range {:.4} {}; min at φ = {:.1}°, max at φ = {:.1}°)\n",
+            r.name, r.min, r.max, r.unit, r.range, r.unit, r.phi_at_min_deg, r.phi_at_max_deg
+        );
+    }
+    for w in &table.warnings {
+        s += &format!("warning: {w}\n");
+    }
+    s
+}
+
+fn check(args: CheckArgs) -> Result<(), Error> {
+    let (model, params) = load(&args.model)?;
+    let table = eval::run_cycle(&model, &params, &CycleOptions { step_deg: args.step, ..Default::default() })?;
+    let m = &model.file.model;
+    let mut out = String::new();
+    out += &format!("{}: ok — {}\n", model.file_name, m.title.as_deref().unwrap_or(&m.name));
+    out += &format!("parameters ({}):\n", model.params.len());
+    for (p, v) in model.params.iter().zip(&params.values) {
+        let value = if p.is_derived() { "derived".to_string() } else { format!("{v} {}", p.unit_str()) };
+        let range = p.range.map(|[a, b]| format!("  range {a}…{b} {}", p.unit_str())).unwrap_or_default();
+        let prov = p.provenance.map(|p| format!("  [{p:?}]").to_lowercase()).unwrap_or_default();
+        out += &format!("  {:<10} {value}{range}{prov}\n", p.name);
+    }
+    out += &format!("solve order ({} steps):\n", model.step_labels().len());
+    for (k, l) in model.step_labels().iter().enumerate() {
+        out += &format!("  {:>2}. {l}\n", k + 1);
+    }
+    out += &format!("assembles at every φ from {}° in steps of {}°\n", model.phi_start_deg(), args.step);
+    out += &summary(&model, &table);
+    emit(out.as_bytes(), None)
+}
+
+fn main() -> miette::Result<()> {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Presets => {
+            let mut out = String::from("name          seed  machine\n");
+            for p in presets::ALL {
+                let (title, seed) = match Model::preset(p.name) {
+                    Ok(m) => (m.file.model.title.clone().unwrap_or_default(), m.file.model.seed.clone().unwrap_or_default()),
+                    Err(e) => (format!("(does not load: {e})"), String::new()),
+                };
+                let default = if p.name == presets::DEFAULT { "  (default)" } else { "" };
+                out += &format!("{:<13} {:<5} {title}{default}\n", p.name, seed);
+            }
+            emit(out.as_bytes(), None)
+        }
+        Command::Run(args) => run(args),
+        Command::Check(args) => check(args),
+        Command::Schema => emit(stitchkin::model::schema_json().as_bytes(), None),
+    };
+    result.map_err(report)
+}

@@ -1,0 +1,342 @@
+//! Evaluating a model over a main-shaft cycle: positions, exact analogs,
+//! real velocities and accelerations, link and transmission angles, measures,
+//! collected into a table of named, unit-carrying columns.
+
+use num_dual::Dual2_64;
+use serde::Serialize;
+
+use crate::error::Error;
+use crate::mechanism::{Mechanism, Phi, Pose};
+use crate::model::{Model, Params};
+use crate::scalar::{Real, phi_dual};
+
+/// The band a transmission angle must stay in (seed 002 eq. 15), degrees.
+pub const MU_MIN_DEG: f64 = 30.0;
+pub const MU_MAX_DEG: f64 = 150.0;
+
+/// How to run a cycle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CycleOptions {
+    /// φ step, degrees (0 < step ≤ 360).
+    pub step_deg: f64,
+    /// Main-shaft speed for velocities and accelerations; `None` prints
+    /// analogs only.
+    pub rpm: Option<f64>,
+    /// Include first and second analogs.
+    pub analogs: bool,
+    /// Points to tabulate; `None`: the model's output points.
+    pub points: Option<Vec<usize>>,
+}
+
+impl Default for CycleOptions {
+    fn default() -> Self {
+        CycleOptions { step_deg: 1.0, rpm: None, analogs: true, points: None }
+    }
+}
+
+/// One named column: `name` ends with its unit (`E.x_mm`, `mu_23_deg`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Column {
+    pub name: String,
+    pub values: Vec<f64>,
+}
+
+/// Extremes of a transmission angle over the cycle.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TransmissionSummary {
+    /// Column key (`mu_{key}_deg`).
+    pub key: String,
+    pub group: String,
+    pub min_deg: f64,
+    pub phi_at_min_deg: f64,
+    pub max_deg: f64,
+    pub phi_at_max_deg: f64,
+    /// Inside 30°…150° over the whole cycle.
+    pub ok: bool,
+}
+
+/// Extremes of a measure or coordinate over the cycle.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RangeSummary {
+    pub name: String,
+    pub unit: &'static str,
+    pub min: f64,
+    pub phi_at_min_deg: f64,
+    pub max: f64,
+    pub phi_at_max_deg: f64,
+    /// max − min (a stroke, for a coordinate).
+    pub range: f64,
+}
+
+/// A full cycle's results.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CycleTable {
+    pub step_deg: f64,
+    pub rpm: Option<f64>,
+    pub columns: Vec<Column>,
+    pub transmission: Vec<TransmissionSummary>,
+    pub ranges: Vec<RangeSummary>,
+    pub warnings: Vec<String>,
+}
+
+impl CycleTable {
+    pub fn rows(&self) -> usize {
+        self.columns.first().map_or(0, |c| c.values.len())
+    }
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.columns.iter().find(|c| c.name == name).map(|c| c.values.as_slice())
+    }
+}
+
+/// φ reduced to [0, 360) degrees, for reporting where something happens.
+pub fn wrap_deg(phi_deg: f64) -> f64 {
+    let w = phi_deg.rem_euclid(360.0);
+    if w >= 360.0 - 1e-9 { 0.0 } else { w }
+}
+
+/// The φ values of a cycle starting at `start_deg` with `step_deg`.
+pub fn cycle_phis_deg(start_deg: f64, step_deg: f64) -> Vec<f64> {
+    let n = (360.0 / step_deg - 1e-9).ceil().max(1.0) as usize;
+    (0..n).map(|k| start_deg + k as f64 * step_deg).collect()
+}
+
+/// Checks cycle options against the model.
+pub fn check_options(opts: &CycleOptions) -> Result<(), Error> {
+    if !(opts.step_deg.is_finite() && opts.step_deg > 0.0 && opts.step_deg <= 360.0) {
+        return Err(Error::Param(crate::error::ParamError {
+            message: format!("the step {} deg is out of range", opts.step_deg),
+            help: Some("give a step between 0 and 360 degrees, e.g. --step 1".into()),
+        }));
+    }
+    if opts.step_deg < 1e-3 {
+        return Err(Error::Param(crate::error::ParamError {
+            message: format!("the step {} deg would make over 360 000 rows", opts.step_deg),
+            help: Some("use a step of at least 0.001 deg".into()),
+        }));
+    }
+    if let Some(rpm) = opts.rpm {
+        if !(rpm.is_finite() && rpm > 0.0 && rpm <= 1.0e5) {
+            return Err(Error::Param(crate::error::ParamError {
+                message: format!("the speed {rpm} rpm is out of range"),
+                help: Some("give a main-shaft speed between 0 and 100000 rev/min".into()),
+            }));
+        }
+    }
+    Ok(())
+}
+
+/// Solves `mech` at every φ of a cycle, calling `visit(k, phi_deg, pose)`
+/// after each solve. The pose is reused: nothing is allocated per step.
+pub fn for_each_position<T: Real>(
+    mech: &Mechanism<T>,
+    phis_deg: &[f64],
+    make_phi: impl Fn(f64) -> Phi<T>,
+    mut visit: impl FnMut(usize, f64, &Pose<T>) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let mut pose = mech.new_pose();
+    for (k, &p) in phis_deg.iter().enumerate() {
+        mech.solve(&make_phi(p.to_radians()), &mut pose)?;
+        visit(k, p, &pose)?;
+    }
+    Ok(())
+}
+
+struct Builder {
+    columns: Vec<Column>,
+}
+
+impl Builder {
+    fn col(&mut self, name: String, n: usize) -> usize {
+        self.columns.push(Column { name, values: Vec::with_capacity(n) });
+        self.columns.len() - 1
+    }
+}
+
+/// Runs a full cycle of `model` with `params`.
+pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<CycleTable, Error> {
+    check_options(opts)?;
+    let mech = model.mechanism::<Dual2_64>(params)?;
+    let phis = cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
+    let n = phis.len();
+    let omega = opts.rpm.map(|r| r * std::f64::consts::TAU / 60.0);
+    let points: Vec<usize> = opts.points.clone().unwrap_or_else(|| model.output_points.clone());
+    let axes: &[&str] = if model.planar { &["x", "y"] } else { &["x", "y", "z"] };
+
+    let mut b = Builder { columns: Vec::new() };
+    let phi_col = b.col("phi_deg".into(), n);
+    // Column layout: per point, its coordinates, then analogs, then real
+    // velocities and accelerations.
+    let mut point_cols = Vec::new();
+    for &p in &points {
+        let name = &model.point_names[p];
+        let pos: Vec<usize> = axes.iter().map(|a| b.col(format!("{name}.{a}_mm"), n)).collect();
+        let (d1, d2) = if opts.analogs {
+            (
+                axes.iter().map(|a| b.col(format!("{name}.d{a}_dphi_mm_per_rad"), n)).collect(),
+                axes.iter().map(|a| b.col(format!("{name}.d2{a}_dphi2_mm_per_rad2"), n)).collect(),
+            )
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        let (v, acc) = if opts.analogs && omega.is_some() {
+            (
+                axes.iter().map(|a| b.col(format!("{name}.v{a}_mm_per_s"), n)).collect(),
+                axes.iter().map(|a| b.col(format!("{name}.a{a}_mm_per_s2"), n)).collect(),
+            )
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        point_cols.push((p, pos, d1, d2, v, acc));
+    }
+    let scalar_cols = |b: &mut Builder, base: &str, unit: &str, d_unit: &str, v: (&str, &str)| -> [Option<usize>; 5] {
+        let c0 = Some(b.col(format!("{base}_{unit}"), n));
+        if !opts.analogs {
+            return [c0, None, None, None, None];
+        }
+        let c1 = Some(b.col(format!("{base}.d_dphi_{d_unit}_per_rad"), n));
+        let c2 = Some(b.col(format!("{base}.d2_dphi2_{d_unit}_per_rad2"), n));
+        let (c3, c4) = if omega.is_some() {
+            (Some(b.col(format!("{base}.{}", v.0), n)), Some(b.col(format!("{base}.{}", v.1), n)))
+        } else {
+            (None, None)
+        };
+        [c0, c1, c2, c3, c4]
+    };
+    let angle_cols: Vec<[Option<usize>; 5]> = model
+        .link_angle_names
+        .iter()
+        .map(|a| scalar_cols(&mut b, a, "deg", "rad", ("omega_rad_per_s", "eps_rad_per_s2")))
+        .collect();
+    let mu_cols: Vec<usize> = model.dyads.iter().map(|d| b.col(format!("mu_{}_deg", d.key), n)).collect();
+    let measure_cols: Vec<[Option<usize>; 5]> = model
+        .measure_names
+        .iter()
+        .map(|m| scalar_cols(&mut b, m, "mm", "mm", ("v_mm_per_s", "a_mm_per_s2")))
+        .collect();
+
+    let mut angles = Vec::new();
+    let mut mus = Vec::new();
+    let mut measures = Vec::new();
+    let w = omega.unwrap_or(0.0);
+    let cols = &mut b.columns;
+    let push = |cols: &mut Vec<Column>, c: Option<usize>, v: f64| {
+        if let Some(c) = c {
+            cols[c].values.push(v);
+        }
+    };
+    for_each_position(&mech, &phis, |phi| Phi::new(phi_dual(phi)), |_, phi_deg, pose| {
+        cols[phi_col].values.push(phi_deg);
+        for (p, pos, d1, d2, v, acc) in &point_cols {
+            let q = pose.points[*p];
+            for k in 0..pos.len() {
+                cols[pos[k]].values.push(q[k].re);
+                if !d1.is_empty() {
+                    cols[d1[k]].values.push(q[k].v1);
+                    cols[d2[k]].values.push(q[k].v2);
+                }
+                if !v.is_empty() {
+                    cols[v[k]].values.push(q[k].v1 * w);
+                    cols[acc[k]].values.push(q[k].v2 * w * w);
+                }
+            }
+        }
+        mech.link_angles(pose, &mut angles);
+        for (a, c) in angles.iter().zip(&angle_cols) {
+            for (k, val) in [a.re.to_degrees(), a.v1, a.v2, a.v1 * w, a.v2 * w * w].into_iter().enumerate() {
+                push(cols, c[k], val);
+            }
+        }
+        mech.transmission_angles(pose, &mut mus);
+        for (m, &c) in mus.iter().zip(&mu_cols) {
+            cols[c].values.push(m.re.to_degrees());
+        }
+        mech.measures(pose, &mut measures);
+        for (m, c) in measures.iter().zip(&measure_cols) {
+            for (k, val) in [m.re, m.v1, m.v2, m.v1 * w, m.v2 * w * w].into_iter().enumerate() {
+                push(cols, c[k], val);
+            }
+        }
+        Ok(())
+    })?;
+    let columns = b.columns;
+    // Never NaN or infinity in output.
+    for c in &columns {
+        if let Some(k) = c.values.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NotFinite(format!(
+                "`{}` is {} at φ = {:.3}°: the mechanism passes a dead point there, where analogs are infinite; \
+                 change the geometry or the step so no position lands on the dead point",
+                c.name, c.values[k], wrap_deg(phis[k])
+            )));
+        }
+    }
+    let extremes = |vals: &[f64]| {
+        let (mut imin, mut imax) = (0, 0);
+        for (k, v) in vals.iter().enumerate() {
+            if *v < vals[imin] {
+                imin = k;
+            }
+            if *v > vals[imax] {
+                imax = k;
+            }
+        }
+        (imin, imax)
+    };
+    let mut warnings = Vec::new();
+    let transmission: Vec<TransmissionSummary> = model
+        .dyads
+        .iter()
+        .zip(&mu_cols)
+        .map(|(d, &c)| {
+            let v = &columns[c].values;
+            let (i0, i1) = extremes(v);
+            let ok = v[i0] >= MU_MIN_DEG && v[i1] <= MU_MAX_DEG;
+            if !ok {
+                warnings.push(format!(
+                    "transmission angle of {} leaves {MU_MIN_DEG}°…{MU_MAX_DEG}°: {:.2}° at φ = {:.1}° … {:.2}° at φ = {:.1}° (risk of jamming)",
+                    d.label, v[i0], wrap_deg(phis[i0]), v[i1], wrap_deg(phis[i1])
+                ));
+            }
+            TransmissionSummary {
+                key: d.key.clone(),
+                group: d.label.clone(),
+                min_deg: v[i0],
+                phi_at_min_deg: wrap_deg(phis[i0]),
+                max_deg: v[i1],
+                phi_at_max_deg: wrap_deg(phis[i1]),
+                ok,
+            }
+        })
+        .collect();
+    let ranges = model
+        .measure_names
+        .iter()
+        .zip(&measure_cols)
+        .map(|(name, c)| {
+            let v = &columns[c[0].expect("value column always present")].values;
+            let (i0, i1) = extremes(v);
+            RangeSummary {
+                name: name.clone(),
+                unit: "mm",
+                min: v[i0],
+                phi_at_min_deg: wrap_deg(phis[i0]),
+                max: v[i1],
+                phi_at_max_deg: wrap_deg(phis[i1]),
+                range: v[i1] - v[i0],
+            }
+        })
+        .collect();
+    Ok(CycleTable { step_deg: opts.step_deg, rpm: opts.rpm, columns, transmission, ranges, warnings })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn phis_cover_one_cycle() {
+        assert_eq!(cycle_phis_deg(0.0, 1.0).len(), 360);
+        assert_eq!(cycle_phis_deg(90.6, 90.0), vec![90.6, 180.6, 270.6, 360.6]);
+        assert_eq!(cycle_phis_deg(0.0, 7.0).len(), 52);
+        assert_eq!(cycle_phis_deg(0.0, 360.0).len(), 1);
+    }
+}

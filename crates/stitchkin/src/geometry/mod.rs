@@ -1,0 +1,136 @@
+//! Points, vectors and fixed coordinate frames.
+
+use nalgebra::{Matrix3, Vector2, Vector3};
+
+use crate::scalar::Real;
+
+pub type V2<T> = Vector2<T>;
+pub type V3<T> = Vector3<T>;
+
+/// `v` turned by +90° in its plane: (x, y) → (−y, x).
+#[inline(always)]
+pub fn perp<T: Real>(v: V2<T>) -> V2<T> {
+    V2::new(-v.y, v.x)
+}
+
+/// z-component of the planar cross product `a × b`.
+#[inline(always)]
+pub fn cross2<T: Real>(a: V2<T>, b: V2<T>) -> T {
+    a.x * b.y - a.y * b.x
+}
+
+/// A rigid placement: `p_world = origin + rot · p_local`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement<T: Real> {
+    pub rot: Matrix3<T>,
+    pub origin: V3<T>,
+}
+
+impl<T: Real> Placement<T> {
+    pub fn identity() -> Self {
+        Placement { rot: Matrix3::identity(), origin: V3::zeros() }
+    }
+
+    /// Local coordinates → world.
+    #[inline]
+    pub fn to_world(&self, p: V3<T>) -> V3<T> {
+        self.origin + self.rot * p
+    }
+
+    /// A local direction → world.
+    #[inline]
+    pub fn dir_to_world(&self, d: V3<T>) -> V3<T> {
+        self.rot * d
+    }
+
+    /// World coordinates → local.
+    #[inline]
+    pub fn to_local(&self, p: V3<T>) -> V3<T> {
+        self.rot.tr_mul(&(p - self.origin))
+    }
+
+    /// `self` placed inside `parent`: `parent ∘ self`.
+    pub fn within(&self, parent: &Placement<T>) -> Self {
+        Placement { rot: parent.rot * self.rot, origin: parent.to_world(self.origin) }
+    }
+
+    /// The frame's xy-plane as a plane of motion, `None` for the world's own
+    /// (the fast path every planar group takes by default).
+    pub fn is_identity(&self) -> bool {
+        self.rot == Matrix3::identity() && self.origin == V3::zeros()
+    }
+}
+
+/// Rotation by `angle_rad` about the coordinate axis `axis` (0 = x, 1 = y, 2 = z).
+pub fn axis_rotation<T: Real>(axis: usize, angle_rad: T) -> Matrix3<T> {
+    let (s, c) = angle_rad.sin_cos();
+    let (o, z) = (T::one(), T::zero());
+    match axis {
+        0 => Matrix3::new(o, z, z, z, c, -s, z, s, c),
+        1 => Matrix3::new(c, z, s, z, o, z, -s, z, c),
+        _ => Matrix3::new(c, -s, z, s, c, z, z, z, o),
+    }
+}
+
+/// A plane of motion for planar groups: the xy-plane of a frame.
+/// `None` is the world xy-plane, handled without any transformation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plane<T: Real>(pub Option<Placement<T>>);
+
+impl<T: Real> Plane<T> {
+    pub const WORLD: Plane<T> = Plane(None);
+
+    /// In-plane coordinates of a world point (its projection on the plane).
+    #[inline(always)]
+    pub fn project(&self, p: &V3<T>) -> V2<T> {
+        match &self.0 {
+            None => V2::new(p.x, p.y),
+            Some(f) => f.to_local(*p).xy(),
+        }
+    }
+
+    /// World point of in-plane coordinates `q` at height `lift` above the plane.
+    #[inline(always)]
+    pub fn lift(&self, q: V2<T>, lift: T) -> V3<T> {
+        match &self.0 {
+            None => V3::new(q.x, q.y, lift),
+            Some(f) => f.to_world(V3::new(q.x, q.y, lift)),
+        }
+    }
+
+    /// World direction of an in-plane direction.
+    #[inline(always)]
+    pub fn dir(&self, q: V2<T>) -> V3<T> {
+        match &self.0 {
+            None => V3::new(q.x, q.y, T::zero()),
+            Some(f) => f.dir_to_world(V3::new(q.x, q.y, T::zero())),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn rotations_are_right_handed() {
+        let q = std::f64::consts::FRAC_PI_2;
+        let r = axis_rotation(2, q) * V3::new(1.0, 0.0, 0.0);
+        assert_relative_eq!(r, V3::new(0.0, 1.0, 0.0), epsilon = 1e-15);
+        let r = axis_rotation(0, q) * V3::new(0.0, 1.0, 0.0);
+        assert_relative_eq!(r, V3::new(0.0, 0.0, 1.0), epsilon = 1e-15);
+        let r = axis_rotation(1, q) * V3::new(0.0, 0.0, 1.0);
+        assert_relative_eq!(r, V3::new(1.0, 0.0, 0.0), epsilon = 1e-15);
+    }
+
+    #[test]
+    fn placement_round_trip() {
+        let f = Placement { rot: axis_rotation(0, 0.3) * axis_rotation(2, 1.1), origin: V3::new(1.0, -2.0, 3.0) };
+        let p = V3::new(0.5, 7.0, -1.0);
+        assert_relative_eq!(f.to_local(f.to_world(p)), p, epsilon = 1e-12);
+        let plane = Plane(Some(f));
+        let q = plane.project(&plane.lift(V2::new(2.0, 3.0), 4.0));
+        assert_relative_eq!(q, V2::new(2.0, 3.0), epsilon = 1e-12);
+    }
+}

@@ -1,0 +1,79 @@
+//! Planar dyad RRR (class II, type 1): two links joined at `B`.
+
+use super::NoAssembly;
+use crate::geometry::{V2, perp};
+use crate::scalar::Real;
+
+/// Joint `B` at distance `l1` from `p1` and `l2` from `p2` (seed 002 eq. 3–5,
+/// written without angles): with `d = p2 − p1`,
+/// `B = p1 + k·d ± h·perp(d)`, `k = (l1² − l2² + |d|²) / (2|d|²)`,
+/// `h = √(l1²/|d|² − k²)`. `sign = +1` puts `B` left of `p1 → p2`.
+#[inline(always)]
+pub fn rrr<T: Real>(p1: V2<T>, p2: V2<T>, l1: T, l2: T, sign: f64) -> Result<V2<T>, NoAssembly> {
+    let d = p2 - p1;
+    let d2 = d.norm_squared();
+    if d2.re() <= 0.0 {
+        return Err(NoAssembly::coincident("the two joints of the dyad"));
+    }
+    let k = (l1 * l1 - l2 * l2 + d2) / (d2 + d2);
+    let h2 = l1 * l1 / d2 - k * k;
+    if h2.re() < 0.0 {
+        let (dist, l1, l2) = (d2.re().sqrt(), l1.re(), l2.re());
+        return Err(if dist > l1 + l2 {
+            NoAssembly::new(
+                dist - (l1 + l2),
+                format!("the joints are {dist:.4} mm apart but the two links reach only {:.4} mm", l1 + l2),
+            )
+        } else {
+            NoAssembly::new(
+                (l1 - l2).abs() - dist,
+                format!("the joints are {dist:.4} mm apart, closer than the links' difference {:.4} mm", (l1 - l2).abs()),
+            )
+        });
+    }
+    Ok(p1 + d * k + perp(d) * (h2.sqrt() * T::cst(sign)))
+}
+
+/// Transmission angle at `B` (seed 002 eq. 4, μ): the angle between the
+/// links `B→p1` and `B→p2`, rad, in [0, π].
+#[inline]
+pub fn transmission<T: Real>(p1: V2<T>, p2: V2<T>, b: V2<T>) -> T {
+    let (u, v) = (p1 - b, p2 - b);
+    crate::geometry::cross2(u, v).abs().atan2(u.dot(&v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn right_triangle_3_4_5() {
+        // p1 = (0,0), p2 = (5,0), l1 = 3, l2 = 4: B = (1.8, ±2.4).
+        let b = rrr(V2::new(0.0, 0.0), V2::new(5.0, 0.0), 3.0, 4.0, 1.0).unwrap();
+        assert_relative_eq!(b, V2::new(1.8, 2.4), epsilon = 1e-14);
+        let b = rrr(V2::new(0.0, 0.0), V2::new(5.0, 0.0), 3.0, 4.0, -1.0).unwrap();
+        assert_relative_eq!(b, V2::new(1.8, -2.4), epsilon = 1e-14);
+        let mu = transmission(V2::new(0.0, 0.0), V2::new(5.0, 0.0), b);
+        assert_relative_eq!(mu, std::f64::consts::FRAC_PI_2, epsilon = 1e-14);
+    }
+
+    #[test]
+    fn left_is_counter_clockwise_for_any_base_direction() {
+        let p1 = V2::new(2.0, 1.0);
+        let p2 = V2::new(-3.0, 4.0);
+        let b = rrr(p1, p2, 4.0, 5.0, 1.0).unwrap();
+        assert!(crate::geometry::cross2(p2 - p1, b - p1) > 0.0);
+        assert_relative_eq!((b - p1).norm(), 4.0, epsilon = 1e-12);
+        assert_relative_eq!((b - p2).norm(), 5.0, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn no_assembly_reports_the_defect() {
+        let e = rrr(V2::new(0.0, 0.0), V2::new(10.0, 0.0), 3.0, 4.0, 1.0).unwrap_err();
+        assert_relative_eq!(e.defect_mm, 3.0, epsilon = 1e-12);
+        let e = rrr(V2::new(0.0, 0.0), V2::new(1.0, 0.0), 3.0, 5.0, 1.0).unwrap_err();
+        assert_relative_eq!(e.defect_mm, 1.0, epsilon = 1e-12);
+        assert!(rrr(V2::new(1.0, 1.0), V2::new(1.0, 1.0), 3.0, 5.0, 1.0).is_err());
+    }
+}

@@ -1,0 +1,430 @@
+//! The model file as written by a user: plain serde types, one per TOML table.
+//!
+//! These types are the single source of truth for the file format: they are
+//! deserialized from TOML, and `stitchkin schema` derives the JSON Schema from
+//! them. Nothing here is checked beyond its TOML shape; [`super::load`] turns
+//! a [`ModelFile`] into a validated, compiled [`super::Model`].
+
+use std::collections::BTreeMap;
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+/// A number, or an arithmetic expression of parameters in a string,
+/// e.g. `"x_c + l_ef - l_ef*cos(alpha)"`. Trigonometric functions take and
+/// give degrees.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum Value {
+    Number(f64),
+    Expr(String),
+}
+
+/// A whole model file.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ModelFile {
+    /// What machine this is and where the cycle starts.
+    pub model: ModelInfo,
+    /// Named parameters: dimensions, angles and settings. Keys are names
+    /// usable in expressions (`[A-Za-z_][A-Za-z0-9_]*`).
+    #[serde(default)]
+    pub parameters: BTreeMap<String, Parameter>,
+    /// Named fixed coordinate frames (besides `world`).
+    #[serde(default)]
+    pub frames: BTreeMap<String, Frame>,
+    /// Named fixed points (frame pivots, guide points, …).
+    #[serde(default)]
+    pub points: BTreeMap<String, FixedPoint>,
+    /// Cranks and eccentrics on the main shaft (class I mechanisms).
+    #[serde(default)]
+    pub drivers: Vec<Driver>,
+    /// Structural groups, in any order: they are solved in dependency order.
+    #[serde(default)]
+    pub groups: Vec<Group>,
+    /// Derived quantities evaluated at every φ (distances, deviations, …).
+    #[serde(default)]
+    pub measures: Vec<Measure>,
+    /// What `stitchkin run` prints by default.
+    #[serde(default)]
+    pub output: Option<OutputSpec>,
+}
+
+/// The `[model]` table.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ModelInfo {
+    /// Short identifier, e.g. `needle876`.
+    pub name: String,
+    /// The machine or mechanism, in words.
+    #[serde(default)]
+    pub title: Option<String>,
+    /// Which seed paper the model comes from, e.g. `"002"`.
+    #[serde(default)]
+    pub seed: Option<String>,
+    /// Main-shaft angle φ where a cycle starts, in degrees (e.g. the needle's
+    /// bottom dead centre). Default 0.
+    #[serde(default)]
+    pub phi_start_deg: Option<f64>,
+    /// Main-shaft speed used for real velocities and accelerations, rev/min.
+    #[serde(default)]
+    pub rpm: Option<f64>,
+    /// Free text: reconstruction notes, assumptions.
+    #[serde(default)]
+    pub notes: Option<String>,
+}
+
+/// Physical dimension of a parameter. Angles in files are degrees.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+pub enum Unit {
+    /// Millimetres.
+    #[serde(rename = "mm")]
+    Mm,
+    /// Degrees.
+    #[serde(rename = "deg")]
+    Deg,
+    /// A pure number (ratios, counts).
+    #[serde(rename = "1")]
+    One,
+}
+
+/// Where a number comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Provenance {
+    /// Printed in the seed paper.
+    Published,
+    /// Derived from published facts (figure-only dimension, typo fix, …).
+    Reconstructed,
+    /// Chosen to be realistic where the seed gives no number.
+    Illustrative,
+}
+
+/// One `[parameters]` entry: either `value` (a settable number) or `expr`
+/// (derived from other parameters).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Parameter {
+    /// Nominal value (mm, deg or a pure number, per `unit`).
+    #[serde(default)]
+    pub value: Option<f64>,
+    /// Expression of other parameters; the parameter is then derived and
+    /// cannot be set from the command line.
+    #[serde(default)]
+    pub expr: Option<String>,
+    pub unit: Unit,
+    /// Adjustable range `[min, max]`; overrides outside it are rejected.
+    #[serde(default)]
+    pub range: Option<[f64; 2]>,
+    /// Where the number comes from (seed, table, line) or how it was chosen.
+    #[serde(default)]
+    pub source: Option<String>,
+    #[serde(default)]
+    pub provenance: Option<Provenance>,
+}
+
+/// A coordinate axis name or a direction vector.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum Axis {
+    /// `"x"`, `"y"`, `"z"`, or with a sign, `"-y"`.
+    Named(String),
+    /// Components `[x, y, z]` (need not be unit length).
+    Vector(Vec<Value>),
+}
+
+/// A rotation about one axis, `["x", 20]`: axis name and angle in degrees.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct Rotation(pub String, pub Value);
+
+/// A fixed coordinate frame: `p_parent = origin + R · p_local`, with `R` the
+/// product of `rotate` taken left to right (each about the frame's current
+/// axes).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Frame {
+    /// Frame this one is given in; default `world`.
+    #[serde(default)]
+    pub parent: Option<String>,
+    /// Origin in the parent frame, mm: `[x, y]` or `[x, y, z]`.
+    #[serde(default)]
+    pub origin: Option<Vec<Value>>,
+    /// Rotations, e.g. `[["x", "alpha"]]` for a plane inclined by α about x.
+    #[serde(default)]
+    pub rotate: Vec<Rotation>,
+}
+
+/// A fixed point: `[x, y]`, `[x, y, z]` (world, mm) or a table with a frame.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum FixedPoint {
+    Coords(Vec<Value>),
+    InFrame(FixedPointInFrame),
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FixedPointInFrame {
+    /// Coordinates in `frame`, mm.
+    pub at: Vec<Value>,
+    /// Frame the coordinates are given in; default `world`.
+    #[serde(default)]
+    pub frame: Option<String>,
+    #[serde(default)]
+    pub source: Option<String>,
+}
+
+/// Kind of driver. A crank and an eccentric are the same kinematically
+/// (the eccentric's radius is its eccentricity); the name documents the part.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum DriverKind {
+    Crank,
+    Eccentric,
+}
+
+/// A crank or eccentric on the main shaft: its pin `out` turns about `axis`
+/// through `center` at angle θ = speed·φ + phase, measured from `zero_dir`.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Driver {
+    #[serde(rename = "type")]
+    pub kind: DriverKind,
+    /// Name used in messages; default: the `out` point's name.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Fixed point on the shaft axis.
+    pub center: String,
+    /// Name of the crank pin / eccentric centre this driver creates.
+    pub out: String,
+    /// Crank radius or eccentricity, mm.
+    pub radius: Value,
+    /// Shaft axis; default `"z"`. Positive rotation is right-handed about it.
+    #[serde(default)]
+    pub axis: Option<Axis>,
+    /// Frame `axis` and `zero_dir` are given in; default `world`.
+    #[serde(default)]
+    pub frame: Option<String>,
+    /// Direction of θ = 0, perpendicular to the axis; default: x for a z
+    /// axis, y for x, z for y (cyclic), else any perpendicular.
+    #[serde(default)]
+    pub zero_dir: Option<Axis>,
+    /// Phase offset added to φ, degrees.
+    #[serde(default)]
+    pub phase_deg: Option<Value>,
+    /// Turns per main-shaft turn (1 for the main shaft itself; −1 turns the
+    /// other way).
+    #[serde(default)]
+    pub speed: Option<f64>,
+}
+
+/// Which of two assemblies a group takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Branch {
+    /// Left of the directed base line, looking against the plane normal
+    /// (counter-clockwise side).
+    Left,
+    /// Right of the directed base line (clockwise side).
+    Right,
+    /// Ahead of the input point's foot along the line direction.
+    Forward,
+    /// Behind the input point's foot along the line direction.
+    Backward,
+}
+
+/// A structural group or a rigid point, solved in dependency order.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Group {
+    /// Planar dyad RRR: `out` at `lengths[0]` from `joints[0]` and
+    /// `lengths[1]` from `joints[1]`.
+    Rrr {
+        #[serde(default)]
+        name: Option<String>,
+        joints: [String; 2],
+        lengths: [Value; 2],
+        out: String,
+        /// `left` or `right` of the directed line joints[0] → joints[1].
+        branch: Branch,
+        /// Frame whose local xy-plane is the plane of motion; default world.
+        #[serde(default)]
+        plane: Option<String>,
+    },
+    /// Planar dyad RRP: a rod of `length` from joint `from` to a slider
+    /// `out` on the guide line through `through` (toward `toward`, or along
+    /// `direction_deg` in the plane), offset `offset` to its left.
+    Rrp {
+        #[serde(default)]
+        name: Option<String>,
+        from: String,
+        length: Value,
+        through: String,
+        #[serde(default)]
+        toward: Option<String>,
+        #[serde(default)]
+        direction_deg: Option<Value>,
+        /// Slider offset from the guide line, mm, positive to its left.
+        #[serde(default)]
+        offset: Option<Value>,
+        out: String,
+        /// `forward` or `backward` of `from`'s foot on the line.
+        branch: Branch,
+        #[serde(default)]
+        plane: Option<String>,
+    },
+    /// Planar dyad RPR (slotted lever): a lever pivoting at `pivot` whose
+    /// slot passes through the moving pin `from`, at `offset` to the slot
+    /// line's left of the pivot. Creates `out` on the slot line at `distance`
+    /// from the pivot's foot (positive toward the pin).
+    Rpr {
+        #[serde(default)]
+        name: Option<String>,
+        from: String,
+        pivot: String,
+        #[serde(default)]
+        offset: Option<Value>,
+        out: String,
+        distance: Value,
+        #[serde(default)]
+        plane: Option<String>,
+    },
+    /// Spatial RSSR: rocker turning on a fixed axis through `pivot`, its
+    /// ball end `out` at radius `arm` in the plane `offset` along the axis,
+    /// joined to moving point `from` by a rod of length `rod`.
+    Rssr {
+        #[serde(default)]
+        name: Option<String>,
+        from: String,
+        rod: Value,
+        pivot: String,
+        axis: Axis,
+        arm: Value,
+        #[serde(default)]
+        offset: Option<Value>,
+        out: String,
+        /// `left` (counter-clockwise about the axis from `from`'s
+        /// direction) or `right`.
+        branch: Branch,
+        #[serde(default)]
+        frame: Option<String>,
+        /// Direction of rocker angle 0 for the reported angle.
+        #[serde(default)]
+        zero_dir: Option<Axis>,
+    },
+    /// Spatial: `out` slides on the line through `through` (toward `toward`
+    /// or along `direction`) at `length` from moving point `from`.
+    PointOnLine {
+        #[serde(default)]
+        name: Option<String>,
+        from: String,
+        length: Value,
+        through: String,
+        #[serde(default)]
+        toward: Option<String>,
+        #[serde(default)]
+        direction: Option<Axis>,
+        #[serde(default)]
+        frame: Option<String>,
+        out: String,
+        branch: Branch,
+    },
+    /// Planar rigid point: `out` at `distance` from `base[0]`, at
+    /// `angle_deg` (counter-clockwise) from the link vector base[0] → base[1].
+    RigidPoint {
+        #[serde(default)]
+        name: Option<String>,
+        base: [String; 2],
+        distance: Value,
+        #[serde(default)]
+        angle_deg: Option<Value>,
+        /// Height along the plane normal, mm (eyelets lifted off the plane).
+        #[serde(default)]
+        lift: Option<Value>,
+        out: String,
+        #[serde(default)]
+        plane: Option<String>,
+    },
+    /// Spatial rigid point: `out` at local coordinates `at` in the link frame
+    /// with origin `frame[0]`, x axis toward `frame[1]` and `frame[2]` in
+    /// the local xy-plane (y positive on its side).
+    #[serde(rename = "rigid_point_3d")]
+    RigidPoint3d {
+        #[serde(default)]
+        name: Option<String>,
+        frame: [String; 3],
+        at: Vec<Value>,
+        out: String,
+    },
+    /// Numerical group: Newton's method on the closure equations, continued
+    /// from the previous φ. For anything without a closed form.
+    Newton {
+        name: String,
+        /// Unknown points and their positions at φ start (the guess that
+        /// picks the assembly), mm, in `plane` (2 coordinates) or world (3).
+        unknowns: BTreeMap<String, Vec<Value>>,
+        constraints: Vec<Constraint>,
+        /// Frame whose xy-plane holds a planar group; omit for spatial.
+        #[serde(default)]
+        plane: Option<String>,
+        /// Whether the group is planar (2 unknowns per point); default:
+        /// planar when the guesses have two coordinates.
+        #[serde(default)]
+        planar: Option<bool>,
+    },
+}
+
+/// One closure equation of a `newton` group.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum Constraint {
+    /// `|a − b| = length`.
+    Distance { distance: [String; 2], length: Value },
+    /// Point `on_line` lies on the line through `through` toward `toward`.
+    OnLine {
+        on_line: String,
+        through: String,
+        toward: String,
+    },
+}
+
+/// A derived quantity evaluated at every φ, with analogs.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Measure {
+    /// `|points[0] − points[1]|`, mm.
+    Distance { name: String, points: [String; 2] },
+    /// Signed distance of `point` from the line through `through` toward
+    /// `toward`, mm: positive on the left, in the plane of `plane`
+    /// (default world xy). For a spatial line give `plane = "none"` to get
+    /// the unsigned 3D distance.
+    LineDeviation {
+        name: String,
+        point: String,
+        through: String,
+        toward: String,
+        #[serde(default)]
+        plane: Option<String>,
+    },
+    /// Coordinate of `point` along `axis` of `frame` measured from the
+    /// frame origin (or from `from`), mm.
+    Coordinate {
+        name: String,
+        point: String,
+        axis: Axis,
+        #[serde(default)]
+        frame: Option<String>,
+        #[serde(default)]
+        from: Option<String>,
+    },
+}
+
+/// The `[output]` table.
+#[derive(Debug, Clone, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Points whose positions and analogs `stitchkin run` prints; default
+    /// every moving point.
+    #[serde(default)]
+    pub points: Option<Vec<String>>,
+}

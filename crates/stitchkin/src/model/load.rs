@@ -1,0 +1,875 @@
+//! Checking a [`ModelFile`] and compiling it into a [`Model`]: names resolved
+//! to slots, expressions parsed and unit-checked, groups put in solve order.
+
+use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
+
+use super::expr::{Dim, Dimension, Expr, ExprError};
+use super::file::{self, Axis, Branch, FixedPoint, Group, ModelFile, Unit, Value};
+use super::spans::{Path, SpanIndex};
+use super::{AxisDef, FrameDef, MeasureDef, ParamDef, PointKind, Q, StepDef, ClosureDef};
+use crate::error::{ModelError, did_you_mean};
+
+/// Reserved words that cannot name a parameter.
+const RESERVED: &[&str] =
+    &["pi", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "abs", "hypot", "min", "max"];
+
+pub(super) struct Loader<'a> {
+    file_name: String,
+    text: Arc<str>,
+    spans: SpanIndex<'a>,
+    pub(super) params: Vec<ParamDef>,
+    param_index: HashMap<String, usize>,
+    pub(super) exprs: Vec<Expr>,
+    /// Quantities that must come out positive: (quantity, path, what).
+    pub(super) positive: Vec<(Q, Path, &'static str)>,
+    pub(super) expr_paths: Vec<Path>,
+    pub(super) frames: Vec<FrameDef>,
+    frame_index: HashMap<String, usize>,
+    pub(super) points: Vec<(String, PointKind)>,
+    point_index: HashMap<String, usize>,
+}
+
+type R<T> = Result<T, Box<ModelError>>;
+
+impl<'a> Loader<'a> {
+    pub(super) fn new(file_name: &str, text: &'a str) -> Self {
+        Loader {
+            file_name: file_name.to_string(),
+            text: Arc::from(text),
+            spans: SpanIndex::new(text),
+            params: Vec::new(),
+            param_index: HashMap::new(),
+            exprs: Vec::new(),
+            positive: Vec::new(),
+            expr_paths: Vec::new(),
+            frames: Vec::new(),
+            frame_index: HashMap::new(),
+            points: Vec::new(),
+            point_index: HashMap::new(),
+        }
+    }
+
+    pub(super) fn err(&self, path: &Path, message: impl Into<String>, help: Option<String>) -> Box<ModelError> {
+        Box::new(ModelError {
+            file: self.file_name.clone(),
+            text: self.text.clone(),
+            span: self.spans.find(path),
+            path: path.to_string(),
+            message: message.into(),
+            help,
+        })
+    }
+
+    fn toml_err(&self, e: toml::de::Error) -> Box<ModelError> {
+        let msg = e.message().trim().to_string();
+        let help = if msg.contains("unknown field") {
+            Some("check the spelling against docs/model-format.md or `stitchkin schema`".to_string())
+        } else if msg.contains("missing field") {
+            Some("add the field; docs/model-format.md lists what each table needs".to_string())
+        } else if msg.contains("unknown variant") {
+            Some("use one of the listed values".to_string())
+        } else if msg.contains("did not match any variant") {
+            Some("write a number, an expression in quotes, or a list of coordinates".to_string())
+        } else {
+            None
+        };
+        Box::new(ModelError {
+            file: self.file_name.clone(),
+            text: self.text.clone(),
+            span: e.span(),
+            path: String::new(),
+            message: msg,
+            help,
+        })
+    }
+
+    pub(super) fn parse(&self, text: &str) -> R<ModelFile> {
+        toml::from_str::<ModelFile>(text).map_err(|e| self.toml_err(e))
+    }
+
+    // ---- parameters -------------------------------------------------------
+
+    pub(super) fn parameters(&mut self, f: &ModelFile) -> R<Vec<usize>> {
+        for (name, p) in &f.parameters {
+            let path = Path::root().key("parameters").key(name);
+            if !is_ident(name) {
+                return Err(self.err(
+                    &path,
+                    format!("`{name}` is not a valid parameter name"),
+                    Some("names start with a letter or `_` and use letters, digits and `_`".into()),
+                ));
+            }
+            if RESERVED.contains(&name.as_str()) {
+                return Err(self.err(&path, format!("`{name}` is a reserved word"), Some("choose another name".into())));
+            }
+            match (p.value, &p.expr) {
+                (Some(_), Some(_)) => {
+                    return Err(self.err(
+                        &path,
+                        "a parameter has either `value` or `expr`, not both",
+                        Some("keep `value` for a settable number, `expr` for a derived one".into()),
+                    ));
+                }
+                (None, None) => {
+                    return Err(self.err(
+                        &path,
+                        "the parameter has no `value`",
+                        Some(format!("write e.g. `{name} = {{ value = 10, unit = \"mm\" }}`")),
+                    ));
+                }
+                _ => {}
+            }
+            if let Some(v) = p.value {
+                if !v.is_finite() {
+                    return Err(self.err(&path.key("value"), "the value must be a finite number", None));
+                }
+            }
+            if let Some([lo, hi]) = p.range {
+                let rp = path.key("range");
+                if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+                    return Err(self.err(&rp, "the range must be [min, max] with min ≤ max", None));
+                }
+                if p.expr.is_some() {
+                    return Err(self.err(&rp, "a derived parameter (with `expr`) cannot have a range", Some("put the range on the parameters it is derived from".into())));
+                }
+                if let Some(v) = p.value {
+                    if v < lo || v > hi {
+                        return Err(self.err(
+                            &path.key("value"),
+                            format!("the value {v} is outside the parameter's range [{lo}, {hi}]"),
+                            Some("widen the range or correct the value".into()),
+                        ));
+                    }
+                }
+            }
+            self.param_index.insert(name.clone(), self.params.len());
+            self.params.push(ParamDef {
+                name: name.clone(),
+                unit: p.unit,
+                value: p.value,
+                expr: None,
+                range: p.range,
+                source: p.source.clone(),
+                provenance: p.provenance,
+            });
+        }
+        // Derived parameters: parse, check units, order.
+        for (name, p) in &f.parameters {
+            if let Some(src) = &p.expr {
+                let path = Path::root().key("parameters").key(name).key("expr");
+                let e = self.parse_expr(src, &path)?;
+                let want = unit_dim(p.unit);
+                self.check_dim(&e, want, &path, src)?;
+                let i = self.param_index[name];
+                self.params[i].expr = Some(e);
+            }
+        }
+        self.param_order()
+    }
+
+    fn param_order(&self) -> R<Vec<usize>> {
+        // Kahn's algorithm over "derived parameter reads parameter" edges.
+        let n = self.params.len();
+        let mut deps: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (i, p) in self.params.iter().enumerate() {
+            if let Some(e) = &p.expr {
+                e.params(&mut deps[i]);
+            }
+        }
+        let mut done = vec![false; n];
+        let mut order = Vec::with_capacity(n);
+        loop {
+            let before = order.len();
+            for i in 0..n {
+                if !done[i] && deps[i].iter().all(|&d| done[d]) {
+                    done[i] = true;
+                    order.push(i);
+                }
+            }
+            if order.len() == n {
+                return Ok(order);
+            }
+            if order.len() == before {
+                let cyc: Vec<&str> = (0..n).filter(|&i| !done[i]).map(|i| self.params[i].name.as_str()).collect();
+                let path = Path::root().key("parameters").key(cyc[0]).key("expr");
+                return Err(self.err(
+                    &path,
+                    format!("derived parameters depend on each other in a loop: {}", cyc.join(", ")),
+                    Some("give one of them a plain `value`".into()),
+                ));
+            }
+        }
+    }
+
+    fn parse_expr(&self, src: &str, path: &Path) -> R<Expr> {
+        let lookup = |n: &str| self.param_index.get(n).copied();
+        Expr::parse(src, &lookup).map_err(|e| self.expr_err(e, src, path))
+    }
+
+    fn expr_err(&self, e: ExprError, src: &str, path: &Path) -> Box<ModelError> {
+        let mut help = e.help.clone();
+        if e.message.starts_with("unknown parameter") {
+            let name = &src[e.at.clone()];
+            help = Some(match did_you_mean(name, self.param_index.keys().map(String::as_str)) {
+                Some(s) => format!("did you mean `{s}`? Parameters are defined in [parameters]"),
+                None => "define it in [parameters], e.g. `NAME = { value = 10, unit = \"mm\" }`".into(),
+            });
+        }
+        let mut err = self.err(path, format!("in `{src}`: {}", e.message), help);
+        // Narrow the span to the offending token inside a plain string.
+        if let Some(span) = &err.span {
+            let raw = &self.text[span.clone()];
+            if (raw.starts_with('"') || raw.starts_with('\'')) && raw.len() >= 2 && &raw[1..raw.len() - 1] == src {
+                let start = span.start + 1 + e.at.start;
+                err.span = Some(start..(span.start + 1 + e.at.end).max(start + 1));
+            }
+        }
+        err
+    }
+
+    fn check_dim(&self, e: &Expr, want: Option<Dim>, path: &Path, src: &str) -> R<()> {
+        let pd = |i: usize| unit_dim(self.params[i].unit).unwrap_or(Dim::ONE);
+        match e.dimension(&pd) {
+            Err(m) => Err(self.err(path, format!("in `{src}`: {m}"), Some("check the units of the parameters used".into()))),
+            Ok(Dimension::Is(d)) if want.is_some_and(|w| w != d) => {
+                let w = want.unwrap_or(Dim::ONE);
+                Err(self.err(
+                    path,
+                    format!("`{src}` is in {} but {} is expected here", d.unit(), w.unit()),
+                    Some(format!("use a quantity in {}", w.unit())),
+                ))
+            }
+            Ok(_) => Ok(()),
+        }
+    }
+
+    /// Compiles a value expected in dimension `want` (`None`: any).
+    pub(super) fn qty(&mut self, v: &Value, want: Option<Dim>, path: Path) -> R<Q> {
+        let e = match v {
+            Value::Number(x) => {
+                if !x.is_finite() {
+                    return Err(self.err(&path, "the value must be a finite number", None));
+                }
+                Expr::Num(*x)
+            }
+            Value::Expr(src) => {
+                let e = self.parse_expr(src, &path)?;
+                self.check_dim(&e, want, &path, src)?;
+                e
+            }
+        };
+        self.exprs.push(e);
+        self.expr_paths.push(path);
+        Ok(self.exprs.len() - 1)
+    }
+
+    fn length(&mut self, v: &Value, path: Path) -> R<Q> {
+        self.qty(v, Some(Dim::LENGTH), path)
+    }
+
+    fn positive_length(&mut self, v: &Value, path: Path, what: &'static str) -> R<Q> {
+        let q = self.qty(v, Some(Dim::LENGTH), path.clone())?;
+        self.positive.push((q, path, what));
+        Ok(q)
+    }
+
+    fn angle(&mut self, v: &Value, path: Path) -> R<Q> {
+        self.qty(v, Some(Dim::ANGLE), path)
+    }
+
+    fn zero(&mut self) -> Q {
+        self.exprs.push(Expr::Num(0.0));
+        self.expr_paths.push(Path::root());
+        self.exprs.len() - 1
+    }
+
+    fn coords(&mut self, v: &[Value], path: &Path, dims: std::ops::RangeInclusive<usize>) -> R<[Q; 3]> {
+        if !dims.contains(&v.len()) {
+            let want = if dims.start() == dims.end() { format!("{}", dims.start()) } else { format!("{} or {}", dims.start(), dims.end()) };
+            return Err(self.err(path, format!("expected {want} coordinates, got {}", v.len()), Some("write `[x, y]` or `[x, y, z]` in mm".into())));
+        }
+        let x = self.length(&v[0], path.index(0))?;
+        let y = self.length(&v[1], path.index(1))?;
+        let z = if v.len() > 2 { self.length(&v[2], path.index(2))? } else { self.zero() };
+        Ok([x, y, z])
+    }
+
+    // ---- frames and axes ----------------------------------------------------
+
+    pub(super) fn frames(&mut self, f: &ModelFile) -> R<()> {
+        self.frames.push(FrameDef { name: "world".into(), parent: None, origin: None, rotate: Vec::new() });
+        self.frame_index.insert("world".into(), 0);
+        if f.frames.contains_key("world") {
+            return Err(self.err(&Path::root().key("frames").key("world"), "`world` is built in and cannot be redefined", Some("choose another frame name".into())));
+        }
+        for name in f.frames.keys() {
+            self.frame_index.insert(name.clone(), self.frames.len());
+            self.frames.push(FrameDef { name: name.clone(), parent: None, origin: None, rotate: Vec::new() });
+        }
+        for (name, fr) in &f.frames {
+            let path = Path::root().key("frames").key(name);
+            let i = self.frame_index[name];
+            let parent = match &fr.parent {
+                Some(p) => Some(self.frame_ref(p, &path.key("parent"))?),
+                None => Some(0),
+            };
+            let origin = match &fr.origin {
+                Some(o) => Some(self.coords(o, &path.key("origin"), 2..=3)?),
+                None => None,
+            };
+            let mut rotate = Vec::new();
+            for (k, file::Rotation(axis, ang)) in fr.rotate.iter().enumerate() {
+                let rp = path.key("rotate").index(k);
+                let a = match axis.as_str() {
+                    "x" => 0,
+                    "y" => 1,
+                    "z" => 2,
+                    _ => {
+                        return Err(self.err(&rp.index(0), format!("unknown rotation axis `{axis}`"), Some("write \"x\", \"y\" or \"z\"".into())));
+                    }
+                };
+                rotate.push((a, self.angle(ang, rp.index(1))?));
+            }
+            self.frames[i] = FrameDef { name: name.clone(), parent, origin, rotate };
+        }
+        // Parent chains must end at the world.
+        for i in 1..self.frames.len() {
+            let mut seen = vec![i];
+            let mut j = i;
+            while let Some(p) = self.frames[j].parent {
+                if p == 0 {
+                    break;
+                }
+                if seen.contains(&p) {
+                    let name = self.frames[i].name.clone();
+                    return Err(self.err(&Path::root().key("frames").key(&name).key("parent"), "frames are each other's parents in a loop", Some("one frame of the loop must have `world` as parent".into())));
+                }
+                seen.push(p);
+                j = p;
+            }
+        }
+        Ok(())
+    }
+
+    fn frame_ref(&self, name: &str, path: &Path) -> R<usize> {
+        self.frame_index.get(name).copied().ok_or_else(|| {
+            let help = match did_you_mean(name, self.frame_index.keys().map(String::as_str)) {
+                Some(s) => format!("did you mean `{s}`?"),
+                None => format!("define it as [frames.{name}] or use `world`"),
+            };
+            self.err(path, format!("unknown frame `{name}`"), Some(help))
+        })
+    }
+
+    fn opt_frame(&self, name: &Option<String>, path: Path) -> R<usize> {
+        match name {
+            Some(n) => self.frame_ref(n, &path),
+            None => Ok(0),
+        }
+    }
+
+    fn axis(&mut self, a: &Axis, path: Path) -> R<AxisDef> {
+        match a {
+            Axis::Named(s) => {
+                let (sign, n) = match s.strip_prefix('-') {
+                    Some(rest) => (-1.0, rest),
+                    None => (1.0, s.strip_prefix('+').unwrap_or(s)),
+                };
+                let i = match n {
+                    "x" => 0,
+                    "y" => 1,
+                    "z" => 2,
+                    _ => {
+                        return Err(self.err(&path, format!("unknown axis `{s}`"), Some("write \"x\", \"y\", \"z\" (optionally with a sign, \"-y\") or a vector [x, y, z]".into())));
+                    }
+                };
+                Ok(AxisDef::Named(i, sign))
+            }
+            Axis::Vector(v) => {
+                if v.len() != 3 && v.len() != 2 {
+                    return Err(self.err(&path, format!("a direction has 2 or 3 components, got {}", v.len()), None));
+                }
+                let mut c = [0; 3];
+                for (k, x) in v.iter().enumerate() {
+                    c[k] = self.qty(x, None, path.index(k))?;
+                }
+                if v.len() == 2 {
+                    c[2] = self.zero();
+                }
+                Ok(AxisDef::Vector(c, path))
+            }
+        }
+    }
+
+    // ---- points -------------------------------------------------------------
+
+    pub(super) fn fixed_points(&mut self, f: &ModelFile) -> R<()> {
+        for (name, p) in &f.points {
+            let path = Path::root().key("points").key(name);
+            self.check_point_name(name, &path)?;
+            let (frame, coords) = match p {
+                FixedPoint::Coords(c) => (0, self.coords(c, &path, 2..=3)?),
+                FixedPoint::InFrame(fp) => {
+                    (self.opt_frame(&fp.frame, path.key("frame"))?, self.coords(&fp.at, &path.key("at"), 2..=3)?)
+                }
+            };
+            self.add_point(name, PointKind::Fixed { frame, coords }, &path)?;
+        }
+        Ok(())
+    }
+
+    fn check_point_name(&self, name: &str, path: &Path) -> R<()> {
+        if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+            return Err(self.err(path, format!("`{name}` is not a valid point name"), Some("point names use letters, digits and `_` (they become column names like `E.x_mm`)".into())));
+        }
+        Ok(())
+    }
+
+    fn add_point(&mut self, name: &str, kind: PointKind, path: &Path) -> R<usize> {
+        self.check_point_name(name, path)?;
+        if self.point_index.contains_key(name) {
+            return Err(self.err(path, format!("point `{name}` is defined twice"), Some("every point is created once: by [points], a driver or a group".into())));
+        }
+        self.point_index.insert(name.to_string(), self.points.len());
+        self.points.push((name.to_string(), kind));
+        Ok(self.points.len() - 1)
+    }
+
+    /// Declares every moving point first so groups may refer to points
+    /// created later in the file.
+    pub(super) fn declare_moving(&mut self, f: &ModelFile) -> R<()> {
+        for (k, d) in f.drivers.iter().enumerate() {
+            self.add_point(&d.out, PointKind::Moving, &Path::root().key("drivers").index(k).key("out"))?;
+        }
+        for (k, g) in f.groups.iter().enumerate() {
+            let path = Path::root().key("groups").index(k);
+            match g {
+                Group::Newton { unknowns, .. } => {
+                    for name in unknowns.keys() {
+                        self.add_point(name, PointKind::Moving, &path.key("unknowns").key(name))?;
+                    }
+                }
+                _ => {
+                    let out = group_out(g);
+                    self.add_point(out, PointKind::Moving, &path.key("out"))?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn point(&self, name: &str, path: &Path) -> R<usize> {
+        self.point_index.get(name).copied().ok_or_else(|| {
+            let help = match did_you_mean(name, self.point_index.keys().map(String::as_str)) {
+                Some(s) => format!("did you mean `{s}`?"),
+                None => "points are defined in [points], by a driver's `out` or by a group's `out`".into(),
+            };
+            self.err(path, format!("unknown point `{name}`"), Some(help))
+        })
+    }
+
+    fn fixed_point(&self, name: &str, path: &Path) -> R<usize> {
+        let i = self.point(name, path)?;
+        if !matches!(self.points[i].1, PointKind::Fixed { .. }) {
+            return Err(self.err(path, format!("`{name}` moves, but a fixed point is needed here"), Some("use a point from [points]".into())));
+        }
+        Ok(i)
+    }
+
+    // ---- drivers and groups ---------------------------------------------------
+
+    pub(super) fn drivers(&mut self, f: &ModelFile) -> R<Vec<(StepDef, String)>> {
+        let mut out = Vec::new();
+        for (k, d) in f.drivers.iter().enumerate() {
+            let path = Path::root().key("drivers").index(k);
+            let center = self.fixed_point(&d.center, &path.key("center"))?;
+            let frame = self.opt_frame(&d.frame, path.key("frame"))?;
+            let axis = match &d.axis {
+                Some(a) => self.axis(a, path.key("axis"))?,
+                None => AxisDef::Named(2, 1.0),
+            };
+            let zero_dir = match &d.zero_dir {
+                Some(a) => Some(self.axis(a, path.key("zero_dir"))?),
+                None => None,
+            };
+            let radius = self.positive_length(&d.radius, path.key("radius"), "the crank radius")?;
+            let phase = match &d.phase_deg {
+                Some(v) => self.angle(v, path.key("phase_deg"))?,
+                None => self.zero(),
+            };
+            let speed = d.speed.unwrap_or(1.0);
+            if !speed.is_finite() || speed == 0.0 {
+                return Err(self.err(&path.key("speed"), "the speed must be a non-zero number of turns per main-shaft turn", None));
+            }
+            let outp = self.point_index[&d.out];
+            let label = format!("driver {}", d.name.as_deref().unwrap_or(&d.out));
+            out.push((StepDef::Crank { center, out: outp, frame, axis, zero_dir, radius, phase, speed }, label));
+        }
+        Ok(out)
+    }
+
+    pub(super) fn groups(&mut self, f: &ModelFile) -> R<Vec<(StepDef, String, Path)>> {
+        let mut out = Vec::new();
+        for (k, g) in f.groups.iter().enumerate() {
+            let path = Path::root().key("groups").index(k);
+            let (step, label) = self.group(g, &path)?;
+            out.push((step, label, path));
+        }
+        Ok(out)
+    }
+
+    fn group(&mut self, g: &Group, path: &Path) -> R<(StepDef, String)> {
+        let kind = group_kind(g);
+        let label = match group_name(g) {
+            Some(n) => format!("{kind} group \"{n}\""),
+            None => format!("{kind} group → {}", group_out(g)),
+        };
+        let step = match g {
+            Group::Rrr { joints, lengths, out, branch, plane, .. } => {
+                let p1 = self.point(&joints[0], &path.key("joints").index(0))?;
+                let p2 = self.point(&joints[1], &path.key("joints").index(1))?;
+                let l1 = self.positive_length(&lengths[0], path.key("lengths").index(0), "a link length")?;
+                let l2 = self.positive_length(&lengths[1], path.key("lengths").index(1), "a link length")?;
+                let sign = self.side(*branch, &path.key("branch"))?;
+                let plane = self.opt_frame(plane, path.key("plane"))?;
+                StepDef::Rrr { p1, p2, l1, l2, sign, plane, out: self.point_index[out] }
+            }
+            Group::Rrp { from, length, through, toward, direction_deg, offset, out, branch, plane, .. } => {
+                let from = self.point(from, &path.key("from"))?;
+                let l = self.positive_length(length, path.key("length"), "the rod length")?;
+                let through = self.point(through, &path.key("through"))?;
+                let (toward, dir) = match (toward, direction_deg) {
+                    (Some(t), None) => (Some(self.point(t, &path.key("toward"))?), None),
+                    (None, Some(d)) => (None, Some(self.angle(d, path.key("direction_deg"))?)),
+                    _ => {
+                        return Err(self.err(path, "the guide line needs exactly one of `toward` (a point) or `direction_deg`", Some("e.g. `through = \"H\", direction_deg = 90`".into())));
+                    }
+                };
+                let offset = match offset {
+                    Some(v) => self.length(v, path.key("offset"))?,
+                    None => self.zero(),
+                };
+                let sign = self.along(*branch, &path.key("branch"))?;
+                let plane = self.opt_frame(plane, path.key("plane"))?;
+                StepDef::Rrp { from, through, toward, dir, offset, l, sign, plane, out: self.point_index[out] }
+            }
+            Group::Rpr { from, pivot, offset, out, distance, plane, .. } => {
+                let from = self.point(from, &path.key("from"))?;
+                let pivot = self.point(pivot, &path.key("pivot"))?;
+                let e = match offset {
+                    Some(v) => self.length(v, path.key("offset"))?,
+                    None => self.zero(),
+                };
+                let d = self.length(distance, path.key("distance"))?;
+                let plane = self.opt_frame(plane, path.key("plane"))?;
+                StepDef::Rpr { from, pivot, e, d, plane, out: self.point_index[out] }
+            }
+            Group::Rssr { from, rod, pivot, axis, arm, offset, out, branch, frame, zero_dir, .. } => {
+                let from = self.point(from, &path.key("from"))?;
+                let l = self.positive_length(rod, path.key("rod"), "the rod length")?;
+                let pivot = self.fixed_point(pivot, &path.key("pivot"))?;
+                let frame = self.opt_frame(frame, path.key("frame"))?;
+                let axis = self.axis(axis, path.key("axis"))?;
+                let r = self.positive_length(arm, path.key("arm"), "the rocker arm")?;
+                let offset = match offset {
+                    Some(v) => self.length(v, path.key("offset"))?,
+                    None => self.zero(),
+                };
+                let zero_dir = match zero_dir {
+                    Some(a) => Some(self.axis(a, path.key("zero_dir"))?),
+                    None => None,
+                };
+                let sign = self.side(*branch, &path.key("branch"))?;
+                StepDef::Rssr { from, l, pivot, frame, axis, r, offset, zero_dir, sign, out: self.point_index[out] }
+            }
+            Group::PointOnLine { from, length, through, toward, direction, frame, out, branch, .. } => {
+                let from = self.point(from, &path.key("from"))?;
+                let l = self.positive_length(length, path.key("length"), "the rod length")?;
+                let through = self.point(through, &path.key("through"))?;
+                let frame = self.opt_frame(frame, path.key("frame"))?;
+                let (toward, dir) = match (toward, direction) {
+                    (Some(t), None) => (Some(self.point(t, &path.key("toward"))?), None),
+                    (None, Some(d)) => (None, Some(self.axis(d, path.key("direction"))?)),
+                    _ => {
+                        return Err(self.err(path, "the line needs exactly one of `toward` (a point) or `direction`", Some("e.g. `through = \"N1\", toward = \"N2\"`".into())));
+                    }
+                };
+                let sign = self.along(*branch, &path.key("branch"))?;
+                StepDef::PointOnLine { from, through, toward, dir, frame, l, sign, out: self.point_index[out] }
+            }
+            Group::RigidPoint { base, distance, angle_deg, lift, out, plane, .. } => {
+                let a = self.point(&base[0], &path.key("base").index(0))?;
+                let b = self.point(&base[1], &path.key("base").index(1))?;
+                let d = self.length(distance, path.key("distance"))?;
+                let angle = match angle_deg {
+                    Some(v) => self.angle(v, path.key("angle_deg"))?,
+                    None => self.zero(),
+                };
+                let lift = match lift {
+                    Some(v) => self.length(v, path.key("lift"))?,
+                    None => self.zero(),
+                };
+                let plane = self.opt_frame(plane, path.key("plane"))?;
+                StepDef::Rigid { base: [a, b], d, angle, lift, plane, out: self.point_index[out] }
+            }
+            Group::RigidPoint3d { frame, at, out, .. } => {
+                let mut fr = [0; 3];
+                for (k, n) in frame.iter().enumerate() {
+                    fr[k] = self.point(n, &path.key("frame").index(k))?;
+                }
+                let at = self.coords(at, &path.key("at"), 3..=3)?;
+                StepDef::Rigid3 { frame: fr, at, out: self.point_index[out] }
+            }
+            Group::Newton { unknowns, constraints, plane, planar, .. } => {
+                let dims: Vec<usize> = unknowns.values().map(Vec::len).collect();
+                let dim = match planar {
+                    Some(true) => 2,
+                    Some(false) => 3,
+                    None => dims.first().copied().unwrap_or(2),
+                };
+                if unknowns.is_empty() {
+                    return Err(self.err(&path.key("unknowns"), "a newton group needs at least one unknown point", Some("e.g. `unknowns = { B = [10, 20] }`".into())));
+                }
+                let mut outs = Vec::new();
+                let mut guess = Vec::new();
+                let mut local: BTreeMap<&str, usize> = BTreeMap::new();
+                for (i, (name, g)) in unknowns.iter().enumerate() {
+                    let gp = path.key("unknowns").key(name);
+                    if g.len() != dim {
+                        return Err(self.err(&gp, format!("expected {dim} coordinates for the guess, got {}", g.len()), Some(if dim == 2 { "a planar group's guesses are [x, y] in its plane".into() } else { "a spatial group's guesses are [x, y, z]".into() })));
+                    }
+                    for (k, v) in g.iter().enumerate() {
+                        guess.push(self.length(v, gp.index(k))?);
+                    }
+                    outs.push(self.point_index[name.as_str()]);
+                    local.insert(name, i);
+                }
+                let mut closures = Vec::new();
+                let mut equations = 0;
+                for (k, c) in constraints.iter().enumerate() {
+                    let cp = path.key("constraints").index(k);
+                    match c {
+                        file::Constraint::Distance { distance, length } => {
+                            let mut r = [ClosureRef::Known(0); 2];
+                            for j in 0..2 {
+                                let n = &distance[j];
+                                r[j] = match local.get(n.as_str()) {
+                                    Some(&u) => ClosureRef::Unknown(u),
+                                    None => ClosureRef::Known(self.point(n, &cp.key("distance").index(j))?),
+                                };
+                            }
+                            let l = self.positive_length(length, cp.key("length"), "a distance")?;
+                            closures.push(ClosureDef::Distance { a: r[0], b: r[1], l });
+                            equations += 1;
+                        }
+                        file::Constraint::OnLine { on_line, through, toward } => {
+                            let Some(&p) = local.get(on_line.as_str()) else {
+                                return Err(self.err(&cp.key("on_line"), format!("`{on_line}` is not an unknown of this group"), Some("the point on the line must be one of the group's unknowns".into())));
+                            };
+                            let h = self.point(through, &cp.key("through"))?;
+                            let t = self.point(toward, &cp.key("toward"))?;
+                            for (n, q) in [(through, h), (toward, t)] {
+                                if local.contains_key(n.as_str()) {
+                                    let _ = q;
+                                    return Err(self.err(&cp, format!("the line's points must be solved before this group, but `{n}` is one of its unknowns"), Some("define the line by points solved earlier".into())));
+                                }
+                            }
+                            closures.push(ClosureDef::OnLine { p, h, t });
+                            equations += dim - 1;
+                        }
+                    }
+                }
+                let n = outs.len() * dim;
+                if equations != n {
+                    return Err(self.err(
+                        &path.key("constraints"),
+                        format!("{equations} closure equation(s) for {n} unknown coordinates"),
+                        Some(if equations < n { "add constraints: the group can still move".into() } else { "remove a redundant constraint (keep its length as a `distance` measure to watch it)".into() }),
+                    ));
+                }
+                let plane = self.opt_frame(plane, path.key("plane"))?;
+                StepDef::Newton { dim, plane, outs, guess, closures }
+            }
+        };
+        Ok((step, label))
+    }
+
+    fn side(&self, b: Branch, path: &Path) -> R<f64> {
+        match b {
+            Branch::Left => Ok(1.0),
+            Branch::Right => Ok(-1.0),
+            _ => Err(self.err(path, "this group's assembly is `left` or `right` of its base line", Some("write branch = \"left\" or branch = \"right\"".into()))),
+        }
+    }
+
+    fn along(&self, b: Branch, path: &Path) -> R<f64> {
+        match b {
+            Branch::Forward => Ok(1.0),
+            Branch::Backward => Ok(-1.0),
+            _ => Err(self.err(path, "a slider's assembly is `forward` or `backward` along its line", Some("write branch = \"forward\" or branch = \"backward\"".into()))),
+        }
+    }
+
+    // ---- measures and output ------------------------------------------------------
+
+    pub(super) fn measures(&mut self, f: &ModelFile) -> R<Vec<(String, MeasureDef)>> {
+        let mut out: Vec<(String, MeasureDef)> = Vec::new();
+        for (k, m) in f.measures.iter().enumerate() {
+            let path = Path::root().key("measures").index(k);
+            let (name, def) = match m {
+                file::Measure::Distance { name, points } => {
+                    let a = self.point(&points[0], &path.key("points").index(0))?;
+                    let b = self.point(&points[1], &path.key("points").index(1))?;
+                    (name, MeasureDef::Distance { a, b })
+                }
+                file::Measure::LineDeviation { name, point, through, toward, plane } => {
+                    let p = self.point(point, &path.key("point"))?;
+                    let h = self.point(through, &path.key("through"))?;
+                    let t = self.point(toward, &path.key("toward"))?;
+                    let plane = match plane.as_deref() {
+                        Some("none") => None,
+                        Some(n) => Some(self.frame_ref(n, &path.key("plane"))?),
+                        None => Some(0),
+                    };
+                    (name, MeasureDef::LineDeviation { p, h, t, plane })
+                }
+                file::Measure::Coordinate { name, point, axis, frame, from } => {
+                    let p = self.point(point, &path.key("point"))?;
+                    let frame = self.opt_frame(frame, path.key("frame"))?;
+                    let axis = self.axis(axis, path.key("axis"))?;
+                    let from = match from {
+                        Some(n) => Some(self.point(n, &path.key("from"))?),
+                        None => None,
+                    };
+                    (name, MeasureDef::Coordinate { p, from, frame, axis })
+                }
+            };
+            if !is_ident(name) {
+                return Err(self.err(&path.key("name"), format!("`{name}` is not a valid measure name"), Some("use letters, digits and `_`".into())));
+            }
+            if out.iter().any(|(n, _)| n == name) || self.point_index.contains_key(name) {
+                return Err(self.err(&path.key("name"), format!("the name `{name}` is already used"), Some("give every measure its own name, distinct from point names".into())));
+            }
+            out.push((name.clone(), def));
+        }
+        Ok(out)
+    }
+
+    pub(super) fn output_points(&self, f: &ModelFile) -> R<Vec<usize>> {
+        match f.output.as_ref().and_then(|o| o.points.as_ref()) {
+            Some(names) => names
+                .iter()
+                .enumerate()
+                .map(|(k, n)| self.point(n, &Path::root().key("output").key("points").index(k)))
+                .collect(),
+            None => Ok((0..self.points.len()).filter(|&i| matches!(self.points[i].1, PointKind::Moving)).collect()),
+        }
+    }
+
+    /// Orders drivers and groups so every step's inputs are solved before it
+    /// (file order where possible).
+    pub(super) fn order(&self, steps: Vec<(StepDef, String, Path)>) -> R<Vec<(StepDef, String)>> {
+        let mut known: Vec<bool> = self.points.iter().map(|(_, k)| matches!(k, PointKind::Fixed { .. })).collect();
+        let mut left: Vec<Option<(StepDef, String, Path)>> = steps.into_iter().map(Some).collect();
+        let mut out = Vec::with_capacity(left.len());
+        loop {
+            let mut progressed = false;
+            for slot in left.iter_mut() {
+                let ready = slot.as_ref().is_some_and(|(s, _, _)| s.inputs().iter().all(|&i| known[i]));
+                if ready {
+                    let (s, label, _) = slot.take().expect("checked above");
+                    for o in s.outputs() {
+                        known[o] = true;
+                    }
+                    out.push((s, label));
+                    progressed = true;
+                }
+            }
+            if left.iter().all(Option::is_none) {
+                return Ok(out);
+            }
+            if !progressed {
+                let stuck: Vec<&(StepDef, String, Path)> = left.iter().flatten().collect();
+                let names: Vec<&str> = stuck.iter().map(|(_, l, _)| l.as_str()).collect();
+                let (s, _, path) = stuck[0];
+                let missing: Vec<&str> = s.inputs().iter().filter(|&&i| !known[i]).map(|&i| self.points[i].0.as_str()).collect();
+                return Err(self.err(
+                    path,
+                    format!(
+                        "these groups need each other's points, so none can be solved first: {} (waiting for {})",
+                        names.join("; "),
+                        missing.join(", ")
+                    ),
+                    Some("a loop of groups has no closed form: solve its points together in one `newton` group".into()),
+                ));
+            }
+        }
+    }
+
+    pub(super) fn into_parts(self) -> (String, Arc<str>, SpanIndex<'a>) {
+        (self.file_name, self.text, self.spans)
+    }
+
+    pub(super) fn point_names(&self) -> Vec<String> {
+        self.points.iter().map(|(n, _)| n.clone()).collect()
+    }
+}
+
+use super::ClosureRef;
+
+fn is_ident(s: &str) -> bool {
+    let mut c = s.chars();
+    matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_') && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
+}
+
+fn unit_dim(u: Unit) -> Option<Dim> {
+    Some(match u {
+        Unit::Mm => Dim::LENGTH,
+        Unit::Deg => Dim::ANGLE,
+        Unit::One => Dim::ONE,
+    })
+}
+
+pub(super) fn group_out(g: &Group) -> &str {
+    match g {
+        Group::Rrr { out, .. }
+        | Group::Rrp { out, .. }
+        | Group::Rpr { out, .. }
+        | Group::Rssr { out, .. }
+        | Group::PointOnLine { out, .. }
+        | Group::RigidPoint { out, .. }
+        | Group::RigidPoint3d { out, .. } => out,
+        Group::Newton { name, .. } => name,
+    }
+}
+
+fn group_name(g: &Group) -> Option<&str> {
+    match g {
+        Group::Rrr { name, .. }
+        | Group::Rrp { name, .. }
+        | Group::Rpr { name, .. }
+        | Group::Rssr { name, .. }
+        | Group::PointOnLine { name, .. }
+        | Group::RigidPoint { name, .. }
+        | Group::RigidPoint3d { name, .. } => name.as_deref(),
+        Group::Newton { name, .. } => Some(name),
+    }
+}
+
+pub(super) fn group_kind(g: &Group) -> &'static str {
+    match g {
+        Group::Rrr { .. } => "rrr",
+        Group::Rrp { .. } => "rrp",
+        Group::Rpr { .. } => "rpr",
+        Group::Rssr { .. } => "rssr",
+        Group::PointOnLine { .. } => "point_on_line",
+        Group::RigidPoint { .. } => "rigid_point",
+        Group::RigidPoint3d { .. } => "rigid_point_3d",
+        Group::Newton { .. } => "newton",
+    }
+}
+
+pub(super) fn group_key(g: &Group) -> String {
+    group_name(g).unwrap_or_else(|| group_out(g)).to_string()
+}

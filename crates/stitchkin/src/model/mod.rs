@@ -1,0 +1,628 @@
+//! Model files: loading, checking, parameters, and resolution into a
+//! [`Mechanism`] that can be solved at any φ.
+//!
+//! ```
+//! use stitchkin::model::Model;
+//! let model = Model::preset("needle876").unwrap();
+//! let mut params = model.defaults();
+//! model.set(&mut params, "alpha", 20.0).unwrap();
+//! let mech = model.mechanism::<f64>(&params).unwrap();
+//! assert!(mech.n_points() > 0);
+//! ```
+
+pub mod expr;
+pub mod file;
+mod load;
+pub mod spans;
+
+use std::sync::Arc;
+
+use crate::error::{ModelError, ParamError, did_you_mean};
+use crate::geometry::{Placement, Plane, V2, V3, axis_rotation};
+use crate::mechanism::newton::{Closure, NewtonGroup, PointRef};
+use crate::mechanism::rssr::Rocker;
+use crate::mechanism::{Mechanism, MeasureStep, Step};
+use crate::scalar::Real;
+use expr::Expr;
+pub use file::{ModelFile, Provenance, Unit};
+use spans::Path;
+
+/// Index of a compiled quantity (an expression of parameters).
+pub(crate) type Q = usize;
+
+/// A parameter as declared.
+#[derive(Debug, Clone)]
+pub struct ParamDef {
+    pub name: String,
+    pub unit: Unit,
+    /// Nominal value (settable parameters).
+    pub value: Option<f64>,
+    /// Derived parameters' expression.
+    pub expr: Option<Expr>,
+    pub range: Option<[f64; 2]>,
+    pub source: Option<String>,
+    pub provenance: Option<Provenance>,
+}
+
+impl ParamDef {
+    pub fn is_derived(&self) -> bool {
+        self.expr.is_some()
+    }
+    pub fn unit_str(&self) -> &'static str {
+        match self.unit {
+            Unit::Mm => "mm",
+            Unit::Deg => "deg",
+            Unit::One => "1",
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub(crate) struct FrameDef {
+    pub name: String,
+    pub parent: Option<usize>,
+    pub origin: Option<[Q; 3]>,
+    pub rotate: Vec<(usize, Q)>,
+}
+
+#[derive(Debug, Clone)]
+pub(crate) enum PointKind {
+    Fixed { frame: usize, coords: [Q; 3] },
+    Moving,
+}
+
+/// A direction: a named axis of a frame with a sign, or a vector.
+#[derive(Debug, Clone)]
+pub(crate) enum AxisDef {
+    Named(usize, f64),
+    Vector([Q; 3], Path),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ClosureRef {
+    Unknown(usize),
+    Known(usize),
+}
+
+#[derive(Debug, Clone)]
+pub(crate) enum ClosureDef {
+    Distance { a: ClosureRef, b: ClosureRef, l: Q },
+    OnLine { p: usize, h: usize, t: usize },
+}
+
+/// A step before its parameters are resolved.
+#[derive(Debug, Clone)]
+pub(crate) enum StepDef {
+    Crank { center: usize, out: usize, frame: usize, axis: AxisDef, zero_dir: Option<AxisDef>, radius: Q, phase: Q, speed: f64 },
+    Rrr { p1: usize, p2: usize, l1: Q, l2: Q, sign: f64, plane: usize, out: usize },
+    Rrp { from: usize, through: usize, toward: Option<usize>, dir: Option<Q>, offset: Q, l: Q, sign: f64, plane: usize, out: usize },
+    Rpr { from: usize, pivot: usize, e: Q, d: Q, plane: usize, out: usize },
+    Rssr { from: usize, l: Q, pivot: usize, frame: usize, axis: AxisDef, r: Q, offset: Q, zero_dir: Option<AxisDef>, sign: f64, out: usize },
+    PointOnLine { from: usize, through: usize, toward: Option<usize>, dir: Option<AxisDef>, frame: usize, l: Q, sign: f64, out: usize },
+    Rigid { base: [usize; 2], d: Q, angle: Q, lift: Q, plane: usize, out: usize },
+    Rigid3 { frame: [usize; 3], at: [Q; 3], out: usize },
+    Newton { dim: usize, plane: usize, outs: Vec<usize>, guess: Vec<Q>, closures: Vec<ClosureDef> },
+}
+
+impl StepDef {
+    pub(crate) fn inputs(&self) -> Vec<usize> {
+        match self {
+            StepDef::Crank { center, .. } => vec![*center],
+            StepDef::Rrr { p1, p2, .. } => vec![*p1, *p2],
+            StepDef::Rrp { from, through, toward, .. } | StepDef::PointOnLine { from, through, toward, .. } => {
+                let mut v = vec![*from, *through];
+                v.extend(toward);
+                v
+            }
+            StepDef::Rpr { from, pivot, .. } => vec![*from, *pivot],
+            StepDef::Rssr { from, pivot, .. } => vec![*from, *pivot],
+            StepDef::Rigid { base, .. } => base.to_vec(),
+            StepDef::Rigid3 { frame, .. } => frame.to_vec(),
+            StepDef::Newton { closures, .. } => {
+                let mut v = Vec::new();
+                for c in closures {
+                    match c {
+                        ClosureDef::Distance { a, b, .. } => {
+                            for r in [a, b] {
+                                if let ClosureRef::Known(s) = r {
+                                    v.push(*s);
+                                }
+                            }
+                        }
+                        ClosureDef::OnLine { h, t, .. } => v.extend([*h, *t]),
+                    }
+                }
+                v
+            }
+        }
+    }
+
+    pub(crate) fn outputs(&self) -> Vec<usize> {
+        match self {
+            StepDef::Crank { out, .. }
+            | StepDef::Rrr { out, .. }
+            | StepDef::Rrp { out, .. }
+            | StepDef::Rpr { out, .. }
+            | StepDef::Rssr { out, .. }
+            | StepDef::PointOnLine { out, .. }
+            | StepDef::Rigid { out, .. }
+            | StepDef::Rigid3 { out, .. } => vec![*out],
+            StepDef::Newton { outs, .. } => outs.clone(),
+        }
+    }
+
+    /// Whether the step keeps every point in the world xy-plane.
+    fn is_planar_xy(&self) -> bool {
+        match self {
+            StepDef::Crank { frame, axis, .. } => *frame == 0 && matches!(axis, AxisDef::Named(2, _)),
+            StepDef::Rrr { plane, .. } | StepDef::Rrp { plane, .. } | StepDef::Rpr { plane, .. } => *plane == 0,
+            StepDef::Rigid { plane, .. } => *plane == 0,
+            StepDef::Newton { dim, plane, .. } => *dim == 2 && *plane == 0,
+            StepDef::Rssr { .. } | StepDef::PointOnLine { .. } | StepDef::Rigid3 { .. } => false,
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub(crate) enum MeasureDef {
+    Distance { a: usize, b: usize },
+    LineDeviation { p: usize, h: usize, t: usize, plane: Option<usize> },
+    Coordinate { p: usize, from: Option<usize>, frame: usize, axis: AxisDef },
+}
+
+/// What a dyad's transmission angle is called in output.
+#[derive(Debug, Clone)]
+pub struct DyadInfo {
+    /// Key in column names: `mu_{key}_deg`.
+    pub key: String,
+    /// Label for messages.
+    pub label: String,
+}
+
+/// Parameter values, one per declared parameter (derived ones are filled in
+/// when a mechanism is resolved).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Params {
+    pub values: Vec<f64>,
+}
+
+/// A checked, compiled model. Cheap to resolve with new parameter values.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub file_name: String,
+    pub text: Arc<str>,
+    pub file: ModelFile,
+    pub params: Vec<ParamDef>,
+    param_order: Vec<usize>,
+    exprs: Vec<Expr>,
+    expr_paths: Vec<Path>,
+    positive: Vec<(Q, Path, &'static str)>,
+    frames: Vec<FrameDef>,
+    /// Point names by slot.
+    pub point_names: Vec<String>,
+    point_kinds: Vec<PointKind>,
+    steps: Vec<StepDef>,
+    labels: Arc<[String]>,
+    measures: Vec<MeasureDef>,
+    /// Measure names, in order.
+    pub measure_names: Vec<String>,
+    /// Dyads with a transmission angle, in order.
+    pub dyads: Vec<DyadInfo>,
+    /// Link-angle names (`angle_A_B`), in order.
+    pub link_angle_names: Vec<String>,
+    /// Points printed by default.
+    pub output_points: Vec<usize>,
+    /// Every point stays in the world xy-plane (z columns are omitted).
+    pub planar: bool,
+}
+
+impl Model {
+    /// Loads a model from TOML text; `file_name` is used in messages.
+    pub fn from_toml_str(text: &str, file_name: &str) -> Result<Model, Box<ModelError>> {
+        let mut ld = load::Loader::new(file_name, text);
+        let file = ld.parse(text)?;
+        let param_order = ld.parameters(&file)?;
+        ld.frames(&file)?;
+        ld.fixed_points(&file)?;
+        ld.declare_moving(&file)?;
+        let drivers = ld.drivers(&file)?;
+        let groups = ld.groups(&file)?;
+        let keys: Vec<(String, &'static str)> =
+            file.groups.iter().map(|g| (load::group_key(g), load::group_kind(g))).collect();
+        let mut all: Vec<(StepDef, String, Path)> = drivers
+            .into_iter()
+            .enumerate()
+            .map(|(k, (s, l))| (s, l, Path::root().key("drivers").index(k)))
+            .collect();
+        // Groups keep their dyad key for transmission-angle columns.
+        let mut group_keys = std::collections::HashMap::new();
+        for ((s, l, p), (key, _)) in groups.into_iter().zip(keys.iter()) {
+            group_keys.insert(l.clone(), key.clone());
+            all.push((s, l, p));
+        }
+        let ordered = ld.order(all)?;
+        let measures = ld.measures(&file)?;
+        let output_points = ld.output_points(&file)?;
+        let point_names = ld.point_names();
+        let point_kinds: Vec<PointKind> = ld.points.iter().map(|(_, k)| k.clone()).collect();
+        let (steps, labels): (Vec<StepDef>, Vec<String>) = ordered.into_iter().unzip();
+
+        let mut dyads = Vec::new();
+        let mut link_angle_names = Vec::new();
+        for (s, label) in steps.iter().zip(&labels) {
+            let key = group_keys.get(label).cloned().unwrap_or_default();
+            let n = |i: &usize| point_names[*i].as_str();
+            match s {
+                StepDef::Rrr { p1, p2, out, .. } => {
+                    link_angle_names.push(format!("angle_{}_{}", n(p1), n(out)));
+                    link_angle_names.push(format!("angle_{}_{}", n(p2), n(out)));
+                }
+                StepDef::Rrp { from, out, .. } => link_angle_names.push(format!("angle_{}_{}", n(from), n(out))),
+                StepDef::Rpr { pivot, out, .. } => link_angle_names.push(format!("angle_{}_{}", n(pivot), n(out))),
+                StepDef::Rssr { pivot, out, .. } => link_angle_names.push(format!("angle_{}_{}", n(pivot), n(out))),
+                _ => {}
+            }
+            if matches!(s, StepDef::Rrr { .. } | StepDef::Rrp { .. } | StepDef::Rpr { .. } | StepDef::Rssr { .. } | StepDef::PointOnLine { .. }) {
+                dyads.push(DyadInfo { key, label: label.clone() });
+            }
+        }
+        let fixed_flat = point_kinds.iter().all(|k| match k {
+            PointKind::Fixed { frame, coords } => *frame == 0 && matches!(ld.exprs[coords[2]], Expr::Num(z) if z == 0.0),
+            PointKind::Moving => true,
+        });
+        let planar = fixed_flat
+            && steps.iter().all(StepDef::is_planar_xy)
+            && steps.iter().all(|s| !matches!(s, StepDef::Rigid { lift, .. } if !matches!(ld.exprs[*lift], Expr::Num(z) if z == 0.0)));
+        let frames = std::mem::take(&mut ld.frames);
+        let params = std::mem::take(&mut ld.params);
+        let exprs = std::mem::take(&mut ld.exprs);
+        let expr_paths = std::mem::take(&mut ld.expr_paths);
+        let positive = std::mem::take(&mut ld.positive);
+        let (file_name, text, _) = ld.into_parts();
+        let model = Model {
+            file_name,
+            text,
+            file,
+            params,
+            param_order,
+            exprs,
+            expr_paths,
+            positive,
+            frames,
+            point_names,
+            point_kinds,
+            steps,
+            labels: labels.into(),
+            measure_names: measures.iter().map(|(n, _)| n.clone()).collect(),
+            measures: measures.into_iter().map(|(_, m)| m).collect(),
+            dyads,
+            link_angle_names,
+            output_points,
+            planar,
+        };
+        // Resolve once with the nominal values so impossible geometry is
+        // reported at load time.
+        model.mechanism::<f64>(&model.defaults())?;
+        Ok(model)
+    }
+
+    /// Loads a model file from disk.
+    pub fn from_path(path: &std::path::Path) -> Result<Model, crate::Error> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            crate::Error::Io(format!("cannot read model file `{}`: {e}", path.display()))
+        })?;
+        Ok(Model::from_toml_str(&text, &path.display().to_string())?)
+    }
+
+    /// A shipped preset by name (see [`crate::presets`]).
+    pub fn preset(name: &str) -> Result<Model, crate::Error> {
+        let p = crate::presets::find(name).ok_or_else(|| {
+            let names = crate::presets::ALL.iter().map(|p| p.name);
+            let hint = did_you_mean(name, names).map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
+            crate::Error::Param(ParamError {
+                message: format!("no preset named `{name}`{hint}"),
+                help: Some("`stitchkin presets` lists them".into()),
+            })
+        })?;
+        Ok(Model::from_toml_str(p.toml, &format!("preset:{}", p.name))?)
+    }
+
+    /// Nominal parameter values.
+    pub fn defaults(&self) -> Params {
+        Params { values: self.params.iter().map(|p| p.value.unwrap_or(0.0)).collect() }
+    }
+
+    /// Index of a parameter.
+    pub fn param_index(&self, name: &str) -> Option<usize> {
+        self.params.iter().position(|p| p.name == name)
+    }
+
+    /// Sets a parameter, checking that it exists, is settable and lies in
+    /// its adjustable range.
+    pub fn set(&self, params: &mut Params, name: &str, value: f64) -> Result<(), ParamError> {
+        let Some(i) = self.param_index(name) else {
+            let hint = did_you_mean(name, self.params.iter().map(|p| p.name.as_str()));
+            return Err(ParamError {
+                message: format!("the model has no parameter `{name}`"),
+                help: Some(match hint {
+                    Some(s) => format!("did you mean `{s}`?"),
+                    None => format!(
+                        "its parameters are: {}",
+                        self.params.iter().filter(|p| !p.is_derived()).map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
+                    ),
+                }),
+            });
+        };
+        let p = &self.params[i];
+        if p.is_derived() {
+            return Err(ParamError {
+                message: format!("`{name}` is derived from other parameters and cannot be set"),
+                help: Some("set the parameters its expression uses instead".into()),
+            });
+        }
+        if !value.is_finite() {
+            return Err(ParamError { message: format!("`{name}` must be a finite number"), help: None });
+        }
+        if let Some([lo, hi]) = p.range {
+            if value < lo || value > hi {
+                return Err(ParamError {
+                    message: format!("{name} = {value} {} is outside its adjustable range {lo}…{hi} {}", p.unit_str(), p.unit_str()),
+                    help: Some(format!("choose a value between {lo} and {hi}")),
+                });
+            }
+        }
+        params.values[i] = value;
+        Ok(())
+    }
+
+    /// Parses `NAME=VALUE` and applies it.
+    pub fn set_str(&self, params: &mut Params, assignment: &str) -> Result<(), ParamError> {
+        let Some((name, value)) = assignment.split_once('=') else {
+            return Err(ParamError {
+                message: format!("`{assignment}` is not an assignment"),
+                help: Some("write NAME=VALUE, e.g. --set alpha=20".into()),
+            });
+        };
+        let (name, value) = (name.trim(), value.trim());
+        let v: f64 = value.parse().map_err(|_| ParamError {
+            message: format!("`{value}` is not a number (in `--set {assignment}`)"),
+            help: Some("values are plain numbers in the parameter's unit (mm or deg)".into()),
+        })?;
+        self.set(params, name, v)
+    }
+
+    /// Resolves every parameter with `params` into a solvable mechanism.
+    pub fn mechanism<T: Real>(&self, params: &Params) -> Result<Mechanism<T>, Box<ModelError>> {
+        let base: Vec<T> = params.values.iter().map(|&v| T::cst(v)).collect();
+        self.mechanism_with(&base)
+    }
+
+    /// Like [`Self::mechanism`] with parameter values of type `T`, so the
+    /// result carries derivatives with respect to seeded parameters.
+    pub fn mechanism_with<T: Real>(&self, base: &[T]) -> Result<Mechanism<T>, Box<ModelError>> {
+        let mut pv: Vec<T> = base.to_vec();
+        for &i in &self.param_order {
+            if let Some(e) = &self.params[i].expr {
+                pv[i] = e.eval(&pv);
+            }
+        }
+        for (i, p) in self.params.iter().enumerate() {
+            if p.is_derived() && !pv[i].re().is_finite() {
+                return Err(self.error_at(
+                    &Path::root().key("parameters").key(&p.name).key("expr"),
+                    format!("derived parameter `{}` evaluates to {} with these values", p.name, pv[i].re()),
+                    Some("check the inputs of its expression (e.g. acos or sqrt of an out-of-range value)".into()),
+                ));
+            }
+        }
+        let q: Vec<T> = self.exprs.iter().map(|e| e.eval(&pv)).collect();
+        for (k, v) in q.iter().enumerate() {
+            if !v.re().is_finite() {
+                return Err(self.error_at(
+                    &self.expr_paths[k],
+                    format!("this value evaluates to {} with the current parameters", v.re()),
+                    Some("check the expression's inputs (division by zero, acos/sqrt out of range)".into()),
+                ));
+            }
+        }
+        for (qi, path, what) in &self.positive {
+            if q[*qi].re() <= 0.0 {
+                return Err(self.error_at(
+                    path,
+                    format!("{what} must be positive, got {} mm", q[*qi].re()),
+                    Some("lengths and radii are positive numbers of mm".into()),
+                ));
+            }
+        }
+        let deg = T::cst(std::f64::consts::PI / 180.0);
+        // Frames, parents first.
+        let mut frames: Vec<Option<Placement<T>>> = vec![None; self.frames.len()];
+        frames[0] = Some(Placement::identity());
+        while frames.iter().any(Option::is_none) {
+            for (i, f) in self.frames.iter().enumerate() {
+                if frames[i].is_some() {
+                    continue;
+                }
+                let parent = f.parent.unwrap_or(0);
+                let Some(pp) = frames[parent] else { continue };
+                let mut rot = nalgebra::Matrix3::identity();
+                for (axis, a) in &f.rotate {
+                    rot *= axis_rotation(*axis, q[*a] * deg);
+                }
+                let origin = f.origin.map_or(V3::zeros(), |o| V3::new(q[o[0]], q[o[1]], q[o[2]]));
+                frames[i] = Some(Placement { rot, origin }.within(&pp));
+            }
+        }
+        let frames: Vec<Placement<T>> = frames.into_iter().map(|f| f.expect("parents resolved above")).collect();
+        let plane = |i: usize| if i == 0 { Plane::WORLD } else { Plane(Some(frames[i])) };
+        let dir = |a: &AxisDef, frame: usize| -> Result<V3<T>, Box<ModelError>> {
+            let local = match a {
+                AxisDef::Named(i, s) => {
+                    let mut v = V3::zeros();
+                    v[*i] = T::cst(*s);
+                    v
+                }
+                AxisDef::Vector(c, path) => {
+                    let v = V3::new(q[c[0]], q[c[1]], q[c[2]]);
+                    if v.norm().re() <= 0.0 {
+                        return Err(self.error_at(path, "the direction vector is zero", Some("give a non-zero vector".into())));
+                    }
+                    v
+                }
+            };
+            Ok(frames[frame].dir_to_world(local).normalize())
+        };
+        // Default zero direction: the next axis cyclically (x→y, y→z, z→x).
+        let basis = |axis: &AxisDef, zero: &Option<AxisDef>, frame: usize| -> Result<(V3<T>, V3<T>, V3<T>), Box<ModelError>> {
+            let w = dir(axis, frame)?;
+            let z0 = match (zero, axis) {
+                (Some(z), _) => dir(z, frame)?,
+                (None, AxisDef::Named(i, _)) => dir(&AxisDef::Named((i + 1) % 3, 1.0), frame)?,
+                (None, AxisDef::Vector(..)) => {
+                    let e = if w.x.re().abs() < 0.9 { V3::x() } else { V3::y() };
+                    frames[frame].dir_to_world(e)
+                }
+            };
+            let u = z0 - w * z0.dot(&w);
+            if u.norm().re() < 1e-9 {
+                let path = match zero {
+                    Some(AxisDef::Vector(_, p)) => p.clone(),
+                    _ => Path::root(),
+                };
+                return Err(self.error_at(&path, "the zero direction is parallel to the axis", Some("give a `zero_dir` perpendicular to the axis".into())));
+            }
+            let u = u.normalize();
+            Ok((u, w.cross(&u), w))
+        };
+        let fixed: Vec<(usize, V3<T>)> = self
+            .point_kinds
+            .iter()
+            .enumerate()
+            .filter_map(|(i, k)| match k {
+                PointKind::Fixed { frame, coords } => {
+                    Some((i, frames[*frame].to_world(V3::new(q[coords[0]], q[coords[1]], q[coords[2]]))))
+                }
+                PointKind::Moving => None,
+            })
+            .collect();
+        let fixed_at = |slot: usize| fixed.iter().find(|(i, _)| *i == slot).map(|(_, p)| *p).unwrap_or_else(V3::zeros);
+        let mut steps = Vec::with_capacity(self.steps.len());
+        for s in &self.steps {
+            steps.push(match s {
+                StepDef::Crank { center, out, frame, axis, zero_dir, radius, phase, speed } => {
+                    let (u, v, _) = basis(axis, zero_dir, *frame)?;
+                    let ph = q[*phase] * deg;
+                    let (sin_ph, cos_ph) = ph.sin_cos();
+                    Step::Crank { center: *center, out: *out, r: q[*radius], u, v, speed: *speed, phase: ph, cos_ph, sin_ph }
+                }
+                StepDef::Rrr { p1, p2, l1, l2, sign, plane: pl, out } => {
+                    Step::Rrr { p1: *p1, p2: *p2, l1: q[*l1], l2: q[*l2], sign: *sign, plane: plane(*pl), out: *out }
+                }
+                StepDef::Rrp { from, through, toward, dir: d, offset, l, sign, plane: pl, out } => {
+                    let a = d.map_or(T::zero(), |d| q[d] * deg);
+                    Step::Rrp {
+                        from: *from,
+                        through: *through,
+                        toward: *toward,
+                        dir: V2::new(a.cos(), a.sin()),
+                        offset: q[*offset],
+                        l: q[*l],
+                        sign: *sign,
+                        plane: plane(*pl),
+                        out: *out,
+                    }
+                }
+                StepDef::Rpr { from, pivot, e, d, plane: pl, out } => {
+                    Step::Rpr { from: *from, pivot: *pivot, e: q[*e], d: q[*d], plane: plane(*pl), out: *out }
+                }
+                StepDef::Rssr { from, l, pivot, frame, axis, r, offset, zero_dir, sign, out } => {
+                    let (u, v, w) = basis(axis, zero_dir, *frame)?;
+                    let c = fixed_at(*pivot) + w * q[*offset];
+                    Step::Rssr { from: *from, rocker: Rocker { c, u, v, w, r: q[*r] }, zero: u, l: q[*l], sign: *sign, out: *out }
+                }
+                StepDef::PointOnLine { from, through, toward, dir: d, frame, l, sign, out } => {
+                    let dv = match d {
+                        Some(a) => dir(a, *frame)?,
+                        None => V3::x(),
+                    };
+                    Step::PointOnLine { from: *from, through: *through, toward: *toward, dir: dv, l: q[*l], sign: *sign, out: *out }
+                }
+                StepDef::Rigid { base, d, angle, lift, plane: pl, out } => {
+                    let (s, c) = (q[*angle] * deg).sin_cos();
+                    Step::Rigid { base: *base, dc: q[*d] * c, ds: q[*d] * s, lift: q[*lift], plane: plane(*pl), out: *out }
+                }
+                StepDef::Rigid3 { frame, at, out } => {
+                    Step::Rigid3 { frame: *frame, at: V3::new(q[at[0]], q[at[1]], q[at[2]]), out: *out }
+                }
+                StepDef::Newton { dim, plane: pl, outs, guess, closures } => {
+                    let conv = |r: &ClosureRef| match r {
+                        ClosureRef::Unknown(u) => PointRef::Unknown(*u),
+                        ClosureRef::Known(k) => PointRef::Known(*k),
+                    };
+                    Step::Newton(Box::new(NewtonGroup {
+                        dim: *dim,
+                        plane: plane(*pl),
+                        outs: outs.clone(),
+                        guess: guess.iter().map(|g| q[*g].re()).collect(),
+                        closures: closures
+                            .iter()
+                            .map(|c| match c {
+                                ClosureDef::Distance { a, b, l } => Closure::Distance { a: conv(a), b: conv(b), l: q[*l] },
+                                ClosureDef::OnLine { p, h, t } => Closure::OnLine { p: *p, h: *h, t: *t },
+                            })
+                            .collect(),
+                    }))
+                }
+            });
+        }
+        let mut measures = Vec::with_capacity(self.measures.len());
+        for m in &self.measures {
+            measures.push(match m {
+                MeasureDef::Distance { a, b } => MeasureStep::Distance { a: *a, b: *b },
+                MeasureDef::LineDeviation { p, h, t, plane: pl } => {
+                    MeasureStep::LineDeviation { p: *p, h: *h, t: *t, plane: pl.map(plane) }
+                }
+                MeasureDef::Coordinate { p, from, frame, axis } => MeasureStep::Coordinate {
+                    p: *p,
+                    from: *from,
+                    origin: frames[*frame].origin,
+                    axis: dir(axis, *frame)?,
+                },
+            });
+        }
+        Ok(Mechanism { fixed, steps, measures, n_points: self.point_names.len(), labels: self.labels.clone() })
+    }
+
+    fn error_at(&self, path: &Path, message: impl Into<String>, help: Option<String>) -> Box<ModelError> {
+        let spans = spans::SpanIndex::new(&self.text);
+        Box::new(ModelError {
+            file: self.file_name.clone(),
+            text: self.text.clone(),
+            span: spans.find(path),
+            path: path.to_string(),
+            message: message.into(),
+            help,
+        })
+    }
+
+    /// Labels of the solve steps, in solve order.
+    pub fn step_labels(&self) -> &[String] {
+        &self.labels
+    }
+
+    /// Main-shaft angle where a cycle starts, degrees.
+    pub fn phi_start_deg(&self) -> f64 {
+        self.file.model.phi_start_deg.unwrap_or(0.0)
+    }
+
+    /// Whether a point is fixed.
+    pub fn is_fixed(&self, slot: usize) -> bool {
+        matches!(self.point_kinds[slot], PointKind::Fixed { .. })
+    }
+}
+
+/// The JSON Schema of the model file format, pretty-printed.
+pub fn schema_json() -> String {
+    let schema = schemars::schema_for!(ModelFile);
+    serde_json::to_string_pretty(&schema).expect("a schema always serializes") + "\n"
+}

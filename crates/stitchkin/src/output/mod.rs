@@ -1,0 +1,110 @@
+//! Writing results: CSV and JSON, and files that are never half-written.
+
+use std::io::Write;
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::error::Error;
+use crate::eval::CycleTable;
+use crate::model::{Model, Params};
+
+/// Formats a number with 12 significant digits, shortest form
+/// (`175`, `-3.14159265359`, `1.5e-10`).
+pub fn fmt_num(x: f64) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    let rounded: f64 = format!("{x:.11e}").parse().unwrap_or(x);
+    format!("{rounded}")
+}
+
+/// The table as CSV: a header of unit-carrying column names, one row per φ.
+pub fn write_csv(table: &CycleTable, out: &mut impl Write) -> std::io::Result<()> {
+    let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).collect();
+    writeln!(out, "{}", names.join(","))?;
+    let mut line = String::new();
+    for r in 0..table.rows() {
+        line.clear();
+        for (k, c) in table.columns.iter().enumerate() {
+            if k > 0 {
+                line.push(',');
+            }
+            line.push_str(&fmt_num(c.values[r]));
+        }
+        writeln!(out, "{line}")?;
+    }
+    Ok(())
+}
+
+#[derive(Serialize)]
+struct JsonParam<'a> {
+    name: &'a str,
+    value: f64,
+    unit: &'a str,
+    derived: bool,
+}
+
+#[derive(Serialize)]
+struct JsonRun<'a> {
+    model: &'a str,
+    title: Option<&'a str>,
+    seed: Option<&'a str>,
+    phi_start_deg: f64,
+    parameters: Vec<JsonParam<'a>>,
+    #[serde(flatten)]
+    table: &'a CycleTable,
+}
+
+/// The run as JSON: model, parameter values, columns and summaries.
+pub fn write_json(model: &Model, params: &Params, table: &CycleTable, out: &mut impl Write) -> std::io::Result<()> {
+    let parameters = model
+        .params
+        .iter()
+        .zip(&params.values)
+        .filter(|(p, _)| !p.is_derived())
+        .map(|(p, v)| JsonParam { name: &p.name, value: *v, unit: p.unit_str(), derived: false })
+        .collect();
+    let run = JsonRun {
+        model: &model.file.model.name,
+        title: model.file.model.title.as_deref(),
+        seed: model.file.model.seed.as_deref(),
+        phi_start_deg: model.phi_start_deg(),
+        parameters,
+        table,
+    };
+    serde_json::to_writer_pretty(&mut *out, &run).map_err(std::io::Error::other)?;
+    writeln!(out)
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same folder and
+/// a rename, so the file is either complete or untouched.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let name = path.file_name().ok_or_else(|| Error::Io(format!("`{}` is not a file path", path.display())))?;
+    let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+    let io = |e: std::io::Error, what: &str| Error::Io(format!("cannot {what} `{}`: {e}", path.display()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp).map_err(|e| io(e, "create a temporary file for"))?;
+        f.write_all(bytes).map_err(|e| io(e, "write"))?;
+        f.sync_all().map_err(|e| io(e, "write"))?;
+        std::fs::rename(&tmp, path).map_err(|e| io(e, "write"))
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_short_and_exact_enough() {
+        assert_eq!(fmt_num(175.0), "175");
+        assert_eq!(fmt_num(0.1 + 0.2), "0.3");
+        assert_eq!(fmt_num(-1.5e-10), "-0.00000000015");
+        assert_eq!(fmt_num(std::f64::consts::PI), "3.14159265359");
+    }
+}
