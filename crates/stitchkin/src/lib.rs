@@ -25,5 +25,6 @@ pub mod model;
 pub mod output;
 pub mod presets;
 pub mod scalar;
+pub mod verify;
 
 pub use error::Error;

@@ -19,6 +19,14 @@ pub fn cross2<T: Real>(a: V2<T>, b: V2<T>) -> T {
     a.x * b.y - a.y * b.x
 }
 
+/// `|v|`, with zero derivatives where `v = 0` (the norm has a corner there;
+/// the plain dual-number square root would give NaN).
+#[inline]
+pub fn norm_or_zero<T: Real>(v: V3<T>) -> T {
+    let n2 = v.norm_squared();
+    if n2.re() > 0.0 { n2.sqrt() } else { T::zero() }
+}
+
 /// A rigid placement: `p_world = origin + rot · p_local`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Placement<T: Real> {

@@ -264,7 +264,7 @@ impl<T: Real> Mechanism<T> {
         let p = &pose.points;
         for m in &self.measures {
             out.push(match m {
-                MeasureStep::Distance { a, b } => (p[*a] - p[*b]).norm(),
+                MeasureStep::Distance { a, b } => crate::geometry::norm_or_zero(p[*a] - p[*b]),
                 MeasureStep::LineDeviation { p: q, h, t, plane } => match plane {
                     Some(pl) => {
                         let (h, t, q) = (pl.project(&p[*h]), pl.project(&p[*t]), pl.project(&p[*q]));
@@ -273,7 +273,7 @@ impl<T: Real> Mechanism<T> {
                     }
                     None => {
                         let u = unit3(p[*t] - p[*h]).unwrap_or(V3::x());
-                        (p[*q] - p[*h]).cross(&u).norm()
+                        crate::geometry::norm_or_zero((p[*q] - p[*h]).cross(&u))
                     }
                 },
                 MeasureStep::Coordinate { p: q, from, origin, axis } => {

@@ -1,0 +1,139 @@
+//! Invariants over random mechanisms: link lengths kept at every φ, exact
+//! analogs equal to finite differences, no branch flip along a cycle,
+//! periodicity.
+
+use num_dual::Dual2_64;
+use proptest::prelude::*;
+use proptest::strategy::ValueTree;
+use stitchkin::eval::{CycleOptions, run_cycle};
+use stitchkin::geometry::V3;
+use stitchkin::mechanism::{Mechanism, Phi};
+use stitchkin::model::Model;
+use stitchkin::scalar::phi_dual;
+
+use crate::mechgen::{self, Generated};
+
+fn slot(m: &Model, name: &str) -> usize {
+    m.point_names.iter().position(|p| p == name).unwrap()
+}
+
+fn positions(mech: &Mechanism<f64>, phi: f64) -> Vec<V3<f64>> {
+    let mut pose = mech.new_pose();
+    mech.solve(&Phi::new(phi), &mut pose).unwrap();
+    pose.points.clone()
+}
+
+fn assembles(m: &Model) -> bool {
+    run_cycle(m, &m.defaults(), &CycleOptions { step_deg: 5.0, analogs: false, ..Default::default() }).is_ok()
+}
+
+fn check_lengths(g: &Generated) -> Result<(), TestCaseError> {
+    let m = g.load();
+    prop_assume!(assembles(&m));
+    let mech = m.mechanism::<f64>(&m.defaults()).unwrap();
+    for k in 0..72 {
+        let p = positions(&mech, (k as f64 * 5.0).to_radians());
+        for (a, b, l) in &g.links {
+            let d = (p[slot(&m, a)] - p[slot(&m, b)]).norm();
+            prop_assert!((d - l).abs() < 1e-9, "|{a}{b}| = {d}, want {l} at φ = {}°", k * 5);
+        }
+    }
+    Ok(())
+}
+
+/// Exact analogs against central differences of positions.
+fn check_analogs(g: &Generated) -> Result<(), TestCaseError> {
+    let m = g.load();
+    prop_assume!(assembles(&m));
+    let exact = m.mechanism::<Dual2_64>(&m.defaults()).unwrap();
+    let plain = m.mechanism::<f64>(&m.defaults()).unwrap();
+    let h = 1e-4;
+    for k in 0..24 {
+        let phi = (k as f64 * 15.0 + 7.0).to_radians();
+        let mut pose = exact.new_pose();
+        exact.solve(&Phi::new(phi_dual(phi)), &mut pose).unwrap();
+        let (pm, p0, pp) = (positions(&plain, phi - h), positions(&plain, phi), positions(&plain, phi + h));
+        for s in 0..pose.points.len() {
+            for c in 0..3 {
+                let d = pose.points[s][c];
+                prop_assert!((d.re - p0[s][c]).abs() < 1e-12);
+                let d1 = (pp[s][c] - pm[s][c]) / (2.0 * h);
+                let d2 = (pp[s][c] - 2.0 * p0[s][c] + pm[s][c]) / (h * h);
+                let scale = 1.0 + d.v1.abs() + d.v2.abs();
+                prop_assert!((d.v1 - d1).abs() < 1e-6 * scale, "d/dφ {} vs {d1}", d.v1);
+                prop_assert!((d.v2 - d2).abs() < 2e-3 * scale, "d²/dφ² {} vs {d2}", d.v2);
+            }
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, .. ProptestConfig::default() })]
+
+    #[test]
+    fn four_bar_keeps_lengths(g in mechgen::four_bar()) { check_lengths(&g)?; }
+    #[test]
+    fn slider_crank_keeps_lengths(g in mechgen::slider_crank()) { check_lengths(&g)?; }
+    #[test]
+    fn rssr_chain_keeps_lengths(g in mechgen::rssr_chain()) { check_lengths(&g)?; }
+
+    #[test]
+    fn four_bar_analogs_are_derivatives(g in mechgen::four_bar()) { check_analogs(&g)?; }
+    #[test]
+    fn slider_crank_analogs_are_derivatives(g in mechgen::slider_crank()) { check_analogs(&g)?; }
+    #[test]
+    fn rssr_chain_analogs_are_derivatives(g in mechgen::rssr_chain()) { check_analogs(&g)?; }
+
+    /// The assembly stays on its declared side of the base line at every φ.
+    #[test]
+    fn four_bar_branch_never_flips(g in mechgen::four_bar()) {
+        let m = g.load();
+        let left = g.toml.contains("branch = \"left\"");
+        let mech = m.mechanism::<f64>(&m.defaults()).unwrap();
+        let (a, o2, b) = (slot(&m, "A"), slot(&m, "O2"), slot(&m, "B"));
+        for k in 0..360 {
+            let p = positions(&mech, (k as f64).to_radians());
+            let (u, w) = (p[o2] - p[a], p[b] - p[a]);
+            let cross = u.x * w.y - u.y * w.x;
+            prop_assert_eq!(cross > 0.0, left, "flipped at φ = {}°", k);
+        }
+    }
+
+    #[test]
+    fn positions_are_periodic(g in mechgen::four_bar(), phi in 0.0..360.0f64) {
+        let m = g.load();
+        let mech = m.mechanism::<f64>(&m.defaults()).unwrap();
+        let (p, q) = (positions(&mech, phi.to_radians()), positions(&mech, (phi + 360.0).to_radians()));
+        for (x, y) in p.iter().zip(&q) {
+            prop_assert!((x - y).norm() < 1e-9);
+        }
+    }
+}
+
+#[test]
+fn rssr_branch_stays_on_its_side() {
+    let g = mechgen::rssr_chain();
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let mut checked = 0;
+    for _ in 0..40 {
+        let g = g.new_tree(&mut runner).unwrap().current();
+        let m = g.load();
+        if !assembles(&m) {
+            continue;
+        }
+        let left = g.toml.contains("branch = \"left\"");
+        let mech = m.mechanism::<f64>(&m.defaults()).unwrap();
+        let (a, b, c) = (slot(&m, "A"), slot(&m, "B"), slot(&m, "C"));
+        // The rocker axis is the frame's x axis: turn from A's direction to B's about it.
+        let cx = slot(&m, "Cx");
+        for k in 0..72 {
+            let p = positions(&mech, (k as f64 * 5.0).to_radians());
+            let w = (p[cx] - p[c]).normalize();
+            let turn = (p[a] - p[c]).cross(&(p[b] - p[c])).dot(&w);
+            assert_eq!(turn > 0.0, left, "flipped at φ = {}°\n{}", k * 5, g.toml);
+        }
+        checked += 1;
+    }
+    assert!(checked >= 10, "only {checked} generated chains assembled");
+}

@@ -1,0 +1,10 @@
+//! Integration tests of the stitchkin library, in one test binary (one link
+//! step instead of one per file).
+
+mod cross_check;
+mod mechgen;
+mod docs;
+mod fuzz_regressions;
+mod invariants;
+mod loading;
+mod presets;
