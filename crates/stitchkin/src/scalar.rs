@@ -14,6 +14,16 @@ pub trait Real: RealField + Copy + std::fmt::Debug + Send + Sync + 'static {
     fn cst(x: f64) -> Self;
     /// The value part.
     fn re(self) -> f64;
+    /// `x` as the independent variable φ: derivative parts seeded with 1
+    /// (for `f64`, just `x`).
+    fn var(x: f64) -> Self;
+    /// `self · k` for a plain number `k` (cheaper than a dual product).
+    fn times(self, k: f64) -> Self;
+    /// `self` with the sign of `sign` (an assembly branch, ±1).
+    #[inline(always)]
+    fn signed(self, sign: f64) -> Self {
+        if sign < 0.0 { -self } else { self }
+    }
 }
 
 impl Real for f64 {
@@ -24,6 +34,14 @@ impl Real for f64 {
     #[inline(always)]
     fn re(self) -> f64 {
         self
+    }
+    #[inline(always)]
+    fn var(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn times(self, k: f64) -> Self {
+        self * k
     }
 }
 
@@ -36,6 +54,14 @@ impl Real for Dual2_64 {
     fn re(self) -> f64 {
         self.re
     }
+    #[inline(always)]
+    fn var(x: f64) -> Self {
+        Dual2_64::new(x, 1.0, 0.0)
+    }
+    #[inline(always)]
+    fn times(self, k: f64) -> Self {
+        Dual2_64::new(self.re * k, self.v1 * k, self.v2 * k)
+    }
 }
 
 impl Real for Dual64 {
@@ -46,6 +72,14 @@ impl Real for Dual64 {
     #[inline(always)]
     fn re(self) -> f64 {
         self.re
+    }
+    #[inline(always)]
+    fn var(x: f64) -> Self {
+        Dual64::new(x, 1.0)
+    }
+    #[inline(always)]
+    fn times(self, k: f64) -> Self {
+        Dual64::new(self.re * k, self.eps * k)
     }
 }
 

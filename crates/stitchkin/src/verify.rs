@@ -238,23 +238,24 @@ pub fn cross_check(model: &Model, params: &Params, step_deg: f64) -> Result<Cros
     let mech = model.mechanism::<f64>(params)?;
     let lay = layout(&mech);
     let phis = cycle_phis_deg(model.phi_start_deg(), step_deg);
-    let mut pose = mech.new_pose();
+    let mut pose = mech.new_pose(1);
     let mut x = DVector::zeros(lay.n);
     let mut worst = CrossCheck { max_deviation_mm: 0.0, at_phi_deg: phis[0], at_point: String::new(), positions: 0 };
     for (k, &phi_deg) in phis.iter().enumerate() {
         let phi = phi_deg.to_radians();
-        mech.solve(&Phi::new(phi), &mut pose)?;
+        mech.solve(&[Phi::new(phi)], &mut pose)?;
+        let at = pose.at(0);
         if k == 0 {
             for (i, &s) in lay.moving.iter().enumerate() {
                 for c in 0..3 {
-                    x[3 * i + c] = pose.points[s][c] + 0.05 * ((i + c) % 3) as f64 - 0.05;
+                    x[3 * i + c] = at[s][c] + 0.05 * ((i + c) % 3) as f64 - 0.05;
                 }
             }
             // Slot angles of slotted levers from the closed-form pose.
             for (i, s) in mech.steps.iter().enumerate() {
                 if let Step::Rpr { pivot, out, e, d, plane, .. } = s {
-                    let (c, _) = in_plane(plane, &pose.points[*pivot]);
-                    let (q, _) = in_plane(plane, &pose.points[*out]);
+                    let (c, _) = in_plane(plane, &at[*pivot]);
+                    let (q, _) = in_plane(plane, &at[*out]);
                     let w = q - c;
                     // q − c = e·n + d·u: rotate back by the angle of (d, e).
                     x[lay.aux[i]] = w.y.atan2(w.x) - e.atan2(*d) + 0.01;
@@ -269,7 +270,7 @@ pub fn cross_check(model: &Model, params: &Params, step_deg: f64) -> Result<Cros
         }
         for (i, &s) in lay.moving.iter().enumerate() {
             let q = V3::new(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-            let d = (q - pose.points[s]).norm();
+            let d = (q - at[s]).norm();
             if d > worst.max_deviation_mm || worst.at_point.is_empty() {
                 worst.max_deviation_mm = d;
                 worst.at_phi_deg = phi_deg;

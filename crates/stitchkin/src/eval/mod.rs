@@ -6,9 +6,9 @@ use num_dual::Dual2_64;
 use serde::Serialize;
 
 use crate::error::Error;
-use crate::mechanism::{Mechanism, Phi, Pose};
+use crate::mechanism::Phi;
 use crate::model::{Model, Params};
-use crate::scalar::{Real, phi_dual};
+
 
 /// The band a transmission angle must stay in (seed 002 eq. 15), degrees.
 pub const MU_MIN_DEG: f64 = 30.0;
@@ -125,22 +125,6 @@ pub fn check_options(opts: &CycleOptions) -> Result<(), Error> {
     Ok(())
 }
 
-/// Solves `mech` at every φ of a cycle, calling `visit(k, phi_deg, pose)`
-/// after each solve. The pose is reused: nothing is allocated per step.
-pub fn for_each_position<T: Real>(
-    mech: &Mechanism<T>,
-    phis_deg: &[f64],
-    make_phi: impl Fn(f64) -> Phi<T>,
-    mut visit: impl FnMut(usize, f64, &Pose<T>) -> Result<(), Error>,
-) -> Result<(), Error> {
-    let mut pose = mech.new_pose();
-    for (k, &p) in phis_deg.iter().enumerate() {
-        mech.solve(&make_phi(p.to_radians()), &mut pose)?;
-        visit(k, p, &pose)?;
-    }
-    Ok(())
-}
-
 struct Builder {
     columns: Vec<Column>,
 }
@@ -224,10 +208,12 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
             cols[c].values.push(v);
         }
     };
-    for_each_position(&mech, &phis, |phi| Phi::new(phi_dual(phi)), |_, phi_deg, pose| {
+    let mut pose = mech.new_pose(n);
+    mech.solve(&Phi::table(&phis), &mut pose)?;
+    for (k, &phi_deg) in phis.iter().enumerate() {
         cols[phi_col].values.push(phi_deg);
         for (p, pos, d1, d2, v, acc) in &point_cols {
-            let q = pose.points[*p];
+            let q = pose.point(*p, k);
             for k in 0..pos.len() {
                 cols[pos[k]].values.push(q[k].re);
                 if !d1.is_empty() {
@@ -240,24 +226,23 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
                 }
             }
         }
-        mech.link_angles(pose, &mut angles);
+        mech.link_angles(&pose, k, &mut angles);
         for (a, c) in angles.iter().zip(&angle_cols) {
-            for (k, val) in [a.re.to_degrees(), a.v1, a.v2, a.v1 * w, a.v2 * w * w].into_iter().enumerate() {
-                push(cols, c[k], val);
+            for (j, val) in [a.re.to_degrees(), a.v1, a.v2, a.v1 * w, a.v2 * w * w].into_iter().enumerate() {
+                push(cols, c[j], val);
             }
         }
-        mech.transmission_angles(pose, &mut mus);
+        mech.transmission_angles(&pose, k, &mut mus);
         for (m, &c) in mus.iter().zip(&mu_cols) {
             cols[c].values.push(m.re.to_degrees());
         }
-        mech.measures(pose, &mut measures);
+        mech.measures(&pose, k, &mut measures);
         for (m, c) in measures.iter().zip(&measure_cols) {
-            for (k, val) in [m.re, m.v1, m.v2, m.v1 * w, m.v2 * w * w].into_iter().enumerate() {
-                push(cols, c[k], val);
+            for (j, val) in [m.re, m.v1, m.v2, m.v1 * w, m.v2 * w * w].into_iter().enumerate() {
+                push(cols, c[j], val);
             }
         }
-        Ok(())
-    })?;
+    }
     let columns = b.columns;
     // Never NaN or infinity in output.
     for c in &columns {

@@ -116,6 +116,62 @@ impl<T: Real> Plane<T> {
     }
 }
 
+/// Projection onto a plane of motion and back, chosen once per group so the
+/// per-φ loops carry no branch for it (see [`Plane::with`]).
+pub trait PlaneMap<T: Real>: Copy {
+    fn project(&self, p: &V3<T>) -> V2<T>;
+    fn lift(&self, q: V2<T>, lift: T) -> V3<T>;
+}
+
+/// The world xy-plane: projection drops z.
+#[derive(Clone, Copy)]
+pub struct WorldXy;
+
+impl<T: Real> PlaneMap<T> for WorldXy {
+    #[inline(always)]
+    fn project(&self, p: &V3<T>) -> V2<T> {
+        V2::new(p.x, p.y)
+    }
+    #[inline(always)]
+    fn lift(&self, q: V2<T>, lift: T) -> V3<T> {
+        V3::new(q.x, q.y, lift)
+    }
+}
+
+/// The xy-plane of a frame.
+#[derive(Clone, Copy)]
+pub struct FrameXy<'a, T: Real>(pub &'a Placement<T>);
+
+impl<T: Real> PlaneMap<T> for FrameXy<'_, T> {
+    #[inline(always)]
+    fn project(&self, p: &V3<T>) -> V2<T> {
+        self.0.to_local(*p).xy()
+    }
+    #[inline(always)]
+    fn lift(&self, q: V2<T>, lift: T) -> V3<T> {
+        self.0.to_world(V3::new(q.x, q.y, lift))
+    }
+}
+
+/// Evaluates `$body` with `$pl` bound to the [`PlaneMap`] of `$plane`
+/// (a [`Plane`]): the world-or-frame choice is made once, outside the loops
+/// in `$body`.
+#[macro_export]
+macro_rules! with_plane {
+    ($plane:expr, $pl:ident => $body:expr) => {
+        match &($plane).0 {
+            None => {
+                let $pl = $crate::geometry::WorldXy;
+                $body
+            }
+            Some(f) => {
+                let $pl = $crate::geometry::FrameXy(f);
+                $body
+            }
+        }
+    };
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

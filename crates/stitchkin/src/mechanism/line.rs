@@ -31,7 +31,7 @@ pub fn point_on_line<T: Real, const D: usize>(
             format!("the moving joint is {dist:.4} mm from the guide line but the rod is only {:.4} mm long", l.re()),
         ));
     }
-    Ok(h + u * (along + disc.sqrt() * T::cst(sign)))
+    Ok(h + u * (along + disc.sqrt().signed(sign)))
 }
 
 /// Transmission angle of a rod `a → p` driving a slider along `u`:

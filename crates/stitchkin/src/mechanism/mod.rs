@@ -2,7 +2,8 @@
 //!
 //! A [`Mechanism`] is a model with every parameter resolved to a number of
 //! type `T` (`f64` for positions, a dual number for exact analogs). Solving
-//! at a φ fills a preallocated [`Pose`]; nothing is allocated per step.
+//! at a batch of φ values (one, or a whole cycle) fills a preallocated
+//! [`Pose`] group by group; nothing is allocated per step.
 
 pub mod line;
 pub mod newton;
@@ -13,7 +14,8 @@ pub mod rssr;
 
 use std::sync::Arc;
 
-use crate::geometry::{Plane, V2, V3, perp};
+use crate::geometry::{PlaneMap, Plane, V2, V3, perp};
+use crate::with_plane;
 use crate::scalar::Real;
 use newton::{NewtonGroup, NewtonState};
 use rssr::Rocker;
@@ -50,9 +52,20 @@ impl<T: Real> Phi<T> {
         let (sin, cos) = phi.sin_cos();
         Phi { phi, cos, sin }
     }
+
+    /// φ (degrees) as the independent variable: analogs are d/dφ.
+    pub fn at_deg(phi_deg: f64) -> Self {
+        Phi::new(T::var(phi_deg.to_radians()))
+    }
+
+    /// A cycle's φ values, precomputed once (cos and sin included) so that
+    /// solving the cycle does no trigonometry for the drivers.
+    pub fn table(phis_deg: &[f64]) -> Vec<Phi<T>> {
+        phis_deg.iter().map(|&p| Phi::at_deg(p)).collect()
+    }
 }
 
-/// One solve step. Slots index [`Pose::points`].
+/// One solve step. Slots index the points of a [`Pose`].
 #[derive(Debug, Clone, PartialEq)]
 pub enum Step<T: Real> {
     /// Crank pin `out = center + r(cos θ·u + sin θ·v)`, θ = speed·φ + phase.
@@ -80,11 +93,62 @@ pub enum MeasureStep<T: Real> {
     Coordinate { p: usize, from: Option<usize>, origin: V3<T>, axis: V3<T> },
 }
 
-/// Positions of every point at one φ, plus the numerical groups' warm starts.
+/// Positions of every point at a batch of φ values (one φ, or a whole
+/// cycle), plus the numerical groups' warm starts. Stored per point as a
+/// track of `len()` positions so each group runs one tight loop over φ.
 #[derive(Debug, Clone)]
 pub struct Pose<T: Real> {
-    pub points: Vec<V3<T>>,
+    n: usize,
+    tracks: Vec<Vec<V3<T>>>,
     newton: Vec<NewtonState<T>>,
+}
+
+impl<T: Real> Pose<T> {
+    /// Number of φ positions held.
+    pub fn len(&self) -> usize {
+        self.n
+    }
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+    /// Position of point `slot` at the `k`-th φ.
+    #[inline]
+    pub fn point(&self, slot: usize, k: usize) -> V3<T> {
+        self.tracks[slot][k]
+    }
+    /// Every position of point `slot`, in φ order.
+    pub fn track(&self, slot: usize) -> &[V3<T>] {
+        &self.tracks[slot]
+    }
+    /// All points at the `k`-th φ, indexable by slot.
+    pub fn at(&self, k: usize) -> PoseAt<'_, T> {
+        PoseAt { tracks: &self.tracks, k }
+    }
+}
+
+/// The points of a [`Pose`] at one φ: `pose.at(k)[slot]`.
+#[derive(Clone, Copy)]
+pub struct PoseAt<'a, T: Real> {
+    tracks: &'a [Vec<V3<T>>],
+    k: usize,
+}
+
+impl<T: Real> std::ops::Index<usize> for PoseAt<'_, T> {
+    type Output = V3<T>;
+    #[inline]
+    fn index(&self, slot: usize) -> &V3<T> {
+        &self.tracks[slot][self.k]
+    }
+}
+
+/// Fills `out[k] = f(k)` for every k, stopping at the first position with
+/// no assembly.
+#[inline(always)]
+fn each<T: Real>(out: &mut [V3<T>], mut f: impl FnMut(usize) -> Result<V3<T>, NoAssembly>) -> Result<(), (usize, NoAssembly)> {
+    for (k, o) in out.iter_mut().enumerate() {
+        *o = f(k).map_err(|e| (k, e))?;
+    }
+    Ok(())
 }
 
 /// A model with every parameter resolved: ready to solve at any φ.
@@ -109,86 +173,136 @@ pub struct AssemblyError {
 }
 
 impl<T: Real> Mechanism<T> {
-    /// A pose with the fixed points in place and numerical groups at their
-    /// starting guesses.
-    pub fn new_pose(&self) -> Pose<T> {
-        let mut points = vec![V3::zeros(); self.n_points];
+    /// A pose for `n` φ positions with the fixed points in place and the
+    /// numerical groups at their starting guesses.
+    pub fn new_pose(&self, n: usize) -> Pose<T> {
+        let mut tracks = vec![vec![V3::zeros(); n]; self.n_points];
         for (slot, p) in &self.fixed {
-            points[*slot] = *p;
+            tracks[*slot].iter_mut().for_each(|q| *q = *p);
         }
         let newton = self
             .steps
             .iter()
             .filter_map(|s| if let Step::Newton(g) = s { Some(g.new_state()) } else { None })
             .collect();
-        Pose { points, newton }
+        Pose { n, tracks, newton }
     }
 
-    /// Solves every group at `phi`, in order, writing into `pose`.
-    pub fn solve(&self, phi: &Phi<T>, pose: &mut Pose<T>) -> Result<(), AssemblyError> {
-        let pts = &mut pose.points;
+    /// Solves every group at each φ of `phis` (as many as the pose holds),
+    /// group by group, writing into `pose`. Numerical groups continue from
+    /// the previous φ (and from the previous call).
+    pub fn solve(&self, phis: &[Phi<T>], pose: &mut Pose<T>) -> Result<(), AssemblyError> {
+        let n = pose.n;
+        assert_eq!(phis.len(), n, "one φ per pose position");
+        let tracks = &mut pose.tracks;
         let mut newton = 0;
         for (i, step) in self.steps.iter().enumerate() {
+            let out_slot = match step {
+                Step::Crank { out, .. }
+                | Step::Rrr { out, .. }
+                | Step::Rrp { out, .. }
+                | Step::Rpr { out, .. }
+                | Step::Rssr { out, .. }
+                | Step::PointOnLine { out, .. }
+                | Step::Rigid { out, .. }
+                | Step::Rigid3 { out, .. } => *out,
+                Step::Newton(_) => usize::MAX,
+            };
+            // The output track is taken out while the inputs are read.
+            let mut o = if out_slot == usize::MAX { Vec::new() } else { std::mem::take(&mut tracks[out_slot]) };
+            let t = &*tracks;
+            let tr = |s: usize| &t[s][..n];
             let r = match step {
-                Step::Crank { center, out, r, u, v, speed, phase, cos_ph, sin_ph } => {
-                    let (c, s) = if *speed == 1.0 {
-                        // cos(φ + ph), sin(φ + ph) from the shared cos φ, sin φ.
-                        (phi.cos * *cos_ph - phi.sin * *sin_ph, phi.sin * *cos_ph + phi.cos * *sin_ph)
+                Step::Crank { center, r, u, v, speed, phase, cos_ph, sin_ph, .. } => {
+                    let c0 = tr(*center);
+                    let (ru, rv) = (*u * *r, *v * *r);
+                    if *speed != 1.0 {
+                        each(&mut o, |k| {
+                            let (s, c) = (phis[k].phi * T::cst(*speed) + *phase).sin_cos();
+                            Ok(c0[k] + ru * c + rv * s)
+                        })
+                    } else if u.z.re() == 0.0 && v.z.re() == 0.0 {
+                        // Shaft along z: a planar crank, cos(φ + ph) and
+                        // sin(φ + ph) from the shared cos φ, sin φ.
+                        let (cx, cy) = (ru.x * *cos_ph + rv.x * *sin_ph, ru.y * *cos_ph + rv.y * *sin_ph);
+                        let (sx, sy) = (rv.x * *cos_ph - ru.x * *sin_ph, rv.y * *cos_ph - ru.y * *sin_ph);
+                        each(&mut o, |k| {
+                            let (c, s) = (phis[k].cos, phis[k].sin);
+                            Ok(V3::new(c0[k].x + cx * c + sx * s, c0[k].y + cy * c + sy * s, c0[k].z))
+                        })
                     } else {
-                        let (s, c) = (phi.phi * T::cst(*speed) + *phase).sin_cos();
-                        (c, s)
-                    };
-                    pts[*out] = pts[*center] + (*u * c + *v * s) * *r;
-                    Ok(())
+                        each(&mut o, |k| {
+                            let phi = &phis[k];
+                            let (c, s) = (phi.cos * *cos_ph - phi.sin * *sin_ph, phi.sin * *cos_ph + phi.cos * *sin_ph);
+                            Ok(c0[k] + ru * c + rv * s)
+                        })
+                    }
                 }
-                Step::Rrr { p1, p2, l1, l2, sign, plane, out } => {
-                    let (a, b) = (plane.project(&pts[*p1]), plane.project(&pts[*p2]));
-                    rrr::rrr(a, b, *l1, *l2, *sign).map(|q| pts[*out] = plane.lift(q, T::zero()))
+                Step::Rrr { p1, p2, l1, l2, sign, plane, .. } => {
+                    let (a, b) = (tr(*p1), tr(*p2));
+                    let (l1sq, l2sq) = (*l1 * *l1, *l2 * *l2);
+                    with_plane!(plane, pl => each(&mut o, |k| {
+                        rrr::rrr(pl.project(&a[k]), pl.project(&b[k]), l1sq, l2sq, *sign).map(|q| pl.lift(q, T::zero()))
+                    }))
                 }
-                Step::Rrp { from, through, toward, dir, offset, l, sign, plane, out } => {
-                    let h = plane.project(&pts[*through]);
-                    let u = match toward {
-                        Some(t) => unit2(plane.project(&pts[*t]) - h),
-                        None => Ok(*dir),
-                    };
-                    u.and_then(|u| {
-                        let a = plane.project(&pts[*from]);
-                        line::point_on_line(h + perp(u) * *offset, u, a, *l, *sign)
+                Step::Rrp { from, through, toward, dir, offset, l, sign, plane, .. } => {
+                    let (a, h) = (tr(*from), tr(*through));
+                    let t = toward.map(tr);
+                    with_plane!(plane, pl => each(&mut o, |k| {
+                        let hk = pl.project(&h[k]);
+                        let u = match t {
+                            Some(t) => unit2(pl.project(&t[k]) - hk)?,
+                            None => *dir,
+                        };
+                        line::point_on_line(hk + perp(u) * *offset, u, pl.project(&a[k]), *l, *sign)
+                            .map(|q| pl.lift(q, T::zero()))
+                    }))
+                }
+                Step::Rpr { from, pivot, e, d, plane, .. } => {
+                    let (a, c) = (tr(*from), tr(*pivot));
+                    with_plane!(plane, pl => each(&mut o, |k| {
+                        let ck = pl.project(&c[k]);
+                        rpr::rpr(pl.project(&a[k]), ck, *e).map(|(u, _)| pl.lift(ck + perp(u) * *e + u * *d, T::zero()))
+                    }))
+                }
+                Step::Rssr { from, rocker, l, sign, .. } => {
+                    let a = tr(*from);
+                    each(&mut o, |k| rssr::rssr(rocker, a[k], *l, *sign))
+                }
+                Step::PointOnLine { from, through, toward, dir, l, sign, .. } => {
+                    let (a, h) = (tr(*from), tr(*through));
+                    let t = toward.map(tr);
+                    each(&mut o, |k| {
+                        let u = match t {
+                            Some(t) => unit3(t[k] - h[k])?,
+                            None => *dir,
+                        };
+                        line::point_on_line(h[k], u, a[k], *l, *sign)
                     })
-                    .map(|q| pts[*out] = plane.lift(q, T::zero()))
                 }
-                Step::Rpr { from, pivot, e, d, plane, out } => {
-                    let (a, c) = (plane.project(&pts[*from]), plane.project(&pts[*pivot]));
-                    rpr::rpr(a, c, *e).map(|(u, _)| pts[*out] = plane.lift(c + perp(u) * *e + u * *d, T::zero()))
+                Step::Rigid { base, dc, ds, lift, plane, .. } => {
+                    let (a, b) = (tr(base[0]), tr(base[1]));
+                    with_plane!(plane, pl => each(&mut o, |k| {
+                        rigid::rigid_point(pl.project(&a[k]), pl.project(&b[k]), *dc, *ds).map(|q| pl.lift(q, *lift))
+                    }))
                 }
-                Step::Rssr { from, rocker, l, sign, out, .. } => {
-                    rssr::rssr(rocker, pts[*from], *l, *sign).map(|b| pts[*out] = b)
-                }
-                Step::PointOnLine { from, through, toward, dir, l, sign, out } => {
-                    let h = pts[*through];
-                    let u = match toward {
-                        Some(t) => unit3(pts[*t] - h),
-                        None => Ok(*dir),
-                    };
-                    u.and_then(|u| line::point_on_line(h, u, pts[*from], *l, *sign)).map(|p| pts[*out] = p)
-                }
-                Step::Rigid { base, dc, ds, lift, plane, out } => {
-                    let (a, b) = (plane.project(&pts[base[0]]), plane.project(&pts[base[1]]));
-                    rigid::rigid_point(a, b, *dc, *ds).map(|q| pts[*out] = plane.lift(q, *lift))
-                }
-                Step::Rigid3 { frame, at, out } => {
-                    rigid::rigid_point_3d(pts[frame[0]], pts[frame[1]], pts[frame[2]], *at).map(|p| pts[*out] = p)
+                Step::Rigid3 { frame, at, .. } => {
+                    let (f0, f1, f2) = (tr(frame[0]), tr(frame[1]), tr(frame[2]));
+                    each(&mut o, |k| rigid::rigid_point_3d(f0[k], f1[k], f2[k], *at))
                 }
                 Step::Newton(g) => {
                     let st = &mut pose.newton[newton];
                     newton += 1;
-                    g.solve(pts, st)
+                    g.solve_track(tracks, n, st)
                 }
             };
-            if let Err(e) = r {
+            if out_slot != usize::MAX {
+                tracks[out_slot] = o;
+            }
+            if let Err((k, e)) = r {
                 return Err(AssemblyError {
                     group: self.labels[i].clone(),
-                    phi_deg: phi.phi.re().to_degrees(),
+                    phi_deg: phis[k].phi.re().to_degrees(),
                     defect_mm: e.defect_mm,
                     message: e.message,
                 });
@@ -198,9 +312,9 @@ impl<T: Real> Mechanism<T> {
     }
 
     /// Transmission angle (rad) of every dyad, in [`Self::dyads`] order.
-    pub fn transmission_angles(&self, pose: &Pose<T>, out: &mut Vec<T>) {
+    pub fn transmission_angles(&self, pose: &Pose<T>, k: usize, out: &mut Vec<T>) {
         out.clear();
-        let p = &pose.points;
+        let p = pose.at(k);
         for step in &self.steps {
             match step {
                 Step::Rrr { p1, p2, plane, out: b, .. } => {
@@ -227,9 +341,9 @@ impl<T: Real> Mechanism<T> {
     /// Link angles (rad) in [`Self::link_angles`] order: for RRR the two
     /// links into the output joint, for RRP the rod, for RPR the slot, for
     /// RSSR the rocker (about its axis from its zero direction).
-    pub fn link_angles(&self, pose: &Pose<T>, out: &mut Vec<T>) {
+    pub fn link_angles(&self, pose: &Pose<T>, k: usize, out: &mut Vec<T>) {
         out.clear();
-        let p = &pose.points;
+        let p = pose.at(k);
         let ang = |plane: &Plane<T>, a: usize, b: usize| {
             let d = plane.project(&p[b]) - plane.project(&p[a]);
             d.y.atan2(d.x)
@@ -241,12 +355,10 @@ impl<T: Real> Mechanism<T> {
                     out.push(ang(plane, *p2, *b));
                 }
                 Step::Rrp { from, plane, out: g, .. } => out.push(ang(plane, *from, *g)),
-                Step::Rpr { pivot, plane, out: d, e, .. } => {
-                    // Slot direction: from the pivot's foot toward `out`.
-                    let (c, q) = (plane.project(&p[*pivot]), plane.project(&p[*d]));
-                    let _ = e;
-                    let dq = q - c;
-                    out.push(dq.y.atan2(dq.x));
+                Step::Rpr { from, pivot, plane, e, .. } => {
+                    // Direction of the slot, from the pivot's foot toward the pin.
+                    let u = rpr::rpr(plane.project(&p[*from]), plane.project(&p[*pivot]), *e).map_or(V2::x(), |(u, _)| u);
+                    out.push(u.y.atan2(u.x));
                 }
                 Step::Rssr { rocker, zero, out: b, .. } => {
                     let q = p[*b] - rocker.c;
@@ -259,9 +371,9 @@ impl<T: Real> Mechanism<T> {
     }
 
     /// Values of the model's measures (mm).
-    pub fn measures(&self, pose: &Pose<T>, out: &mut Vec<T>) {
+    pub fn measures(&self, pose: &Pose<T>, k: usize, out: &mut Vec<T>) {
         out.clear();
-        let p = &pose.points;
+        let p = pose.at(k);
         for m in &self.measures {
             out.push(match m {
                 MeasureStep::Distance { a, b } => crate::geometry::norm_or_zero(p[*a] - p[*b]),

@@ -166,7 +166,41 @@ impl<T: Real> NewtonGroup<T> {
         }
     }
 
-    /// Solves the group at the current pose and writes its points.
+    /// Solves the group at every φ of a pose's tracks in order, each from the
+    /// previous solution, and writes its points.
+    pub(crate) fn solve_track(&self, tracks: &mut [Vec<V3<T>>], n: usize, st: &mut NewtonState<T>) -> Result<(), (usize, NoAssembly)> {
+        let mut pts = vec![V3::zeros(); tracks.len()];
+        let slots = self.known_slots();
+        for k in 0..n {
+            for &s in &slots {
+                pts[s] = tracks[s][k];
+            }
+            self.solve(&mut pts, st).map_err(|e| (k, e))?;
+            for &s in &self.outs {
+                tracks[s][k] = pts[s];
+            }
+        }
+        Ok(())
+    }
+
+    fn known_slots(&self) -> Vec<usize> {
+        let mut v = Vec::new();
+        for c in &self.closures {
+            match c {
+                Closure::Distance { a, b, .. } => {
+                    for r in [a, b] {
+                        if let PointRef::Known(s) = r {
+                            v.push(*s);
+                        }
+                    }
+                }
+                Closure::OnLine { h, t, .. } => v.extend([*h, *t]),
+            }
+        }
+        v
+    }
+
+    /// Solves the group at one position and writes its points.
     /// `points` is the pose; `st` keeps the previous solution.
     pub fn solve(&self, points: &mut [V3<T>], st: &mut NewtonState<T>) -> Result<(), NoAssembly> {
         let n = self.n();

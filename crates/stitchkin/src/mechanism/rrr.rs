@@ -8,17 +8,19 @@ use crate::scalar::Real;
 /// written without angles): with `d = p2 − p1`,
 /// `B = p1 + k·d ± h·perp(d)`, `k = (l1² − l2² + |d|²) / (2|d|²)`,
 /// `h = √(l1²/|d|² − k²)`. `sign = +1` puts `B` left of `p1 → p2`.
+/// Takes the squares `l1sq = l1²`, `l2sq = l2²` (constant over a cycle).
 #[inline(always)]
-pub fn rrr<T: Real>(p1: V2<T>, p2: V2<T>, l1: T, l2: T, sign: f64) -> Result<V2<T>, NoAssembly> {
+pub fn rrr<T: Real>(p1: V2<T>, p2: V2<T>, l1sq: T, l2sq: T, sign: f64) -> Result<V2<T>, NoAssembly> {
     let d = p2 - p1;
     let d2 = d.norm_squared();
     if d2.re() <= 0.0 {
         return Err(NoAssembly::coincident("the two joints of the dyad"));
     }
-    let k = (l1 * l1 - l2 * l2 + d2) / (d2 + d2);
-    let h2 = l1 * l1 / d2 - k * k;
+    let inv_d2 = d2.recip();
+    let k = ((l1sq - l2sq + d2) * inv_d2).times(0.5);
+    let h2 = l1sq * inv_d2 - k * k;
     if h2.re() < 0.0 {
-        let (dist, l1, l2) = (d2.re().sqrt(), l1.re(), l2.re());
+        let (dist, l1, l2) = (d2.re().sqrt(), l1sq.re().sqrt(), l2sq.re().sqrt());
         return Err(if dist > l1 + l2 {
             NoAssembly::new(
                 dist - (l1 + l2),
@@ -31,7 +33,7 @@ pub fn rrr<T: Real>(p1: V2<T>, p2: V2<T>, l1: T, l2: T, sign: f64) -> Result<V2<
             )
         });
     }
-    Ok(p1 + d * k + perp(d) * (h2.sqrt() * T::cst(sign)))
+    Ok(p1 + d * k + perp(d) * h2.sqrt().signed(sign))
 }
 
 /// Transmission angle at `B` (seed 002 eq. 4, μ): the angle between the
@@ -50,9 +52,9 @@ mod tests {
     #[test]
     fn right_triangle_3_4_5() {
         // p1 = (0,0), p2 = (5,0), l1 = 3, l2 = 4: B = (1.8, ±2.4).
-        let b = rrr(V2::new(0.0, 0.0), V2::new(5.0, 0.0), 3.0, 4.0, 1.0).unwrap();
+        let b = rrr(V2::new(0.0, 0.0), V2::new(5.0, 0.0), 9.0, 16.0, 1.0).unwrap();
         assert_relative_eq!(b, V2::new(1.8, 2.4), epsilon = 1e-14);
-        let b = rrr(V2::new(0.0, 0.0), V2::new(5.0, 0.0), 3.0, 4.0, -1.0).unwrap();
+        let b = rrr(V2::new(0.0, 0.0), V2::new(5.0, 0.0), 9.0, 16.0, -1.0).unwrap();
         assert_relative_eq!(b, V2::new(1.8, -2.4), epsilon = 1e-14);
         let mu = transmission(V2::new(0.0, 0.0), V2::new(5.0, 0.0), b);
         assert_relative_eq!(mu, std::f64::consts::FRAC_PI_2, epsilon = 1e-14);
@@ -62,7 +64,7 @@ mod tests {
     fn left_is_counter_clockwise_for_any_base_direction() {
         let p1 = V2::new(2.0, 1.0);
         let p2 = V2::new(-3.0, 4.0);
-        let b = rrr(p1, p2, 4.0, 5.0, 1.0).unwrap();
+        let b = rrr(p1, p2, 16.0, 25.0, 1.0).unwrap();
         assert!(crate::geometry::cross2(p2 - p1, b - p1) > 0.0);
         assert_relative_eq!((b - p1).norm(), 4.0, epsilon = 1e-12);
         assert_relative_eq!((b - p2).norm(), 5.0, epsilon = 1e-12);
@@ -70,10 +72,10 @@ mod tests {
 
     #[test]
     fn no_assembly_reports_the_defect() {
-        let e = rrr(V2::new(0.0, 0.0), V2::new(10.0, 0.0), 3.0, 4.0, 1.0).unwrap_err();
+        let e = rrr(V2::new(0.0, 0.0), V2::new(10.0, 0.0), 9.0, 16.0, 1.0).unwrap_err();
         assert_relative_eq!(e.defect_mm, 3.0, epsilon = 1e-12);
-        let e = rrr(V2::new(0.0, 0.0), V2::new(1.0, 0.0), 3.0, 5.0, 1.0).unwrap_err();
+        let e = rrr(V2::new(0.0, 0.0), V2::new(1.0, 0.0), 9.0, 25.0, 1.0).unwrap_err();
         assert_relative_eq!(e.defect_mm, 1.0, epsilon = 1e-12);
-        assert!(rrr(V2::new(1.0, 1.0), V2::new(1.0, 1.0), 3.0, 5.0, 1.0).is_err());
+        assert!(rrr(V2::new(1.0, 1.0), V2::new(1.0, 1.0), 9.0, 25.0, 1.0).is_err());
     }
 }

@@ -27,7 +27,7 @@ pub fn rssr<T: Real>(k: &Rocker<T>, a: V3<T>, l: T, sign: f64) -> Result<V3<T>, 
     let q = a - k.c;
     let (au, av) = (q.dot(&k.u), q.dot(&k.v));
     let rho2 = au * au + av * av;
-    let kk = (k.r * k.r + q.norm_squared() - l * l) / (k.r + k.r);
+    let kk = (k.r * k.r + q.norm_squared() - l * l) / k.r.times(2.0);
     let disc = rho2 - kk * kk;
     if disc.re() < 0.0 || rho2.re() <= 0.0 {
         let (rho, aw, r, l) = (rho2.re().sqrt(), q.dot(&k.w).re(), k.r.re(), l.re());
@@ -39,7 +39,7 @@ pub fn rssr<T: Real>(k: &Rocker<T>, a: V3<T>, l: T, sign: f64) -> Result<V3<T>, 
             NoAssembly::new(near - l, format!("the rod ({l:.4} mm) is shorter than the nearest reach of the rocker circle ({near:.4} mm)"))
         });
     }
-    let s = disc.sqrt() * T::cst(sign);
+    let s = disc.sqrt().signed(sign);
     let f = k.r / rho2;
     let bu = f * (kk * au - s * av);
     let bv = f * (kk * av + s * au);

@@ -21,11 +21,20 @@ impl Dim {
     pub const LENGTH: Dim = Dim { length: 1, angle: 0 };
     pub const ANGLE: Dim = Dim { length: 0, angle: 1 };
 
-    fn mul(self, o: Dim) -> Dim {
-        Dim { length: self.length + o.length, angle: self.angle + o.angle }
+    /// Unit exponents beyond this are surely a mistake (and would overflow).
+    const MAX_POWER: i32 = 12;
+
+    fn checked(length: i32, angle: i32) -> Result<Dim, String> {
+        if length.abs() > Self::MAX_POWER || angle.abs() > Self::MAX_POWER {
+            return Err(format!("the units grow to mm^{length}·deg^{angle}, beyond any physical quantity"));
+        }
+        Ok(Dim { length: length as i8, angle: angle as i8 })
     }
-    fn div(self, o: Dim) -> Dim {
-        Dim { length: self.length - o.length, angle: self.angle - o.angle }
+    fn mul(self, o: Dim) -> Result<Dim, String> {
+        Dim::checked(self.length as i32 + o.length as i32, self.angle as i32 + o.angle as i32)
+    }
+    fn div(self, o: Dim) -> Result<Dim, String> {
+        Dim::checked(self.length as i32 - o.length as i32, self.angle as i32 - o.angle as i32)
     }
 
     /// The unit a quantity of this dimension is written in, e.g. `mm^2`.
@@ -191,6 +200,9 @@ struct Parser<'a, F: Fn(&str) -> Option<usize>> {
 }
 
 const MAX_DEPTH: usize = 64;
+/// Longest expression accepted, in tokens: keeps every expression tree
+/// shallow enough to walk recursively.
+const MAX_TOKENS: usize = 512;
 
 impl<F: Fn(&str) -> Option<usize>> Parser<'_, F> {
     fn peek(&self) -> Option<&Tok> {
@@ -335,6 +347,10 @@ impl Expr {
     /// Parses `src`; `lookup` maps a parameter name to its index.
     pub fn parse(src: &str, lookup: &impl Fn(&str) -> Option<usize>) -> Result<Expr, ExprError> {
         let toks = tokenize(src)?;
+        if toks.len() > MAX_TOKENS {
+            return Err(ExprError::new(format!("the expression is too long ({} tokens, at most {MAX_TOKENS})", toks.len()), 0..src.len())
+                .help("split it into derived parameters (`expr = ...`)"));
+        }
         if toks.is_empty() {
             return Err(ExprError::new("empty expression", 0..src.len()).help("write a number or an expression"));
         }
@@ -382,13 +398,13 @@ impl Expr {
                 match (a.dimension(param_dim)?, b.dimension(param_dim)?) {
                     (Free, Free) => Free,
                     (Is(x), Free) => Is(x),
-                    (Free, Is(y)) => Is(if is_mul { y } else { Dim::ONE.div(y) }),
-                    (Is(x), Is(y)) => Is(if is_mul { x.mul(y) } else { x.div(y) }),
+                    (Free, Is(y)) => Is(if is_mul { y } else { Dim::ONE.div(y)? }),
+                    (Is(x), Is(y)) => Is(if is_mul { x.mul(y)? } else { x.div(y)? }),
                 }
             }
             Expr::Pow(a, n) => match a.dimension(param_dim)? {
                 Free => Free,
-                Is(d) => Is(Dim { length: d.length * (*n as i8), angle: d.angle * (*n as i8) }),
+                Is(d) => Is(Dim::checked(d.length as i32 * *n, d.angle as i32 * *n)?),
             },
             Expr::Call(f, args) => {
                 let dims: Vec<Dimension> =
@@ -517,8 +533,10 @@ mod tests {
         assert!(Expr::parse("", &names).is_err());
         assert!(Expr::parse("atan2(1)", &names).is_err());
         assert!(Expr::parse("1 $ 2", &names).is_err());
-        let deep = "(".repeat(200) + "1" + &")".repeat(200);
+        let deep = "(".repeat(100) + "1" + &")".repeat(100);
         assert!(Expr::parse(&deep, &names).is_err());
+        let long = vec!["1"; 1000].join("+");
+        assert!(Expr::parse(&long, &names).unwrap_err().message.contains("too long"));
     }
 
     #[test]
@@ -535,5 +553,8 @@ mod tests {
         assert!(d("sqrt(l_ab)").is_err());
         assert_eq!(d("l_ab*l_ab").unwrap(), Dimension::Is(Dim { length: 2, angle: 0 }));
         assert_eq!(d("k*alpha").unwrap(), Dimension::Is(Dim::ANGLE));
+        assert!(d("(l_ab^16)^16").unwrap_err().contains("beyond"));
+        assert!(d(&vec!["l_ab"; 20].join("*")).is_err());
+        assert!(d(&vec!["l_ab"; 20].join("/")).is_err());
     }
 }

@@ -18,9 +18,9 @@ fn slot(m: &Model, name: &str) -> usize {
 }
 
 fn positions(mech: &Mechanism<f64>, phi: f64) -> Vec<V3<f64>> {
-    let mut pose = mech.new_pose();
-    mech.solve(&Phi::new(phi), &mut pose).unwrap();
-    pose.points.clone()
+    let mut pose = mech.new_pose(1);
+    mech.solve(&[Phi::new(phi)], &mut pose).unwrap();
+    (0..mech.n_points()).map(|s| pose.point(s, 0)).collect()
 }
 
 fn assembles(m: &Model) -> bool {
@@ -50,12 +50,12 @@ fn check_analogs(g: &Generated) -> Result<(), TestCaseError> {
     let h = 1e-4;
     for k in 0..24 {
         let phi = (k as f64 * 15.0 + 7.0).to_radians();
-        let mut pose = exact.new_pose();
-        exact.solve(&Phi::new(phi_dual(phi)), &mut pose).unwrap();
+        let mut pose = exact.new_pose(1);
+        exact.solve(&[Phi::new(phi_dual(phi))], &mut pose).unwrap();
         let (pm, p0, pp) = (positions(&plain, phi - h), positions(&plain, phi), positions(&plain, phi + h));
-        for s in 0..pose.points.len() {
+        for s in 0..exact.n_points() {
             for c in 0..3 {
-                let d = pose.points[s][c];
+                let d = pose.point(s, 0)[c];
                 prop_assert!((d.re - p0[s][c]).abs() < 1e-12);
                 let d1 = (pp[s][c] - pm[s][c]) / (2.0 * h);
                 let d2 = (pp[s][c] - 2.0 * p0[s][c] + pm[s][c]) / (h * h);

@@ -1,0 +1,118 @@
+//! Engine speed, one core, one full cycle (360 positions) per iteration.
+//! `cargo bench -p stitchkin --bench engine` prints time and heap
+//! allocations per cycle. Goals (issue 2): four-bar ≤ 2 µs positions,
+//! ≤ 6 µs with first and second analogs; needle876 with analogs ≤ 10 µs;
+//! no heap allocation per φ step.
+
+use divan::{Bencher, black_box};
+use num_dual::Dual2_64;
+use stitchkin::eval::cycle_phis_deg;
+use stitchkin::mechanism::{Mechanism, Phi};
+use stitchkin::model::Model;
+use stitchkin::scalar::Real;
+
+#[global_allocator]
+static ALLOC: divan::AllocProfiler = divan::AllocProfiler::system();
+
+/// The benchmark four-bar of issue 2: O1 = (0,0), O2 = (60,0), crank 15,
+/// coupler 50, rocker 40, coupler point 20 mm from A at 30° to AB.
+const FOUR_BAR: &str = r#"
+[model]
+name = "bench-four-bar"
+[points]
+O1 = [0, 0]
+O2 = [60, 0]
+[[drivers]]
+type = "crank"
+center = "O1"
+out = "A"
+radius = 15
+[[groups]]
+type = "rrr"
+joints = ["A", "O2"]
+lengths = [50, 40]
+out = "B"
+branch = "left"
+[[groups]]
+type = "rigid_point"
+base = ["A", "B"]
+distance = 20
+angle_deg = 30
+out = "P"
+"#;
+
+fn main() {
+    divan::main();
+}
+
+fn cycle<T: Real>(model: &Model) -> (Mechanism<T>, Vec<Phi<T>>) {
+    let mech = model.mechanism::<T>(&model.defaults()).unwrap();
+    let phis = Phi::table(&cycle_phis_deg(model.phi_start_deg(), 1.0));
+    (mech, phis)
+}
+
+fn bench_cycle<T: Real>(bencher: Bencher, model: &Model) {
+    let (mech, phis) = cycle::<T>(model);
+    let mut pose = mech.new_pose(phis.len());
+    let p = mech.n_points() - 1;
+    bencher.bench_local(|| {
+        mech.solve(black_box(&phis), &mut pose).unwrap();
+        black_box(pose.point(p, 180))
+    });
+}
+
+#[divan::bench]
+fn four_bar_positions(bencher: Bencher) {
+    bench_cycle::<f64>(bencher, &Model::from_toml_str(FOUR_BAR, "bench").unwrap());
+}
+
+#[divan::bench]
+fn four_bar_with_analogs(bencher: Bencher) {
+    bench_cycle::<Dual2_64>(bencher, &Model::from_toml_str(FOUR_BAR, "bench").unwrap());
+}
+
+#[divan::bench]
+fn needle876_positions(bencher: Bencher) {
+    bench_cycle::<f64>(bencher, &Model::preset("needle876").unwrap());
+}
+
+#[divan::bench]
+fn needle876_with_analogs(bencher: Bencher) {
+    bench_cycle::<Dual2_64>(bencher, &Model::preset("needle876").unwrap());
+}
+
+#[divan::bench]
+fn overlock500_with_analogs(bencher: Bencher) {
+    bench_cycle::<Dual2_64>(bencher, &Model::preset("overlock500").unwrap());
+}
+
+/// The floor: the same four-bar written by hand over precomputed crank
+/// angles (circle intersection, no engine).
+#[divan::bench]
+fn four_bar_hand_written(bencher: Bencher) {
+    let (cs, sn): (Vec<f64>, Vec<f64>) = (0..360).map(|k| (k as f64).to_radians()).map(|p| (p.cos(), p.sin())).unzip();
+    let (r, l, c, ox) = (15.0f64, 50.0f64, 40.0f64, 60.0f64);
+    let (dc, ds) = (20.0 * 30f64.to_radians().cos(), 20.0 * 30f64.to_radians().sin());
+    bencher.bench_local(|| {
+        let mut acc = 0.0;
+        for k in 0..360 {
+            let (ax, ay) = (r * black_box(cs[k]), r * black_box(sn[k]));
+            let (dx, dy) = (ox - ax, -ay);
+            let d2 = dx * dx + dy * dy;
+            let kk = (l * l - c * c + d2) / (2.0 * d2);
+            let h = (l * l / d2 - kk * kk).sqrt();
+            let (bx, by) = (ax + kk * dx - h * dy, ay + kk * dy + h * dx);
+            let (ex, ey) = (bx - ax, by - ay);
+            let inv = 1.0 / (ex * ex + ey * ey).sqrt();
+            acc += ax + (ex * dc - ey * ds) * inv;
+        }
+        black_box(acc)
+    });
+}
+
+/// Load, check and compile a model file (not per φ: once per model).
+#[divan::bench]
+fn load_needle876(bencher: Bencher) {
+    let text = stitchkin::presets::find("needle876").unwrap().toml;
+    bencher.bench_local(|| Model::from_toml_str(black_box(text), "needle876").unwrap());
+}
