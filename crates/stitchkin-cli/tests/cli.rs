@@ -1,0 +1,194 @@
+//! The `stitchkin` binary, run as a user would.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_stitchkin"))
+}
+
+fn run(args: &[&str]) -> Output {
+    run_in(args, Path::new("."))
+}
+
+fn run_in(args: &[&str], dir: &Path) -> Output {
+    let out = bin().args(args).current_dir(dir).env("NO_COLOR", "1").output().expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "panic for {args:?}:\n{stderr}");
+    out
+}
+
+fn ok(args: &[&str]) -> (String, String) {
+    let out = run(args);
+    let (o, e) = (String::from_utf8(out.stdout).unwrap(), String::from_utf8(out.stderr).unwrap());
+    assert!(out.status.success(), "{args:?} failed:\n{e}");
+    (o, e)
+}
+
+fn fails(args: &[&str]) -> String {
+    let out = run(args);
+    assert!(!out.status.success(), "{args:?} should fail");
+    assert!(out.stdout.is_empty(), "{args:?} wrote to stdout despite failing");
+    String::from_utf8(out.stderr).unwrap()
+}
+
+/// A fresh scratch folder.
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("stitchkin-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+const PRESETS: &[&str] = &["needle876", "overlock500", "altin-needle"];
+
+#[test]
+fn run_without_arguments_uses_the_default_preset() {
+    let (csv, summary) = ok(&["run"]);
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    for col in ["phi_deg", "G.y_mm", "G.dy_dphi_mm_per_rad", "G.d2y_dphi2_mm_per_rad2", "G.vy_mm_per_s", "mu_45_deg", "needle_y_mm"] {
+        assert!(header.contains(&col), "no column {col} in {header:?}");
+    }
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 360);
+    assert!(rows.iter().all(|r| r.split(',').count() == header.len()));
+    assert!(!csv.contains("NaN") && !csv.contains("inf"));
+    assert!(summary.contains("mu_45") && summary.contains("needle_y"));
+}
+
+#[test]
+fn every_preset_runs_as_csv_and_json_and_checks() {
+    for p in PRESETS {
+        let (csv, _) = ok(&["run", "--preset", p, "--step", "5"]);
+        assert_eq!(csv.lines().count(), 1 + 72, "{p}");
+        let (json, _) = ok(&["run", "--preset", p, "--step", "30", "--format", "json", "--rpm", "1000"]);
+        let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+        assert_eq!(v["model"], *p);
+        assert_eq!(v["columns"][0]["name"], "phi_deg");
+        assert_eq!(v["columns"][0]["values"].as_array().unwrap().len(), 12);
+        assert!(v["transmission"].is_array() && v["parameters"].is_array());
+        let (check, _) = ok(&["check", "--preset", p, "--cross-check", "--step", "10"]);
+        assert!(check.contains("ok —") && check.contains("cross-check: 36 positions"), "{check}");
+    }
+}
+
+#[test]
+fn presets_lists_name_machine_and_seed() {
+    let (out, _) = ok(&["presets"]);
+    for (p, seed) in [("needle876", "002"), ("overlock500", "003"), ("altin-needle", "004")] {
+        let line = out.lines().find(|l| l.starts_with(p)).unwrap_or_else(|| panic!("{p} missing:\n{out}"));
+        assert!(line.contains(seed), "{line}");
+    }
+    assert!(out.contains("(default)"));
+}
+
+#[test]
+fn overrides_are_applied_and_checked() {
+    let (a0, _) = ok(&["run", "--points", "G", "--step", "90"]);
+    let (a30, warn30) = ok(&["run", "--points", "G", "--step", "90", "--set", "alpha=30"]);
+    assert_ne!(a0, a30);
+    assert!(!warn30.contains("warning"));
+    let (_, warn40) = ok(&["run", "--step", "1", "--set", "alpha=40"]);
+    assert!(warn40.contains("warning: transmission angle") && warn40.contains("45"), "{warn40}");
+    let e = fails(&["run", "--set", "alpha=50"]);
+    assert!(e.contains("outside its adjustable range") && e.contains("help"), "{e}");
+    let e = fails(&["run", "--set", "alpah=5"]);
+    assert!(e.contains("did you mean `alpha`"), "{e}");
+    let e = fails(&["run", "--set", "alpha"]);
+    assert!(e.contains("NAME=VALUE"), "{e}");
+    let e = fails(&["run", "--step", "0"]);
+    assert!(e.contains("step"), "{e}");
+    let e = fails(&["run", "--rpm", "-5"]);
+    assert!(e.contains("rpm"), "{e}");
+    let e = fails(&["run", "--points", "Q"]);
+    assert!(e.contains("no point `Q`"), "{e}");
+    let e = fails(&["run", "--preset", "needle867"]);
+    assert!(e.contains("did you mean `needle876`"), "{e}");
+}
+
+#[test]
+fn malformed_files_name_file_line_column_and_fix() {
+    let d = scratch("malformed");
+    let cases: &[(&str, &str, &str)] = &[
+        ("syntax.toml", "[model]\nname = \"x\"\n[points]\nO = [0, 0\n", "syntax.toml:4:"),
+        ("unknown.toml", "[model]\nname = \"x\"\n[points]\nO = [0, 0]\n[[drivers]]\ntype = \"crank\"\ncenter = \"Q\"\nout = \"A\"\nradius = 5\n", "syntax"),
+        ("units.toml", "[model]\nname = \"x\"\n[parameters]\na = { value = 5, unit = \"deg\" }\n[points]\nO = [0, 0]\n[[drivers]]\ntype = \"crank\"\ncenter = \"O\"\nout = \"A\"\nradius = \"a\"\n", "units.toml:11:"),
+    ];
+    for (name, text, _) in cases {
+        std::fs::write(d.join(name), text).unwrap();
+    }
+    let e = fails(&["check", d.join("syntax.toml").to_str().unwrap()]);
+    assert!(e.contains("syntax.toml:4:"), "{e}");
+    let e = fails(&["check", d.join("unknown.toml").to_str().unwrap()]);
+    assert!(e.contains("unknown.toml:7:") && e.contains("unknown point `Q`") && e.contains("help"), "{e}");
+    let e = fails(&["run", d.join("units.toml").to_str().unwrap()]);
+    assert!(e.contains("units.toml:11:") && e.contains("deg") && e.contains("mm"), "{e}");
+    let e = fails(&["run", d.join("missing.toml").to_str().unwrap()]);
+    assert!(e.contains("cannot read model file"), "{e}");
+}
+
+#[test]
+fn a_failed_run_leaves_no_output_file() {
+    let d = scratch("atomic");
+    // The rocker is too short for part of the cycle: no assembly there.
+    let model = "[model]\nname = \"short\"\n[points]\nO1 = [0, 0]\nO2 = [60, 0]\n[[drivers]]\ntype = \"crank\"\ncenter = \"O1\"\nout = \"A\"\nradius = 15\n\
+                 [[groups]]\ntype = \"rrr\"\nname = \"bc\"\njoints = [\"A\", \"O2\"]\nlengths = [50, 24]\nout = \"B\"\nbranch = \"left\"\n";
+    std::fs::write(d.join("short.toml"), model).unwrap();
+    let out = d.join("out.csv");
+    let e = fails(&["run", d.join("short.toml").to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(e.contains("no assembly at φ =") && e.contains("rrr group \"bc\"") && e.contains("closure fails by"), "{e}");
+    assert!(!out.exists());
+    // An existing file is left untouched by a failed run, replaced by a good one.
+    std::fs::write(&out, "previous").unwrap();
+    fails(&["run", d.join("short.toml").to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "previous");
+    ok(&["run", "--step", "10", "-o", out.to_str().unwrap()]);
+    assert!(std::fs::read_to_string(&out).unwrap().starts_with("phi_deg,"));
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 2, "no temporary files left behind");
+    let e = fails(&["run", "-o", "/nonexistent-dir/out.csv"]);
+    assert!(e.contains("cannot"), "{e}");
+}
+
+#[test]
+fn every_subcommand_has_help_with_an_example() {
+    for sub in [vec!["--help"], vec!["run", "--help"], vec!["check", "--help"], vec!["presets", "--help"], vec!["schema", "--help"]] {
+        let (out, _) = ok(&sub);
+        assert!(out.contains("Example"), "{sub:?}:\n{out}");
+    }
+}
+
+#[test]
+fn schema_is_json_schema_of_the_format() {
+    let (out, _) = ok(&["schema"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["$schema"].as_str().unwrap().contains("json-schema"));
+    let text = out.as_str();
+    for word in ["parameters", "drivers", "groups", "rrr", "rssr", "newton", "branch"] {
+        assert!(text.contains(word), "schema lacks {word}");
+    }
+}
+
+/// Every `stitchkin …` command in the README's shell blocks runs.
+#[test]
+fn readme_examples_run() {
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../README.md")).unwrap();
+    let d = scratch("readme");
+    let mut in_sh = false;
+    let mut ran = 0;
+    for line in readme.lines() {
+        if line.starts_with("```") {
+            in_sh = line == "```sh";
+            continue;
+        }
+        let cmd = line.split('#').next().unwrap().trim();
+        if in_sh && cmd.starts_with("stitchkin ") {
+            let args: Vec<&str> = cmd.split_whitespace().skip(1).collect();
+            let out = run_in(&args, &d);
+            assert!(out.status.success(), "README command failed: {cmd}\n{}", String::from_utf8_lossy(&out.stderr));
+            ran += 1;
+        }
+    }
+    assert!(ran >= 4, "only {ran} README commands found");
+    assert!(d.join("needle876-alpha30.json").exists());
+}
