@@ -11,24 +11,24 @@ use crate::scalar::Real;
 
 /// Point `P = h + s·u` on the line through `h` along the unit vector `u`
 /// with `|P − a| = l`: `s = (a−h)·u ± √(l² − |(a−h)⊥|²)`.
-/// `sign = +1` takes `P` ahead of `a`'s foot along `u`.
+/// `sign = +1` takes `P` ahead of `a`'s foot along `u`. Takes `l_sq = l²`.
 #[inline(always)]
 pub fn point_on_line<T: Real, const D: usize>(
     h: SVector<T, D>,
     u: SVector<T, D>,
     a: SVector<T, D>,
-    l: T,
+    l_sq: T,
     sign: f64,
 ) -> Result<SVector<T, D>, NoAssembly> {
     let w = a - h;
     let along = w.dot(&u);
     let perp2 = w.norm_squared() - along * along;
-    let disc = l * l - perp2;
+    let disc = l_sq - perp2;
     if disc.re() < 0.0 {
-        let dist = perp2.re().max(0.0).sqrt();
+        let (dist, l) = (perp2.re().max(0.0).sqrt(), l_sq.re().sqrt());
         return Err(NoAssembly::new(
-            dist - l.re(),
-            format!("the moving joint is {dist:.4} mm from the guide line but the rod is only {:.4} mm long", l.re()),
+            dist - l,
+            format!("the moving joint is {dist:.4} mm from the guide line but the rod is only {l:.4} mm long"),
         ));
     }
     Ok(h + u * (along + disc.sqrt().signed(sign)))
@@ -55,12 +55,12 @@ mod tests {
         let (h, u) = (V3::new(0.0, 0.0, 0.0), V3::new(1.0, 0.0, 0.0));
         let at = |phi: f64| {
             let a = V3::new(10.0 * phi.cos(), 10.0 * phi.sin(), 0.0);
-            point_on_line(h, u, a, 40.0, 1.0).unwrap().x
+            point_on_line(h, u, a, 1600.0, 1.0).unwrap().x
         };
         assert_relative_eq!(at(0.0), 50.0, epsilon = 1e-12);
         assert_relative_eq!(at(std::f64::consts::PI), 30.0, epsilon = 1e-12);
         // 3-4-5: A = (0, 3), rod 5 → slider at x = ±4.
-        let p = point_on_line(h, u, V3::new(0.0, 3.0, 0.0), 5.0, -1.0).unwrap();
+        let p = point_on_line(h, u, V3::new(0.0, 3.0, 0.0), 25.0, -1.0).unwrap();
         assert_relative_eq!(p, V3::new(-4.0, 0.0, 0.0), epsilon = 1e-12);
         let mu = transmission(u, V3::new(0.0, 3.0, 0.0), p);
         assert_relative_eq!(mu, (4.0f64).atan2(3.0), epsilon = 1e-12);
@@ -71,9 +71,9 @@ mod tests {
         let h = V3::new(1.0, 1.0, 1.0);
         let u = V3::new(0.0, 0.0, 1.0);
         let a = V3::new(4.0, 5.0, 3.0); // 5 mm from the line
-        let p = point_on_line(h, u, a, 13.0, 1.0).unwrap();
+        let p = point_on_line(h, u, a, 169.0, 1.0).unwrap();
         assert_relative_eq!(p, V3::new(1.0, 1.0, 15.0), epsilon = 1e-12);
-        let e = point_on_line(h, u, a, 4.0, 1.0).unwrap_err();
+        let e = point_on_line(h, u, a, 16.0, 1.0).unwrap_err();
         assert_relative_eq!(e.defect_mm, 1.0, epsilon = 1e-12);
     }
 }

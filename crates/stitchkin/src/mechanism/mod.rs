@@ -247,16 +247,23 @@ impl<T: Real> Mechanism<T> {
                 }
                 Step::Rrp { from, through, toward, dir, offset, l, sign, plane, .. } => {
                     let (a, h) = (tr(*from), tr(*through));
-                    let t = toward.map(tr);
-                    with_plane!(plane, pl => each(&mut o, |k| {
-                        let hk = pl.project(&h[k]);
-                        let u = match t {
-                            Some(t) => unit2(pl.project(&t[k]) - hk)?,
-                            None => *dir,
-                        };
-                        line::point_on_line(hk + perp(u) * *offset, u, pl.project(&a[k]), *l, *sign)
-                            .map(|q| pl.lift(q, T::zero()))
-                    }))
+                    let l_sq = *l * *l;
+                    match toward.map(tr) {
+                        Some(t) => with_plane!(plane, pl => each(&mut o, |k| {
+                            let hk = pl.project(&h[k]);
+                            let u = unit2(pl.project(&t[k]) - hk)?;
+                            line::point_on_line(hk + perp(u) * *offset, u, pl.project(&a[k]), l_sq, *sign)
+                                .map(|q| pl.lift(q, T::zero()))
+                        })),
+                        None => {
+                            // A guide of fixed direction: its offset is the same at every φ.
+                            let off = perp(*dir) * *offset;
+                            with_plane!(plane, pl => each(&mut o, |k| {
+                                line::point_on_line(pl.project(&h[k]) + off, *dir, pl.project(&a[k]), l_sq, *sign)
+                                    .map(|q| pl.lift(q, T::zero()))
+                            }))
+                        }
+                    }
                 }
                 Step::Rpr { from, pivot, e, d, plane, .. } => {
                     let (a, c) = (tr(*from), tr(*pivot));
@@ -267,17 +274,19 @@ impl<T: Real> Mechanism<T> {
                 }
                 Step::Rssr { from, rocker, l, sign, .. } => {
                     let a = tr(*from);
-                    each(&mut o, |k| rssr::rssr(rocker, a[k], *l, *sign))
+                    let rod = rssr::RockerRod::new(*rocker, *l);
+                    each(&mut o, |k| rssr::rssr(&rod, a[k], *sign))
                 }
                 Step::PointOnLine { from, through, toward, dir, l, sign, .. } => {
                     let (a, h) = (tr(*from), tr(*through));
                     let t = toward.map(tr);
+                    let l_sq = *l * *l;
                     each(&mut o, |k| {
                         let u = match t {
                             Some(t) => unit3(t[k] - h[k])?,
                             None => *dir,
                         };
-                        line::point_on_line(h[k], u, a[k], *l, *sign)
+                        line::point_on_line(h[k], u, a[k], l_sq, *sign)
                     })
                 }
                 Step::Rigid { base, dc, ds, lift, plane, .. } => {

@@ -17,17 +17,38 @@ pub struct Rocker<T: Real> {
     pub r: T,
 }
 
+/// A rocker and its rod, with the constants of [`rssr`] folded once.
+#[derive(Debug, Clone, Copy)]
+pub struct RockerRod<T: Real> {
+    pub rocker: Rocker<T>,
+    /// Rod length.
+    pub l: T,
+    /// `r² − l²`.
+    c0: T,
+    /// `1 / (2r)`.
+    inv_2r: T,
+}
+
+impl<T: Real> RockerRod<T> {
+    pub fn new(rocker: Rocker<T>, l: T) -> Self {
+        let c0 = rocker.r * rocker.r - l * l;
+        let inv_2r = rocker.r.times(2.0).recip();
+        RockerRod { rocker, l, c0, inv_2r }
+    }
+}
+
 /// Ball end `B = c + r(cos θ·u + sin θ·v)` with `|B − a| = l`.
 /// With `a − c = (a_u, a_v, a_w)`, `K = (r² + |a−c|² − l²) / (2r)` and
 /// `ρ² = a_u² + a_v²`: `cos(θ − ψ) = K/ρ`, ψ the direction of `(a_u, a_v)`,
 /// so `(B−c)_{uv} = (r/ρ²)·(K·(a_u, a_v) ± √(ρ² − K²)·(−a_v, a_u))`.
 /// `sign = +1` turns counter-clockwise about `w` from `a`'s direction.
 #[inline(always)]
-pub fn rssr<T: Real>(k: &Rocker<T>, a: V3<T>, l: T, sign: f64) -> Result<V3<T>, NoAssembly> {
+pub fn rssr<T: Real>(rod: &RockerRod<T>, a: V3<T>, sign: f64) -> Result<V3<T>, NoAssembly> {
+    let (k, l) = (&rod.rocker, rod.l);
     let q = a - k.c;
     let (au, av) = (q.dot(&k.u), q.dot(&k.v));
     let rho2 = au * au + av * av;
-    let kk = (k.r * k.r + q.norm_squared() - l * l) / k.r.times(2.0);
+    let kk = (q.norm_squared() + rod.c0) * rod.inv_2r;
     let disc = rho2 - kk * kk;
     if disc.re() < 0.0 || rho2.re() <= 0.0 {
         let (rho, aw, r, l) = (rho2.re().sqrt(), q.dot(&k.w).re(), k.r.re(), l.re());
@@ -69,7 +90,7 @@ mod tests {
     #[test]
     fn in_plane_it_is_the_rrr_dyad() {
         let k = planar_rocker(V3::new(5.0, 0.0, 0.0), 4.0);
-        let b = rssr(&k, V3::zeros(), 3.0, -1.0).unwrap();
+        let b = rssr(&RockerRod::new(k, 3.0), V3::zeros(), -1.0).unwrap();
         // Same triangle as the RRR test, seen from the rocker centre.
         assert_relative_eq!(b, V3::new(1.8, 2.4, 0.0), epsilon = 1e-13);
         assert_relative_eq!(transmission(&k, V3::zeros(), b), std::f64::consts::FRAC_PI_2, epsilon = 1e-13);
@@ -80,14 +101,14 @@ mod tests {
         let k = Rocker { c: V3::new(1.0, 2.0, 3.0), u: V3::y(), v: V3::z(), w: V3::x(), r: 20.0 };
         let a = V3::new(7.0, -10.0, 30.0);
         for sign in [1.0, -1.0] {
-            let b = rssr(&k, a, 28.0, sign).unwrap();
+            let b = rssr(&RockerRod::new(k, 28.0), a, sign).unwrap();
             assert_relative_eq!((b - a).norm(), 28.0, epsilon = 1e-12);
             assert_relative_eq!((b - k.c).norm(), 20.0, epsilon = 1e-12);
             assert_relative_eq!((b - k.c).dot(&k.w), 0.0, epsilon = 1e-12);
             let turn = (a - k.c).cross(&(b - k.c)).dot(&k.w);
             assert_eq!(turn > 0.0, sign > 0.0);
         }
-        let e = rssr(&k, a, 100.0, 1.0).unwrap_err();
+        let e = rssr(&RockerRod::new(k, 100.0), a, 1.0).unwrap_err();
         assert!(e.defect_mm > 0.0 && e.message.contains("longer"));
     }
 }
