@@ -374,18 +374,24 @@ pub enum Group {
     },
 }
 
-/// One closure equation of a `newton` group.
-#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
-#[serde(untagged)]
-pub enum Constraint {
-    /// `|a − b| = length`.
-    Distance { distance: [String; 2], length: Value },
-    /// Point `on_line` lies on the line through `through` toward `toward`.
-    OnLine {
-        on_line: String,
-        through: String,
-        toward: String,
-    },
+/// One closure equation of a `newton` group: either
+/// `{ distance = ["A", "B"], length = … }` (`|A − B| = length`) or
+/// `{ on_line = "P", through = "H", toward = "T" }` (P on the line through
+/// the already-solved points H and T).
+#[derive(Debug, Clone, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Constraint {
+    #[serde(default)]
+    pub distance: Option<[String; 2]>,
+    /// Length for a `distance` constraint, mm.
+    #[serde(default)]
+    pub length: Option<Value>,
+    #[serde(default)]
+    pub on_line: Option<String>,
+    #[serde(default)]
+    pub through: Option<String>,
+    #[serde(default)]
+    pub toward: Option<String>,
 }
 
 /// A derived quantity evaluated at every φ, with analogs.

@@ -511,8 +511,18 @@ impl<'a> Loader<'a> {
 
     pub(super) fn groups(&mut self, f: &ModelFile) -> R<Vec<(StepDef, String, Path)>> {
         let mut out = Vec::new();
+        let mut names: Vec<&str> = Vec::new();
         for (k, g) in f.groups.iter().enumerate() {
             let path = Path::root().key("groups").index(k);
+            if let Some(n) = group_name(g) {
+                if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+                    return Err(self.err(&path.key("name"), format!("`{n}` is not a valid group name"), Some("group names use letters, digits and `_` (they become column names like `mu_45_deg`)".into())));
+                }
+                if names.contains(&n) {
+                    return Err(self.err(&path.key("name"), format!("two groups are named `{n}`"), Some("give every group its own name".into())));
+                }
+                names.push(n);
+            }
             let (step, label) = self.group(g, &path)?;
             out.push((step, label, path));
         }
@@ -650,7 +660,7 @@ impl<'a> Loader<'a> {
                 for (k, c) in constraints.iter().enumerate() {
                     let cp = path.key("constraints").index(k);
                     match c {
-                        file::Constraint::Distance { distance, length } => {
+                        file::Constraint { distance: Some(distance), length: Some(length), on_line: None, through: None, toward: None } => {
                             let mut r = [ClosureRef::Known(0); 2];
                             for j in 0..2 {
                                 let n = &distance[j];
@@ -663,7 +673,7 @@ impl<'a> Loader<'a> {
                             closures.push(ClosureDef::Distance { a: r[0], b: r[1], l });
                             equations += 1;
                         }
-                        file::Constraint::OnLine { on_line, through, toward } => {
+                        file::Constraint { distance: None, length: None, on_line: Some(on_line), through: Some(through), toward: Some(toward) } => {
                             let Some(&p) = local.get(on_line.as_str()) else {
                                 return Err(self.err(&cp.key("on_line"), format!("`{on_line}` is not an unknown of this group"), Some("the point on the line must be one of the group's unknowns".into())));
                             };
@@ -678,6 +688,13 @@ impl<'a> Loader<'a> {
                             closures.push(ClosureDef::OnLine { p, h, t });
                             equations += dim - 1;
                         }
+                        _ => {
+                            return Err(self.err(
+                                &cp,
+                                "a constraint is either a distance or a point on a line",
+                                Some("write `{ distance = [\"A\", \"B\"], length = 20 }` or `{ on_line = \"P\", through = \"H\", toward = \"T\" }`".into()),
+                            ));
+                        }
                     }
                 }
                 let n = outs.len() * dim;
@@ -687,6 +704,9 @@ impl<'a> Loader<'a> {
                         format!("{equations} closure equation(s) for {n} unknown coordinates"),
                         Some(if equations < n { "add constraints: the group can still move".into() } else { "remove a redundant constraint (keep its length as a `distance` measure to watch it)".into() }),
                     ));
+                }
+                if dim == 3 && plane.is_some() {
+                    return Err(self.err(&path.key("plane"), "a spatial newton group (3 coordinates per unknown) has no plane", Some("remove `plane`, or give 2-coordinate guesses for a planar group".into())));
                 }
                 let plane = self.opt_frame(plane, path.key("plane"))?;
                 StepDef::Newton { dim, plane, outs, guess, closures }

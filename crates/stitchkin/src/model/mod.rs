@@ -478,15 +478,13 @@ impl Model {
             let z0 = match (zero, axis) {
                 (Some(z), _) => dir(z, frame)?,
                 (None, AxisDef::Named(i, _)) => dir(&AxisDef::Named((i + 1) % 3, 1.0), frame)?,
-                (None, AxisDef::Vector(..)) => {
-                    let e = if w.x.re().abs() < 0.9 { V3::x() } else { V3::y() };
-                    frames[frame].dir_to_world(e)
-                }
+                // Any perpendicular: the world axis least aligned with w.
+                (None, AxisDef::Vector(..)) => if w.x.re().abs() < 0.9 { V3::x() } else { V3::y() },
             };
             let u = z0 - w * z0.dot(&w);
             if u.norm().re() < 1e-9 {
-                let path = match zero {
-                    Some(AxisDef::Vector(_, p)) => p.clone(),
+                let path = match (zero, axis) {
+                    (Some(AxisDef::Vector(_, p)), _) | (None, AxisDef::Vector(_, p)) => p.clone(),
                     _ => Path::root(),
                 };
                 return Err(self.error_at(&path, "the zero direction is parallel to the axis", Some("give a `zero_dir` perpendicular to the axis".into())));

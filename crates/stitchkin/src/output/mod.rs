@@ -10,13 +10,14 @@ use crate::eval::CycleTable;
 use crate::model::{Model, Params};
 
 /// Formats a number with 12 significant digits, shortest form
-/// (`175`, `-3.14159265359`, `1.5e-10`).
+/// (`175`, `-3.14159265359`; `1.5e-10` for tiny and huge magnitudes).
 pub fn fmt_num(x: f64) -> String {
     if x == 0.0 {
         return "0".into();
     }
     let rounded: f64 = format!("{x:.11e}").parse().unwrap_or(x);
-    format!("{rounded}")
+    let a = rounded.abs();
+    if (1e-4..1e15).contains(&a) { format!("{rounded}") } else { format!("{rounded:e}") }
 }
 
 /// The table as CSV: a header of unit-carrying column names, one row per φ.
@@ -104,7 +105,9 @@ mod tests {
     fn numbers_are_short_and_exact_enough() {
         assert_eq!(fmt_num(175.0), "175");
         assert_eq!(fmt_num(0.1 + 0.2), "0.3");
-        assert_eq!(fmt_num(-1.5e-10), "-0.00000000015");
+        assert_eq!(fmt_num(-1.5e-10), "-1.5e-10");
+        assert_eq!(fmt_num(9.18e-16), "9.18e-16");
+        assert_eq!(fmt_num(0.000123), "0.000123");
         assert_eq!(fmt_num(std::f64::consts::PI), "3.14159265359");
     }
 }

@@ -216,3 +216,77 @@ fn unknown_preset_suggests_one() {
     let e = Model::preset("needle867").unwrap_err();
     assert!(e.to_string().contains("did you mean `needle876`"), "{e}");
 }
+
+#[test]
+fn group_names_must_be_column_safe_and_unique() {
+    let e = load_err(&FOUR_BAR.replace("name = \"bc\"", "name = \"rod 4 / rocker\""));
+    assert!(e.message.contains("not a valid group name"), "{e}");
+    let text = FOUR_BAR.replace("type = \"rigid_point\"", "type = \"rigid_point\"\nname = \"bc\"");
+    let e = load_err(&text);
+    assert!(e.message.contains("two groups are named `bc`"), "{e}");
+}
+
+#[test]
+fn newton_constraints_have_one_of_two_shapes() {
+    let base = r#"[model]
+name = "triangle"
+[points]
+O = [0, 0]
+Q = [5, 0]
+[[groups]]
+type = "newton"
+name = "tri"
+unknowns = { B = [2, 2] }
+constraints = [ { distance = ["B", "O"], length = 3 }, CONSTRAINT ]
+"#;
+    let ok = base.replace("CONSTRAINT", "{ distance = [\"B\", \"Q\"], length = 4 }");
+    Model::from_toml_str(&ok, "ok.toml").unwrap();
+    let e = load_err(&base.replace("CONSTRAINT", "{ distance = [\"B\", \"Q\"], lenght = 4 }"));
+    assert!(e.message.contains("unknown field `lenght`"), "{e}");
+    let e = load_err(&base.replace("CONSTRAINT", "{ distance = [\"B\", \"Q\"], on_line = \"B\", length = 4 }"));
+    assert!(e.message.contains("either a distance or a point on a line"), "{e}");
+    // A spatial group (3 coordinates per unknown) has no plane to name.
+    let spatial = r#"[model]
+name = "spatial"
+[frames.p]
+origin = [0, 0, 1]
+[points]
+O = [0, 0, 0]
+Q = [5, 0, 0]
+R = [0, 5, 0]
+[[groups]]
+type = "newton"
+name = "tri"
+plane = "p"
+unknowns = { B = [2, 2, 2] }
+constraints = [ { distance = ["B", "O"], length = 3 }, { distance = ["B", "Q"], length = 4 }, { distance = ["B", "R"], length = 4 } ]
+"#;
+    let e = load_err(spatial);
+    assert!(e.message.contains("has no plane"), "{e}");
+    Model::from_toml_str(&spatial.replace("plane = \"p\"\n", ""), "ok.toml").unwrap();
+}
+
+#[test]
+fn vector_axis_in_a_rotated_frame_gets_a_perpendicular_zero() {
+    // The frame turns x onto world y: the axis [1, 0, 0] is the world y axis.
+    let text = r#"[model]
+name = "turned"
+[frames.t]
+rotate = [["z", 90]]
+[points]
+O = [0, 0, 0]
+[[drivers]]
+type = "crank"
+center = "O"
+out = "A"
+radius = 10
+frame = "t"
+axis = [1, 0, 0]
+"#;
+    let m = Model::from_toml_str(text, "turned.toml").unwrap();
+    let t = run_cycle(&m, &m.defaults(), &CycleOptions { step_deg: 90.0, ..Default::default() }).unwrap();
+    // The pin circles in the world xz-plane: y stays 0.
+    assert!(t.column("A.y_mm").unwrap().iter().all(|y| y.abs() < 1e-12));
+    let r: Vec<f64> = (0..4).map(|k| t.column("A.x_mm").unwrap()[k].hypot(t.column("A.z_mm").unwrap()[k])).collect();
+    assert!(r.iter().all(|r| (r - 10.0).abs() < 1e-12), "{r:?}");
+}
