@@ -243,10 +243,17 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
         table.step_deg,
         table.rpm.map(|r| format!(", {r} rpm")).unwrap_or_default()
     );
+    let w = table
+        .transmission
+        .iter()
+        .map(|t| t.key.len() + 3)
+        .chain(table.ranges.iter().map(|r| r.name.len()))
+        .max()
+        .unwrap_or(8);
     for t in &table.transmission {
         s += &format!(
-            "# mu_{:<8} {:>7.2}° (φ = {:>6.1}°) … {:>7.2}° (φ = {:>6.1}°)  {}  [{}]\n",
-            t.key,
+            "# {:<w$} {:>7.2}° (φ = {:>6.1}°) … {:>7.2}° (φ = {:>6.1}°)  {}  [{}]\n",
+            format!("mu_{}", t.key),
             t.min_deg,
             t.phi_at_min_deg,
             t.max_deg,
@@ -257,7 +264,7 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
     }
     for r in &table.ranges {
         s += &format!(
-            "# {:<10} {:.4} … {:.4} {} (range {:.4} {}; min at φ = {:.1}°, max at φ = {:.1}°)\n",
+            "# {:<w$} {:.4} … {:.4} {} (range {:.4} {}; min at φ = {:.1}°, max at φ = {:.1}°)\n",
             r.name, r.min, r.max, r.unit, r.range, r.unit, r.phi_at_min_deg, r.phi_at_max_deg
         );
     }

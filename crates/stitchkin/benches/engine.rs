@@ -93,10 +93,12 @@ fn four_bar_hand_written(bencher: Bencher) {
     let (cs, sn): (Vec<f64>, Vec<f64>) = (0..360).map(|k| (k as f64).to_radians()).map(|p| (p.cos(), p.sin())).unzip();
     let (r, l, c, ox) = (15.0f64, 50.0f64, 40.0f64, 60.0f64);
     let (dc, ds) = (20.0 * 30f64.to_radians().cos(), 20.0 * 30f64.to_radians().sin());
+    let mut px = vec![0.0; 360];
+    let mut py = vec![0.0; 360];
     bencher.bench_local(|| {
-        let mut acc = 0.0;
+        let (cs, sn) = (black_box(&cs), black_box(&sn));
         for k in 0..360 {
-            let (ax, ay) = (r * black_box(cs[k]), r * black_box(sn[k]));
+            let (ax, ay) = (r * cs[k], r * sn[k]);
             let (dx, dy) = (ox - ax, -ay);
             let d2 = dx * dx + dy * dy;
             let kk = (l * l - c * c + d2) / (2.0 * d2);
@@ -104,9 +106,10 @@ fn four_bar_hand_written(bencher: Bencher) {
             let (bx, by) = (ax + kk * dx - h * dy, ay + kk * dy + h * dx);
             let (ex, ey) = (bx - ax, by - ay);
             let inv = 1.0 / (ex * ex + ey * ey).sqrt();
-            acc += ax + (ex * dc - ey * ds) * inv;
+            px[k] = ax + (ex * dc - ey * ds) * inv;
+            py[k] = ay + (ex * ds + ey * dc) * inv;
         }
-        black_box(acc)
+        black_box((&px, &py));
     });
 }
 
