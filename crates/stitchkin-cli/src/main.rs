@@ -160,6 +160,10 @@ fn report(e: Error) -> miette::Report {
             "{a}"
         ),
         Error::NotFinite(m) => miette::miette!("{m}"),
+        Error::Thread(m) => miette::miette!(
+            help = "check the path's node order and the guides' positions at that φ",
+            "{m}"
+        ),
         Error::Io(m) => miette::miette!("{m}"),
     }
 }
@@ -248,6 +252,7 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
         .iter()
         .map(|t| t.key.len() + 3)
         .chain(table.ranges.iter().map(|r| r.name.len()))
+        .chain(table.paths.iter().map(|p| p.path.len()))
         .max()
         .unwrap_or(8);
     for t in &table.transmission {
@@ -267,6 +272,27 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
             "# {:<w$} {:.4} … {:.4} {} (range {:.4} {}; min at φ = {:.1}°, max at φ = {:.1}°)\n",
             r.name, r.min, r.max, r.unit, r.range, r.unit, r.phi_at_min_deg, r.phi_at_max_deg
         );
+    }
+    if let Some(conv) = &table.take_up {
+        s += &format!("# take-up: {conv}\n");
+    }
+    for p in &table.paths {
+        s += &format!(
+            "# {:<w$} max P {:.3} mm at φ = {:.1}°, min P {:.3} mm at φ = {:.1}°",
+            p.path, p.max_p_mm, p.phi_at_max_deg, p.min_p_mm, p.phi_at_min_deg
+        );
+        for (pin, iv) in &p.engaged {
+            let spans: Vec<String> = iv.iter().map(|i| format!("{:.0}°…{:.0}°", i.from_deg, i.to_deg)).collect();
+            s += &format!("; {pin} engaged {}", if spans.is_empty() { "never".into() } else { spans.join(", ") });
+        }
+        if !p.flat.is_empty() {
+            let spans: Vec<String> = p.flat.iter().map(|i| format!("{:.0}°…{:.0}°", i.from_deg, i.to_deg)).collect();
+            s += &format!("; dwell {}", spans.join(", "));
+        }
+        if let Some([lo, hi]) = p.eye_tension_n {
+            s += &format!("; eye tension {lo:.3}…{hi:.3} N");
+        }
+        s += "\n";
     }
     for w in &table.warnings {
         s += &format!("warning: {w}\n");

@@ -75,6 +75,9 @@ pub enum Error {
     /// dead point); never written to output.
     #[error("{0}")]
     NotFinite(String),
+    /// A thread path that cannot be formed at some φ.
+    #[error("{0}")]
+    Thread(String),
     #[error("{0}")]
     Io(String),
 }

@@ -147,6 +147,10 @@ fn residuals(mech: &Mechanism<f64>, lay: &Layout, phi: f64, x: &DVector<f64>, ou
                 let w = pt(*o) - o0;
                 out.extend([w.dot(&e1) - at.x, w.dot(&e2) - at.y, w.dot(&e3) - at.z]);
             }
+            Step::Offset { from, by, out: o } => {
+                let d = pt(*o) - pt(*from) - by;
+                out.extend([d.x, d.y, d.z]);
+            }
             Step::Newton(g) => {
                 for c in &g.closures {
                     let p = |r: &PointRef| match r {

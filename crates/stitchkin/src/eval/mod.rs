@@ -6,7 +6,9 @@ use num_dual::Dual2_64;
 use serde::Serialize;
 
 use crate::error::Error;
-use crate::mechanism::Phi;
+use crate::mechanism::{Mechanism, Phi, Pose};
+use crate::scalar::Real;
+use crate::thread::{Convention, PathError, ThreadPath, Threads};
 use crate::model::{Model, Params};
 
 
@@ -68,6 +70,31 @@ pub struct RangeSummary {
     pub range: f64,
 }
 
+/// A thread path over the cycle.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PathSummary {
+    pub path: String,
+    /// Largest take-up and where.
+    pub max_p_mm: f64,
+    pub phi_at_max_deg: f64,
+    pub min_p_mm: f64,
+    pub phi_at_min_deg: f64,
+    /// Contour length at φ0.
+    pub xi0_mm: f64,
+    /// For each one-sided guide, the φ intervals where the thread bears on it.
+    pub engaged: Vec<(String, Vec<crate::thread::Interval>)>,
+    /// Dwell: where |dP/dφ| stays below [`FLAT_SLOPE_MM_PER_DEG`] for at
+    /// least [`FLAT_MIN_DEG`].
+    pub flat: Vec<crate::thread::Interval>,
+    /// Thread tension at the eye (capstan law), N: min and max over the cycle.
+    pub eye_tension_n: Option<[f64; 2]>,
+}
+
+/// A dwell of the take-up is a stretch where |dP/dφ| stays under this…
+pub const FLAT_SLOPE_MM_PER_DEG: f64 = 0.05;
+/// …for at least this many degrees.
+pub const FLAT_MIN_DEG: f64 = 15.0;
+
 /// A full cycle's results.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CycleTable {
@@ -76,6 +103,10 @@ pub struct CycleTable {
     pub columns: Vec<Column>,
     pub transmission: Vec<TransmissionSummary>,
     pub ranges: Vec<RangeSummary>,
+    /// Thread paths, when the model has any (convention in `take_up`).
+    pub paths: Vec<PathSummary>,
+    /// How P is signed, in words.
+    pub take_up: Option<String>,
     pub warnings: Vec<String>,
 }
 
@@ -243,6 +274,10 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
             }
         }
     }
+    let (paths, take_up) = match &mech.threads {
+        Some(threads) => thread_columns(&mech, threads, &pose, &phis, opts, omega, &mut b.columns)?,
+        None => (Vec::new(), None),
+    };
     let columns = b.columns;
     // Never NaN or infinity in output.
     for c in &columns {
@@ -254,18 +289,6 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
             )));
         }
     }
-    let extremes = |vals: &[f64]| {
-        let (mut imin, mut imax) = (0, 0);
-        for (k, v) in vals.iter().enumerate() {
-            if *v < vals[imin] {
-                imin = k;
-            }
-            if *v > vals[imax] {
-                imax = k;
-            }
-        }
-        (imin, imax)
-    };
     let mut warnings = Vec::new();
     let transmission: Vec<TransmissionSummary> = model
         .dyads
@@ -310,7 +333,107 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
             }
         })
         .collect();
-    Ok(CycleTable { step_deg: opts.step_deg, rpm: opts.rpm, columns, transmission, ranges, warnings })
+    Ok(CycleTable { step_deg: opts.step_deg, rpm: opts.rpm, columns, transmission, ranges, paths, take_up, warnings })
+}
+
+/// ξ of every path at φ0 (from the cycle when φ0 is its first position).
+pub fn xi_at_phi0<T: Real>(mech: &Mechanism<T>, threads: &Threads<T>, pose: &Pose<T>, phis: &[f64]) -> Result<Vec<T>, Error> {
+    let first = phis.first().copied().unwrap_or(f64::NAN);
+    if (first - threads.phi0_deg).abs() < 1e-12 {
+        return threads.paths.iter().map(|p| Ok(p.evaluate_at(pose, 0).map_err(path_error(p, first))?)).collect();
+    }
+    let mut p0 = mech.new_pose(1);
+    mech.solve(&[Phi::at_deg(threads.phi0_deg)], &mut p0)?;
+    threads.paths.iter().map(|p| Ok(p.evaluate_at(&p0, 0).map_err(path_error(p, threads.phi0_deg))?)).collect()
+}
+
+fn path_error<T: Real>(p: &ThreadPath<T>, phi_deg: f64) -> impl Fn(PathError) -> Error + '_ {
+    move |e| Error::Thread(format!("thread path `{}` at φ = {:.3}°: {}", p.name, wrap_deg(phi_deg), e.message))
+}
+
+/// Adds each path's columns and returns its summary.
+#[allow(clippy::too_many_arguments)]
+fn thread_columns(
+    mech: &Mechanism<Dual2_64>,
+    threads: &Threads<Dual2_64>,
+    pose: &Pose<Dual2_64>,
+    phis: &[f64],
+    opts: &CycleOptions,
+    omega: Option<f64>,
+    columns: &mut Vec<Column>,
+) -> Result<(Vec<PathSummary>, Option<String>), Error> {
+    let xi0 = xi_at_phi0(mech, threads, pose, phis)?;
+    let mut summaries = Vec::new();
+    for (path, xi0) in threads.paths.iter().zip(xi0) {
+        let track = path.evaluate(pose, None).map_err(|e| path_error(path, phis[e.k])(e))?;
+        let name = &path.name;
+        let p: Vec<Dual2_64> = track.xi.iter().map(|x| threads.convention.take_up(*x, xi0)).collect();
+        let mut col = |n: String, v: Vec<f64>| columns.push(Column { name: format!("{name}.{n}"), values: v });
+        col("xi_mm".into(), track.xi.iter().map(|x| x.re).collect());
+        col("P_mm".into(), p.iter().map(|x| x.re).collect());
+        if opts.analogs {
+            col("dP_dphi_mm_per_rad".into(), p.iter().map(|x| x.v1).collect());
+            col("d2P_dphi2_mm_per_rad2".into(), p.iter().map(|x| x.v2).collect());
+            if let Some(w) = omega {
+                col("vP_mm_per_s".into(), p.iter().map(|x| x.v1 * w).collect());
+            }
+        }
+        let pins: Vec<&str> = path.pin_names();
+        for (j, pin) in pins.iter().enumerate() {
+            col(format!("{pin}_engaged"), track.engaged[j].iter().map(|&e| if e { 1.0 } else { 0.0 }).collect());
+            col(format!("{pin}_wrap_deg"), track.pin_wrap[j].iter().map(|w| w.to_degrees()).collect());
+        }
+        let eye_tension = threads.tension_n.map(|t0| {
+            let t: Vec<f64> = (0..phis.len()).map(|k| *path.tension(pose, &track, k, t0).0.last().unwrap_or(&t0)).collect();
+            t
+        });
+        if let Some(t) = &eye_tension {
+            col("tension_eye_N".into(), t.clone());
+        }
+        let (imin, imax) = extremes(&p.iter().map(|x| x.re).collect::<Vec<_>>());
+        let step = opts.step_deg;
+        let flat_flags: Vec<bool> = p.iter().map(|x| x.v1.abs() * std::f64::consts::PI / 180.0 < FLAT_SLOPE_MM_PER_DEG).collect();
+        let flat = crate::thread::intervals(&flat_flags, phis, step)
+            .into_iter()
+            .filter(|iv| iv.to_deg - iv.from_deg + step >= FLAT_MIN_DEG)
+            .collect();
+        summaries.push(PathSummary {
+            path: name.clone(),
+            max_p_mm: p[imax].re,
+            phi_at_max_deg: wrap_deg(phis[imax]),
+            min_p_mm: p[imin].re,
+            phi_at_min_deg: wrap_deg(phis[imin]),
+            xi0_mm: xi0.re,
+            engaged: pins
+                .iter()
+                .enumerate()
+                .map(|(j, pin)| (pin.to_string(), crate::thread::intervals(&track.engaged[j], phis, step)))
+                .collect(),
+            flat,
+            eye_tension_n: eye_tension.map(|t| [t.iter().cloned().fold(f64::MAX, f64::min), t.iter().cloned().fold(f64::MIN, f64::max)]),
+        });
+    }
+    let words = match threads.convention {
+        Convention::Release => format!("P = xi(phi0) - xi(phi), phi0 = {} deg (seed 000 eq. 2)", threads.phi0_deg),
+        Convention::Feed { elongation_mm } => {
+            format!("P = xi(phi) - xi(phi0) + dP, dP = {elongation_mm} mm, phi0 = {} deg (seed 001 eq. 22-23)", threads.phi0_deg)
+        }
+    };
+    Ok((summaries, Some(words)))
+}
+
+/// Indices of the smallest and largest value.
+fn extremes(vals: &[f64]) -> (usize, usize) {
+    let (mut imin, mut imax) = (0, 0);
+    for (k, v) in vals.iter().enumerate() {
+        if *v < vals[imin] {
+            imin = k;
+        }
+        if *v > vals[imax] {
+            imax = k;
+        }
+    }
+    (imin, imax)
 }
 
 #[cfg(test)]

@@ -81,6 +81,8 @@ pub enum Step<T: Real> {
     PointOnLine { from: usize, through: usize, toward: Option<usize>, dir: V3<T>, l: T, sign: f64, out: usize },
     Rigid { base: [usize; 2], dc: T, ds: T, lift: T, plane: Plane<T>, out: usize },
     Rigid3 { frame: [usize; 3], at: V3<T>, out: usize },
+    /// `out = from + by`: a point on the translating body of `from`.
+    Offset { from: usize, by: V3<T>, out: usize },
     Newton(Box<NewtonGroup<T>>),
 }
 
@@ -160,6 +162,8 @@ pub struct Mechanism<T: Real> {
     pub(crate) n_points: usize,
     /// A label per step, for messages (`group "23" (rrr)`).
     pub(crate) labels: Arc<[String]>,
+    /// Thread paths, when the model has any.
+    pub threads: Option<crate::thread::Threads<T>>,
 }
 
 /// A position with no assembly: which group, where, and by how much.
@@ -205,7 +209,8 @@ impl<T: Real> Mechanism<T> {
                 | Step::Rssr { out, .. }
                 | Step::PointOnLine { out, .. }
                 | Step::Rigid { out, .. }
-                | Step::Rigid3 { out, .. } => *out,
+                | Step::Rigid3 { out, .. }
+                | Step::Offset { out, .. } => *out,
                 Step::Newton(_) => usize::MAX,
             };
             // The output track is taken out while the inputs are read.
@@ -298,6 +303,10 @@ impl<T: Real> Mechanism<T> {
                 Step::Rigid3 { frame, at, .. } => {
                     let (f0, f1, f2) = (tr(frame[0]), tr(frame[1]), tr(frame[2]));
                     each(&mut o, |k| rigid::rigid_point_3d(f0[k], f1[k], f2[k], *at))
+                }
+                Step::Offset { from, by, .. } => {
+                    let a = tr(*from);
+                    each(&mut o, |k| Ok(a[k] + *by))
                 }
                 Step::Newton(g) => {
                     let st = &mut pose.newton[newton];

@@ -48,6 +48,9 @@ pub struct ModelFile {
     /// What `stitchkin run` prints by default.
     #[serde(default)]
     pub output: Option<OutputSpec>,
+    /// Thread paths and the take-up convention.
+    #[serde(default)]
+    pub thread: Option<ThreadSpec>,
 }
 
 /// The `[model]` table.
@@ -356,6 +359,18 @@ pub enum Group {
         at: Vec<Value>,
         out: String,
     },
+    /// A point riding on the same translating body as `from` (a needle bar,
+    /// a slider): `out = from + by`, `by` a constant vector in `frame`.
+    Offset {
+        #[serde(default)]
+        name: Option<String>,
+        from: String,
+        /// Offset `[dx, dy]` or `[dx, dy, dz]`, mm, in `frame`.
+        by: Vec<Value>,
+        #[serde(default)]
+        frame: Option<String>,
+        out: String,
+    },
     /// Numerical group: Newton's method on the closure equations, continued
     /// from the previous φ. For anything without a closed form.
     Newton {
@@ -433,4 +448,104 @@ pub struct OutputSpec {
     /// every moving point.
     #[serde(default)]
     pub points: Option<Vec<String>>,
+}
+
+/// Sign convention of the actual take-up P(φ).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum TakeUpConvention {
+    /// `P = ξ(φ0) − ξ(φ)` (seed 000 eq. 2): thread given to the stitch as the
+    /// feed contour shortens.
+    Release,
+    /// `P = ξ(φ) − ξ(φ0) + ΔP` (seed 001 eqs. 22–23), with the elongation
+    /// allowance ΔP = `elongation_mm`.
+    Feed,
+}
+
+/// The `[thread]` table: conventions shared by every path, and the paths.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ThreadSpec {
+    /// Default `release`.
+    #[serde(default)]
+    pub convention: Option<TakeUpConvention>,
+    /// Thread elongation allowance ΔP, mm (added under the `feed`
+    /// convention; seed 001 uses about 6 mm).
+    #[serde(default)]
+    pub elongation_mm: Option<Value>,
+    /// φ0 of P(φ0) = 0 (or ΔP), degrees; default the model's `phi_start_deg`.
+    #[serde(default)]
+    pub phi0_deg: Option<f64>,
+    /// Thread tension set by the tension regulator, newtons (for the
+    /// tension along the path by the capstan law).
+    #[serde(default)]
+    pub tension_n: Option<f64>,
+    /// Default friction coefficient μ of the thread on every guide.
+    #[serde(default)]
+    pub friction: Option<f64>,
+    /// The thread paths, each from the tension regulator to an eye.
+    pub paths: Vec<ThreadPath>,
+}
+
+/// One thread path ("feed contour"): nodes in thread order, from the
+/// tension regulator to the needle (or looper) eye.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ThreadPath {
+    /// Column prefix, e.g. `n1_A` (letters, digits, `_`).
+    pub name: String,
+    /// Which needle or looper thread this is (free text for reports).
+    #[serde(default)]
+    pub thread: Option<String>,
+    /// Friction coefficient for this path's guides (overrides `[thread]`).
+    #[serde(default)]
+    pub friction: Option<f64>,
+    pub nodes: Vec<Node>,
+}
+
+/// A node of a thread path: a point name (an eyelet or guide the thread
+/// passes through), or a table for a guide with more to say.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum Node {
+    Point(String),
+    Guide(GuideNode),
+}
+
+/// A guide given as a table: `{ at = "G1", friction = 0.2 }` for an eyelet
+/// with its own friction, or `{ pin = "G4", axis = "z", wrap = "ccw" }` for a
+/// one-sided cylindrical guide (a pin, or with `radius` a roller) the thread
+/// bears on only when it would otherwise pass on the wrong side.
+#[derive(Debug, Clone, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct GuideNode {
+    /// An eyelet: the thread passes through this point.
+    #[serde(default)]
+    pub at: Option<String>,
+    /// A one-sided cylindrical guide whose axis passes through this point.
+    #[serde(default)]
+    pub pin: Option<String>,
+    /// The pin's axis direction (in `frame`).
+    #[serde(default)]
+    pub axis: Option<Axis>,
+    #[serde(default)]
+    pub frame: Option<String>,
+    /// Which way the thread turns around the pin when it bears on it,
+    /// about `axis` by the right-hand rule: `ccw` or `cw`.
+    #[serde(default)]
+    pub wrap: Option<Wrap>,
+    /// Pin radius, mm (default 0).
+    #[serde(default)]
+    pub radius: Option<Value>,
+    /// Friction coefficient μ on this guide.
+    #[serde(default)]
+    pub friction: Option<f64>,
+}
+
+/// Turning sense about a pin's axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Wrap {
+    Ccw,
+    Cw,
 }

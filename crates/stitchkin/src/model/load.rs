@@ -7,7 +7,7 @@ use std::sync::Arc;
 use super::expr::{Dim, Dimension, Expr, ExprError};
 use super::file::{self, Axis, Branch, FixedPoint, Group, ModelFile, Unit, Value};
 use super::spans::{Path, SpanIndex};
-use super::{AxisDef, FrameDef, MeasureDef, ParamDef, PointKind, Q, StepDef, ClosureDef};
+use super::{AxisDef, ClosureDef, FrameDef, MeasureDef, ParamDef, PathDef, PointKind, Q, SpanDef, StepDef, ThreadsDef};
 use crate::error::{ModelError, did_you_mean};
 
 /// Reserved words that cannot name a parameter.
@@ -623,6 +623,12 @@ impl<'a> Loader<'a> {
                 let plane = self.opt_frame(plane, path.key("plane"))?;
                 StepDef::Rigid { base: [a, b], d, angle, lift, plane, out: self.point_index[out] }
             }
+            Group::Offset { from, by, frame, out, .. } => {
+                let from = self.point(from, &path.key("from"))?;
+                let frame = self.opt_frame(frame, path.key("frame"))?;
+                let by = self.coords(by, &path.key("by"), 2..=3)?;
+                StepDef::Offset { from, by, frame, out: self.point_index[out] }
+            }
             Group::RigidPoint3d { frame, at, out, .. } => {
                 let mut fr = [0; 3];
                 for (k, n) in frame.iter().enumerate() {
@@ -827,6 +833,122 @@ impl<'a> Loader<'a> {
         }
     }
 
+    // ---- thread paths ---------------------------------------------------------
+
+    pub(super) fn threads(&mut self, f: &ModelFile, same_body: &impl Fn(usize, usize) -> bool) -> R<Option<ThreadsDef>> {
+        let Some(t) = &f.thread else { return Ok(None) };
+        let path = Path::root().key("thread");
+        let check_mu = |ld: &Self, mu: Option<f64>, p: Path| -> R<Option<f64>> {
+            match mu {
+                Some(m) if !(m.is_finite() && (0.0..=5.0).contains(&m)) => Err(ld.err(&p, format!("friction coefficient {m} is out of range"), Some("give μ between 0 and 5 (thread on steel is about 0.1–0.3)".into()))),
+                m => Ok(m),
+            }
+        };
+        let default_mu = check_mu(self, t.friction, path.key("friction"))?.unwrap_or(0.0);
+        if let Some(tn) = t.tension_n {
+            if !(tn.is_finite() && tn > 0.0) {
+                return Err(self.err(&path.key("tension_n"), format!("the regulator tension {tn} N must be positive"), None));
+            }
+        }
+        if let Some(p0) = t.phi0_deg {
+            if !p0.is_finite() {
+                return Err(self.err(&path.key("phi0_deg"), "phi0_deg must be a finite angle", None));
+            }
+        }
+        let convention = t.convention.unwrap_or(file::TakeUpConvention::Release);
+        let elongation = match &t.elongation_mm {
+            Some(v) => Some(self.length(v, path.key("elongation_mm"))?),
+            None => None,
+        };
+        if t.paths.is_empty() {
+            return Err(self.err(&path.key("paths"), "[thread] has no paths", Some("add [[thread.paths]] with `name` and `nodes`".into())));
+        }
+        let mut paths: Vec<PathDef> = Vec::new();
+        for (k, tp) in t.paths.iter().enumerate() {
+            let pp = path.key("paths").index(k);
+            if !is_ident(&tp.name) {
+                return Err(self.err(&pp.key("name"), format!("`{}` is not a valid path name", tp.name), Some("path names use letters, digits and `_` (they prefix column names like `n1_A.P_mm`)".into())));
+            }
+            if paths.iter().any(|p| p.name == tp.name) {
+                return Err(self.err(&pp.key("name"), format!("two thread paths are named `{}`", tp.name), Some("give every path its own name".into())));
+            }
+            let path_mu = check_mu(self, tp.friction, pp.key("friction"))?.unwrap_or(default_mu);
+            if tp.nodes.len() < 2 {
+                return Err(self.err(&pp.key("nodes"), "a thread path needs at least two nodes", Some("list the nodes from the tension regulator to the eye".into())));
+            }
+            let mut nodes = Vec::new();
+            let mut names = Vec::new();
+            let mut friction = Vec::new();
+            // (node index, pin point, axis, frame, radius, sense)
+            let mut pins: Vec<(usize, usize, AxisDef, usize, Q, f64)> = Vec::new();
+            for (i, node) in tp.nodes.iter().enumerate() {
+                let np = pp.key("nodes").index(i);
+                let (name, mu, pin) = match node {
+                    file::Node::Point(name) => (name.clone(), path_mu, None),
+                    file::Node::Guide(g) => {
+                        let mu = check_mu(self, g.friction, np.key("friction"))?.unwrap_or(path_mu);
+                        match (&g.at, &g.pin) {
+                            (Some(at), None) => {
+                                if g.axis.is_some() || g.wrap.is_some() || g.radius.is_some() || g.frame.is_some() {
+                                    return Err(self.err(&np, "an eyelet (`at`) has no axis, wrap, radius or frame", Some("for a one-sided guide write `pin = \"NAME\"` instead of `at`".into())));
+                                }
+                                (at.clone(), mu, None)
+                            }
+                            (None, Some(pin)) => {
+                                let Some(axis) = &g.axis else {
+                                    return Err(self.err(&np, "a pin needs its `axis`", Some("e.g. `axis = \"z\"`: the direction of the pin".into())));
+                                };
+                                let Some(wrap) = g.wrap else {
+                                    return Err(self.err(&np, "a pin needs `wrap`: the sense the thread turns around it", Some("write wrap = \"ccw\" or wrap = \"cw\" (about the axis, right-hand rule)".into())));
+                                };
+                                let frame = self.opt_frame(&g.frame, np.key("frame"))?;
+                                let axis = self.axis(axis, np.key("axis"))?;
+                                let r = match &g.radius {
+                                    Some(v) => self.length(v, np.key("radius"))?,
+                                    None => self.zero(),
+                                };
+                                let sense = if wrap == file::Wrap::Ccw { 1.0 } else { -1.0 };
+                                (pin.clone(), mu, Some((axis, frame, r, sense)))
+                            }
+                            _ => {
+                                return Err(self.err(&np, "a guide table has either `at` (an eyelet) or `pin` (a one-sided guide)", Some("e.g. `{ at = \"G1\", friction = 0.2 }` or `{ pin = \"G4\", axis = \"z\", wrap = \"ccw\" }`".into())));
+                            }
+                        }
+                    }
+                };
+                let slot = self.point(&name, &if matches!(node, file::Node::Point(_)) { np.clone() } else { np.key("at") })?;
+                if let Some((axis, frame, r, sense)) = pin {
+                    if i == 0 || i + 1 == tp.nodes.len() {
+                        return Err(self.err(&np, "a path starts and ends at an eyelet, not at a pin", Some("put the pin between two eyelets or guides".into())));
+                    }
+                    if pins.last().is_some_and(|p| p.0 + 1 == i) {
+                        return Err(self.err(&np, "two pins follow each other", Some("put an eyelet or guide between them".into())));
+                    }
+                    pins.push((i, slot, axis, frame, r, sense));
+                }
+                nodes.push(slot);
+                names.push(name);
+                friction.push(mu);
+            }
+            // Spans between consecutive contact nodes.
+            let mut spans = Vec::new();
+            let mut i = 0;
+            while i + 1 < nodes.len() {
+                if let Some(pin) = pins.iter().find(|p| p.0 == i + 1) {
+                    let (a, b) = (nodes[i], nodes[i + 2]);
+                    spans.push(SpanDef::Pin { a, b, c: pin.1, axis: pin.2.clone(), frame: pin.3, r: pin.4, sense: pin.5, node: i + 1 });
+                    i += 2;
+                } else {
+                    let (a, b) = (nodes[i], nodes[i + 1]);
+                    spans.push(SpanDef::Straight { a, b, constant: same_body(a, b) });
+                    i += 1;
+                }
+            }
+            paths.push(PathDef { name: tp.name.clone(), nodes, node_names: names, friction, spans });
+        }
+        Ok(Some(ThreadsDef { convention, elongation, phi0_deg: t.phi0_deg, tension_n: t.tension_n, paths }))
+    }
+
     pub(super) fn into_parts(self) -> (String, Arc<str>, SpanIndex<'a>) {
         (self.file_name, self.text, self.spans)
     }
@@ -859,7 +981,8 @@ pub(super) fn group_out(g: &Group) -> &str {
         | Group::Rssr { out, .. }
         | Group::PointOnLine { out, .. }
         | Group::RigidPoint { out, .. }
-        | Group::RigidPoint3d { out, .. } => out,
+        | Group::RigidPoint3d { out, .. }
+        | Group::Offset { out, .. } => out,
         Group::Newton { name, .. } => name,
     }
 }
@@ -872,7 +995,8 @@ fn group_name(g: &Group) -> Option<&str> {
         | Group::Rssr { name, .. }
         | Group::PointOnLine { name, .. }
         | Group::RigidPoint { name, .. }
-        | Group::RigidPoint3d { name, .. } => name.as_deref(),
+        | Group::RigidPoint3d { name, .. }
+        | Group::Offset { name, .. } => name.as_deref(),
         Group::Newton { name, .. } => Some(name),
     }
 }
@@ -886,6 +1010,7 @@ pub(super) fn group_kind(g: &Group) -> &'static str {
         Group::PointOnLine { .. } => "point_on_line",
         Group::RigidPoint { .. } => "rigid_point",
         Group::RigidPoint3d { .. } => "rigid_point_3d",
+        Group::Offset { .. } => "offset",
         Group::Newton { .. } => "newton",
     }
 }

@@ -23,6 +23,7 @@ use crate::mechanism::newton::{Closure, NewtonGroup, PointRef};
 use crate::mechanism::rssr::Rocker;
 use crate::mechanism::{Mechanism, MeasureStep, Step};
 use crate::scalar::Real;
+use crate::thread::{Convention, Span, ThreadPath, Threads};
 use expr::Expr;
 pub use file::{ModelFile, Provenance, Unit};
 use spans::Path;
@@ -101,6 +102,7 @@ pub(crate) enum StepDef {
     PointOnLine { from: usize, through: usize, toward: Option<usize>, dir: Option<AxisDef>, frame: usize, l: Q, sign: f64, out: usize },
     Rigid { base: [usize; 2], d: Q, angle: Q, lift: Q, plane: usize, out: usize },
     Rigid3 { frame: [usize; 3], at: [Q; 3], out: usize },
+    Offset { from: usize, by: [Q; 3], frame: usize, out: usize },
     Newton { dim: usize, plane: usize, outs: Vec<usize>, guess: Vec<Q>, closures: Vec<ClosureDef> },
 }
 
@@ -118,6 +120,7 @@ impl StepDef {
             StepDef::Rssr { from, pivot, .. } => vec![*from, *pivot],
             StepDef::Rigid { base, .. } => base.to_vec(),
             StepDef::Rigid3 { frame, .. } => frame.to_vec(),
+            StepDef::Offset { from, .. } => vec![*from],
             StepDef::Newton { closures, .. } => {
                 let mut v = Vec::new();
                 for c in closures {
@@ -146,7 +149,8 @@ impl StepDef {
             | StepDef::Rssr { out, .. }
             | StepDef::PointOnLine { out, .. }
             | StepDef::Rigid { out, .. }
-            | StepDef::Rigid3 { out, .. } => vec![*out],
+            | StepDef::Rigid3 { out, .. }
+            | StepDef::Offset { out, .. } => vec![*out],
             StepDef::Newton { outs, .. } => outs.clone(),
         }
     }
@@ -158,9 +162,88 @@ impl StepDef {
             StepDef::Rrr { plane, .. } | StepDef::Rrp { plane, .. } | StepDef::Rpr { plane, .. } => *plane == 0,
             StepDef::Rigid { plane, .. } => *plane == 0,
             StepDef::Newton { dim, plane, .. } => *dim == 2 && *plane == 0,
-            StepDef::Rssr { .. } | StepDef::PointOnLine { .. } | StepDef::Rigid3 { .. } => false,
+            StepDef::Rssr { .. } | StepDef::PointOnLine { .. } | StepDef::Rigid3 { .. } | StepDef::Offset { .. } => false,
         }
     }
+}
+
+/// Rigid bodies of a mechanism as sets of point slots: two points on one
+/// body keep their distance (a thread segment between them is constant).
+pub(crate) fn bodies(steps: &[StepDef], kinds: &[PointKind]) -> Vec<Vec<usize>> {
+    let mut bodies: Vec<Vec<usize>> =
+        vec![(0..kinds.len()).filter(|&i| matches!(kinds[i], PointKind::Fixed { .. })).collect()];
+    // Translating bodies (sliders and points offset from them).
+    let mut translating: Vec<usize> = Vec::new();
+    let join = |bodies: &mut Vec<Vec<usize>>, on: &[usize], out: usize| {
+        if let Some(b) = bodies.iter_mut().find(|b| on.iter().all(|p| b.contains(p))) {
+            b.push(out);
+        }
+    };
+    for s in steps {
+        match s {
+            StepDef::Crank { center, out, .. } => bodies.push(vec![*center, *out]),
+            StepDef::Rrr { p1, p2, out, .. } => {
+                bodies.push(vec![*p1, *out]);
+                bodies.push(vec![*p2, *out]);
+            }
+            StepDef::Rrp { from, out, .. } | StepDef::PointOnLine { from, out, .. } => {
+                bodies.push(vec![*from, *out]);
+                translating.push(bodies.len());
+                bodies.push(vec![*out]);
+            }
+            StepDef::Rpr { pivot, out, .. } => bodies.push(vec![*pivot, *out]),
+            StepDef::Rssr { from, pivot, out, .. } => {
+                bodies.push(vec![*pivot, *out]);
+                bodies.push(vec![*from, *out]);
+            }
+            StepDef::Rigid { base, out, .. } => join(&mut bodies, base, *out),
+            StepDef::Rigid3 { frame, out, .. } => join(&mut bodies, frame, *out),
+            StepDef::Offset { from, out, .. } => match translating.iter().find(|&&b| bodies[b].contains(from)) {
+                Some(&b) => bodies[b].push(*out),
+                None => {
+                    translating.push(bodies.len());
+                    bodies.push(vec![*from, *out]);
+                }
+            },
+            StepDef::Newton { closures, outs, .. } => {
+                for c in closures {
+                    if let ClosureDef::Distance { a, b, .. } = c {
+                        let slot = |r: &ClosureRef| match r {
+                            ClosureRef::Unknown(u) => outs[*u],
+                            ClosureRef::Known(k) => *k,
+                        };
+                        bodies.push(vec![slot(a), slot(b)]);
+                    }
+                }
+            }
+        }
+    }
+    bodies
+}
+
+/// The `[thread]` table, compiled.
+#[derive(Debug, Clone)]
+pub(crate) struct ThreadsDef {
+    pub convention: file::TakeUpConvention,
+    pub elongation: Option<Q>,
+    pub phi0_deg: Option<f64>,
+    pub tension_n: Option<f64>,
+    pub paths: Vec<PathDef>,
+}
+
+#[derive(Debug, Clone)]
+pub(crate) struct PathDef {
+    pub name: String,
+    pub nodes: Vec<usize>,
+    pub node_names: Vec<String>,
+    pub friction: Vec<f64>,
+    pub spans: Vec<SpanDef>,
+}
+
+#[derive(Debug, Clone)]
+pub(crate) enum SpanDef {
+    Straight { a: usize, b: usize, constant: bool },
+    Pin { a: usize, b: usize, c: usize, axis: AxisDef, frame: usize, r: Q, sense: f64, node: usize },
 }
 
 #[derive(Debug, Clone)]
@@ -214,6 +297,7 @@ pub struct Model {
     pub output_points: Vec<usize>,
     /// Every point stays in the world xy-plane (z columns are omitted).
     pub planar: bool,
+    threads: Option<ThreadsDef>,
 }
 
 impl Model {
@@ -241,6 +325,11 @@ impl Model {
             all.push((s, l, p));
         }
         let ordered = ld.order(all)?;
+        let kinds_now: Vec<PointKind> = ld.points.iter().map(|(_, k)| k.clone()).collect();
+        let steps_now: Vec<StepDef> = ordered.iter().map(|(s, _)| s.clone()).collect();
+        let body_sets = bodies(&steps_now, &kinds_now);
+        let same_body = |a: usize, b: usize| a == b || body_sets.iter().any(|s| s.contains(&a) && s.contains(&b));
+        let threads = ld.threads(&file, &same_body)?;
         let measures = ld.measures(&file)?;
         let output_points = ld.output_points(&file)?;
         let point_names = ld.point_names();
@@ -299,6 +388,7 @@ impl Model {
             link_angle_names,
             output_points,
             planar,
+            threads,
         };
         // Resolve once with the nominal values so impossible geometry is
         // reported at load time.
@@ -552,6 +642,11 @@ impl Model {
                 StepDef::Rigid3 { frame, at, out } => {
                     Step::Rigid3 { frame: *frame, at: V3::new(q[at[0]], q[at[1]], q[at[2]]), out: *out }
                 }
+                StepDef::Offset { from, by, frame, out } => Step::Offset {
+                    from: *from,
+                    by: frames[*frame].dir_to_world(V3::new(q[by[0]], q[by[1]], q[by[2]])),
+                    out: *out,
+                },
                 StepDef::Newton { dim, plane: pl, outs, guess, closures } => {
                     let conv = |r: &ClosureRef| match r {
                         ClosureRef::Unknown(u) => PointRef::Unknown(*u),
@@ -588,7 +683,39 @@ impl Model {
                 },
             });
         }
-        Ok(Mechanism { fixed, steps, measures, n_points: self.point_names.len(), labels: self.labels.clone() })
+        let threads = match &self.threads {
+            None => None,
+            Some(t) => {
+                let mut paths = Vec::with_capacity(t.paths.len());
+                for p in &t.paths {
+                    let mut spans = Vec::with_capacity(p.spans.len());
+                    for sp in &p.spans {
+                        spans.push(match sp {
+                            SpanDef::Straight { a, b, constant } => Span::Straight { a: *a, b: *b, constant: *constant },
+                            SpanDef::Pin { a, b, c, axis, frame, r, sense, node } => {
+                                if q[*r].re() < 0.0 {
+                                    return Err(self.error_at(&self.expr_paths[*r], "a pin radius cannot be negative", Some("give the radius in mm, 0 for a thin pin".into())));
+                                }
+                                Span::Pin { a: *a, b: *b, c: *c, axis: dir(axis, *frame)?, r: q[*r], sense: *sense, node: *node }
+                            }
+                        });
+                    }
+                    paths.push(ThreadPath {
+                        name: p.name.clone(),
+                        nodes: p.nodes.clone(),
+                        node_names: p.node_names.clone(),
+                        friction: p.friction.clone(),
+                        spans,
+                    });
+                }
+                let convention = match t.convention {
+                    file::TakeUpConvention::Release => Convention::Release,
+                    file::TakeUpConvention::Feed => Convention::Feed { elongation_mm: t.elongation.map_or(0.0, |e| q[e].re()) },
+                };
+                Some(Threads { paths, convention, phi0_deg: t.phi0_deg.unwrap_or(self.phi_start_deg()), tension_n: t.tension_n })
+            }
+        };
+        Ok(Mechanism { fixed, steps, measures, n_points: self.point_names.len(), labels: self.labels.clone(), threads })
     }
 
     fn error_at(&self, path: &Path, message: impl Into<String>, help: Option<String>) -> Box<ModelError> {

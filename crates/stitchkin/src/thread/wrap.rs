@@ -1,0 +1,150 @@
+//! A thread bearing on a one-sided cylindrical guide: a pin (radius 0) or
+//! a roller, with its axis through `c` along the unit vector `a`.
+//!
+//! Seen along the axis, the thread runs from `p` tangent to the circle, along
+//! the arc `r·θ`, and tangent again to `q`; along the axis it climbs by the
+//! difference of the end heights `Δh`. Unrolling the cylinder and the two
+//! tangent planes into one plane makes the whole path a straight line, so
+//! the length is `√(L⊥² + Δh²)` with `L⊥ = t_p + r·θ + t_q`, the contact
+//! sliding freely along the axis. When the straight thread `p → q` clears
+//! the guide on the side it may pass, the guide is disengaged and the length
+//! is `|q − p|`; both agree at the switch, so the length is continuous
+//! (seed 000 eq. 1: guide G4 engages only part of the cycle).
+
+use crate::geometry::V3;
+use crate::scalar::Real;
+
+/// The thread around a guide at one position.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PinContact<T: Real> {
+    /// Length from `p` to `q`, mm.
+    pub length: T,
+    /// Whether the thread bears on the guide.
+    pub engaged: bool,
+    /// Angle the thread turns through on the guide (the capstan angle), rad;
+    /// 0 when disengaged.
+    pub wrap_rad: f64,
+}
+
+/// Thread from `p` to `q` on a guide (axis through `c` along unit `a`,
+/// radius `r`) it may only turn around in the sense `s` about `a` (`+1`
+/// counter-clockwise, `−1` clockwise, right-hand rule).
+///
+/// Returns `None` when an end lies inside the guide (the path is impossible).
+#[inline]
+pub fn pin_wrap<T: Real>(p: V3<T>, q: V3<T>, c: V3<T>, a: V3<T>, r: T, s: f64) -> Option<PinContact<T>> {
+    let (wp, wq) = (p - c, q - c);
+    let (hp, hq) = (wp.dot(&a), wq.dot(&a));
+    // Projections on the plane across the axis, from the axis.
+    let (pp, qq) = (wp - a * hp, wq - a * hq);
+    let d = qq - pp;
+    // Distance of the axis from the straight thread, positive on its left
+    // (counter-clockwise side about a).
+    let d_norm = d.norm().re();
+    let left = if d_norm > 0.0 { pp.cross(&d).dot(&a).re() / d_norm } else { 0.0 };
+    if s * left >= r.re() && d_norm > 0.0 {
+        return Some(PinContact { length: (q - p).norm(), engaged: false, wrap_rad: 0.0 });
+    }
+    let (rho_p2, rho_q2) = (pp.norm_squared(), qq.norm_squared());
+    let r2 = r * r;
+    if rho_p2.re() <= r2.re() || rho_q2.re() <= r2.re() {
+        return None;
+    }
+    let (rho_p, rho_q) = (rho_p2.sqrt(), rho_q2.sqrt());
+    let (t_p, t_q) = ((rho_p2 - r2).sqrt(), (rho_q2 - r2).sqrt());
+    // Angle from pp to qq about a, then the arc between the tangent points:
+    // θ = s·∠(pp, qq) − acos(r/ρp) − acos(r/ρq), reduced to [−π/2, 3π/2).
+    let turn = pp.cross(&qq).dot(&a).atan2(pp.dot(&qq)) * T::cst(s);
+    let mut theta = turn - (r / rho_p).acos() - (r / rho_q).acos();
+    let two_pi = T::cst(std::f64::consts::TAU);
+    while theta.re() < -std::f64::consts::FRAC_PI_2 {
+        theta += two_pi;
+    }
+    while theta.re() >= 1.5 * std::f64::consts::PI {
+        theta -= two_pi;
+    }
+    if theta.re() < 0.0 {
+        // Grazing within rounding: the straight thread.
+        theta = T::zero();
+    }
+    let l_perp = t_p + t_q + r * theta;
+    let dh = hq - hp;
+    let length = (l_perp * l_perp + dh * dh).sqrt();
+    let (lp, len) = (l_perp.re(), length.re());
+    let (across, axial) = (lp / len, dh.re() / len);
+    let wrap_rad = if r.re() > 0.0 {
+        // A helix turns through θ·cos(helix angle).
+        theta.re() * across
+    } else {
+        // A sharp bend: both straight pieces climb with the same slope Δh/L
+        // and turn by θ across the axis, so cos ψ = (L⊥/L)²·cos θ + (Δh/L)².
+        (across * across * theta.re().cos() + axial * axial).clamp(-1.0, 1.0).acos()
+    };
+    Some(PinContact { length, engaged: true, wrap_rad })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    const Z: V3<f64> = V3::new(0.0, 0.0, 1.0);
+
+    #[test]
+    fn free_when_the_straight_thread_clears_the_pin() {
+        // Thread along y = 5 from x = -10 to 10; pin at the origin, thread
+        // turning clockwise (pin on its right): the pin is on its right, free.
+        let (p, q) = (V3::new(-10.0, 5.0, 0.0), V3::new(10.0, 5.0, 0.0));
+        let w = pin_wrap(p, q, V3::zeros(), Z, 0.0, -1.0).unwrap();
+        assert!(!w.engaged);
+        assert_relative_eq!(w.length, 20.0);
+        // The other sense: the straight thread would cross the pin, it bears on it.
+        let w = pin_wrap(p, q, V3::zeros(), Z, 0.0, 1.0).unwrap();
+        assert!(w.engaged);
+        assert_relative_eq!(w.length, 2.0 * (100.0f64 + 25.0).sqrt(), epsilon = 1e-12);
+    }
+
+    #[test]
+    fn pin_deflection_and_continuity_at_the_switch() {
+        // The straight thread from (-3, -4) to (3, -4) has the pin on its
+        // left; a thread that must turn clockwise (pin on its right) goes
+        // over the pin: (-3, -4) → (0, 0) → (3, -4).
+        let (p, q) = (V3::new(-3.0, -4.0, 0.0), V3::new(3.0, -4.0, 0.0));
+        assert!(!pin_wrap(p, q, V3::zeros(), Z, 0.0, 1.0).unwrap().engaged);
+        let w = pin_wrap(p, q, V3::zeros(), Z, 0.0, -1.0).unwrap();
+        assert!(w.engaged);
+        assert_relative_eq!(w.length, 10.0, epsilon = 1e-12);
+        // Turning angle: between (3, 4)/5 and (3, -4)/5.
+        assert_relative_eq!(w.wrap_rad, (-7.0f64 / 25.0).acos(), epsilon = 1e-12);
+        // Just either side of the switch the length is continuous.
+        for eps in [1e-9, -1e-9] {
+            let (p, q) = (V3::new(-3.0, eps, 0.0), V3::new(3.0, eps, 0.0));
+            let w = pin_wrap(p, q, V3::zeros(), Z, 0.0, 1.0).unwrap();
+            assert_relative_eq!(w.length, 6.0, epsilon = 1e-8);
+        }
+    }
+
+    #[test]
+    fn contact_slides_along_the_pin_axis() {
+        // Ends at different heights: the unrolled path is straight.
+        let (p, q) = (V3::new(-3.0, -4.0, 0.0), V3::new(3.0, -4.0, 10.0));
+        let w = pin_wrap(p, q, V3::zeros(), Z, 0.0, -1.0).unwrap();
+        assert_relative_eq!(w.length, (100.0f64 + 100.0).sqrt(), epsilon = 1e-12);
+        // The bend, with both pieces climbing 5 over 10: cos ψ = ½·cos θ + ½.
+        let theta = (-7.0f64 / 25.0).acos();
+        assert_relative_eq!(w.wrap_rad, (0.5 * theta.cos() + 0.5).acos(), epsilon = 1e-12);
+    }
+
+    #[test]
+    fn thread_wrapping_a_roller_half_way_round() {
+        // Roller radius 2 at the origin, thread coming from far left along
+        // y = -2 and leaving to the far left along y = +2: a U-turn, θ = π.
+        let (p, q) = (V3::new(-10.0, -2.0, 0.0), V3::new(-10.0, 2.0, 0.0));
+        let w = pin_wrap(p, q, V3::zeros(), Z, 2.0, 1.0).unwrap();
+        assert!(w.engaged);
+        assert_relative_eq!(w.length, 20.0 + 2.0 * std::f64::consts::PI, epsilon = 1e-12);
+        assert_relative_eq!(w.wrap_rad, std::f64::consts::PI, epsilon = 1e-12);
+        // An end inside the roller is impossible.
+        assert!(pin_wrap(V3::new(1.0, 0.0, 0.0), q, V3::zeros(), Z, 2.0, 1.0).is_none());
+    }
+}
