@@ -46,6 +46,14 @@ enum Command {
     /// its parameters, solve order and transmission angles.
     #[command(after_help = "Examples:\n  stitchkin check my-machine.toml\n  stitchkin check --preset needle876 --set alpha=30 --cross-check")]
     Check(CheckArgs),
+    /// Compare each thread path with its planar model: project every node
+    /// onto a plane, recompute P and report ΔP = P3D − P2D (seed 000 §4.6).
+    #[command(
+        name = "compare-2d3d",
+        after_help = "Examples:\n  stitchkin compare-2d3d\n  stitchkin compare-2d3d --preset mf7923d --plane uvw --set z=-5 --format json -o dp.json\n\n\
+        Columns: phi_deg, then per path PATH.P3D_mm, PATH.P2D_mm, PATH.dP_mm. The largest |ΔP| per path goes to stderr."
+    )]
+    Compare2d3d(CompareArgs),
     /// Print the JSON Schema of the model file format.
     #[command(after_help = "Example:\n  stitchkin schema > stitchkin-model.schema.json")]
     Schema,
@@ -101,6 +109,23 @@ struct CheckArgs {
     /// the closed-form groups.
     #[arg(long)]
     cross_check: bool,
+}
+
+#[derive(Args)]
+struct CompareArgs {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Frame whose xy-plane is the plane of the 2D model.
+    #[arg(long, default_value = "world", value_name = "FRAME")]
+    plane: String,
+    /// Step of the main-shaft angle φ, degrees.
+    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
+    step: f64,
+    #[arg(long, value_enum, default_value_t = Format::Csv)]
+    format: Format,
+    /// Write to FILE instead of stdout (written completely or not at all).
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -329,6 +354,45 @@ fn check(args: CheckArgs) -> Result<(), Error> {
     emit(out.as_bytes(), None)
 }
 
+fn compare(args: CompareArgs) -> Result<(), Error> {
+    let (model, params) = load(&args.model)?;
+    let c = stitchkin::study::compare2d3d::compare_2d3d(&model, &params, &args.plane, args.step)?;
+    let bytes = match args.format {
+        Format::Json => serde_json::to_vec_pretty(&c).map_err(|e| Error::Io(e.to_string()))?,
+        Format::Csv => {
+            let mut table = stitchkin::eval::CycleTable {
+                step_deg: args.step,
+                rpm: None,
+                columns: vec![stitchkin::eval::Column { name: "phi_deg".into(), values: c.phi_deg.clone() }],
+                transmission: Vec::new(),
+                ranges: Vec::new(),
+                paths: Vec::new(),
+                take_up: None,
+                warnings: Vec::new(),
+            };
+            for p in &c.paths {
+                for (suffix, v) in [("P3D_mm", &p.p3d_mm), ("P2D_mm", &p.p2d_mm), ("dP_mm", &p.dp_mm)] {
+                    table.columns.push(stitchkin::eval::Column { name: format!("{}.{suffix}", p.path), values: v.clone() });
+                }
+            }
+            let mut buf = Vec::new();
+            output::write_csv(&table, &mut buf).map_err(|e| Error::Io(e.to_string()))?;
+            buf
+        }
+    };
+    emit(&bytes, args.output.as_ref())?;
+    let w = c.paths.iter().map(|p| p.path.len()).max().unwrap_or(4);
+    let mut s = format!("# 2D model: every node projected onto the xy-plane of `{}`; ΔP = P3D − P2D\n", c.plane);
+    for p in &c.paths {
+        s += &format!(
+            "# {:<w$} max |ΔP| {:.4} mm at φ = {:.1}° ({:.2} % of max P)\n",
+            p.path, p.max_abs_dp_mm, p.phi_at_max_deg, p.max_rel_percent
+        );
+    }
+    eprint!("{s}");
+    Ok(())
+}
+
 fn main() -> miette::Result<()> {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -346,6 +410,7 @@ fn main() -> miette::Result<()> {
         }
         Command::Run(args) => run(args),
         Command::Check(args) => check(args),
+        Command::Compare2d3d(args) => compare(args),
         Command::Schema => emit(stitchkin::model::schema_json().as_bytes(), None),
     };
     result.map_err(report)

@@ -336,14 +336,11 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
     Ok(CycleTable { step_deg: opts.step_deg, rpm: opts.rpm, columns, transmission, ranges, paths, take_up, warnings })
 }
 
-/// ξ of every path at φ0 (from the cycle when φ0 is its first position).
-pub fn xi_at_phi0<T: Real>(mech: &Mechanism<T>, threads: &Threads<T>, pose: &Pose<T>, phis: &[f64]) -> Result<Vec<T>, Error> {
-    let first = phis.first().copied().unwrap_or(f64::NAN);
-    if (first - threads.phi0_deg).abs() < 1e-12 {
-        return threads.paths.iter().map(|p| Ok(p.evaluate_at(pose, 0).map_err(path_error(p, first))?)).collect();
-    }
+/// ξ of every path at φ0, with φ0 a constant: P = ξ(φ0) − ξ(φ) must carry
+/// no derivative of ξ(φ0) with respect to φ.
+pub fn xi_at_phi0<T: Real>(mech: &Mechanism<T>, threads: &Threads<T>) -> Result<Vec<T>, Error> {
     let mut p0 = mech.new_pose(1);
-    mech.solve(&[Phi::at_deg(threads.phi0_deg)], &mut p0)?;
+    mech.solve(&[Phi::new(T::cst(threads.phi0_deg.to_radians()))], &mut p0)?;
     threads.paths.iter().map(|p| Ok(p.evaluate_at(&p0, 0).map_err(path_error(p, threads.phi0_deg))?)).collect()
 }
 
@@ -362,7 +359,7 @@ fn thread_columns(
     omega: Option<f64>,
     columns: &mut Vec<Column>,
 ) -> Result<(Vec<PathSummary>, Option<String>), Error> {
-    let xi0 = xi_at_phi0(mech, threads, pose, phis)?;
+    let xi0 = xi_at_phi0(mech, threads)?;
     let mut summaries = Vec::new();
     for (path, xi0) in threads.paths.iter().zip(xi0) {
         let track = path.evaluate(pose, None).map_err(|e| path_error(path, phis[e.k])(e))?;

@@ -164,6 +164,8 @@ pub struct Mechanism<T: Real> {
     pub(crate) labels: Arc<[String]>,
     /// Thread paths, when the model has any.
     pub threads: Option<crate::thread::Threads<T>>,
+    /// Placements of the model's frames, by frame index (0 = world).
+    pub(crate) frames: Vec<crate::geometry::Placement<T>>,
 }
 
 /// A position with no assembly: which group, where, and by how much.
@@ -417,6 +419,11 @@ impl<T: Real> Mechanism<T> {
     /// Number of point slots.
     pub fn n_points(&self) -> usize {
         self.n_points
+    }
+
+    /// The xy-plane of frame `index` (see [`crate::model::Model::frame_index`]).
+    pub fn frame_plane(&self, index: usize) -> Plane<T> {
+        if index == 0 { Plane::WORLD } else { Plane(Some(self.frames[index])) }
     }
 }
 

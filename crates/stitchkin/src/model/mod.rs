@@ -715,7 +715,7 @@ impl Model {
                 Some(Threads { paths, convention, phi0_deg: t.phi0_deg.unwrap_or(self.phi_start_deg()), tension_n: t.tension_n })
             }
         };
-        Ok(Mechanism { fixed, steps, measures, n_points: self.point_names.len(), labels: self.labels.clone(), threads })
+        Ok(Mechanism { fixed, steps, measures, n_points: self.point_names.len(), labels: self.labels.clone(), threads, frames })
     }
 
     fn error_at(&self, path: &Path, message: impl Into<String>, help: Option<String>) -> Box<ModelError> {
@@ -738,6 +738,16 @@ impl Model {
     /// Main-shaft angle where a cycle starts, degrees.
     pub fn phi_start_deg(&self) -> f64 {
         self.file.model.phi_start_deg.unwrap_or(0.0)
+    }
+
+    /// Index of a frame by name (`world` is 0).
+    pub fn frame_index(&self, name: &str) -> Option<usize> {
+        self.frames.iter().position(|f| f.name == name)
+    }
+
+    /// Names of the model's frames.
+    pub fn frame_names(&self) -> Vec<&str> {
+        self.frames.iter().map(|f| f.name.as_str()).collect()
     }
 
     /// Whether a point is fixed.

@@ -8,7 +8,7 @@ pub struct Preset {
 }
 
 /// The preset `stitchkin run` uses without a model.
-pub const DEFAULT: &str = "needle876";
+pub const DEFAULT: &str = "mf7923d";
 
 /// Every preset, in the order `stitchkin presets` lists them.
 pub const ALL: &[Preset] = &[

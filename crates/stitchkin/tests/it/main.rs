@@ -8,3 +8,4 @@ mod fuzz_regressions;
 mod invariants;
 mod loading;
 mod presets;
+mod threads;

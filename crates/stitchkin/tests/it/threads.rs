@@ -1,0 +1,302 @@
+//! Thread paths: closed-form cases, invariants, and the MF-7923D results.
+
+use num_dual::Dual2_64;
+use stitchkin::eval::{CycleOptions, cycle_phis_deg, run_cycle};
+use stitchkin::mechanism::Phi;
+use stitchkin::model::Model;
+use stitchkin::study::compare2d3d::compare_2d3d;
+
+/// An eyelet T on a crank of radius r about (0, h) between two fixed guides
+/// G1 = (−a, 0) and G2 = (a, 0); optional extra nodes replace `NODES`.
+fn crank_eyelet(nodes: &str, extra_points: &str) -> String {
+    format!(
+        r#"[model]
+name = "eyelet"
+[parameters]
+r = {{ value = 10, unit = "mm" }}
+h = {{ value = 30, unit = "mm" }}
+a = {{ value = 40, unit = "mm" }}
+[points]
+O = [0, "h"]
+G1 = ["-a", 0]
+G2 = ["a", 0]
+{extra_points}
+[[drivers]]
+type = "crank"
+center = "O"
+out = "T"
+radius = "r"
+[thread]
+[[thread.paths]]
+name = "p"
+nodes = {nodes}
+"#
+    )
+}
+
+fn table(m: &Model, step: f64) -> stitchkin::eval::CycleTable {
+    run_cycle(m, &m.defaults(), &CycleOptions { step_deg: step, ..Default::default() }).unwrap()
+}
+
+#[test]
+fn eyelet_on_a_crank_between_two_guides_is_closed_form() {
+    let m = Model::from_toml_str(&crank_eyelet(r#"["G1", "T", "G2"]"#, ""), "eyelet.toml").unwrap();
+    let t = table(&m, 5.0);
+    let (r, h, a) = (10.0f64, 30.0f64, 40.0f64);
+    let xi = |phi: f64| {
+        let (x, y) = (r * phi.cos(), h + r * phi.sin());
+        ((x + a).powi(2) + y * y).sqrt() + ((x - a).powi(2) + y * y).sqrt()
+    };
+    let xi0 = xi(0.0);
+    for (k, phi) in t.column("phi_deg").unwrap().iter().enumerate() {
+        let phi = phi.to_radians();
+        assert!((t.column("p.xi_mm").unwrap()[k] - xi(phi)).abs() < 1e-12);
+        assert!((t.column("p.P_mm").unwrap()[k] - (xi0 - xi(phi))).abs() < 1e-12);
+        // dP/dφ = −dξ/dφ by central differences of the closed form.
+        let d = -(xi(phi + 1e-4) - xi(phi - 1e-4)) / 2e-4;
+        assert!((t.column("p.dP_dphi_mm_per_rad").unwrap()[k] - d).abs() < 1e-6);
+    }
+    assert_eq!(t.column("p.P_mm").unwrap()[0], 0.0);
+    assert!(t.take_up.as_deref().unwrap().contains("xi(phi0) - xi(phi)"));
+}
+
+#[test]
+fn pin_engages_and_releases_at_the_computed_angles() {
+    // Thread from G1 = (−40, 0) to the eyelet T on the crank about (0, 30);
+    // a pin at P = (−20, 15) on the line from G1 to the crank centre. The
+    // straight thread G1 → T has the pin on its left exactly when T is right
+    // of the line G1–O, i.e. for sin(φ − β) < 0 with β the line's angle; the
+    // pin (turning clockwise) then catches it.
+    let text = crank_eyelet(r#"["G1", { pin = "PIN", axis = "z", wrap = "cw" }, "T", "G2"]"#, "PIN = [-20, 15]");
+    let m = Model::from_toml_str(&text, "pin.toml").unwrap();
+    let t = table(&m, 1.0);
+    let beta = (30.0f64).atan2(40.0).to_degrees(); // direction of G1 → O
+    let engaged = t.column("p.PIN_engaged").unwrap();
+    let xi = t.column("p.xi_mm").unwrap();
+    for (k, phi) in t.column("phi_deg").unwrap().iter().enumerate() {
+        let side = (phi - beta).to_radians().sin();
+        if side.abs() > 1e-9 {
+            assert_eq!(engaged[k] == 1.0, side < 0.0, "φ = {phi}");
+        }
+        // Engaged: G1 → PIN → T; free: straight.
+        let tx = 10.0 * phi.to_radians().cos();
+        let ty = 30.0 + 10.0 * phi.to_radians().sin();
+        let straight = (tx + 40.0).hypot(ty);
+        let bent = 25.0 + (tx + 20.0).hypot(ty - 15.0);
+        let want = if side < 0.0 { bent } else { straight };
+        assert!((xi[k] - ((tx - 40.0).hypot(ty) + want)).abs() < 1e-9, "φ = {phi}");
+    }
+    let s = &t.paths[0];
+    assert_eq!(s.engaged.len(), 1);
+    let iv = &s.engaged[0].1;
+    assert_eq!(iv.len(), 1);
+    assert!((iv[0].from_deg - (beta + 180.0)).abs() <= 1.0 && (iv[0].to_deg - (beta + 360.0)).abs() <= 1.0, "{iv:?}");
+}
+
+#[test]
+fn length_is_continuous_where_a_pin_engages() {
+    let text = crank_eyelet(r#"["G1", { pin = "PIN", axis = "z", wrap = "cw" }, "T", "G2"]"#, "PIN = [-20, 15]");
+    let m = Model::from_toml_str(&text, "pin.toml").unwrap();
+    let t = table(&m, 0.01);
+    let xi = t.column("p.xi_mm").unwrap();
+    let engaged = t.column("p.PIN_engaged").unwrap();
+    let mut switches = 0;
+    for k in 1..xi.len() {
+        if engaged[k] != engaged[k - 1] {
+            switches += 1;
+            // A jump would be of the order of millimetres; the slope is about
+            // 10 mm/rad, so 0.01° moves ξ by less than 0.002 mm.
+            assert!((xi[k] - xi[k - 1]).abs() < 2e-3, "jump {} at k = {k}", xi[k] - xi[k - 1]);
+        }
+    }
+    assert_eq!(switches, 2);
+}
+
+#[test]
+fn thread_wrapping_a_fixed_roller() {
+    // Roller radius 2 on the line from G1 to the crank centre: the thread
+    // to the circling eyelet bears on it part of the cycle.
+    let text = crank_eyelet(r#"["G1", { pin = "C", axis = "z", wrap = "cw", radius = 2 }, "T", "G2"]"#, "C = [-20, 15]");
+    let m = Model::from_toml_str(&text, "roller.toml").unwrap();
+    let t = table(&m, 3.0);
+    let thin = Model::from_toml_str(&text.replace(", radius = 2", ""), "pin.toml").unwrap();
+    let t0 = table(&thin, 3.0);
+    let (xi, xi_thin) = (t.column("p.xi_mm").unwrap(), t0.column("p.xi_mm").unwrap());
+    let on = t.column("p.C_engaged").unwrap();
+    assert!(on.iter().any(|e| *e == 1.0) && on.iter().any(|e| *e == 0.0));
+    for k in 0..xi.len() {
+        // A thick roller never shortens the path, and lengthens it when it bears.
+        assert!(xi[k] >= xi_thin[k] - 1e-9);
+        if on[k] == 1.0 {
+            // Tangent lengths plus the arc: check against the closed form.
+            let phi = (k as f64 * 3.0).to_radians();
+            let tp = (10.0 * phi.cos(), 30.0 + 10.0 * phi.sin());
+            let (p, q, c, r) = ((-40.0f64, 0.0f64), tp, (-20.0f64, 15.0f64), 2.0f64);
+            let (dp, dq) = ((p.0 - c.0).hypot(p.1 - c.1), (q.0 - c.0).hypot(q.1 - c.1));
+            let ang = |v: (f64, f64)| v.1.atan2(v.0);
+            let (ap, aq) = (ang((p.0 - c.0, p.1 - c.1)), ang((q.0 - c.0, q.1 - c.1)));
+            // Clockwise from p's tangent point to q's.
+            let mut theta = (ap - (r / dp).acos()) - (aq + (r / dq).acos());
+            while theta < 0.0 {
+                theta += std::f64::consts::TAU;
+            }
+            while theta >= std::f64::consts::TAU {
+                theta -= std::f64::consts::TAU;
+            }
+            let want = (dp * dp - r * r).sqrt() + r * theta + (dq * dq - r * r).sqrt() + (q.0 - 40.0).hypot(q.1);
+            assert!((xi[k] - want).abs() < 1e-9, "k = {k}: {} vs {want}", xi[k]);
+        }
+    }
+}
+
+#[test]
+fn capstan_tension_grows_by_exp_mu_theta() {
+    let text = crank_eyelet(r#"["G1", "T", "G2"]"#, "").replace("[thread]", "[thread]\ntension_n = 0.5\nfriction = 0.2");
+    let m = Model::from_toml_str(&text, "cap.toml").unwrap();
+    let t = table(&m, 10.0);
+    let tension = t.column("p.tension_eye_N").unwrap();
+    for (k, phi) in t.column("phi_deg").unwrap().iter().enumerate() {
+        let phi = phi.to_radians();
+        let tp = (10.0 * phi.cos(), 30.0 + 10.0 * phi.sin());
+        let u = ((tp.0 + 40.0) / (tp.0 + 40.0).hypot(tp.1), tp.1 / (tp.0 + 40.0).hypot(tp.1));
+        let w = ((40.0 - tp.0) / (40.0 - tp.0).hypot(tp.1), -tp.1 / (40.0 - tp.0).hypot(tp.1));
+        let theta = (u.0 * w.0 + u.1 * w.1).acos();
+        assert!((tension[k] - 0.5 * (0.2 * theta).exp()).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn feed_convention_with_elongation() {
+    let text = crank_eyelet(r#"["G1", "T", "G2"]"#, "").replace("[thread]", "[thread]\nconvention = \"feed\"\nelongation_mm = 6\nphi0_deg = 90");
+    let m = Model::from_toml_str(&text, "feed.toml").unwrap();
+    let t = table(&m, 90.0);
+    let (xi, p) = (t.column("p.xi_mm").unwrap(), t.column("p.P_mm").unwrap());
+    // φ0 = 90° is the second row: P = ξ − ξ(φ0) + ΔP.
+    for k in 0..4 {
+        assert!((p[k] - (xi[k] - xi[1] + 6.0)).abs() < 1e-12);
+    }
+    assert!(t.take_up.as_deref().unwrap().contains("dP = 6 mm"));
+}
+
+#[test]
+fn bad_thread_tables_are_rejected() {
+    let bad = |nodes: &str, extra: &str| Model::from_toml_str(&crank_eyelet(nodes, extra), "bad.toml").unwrap_err();
+    let e = bad(r#"["G1", "X", "G2"]"#, "");
+    assert!(e.message.contains("unknown point `X`"), "{e}");
+    let e = bad(r#"[{ pin = "G1", axis = "z", wrap = "cw" }, "T", "G2"]"#, "");
+    assert!(e.message.contains("starts and ends at an eyelet"), "{e}");
+    let e = bad(r#"["G1", { pin = "PIN", axis = "z" }, "T"]"#, "PIN = [0, 0]");
+    assert!(e.message.contains("wrap"), "{e}");
+    let e = bad(r#"["G1", { pin = "PIN", axis = "z", wrap = "cw" }, { pin = "PIN2", axis = "z", wrap = "cw" }, "T"]"#, "PIN = [0, 0]\nPIN2 = [1, 1]");
+    assert!(e.message.contains("two pins follow each other"), "{e}");
+    let e = bad(r#"["G1", { at = "T", wrap = "cw" }, "G2"]"#, "");
+    assert!(e.message.contains("eyelet"), "{e}");
+    let e = bad(r#"["G1"]"#, "");
+    assert!(e.message.contains("at least two nodes"), "{e}");
+    let e = bad(r#"["G1", { at = "T", frction = 0.2 }, "G2"]"#, "");
+    assert!(e.message.contains("frction") || e.message.contains("did not match"), "{e}");
+    let e = Model::from_toml_str(&crank_eyelet(r#"["G1", "T"]"#, "").replace("[thread]", "[thread]\nfriction = -1"), "bad.toml").unwrap_err();
+    assert!(e.message.contains("friction coefficient -1"), "{e}");
+}
+
+/// P(φ0) = 0, P periodic, ξ never shorter than the straight line between
+/// the path's ends, exact analogs equal finite differences (away from
+/// contact switches) — on every preset with threads.
+#[test]
+fn thread_invariants_on_presets() {
+    for p in stitchkin::presets::ALL {
+        let m = Model::preset(p.name).unwrap();
+        let mech = m.mechanism::<Dual2_64>(&m.defaults()).unwrap();
+        let Some(threads) = &mech.threads else { continue };
+        let mut phis = cycle_phis_deg(m.phi_start_deg(), 2.0);
+        phis.push(m.phi_start_deg() + 360.0);
+        let mut pose = mech.new_pose(phis.len());
+        mech.solve(&Phi::table(&phis), &mut pose).unwrap();
+        let plain = m.mechanism::<f64>(&m.defaults()).unwrap();
+        for path in &threads.paths {
+            let track = path.evaluate(&pose, None).unwrap();
+            let xi0 = track.xi[0];
+            let pv: Vec<Dual2_64> = track.xi.iter().map(|x| threads.convention.take_up(*x, xi0)).collect();
+            let n = pv.len();
+            assert!((pv[n - 1].re - pv[0].re).abs() < 1e-9, "{}: not periodic", path.name);
+            if (threads.phi0_deg - phis[0]).abs() < 1e-12 && matches!(threads.convention, stitchkin::thread::Convention::Release) {
+                assert_eq!(pv[0].re, 0.0);
+            }
+            let (first, last) = (*path.nodes.first().unwrap(), *path.nodes.last().unwrap());
+            for k in 0..n {
+                let ends = (pose.point(last, k) - pose.point(first, k)).norm().re;
+                assert!(track.xi[k].re >= ends - 1e-9, "{}: ξ shorter than its ends' distance", path.name);
+            }
+            // Analogs against central differences of the plain evaluation.
+            let h: f64 = 1e-5;
+            for k in (0..n - 1).step_by(7) {
+                if track.engaged.iter().any(|e| e[k] != e[(k + 1) % n] || e[k] != e[(k + n - 1) % n]) {
+                    continue;
+                }
+                let xi_at = |phi_deg: f64| {
+                    let mut ps = plain.new_pose(1);
+                    plain.solve(&[Phi::at_deg(phi_deg)], &mut ps).unwrap();
+                    plain.threads.as_ref().unwrap().paths.iter().find(|q| q.name == path.name).unwrap().evaluate_at(&ps, 0).unwrap()
+                };
+                let d = (xi_at(phis[k] + h.to_degrees()) - xi_at(phis[k] - h.to_degrees())) / (2.0 * h);
+                let scale = 1.0 + d.abs();
+                assert!((track.xi[k].v1 - d).abs() < 1e-5 * scale, "{} at φ = {}: {} vs {d}", path.name, phis[k], track.xi[k].v1);
+            }
+        }
+    }
+}
+
+fn reference() -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/mf7923d/reference_P.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    (header, rows)
+}
+
+/// The MF-7923D contours agree with the independent numpy reference.
+#[test]
+fn mf7923d_matches_the_independent_reference() {
+    let m = Model::preset("mf7923d").unwrap();
+    let t = table(&m, 1.0);
+    let (header, rows) = reference();
+    assert_eq!(rows.len(), 360);
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    for j in 1..=3 {
+        for c in ["A", "B"] {
+            let ours = t.column(&format!("n{j}_{c}.P_mm")).unwrap();
+            let theirs = col(&format!("P_n{j}_{c}_mm"));
+            let engaged = t.column(&format!("n{j}_{c}.G4_{j}_engaged")).unwrap();
+            let eng_ref = col(&format!("g4_engaged_n{j}"));
+            for (k, row) in rows.iter().enumerate() {
+                assert!((ours[k] - row[theirs]).abs() < 1e-6, "n{j}_{c} at φ = {k}: {} vs {}", ours[k], row[theirs]);
+                assert_eq!(engaged[k], row[eng_ref], "n{j}_{c} G4 at φ = {k}");
+            }
+        }
+    }
+}
+
+/// Seed 000: contour B feeds more thread than A; G4 engages part of the
+/// cycle; contour A has a dwell at the top that B does not.
+#[test]
+fn mf7923d_published_results() {
+    let m = Model::preset("mf7923d").unwrap();
+    let t = table(&m, 1.0);
+    for j in 1..=3 {
+        let a = t.paths.iter().find(|p| p.path == format!("n{j}_A")).unwrap();
+        let b = t.paths.iter().find(|p| p.path == format!("n{j}_B")).unwrap();
+        assert!(b.max_p_mm > a.max_p_mm + 3.0, "needle {j}: B {} vs A {}", b.max_p_mm, a.max_p_mm);
+        assert_eq!(a.engaged[0].1.len(), 1);
+        assert!(!a.flat.is_empty() && b.flat.is_empty(), "needle {j}: {:?} {:?}", a.flat, b.flat);
+    }
+    // 2D vs 3D for needle 1, contour A: a few tenths of a millimetre at most.
+    let c = compare_2d3d(&m, &m.defaults(), "uvw", 1.0).unwrap();
+    let n1a = c.paths.iter().find(|p| p.path == "n1_A").unwrap();
+    assert!(n1a.max_abs_dp_mm > 0.01 && n1a.max_abs_dp_mm < 0.5, "{}", n1a.max_abs_dp_mm);
+    assert!(n1a.max_rel_percent < 2.0);
+    let (header, rows) = reference();
+    let dcol = header.iter().position(|h| h == "dP_3D_minus_2D_n1_A_mm").unwrap();
+    for (k, row) in rows.iter().enumerate() {
+        assert!((n1a.dp_mm[k] - row[dcol]).abs() < 1e-6, "φ = {k}");
+    }
+}
