@@ -40,21 +40,41 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
-const PRESETS: &[&str] = &["needle876", "overlock500", "altin-needle"];
+const PRESETS: &[&str] = &["needle876", "overlock500", "altin-needle", "mf7923d"];
 
 #[test]
 fn run_without_arguments_uses_the_default_preset() {
+    // The default preset is the Juki MF-7923D: P(φ) for three needles.
     let (csv, summary) = ok(&["run"]);
     let mut lines = csv.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    for col in ["phi_deg", "G.y_mm", "G.dy_dphi_mm_per_rad", "G.d2y_dphi2_mm_per_rad2", "G.vy_mm_per_s", "mu_45_deg", "needle_y_mm"] {
+    for col in ["phi_deg", "T1_1.y_mm", "T1_1.dy_dphi_mm_per_rad", "E.d2y_dphi2_mm_per_rad2", "n1_A.P_mm", "n2_B.dP_dphi_mm_per_rad", "n3_A.G4_3_engaged", "mu_rod_AB_arm_O2B_deg"] {
         assert!(header.contains(&col), "no column {col} in {header:?}");
     }
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), 360);
     assert!(rows.iter().all(|r| r.split(',').count() == header.len()));
     assert!(!csv.contains("NaN") && !csv.contains("inf"));
-    assert!(summary.contains("mu_45") && summary.contains("needle_y"));
+    for p in ["n1_A", "n2_A", "n3_A", "n1_B", "n2_B", "n3_B"] {
+        assert!(summary.contains(&format!("# {p}")), "{summary}");
+    }
+    assert!(summary.contains("take-up: P = xi(phi0) - xi(phi)"));
+}
+
+#[test]
+fn compare_2d3d_reports_the_planar_error() {
+    let (csv, summary) = ok(&["compare-2d3d", "--plane", "uvw", "--step", "10"]);
+    let header = csv.lines().next().unwrap();
+    assert!(header.starts_with("phi_deg,n1_A.P3D_mm,n1_A.P2D_mm,n1_A.dP_mm"), "{header}");
+    assert_eq!(csv.lines().count(), 37);
+    assert!(summary.contains("n1_A max |ΔP|"), "{summary}");
+    let (json, _) = ok(&["compare-2d3d", "--format", "json", "--step", "90"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["paths"].as_array().unwrap().len(), 6);
+    let e = fails(&["compare-2d3d", "--plane", "nope"]);
+    assert!(e.contains("no frame `nope`") && e.contains("uvw"), "{e}");
+    let e = fails(&["compare-2d3d", "--preset", "needle876"]);
+    assert!(e.contains("no thread paths"), "{e}");
 }
 
 #[test]
@@ -76,7 +96,7 @@ fn every_preset_runs_as_csv_and_json_and_checks() {
 #[test]
 fn presets_lists_name_machine_and_seed() {
     let (out, _) = ok(&["presets"]);
-    for (p, seed) in [("needle876", "002"), ("overlock500", "003"), ("altin-needle", "004")] {
+    for (p, seed) in [("needle876", "002"), ("overlock500", "003"), ("altin-needle", "004"), ("mf7923d", "000")] {
         let line = out.lines().find(|l| l.starts_with(p)).unwrap_or_else(|| panic!("{p} missing:\n{out}"));
         assert!(line.contains(seed), "{line}");
     }
@@ -85,17 +105,23 @@ fn presets_lists_name_machine_and_seed() {
 
 #[test]
 fn overrides_are_applied_and_checked() {
-    let (a0, _) = ok(&["run", "--points", "G", "--step", "90"]);
-    let (a30, warn30) = ok(&["run", "--points", "G", "--step", "90", "--set", "alpha=30"]);
+    let n876 = ["run", "--preset", "needle876"];
+    let with = |extra: &[&'static str]| -> Vec<&'static str> { n876.iter().chain(extra).copied().collect() };
+    let (a0, _) = ok(&with(&["--points", "G", "--step", "90"]));
+    let (a30, warn30) = ok(&with(&["--points", "G", "--step", "90", "--set", "alpha=30"]));
     assert_ne!(a0, a30);
     assert!(!warn30.contains("warning"));
-    let (_, warn40) = ok(&["run", "--step", "1", "--set", "alpha=40"]);
+    let (_, warn40) = ok(&with(&["--step", "1", "--set", "alpha=40"]));
     assert!(warn40.contains("warning: transmission angle") && warn40.contains("45"), "{warn40}");
-    let e = fails(&["run", "--set", "alpha=50"]);
+    let e = fails(&with(&["--set", "alpha=50"]));
     assert!(e.contains("outside its adjustable range") && e.contains("help"), "{e}");
-    let e = fails(&["run", "--set", "alpah=5"]);
+    let (_, sz) = ok(&["run", "--set", "z=-5", "--set", "dphi=10", "--step", "10"]);
+    assert!(sz.contains("n1_A"));
+    let e = fails(&["run", "--set", "z=-15"]);
+    assert!(e.contains("z = -15 mm is outside its adjustable range -10…10 mm"), "{e}");
+    let e = fails(&with(&["--set", "alpah=5"]));
     assert!(e.contains("did you mean `alpha`"), "{e}");
-    let e = fails(&["run", "--set", "alpha"]);
+    let e = fails(&with(&["--set", "alpha"]));
     assert!(e.contains("NAME=VALUE"), "{e}");
     let e = fails(&["run", "--step", "0"]);
     assert!(e.contains("step"), "{e}");

@@ -138,7 +138,19 @@ pub enum Axis {
 
 /// A rotation about one axis, `["x", 20]`: axis name and angle in degrees.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(try_from = "Vec<Value>")]
 pub struct Rotation(pub String, pub Value);
+
+impl TryFrom<Vec<Value>> for Rotation {
+    type Error = String;
+    fn try_from(v: Vec<Value>) -> Result<Self, String> {
+        match <[Value; 2]>::try_from(v) {
+            Ok([Value::Expr(axis), angle]) => Ok(Rotation(axis, angle)),
+            Ok(_) => Err("a rotation starts with its axis name: [\"x\", 20]".into()),
+            Err(v) => Err(format!("a rotation is [axis, angle in degrees], got {} elements", v.len())),
+        }
+    }
+}
 
 /// A fixed coordinate frame: `p_parent = origin + R · p_local`, with `R` the
 /// product of `rotate` taken left to right (each about the frame's current

@@ -290,3 +290,13 @@ axis = [1, 0, 0]
     let r: Vec<f64> = (0..4).map(|k| t.column("A.x_mm").unwrap()[k].hypot(t.column("A.z_mm").unwrap()[k])).collect();
     assert!(r.iter().all(|r| (r - 10.0).abs() < 1e-12), "{r:?}");
 }
+
+#[test]
+fn a_rotation_is_exactly_axis_and_angle() {
+    let frame = |rot: &str| FOUR_BAR.replace("[points]", &format!("[frames.f]\nrotate = [{rot}]\n\n[points]"));
+    Model::from_toml_str(&frame(r#"["x", 10]"#), "ok.toml").unwrap();
+    let e = load_err(&frame(r#"["x", 10, 20]"#));
+    assert!(e.message.contains("got 3 elements"), "{e}");
+    let e = load_err(&frame(r#"[10, "x"]"#));
+    assert!(e.message.contains("starts with its axis"), "{e}");
+}
