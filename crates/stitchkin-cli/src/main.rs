@@ -307,11 +307,11 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
             p.path, p.max_p_mm, p.phi_at_max_deg, p.min_p_mm, p.phi_at_min_deg
         );
         for (pin, iv) in &p.engaged {
-            let spans: Vec<String> = iv.iter().map(|i| format!("{:.0}°…{:.0}°", i.from_deg, i.to_deg)).collect();
+            let spans: Vec<String> = iv.iter().map(|i| format!("{:.0}°…{:.0}°", i.from_deg, eval::wrap_deg(i.to_deg))).collect();
             s += &format!("; {pin} engaged {}", if spans.is_empty() { "never".into() } else { spans.join(", ") });
         }
         if !p.flat.is_empty() {
-            let spans: Vec<String> = p.flat.iter().map(|i| format!("{:.0}°…{:.0}°", i.from_deg, i.to_deg)).collect();
+            let spans: Vec<String> = p.flat.iter().map(|i| format!("{:.0}°…{:.0}°", i.from_deg, eval::wrap_deg(i.to_deg))).collect();
             s += &format!("; dwell {}", spans.join(", "));
         }
         if let Some([lo, hi]) = p.eye_tension_n {

@@ -392,7 +392,7 @@ fn thread_columns(
         let flat_flags: Vec<bool> = p.iter().map(|x| x.v1.abs() * std::f64::consts::PI / 180.0 < FLAT_SLOPE_MM_PER_DEG).collect();
         let flat = crate::thread::intervals(&flat_flags, phis, step)
             .into_iter()
-            .filter(|iv| iv.to_deg - iv.from_deg + step >= FLAT_MIN_DEG)
+            .filter(|iv| iv.to_deg - iv.from_deg >= FLAT_MIN_DEG)
             .collect();
         summaries.push(PathSummary {
             path: name.clone(),
