@@ -119,3 +119,28 @@ fn load_needle876(bencher: Bencher) {
     let text = stitchkin::presets::find("needle876").unwrap().toml;
     bencher.bench_local(|| Model::from_toml_str(black_box(text), "needle876").unwrap());
 }
+
+/// Issue 3 goals: mf7923d, 3 needles × contours A and B, 360 steps: the
+/// mechanism solve plus every path's ξ(φ) (P = ξ(φ0) − ξ(φ) is one
+/// subtraction more) ≤ 15 µs per cycle, ≤ 40 µs with P's analogs.
+fn bench_takeup<T: Real>(bencher: Bencher) {
+    let model = Model::preset("mf7923d").unwrap();
+    let (mech, phis) = cycle::<T>(&model);
+    let mut pose = mech.new_pose(phis.len());
+    let threads = mech.threads.clone().unwrap();
+    bencher.bench_local(|| {
+        mech.solve(black_box(&phis), &mut pose).unwrap();
+        let tracks = threads.evaluate(&pose, None).unwrap();
+        black_box(tracks[5].xi[90])
+    });
+}
+
+#[divan::bench]
+fn mf7923d_take_up(bencher: Bencher) {
+    bench_takeup::<f64>(bencher);
+}
+
+#[divan::bench]
+fn mf7923d_take_up_with_analogs(bencher: Bencher) {
+    bench_takeup::<Dual2_64>(bencher);
+}

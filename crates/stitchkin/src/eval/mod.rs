@@ -8,7 +8,7 @@ use serde::Serialize;
 use crate::error::Error;
 use crate::mechanism::{Mechanism, Phi, Pose};
 use crate::scalar::Real;
-use crate::thread::{Convention, PathError, ThreadPath, Threads};
+use crate::thread::{Convention, PathError, Threads};
 use crate::model::{Model, Params};
 
 
@@ -341,11 +341,12 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
 pub fn xi_at_phi0<T: Real>(mech: &Mechanism<T>, threads: &Threads<T>) -> Result<Vec<T>, Error> {
     let mut p0 = mech.new_pose(1);
     mech.solve(&[Phi::new(T::cst(threads.phi0_deg.to_radians()))], &mut p0)?;
-    threads.paths.iter().map(|p| Ok(p.evaluate_at(&p0, 0).map_err(path_error(p, threads.phi0_deg))?)).collect()
+    threads.evaluate_at(&p0, 0).map_err(|e| path_error(e, threads.phi0_deg))
 }
 
-fn path_error<T: Real>(p: &ThreadPath<T>, phi_deg: f64) -> impl Fn(PathError) -> Error + '_ {
-    move |e| Error::Thread(format!("thread path `{}` at φ = {:.3}°: {}", p.name, wrap_deg(phi_deg), e.message))
+/// A thread path that cannot be formed, as an error naming path and φ.
+pub fn path_error(e: PathError, phi_deg: f64) -> Error {
+    Error::Thread(format!("thread path `{}` at φ = {:.3}°: {}", e.path, wrap_deg(phi_deg), e.message))
 }
 
 /// Adds each path's columns and returns its summary.
@@ -360,9 +361,12 @@ fn thread_columns(
     columns: &mut Vec<Column>,
 ) -> Result<(Vec<PathSummary>, Option<String>), Error> {
     let xi0 = xi_at_phi0(mech, threads)?;
+    let tracks = threads.evaluate(pose, None).map_err(|e| {
+        let phi = phis[e.k];
+        path_error(e, phi)
+    })?;
     let mut summaries = Vec::new();
-    for (path, xi0) in threads.paths.iter().zip(xi0) {
-        let track = path.evaluate(pose, None).map_err(|e| path_error(path, phis[e.k])(e))?;
+    for ((path, track), xi0) in threads.paths.iter().zip(tracks).zip(xi0) {
         let name = &path.name;
         let p: Vec<Dual2_64> = track.xi.iter().map(|x| threads.convention.take_up(*x, xi0)).collect();
         let mut col = |n: String, v: Vec<f64>| columns.push(Column { name: format!("{name}.{n}"), values: v });
@@ -375,14 +379,19 @@ fn thread_columns(
                 col("vP_mm_per_s".into(), p.iter().map(|x| x.v1 * w).collect());
             }
         }
-        let pins: Vec<&str> = path.pin_names();
+        // Wrap angles at every node, per φ (for the pins' columns and the tension).
+        let wraps: Vec<Vec<f64>> = (0..phis.len()).map(|k| threads.wrap_angles(path, pose, k)).collect();
+        let pin_nodes: Vec<usize> = (0..path.nodes.len()).filter(|&i| path.pin_span[i].is_some()).collect();
+        let pins = path.pin_names();
         for (j, pin) in pins.iter().enumerate() {
             col(format!("{pin}_engaged"), track.engaged[j].iter().map(|&e| if e { 1.0 } else { 0.0 }).collect());
-            col(format!("{pin}_wrap_deg"), track.pin_wrap[j].iter().map(|w| w.to_degrees()).collect());
+            col(format!("{pin}_wrap_deg"), wraps.iter().map(|w| w[pin_nodes[j]].to_degrees()).collect());
         }
-        let eye_tension = threads.tension_n.map(|t0| {
-            let t: Vec<f64> = (0..phis.len()).map(|k| *path.tension(pose, &track, k, t0).0.last().unwrap_or(&t0)).collect();
-            t
+        let eye_tension: Option<Vec<f64>> = threads.tension_n.map(|t0| {
+            wraps
+                .iter()
+                .map(|theta| theta.iter().zip(&path.friction).skip(1).fold(t0, |t, (th, mu)| t * (mu * th).exp()))
+                .collect()
         });
         if let Some(t) = &eye_tension {
             col("tension_eye_N".into(), t.clone());

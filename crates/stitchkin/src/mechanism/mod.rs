@@ -122,6 +122,12 @@ impl<T: Real> Pose<T> {
     pub fn track(&self, slot: usize) -> &[V3<T>] {
         &self.tracks[slot]
     }
+    /// A copy with every point projected onto `plane` (local z = 0).
+    pub fn projected(&self, plane: &Plane<T>) -> Pose<T> {
+        let tracks = self.tracks.iter().map(|t| t.iter().map(|p| plane.lift(plane.project(p), T::zero())).collect()).collect();
+        Pose { n: self.n, tracks, newton: self.newton.clone() }
+    }
+
     /// All points at the `k`-th φ, indexable by slot.
     pub fn at(&self, k: usize) -> PoseAt<'_, T> {
         PoseAt { tracks: &self.tracks, k }

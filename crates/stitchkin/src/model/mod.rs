@@ -687,32 +687,48 @@ impl Model {
             None => None,
             Some(t) => {
                 let mut paths = Vec::with_capacity(t.paths.len());
+                let mut spans: Vec<Span<T>> = Vec::new();
                 for p in &t.paths {
-                    let mut spans = Vec::with_capacity(p.spans.len());
+                    let mut ids = Vec::with_capacity(p.spans.len());
+                    let mut pin_span = vec![None; p.nodes.len()];
                     for sp in &p.spans {
-                        spans.push(match sp {
+                        let span = match sp {
                             SpanDef::Straight { a, b, constant } => Span::Straight { a: *a, b: *b, constant: *constant },
                             SpanDef::Pin { a, b, c, axis, frame, r, sense, node } => {
                                 if q[*r].re() < 0.0 {
                                     return Err(self.error_at(&self.expr_paths[*r], "a pin radius cannot be negative", Some("give the radius in mm, 0 for a thin pin".into())));
                                 }
-                                Span::Pin { a: *a, b: *b, c: *c, axis: dir(axis, *frame)?, r: q[*r], sense: *sense, node: *node }
+                                let name = p.node_names[*node].clone();
+                                Span::Pin { a: *a, b: *b, c: *c, axis: dir(axis, *frame)?, r: q[*r], sense: *sense, name }
                             }
-                        });
+                        };
+                        // Paths share pieces: keep each distinct one once.
+                        let id = match spans.iter().position(|s| *s == span) {
+                            Some(id) => id,
+                            None => {
+                                spans.push(span);
+                                spans.len() - 1
+                            }
+                        };
+                        if let SpanDef::Pin { node, .. } = sp {
+                            pin_span[*node] = Some(id);
+                        }
+                        ids.push(id);
                     }
                     paths.push(ThreadPath {
                         name: p.name.clone(),
                         nodes: p.nodes.clone(),
                         node_names: p.node_names.clone(),
                         friction: p.friction.clone(),
-                        spans,
+                        spans: ids,
+                        pin_span,
                     });
                 }
                 let convention = match t.convention {
                     file::TakeUpConvention::Release => Convention::Release,
                     file::TakeUpConvention::Feed => Convention::Feed { elongation_mm: t.elongation.map_or(0.0, |e| q[e].re()) },
                 };
-                Some(Threads { paths, convention, phi0_deg: t.phi0_deg.unwrap_or(self.phi_start_deg()), tension_n: t.tension_n })
+                Some(Threads { paths, spans, convention, phi0_deg: t.phi0_deg.unwrap_or(self.phi_start_deg()), tension_n: t.tension_n })
             }
         };
         Ok(Mechanism { fixed, steps, measures, n_points: self.point_names.len(), labels: self.labels.clone(), threads, frames })

@@ -6,7 +6,7 @@
 use serde::Serialize;
 
 use crate::error::{Error, ParamError};
-use crate::eval::{check_options, cycle_phis_deg, wrap_deg};
+use crate::eval::{check_options, cycle_phis_deg, path_error, wrap_deg};
 use crate::mechanism::Phi;
 use crate::model::{Model, Params};
 
@@ -57,16 +57,20 @@ pub fn compare_2d3d(model: &Model, params: &Params, plane: &str, step_deg: f64) 
     let mut pose0 = mech.new_pose(1);
     mech.solve(&[Phi::at_deg(threads.phi0_deg)], &mut pose0)?;
     let plane = mech.frame_plane(frame);
-    let fail = |name: &str, phi: f64, m: String| Error::Thread(format!("thread path `{name}` at φ = {:.3}°: {m}", wrap_deg(phi)));
+    let tracks = |proj| -> Result<(Vec<Vec<f64>>, Vec<f64>), Error> {
+        let xi = threads.evaluate(&pose, proj).map_err(|e| {
+            let phi = phis[e.k];
+            path_error(e, phi)
+        })?;
+        let xi0 = threads.evaluate(&pose0, proj).map_err(|e| path_error(e, threads.phi0_deg))?;
+        Ok((xi.into_iter().map(|t| t.xi).collect(), xi0.into_iter().map(|t| t.xi[0]).collect()))
+    };
+    let (xi3, xi3_0) = tracks(None)?;
+    let (xi2, xi2_0) = tracks(Some(&plane))?;
     let mut paths = Vec::new();
-    for path in &threads.paths {
-        let take_up = |proj| -> Result<Vec<f64>, Error> {
-            let xi = path.evaluate(&pose, proj).map_err(|e| fail(&path.name, phis[e.k], e.message))?.xi;
-            let xi0 = path.evaluate(&pose0, proj).map_err(|e| fail(&path.name, threads.phi0_deg, e.message))?.xi[0];
-            Ok(xi.iter().map(|x| threads.convention.take_up(*x, xi0)).collect())
-        };
-        let p3d = take_up(None)?;
-        let p2d = take_up(Some(&plane))?;
+    for (i, path) in threads.paths.iter().enumerate() {
+        let p3d: Vec<f64> = xi3[i].iter().map(|x| threads.convention.take_up(*x, xi3_0[i])).collect();
+        let p2d: Vec<f64> = xi2[i].iter().map(|x| threads.convention.take_up(*x, xi2_0[i])).collect();
         let dp: Vec<f64> = p3d.iter().zip(&p2d).map(|(a, b)| a - b).collect();
         let k = (0..dp.len()).max_by(|&i, &j| dp[i].abs().total_cmp(&dp[j].abs())).unwrap_or(0);
         let p_max = p3d.iter().fold(0.0f64, |m, v| m.max(v.abs()));

@@ -16,19 +16,22 @@ use crate::geometry::{Plane, V3};
 use crate::mechanism::Pose;
 use crate::scalar::Real;
 
-/// One piece of a path between two nodes the thread passes through.
+/// One piece of a path between two nodes the thread passes through. Paths
+/// share pieces (two contours of one needle share their first guides), so
+/// [`Threads`] keeps each distinct piece once.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Span<T: Real> {
     /// A straight segment `a → b`; `constant` when both ends ride on one
     /// rigid body.
     Straight { a: usize, b: usize, constant: bool },
-    /// `a → b` over a one-sided cylindrical guide through point `c`.
-    Pin { a: usize, b: usize, c: usize, axis: V3<T>, r: T, sense: f64, node: usize },
+    /// `a → b` over a one-sided cylindrical guide through point `c` (named
+    /// `name`), turning in the sense `sense` about `axis`.
+    Pin { a: usize, b: usize, c: usize, axis: V3<T>, r: T, sense: f64, name: String },
 }
 
 /// A thread path with every parameter resolved.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ThreadPath<T: Real> {
+pub struct ThreadPath {
     pub name: String,
     /// Pose slots of the nodes, in thread order (pins included).
     pub nodes: Vec<usize>,
@@ -36,7 +39,10 @@ pub struct ThreadPath<T: Real> {
     pub node_names: Vec<String>,
     /// Friction coefficient at each node (the first node's is unused).
     pub friction: Vec<f64>,
-    pub spans: Vec<Span<T>>,
+    /// Its pieces, as indices into [`Threads::spans`], in thread order.
+    pub spans: Vec<usize>,
+    /// For each node that is a pin, the index of its span.
+    pub pin_span: Vec<Option<usize>>,
 }
 
 /// How P(φ) is signed.
@@ -57,19 +63,14 @@ impl Convention {
             Convention::Feed { elongation_mm } => xi - xi0 + T::cst(*elongation_mm),
         }
     }
-    /// Sign of dP/dξ.
-    pub fn sign(&self) -> f64 {
-        match self {
-            Convention::Release => -1.0,
-            Convention::Feed { .. } => 1.0,
-        }
-    }
 }
 
 /// The thread part of a resolved model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Threads<T: Real> {
-    pub paths: Vec<ThreadPath<T>>,
+    pub paths: Vec<ThreadPath>,
+    /// Every distinct piece of every path.
+    pub spans: Vec<Span<T>>,
     pub convention: Convention,
     /// φ0, degrees.
     pub phi0_deg: f64,
@@ -82,166 +83,183 @@ pub struct Threads<T: Real> {
 pub struct PathTrack<T: Real> {
     /// Contour length ξ at each φ, mm.
     pub xi: Vec<T>,
-    /// For each pin (in node order): whether it is engaged at each φ.
+    /// For each pin of the path (in node order): whether the thread bears
+    /// on it at each φ.
     pub engaged: Vec<Vec<bool>>,
-    /// For each pin: the capstan angle at each φ, rad.
-    pub pin_wrap: Vec<Vec<f64>>,
 }
 
-/// A path whose contour cannot be formed: a node inside a guide.
+/// A path whose contour cannot be formed at the `k`-th φ: a node inside a
+/// guide.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PathError {
+    pub path: String,
     pub k: usize,
     pub message: String,
 }
 
-/// Where node positions come from: the pose, optionally projected onto a
-/// plane (the 2D comparison of seed 000 §4.6).
-struct Positions<'a, T: Real> {
-    pose: &'a Pose<T>,
-    plane: Option<&'a Plane<T>>,
+/// One distinct piece evaluated over a pose.
+enum SpanTrack<T: Real> {
+    Constant(T),
+    Varying(Vec<T>),
+    Pin(Vec<T>, Vec<bool>),
 }
 
-impl<T: Real> Positions<'_, T> {
-    #[inline]
-    fn at(&self, slot: usize, k: usize) -> V3<T> {
-        let p = self.pose.point(slot, k);
-        match self.plane {
-            None => p,
+impl<T: Real> Threads<T> {
+    /// Contour length and guide contacts of every path at every φ of `pose`.
+    /// With `project`, every node is first projected onto that plane and
+    /// pins stand across it (the 2D model). Each distinct piece is computed
+    /// once, a constant one once per pose.
+    pub fn evaluate(&self, pose: &Pose<T>, project: Option<&Plane<T>>) -> Result<Vec<PathTrack<T>>, PathError> {
+        let projected;
+        let (pose, axis_override) = match project {
             Some(pl) => {
-                let q = pl.project(&p);
-                pl.lift(q, T::zero())
+                projected = pose.projected(pl);
+                (&projected, Some(normal_of(pl)))
             }
-        }
-    }
-}
-
-impl<T: Real> ThreadPath<T> {
-    /// Contour length and guide contacts at every φ of `pose`. With
-    /// `project`, every node is first projected onto that plane and pins are
-    /// taken perpendicular to it (the 2D model).
-    pub fn evaluate(&self, pose: &Pose<T>, project: Option<&Plane<T>>) -> Result<PathTrack<T>, PathError> {
+            None => (pose, None),
+        };
         let n = pose.len();
-        let pos = Positions { pose, plane: project };
-        let mut xi = vec![T::zero(); n];
-        let mut engaged = Vec::new();
-        let mut pin_wrap = Vec::new();
-        for span in &self.spans {
-            match span {
-                Span::Straight { a, b, constant: true } if n > 0 => {
-                    let l = (pos.at(*b, 0) - pos.at(*a, 0)).norm();
-                    xi.iter_mut().for_each(|x| *x += l);
-                }
+        let mut tracks = Vec::with_capacity(self.spans.len());
+        for (i, span) in self.spans.iter().enumerate() {
+            tracks.push(match span {
+                Span::Straight { a, b, constant: true } if n > 0 => SpanTrack::Constant((pose.point(*b, 0) - pose.point(*a, 0)).norm()),
                 Span::Straight { a, b, .. } => {
-                    for (k, x) in xi.iter_mut().enumerate() {
-                        *x += (pos.at(*b, k) - pos.at(*a, k)).norm();
+                    SpanTrack::Varying(pose.track(*a).iter().zip(pose.track(*b)).map(|(p, q)| (q - p).norm()).collect())
+                }
+                Span::Pin { a, b, c, axis, r, sense, .. } => {
+                    let axis = axis_override.unwrap_or(*axis);
+                    let (ta, tb, tc) = (pose.track(*a), pose.track(*b), pose.track(*c));
+                    let mut len = Vec::with_capacity(n);
+                    let mut on = Vec::with_capacity(n);
+                    for k in 0..n {
+                        let (l, e) = wrap::pin_length(ta[k], tb[k], tc[k], axis, *r, *sense).ok_or_else(|| self.inside(i, k))?;
+                        len.push(l);
+                        on.push(e);
+                    }
+                    SpanTrack::Pin(len, on)
+                }
+            });
+        }
+        Ok(self
+            .paths
+            .iter()
+            .map(|p| {
+                let mut xi = vec![T::zero(); n];
+                let mut engaged = Vec::new();
+                for &s in &p.spans {
+                    match &tracks[s] {
+                        SpanTrack::Constant(l) => xi.iter_mut().for_each(|x| *x += *l),
+                        SpanTrack::Varying(l) => xi.iter_mut().zip(l).for_each(|(x, l)| *x += *l),
+                        SpanTrack::Pin(l, on) => {
+                            xi.iter_mut().zip(l).for_each(|(x, l)| *x += *l);
+                            engaged.push(on.clone());
+                        }
                     }
                 }
-                Span::Pin { a, b, c, axis, r, sense, node } => {
-                    let axis = match project {
-                        // In the 2D model every pin stands across the plane.
-                        Some(pl) => normal_of(pl),
-                        None => *axis,
-                    };
-                    let mut on = vec![false; n];
-                    let mut wr = vec![0.0; n];
-                    for k in 0..n {
-                        let w = wrap::pin_wrap(pos.at(*a, k), pos.at(*b, k), pos.at(*c, k), axis, *r, *sense)
-                            .ok_or_else(|| PathError {
-                                k,
-                                message: format!("a thread end lies inside the guide at `{}`", self.node_names[*node]),
-                            })?;
-                        xi[k] += w.length;
-                        on[k] = w.engaged;
-                        wr[k] = w.wrap_rad;
-                    }
-                    engaged.push(on);
-                    pin_wrap.push(wr);
+                PathTrack { xi, engaged }
+            })
+            .collect())
+    }
+
+    /// ξ of every path at the `k`-th φ of `pose` alone.
+    pub fn evaluate_at(&self, pose: &Pose<T>, k: usize) -> Result<Vec<T>, PathError> {
+        let lengths = self
+            .spans
+            .iter()
+            .enumerate()
+            .map(|(i, span)| match span {
+                Span::Straight { a, b, .. } => Ok((pose.point(*b, k) - pose.point(*a, k)).norm()),
+                Span::Pin { a, b, c, axis, r, sense, .. } => {
+                    wrap::pin_length(pose.point(*a, k), pose.point(*b, k), pose.point(*c, k), *axis, *r, *sense)
+                        .map(|(l, _)| l)
+                        .ok_or_else(|| self.inside(i, k))
+                }
+            })
+            .collect::<Result<Vec<T>, PathError>>()?;
+        Ok(self.paths.iter().map(|p| p.spans.iter().fold(T::zero(), |x, &s| x + lengths[s])).collect())
+    }
+
+    fn inside(&self, span: usize, k: usize) -> PathError {
+        let path = self.paths.iter().find(|p| p.spans.contains(&span)).map_or(String::new(), |p| p.name.clone());
+        let name = match &self.spans[span] {
+            Span::Pin { name, .. } => name.as_str(),
+            Span::Straight { .. } => "?",
+        };
+        PathError { path, k, message: format!("a thread end lies inside the guide at `{name}`") }
+    }
+
+    /// The angle the thread turns through at each node of `path` at the
+    /// `k`-th φ, rad: at an eyelet the angle between the pieces before and
+    /// after it, at a pin the wrap angle (0 when it does not bear).
+    pub fn wrap_angles(&self, path: &ThreadPath, pose: &Pose<T>, k: usize) -> Vec<f64> {
+        let m = path.nodes.len();
+        let at = |i: usize| pose.point(path.nodes[i], k).map(|v| v.re());
+        // Where the thread touches a pin node (or its neighbour, when it does not bear).
+        let mut theta = vec![0.0; m];
+        let mut contact: Vec<Option<V3<f64>>> = vec![None; m];
+        for i in 0..m {
+            let Some(s) = path.pin_span[i] else { continue };
+            let Span::Pin { axis, r, sense, .. } = &self.spans[s] else { continue };
+            let (p, q, c) = (at(i - 1), at(i + 1), at(i));
+            let a = axis.map(|v| v.re());
+            if let Some(w) = wrap::pin_wrap(p, q, c, a, r.re(), *sense) {
+                if w.engaged {
+                    theta[i] = w.wrap_rad;
+                    // The contact height along the axis, as for a thin pin.
+                    let (wp, wq) = (p - c, q - c);
+                    let (hp, hq) = (wp.dot(&a), wq.dot(&a));
+                    let (rp, rq) = ((wp - a * hp).norm(), (wq - a * hq).norm());
+                    contact[i] = Some(c + a * (hp + (hq - hp) * rp / (rp + rq)));
                 }
             }
         }
-        Ok(PathTrack { xi, engaged, pin_wrap })
-    }
-
-    /// Thread tension after each node at the `k`-th φ of `pose` by the
-    /// capstan (Euler–Eytelwein) law with Amontons friction:
-    /// `T_{i+1} = T_i · exp(μ_i · θ_i)`, θ_i the angle the thread turns
-    /// through at node i, starting from `t0` (N) at the first node and
-    /// assuming the thread is drawn toward the eye. Returns (tension after
-    /// each node, wrap angle at each node in rad).
-    pub fn tension(&self, pose: &Pose<T>, track: &PathTrack<T>, k: usize, t0: f64) -> (Vec<f64>, Vec<f64>) {
-        let m = self.nodes.len();
-        let mut theta = vec![0.0; m];
-        // Eyelets: the angle between the incoming and outgoing segments.
-        let pin_nodes: Vec<usize> =
-            self.spans.iter().filter_map(|s| if let Span::Pin { node, .. } = s { Some(*node) } else { None }).collect();
+        // The last and next points the thread actually touches around node i.
+        let before = |i: usize| {
+            let mut j = i - 1;
+            while path.pin_span[j].is_some() && contact[j].is_none() {
+                j -= 1;
+            }
+            contact[j].unwrap_or_else(|| at(j))
+        };
+        let after = |i: usize| {
+            let mut j = i + 1;
+            while path.pin_span[j].is_some() && contact[j].is_none() {
+                j += 1;
+            }
+            contact[j].unwrap_or_else(|| at(j))
+        };
         for i in 1..m.saturating_sub(1) {
-            if pin_nodes.contains(&i) {
+            if path.pin_span[i].is_some() {
                 continue;
             }
-            let prev = self.contact_before(i);
-            let next = self.contact_after(i);
-            let p = pose.point(self.nodes[i], k).map(|v| v.re());
-            let u = (p - pose.point(self.nodes[prev], k).map(|v| v.re())).normalize();
-            let w = (pose.point(self.nodes[next], k).map(|v| v.re()) - p).normalize();
-            let c = u.dot(&w).clamp(-1.0, 1.0);
-            theta[i] = if c.is_finite() { c.acos() } else { 0.0 };
+            let p = at(i);
+            let u = (p - before(i)).normalize();
+            let w = (after(i) - p).normalize();
+            let c = u.dot(&w);
+            theta[i] = if c.is_finite() { c.clamp(-1.0, 1.0).acos() } else { 0.0 };
         }
-        for (j, &i) in pin_nodes.iter().enumerate() {
-            theta[i] = track.pin_wrap[j][k];
-        }
-        let mut t = vec![t0; m];
-        for i in 1..m {
-            t[i] = t[i - 1] * (self.friction[i] * theta[i]).exp();
-        }
-        (t, theta)
+        theta
     }
 
-    /// The node the thread last touched before node `i` (skipping
-    /// disengaged pins is not needed for eyelets: a pin is never adjacent
-    /// to a pin, and a pin's neighbours are eyelets).
-    /// ξ at the `k`-th φ of `pose` alone.
-    pub fn evaluate_at(&self, pose: &Pose<T>, k: usize) -> Result<T, PathError> {
-        let mut xi = T::zero();
-        for span in &self.spans {
-            xi += match span {
-                Span::Straight { a, b, .. } => (pose.point(*b, k) - pose.point(*a, k)).norm(),
-                Span::Pin { a, b, c, axis, r, sense, node } => {
-                    wrap::pin_wrap(pose.point(*a, k), pose.point(*b, k), pose.point(*c, k), *axis, *r, *sense)
-                        .ok_or_else(|| PathError { k, message: format!("a thread end lies inside the guide at `{}`", self.node_names[*node]) })?
-                        .length
-                }
-            };
+    /// Thread tension after each node of `path` at the `k`-th φ by the
+    /// capstan (Euler–Eytelwein) law with Amontons friction,
+    /// `T_{i+1} = T_i · exp(μ_i · θ_i)`, θ_i from [`Self::wrap_angles`],
+    /// starting from `t0` (N) at the first node and assuming the thread is
+    /// drawn toward the eye.
+    pub fn tension(&self, path: &ThreadPath, pose: &Pose<T>, k: usize, t0: f64) -> Vec<f64> {
+        let theta = self.wrap_angles(path, pose, k);
+        let mut t = vec![t0; theta.len()];
+        for i in 1..theta.len() {
+            t[i] = t[i - 1] * (path.friction[i] * theta[i]).exp();
         }
-        Ok(xi)
+        t
     }
+}
 
+impl ThreadPath {
     /// Names of the path's pins, in order.
     pub fn pin_names(&self) -> Vec<&str> {
-        self.spans
-            .iter()
-            .filter_map(|s| if let Span::Pin { node, .. } = s { Some(self.node_names[*node].as_str()) } else { None })
-            .collect()
-    }
-
-    fn contact_before(&self, i: usize) -> usize {
-        let mut j = i - 1;
-        while j > 0 && self.is_pin(j) {
-            j -= 1;
-        }
-        j
-    }
-
-    fn contact_after(&self, i: usize) -> usize {
-        let mut j = i + 1;
-        while j + 1 < self.nodes.len() && self.is_pin(j) {
-            j += 1;
-        }
-        j
-    }
-
-    fn is_pin(&self, i: usize) -> bool {
-        self.spans.iter().any(|s| matches!(s, Span::Pin { node, .. } if *node == i))
+        (0..self.nodes.len()).filter(|&i| self.pin_span[i].is_some()).map(|i| self.node_names[i].as_str()).collect()
     }
 }
 

@@ -26,6 +26,32 @@ pub struct PinContact<T: Real> {
     pub wrap_rad: f64,
 }
 
+/// Length of the thread from `p` to `q` past the guide, and whether it bears
+/// on it: [`pin_wrap`] without its angle, and without any trigonometry for a
+/// thin pin (`r = 0`), whose engaged length is `√((ρp + ρq)² + Δh²)`.
+#[inline]
+pub fn pin_length<T: Real>(p: V3<T>, q: V3<T>, c: V3<T>, a: V3<T>, r: T, s: f64) -> Option<(T, bool)> {
+    if r.re() > 0.0 {
+        return pin_wrap(p, q, c, a, r, s).map(|w| (w.length, w.engaged));
+    }
+    let (wp, wq) = (p - c, q - c);
+    let (hp, hq) = (wp.dot(&a), wq.dot(&a));
+    let (pp, qq) = (wp - a * hp, wq - a * hq);
+    let d = qq - pp;
+    // The pin stands on the side the thread turns toward: it does not touch
+    // (the same test as in `pin_wrap`, with r = 0).
+    if d.norm_squared().re() > 0.0 && s * pp.cross(&d).dot(&a).re() >= 0.0 {
+        return Some(((q - p).norm(), false));
+    }
+    let (rho_p2, rho_q2) = (pp.norm_squared(), qq.norm_squared());
+    if rho_p2.re() <= 0.0 || rho_q2.re() <= 0.0 {
+        return None;
+    }
+    let rho = rho_p2.sqrt() + rho_q2.sqrt();
+    let dh = hq - hp;
+    Some(((rho * rho + dh * dh).sqrt(), true))
+}
+
 /// Thread from `p` to `q` on a guide (axis through `c` along unit `a`,
 /// radius `r`) it may only turn around in the sense `s` about `a` (`+1`
 /// counter-clockwise, `−1` clockwise, right-hand rule).
@@ -133,6 +159,23 @@ mod tests {
         // The bend, with both pieces climbing 5 over 10: cos ψ = ½·cos θ + ½.
         let theta = (-7.0f64 / 25.0).acos();
         assert_relative_eq!(w.wrap_rad, (0.5 * theta.cos() + 0.5).acos(), epsilon = 1e-12);
+    }
+
+    #[test]
+    fn thin_pin_length_agrees_with_the_full_wrap() {
+        let a = V3::new(0.3, -0.2, 1.0).normalize();
+        for k in 0..50 {
+            let t = k as f64 * 0.37;
+            let p = V3::new(-10.0 + t.sin(), 3.0 * t.cos(), 2.0 * t);
+            let q = V3::new(8.0 * t.cos(), -5.0 + t.sin(), -t);
+            let c = V3::new(0.5 * t.sin(), 0.2, 1.0);
+            for s in [1.0, -1.0] {
+                let full = pin_wrap(p, q, c, a, 0.0, s).unwrap();
+                let (len, on) = pin_length(p, q, c, a, 0.0, s).unwrap();
+                assert_relative_eq!(len, full.length, epsilon = 1e-12);
+                assert_eq!(on, full.engaged);
+            }
+        }
     }
 
     #[test]

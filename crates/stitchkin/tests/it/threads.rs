@@ -213,8 +213,9 @@ fn thread_invariants_on_presets() {
         let mut pose = mech.new_pose(phis.len());
         mech.solve(&Phi::table(&phis), &mut pose).unwrap();
         let plain = m.mechanism::<f64>(&m.defaults()).unwrap();
-        for path in &threads.paths {
-            let track = path.evaluate(&pose, None).unwrap();
+        let tracks = threads.evaluate(&pose, None).unwrap();
+        for (pi, path) in threads.paths.iter().enumerate() {
+            let track = &tracks[pi];
             let xi0 = track.xi[0];
             let pv: Vec<Dual2_64> = track.xi.iter().map(|x| threads.convention.take_up(*x, xi0)).collect();
             let n = pv.len();
@@ -236,7 +237,7 @@ fn thread_invariants_on_presets() {
                 let xi_at = |phi_deg: f64| {
                     let mut ps = plain.new_pose(1);
                     plain.solve(&[Phi::at_deg(phi_deg)], &mut ps).unwrap();
-                    plain.threads.as_ref().unwrap().paths.iter().find(|q| q.name == path.name).unwrap().evaluate_at(&ps, 0).unwrap()
+                    plain.threads.as_ref().unwrap().evaluate_at(&ps, 0).unwrap()[pi]
                 };
                 let d = (xi_at(phis[k] + h.to_degrees()) - xi_at(phis[k] - h.to_degrees())) / (2.0 * h);
                 let scale = 1.0 + d.abs();
