@@ -307,15 +307,16 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
             p.path, p.max_p_mm, p.phi_at_max_deg, p.min_p_mm, p.phi_at_min_deg
         );
         for (pin, iv) in &p.engaged {
-            let spans: Vec<String> = iv.iter().map(|i| format!("{:.0}°…{:.0}°", i.from_deg, eval::wrap_deg(i.to_deg))).collect();
-            s += &format!("; {pin} engaged {}", if spans.is_empty() { "never".into() } else { spans.join(", ") });
+            s += &format!("; {pin} engaged {}", intervals(iv, "never"));
         }
         if !p.flat.is_empty() {
-            let spans: Vec<String> = p.flat.iter().map(|i| format!("{:.0}°…{:.0}°", i.from_deg, eval::wrap_deg(i.to_deg))).collect();
-            s += &format!("; dwell {}", spans.join(", "));
+            s += &format!("; dwell {}", intervals(&p.flat, ""));
         }
         if let Some([lo, hi]) = p.eye_tension_n {
             s += &format!("; eye tension {lo:.3}…{hi:.3} N");
+        }
+        if let Some(t) = &p.thread {
+            s += &format!("  [{t}]");
         }
         s += "\n";
     }
@@ -323,6 +324,23 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
         s += &format!("warning: {w}\n");
     }
     s
+}
+
+/// φ intervals for a summary line, each end within 0…360°.
+fn intervals(iv: &[stitchkin::thread::Interval], none: &str) -> String {
+    if iv.is_empty() {
+        return none.to_string();
+    }
+    iv.iter()
+        .map(|i| {
+            if i.to_deg - i.from_deg >= 360.0 - 1e-9 {
+                "the whole cycle".to_string()
+            } else {
+                format!("{:.0}°…{:.0}°", eval::wrap_deg(i.from_deg), eval::wrap_deg(i.to_deg))
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn check(args: CheckArgs) -> Result<(), Error> {

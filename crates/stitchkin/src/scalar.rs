@@ -24,6 +24,20 @@ pub trait Real: RealField + Copy + std::fmt::Debug + Send + Sync + 'static {
     fn signed(self, sign: f64) -> Self {
         if sign < 0.0 { -self } else { self }
     }
+
+    /// The angle of the vector (x, y) = (`x`, `self`), like `atan2`, with
+    /// derivatives that stay finite wherever the direction is defined.
+    /// (num-dual's `atan2` differentiates `atan(y/x)`, which is NaN when x is
+    /// exactly 0.) Written as θ0 + atan(y'/x') with (x', y') the vector turned
+    /// back by its own angle θ0, so x' = |(x, y)| > 0.
+    #[inline]
+    fn angle_of(self, x: Self) -> Self {
+        let y = self;
+        let th0 = y.re().atan2(x.re());
+        let (s, c) = th0.sin_cos();
+        let (xr, yr) = (x * Self::cst(c) + y * Self::cst(s), y * Self::cst(c) - x * Self::cst(s));
+        Self::cst(th0) + (yr / xr).atan()
+    }
 }
 
 impl Real for f64 {
@@ -42,6 +56,10 @@ impl Real for f64 {
     #[inline(always)]
     fn times(self, k: f64) -> Self {
         self * k
+    }
+    #[inline(always)]
+    fn angle_of(self, x: Self) -> Self {
+        self.atan2(x)
     }
 }
 
@@ -90,6 +108,29 @@ pub fn parts(x: Dual2_64) -> [f64; 3] {
 }
 
 /// The independent variable φ (rad) as a second-order dual number.
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::ComplexField;
+
+    #[test]
+    fn angle_of_has_finite_derivatives_on_the_axes() {
+        // (x, y) = (cos t, sin t) at t = 90°: x is exactly 0 in the value.
+        let t = Dual2_64::new(std::f64::consts::FRAC_PI_2, 1.0, 0.0);
+        let (y, x) = (t.sin(), Dual2_64::new(0.0, -1.0, 0.0));
+        let a = y.angle_of(x);
+        assert!((a.re - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert!((a.v1 - 1.0).abs() < 1e-12 && a.v2.abs() < 1e-12, "{a:?}");
+        for k in 0..16 {
+            let t = Dual2_64::new(k as f64 * 0.4 - 3.0, 1.0, 0.0);
+            let a = t.sin().times(2.0).angle_of(t.cos().times(2.0));
+            let want = (t.re + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+            assert!((a.re - want).abs() < 1e-12 && (a.v1 - 1.0).abs() < 1e-12 && a.v2.abs() < 1e-12);
+        }
+        assert_eq!(3.0f64.angle_of(4.0), 3.0f64.atan2(4.0));
+    }
+}
+
 #[inline]
 pub fn phi_dual(phi_rad: f64) -> Dual2_64 {
     Dual2_64::new(phi_rad, 1.0, 0.0)

@@ -74,6 +74,8 @@ pub struct RangeSummary {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PathSummary {
     pub path: String,
+    /// Which thread this is, in words.
+    pub thread: Option<String>,
     /// Largest take-up and where.
     pub max_p_mm: f64,
     pub phi_at_max_deg: f64,
@@ -397,14 +399,14 @@ fn thread_columns(
             col("tension_eye_N".into(), t.clone());
         }
         let (imin, imax) = extremes(&p.iter().map(|x| x.re).collect::<Vec<_>>());
-        let step = opts.step_deg;
         let flat_flags: Vec<bool> = p.iter().map(|x| x.v1.abs() * std::f64::consts::PI / 180.0 < FLAT_SLOPE_MM_PER_DEG).collect();
-        let flat = crate::thread::intervals(&flat_flags, phis, step)
+        let flat = crate::thread::intervals(&flat_flags, phis)
             .into_iter()
             .filter(|iv| iv.to_deg - iv.from_deg >= FLAT_MIN_DEG)
             .collect();
         summaries.push(PathSummary {
             path: name.clone(),
+            thread: path.label.clone(),
             max_p_mm: p[imax].re,
             phi_at_max_deg: wrap_deg(phis[imax]),
             min_p_mm: p[imin].re,
@@ -413,7 +415,7 @@ fn thread_columns(
             engaged: pins
                 .iter()
                 .enumerate()
-                .map(|(j, pin)| (pin.to_string(), crate::thread::intervals(&track.engaged[j], phis, step)))
+                .map(|(j, pin)| (pin.to_string(), crate::thread::intervals(&track.engaged[j], phis)))
                 .collect(),
             flat,
             eye_tension_n: eye_tension.map(|t| [t.iter().cloned().fold(f64::MAX, f64::min), t.iter().cloned().fold(f64::MIN, f64::max)]),

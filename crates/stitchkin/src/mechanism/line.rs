@@ -41,7 +41,7 @@ pub fn transmission<T: Real, const D: usize>(u: SVector<T, D>, a: SVector<T, D>,
     let rod = p - a;
     let along = rod.dot(&u).abs();
     let across = (rod.norm_squared() - along * along).max(T::zero()).sqrt();
-    along.atan2(across)
+    along.angle_of(across)
 }
 
 #[cfg(test)]

@@ -372,7 +372,7 @@ impl<T: Real> Mechanism<T> {
         let p = pose.at(k);
         let ang = |plane: &Plane<T>, a: usize, b: usize| {
             let d = plane.project(&p[b]) - plane.project(&p[a]);
-            d.y.atan2(d.x)
+            d.y.angle_of(d.x)
         };
         for step in &self.steps {
             match step {
@@ -384,12 +384,12 @@ impl<T: Real> Mechanism<T> {
                 Step::Rpr { from, pivot, plane, e, .. } => {
                     // Direction of the slot, from the pivot's foot toward the pin.
                     let u = rpr::rpr(plane.project(&p[*from]), plane.project(&p[*pivot]), *e).map_or(V2::x(), |(u, _)| u);
-                    out.push(u.y.atan2(u.x));
+                    out.push(u.y.angle_of(u.x));
                 }
                 Step::Rssr { rocker, zero, out: b, .. } => {
                     let q = p[*b] - rocker.c;
                     let y = rocker.w.cross(zero);
-                    out.push(q.dot(&y).atan2(q.dot(zero)));
+                    out.push(q.dot(&y).angle_of(q.dot(zero)));
                 }
                 _ => {}
             }

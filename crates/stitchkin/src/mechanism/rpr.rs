@@ -30,7 +30,7 @@ pub fn rpr<T: Real>(a: V2<T>, c: V2<T>, e: T) -> Result<(V2<T>, T), NoAssembly> 
 #[inline]
 pub fn transmission<T: Real>(a: V2<T>, c: V2<T>, e: T) -> T {
     let d = (a - c).norm();
-    (d * d - e * e).max(T::zero()).sqrt().atan2(e.abs())
+    (d * d - e * e).max(T::zero()).sqrt().angle_of(e.abs())
 }
 
 #[cfg(test)]

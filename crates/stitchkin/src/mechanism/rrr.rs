@@ -41,7 +41,7 @@ pub fn rrr<T: Real>(p1: V2<T>, p2: V2<T>, l1sq: T, l2sq: T, sign: f64) -> Result
 #[inline]
 pub fn transmission<T: Real>(p1: V2<T>, p2: V2<T>, b: V2<T>) -> T {
     let (u, v) = (p1 - b, p2 - b);
-    crate::geometry::cross2(u, v).abs().atan2(u.dot(&v))
+    crate::geometry::cross2(u, v).abs().angle_of(u.dot(&v))
 }
 
 #[cfg(test)]

@@ -75,7 +75,7 @@ pub fn transmission<T: Real>(k: &Rocker<T>, a: V3<T>, b: V3<T>) -> T {
     let rod = (a - b).normalize();
     let n = (k.c - b) / k.r;
     let t = k.w.cross(&(b - k.c)) / k.r;
-    rod.dot(&t).abs().atan2(rod.dot(&n))
+    rod.dot(&t).abs().angle_of(rod.dot(&n))
 }
 
 #[cfg(test)]

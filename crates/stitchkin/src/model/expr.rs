@@ -478,7 +478,7 @@ impl Expr {
                     Func::Asin => x.asin() / deg,
                     Func::Acos => x.acos() / deg,
                     Func::Atan => x.atan() / deg,
-                    Func::Atan2 => x.atan2(y()) / deg,
+                    Func::Atan2 => x.angle_of(y()) / deg,
                     Func::Sqrt => x.sqrt(),
                     Func::Abs => x.abs(),
                     Func::Hypot => x.hypot(y()),

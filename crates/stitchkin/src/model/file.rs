@@ -51,6 +51,62 @@ pub struct ModelFile {
     /// Thread paths and the take-up convention.
     #[serde(default)]
     pub thread: Option<ThreadSpec>,
+    /// Thread feed cams the thread paths may bear on.
+    #[serde(default)]
+    pub cams: Vec<Cam>,
+}
+
+/// A thread feed cam (seed 004 §2.5): a convex profile turning with its
+/// shaft. Its orientation comes from `marker`, a point turning with it: the
+/// direction from `center` to `marker` is profile angle 0.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Cam {
+    /// Name used by thread nodes (`{ cam = "NAME" }`).
+    pub name: String,
+    /// A point on the shaft axis.
+    pub center: String,
+    /// A point turning with the cam (e.g. a crank pin on its shaft).
+    pub marker: String,
+    /// Shaft axis; default `"z"`. Profile angles grow counter-clockwise
+    /// about it.
+    #[serde(default)]
+    pub axis: Option<Axis>,
+    #[serde(default)]
+    pub frame: Option<String>,
+    /// A round disc set off the shaft: `{ radius_mm, eccentricity_mm }`,
+    /// its centre toward profile angle 0.
+    #[serde(default)]
+    pub disc: Option<CamDisc>,
+    /// A polar profile through points: `{ angle_deg = [...], radius_mm = [...] }`
+    /// (angles increasing within one turn), a periodic cubic spline.
+    #[serde(default)]
+    pub polar: Option<CamPolar>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CamDisc {
+    pub radius_mm: Value,
+    pub eccentricity_mm: Value,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CamPolar {
+    pub angle_deg: Vec<f64>,
+    pub radius_mm: Vec<f64>,
+}
+
+/// How the thread meets a cam.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum CamContactModel {
+    /// The taut thread wraps the convex profile (tangents plus arc).
+    Exact,
+    /// Seed 004: the contact is the end of the profile radius turned by
+    /// `gamma_deg` from the one facing the guides.
+    Offset,
 }
 
 /// The `[model]` table.
@@ -537,6 +593,16 @@ pub struct GuideNode {
     /// A one-sided cylindrical guide whose axis passes through this point.
     #[serde(default)]
     pub pin: Option<String>,
+    /// A cam (by name) the thread bears on between its neighbours.
+    #[serde(default)]
+    pub cam: Option<String>,
+    /// For a cam: `exact` (default) or `offset`.
+    #[serde(default)]
+    pub contact: Option<CamContactModel>,
+    /// For a cam with `contact = "offset"`: the contact angle γ, degrees
+    /// (seed 004: 0.4–0.8 rad).
+    #[serde(default)]
+    pub gamma_deg: Option<Value>,
     /// The pin's axis direction (in `frame`).
     #[serde(default)]
     pub axis: Option<Axis>,

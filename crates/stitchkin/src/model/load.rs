@@ -7,7 +7,7 @@ use std::sync::Arc;
 use super::expr::{Dim, Dimension, Expr, ExprError};
 use super::file::{self, Axis, Branch, FixedPoint, Group, ModelFile, Unit, Value};
 use super::spans::{Path, SpanIndex};
-use super::{AxisDef, ClosureDef, FrameDef, MeasureDef, ParamDef, PathDef, PointKind, Q, SpanDef, StepDef, ThreadsDef};
+use super::{AxisDef, CamContactDef, CamDef, ClosureDef, FrameDef, MeasureDef, ParamDef, PathDef, PointKind, ProfileDef, Q, SpanDef, StepDef, ThreadsDef};
 use crate::error::{ModelError, did_you_mean};
 
 /// Reserved words that cannot name a parameter.
@@ -836,7 +836,13 @@ impl<'a> Loader<'a> {
     // ---- thread paths ---------------------------------------------------------
 
     pub(super) fn threads(&mut self, f: &ModelFile, same_body: &impl Fn(usize, usize) -> bool) -> R<Option<ThreadsDef>> {
-        let Some(t) = &f.thread else { return Ok(None) };
+        let Some(t) = &f.thread else {
+            if !f.cams.is_empty() {
+                return Err(self.err(&Path::root().key("cams"), "[[cams]] are only used by thread paths", Some("add a [thread] table with paths that bear on the cam, or remove the cam".into())));
+            }
+            return Ok(None);
+        };
+        let cams = self.cams(f)?;
         let path = Path::root().key("thread");
         let check_mu = |ld: &Self, mu: Option<f64>, p: Path| -> R<Option<f64>> {
             match mu {
@@ -857,6 +863,9 @@ impl<'a> Loader<'a> {
         }
         let convention = t.convention.unwrap_or(file::TakeUpConvention::Release);
         let elongation = match &t.elongation_mm {
+            Some(_) if convention == file::TakeUpConvention::Release => {
+                return Err(self.err(&path.key("elongation_mm"), "the elongation allowance ΔP belongs to the `feed` convention", Some("write convention = \"feed\" (P = ξ(φ) − ξ(φ0) + ΔP, seed 001), or remove elongation_mm".into())));
+            }
             Some(v) => Some(self.length(v, path.key("elongation_mm"))?),
             None => None,
         };
@@ -879,22 +888,26 @@ impl<'a> Loader<'a> {
             let mut nodes = Vec::new();
             let mut names = Vec::new();
             let mut friction = Vec::new();
-            // (node index, pin point, axis, frame, radius, sense)
-            let mut pins: Vec<(usize, usize, AxisDef, usize, Q, f64)> = Vec::new();
+            // Guides between two eyelets: (node index, span).
+            let mut pins: Vec<(usize, SpanDef)> = Vec::new();
             for (i, node) in tp.nodes.iter().enumerate() {
                 let np = pp.key("nodes").index(i);
-                let (name, mu, pin) = match node {
+                let (name, mu, guide) = match node {
                     file::Node::Point(name) => (name.clone(), path_mu, None),
                     file::Node::Guide(g) => {
                         let mu = check_mu(self, g.friction, np.key("friction"))?.unwrap_or(path_mu);
-                        match (&g.at, &g.pin) {
-                            (Some(at), None) => {
-                                if g.axis.is_some() || g.wrap.is_some() || g.radius.is_some() || g.frame.is_some() {
-                                    return Err(self.err(&np, "an eyelet (`at`) has no axis, wrap, radius or frame", Some("for a one-sided guide write `pin = \"NAME\"` instead of `at`".into())));
+                        let cam_fields = g.contact.is_some() || g.gamma_deg.is_some();
+                        match (&g.at, &g.pin, &g.cam) {
+                            (Some(at), None, None) => {
+                                if g.axis.is_some() || g.wrap.is_some() || g.radius.is_some() || g.frame.is_some() || cam_fields {
+                                    return Err(self.err(&np, "an eyelet (`at`) has no axis, wrap, radius, frame or cam contact", Some("for a one-sided guide write `pin = \"NAME\"` instead of `at`".into())));
                                 }
                                 (at.clone(), mu, None)
                             }
-                            (None, Some(pin)) => {
+                            (None, Some(pin), None) => {
+                                if cam_fields {
+                                    return Err(self.err(&np, "`contact` and `gamma_deg` belong to cams, not pins", None));
+                                }
                                 let Some(axis) = &g.axis else {
                                     return Err(self.err(&np, "a pin needs its `axis`", Some("e.g. `axis = \"z\"`: the direction of the pin".into())));
                                 };
@@ -908,23 +921,65 @@ impl<'a> Loader<'a> {
                                     None => self.zero(),
                                 };
                                 let sense = if wrap == file::Wrap::Ccw { 1.0 } else { -1.0 };
-                                (pin.clone(), mu, Some((axis, frame, r, sense)))
+                                let c = self.point(pin, &np.key("pin"))?;
+                                (pin.clone(), mu, Some(SpanDef::Pin { a: 0, b: 0, c, axis, frame, r, sense, node: i }))
+                            }
+                            (None, None, Some(cam)) => {
+                                if g.axis.is_some() || g.radius.is_some() || g.frame.is_some() {
+                                    return Err(self.err(&np, "a cam node takes its axis and profile from [[cams]]", Some("remove `axis`, `radius` and `frame` here".into())));
+                                }
+                                let Some(ci) = cams.iter().position(|c| &c.name == cam) else {
+                                    let names: Vec<&str> = cams.iter().map(|c| c.name.as_str()).collect();
+                                    let help = match did_you_mean(cam, names.iter().copied()) {
+                                        Some(n) => format!("did you mean `{n}`?"),
+                                        None => "define it in [[cams]]".into(),
+                                    };
+                                    return Err(self.err(&np.key("cam"), format!("unknown cam `{cam}`"), Some(help)));
+                                };
+                                let contact = match g.contact.unwrap_or(file::CamContactModel::Exact) {
+                                    file::CamContactModel::Exact => {
+                                        if g.gamma_deg.is_some() {
+                                            return Err(self.err(&np.key("gamma_deg"), "`gamma_deg` belongs to `contact = \"offset\"`", None));
+                                        }
+                                        let Some(wrap) = g.wrap else {
+                                            return Err(self.err(&np, "an exact cam contact needs `wrap`: the sense the thread turns around the cam", Some("write wrap = \"ccw\" or wrap = \"cw\" (about the cam's axis)".into())));
+                                        };
+                                        if cams[ci].convex_min <= 0.0 {
+                                            return Err(self.err(&np.key("cam"), format!("cam `{cam}` is not convex, so a taut thread does not follow its profile"), Some("use contact = \"offset\" or smooth the profile".into())));
+                                        }
+                                        CamContactDef::Exact { sense: if wrap == file::Wrap::Ccw { 1.0 } else { -1.0 } }
+                                    }
+                                    file::CamContactModel::Offset => {
+                                        if g.wrap.is_some() {
+                                            return Err(self.err(&np.key("wrap"), "an offset cam contact has no wrap sense", Some("remove `wrap`, or use contact = \"exact\"".into())));
+                                        }
+                                        let Some(gamma) = &g.gamma_deg else {
+                                            return Err(self.err(&np, "an offset cam contact needs `gamma_deg`", Some("seed 004 uses γ = 0.4–0.8 rad, i.e. 23–46 degrees".into())));
+                                        };
+                                        CamContactDef::Offset { gamma: self.angle(gamma, np.key("gamma_deg"))? }
+                                    }
+                                };
+                                (cam.clone(), mu, Some(SpanDef::Cam { a: 0, b: 0, cam: ci, contact, node: i }))
                             }
                             _ => {
-                                return Err(self.err(&np, "a guide table has either `at` (an eyelet) or `pin` (a one-sided guide)", Some("e.g. `{ at = \"G1\", friction = 0.2 }` or `{ pin = \"G4\", axis = \"z\", wrap = \"ccw\" }`".into())));
+                                return Err(self.err(&np, "a guide table has one of `at` (an eyelet), `pin` (a one-sided guide) or `cam`", Some("e.g. `{ at = \"G1\", friction = 0.2 }`, `{ pin = \"G4\", axis = \"z\", wrap = \"ccw\" }` or `{ cam = \"C\", wrap = \"cw\" }`".into())));
                             }
                         }
                     }
                 };
-                let slot = self.point(&name, &if matches!(node, file::Node::Point(_)) { np.clone() } else { np.key("at") })?;
-                if let Some((axis, frame, r, sense)) = pin {
+                let slot = match &guide {
+                    // A cam node names the cam, not a point: its slot is the cam centre.
+                    Some(SpanDef::Cam { cam, .. }) => cams[*cam].center,
+                    _ => self.point(&name, &if matches!(node, file::Node::Point(_)) { np.clone() } else { np.key("at") })?,
+                };
+                if let Some(span) = guide {
                     if i == 0 || i + 1 == tp.nodes.len() {
-                        return Err(self.err(&np, "a path starts and ends at an eyelet, not at a pin", Some("put the pin between two eyelets or guides".into())));
+                        return Err(self.err(&np, "a path starts and ends at an eyelet, not at a pin or cam", Some("put the guide between two eyelets".into())));
                     }
                     if pins.last().is_some_and(|p| p.0 + 1 == i) {
-                        return Err(self.err(&np, "two pins follow each other", Some("put an eyelet or guide between them".into())));
+                        return Err(self.err(&np, "two pins or cams follow each other", Some("put an eyelet or guide between them".into())));
                     }
-                    pins.push((i, slot, axis, frame, r, sense));
+                    pins.push((i, span));
                 }
                 nodes.push(slot);
                 names.push(name);
@@ -934,9 +989,13 @@ impl<'a> Loader<'a> {
             let mut spans = Vec::new();
             let mut i = 0;
             while i + 1 < nodes.len() {
-                if let Some(pin) = pins.iter().find(|p| p.0 == i + 1) {
-                    let (a, b) = (nodes[i], nodes[i + 2]);
-                    spans.push(SpanDef::Pin { a, b, c: pin.1, axis: pin.2.clone(), frame: pin.3, r: pin.4, sense: pin.5, node: i + 1 });
+                if let Some((_, guide)) = pins.iter().find(|p| p.0 == i + 1) {
+                    let (a0, b0) = (nodes[i], nodes[i + 2]);
+                    spans.push(match guide.clone() {
+                        SpanDef::Pin { c, axis, frame, r, sense, node, .. } => SpanDef::Pin { a: a0, b: b0, c, axis, frame, r, sense, node },
+                        SpanDef::Cam { cam, contact, node, .. } => SpanDef::Cam { a: a0, b: b0, cam, contact, node },
+                        s => s,
+                    });
                     i += 2;
                 } else {
                     let (a, b) = (nodes[i], nodes[i + 1]);
@@ -944,9 +1003,60 @@ impl<'a> Loader<'a> {
                     i += 1;
                 }
             }
-            paths.push(PathDef { name: tp.name.clone(), nodes, node_names: names, friction, spans });
+            paths.push(PathDef { name: tp.name.clone(), label: tp.thread.clone(), nodes, node_names: names, friction, spans });
         }
-        Ok(Some(ThreadsDef { convention, elongation, phi0_deg: t.phi0_deg, tension_n: t.tension_n, paths }))
+        Ok(Some(ThreadsDef { convention, elongation, phi0_deg: t.phi0_deg, tension_n: t.tension_n, paths, cams }))
+    }
+
+    fn cams(&mut self, f: &ModelFile) -> R<Vec<CamDef>> {
+        let mut out: Vec<CamDef> = Vec::new();
+        for (k, c) in f.cams.iter().enumerate() {
+            let path = Path::root().key("cams").index(k);
+            if !is_ident(&c.name) || out.iter().any(|o| o.name == c.name) {
+                return Err(self.err(&path.key("name"), format!("`{}` is not a valid, unique cam name", c.name), Some("cam names use letters, digits and `_` and differ from each other".into())));
+            }
+            let center = self.point(&c.center, &path.key("center"))?;
+            let marker = self.point(&c.marker, &path.key("marker"))?;
+            let frame = self.opt_frame(&c.frame, path.key("frame"))?;
+            let axis = match &c.axis {
+                Some(a) => self.axis(a, path.key("axis"))?,
+                None => AxisDef::Named(2, 1.0),
+            };
+            let profile = match (&c.disc, &c.polar) {
+                (Some(d), None) => {
+                    let r = self.positive_length(&d.radius_mm, path.key("disc").key("radius_mm"), "the disc radius")?;
+                    let e = self.length(&d.eccentricity_mm, path.key("disc").key("eccentricity_mm"))?;
+                    ProfileDef::Disc { r, e }
+                }
+                (None, Some(p)) => {
+                    let pp = path.key("polar");
+                    if p.angle_deg.len() != p.radius_mm.len() || p.angle_deg.len() < 4 {
+                        return Err(self.err(&pp, "a polar profile needs at least 4 points, as many angles as radii", Some("give `angle_deg` and `radius_mm` of equal length".into())));
+                    }
+                    let ok = p.angle_deg.iter().all(|a| a.is_finite())
+                        && p.angle_deg.windows(2).all(|w| w[1] > w[0])
+                        && p.angle_deg[p.angle_deg.len() - 1] - p.angle_deg[0] < 360.0;
+                    if !ok {
+                        return Err(self.err(&pp.key("angle_deg"), "profile angles must increase and stay within one turn", Some("list angles in degrees, e.g. 0, 30, …, 330".into())));
+                    }
+                    if let Some(r) = p.radius_mm.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
+                        return Err(self.err(&pp.key("radius_mm"), format!("profile radius {r} must be a positive number of mm"), None));
+                    }
+                    ProfileDef::Polar { theta: p.angle_deg.iter().map(|a| a.to_radians()).collect(), rho: p.radius_mm.clone() }
+                }
+                _ => {
+                    return Err(self.err(&path, "a cam has exactly one profile: `disc` or `polar`", Some("e.g. `disc = { radius_mm = 12, eccentricity_mm = 3 }`".into())));
+                }
+            };
+            // Convexity, for the exact contact model (disc profiles are convex;
+            // polar ones are checked on their spline).
+            let convex_min = match &profile {
+                ProfileDef::Disc { .. } => 1.0,
+                ProfileDef::Polar { theta, rho } => crate::thread::cam::Profile::spline(theta, rho).convexity(),
+            };
+            out.push(CamDef { name: c.name.clone(), center, marker, axis, frame, profile, convex_min, path });
+        }
+        Ok(out)
     }
 
     pub(super) fn into_parts(self) -> (String, Arc<str>, SpanIndex<'a>) {

@@ -229,11 +229,38 @@ pub(crate) struct ThreadsDef {
     pub phi0_deg: Option<f64>,
     pub tension_n: Option<f64>,
     pub paths: Vec<PathDef>,
+    pub cams: Vec<CamDef>,
+}
+
+#[derive(Debug, Clone)]
+pub(crate) struct CamDef {
+    pub name: String,
+    pub center: usize,
+    pub marker: usize,
+    pub axis: AxisDef,
+    pub frame: usize,
+    pub profile: ProfileDef,
+    /// Smallest curvature numerator over the profile (> 0: convex).
+    pub convex_min: f64,
+    pub path: Path,
+}
+
+#[derive(Debug, Clone)]
+pub(crate) enum ProfileDef {
+    Disc { r: Q, e: Q },
+    Polar { theta: Vec<f64>, rho: Vec<f64> },
+}
+
+#[derive(Debug, Clone)]
+pub(crate) enum CamContactDef {
+    Exact { sense: f64 },
+    Offset { gamma: Q },
 }
 
 #[derive(Debug, Clone)]
 pub(crate) struct PathDef {
     pub name: String,
+    pub label: Option<String>,
     pub nodes: Vec<usize>,
     pub node_names: Vec<String>,
     pub friction: Vec<f64>,
@@ -244,6 +271,7 @@ pub(crate) struct PathDef {
 pub(crate) enum SpanDef {
     Straight { a: usize, b: usize, constant: bool },
     Pin { a: usize, b: usize, c: usize, axis: AxisDef, frame: usize, r: Q, sense: f64, node: usize },
+    Cam { a: usize, b: usize, cam: usize, contact: CamContactDef, node: usize },
 }
 
 #[derive(Debug, Clone)]
@@ -359,8 +387,9 @@ impl Model {
             PointKind::Fixed { frame, coords } => *frame == 0 && matches!(ld.exprs[coords[2]], Expr::Num(z) if z == 0.0),
             PointKind::Moving => true,
         });
+        let flat = |q: Q| matches!(ld.exprs[q], Expr::Num(z) if z == 0.0);
         let planar = fixed_flat
-            && steps.iter().all(StepDef::is_planar_xy)
+            && steps.iter().all(|s| s.is_planar_xy() || matches!(s, StepDef::Offset { by, frame: 0, .. } if flat(by[2])))
             && steps.iter().all(|s| !matches!(s, StepDef::Rigid { lift, .. } if !matches!(ld.exprs[*lift], Expr::Num(z) if z == 0.0)));
         let frames = std::mem::take(&mut ld.frames);
         let params = std::mem::take(&mut ld.params);
@@ -686,6 +715,20 @@ impl Model {
         let threads = match &self.threads {
             None => None,
             Some(t) => {
+                let mut cams = Vec::with_capacity(t.cams.len());
+                for c in &t.cams {
+                    let profile = match &c.profile {
+                        ProfileDef::Disc { r, e } => {
+                            let (r, e) = (q[*r].re(), q[*e].re());
+                            if e.abs() >= r {
+                                return Err(self.error_at(&c.path.key("disc"), format!("the disc's eccentricity {e} mm must be smaller than its radius {r} mm"), Some("the shaft must lie inside the disc".into())));
+                            }
+                            crate::thread::cam::Profile::Eccentric { r, e }
+                        }
+                        ProfileDef::Polar { theta, rho } => crate::thread::cam::Profile::spline(theta, rho),
+                    };
+                    cams.push(crate::thread::Cam { name: c.name.clone(), center: c.center, marker: c.marker, axis: dir(&c.axis, c.frame)?, profile });
+                }
                 let mut paths = Vec::with_capacity(t.paths.len());
                 let mut spans: Vec<Span<T>> = Vec::new();
                 for p in &t.paths {
@@ -701,6 +744,15 @@ impl Model {
                                 let name = p.node_names[*node].clone();
                                 Span::Pin { a: *a, b: *b, c: *c, axis: dir(axis, *frame)?, r: q[*r], sense: *sense, name }
                             }
+                            SpanDef::Cam { a, b, cam, contact, .. } => Span::Cam {
+                                a: *a,
+                                b: *b,
+                                cam: *cam,
+                                contact: match contact {
+                                    CamContactDef::Exact { sense } => crate::thread::CamModel::Exact { sense: *sense },
+                                    CamContactDef::Offset { gamma } => crate::thread::CamModel::Offset { gamma_rad: q[*gamma].re().to_radians() },
+                                },
+                            },
                         };
                         // Paths share pieces: keep each distinct one once.
                         let id = match spans.iter().position(|s| *s == span) {
@@ -710,13 +762,14 @@ impl Model {
                                 spans.len() - 1
                             }
                         };
-                        if let SpanDef::Pin { node, .. } = sp {
+                        if let SpanDef::Pin { node, .. } | SpanDef::Cam { node, .. } = sp {
                             pin_span[*node] = Some(id);
                         }
                         ids.push(id);
                     }
                     paths.push(ThreadPath {
                         name: p.name.clone(),
+                        label: p.label.clone(),
                         nodes: p.nodes.clone(),
                         node_names: p.node_names.clone(),
                         friction: p.friction.clone(),
@@ -728,7 +781,7 @@ impl Model {
                     file::TakeUpConvention::Release => Convention::Release,
                     file::TakeUpConvention::Feed => Convention::Feed { elongation_mm: t.elongation.map_or(0.0, |e| q[e].re()) },
                 };
-                Some(Threads { paths, spans, convention, phi0_deg: t.phi0_deg.unwrap_or(self.phi_start_deg()), tension_n: t.tension_n })
+                Some(Threads { paths, spans, cams, convention, phi0_deg: t.phi0_deg.unwrap_or(self.phi_start_deg()), tension_n: t.tension_n })
             }
         };
         Ok(Mechanism { fixed, steps, measures, n_points: self.point_names.len(), labels: self.labels.clone(), threads, frames })

@@ -10,6 +10,7 @@
 //! a segment whose two ends ride on one rigid body (two fixed guides, two
 //! eyelets on the needle bar) is computed once per pose, not per φ.
 
+pub mod cam;
 pub mod wrap;
 
 use crate::geometry::{Plane, V3};
@@ -27,12 +28,37 @@ pub enum Span<T: Real> {
     /// `a → b` over a one-sided cylindrical guide through point `c` (named
     /// `name`), turning in the sense `sense` about `axis`.
     Pin { a: usize, b: usize, c: usize, axis: V3<T>, r: T, sense: f64, name: String },
+    /// `a → b` bearing on cam number `cam` of [`Threads::cams`].
+    Cam { a: usize, b: usize, cam: usize, contact: CamModel },
+}
+
+/// How the thread meets a cam (see [`cam`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CamModel {
+    /// Taut thread over the convex profile, turning in `sense` about the axis.
+    Exact { sense: f64 },
+    /// Seed 004: contact at the profile radius turned by γ.
+    Offset { gamma_rad: f64 },
+}
+
+/// A thread feed cam: profile, shaft axis, and the points that place it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cam<T: Real> {
+    pub name: String,
+    /// Pose slot of a point on the shaft axis.
+    pub center: usize,
+    /// Pose slot of a point turning with the cam (profile angle 0).
+    pub marker: usize,
+    pub axis: V3<T>,
+    pub profile: cam::Profile,
 }
 
 /// A thread path with every parameter resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ThreadPath {
     pub name: String,
+    /// Which thread this is, in words (`needle 1, contour A`).
+    pub label: Option<String>,
     /// Pose slots of the nodes, in thread order (pins included).
     pub nodes: Vec<usize>,
     /// The nodes' point names.
@@ -71,6 +97,7 @@ pub struct Threads<T: Real> {
     pub paths: Vec<ThreadPath>,
     /// Every distinct piece of every path.
     pub spans: Vec<Span<T>>,
+    pub cams: Vec<Cam<T>>,
     pub convention: Convention,
     /// φ0, degrees.
     pub phi0_deg: f64,
@@ -138,6 +165,19 @@ impl<T: Real> Threads<T> {
                     }
                     SpanTrack::Pin(len, on)
                 }
+                Span::Cam { a, b, cam, contact } => {
+                    let c = &self.cams[*cam];
+                    let axis = axis_override.unwrap_or(c.axis);
+                    let (ta, tb, tc, tm) = (pose.track(*a), pose.track(*b), pose.track(c.center), pose.track(c.marker));
+                    let mut len = Vec::with_capacity(n);
+                    let mut on = Vec::with_capacity(n);
+                    for k in 0..n {
+                        let (l, e) = cam_length(c, *contact, axis, ta[k], tb[k], tc[k], tm[k]).ok_or_else(|| self.inside(i, k))?;
+                        len.push(l);
+                        on.push(e);
+                    }
+                    SpanTrack::Pin(len, on)
+                }
             });
         }
         Ok(self
@@ -174,6 +214,12 @@ impl<T: Real> Threads<T> {
                         .map(|(l, _)| l)
                         .ok_or_else(|| self.inside(i, k))
                 }
+                Span::Cam { a, b, cam, contact } => {
+                    let c = &self.cams[*cam];
+                    cam_length(c, *contact, c.axis, pose.point(*a, k), pose.point(*b, k), pose.point(c.center, k), pose.point(c.marker, k))
+                        .map(|(l, _)| l)
+                        .ok_or_else(|| self.inside(i, k))
+                }
             })
             .collect::<Result<Vec<T>, PathError>>()?;
         Ok(self.paths.iter().map(|p| p.spans.iter().fold(T::zero(), |x, &s| x + lengths[s])).collect())
@@ -183,6 +229,7 @@ impl<T: Real> Threads<T> {
         let path = self.paths.iter().find(|p| p.spans.contains(&span)).map_or(String::new(), |p| p.name.clone());
         let name = match &self.spans[span] {
             Span::Pin { name, .. } => name.as_str(),
+            Span::Cam { cam, .. } => self.cams[*cam].name.as_str(),
             Span::Straight { .. } => "?",
         };
         PathError { path, k, message: format!("a thread end lies inside the guide at `{name}`") }
@@ -190,43 +237,54 @@ impl<T: Real> Threads<T> {
 
     /// The angle the thread turns through at each node of `path` at the
     /// `k`-th φ, rad: at an eyelet the angle between the pieces before and
-    /// after it, at a pin the wrap angle (0 when it does not bear).
+    /// after it (from where the thread leaves a guide it bears on), at a pin
+    /// or cam the wrap angle (0 when it does not bear).
     pub fn wrap_angles(&self, path: &ThreadPath, pose: &Pose<T>, k: usize) -> Vec<f64> {
         let m = path.nodes.len();
         let at = |i: usize| pose.point(path.nodes[i], k).map(|v| v.re());
-        // Where the thread touches a pin node (or its neighbour, when it does not bear).
         let mut theta = vec![0.0; m];
-        let mut contact: Vec<Option<V3<f64>>> = vec![None; m];
+        // Where the thread meets and leaves each guide that bears on it.
+        let mut touch: Vec<Option<[V3<f64>; 2]>> = vec![None; m];
         for i in 0..m {
             let Some(s) = path.pin_span[i] else { continue };
-            let Span::Pin { axis, r, sense, .. } = &self.spans[s] else { continue };
-            let (p, q, c) = (at(i - 1), at(i + 1), at(i));
-            let a = axis.map(|v| v.re());
-            if let Some(w) = wrap::pin_wrap(p, q, c, a, r.re(), *sense) {
-                if w.engaged {
-                    theta[i] = w.wrap_rad;
-                    // The contact height along the axis, as for a thin pin.
-                    let (wp, wq) = (p - c, q - c);
-                    let (hp, hq) = (wp.dot(&a), wq.dot(&a));
-                    let (rp, rq) = ((wp - a * hp).norm(), (wq - a * hq).norm());
-                    contact[i] = Some(c + a * (hp + (hq - hp) * rp / (rp + rq)));
+            let (p, q) = (pose.point(path.nodes[i - 1], k), pose.point(path.nodes[i + 1], k));
+            let (wrap_rad, t) = match &self.spans[s] {
+                Span::Pin { c, axis, r, sense, .. } => {
+                    let c = pose.point(*c, k);
+                    let to = |v: V3<T>| v.map(|x| T::cst(x.re()));
+                    match wrap::pin_wrap(to(p), to(q), to(c), to(*axis), T::cst(r.re()), *sense) {
+                        Some(w) => (w.wrap_rad, w.touch),
+                        None => (0.0, None),
+                    }
                 }
-            }
+                Span::Cam { cam, contact, .. } => {
+                    let c = &self.cams[*cam];
+                    let re = |v: V3<T>| v.map(|x| x.re());
+                    match cam::CamPlacement::new(re(pose.point(c.center, k)), re(pose.point(c.marker, k)), re(c.axis)).and_then(|pl| {
+                        match contact {
+                            CamModel::Exact { sense } => cam::exact_contact(&c.profile, &pl, re(p), re(q), *sense),
+                            CamModel::Offset { gamma_rad } => cam::offset_contact(&c.profile, &pl, re(p), re(q), *gamma_rad),
+                        }
+                    }) {
+                        Some(w) => (w.wrap_rad, w.touch),
+                        None => (0.0, None),
+                    }
+                }
+                Span::Straight { .. } => (0.0, None),
+            };
+            theta[i] = wrap_rad;
+            touch[i] = t;
         }
-        // The last and next points the thread actually touches around node i.
-        let before = |i: usize| {
-            let mut j = i - 1;
-            while path.pin_span[j].is_some() && contact[j].is_none() {
-                j -= 1;
-            }
-            contact[j].unwrap_or_else(|| at(j))
+        // The points the thread last and next touches around node i.
+        let before = |i: usize| match (path.pin_span[i - 1], touch[i - 1]) {
+            (Some(_), Some(t)) => t[1],
+            (Some(_), None) => at(i - 2),
+            (None, _) => at(i - 1),
         };
-        let after = |i: usize| {
-            let mut j = i + 1;
-            while path.pin_span[j].is_some() && contact[j].is_none() {
-                j += 1;
-            }
-            contact[j].unwrap_or_else(|| at(j))
+        let after = |i: usize| match (path.pin_span[i + 1], touch[i + 1]) {
+            (Some(_), Some(t)) => t[0],
+            (Some(_), None) => at(i + 2),
+            (None, _) => at(i + 1),
         };
         for i in 1..m.saturating_sub(1) {
             if path.pin_span[i].is_some() {
@@ -263,6 +321,16 @@ impl ThreadPath {
     }
 }
 
+/// Length of the thread `p → q` on a cam placed by its centre and marker.
+fn cam_length<T: Real>(c: &Cam<T>, model: CamModel, axis: V3<T>, p: V3<T>, q: V3<T>, center: V3<T>, marker: V3<T>) -> Option<(T, bool)> {
+    let pl = cam::CamPlacement::new(center, marker, axis)?;
+    let contact = match model {
+        CamModel::Exact { sense } => cam::exact_contact(&c.profile, &pl, p, q, sense),
+        CamModel::Offset { gamma_rad } => cam::offset_contact(&c.profile, &pl, p, q, gamma_rad),
+    }?;
+    Some((contact.length, contact.engaged))
+}
+
 fn normal_of<T: Real>(pl: &Plane<T>) -> V3<T> {
     match &pl.0 {
         None => V3::z(),
@@ -277,9 +345,11 @@ pub struct Interval {
     pub to_deg: f64,
 }
 
-/// Maximal runs where `flag[k]` holds, as φ intervals on the cycle grid
-/// `phis` (step `step`), joining a run that wraps past the cycle's end.
-pub fn intervals(flag: &[bool], phis: &[f64], step: f64) -> Vec<Interval> {
+/// Maximal runs where `flag[k]` holds, as φ intervals from the first to the
+/// last sample of each run on the cycle grid `phis`, joining a run that
+/// wraps past the cycle's end (its `to_deg` then exceeds the next turn's
+/// start). A run over the whole cycle spans 360°.
+pub fn intervals(flag: &[bool], phis: &[f64]) -> Vec<Interval> {
     let n = flag.len();
     if n == 0 {
         return Vec::new();
@@ -301,7 +371,7 @@ pub fn intervals(flag: &[bool], phis: &[f64], step: f64) -> Vec<Interval> {
             let a = phis[(start + first) % n];
             let b = phis[(start + k - 1) % n];
             let b = if b < a { b + 360.0 } else { b };
-            out.push(Interval { from_deg: a, to_deg: b + step.min(0.0) });
+            out.push(Interval { from_deg: a, to_deg: b });
         } else {
             k += 1;
         }
@@ -318,12 +388,12 @@ mod tests {
     fn intervals_join_a_run_that_wraps() {
         let phis: Vec<f64> = (0..12).map(|k| k as f64 * 30.0).collect();
         let flag = [true, true, false, false, true, true, true, false, false, false, true, true];
-        let iv = intervals(&flag, &phis, 30.0);
+        let iv = intervals(&flag, &phis);
         assert_eq!(iv.len(), 2);
         assert_eq!((iv[0].from_deg, iv[0].to_deg), (120.0, 180.0));
         assert_eq!((iv[1].from_deg, iv[1].to_deg), (300.0, 390.0));
-        assert_eq!(intervals(&[true; 4], &phis[..4], 30.0)[0].to_deg, 360.0);
-        assert!(intervals(&[false; 4], &phis[..4], 30.0).is_empty());
+        assert_eq!(intervals(&[true; 4], &phis[..4])[0].to_deg, 360.0);
+        assert!(intervals(&[false; 4], &phis[..4]).is_empty());
     }
 
     #[test]

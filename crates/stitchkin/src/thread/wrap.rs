@@ -24,6 +24,9 @@ pub struct PinContact<T: Real> {
     /// Angle the thread turns through on the guide (the capstan angle), rad;
     /// 0 when disengaged.
     pub wrap_rad: f64,
+    /// Where the thread meets and leaves the guide (the same point on a
+    /// thin pin); `None` when disengaged.
+    pub touch: Option<[V3<f64>; 2]>,
 }
 
 /// Length of the thread from `p` to `q` past the guide, and whether it bears
@@ -69,7 +72,7 @@ pub fn pin_wrap<T: Real>(p: V3<T>, q: V3<T>, c: V3<T>, a: V3<T>, r: T, s: f64) -
     let d_norm = d.norm().re();
     let left = if d_norm > 0.0 { pp.cross(&d).dot(&a).re() / d_norm } else { 0.0 };
     if s * left >= r.re() && d_norm > 0.0 {
-        return Some(PinContact { length: (q - p).norm(), engaged: false, wrap_rad: 0.0 });
+        return Some(PinContact { length: (q - p).norm(), engaged: false, wrap_rad: 0.0, touch: None });
     }
     let (rho_p2, rho_q2) = (pp.norm_squared(), qq.norm_squared());
     let r2 = r * r;
@@ -80,7 +83,7 @@ pub fn pin_wrap<T: Real>(p: V3<T>, q: V3<T>, c: V3<T>, a: V3<T>, r: T, s: f64) -
     let (t_p, t_q) = ((rho_p2 - r2).sqrt(), (rho_q2 - r2).sqrt());
     // Angle from pp to qq about a, then the arc between the tangent points:
     // θ = s·∠(pp, qq) − acos(r/ρp) − acos(r/ρq), reduced to [−π/2, 3π/2).
-    let turn = pp.cross(&qq).dot(&a).atan2(pp.dot(&qq)) * T::cst(s);
+    let turn = pp.cross(&qq).dot(&a).angle_of(pp.dot(&qq)) * T::cst(s);
     let mut theta = turn - (r / rho_p).acos() - (r / rho_q).acos();
     let two_pi = T::cst(std::f64::consts::TAU);
     while theta.re() < -std::f64::consts::FRAC_PI_2 {
@@ -106,7 +109,26 @@ pub fn pin_wrap<T: Real>(p: V3<T>, q: V3<T>, c: V3<T>, a: V3<T>, r: T, s: f64) -
         // and turn by θ across the axis, so cos ψ = (L⊥/L)²·cos θ + (Δh/L)².
         (across * across * theta.re().cos() + axial * axial).clamp(-1.0, 1.0).acos()
     };
-    Some(PinContact { length, engaged: true, wrap_rad })
+    // Tangent points: turned by ±acos(r/ρ) from the ends' directions, at the
+    // heights of the unrolled straight line.
+    let (cr, ar, rr) = (c.map(|v| v.re()), a.map(|v| v.re()), r.re());
+    let at_angle = |from: V3<f64>, ang: f64, h: f64| {
+        let e1 = from.normalize();
+        let e2 = ar.cross(&e1);
+        cr + (e1 * ang.cos() + e2 * ang.sin()) * rr + ar * h
+    };
+    let (lp, lq) = (if lp > 0.0 { t_p.re() / lp } else { 0.5 }, if lp > 0.0 { t_q.re() / lp } else { 0.5 });
+    let (hpr, dhr) = (hp.re(), dh.re());
+    let touch = if rr > 0.0 {
+        [
+            at_angle(pp.map(|v| v.re()), s * (rr / rho_p.re()).acos(), hpr + dhr * lp),
+            at_angle(qq.map(|v| v.re()), -s * (rr / rho_q.re()).acos(), hpr + dhr * (1.0 - lq)),
+        ]
+    } else {
+        let x = cr + ar * (hpr + dhr * rho_p.re() / (rho_p.re() + rho_q.re()));
+        [x, x]
+    };
+    Some(PinContact { length, engaged: true, wrap_rad, touch: Some(touch) })
 }
 
 #[cfg(test)]

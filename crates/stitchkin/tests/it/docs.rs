@@ -310,3 +310,276 @@ fn the_numbers_quoted_in_the_doc_are_what_the_examples_give() {
         );
     }
 }
+
+fn path<'a>(t: &'a CycleTable, name: &str) -> &'a stitchkin::eval::PathSummary {
+    t.paths
+        .iter()
+        .find(|p| p.path == name)
+        .unwrap_or_else(|| panic!("no thread path `{name}`"))
+}
+
+/// A φ interval of a summary as (from, to), `to` wrapped past 360 when the
+/// interval wraps.
+fn spans(iv: &[stitchkin::thread::Interval]) -> Vec<(f64, f64)> {
+    iv.iter().map(|i| (i.from_deg, i.to_deg)).collect()
+}
+
+#[test]
+fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
+    use stitchkin::study::compare2d3d::compare_2d3d;
+
+    // Example 8: eyelet on a crank, ξ(φ) in closed form.
+    let (m, t) = example("eyelet_crank");
+    assert!(m.planar, "thread paths leave a planar model planar");
+    let (r, h, a) = (10.0f64, 30.0f64, 40.0f64);
+    let xi = |phi: f64| {
+        let (x, y) = (r * phi.cos(), h + r * phi.sin());
+        (a + x).hypot(y) + (a - x).hypot(y)
+    };
+    let phis = col(&t, "phi_deg");
+    let (x, p) = (col(&t, "upper.xi_mm"), col(&t, "upper.P_mm"));
+    for k in 0..phis.len() {
+        let phi = phis[k].to_radians();
+        close(x[k], xi(phi), 1e-12, "Example 8 ξ(φ) closed form");
+        close(p[k], xi(0.0) - xi(phi), 1e-12, "Example 8 P = ξ(0) − ξ(φ)");
+    }
+    close(xi(0.0), 100.736, 5e-4, "Example 8 ξ(0)");
+    close(x[90], 113.137, 5e-4, "Example 8 ξ(90°)");
+    close(x[270], 89.443, 5e-4, "Example 8 ξ(270°)");
+    let s = path(&t, "upper");
+    close(s.max_p_mm, 11.293, 5e-4, "Example 8 max P");
+    close(s.phi_at_max_deg, 270.0, 0.0, "Example 8 φ at max P");
+    close(s.min_p_mm, -12.401, 5e-4, "Example 8 min P");
+    close(s.phi_at_min_deg, 90.0, 0.0, "Example 8 φ at min P");
+    assert_eq!(
+        spans(&s.flat),
+        vec![(77.0, 103.0), (254.0, 286.0)],
+        "Example 8 dwells"
+    );
+    let [lo, hi] = s.eye_tension_n.expect("Example 8 has tension_n");
+    close(
+        lo,
+        0.5 * (0.2 * 0.6f64.acos()).exp(),
+        1e-9,
+        "Example 8 eye tension min",
+    );
+    close(
+        hi,
+        0.5 * (0.2 * std::f64::consts::FRAC_PI_2).exp(),
+        1e-9,
+        "Example 8 eye tension max",
+    );
+    close(lo, 0.602, 5e-4, "Example 8 eye tension min as quoted");
+    close(hi, 0.685, 5e-4, "Example 8 eye tension max as quoted");
+    close(
+        col(&t, "upper.d2P_dphi2_mm_per_rad2")[90],
+        12.374,
+        5e-4,
+        "Example 8 d²P/dφ² at 90°",
+    );
+    close(
+        col(&t, "upper.dP_dphi_mm_per_rad")[0],
+        -12.216,
+        5e-4,
+        "Example 8 dP/dφ at 0",
+    );
+    let opts = stitchkin::eval::CycleOptions {
+        rpm: m.file.model.rpm,
+        ..Default::default()
+    };
+    let with_rpm = run_cycle(&m, &m.defaults(), &opts).unwrap();
+    close(
+        col(&with_rpm, "upper.vP_mm_per_s")[0],
+        -1279.26,
+        5e-3,
+        "Example 8 vP at 0 with its rpm",
+    );
+    assert!(
+        t.take_up
+            .as_deref()
+            .unwrap()
+            .contains("xi(phi0) - xi(phi), phi0 = 0 deg")
+    );
+
+    // Example 9: a thin pin and a roller.
+    let (m, t) = example("pin_and_roller");
+    assert!(m.planar);
+    let beta = 30.0f64.atan2(40.0).to_degrees();
+    close(beta, 36.87, 5e-3, "Example 9 β");
+    let (x, on) = (col(&t, "thin.xi_mm"), col(&t, "thin.C_engaged"));
+    let (x_thick, on_thick) = (col(&t, "thick.xi_mm"), col(&t, "thick.C_engaged"));
+    for (k, phi) in col(&t, "phi_deg").iter().enumerate() {
+        let (tx, ty) = (
+            10.0 * phi.to_radians().cos(),
+            30.0 + 10.0 * phi.to_radians().sin(),
+        );
+        let engaged = (phi - beta).to_radians().sin() < 0.0;
+        assert_eq!(
+            on[k] == 1.0,
+            engaged,
+            "Example 9 thin pin engaged at φ = {phi}"
+        );
+        let first = if engaged {
+            25.0 + (tx + 20.0).hypot(ty - 15.0)
+        } else {
+            (tx + 40.0).hypot(ty)
+        };
+        close(
+            x[k],
+            first + (40.0 - tx).hypot(ty),
+            1e-9,
+            "Example 9 thin ξ closed form",
+        );
+        assert!(
+            x_thick[k] >= x[k] - 1e-12,
+            "Example 9: the roller's path is never shorter"
+        );
+        assert!(
+            on_thick[k] >= on[k],
+            "Example 9: the roller bears wherever the pin does"
+        );
+    }
+    close(
+        col(&t, "thin.C_wrap_deg")[270],
+        36.87 - 14.04,
+        0.01,
+        "Example 9 wrap at 270°",
+    );
+    close(
+        col(&t, "thin.C_wrap_deg")[270],
+        22.83,
+        5e-3,
+        "Example 9 wrap at 270° as quoted",
+    );
+    let (thin, thick) = (path(&t, "thin"), path(&t, "thick"));
+    assert_eq!(
+        spans(&thin.engaged[0].1),
+        vec![(217.0, 396.0)],
+        "Example 9 thin engaged"
+    );
+    assert_eq!(
+        spans(&thick.engaged[0].1),
+        vec![(198.0, 425.0)],
+        "Example 9 roller engaged"
+    );
+    close(thin.max_p_mm, 10.668, 5e-4, "Example 9 thin max P");
+    close(thin.phi_at_max_deg, 264.0, 0.0, "Example 9 thin φ at max P");
+    close(thin.min_p_mm, -12.170, 5e-4, "Example 9 thin min P");
+    close(thick.max_p_mm, 10.224, 5e-4, "Example 9 thick max P");
+    close(
+        thick.phi_at_max_deg,
+        262.0,
+        0.0,
+        "Example 9 thick φ at max P",
+    );
+    close(thick.min_p_mm, -11.670, 5e-4, "Example 9 thick min P");
+    assert_eq!(
+        spans(&thin.flat),
+        vec![(77.0, 103.0), (246.0, 285.0)],
+        "Example 9 thin dwells"
+    );
+    assert_eq!(
+        spans(&thick.flat),
+        vec![(77.0, 103.0), (241.0, 286.0)],
+        "Example 9 thick dwells"
+    );
+    assert!(thin.eye_tension_n.is_none(), "Example 9 has no tension_n");
+
+    // Example 10: offset points on a needle bar, the feed convention.
+    let (m, t) = example("needle_bar_thread");
+    assert!(
+        !m.planar && t.column("N.z_mm").is_some(),
+        "offset groups make the model spatial"
+    );
+    let (e, tt, n) = (col(&t, "E.y_mm"), col(&t, "T.y_mm"), col(&t, "N.y_mm"));
+    for k in 0..e.len() {
+        close(tt[k] - e[k], 20.0, 1e-12, "Example 10 T = E + l_t");
+        close(n[k] - e[k], -90.0, 1e-12, "Example 10 N = E − l_n");
+    }
+    close(col(&t, "T.z_mm")[0], 10.0, 0.0, "Example 10 T.z");
+    close(110.0f64.hypot(10.0), 110.454, 5e-4, "Example 10 |T N|");
+    close(1909.0f64.sqrt(), 43.692, 5e-4, "Example 10 |G T| at TDC");
+    close(3829.0f64.sqrt(), 61.879, 5e-4, "Example 10 |G T| at BDC");
+    close(e[90], -28.0, 1e-9, "Example 10 E at TDC");
+    close(e[270], -52.0, 1e-9, "Example 10 E at BDC");
+    let p = col(&t, "needle.P_mm");
+    let x = col(&t, "needle.xi_mm");
+    for k in 0..p.len() {
+        close(
+            p[k],
+            x[k] - x[90] + 6.0,
+            1e-12,
+            "Example 10 feed convention",
+        );
+    }
+    close(
+        x[90],
+        1909.0f64.sqrt() + 110.0f64.hypot(10.0),
+        1e-9,
+        "Example 10 ξ(90°)",
+    );
+    let s = path(&t, "needle");
+    close(s.min_p_mm, 6.0, 1e-12, "Example 10 min P");
+    close(s.max_p_mm, 24.187, 5e-4, "Example 10 max P");
+    close(s.phi_at_max_deg, 270.0, 0.0, "Example 10 φ at max P");
+    assert_eq!(
+        spans(&s.flat),
+        vec![(61.0, 119.0), (258.0, 282.0)],
+        "Example 10 dwells"
+    );
+    assert!(
+        t.take_up
+            .as_deref()
+            .unwrap()
+            .contains("dP = 6 mm, phi0 = 90 deg")
+    );
+    let c = compare_2d3d(&m, &m.defaults(), "world", 1.0).unwrap();
+    let cp = &c.paths[0];
+    close(
+        cp.p2d_mm[270],
+        3604.0f64.sqrt() - 1684.0f64.sqrt() + 6.0,
+        1e-9,
+        "Example 10 P2D at 270°",
+    );
+    close(
+        cp.p2d_mm[270],
+        24.997,
+        5e-4,
+        "Example 10 P2D at 270° as quoted",
+    );
+    close(cp.max_abs_dp_mm, 0.8099, 5e-5, "Example 10 max |ΔP|");
+    close(cp.phi_at_max_deg, 270.0, 0.0, "Example 10 φ at max |ΔP|");
+    close(cp.max_rel_percent, 3.35, 5e-3, "Example 10 max |ΔP| in %");
+
+    // Section 13.9: the MF-7923D preset.
+    let m = Model::preset("mf7923d").unwrap();
+    let t = cycle(&m).unwrap();
+    let (a, b) = (path(&t, "n1_A"), path(&t, "n1_B"));
+    close(a.max_p_mm, 61.239, 5e-4, "mf7923d n1_A max P");
+    close(b.max_p_mm, 66.322, 5e-4, "mf7923d n1_B max P");
+    close(b.max_p_mm - a.max_p_mm, 5.1, 0.05, "mf7923d B − A");
+    for s in [a, b] {
+        close(s.phi_at_max_deg, 180.0, 0.0, "mf7923d φ at max P");
+        close(s.min_p_mm, 0.0, 0.0, "mf7923d min P");
+        assert_eq!(
+            spans(&s.engaged[0].1),
+            vec![(249.0, 471.0)],
+            "mf7923d G4_1 engaged"
+        );
+    }
+    assert_eq!(spans(&a.flat), vec![(167.0, 193.0)], "mf7923d n1_A dwell");
+    assert!(b.flat.is_empty(), "mf7923d n1_B has no dwell");
+    let [lo, hi] = a.eye_tension_n.unwrap();
+    close(lo, 0.911, 5e-4, "mf7923d n1_A eye tension min");
+    close(hi, 1.112, 5e-4, "mf7923d n1_A eye tension max");
+    let [lo, hi] = b.eye_tension_n.unwrap();
+    close(lo, 0.983, 5e-4, "mf7923d n1_B eye tension min");
+    close(hi, 1.156, 5e-4, "mf7923d n1_B eye tension max");
+    let c = compare_2d3d(&m, &m.defaults(), "uvw", 1.0).unwrap();
+    for (name, dp, pct) in [("n1_A", 0.1084, 0.18), ("n1_B", 0.6798, 1.02)] {
+        let cp = c.paths.iter().find(|p| p.path == name).unwrap();
+        close(cp.max_abs_dp_mm, dp, 5e-5, "mf7923d max |ΔP|");
+        close(cp.phi_at_max_deg, 180.0, 0.0, "mf7923d φ at max |ΔP|");
+        close(cp.max_rel_percent, pct, 5e-3, "mf7923d max |ΔP| in %");
+    }
+}
