@@ -40,7 +40,7 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
-const PRESETS: &[&str] = &["needle876", "overlock500", "altin-needle", "mf7923d"];
+const PRESETS: &[&str] = &["needle876", "overlock500", "altin-needle", "mf7923d", "takeup-lever"];
 
 #[test]
 fn run_without_arguments_uses_the_default_preset() {
@@ -96,7 +96,7 @@ fn every_preset_runs_as_csv_and_json_and_checks() {
 #[test]
 fn presets_lists_name_machine_and_seed() {
     let (out, _) = ok(&["presets"]);
-    for (p, seed) in [("needle876", "002"), ("overlock500", "003"), ("altin-needle", "004"), ("mf7923d", "000")] {
+    for (p, seed) in [("needle876", "002"), ("overlock500", "003"), ("altin-needle", "004"), ("mf7923d", "000"), ("takeup-lever", "001")] {
         let line = out.lines().find(|l| l.starts_with(p)).unwrap_or_else(|| panic!("{p} missing:\n{out}"));
         assert!(line.contains(seed), "{line}");
     }

@@ -19,6 +19,10 @@ pub trait Real: RealField + Copy + std::fmt::Debug + Send + Sync + 'static {
     fn var(x: f64) -> Self;
     /// `self · k` for a plain number `k` (cheaper than a dual product).
     fn times(self, k: f64) -> Self;
+    /// `self · k` where `k` is a constant of the cycle (a link length, an
+    /// offset): the cheap product when `k` carries no derivatives, as in
+    /// φ-analogs; the full product otherwise (parameter sensitivities).
+    fn times_k(self, k: Self) -> Self;
     /// `self` with the sign of `sign` (an assembly branch, ±1).
     #[inline(always)]
     fn signed(self, sign: f64) -> Self {
@@ -58,6 +62,10 @@ impl Real for f64 {
         self * k
     }
     #[inline(always)]
+    fn times_k(self, k: Self) -> Self {
+        self * k
+    }
+    #[inline(always)]
     fn angle_of(self, x: Self) -> Self {
         self.atan2(x)
     }
@@ -80,6 +88,10 @@ impl Real for Dual2_64 {
     fn times(self, k: f64) -> Self {
         Dual2_64::new(self.re * k, self.v1 * k, self.v2 * k)
     }
+    #[inline(always)]
+    fn times_k(self, k: Self) -> Self {
+        if k.v1 == 0.0 && k.v2 == 0.0 { self.times(k.re) } else { self * k }
+    }
 }
 
 impl Real for Dual64 {
@@ -98,6 +110,10 @@ impl Real for Dual64 {
     #[inline(always)]
     fn times(self, k: f64) -> Self {
         Dual64::new(self.re * k, self.eps * k)
+    }
+    #[inline(always)]
+    fn times_k(self, k: Self) -> Self {
+        if k.eps == 0.0 { self.times(k.re) } else { self * k }
     }
 }
 

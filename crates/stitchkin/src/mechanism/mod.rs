@@ -232,7 +232,7 @@ impl<T: Real> Mechanism<T> {
                     if *speed != 1.0 {
                         each(&mut o, |k| {
                             let (s, c) = (phis[k].phi * T::cst(*speed) + *phase).sin_cos();
-                            Ok(c0[k] + ru * c + rv * s)
+                            Ok(c0[k] + ru.map(|x| c.times_k(x)) + rv.map(|x| s.times_k(x)))
                         })
                     } else if u.z.re() == 0.0 && v.z.re() == 0.0 {
                         // Shaft along z: a planar crank, cos(φ + ph) and
@@ -241,13 +241,13 @@ impl<T: Real> Mechanism<T> {
                         let (sx, sy) = (rv.x * *cos_ph - ru.x * *sin_ph, rv.y * *cos_ph - ru.y * *sin_ph);
                         each(&mut o, |k| {
                             let (c, s) = (phis[k].cos, phis[k].sin);
-                            Ok(V3::new(c0[k].x + cx * c + sx * s, c0[k].y + cy * c + sy * s, c0[k].z))
+                            Ok(V3::new(c0[k].x + c.times_k(cx) + s.times_k(sx), c0[k].y + c.times_k(cy) + s.times_k(sy), c0[k].z))
                         })
                     } else {
                         each(&mut o, |k| {
                             let phi = &phis[k];
                             let (c, s) = (phi.cos * *cos_ph - phi.sin * *sin_ph, phi.sin * *cos_ph + phi.cos * *sin_ph);
-                            Ok(c0[k] + ru * c + rv * s)
+                            Ok(c0[k] + ru.map(|x| c.times_k(x)) + rv.map(|x| s.times_k(x)))
                         })
                     }
                 }

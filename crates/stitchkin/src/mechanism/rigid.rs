@@ -15,7 +15,7 @@ pub fn rigid_point<T: Real>(a: V2<T>, b: V2<T>, dc: T, ds: T) -> Result<V2<T>, N
         return Err(NoAssembly::coincident("the two points that define the link"));
     }
     let inv = n2.sqrt().recip();
-    Ok(a + (e * dc + perp(e) * ds) * inv)
+    Ok(a + (e.map(|x| x.times_k(dc)) + perp(e).map(|x| x.times_k(ds))) * inv)
 }
 
 /// Spatial rigid point at local coordinates `p` in the frame with origin
@@ -35,7 +35,7 @@ pub fn rigid_point_3d<T: Real>(o: V3<T>, x: V3<T>, y: V3<T>, p: V3<T>) -> Result
     }
     let e3 = c / n3.sqrt();
     let e2 = e3.cross(&e1);
-    Ok(o + e1 * p.x + e2 * p.y + e3 * p.z)
+    Ok(o + e1.map(|x| x.times_k(p.x)) + e2.map(|x| x.times_k(p.y)) + e3.map(|x| x.times_k(p.z)))
 }
 
 #[cfg(test)]

@@ -18,7 +18,7 @@ pub fn rrr<T: Real>(p1: V2<T>, p2: V2<T>, l1sq: T, l2sq: T, sign: f64) -> Result
     }
     let inv_d2 = d2.recip();
     let k = ((l1sq - l2sq + d2) * inv_d2).times(0.5);
-    let h2 = l1sq * inv_d2 - k * k;
+    let h2 = inv_d2.times_k(l1sq) - k * k;
     if h2.re() < 0.0 {
         let (dist, l1, l2) = (d2.re().sqrt(), l1sq.re().sqrt(), l2sq.re().sqrt());
         return Err(if dist > l1 + l2 {

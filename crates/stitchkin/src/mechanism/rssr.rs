@@ -48,7 +48,7 @@ pub fn rssr<T: Real>(rod: &RockerRod<T>, a: V3<T>, sign: f64) -> Result<V3<T>, N
     let q = a - k.c;
     let (au, av) = (q.dot(&k.u), q.dot(&k.v));
     let rho2 = au * au + av * av;
-    let kk = (q.norm_squared() + rod.c0) * rod.inv_2r;
+    let kk = (q.norm_squared() + rod.c0).times_k(rod.inv_2r);
     let disc = rho2 - kk * kk;
     if disc.re() < 0.0 || rho2.re() <= 0.0 {
         let (rho, aw, r, l) = (rho2.re().sqrt(), q.dot(&k.w).re(), k.r.re(), l.re());
@@ -61,7 +61,7 @@ pub fn rssr<T: Real>(rod: &RockerRod<T>, a: V3<T>, sign: f64) -> Result<V3<T>, N
         });
     }
     let s = disc.sqrt().signed(sign);
-    let f = k.r / rho2;
+    let f = rho2.recip().times_k(k.r);
     let bu = f * (kk * au - s * av);
     let bv = f * (kk * av + s * au);
     Ok(k.c + k.u * bu + k.v * bv)
