@@ -90,6 +90,9 @@ pub struct PathSummary {
     pub flat: Vec<crate::thread::Interval>,
     /// Thread tension at the eye (capstan law), N: min and max over the cycle.
     pub eye_tension_n: Option<[f64; 2]>,
+    /// Largest tension after each node over the cycle, N (empty without a
+    /// regulator tension).
+    pub max_tension_n: Vec<(String, f64)>,
 }
 
 /// A dwell of the take-up is a stretch where |dP/dφ| stays under this…
@@ -381,23 +384,32 @@ fn thread_columns(
                 col("vP_mm_per_s".into(), p.iter().map(|x| x.v1 * w).collect());
             }
         }
-        // Wrap angles at every node, per φ (for the pins' columns and the tension).
+        // The angle the thread turns through at every node, per φ: a column
+        // per guide between the ends, and the capstan tension from them.
         let wraps: Vec<Vec<f64>> = (0..phis.len()).map(|k| threads.wrap_angles(path, pose, k)).collect();
-        let pin_nodes: Vec<usize> = (0..path.nodes.len()).filter(|&i| path.pin_span[i].is_some()).collect();
         let pins = path.pin_names();
-        for (j, pin) in pins.iter().enumerate() {
-            col(format!("{pin}_engaged"), track.engaged[j].iter().map(|&e| if e { 1.0 } else { 0.0 }).collect());
-            col(format!("{pin}_wrap_deg"), wraps.iter().map(|w| w[pin_nodes[j]].to_degrees()).collect());
+        let mut pin = 0;
+        for i in 1..path.nodes.len().saturating_sub(1) {
+            let node = &path.node_names[i];
+            if path.pin_span[i].is_some() {
+                col(format!("{node}_engaged"), track.engaged[pin].iter().map(|&e| if e { 1.0 } else { 0.0 }).collect());
+                pin += 1;
+            }
+            col(format!("{node}_wrap_deg"), wraps.iter().map(|w| w[i].to_degrees()).collect());
         }
-        let eye_tension: Option<Vec<f64>> = threads.tension_n.map(|t0| {
-            wraps
-                .iter()
-                .map(|theta| theta.iter().zip(&path.friction).skip(1).fold(t0, |t, (th, mu)| t * (mu * th).exp()))
-                .collect()
-        });
+        // Tension after each node at each φ; the eye's is the last.
+        let tensions: Option<Vec<Vec<f64>>> =
+            threads.tension_n.map(|t0| wraps.iter().map(|theta| crate::thread::capstan(theta, &path.friction, t0)).collect());
+        let eye_tension: Option<Vec<f64>> = tensions.as_ref().map(|t| t.iter().map(|row| *row.last().unwrap_or(&0.0)).collect());
         if let Some(t) = &eye_tension {
             col("tension_eye_N".into(), t.clone());
         }
+        let max_tension: Vec<(String, f64)> = match &tensions {
+            Some(t) => (0..path.nodes.len())
+                .map(|i| (path.node_names[i].clone(), t.iter().map(|row| row[i]).fold(f64::MIN, f64::max)))
+                .collect(),
+            None => Vec::new(),
+        };
         let (imin, imax) = extremes(&p.iter().map(|x| x.re).collect::<Vec<_>>());
         let flat_flags: Vec<bool> = p.iter().map(|x| x.v1.abs() * std::f64::consts::PI / 180.0 < FLAT_SLOPE_MM_PER_DEG).collect();
         let flat = crate::thread::intervals(&flat_flags, phis)
@@ -418,6 +430,7 @@ fn thread_columns(
                 .map(|(j, pin)| (pin.to_string(), crate::thread::intervals(&track.engaged[j], phis)))
                 .collect(),
             flat,
+            max_tension_n: max_tension,
             eye_tension_n: eye_tension.map(|t| [t.iter().cloned().fold(f64::MAX, f64::min), t.iter().cloned().fold(f64::MIN, f64::max)]),
         });
     }

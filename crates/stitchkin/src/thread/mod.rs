@@ -300,18 +300,22 @@ impl<T: Real> Threads<T> {
     }
 
     /// Thread tension after each node of `path` at the `k`-th φ by the
-    /// capstan (Euler–Eytelwein) law with Amontons friction,
-    /// `T_{i+1} = T_i · exp(μ_i · θ_i)`, θ_i from [`Self::wrap_angles`],
-    /// starting from `t0` (N) at the first node and assuming the thread is
-    /// drawn toward the eye.
+    /// capstan law ([`capstan`]) with the angles of [`Self::wrap_angles`].
     pub fn tension(&self, path: &ThreadPath, pose: &Pose<T>, k: usize, t0: f64) -> Vec<f64> {
-        let theta = self.wrap_angles(path, pose, k);
-        let mut t = vec![t0; theta.len()];
-        for i in 1..theta.len() {
-            t[i] = t[i - 1] * (path.friction[i] * theta[i]).exp();
-        }
-        t
+        capstan(&self.wrap_angles(path, pose, k), &path.friction, t0)
     }
+}
+
+/// Tension after each node by the capstan (Euler–Eytelwein) law with
+/// Amontons friction, `T_{i+1} = T_i · exp(μ_i · θ_i)`, from `t0` (N) at the
+/// first node, the thread drawn toward the last node; θ_i the angle it
+/// turns through at node i (rad), μ_i the friction there.
+pub fn capstan(theta: &[f64], friction: &[f64], t0: f64) -> Vec<f64> {
+    let mut t = vec![t0; theta.len()];
+    for i in 1..theta.len() {
+        t[i] = t[i - 1] * (friction[i] * theta[i]).exp();
+    }
+    t
 }
 
 impl ThreadPath {

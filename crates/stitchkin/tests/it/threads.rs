@@ -88,6 +88,7 @@ fn pin_engages_and_releases_at_the_computed_angles() {
     }
     let s = &t.paths[0];
     assert_eq!(s.engaged.len(), 1);
+    assert!(t.column("p.T_wrap_deg").is_some() && t.column("p.PIN_wrap_deg").is_some());
     let iv = &s.engaged[0].1;
     assert_eq!(iv.len(), 1);
     assert!((iv[0].from_deg - (beta + 180.0)).abs() <= 1.0 && (iv[0].to_deg - (beta + 360.0)).abs() <= 1.0, "{iv:?}");
@@ -162,6 +163,8 @@ fn capstan_tension_grows_by_exp_mu_theta() {
         let w = ((40.0 - tp.0) / (40.0 - tp.0).hypot(tp.1), -tp.1 / (40.0 - tp.0).hypot(tp.1));
         let theta = (u.0 * w.0 + u.1 * w.1).acos();
         assert!((tension[k] - 0.5 * (0.2 * theta).exp()).abs() < 1e-12);
+        // Every guide between the ends reports the angle the thread turns through.
+        assert!((t.column("p.T_wrap_deg").unwrap()[k] - theta.to_degrees()).abs() < 1e-9);
     }
 }
 
