@@ -123,6 +123,11 @@ pub fn parts(x: Dual2_64) -> [f64; 3] {
     [x.re, x.v1, x.v2]
 }
 
+#[inline]
+pub fn phi_dual(phi_rad: f64) -> Dual2_64 {
+    Dual2_64::new(phi_rad, 1.0, 0.0)
+}
+
 /// The independent variable φ (rad) as a second-order dual number.
 #[cfg(test)]
 mod tests {
@@ -145,9 +150,4 @@ mod tests {
         }
         assert_eq!(3.0f64.angle_of(4.0), 3.0f64.atan2(4.0));
     }
-}
-
-#[inline]
-pub fn phi_dual(phi_rad: f64) -> Dual2_64 {
-    Dual2_64::new(phi_rad, 1.0, 0.0)
 }

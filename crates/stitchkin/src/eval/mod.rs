@@ -150,14 +150,13 @@ pub fn check_options(opts: &CycleOptions) -> Result<(), Error> {
             help: Some("use a step of at least 0.001 deg".into()),
         }));
     }
-    if let Some(rpm) = opts.rpm {
-        if !(rpm.is_finite() && rpm > 0.0 && rpm <= 1.0e5) {
+    if let Some(rpm) = opts.rpm
+        && !(rpm.is_finite() && rpm > 0.0 && rpm <= 1.0e5) {
             return Err(Error::Param(crate::error::ParamError {
                 message: format!("the speed {rpm} rpm is out of range"),
                 help: Some("give a main-shaft speed between 0 and 100000 rev/min".into()),
             }));
         }
-    }
     Ok(())
 }
 

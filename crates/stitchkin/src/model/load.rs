@@ -120,11 +120,10 @@ impl<'a> Loader<'a> {
                 }
                 _ => {}
             }
-            if let Some(v) = p.value {
-                if !v.is_finite() {
+            if let Some(v) = p.value
+                && !v.is_finite() {
                     return Err(self.err(&path.key("value"), "the value must be a finite number", None));
                 }
-            }
             if let Some([lo, hi]) = p.range {
                 let rp = path.key("range");
                 if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
@@ -133,15 +132,14 @@ impl<'a> Loader<'a> {
                 if p.expr.is_some() {
                     return Err(self.err(&rp, "a derived parameter (with `expr`) cannot have a range", Some("put the range on the parameters it is derived from".into())));
                 }
-                if let Some(v) = p.value {
-                    if v < lo || v > hi {
+                if let Some(v) = p.value
+                    && (v < lo || v > hi) {
                         return Err(self.err(
                             &path.key("value"),
                             format!("the value {v} is outside the parameter's range [{lo}, {hi}]"),
                             Some("widen the range or correct the value".into()),
                         ));
                     }
-                }
             }
             self.param_index.insert(name.clone(), self.params.len());
             self.params.push(ParamDef {
@@ -851,16 +849,14 @@ impl<'a> Loader<'a> {
             }
         };
         let default_mu = check_mu(self, t.friction, path.key("friction"))?.unwrap_or(0.0);
-        if let Some(tn) = t.tension_n {
-            if !(tn.is_finite() && tn > 0.0) {
+        if let Some(tn) = t.tension_n
+            && !(tn.is_finite() && tn > 0.0) {
                 return Err(self.err(&path.key("tension_n"), format!("the regulator tension {tn} N must be positive"), None));
             }
-        }
-        if let Some(p0) = t.phi0_deg {
-            if !p0.is_finite() {
+        if let Some(p0) = t.phi0_deg
+            && !p0.is_finite() {
                 return Err(self.err(&path.key("phi0_deg"), "phi0_deg must be a finite angle", None));
             }
-        }
         let convention = t.convention.unwrap_or(file::TakeUpConvention::Release);
         let elongation = match &t.elongation_mm {
             Some(_) if convention == file::TakeUpConvention::Release => {

@@ -482,14 +482,13 @@ impl Model {
         if !value.is_finite() {
             return Err(ParamError { message: format!("`{name}` must be a finite number"), help: None });
         }
-        if let Some([lo, hi]) = p.range {
-            if value < lo || value > hi {
+        if let Some([lo, hi]) = p.range
+            && (value < lo || value > hi) {
                 return Err(ParamError {
                     message: format!("{name} = {value} {} is outside its adjustable range {lo}…{hi} {}", p.unit_str(), p.unit_str()),
                     help: Some(format!("choose a value between {lo} and {hi}")),
                 });
             }
-        }
         params.values[i] = value;
         Ok(())
     }

@@ -76,7 +76,7 @@ impl<'a> SpanIndex<'a> {
                 }
                 Seg::Index(i) => {
                     let Some(DeValue::Array(a)) = value else { break };
-                    let Some(v) = a.iter().nth(*i) else { break };
+                    let Some(v) = a.get(*i) else { break };
                     span = Some(v.span());
                     value = Some(v.get_ref());
                 }

@@ -124,7 +124,7 @@ fn thread_wrapping_a_fixed_roller() {
     let t0 = table(&thin, 3.0);
     let (xi, xi_thin) = (t.column("p.xi_mm").unwrap(), t0.column("p.xi_mm").unwrap());
     let on = t.column("p.C_engaged").unwrap();
-    assert!(on.iter().any(|e| *e == 1.0) && on.iter().any(|e| *e == 0.0));
+    assert!(on.contains(&1.0) && on.contains(&0.0));
     for k in 0..xi.len() {
         // A thick roller never shortens the path, and lengthens it when it bears.
         assert!(xi[k] >= xi_thin[k] - 1e-9);
@@ -356,7 +356,7 @@ fn exact_cam_contact_is_a_roller_around_the_moving_disc() {
         assert_eq!(on[k] == 1.0, want.engaged);
     }
     // The cam feeds thread part of the turn and lets it run straight otherwise.
-    assert!(on.iter().any(|e| *e == 1.0) && on.iter().any(|e| *e == 0.0));
+    assert!(on.contains(&1.0) && on.contains(&0.0));
     let s = &t.paths[0];
     assert!(s.max_p_mm - s.min_p_mm > 1.0, "{s:?}");
 }
