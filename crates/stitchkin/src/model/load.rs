@@ -69,6 +69,8 @@ impl<'a> Loader<'a> {
             Some("add the field; docs/model-format.md lists what each table needs".to_string())
         } else if msg.contains("unknown variant") {
             Some("use one of the listed values".to_string())
+        } else if msg.contains("untagged enum Node") {
+            Some("a node is a point name or a table: { at = \"G\" }, { pin = \"G\", axis = \"z\", wrap = \"cw\" } or { cam = \"C\", contact = \"exact\" | \"offset\", … }; check its keys and word values".to_string())
         } else if msg.contains("did not match any variant") {
             Some("write a number, an expression in quotes, or a list of coordinates".to_string())
         } else {
@@ -977,6 +979,9 @@ impl<'a> Loader<'a> {
                     }
                     pins.push((i, span));
                 }
+                if names.contains(&name) {
+                    return Err(self.err(&np, format!("`{name}` appears twice in path `{}`", tp.name), Some("a path passes each guide once (its columns are named after the nodes)".into())));
+                }
                 nodes.push(slot);
                 names.push(name);
                 friction.push(mu);
@@ -1008,8 +1013,8 @@ impl<'a> Loader<'a> {
         let mut out: Vec<CamDef> = Vec::new();
         for (k, c) in f.cams.iter().enumerate() {
             let path = Path::root().key("cams").index(k);
-            if !is_ident(&c.name) || out.iter().any(|o| o.name == c.name) {
-                return Err(self.err(&path.key("name"), format!("`{}` is not a valid, unique cam name", c.name), Some("cam names use letters, digits and `_` and differ from each other".into())));
+            if !is_ident(&c.name) || out.iter().any(|o| o.name == c.name) || self.point_index.contains_key(&c.name) {
+                return Err(self.err(&path.key("name"), format!("`{}` is not a valid, unique cam name", c.name), Some("cam names use letters, digits and `_`, and differ from each other and from point names".into())));
             }
             let center = self.point(&c.center, &path.key("center"))?;
             let marker = self.point(&c.marker, &path.key("marker"))?;

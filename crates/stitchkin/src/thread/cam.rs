@@ -9,8 +9,10 @@
 //!   pin, so the length is `√(L⊥² + Δh²)`;
 //! - **offset** — seed 004's simplification: the contact point is the end of
 //!   the profile radius turned by a fixed angle γ from the one facing the
-//!   guides, `ξ = |p − A| + |A − q|` (seed 004 §2.5: `ξ(φ) = 2·|O₂ − A(φ)|`
-//!   for symmetric guides), γ = 0.4…0.8 rad by the thesis.
+//!   guides, `ξ = |p − A| + |A − q|`, γ = 0.4…0.8 rad by the thesis. With
+//!   symmetric guides and γ = 0 this is seed 004 §2.5's `ξ(φ) = 2·|O₂ − A(φ)|`;
+//!   with γ ≠ 0 the two pieces differ and the seed's doubled distance is an
+//!   approximation of this sum.
 
 use nalgebra::ComplexField;
 
@@ -170,6 +172,10 @@ pub fn offset_contact<T: Real>(profile: &Profile, at: &CamPlacement<T>, p: V3<T>
         return None;
     }
     let bis = pl / np + ql / nq;
+    // Guides facing each other through the shaft: no direction faces them.
+    if bis.norm().re() < 1e-9 {
+        return None;
+    }
     let beta = bis.y.angle_of(bis.x) + T::cst(gamma);
     let rho = profile.rho(beta);
     let (s, c) = beta.sin_cos();

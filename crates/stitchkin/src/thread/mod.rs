@@ -227,12 +227,16 @@ impl<T: Real> Threads<T> {
 
     fn inside(&self, span: usize, k: usize) -> PathError {
         let path = self.paths.iter().find(|p| p.spans.contains(&span)).map_or(String::new(), |p| p.name.clone());
-        let name = match &self.spans[span] {
-            Span::Pin { name, .. } => name.as_str(),
-            Span::Cam { cam, .. } => self.cams[*cam].name.as_str(),
-            Span::Straight { .. } => "?",
+        let message = match &self.spans[span] {
+            Span::Pin { name, .. } => format!("a thread end lies inside the guide at `{name}`"),
+            Span::Cam { cam, .. } => format!(
+                "the thread cannot be laid on cam `{}`: a neighbouring guide lies inside its profile or on its shaft axis, \
+                 its marker lies on the shaft axis, or (offset contact) the two guides face each other through the shaft",
+                self.cams[*cam].name
+            ),
+            Span::Straight { .. } => "the path cannot be formed".to_string(),
         };
-        PathError { path, k, message: format!("a thread end lies inside the guide at `{name}`") }
+        PathError { path, k, message }
     }
 
     /// The angle the thread turns through at each node of `path` at the

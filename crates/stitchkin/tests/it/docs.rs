@@ -484,6 +484,12 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
         "Example 9 thick dwells"
     );
     assert!(thin.eye_tension_n.is_none(), "Example 9 has no tension_n");
+    // Every node between the ends has a wrap column, the eyelet T too.
+    col(&t, "thin.T_wrap_deg");
+    assert!(
+        thin.max_tension_n.is_empty(),
+        "no tension_n, no tension maxima"
+    );
 
     // Example 10: offset points on a needle bar, the feed convention.
     let (m, t) = example("needle_bar_thread");
@@ -551,7 +557,7 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     close(cp.phi_at_max_deg, 270.0, 0.0, "Example 10 φ at max |ΔP|");
     close(cp.max_rel_percent, 3.35, 5e-3, "Example 10 max |ΔP| in %");
 
-    // Section 13.9: the MF-7923D preset.
+    // Section 13.10: the MF-7923D preset.
     let m = Model::preset("mf7923d").unwrap();
     let t = cycle(&m).unwrap();
     let (a, b) = (path(&t, "n1_A"), path(&t, "n1_B"));
@@ -582,4 +588,248 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
         close(cp.phi_at_max_deg, 180.0, 0.0, "mf7923d φ at max |ΔP|");
         close(cp.max_rel_percent, pct, 5e-3, "mf7923d max |ΔP| in %");
     }
+}
+
+/// The text of the worked example called `name` (a ```toml block).
+fn example_text(name: &str) -> String {
+    let doc = doc();
+    models(&doc)
+        .into_iter()
+        .find(|b| b.text.contains(&format!("name = \"{name}\"")))
+        .unwrap_or_else(|| panic!("docs/model-format.md has no example named `{name}`"))
+        .text
+}
+
+/// `text` with `from` replaced once; `from` must occur in it.
+fn edit(text: &str, from: &str, to: &str) -> String {
+    assert!(text.contains(from), "the example has no `{from}`");
+    text.replacen(from, to, 1)
+}
+
+#[test]
+fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
+    // Example 11: a disc cam (r = 10, e = 6) on the main shaft, its marker
+    // D the disc's centre; guides G1, G2 = (∓18, 6).
+    let (m, t) = example("looper_cam");
+    assert!(m.planar, "cams leave a planar model planar");
+    let (r, e, a, h) = (10.0f64, 6.0f64, 18.0f64, 6.0f64);
+    let rho = |theta: f64| e * theta.cos() + (r * r - e * e * theta.sin().powi(2)).sqrt();
+    let phis = col(&t, "phi_deg");
+    let (xs, xt) = (col(&t, "seed.xi_mm"), col(&t, "taut.xi_mm"));
+    let (on_s, on_t) = (col(&t, "seed.feed_engaged"), col(&t, "taut.feed_engaged"));
+    let (wrap_s, wrap_t) = (col(&t, "seed.feed_wrap_deg"), col(&t, "taut.feed_wrap_deg"));
+    for k in 0..phis.len() {
+        let phi = phis[k].to_radians();
+        // Exact: free exactly when the disc's top e·sin φ + r is below h.
+        let free = e * phi.sin() + r < h;
+        assert_eq!(
+            on_t[k] == 0.0,
+            free,
+            "Example 11 taut engaged at φ = {}",
+            phis[k]
+        );
+        if free {
+            close(xt[k], 2.0 * a, 1e-12, "Example 11 taut ξ while free");
+            close(wrap_t[k], 0.0, 0.0, "Example 11 taut wrap while free");
+        }
+        // Offset: A at 120° from +x (the radius facing the guides, +y,
+        // turned by γ = 30°), at profile angle 120° − φ.
+        let beta = 120f64.to_radians();
+        let (ax, ay) = (rho(beta - phi) * beta.cos(), rho(beta - phi) * beta.sin());
+        close(
+            xs[k],
+            (ax + a).hypot(ay - h) + (ax - a).hypot(ay - h),
+            1e-9,
+            "Example 11 seed ξ = |G1 − A| + |A − G2|",
+        );
+        assert_eq!(on_s[k], 1.0, "the offset contact always bears");
+    }
+    let boundary = (-2.0f64 / 3.0).asin().to_degrees();
+    close(180.0 - boundary, 221.81, 5e-3, "Example 11 free from");
+    close(360.0 + boundary, 318.19, 5e-3, "Example 11 free to");
+
+    // The taut thread at φ = 90°: tangents and the arc over the disc.
+    let turn = std::f64::consts::PI - 2.0 * (r / a).acos();
+    close(
+        2.0 * (a * a - r * r).sqrt(),
+        29.933,
+        5e-4,
+        "Example 11 tangents",
+    );
+    close(r * turn, 11.781, 5e-4, "Example 11 arc");
+    close(
+        xt[90],
+        2.0 * (a * a - r * r).sqrt() + r * turn,
+        1e-9,
+        "Example 11 taut ξ(90°)",
+    );
+    close(xt[90], 41.714, 5e-4, "Example 11 taut ξ(90°) as quoted");
+    close(turn.to_degrees(), 67.50, 5e-3, "Example 11 wrap at 90°");
+    close(turn, 1.178, 5e-4, "Example 11 wrap at 90° in rad");
+    close(
+        wrap_t[90],
+        turn.to_degrees(),
+        1e-6,
+        "Example 11 taut wrap at 90°",
+    );
+    let longest = (0..xt.len())
+        .max_by(|&i, &j| xt[i].total_cmp(&xt[j]))
+        .unwrap();
+    assert_eq!(
+        longest, 90,
+        "Example 11: the taut contour is longest at 90°"
+    );
+    let widest = (0..wrap_t.len())
+        .max_by(|&i, &j| wrap_t[i].total_cmp(&wrap_t[j]))
+        .unwrap();
+    assert_eq!(widest, 90, "Example 11: the taut wrap is largest at 90°");
+
+    // The taut path is a roller of radius r about D.
+    let text = example_text("looper_cam");
+    let roller = Model::from_toml_str(
+        &edit(
+            &text,
+            r#"{ cam = "feed", wrap = "cw" }"#,
+            r#"{ pin = "D", axis = "z", wrap = "cw", radius = "r" }"#,
+        ),
+        "roller.toml",
+    )
+    .unwrap();
+    let tr = cycle(&roller).unwrap();
+    let (xr, on_r) = (col(&tr, "taut.xi_mm"), col(&tr, "taut.D_engaged"));
+    for k in 0..xt.len() {
+        close(xt[k], xr[k], 1e-9, "Example 11 taut = a roller about D");
+        assert_eq!(on_t[k], on_r[k], "Example 11 taut engaged = roller engaged");
+    }
+
+    // Seed 004's contact at φ = 120°: A = 16·(cos 120°, sin 120°).
+    let (ax, ay) = (
+        16.0 * 120f64.to_radians().cos(),
+        16.0 * 120f64.to_radians().sin(),
+    );
+    close(ax, -8.0, 1e-12, "Example 11 A.x");
+    close(ay, 13.856, 5e-4, "Example 11 A.y");
+    close((ax + a).hypot(ay - h), 12.717, 5e-4, "Example 11 |G1 − A|");
+    close((ax - a).hypot(ay - h), 27.161, 5e-4, "Example 11 |A − G2|");
+    close(xs[120], 39.878, 5e-4, "Example 11 seed ξ(120°)");
+    let longest = (0..xs.len())
+        .max_by(|&i, &j| xs[i].total_cmp(&xs[j]))
+        .unwrap();
+    assert_eq!(
+        longest, 120,
+        "Example 11: the seed contour is longest at 120°"
+    );
+    close(xs[300], 36.360, 5e-4, "Example 11 seed ξ(300°)");
+    assert_eq!(
+        on_t[300], 0.0,
+        "Example 11: the taut thread is free at 300°"
+    );
+
+    // The summary lines.
+    let (s, tt) = (path(&t, "seed"), path(&t, "taut"));
+    assert_eq!(s.thread.as_deref(), Some("looper thread, seed 004"));
+    assert_eq!(tt.thread.as_deref(), Some("looper thread, exact"));
+    close(s.max_p_mm, 0.082, 5e-4, "Example 11 seed max P");
+    close(s.phi_at_max_deg, 19.0, 0.0, "Example 11 seed φ at max P");
+    close(s.min_p_mm, -3.796, 5e-4, "Example 11 seed min P");
+    close(s.phi_at_min_deg, 120.0, 0.0, "Example 11 seed φ at min P");
+    close(
+        tt.max_p_mm,
+        xt[0] - 2.0 * a,
+        1e-12,
+        "Example 11 taut max P = ξ(0) − 2a",
+    );
+    close(tt.max_p_mm, 1.057, 5e-4, "Example 11 taut max P");
+    close(tt.phi_at_max_deg, 222.0, 0.0, "Example 11 taut φ at max P");
+    close(tt.min_p_mm, -4.656, 5e-4, "Example 11 taut min P");
+    close(tt.phi_at_min_deg, 90.0, 0.0, "Example 11 taut φ at min P");
+    close(
+        s.max_p_mm - s.min_p_mm,
+        3.88,
+        5e-3,
+        "Example 11 seed take-up per turn",
+    );
+    close(
+        tt.max_p_mm - tt.min_p_mm,
+        5.71,
+        5e-3,
+        "Example 11 taut take-up per turn",
+    );
+    assert_eq!(
+        spans(&s.engaged[0].1),
+        vec![(0.0, 360.0)],
+        "Example 11 seed engaged"
+    );
+    assert_eq!(
+        spans(&tt.engaged[0].1),
+        vec![(319.0, 581.0)],
+        "Example 11 taut engaged"
+    );
+    assert_eq!(s.engaged[0].0, "feed");
+    assert_eq!(
+        spans(&s.flat),
+        vec![(98.0, 142.0), (183.0, 417.0)],
+        "Example 11 seed dwells"
+    );
+    assert_eq!(
+        spans(&tt.flat),
+        vec![(57.0, 123.0), (185.0, 355.0)],
+        "Example 11 taut dwells"
+    );
+    let [lo, hi] = s.eye_tension_n.unwrap();
+    close(lo, 0.300, 5e-4, "Example 11 seed eye tension min");
+    close(hi, 0.363, 5e-4, "Example 11 seed eye tension max");
+    close(
+        col(&t, "seed.tension_eye_N")[0],
+        0.3 * (0.2 * wrap_s[0].to_radians()).exp(),
+        1e-12,
+        "Example 11 seed capstan at the cam",
+    );
+    let [lo, hi] = tt.eye_tension_n.unwrap();
+    close(lo, 0.3, 1e-12, "Example 11 taut eye tension min (free)");
+    close(
+        hi,
+        0.3 * (0.2 * turn).exp(),
+        1e-9,
+        "Example 11 taut eye tension max",
+    );
+    close(hi, 0.380, 5e-4, "Example 11 taut eye tension max as quoted");
+
+    // --set gamma=0: A on the line of symmetry, ξ = 2·|G1 − A| (seed 004).
+    let mut p = m.defaults();
+    m.set(&mut p, "gamma", 0.0).unwrap();
+    let t0 = run_cycle(&m, &p, &Default::default()).unwrap();
+    let x0 = col(&t0, "seed.xi_mm");
+    for (k, phi) in col(&t0, "phi_deg").iter().enumerate() {
+        let rho_a = rho(90f64.to_radians() - phi.to_radians());
+        close(
+            x0[k],
+            2.0 * a.hypot(rho_a - h),
+            1e-9,
+            "Example 11 γ = 0: seed 004's 2·|O2 − A|",
+        );
+    }
+
+    // Section 16: the two cam errors, made from Example 11 as described.
+    let bad = |text: String, file: &str| Model::from_toml_str(&text, file).unwrap_err().to_string();
+    let e = bad(edit(&text, r#", gamma_deg = "gamma" }"#, " }"), "bad8.toml");
+    assert!(
+        e.starts_with(
+            "bad8.toml:39:16: thread.paths[0].nodes[1]: an offset cam contact needs `gamma_deg`"
+        ) && e.contains("help: seed 004 uses γ = 0.4–0.8 rad, i.e. 23–46 degrees"),
+        "{e}"
+    );
+    let e = bad(
+        edit(
+            &text,
+            r#"disc = { radius_mm = "r", eccentricity_mm = "e" }"#,
+            "polar = { angle_deg = [0, 45, 90, 135, 180, 225, 270, 315], radius_mm = [10, 4, 10, 4, 10, 4, 10, 4] }",
+        ),
+        "bad9.toml",
+    );
+    assert!(
+        e.starts_with("bad9.toml:45:24: thread.paths[1].nodes[1].cam: cam `feed` is not convex, so a taut thread does not follow its profile")
+            && e.contains("help: use contact = \"offset\" or smooth the profile"),
+        "{e}"
+    );
 }

@@ -424,6 +424,21 @@ fn polar_cam_profiles_and_cam_errors() {
     let e = bad(star.clone());
     assert!(e.message.contains("not convex"), "{e}");
     Model::from_toml_str(&star.replace(r#"wrap = "cw""#, r#"contact = "offset", gamma_deg = 25"#), "ok.toml").unwrap();
+    let e = bad(cam_model(r#"contact = "tangent""#));
+    assert!(e.help.as_deref().unwrap().contains("contact = \"exact\" | \"offset\""), "{e}");
+    let e = bad(cam_model(r#"wrap = "cw""#).replace("name = \"feed\"", "name = \"G1\"").replace("cam = \"feed\"", "cam = \"G1\""));
+    assert!(e.message.contains("not a valid, unique cam name"), "{e}");
+    // Guides facing each other through the shaft: a clear run-time error.
+    let facing = cam_model_at(r#"contact = "offset", gamma_deg = 0"#, 0.0);
+    let m = Model::from_toml_str(&facing, "facing.toml").unwrap();
+    let err = run_cycle(&m, &m.defaults(), &CycleOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("face each other through the shaft"), "{err}");
+}
+
+#[test]
+fn a_path_passes_each_guide_once() {
+    let e = Model::from_toml_str(&crank_eyelet(r#"["G1", "T", "G2", "T", "G1"]"#, ""), "twice.toml").unwrap_err();
+    assert!(e.message.contains("`T` appears twice in path `p`"), "{e}");
 }
 
 /// The seed 001 take-up lever agrees with its independent numpy reference:
