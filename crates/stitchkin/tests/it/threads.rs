@@ -471,3 +471,74 @@ fn takeup_lever_matches_the_independent_reference() {
     // P(φ0) = ΔP under the feed convention.
     assert!((t.column(&format!("{path}.P_mm")).unwrap()[0] - 6.0).abs() < 1e-12);
 }
+
+mod properties {
+    //! Invariants of random thread paths: an eyelet on a crank, a pin or
+    //! roller and fixed guides placed at random.
+    use super::*;
+    use proptest::prelude::*;
+
+    fn random_path() -> impl Strategy<Value = String> {
+        (-60.0..-20.0f64, -20.0..20.0f64, 20.0..60.0f64, -20.0..20.0f64, -15.0..15.0f64, -10.0..10.0f64, 0.0..3.0f64, any::<bool>(), -8.0..8.0f64)
+            .prop_map(|(g1x, g1y, g2x, g2y, px, py, r, cw, lift)| {
+                let wrap = if cw { "cw" } else { "ccw" };
+                format!(
+                    r#"[model]
+name = "random"
+[points]
+O = [0, 30]
+G1 = [{g1x}, {g1y}, {lift}]
+G2 = [{g2x}, {g2y}, 0]
+PIN = [{px}, {py}]
+[[drivers]]
+type = "crank"
+center = "O"
+out = "T"
+radius = 8
+[thread]
+[[thread.paths]]
+name = "p"
+nodes = ["G1", {{ pin = "PIN", axis = "z", wrap = "{wrap}", radius = {r} }}, "T", "G2"]
+"#
+                )
+            })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 48, .. ProptestConfig::default() })]
+
+        /// P(φ0) = 0, P periodic, ξ never shorter than the straight line
+        /// between the ends, continuous where the pin engages or releases,
+        /// and dP/dφ = finite differences of P away from the switches.
+        #[test]
+        fn random_paths_keep_the_thread_invariants(text in random_path()) {
+            // A pin inside the eyelet's reach is an impossible path: skip it.
+            let m = Model::from_toml_str(&text, "random.toml").unwrap();
+            let t = match run_cycle(&m, &m.defaults(), &CycleOptions { step_deg: 0.5, ..Default::default() }) {
+                Ok(t) => t,
+                Err(_) => return Err(TestCaseError::reject("guide inside the pin")),
+            };
+            let (xi, p, dp) = (t.column("p.xi_mm").unwrap(), t.column("p.P_mm").unwrap(), t.column("p.dP_dphi_mm_per_rad").unwrap());
+            let on = t.column("p.PIN_engaged").unwrap();
+            prop_assert_eq!(p[0], 0.0);
+            let n = xi.len();
+            let step = 0.5f64.to_radians();
+            let (g1, g2) = (m.point_names.iter().position(|x| x == "G1").unwrap(), m.point_names.iter().position(|x| x == "G2").unwrap());
+            let mech = m.mechanism::<f64>(&m.defaults()).unwrap();
+            let mut pose = mech.new_pose(1);
+            mech.solve(&[Phi::at_deg(0.0)], &mut pose).unwrap();
+            let ends = (pose.point(g2, 0) - pose.point(g1, 0)).norm();
+            for k in 0..n {
+                let next = (k + 1) % n;
+                prop_assert!(xi[k] >= ends - 1e-9);
+                // Continuity: ξ moves by at most its slope times the step.
+                let bound = (dp[k].abs() + dp[next].abs()) * step + 1e-6;
+                prop_assert!((xi[next] - xi[k]).abs() <= bound, "jump {} at k = {}", xi[next] - xi[k], k);
+                if on[k] == on[next] && on[k] == on[(k + n - 1) % n] {
+                    let fd = (p[next] - p[(k + n - 1) % n]) / (2.0 * step);
+                    prop_assert!((dp[k] - fd).abs() < 2e-3 * (1.0 + dp[k].abs()), "dP/dφ {} vs {}", dp[k], fd);
+                }
+            }
+        }
+    }
+}
