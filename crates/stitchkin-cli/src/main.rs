@@ -37,7 +37,8 @@ enum Command {
     /// velocities, link and transmission angles, measures.
     #[command(after_help = "Examples:\n  stitchkin run\n  \
         stitchkin run --preset needle876 --set alpha=35 --step 0.5 --rpm 3000\n  \
-        stitchkin run my-machine.toml --points G,E --format json -o out.json\n\n\
+        stitchkin run my-machine.toml --points G,E --format json -o out.json\n  \
+        stitchkin run --columns '*.P_mm,*.G4_*_engaged'\n\n\
         Columns carry their units: phi_deg, G.y_mm, G.dy_dphi_mm_per_rad, G.d2y_dphi2_mm_per_rad2,\n\
         G.vy_mm_per_s (with --rpm), angle_A_B_deg, mu_23_deg, needle_y_mm, ...\n\
         A summary (transmission angles, measure ranges, warnings) goes to stderr.")]
@@ -86,6 +87,10 @@ struct RunArgs {
     /// Points to tabulate, comma-separated (default: the model's output points).
     #[arg(long, value_delimiter = ',', value_name = "A,B,…")]
     points: Option<Vec<String>>,
+    /// Columns to print, comma-separated patterns where `*` matches anything
+    /// (e.g. `*.P_mm,mu_*`); phi_deg is always printed.
+    #[arg(long, value_delimiter = ',', value_name = "PATTERN,…")]
+    columns: Option<Vec<String>>,
     /// Positions only, without analogs.
     #[arg(long)]
     no_analogs: bool,
@@ -247,7 +252,10 @@ fn run(args: RunArgs) -> Result<(), Error> {
         analogs: !args.no_analogs,
         points,
     };
-    let table = eval::run_cycle(&model, &params, &opts)?;
+    let mut table = eval::run_cycle(&model, &params, &opts)?;
+    if let Some(patterns) = &args.columns {
+        table.select(patterns)?;
+    }
     let mut buf = Vec::new();
     match args.format {
         Format::Csv => output::write_csv(&table, &mut buf),

@@ -62,6 +62,17 @@ fn run_without_arguments_uses_the_default_preset() {
 }
 
 #[test]
+fn columns_can_be_selected_by_pattern() {
+    let (csv, _) = ok(&["run", "--step", "30", "--columns", "*.P_mm,mu_*"]);
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    assert_eq!(header[0], "phi_deg");
+    assert_eq!(header.iter().filter(|h| h.ends_with(".P_mm")).count(), 6);
+    assert!(header.iter().all(|h| *h == "phi_deg" || h.ends_with(".P_mm") || h.starts_with("mu_")), "{header:?}");
+    let e = fails(&["run", "--columns", "*.Q_mm"]);
+    assert!(e.contains("no column matches `*.Q_mm`"), "{e}");
+}
+
+#[test]
 fn compare_2d3d_reports_the_planar_error() {
     let (csv, summary) = ok(&["compare-2d3d", "--plane", "uvw", "--step", "10"]);
     let header = csv.lines().next().unwrap();

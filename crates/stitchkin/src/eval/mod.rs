@@ -116,12 +116,49 @@ pub struct CycleTable {
 }
 
 impl CycleTable {
+    /// Keeps `phi_deg` and the columns matching any of `patterns` (`*`
+    /// matches any run of characters: `*.P_mm`, `G.*`, `mu_*`). Errors when a
+    /// pattern matches nothing, listing what there is.
+    pub fn select(&mut self, patterns: &[String]) -> Result<(), Error> {
+        for p in patterns {
+            if !self.columns.iter().any(|c| glob_match(p, &c.name)) {
+                let names: Vec<&str> = self.columns.iter().map(|c| c.name.as_str()).take(12).collect();
+                return Err(Error::Param(crate::error::ParamError {
+                    message: format!("no column matches `{p}`"),
+                    help: Some(format!("columns are named like {} …; `*` matches any run of characters", names.join(", "))),
+                }));
+            }
+        }
+        self.columns.retain(|c| c.name == "phi_deg" || patterns.iter().any(|p| glob_match(p, &c.name)));
+        Ok(())
+    }
+
     pub fn rows(&self) -> usize {
         self.columns.first().map_or(0, |c| c.values.len())
     }
     pub fn column(&self, name: &str) -> Option<&[f64]> {
         self.columns.iter().find(|c| c.name == name).map(|c| c.values.as_slice())
     }
+}
+
+/// Whether `name` matches `pattern`, where `*` matches any run of characters.
+pub fn glob_match(pattern: &str, name: &str) -> bool {
+    let parts: Vec<&str> = pattern.split('*').collect();
+    if parts.len() == 1 {
+        return pattern == name;
+    }
+    let (first, last) = (parts[0], parts[parts.len() - 1]);
+    if !name.starts_with(first) || !name[first.len()..].ends_with(last) || name.len() < first.len() + last.len() {
+        return false;
+    }
+    let mut rest = &name[first.len()..name.len() - last.len()];
+    for mid in &parts[1..parts.len() - 1] {
+        match rest.find(mid) {
+            Some(i) => rest = &rest[i + mid.len()..],
+            None => return false,
+        }
+    }
+    true
 }
 
 /// φ reduced to [0, 360) degrees, for reporting where something happens.
@@ -459,6 +496,17 @@ fn extremes(vals: &[f64]) -> (usize, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn glob_patterns() {
+        assert!(glob_match("*.P_mm", "n1_A.P_mm"));
+        assert!(!glob_match("*.P_mm", "n1_A.dP_dphi_mm_per_rad"));
+        assert!(glob_match("G.*", "G.y_mm") && !glob_match("G.*", "GG.y_mm"));
+        assert!(glob_match("mu_*_deg", "mu_45_deg") && glob_match("*", "anything"));
+        assert!(glob_match("n*_A.*_engaged", "n2_A.G4_2_engaged"));
+        assert!(glob_match("phi_deg", "phi_deg") && !glob_match("phi", "phi_deg"));
+        assert!(!glob_match("a*a", "a"));
+    }
 
     #[test]
     fn phis_cover_one_cycle() {
