@@ -220,7 +220,8 @@ fn readme_examples_run() {
         }
         let cmd = line.split('#').next().unwrap().trim();
         if in_sh && cmd.starts_with("stitchkin ") {
-            let args: Vec<&str> = cmd.split_whitespace().skip(1).collect();
+            // Shell quoting (for patterns like '*.P_mm') is taken off, as a shell would.
+            let args: Vec<&str> = cmd.split_whitespace().skip(1).map(|a| a.trim_matches('\'')).collect();
             let out = run_in(&args, &d);
             assert!(out.status.success(), "README command failed: {cmd}\n{}", String::from_utf8_lossy(&out.stderr));
             ran += 1;
