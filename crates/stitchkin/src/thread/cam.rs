@@ -292,9 +292,8 @@ pub fn exact_contact<T: Real>(profile: &Profile, at: &CamPlacement<T>, p: V3<T>,
 
 /// Profile point and its θ-derivative at a dual angle.
 fn point_t<T: Real>(profile: &Profile, th: T) -> (V2<T>, V2<T>) {
-    // c(θ) = ρ(θ)(cos θ, sin θ); c'(θ) = ρ'(cos, sin) + ρ(−sin, cos), with
-    // ρ' by a dual number nested inside T's arithmetic: differentiate the
-    // spline or disc formula numerically-exactly via a first-order step.
+    // c(θ) = ρ(θ)(cos θ, sin θ); c'(θ) = ρ'(cos, sin) + ρ(−sin, cos), with ρ'
+    // from the profile's closed form (`rho_prime`).
     let rho = profile.rho(th);
     let rho1 = rho_prime(profile, th);
     let (s, c) = th.sin_cos();
