@@ -55,6 +55,13 @@ enum Command {
         Columns: phi_deg, then per path PATH.P3D_mm, PATH.P2D_mm, PATH.dP_mm. The largest |ΔP| per path goes to stderr."
     )]
     Compare2d3d(CompareArgs),
+    /// Thread consumed by one finished stitch, per thread, from the stitch's
+    /// geometry (seed 004 §2.6; docs/stitch-formation.md §6).
+    #[command(after_help = "Examples:\n  stitchkin consumption --type 504 --thickness 2.5 --stitch 2.8 --width 4 --incline 20\n  \
+        stitchkin consumption --type 407 --thickness 3 --stitch 3 --format json\n\n\
+        Types: 401, 406, 407 and 501–512, 514, 521. Contours whose drawings are lost in the thesis\n\
+        are reported as not derivable, never guessed.")]
+    Consumption(ConsumptionArgs),
     /// Print the JSON Schema of the model file format.
     #[command(after_help = "Example:\n  stitchkin schema > stitchkin-model.schema.json")]
     Schema,
@@ -131,6 +138,38 @@ struct CompareArgs {
     /// Write to FILE instead of stdout (written completely or not at all).
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct ConsumptionArgs {
+    /// Stitch type (ISO 4915 number), e.g. 504.
+    #[arg(long = "type", value_name = "N")]
+    stitch_type: u16,
+    /// Material thickness m (compressed), mm.
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    thickness: f64,
+    /// Stitch length t, mm.
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    stitch: f64,
+    /// Overedge width a (class 500), mm; required for class-500 types.
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
+    width: Option<f64>,
+    /// Needle inclination β from the normal to the material, degrees.
+    #[arg(long, default_value_t = 0.0, value_name = "DEG", allow_negative_numbers = true)]
+    incline: f64,
+    /// Where the looper threads meet on the edge, as a fraction of m.
+    #[arg(long, default_value_t = 0.5, value_name = "E", allow_negative_numbers = true)]
+    edge: f64,
+    /// Output format: a readable table, CSV or JSON.
+    #[arg(long, value_enum, default_value_t = TableFormat::Table)]
+    format: TableFormat,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TableFormat {
+    Table,
+    Csv,
+    Json,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -419,6 +458,53 @@ fn compare(args: CompareArgs) -> Result<(), Error> {
     Ok(())
 }
 
+fn consumption(args: ConsumptionArgs) -> Result<(), Error> {
+    use stitchkin::stitch::consumption::{StitchGeometry, consumption};
+    let width = match (args.width, args.stitch_type) {
+        (Some(w), _) => w,
+        (None, 500..=599) => {
+            return Err(Error::Param(stitchkin::error::ParamError {
+                message: format!("stitch type {} needs the overedge width", args.stitch_type),
+                help: Some("give --width in mm, e.g. --width 4".into()),
+            }));
+        }
+        (None, _) => 0.0,
+    };
+    let g = StitchGeometry { thickness_mm: args.thickness, stitch_mm: args.stitch, width_mm: width, incline_deg: args.incline, edge_fraction: args.edge };
+    let c = consumption(args.stitch_type, &g)?;
+    let len = |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{x:.4}"));
+    let out = match args.format {
+        TableFormat::Json => serde_json::to_string_pretty(&c).map_err(|e| Error::Io(e.to_string()))? + "\n",
+        TableFormat::Csv => {
+            let mut s = String::from("thread,contour,formula,length_mm\n");
+            for t in &c.threads {
+                let contour = t.contour.map_or(String::new(), |n| n.to_string());
+                let value = t.length_mm.map_or(String::new(), output::fmt_num);
+                s += &format!("{},{contour},\"{}\",{value}\n", t.thread, t.formula);
+            }
+            s
+        }
+        TableFormat::Table => {
+            let mut s = format!(
+                "stitch {}: m = {} mm, t = {} mm, a = {} mm, β = {}°, e = {}\n",
+                c.stitch_type, g.thickness_mm, g.stitch_mm, g.width_mm, g.incline_deg, g.edge_fraction
+            );
+            s += &format!("l_m = m/cos β = {:.4} mm, l = √(a² + t²) = {:.4} mm\n\n", c.l_m_mm, c.l_mm);
+            s += &format!("{:<14} {:>7}  {:>12}  formula\n", "thread", "contour", "mm/stitch");
+            for t in &c.threads {
+                let contour = t.contour.map_or("—".to_string(), |n| n.to_string());
+                s += &format!("{:<14} {:>7}  {:>12}  {}\n", t.thread, contour, len(t.length_mm), t.formula);
+            }
+            s += &format!("{:<14} {:>7}  {:>12}\n", "total", "", len(c.total_mm));
+            if c.total_mm.is_none() {
+                s += "(no total: a thread's contour is not derivable from the seeds)\n";
+            }
+            s
+        }
+    };
+    emit(out.as_bytes(), None)
+}
+
 fn main() -> miette::Result<()> {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -437,6 +523,7 @@ fn main() -> miette::Result<()> {
         Command::Run(args) => run(args),
         Command::Check(args) => check(args),
         Command::Compare2d3d(args) => compare(args),
+        Command::Consumption(args) => consumption(args),
         Command::Schema => emit(stitchkin::model::schema_json().as_bytes(), None),
     };
     result.map_err(report)

@@ -73,6 +73,23 @@ fn columns_can_be_selected_by_pattern() {
 }
 
 #[test]
+fn consumption_prints_the_thread_per_stitch() {
+    let (out, _) = ok(&["consumption", "--type", "504", "--thickness", "2.5", "--stitch", "2.8", "--width", "4", "--incline", "20"]);
+    assert!(out.contains("upper looper") && out.contains("30.8861"), "{out}");
+    let (csv, _) = ok(&["consumption", "--type", "407", "--thickness", "3", "--stitch", "3", "--format", "csv"]);
+    assert!(csv.starts_with("thread,contour,formula,length_mm") && csv.contains("needle 3,,\"t + 2·l_m\",9"), "{csv}");
+    let (json, _) = ok(&["consumption", "--type", "503", "--thickness", "2.5", "--stitch", "2.8", "--width", "4", "--incline", "20", "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!((v["total_mm"].as_f64().unwrap() - 30.0035111).abs() < 1e-6);
+    let e = fails(&["consumption", "--type", "504", "--thickness", "2.5", "--stitch", "2.8"]);
+    assert!(e.contains("needs the overedge width"), "{e}");
+    let e = fails(&["consumption", "--type", "999", "--thickness", "2.5", "--stitch", "2.8", "--width", "4"]);
+    assert!(e.contains("not covered") && e.contains("501"), "{e}");
+    let e = fails(&["consumption", "--type", "504", "--thickness", "2.5", "--stitch", "-1", "--width", "4"]);
+    assert!(e.contains("stitch length"), "{e}");
+}
+
+#[test]
 fn compare_2d3d_reports_the_planar_error() {
     let (csv, summary) = ok(&["compare-2d3d", "--plane", "uvw", "--step", "10"]);
     let header = csv.lines().next().unwrap();
@@ -189,7 +206,7 @@ fn a_failed_run_leaves_no_output_file() {
 
 #[test]
 fn every_subcommand_has_help_with_an_example() {
-    for sub in [vec!["--help"], vec!["run", "--help"], vec!["check", "--help"], vec!["presets", "--help"], vec!["schema", "--help"]] {
+    for sub in [vec!["--help"], vec!["run", "--help"], vec!["check", "--help"], vec!["presets", "--help"], vec!["schema", "--help"], vec!["compare-2d3d", "--help"], vec!["consumption", "--help"]] {
         let (out, _) = ok(&sub);
         assert!(out.contains("Example"), "{sub:?}:\n{out}");
     }

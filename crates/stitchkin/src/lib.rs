@@ -25,6 +25,7 @@ pub mod model;
 pub mod output;
 pub mod presets;
 pub mod scalar;
+pub mod stitch;
 pub mod study;
 pub mod thread;
 pub mod verify;

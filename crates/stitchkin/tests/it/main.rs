@@ -9,3 +9,4 @@ mod invariants;
 mod loading;
 mod presets;
 mod threads;
+mod stitch;
