@@ -5,7 +5,7 @@
 //! them. Nothing here is checked beyond its TOML shape; [`super::load`] turns
 //! a [`ModelFile`] into a validated, compiled [`super::Model`].
 
-use std::collections::BTreeMap;
+use indexmap::IndexMap;
 
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -26,16 +26,16 @@ pub enum Value {
 pub struct ModelFile {
     /// What machine this is and where the cycle starts.
     pub model: ModelInfo,
-    /// Named parameters: dimensions, angles and settings. Keys are names
-    /// usable in expressions (`[A-Za-z_][A-Za-z0-9_]*`).
+    /// Named parameters: dimensions, angles and settings, kept in file
+    /// order. Keys are names usable in expressions (`[A-Za-z_][A-Za-z0-9_]*`).
     #[serde(default)]
-    pub parameters: BTreeMap<String, Parameter>,
+    pub parameters: IndexMap<String, Parameter>,
     /// Named fixed coordinate frames (besides `world`).
     #[serde(default)]
-    pub frames: BTreeMap<String, Frame>,
+    pub frames: IndexMap<String, Frame>,
     /// Named fixed points (frame pivots, guide points, …).
     #[serde(default)]
-    pub points: BTreeMap<String, FixedPoint>,
+    pub points: IndexMap<String, FixedPoint>,
     /// Cranks and eccentrics on the main shaft (class I mechanisms).
     #[serde(default)]
     pub drivers: Vec<Driver>,
@@ -445,7 +445,7 @@ pub enum Group {
         name: String,
         /// Unknown points and their positions at φ start (the guess that
         /// picks the assembly), mm, in `plane` (2 coordinates) or world (3).
-        unknowns: BTreeMap<String, Vec<Value>>,
+        unknowns: IndexMap<String, Vec<Value>>,
         constraints: Vec<Constraint>,
         /// Frame whose xy-plane holds a planar group; omit for spatial.
         #[serde(default)]
