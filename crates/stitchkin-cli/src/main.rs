@@ -407,6 +407,23 @@ fn check(args: CheckArgs) -> Result<(), Error> {
     for (k, l) in model.step_labels().iter().enumerate() {
         out += &format!("  {:>2}. {l}\n", k + 1);
     }
+    if let Some(threads) = &model.mechanism::<f64>(&params)?.threads {
+        out += &format!("thread paths ({}), {} distinct pieces:\n", threads.paths.len(), threads.spans.len());
+        for p in &threads.paths {
+            let nodes: Vec<String> = p
+                .node_names
+                .iter()
+                .zip(&p.pin_span)
+                .map(|(n, guide)| if guide.is_some() { format!("[{n}]") } else { n.clone() })
+                .collect();
+            let constant = p
+                .spans
+                .iter()
+                .filter(|&&s| matches!(threads.spans[s], stitchkin::thread::Span::Straight { constant: true, .. }))
+                .count();
+            out += &format!("  {:<10} {}  ({} pieces, {constant} of constant length)\n", p.name, nodes.join(" "), p.spans.len());
+        }
+    }
     out += &format!("assembles at every φ from {}° in steps of {}°\n", model.phi_start_deg(), args.step);
     out += &summary(&model, &table);
     if args.cross_check {

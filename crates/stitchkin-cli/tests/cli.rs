@@ -118,6 +118,9 @@ fn every_preset_runs_as_csv_and_json_and_checks() {
         assert!(v["transmission"].is_array() && v["parameters"].is_array());
         let (check, _) = ok(&["check", "--preset", p, "--cross-check", "--step", "10"]);
         assert!(check.contains("ok —") && check.contains("cross-check: 36 positions"), "{check}");
+        if *p == "mf7923d" {
+            assert!(check.contains("thread paths (6)") && check.contains("[G4_1]"), "{check}");
+        }
     }
 }
 
