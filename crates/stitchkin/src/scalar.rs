@@ -117,18 +117,7 @@ impl Real for Dual64 {
     }
 }
 
-/// First and second derivatives of a `Dual2_64` value: (value, d/dφ, d²/dφ²).
-#[inline]
-pub fn parts(x: Dual2_64) -> [f64; 3] {
-    [x.re, x.v1, x.v2]
-}
 
-#[inline]
-pub fn phi_dual(phi_rad: f64) -> Dual2_64 {
-    Dual2_64::new(phi_rad, 1.0, 0.0)
-}
-
-/// The independent variable φ (rad) as a second-order dual number.
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -685,9 +685,8 @@ impl<'a> Loader<'a> {
                             };
                             let h = self.point(through, &cp.key("through"))?;
                             let t = self.point(toward, &cp.key("toward"))?;
-                            for (n, q) in [(through, h), (toward, t)] {
+                            for n in [through, toward] {
                                 if local.contains_key(n.as_str()) {
-                                    let _ = q;
                                     return Err(self.err(&cp, format!("the line's points must be solved before this group, but `{n}` is one of its unknowns"), Some("define the line by points solved earlier".into())));
                                 }
                             }

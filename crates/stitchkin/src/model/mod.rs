@@ -722,7 +722,7 @@ impl Model {
                             if e.abs() >= r {
                                 return Err(self.error_at(&c.path.key("disc"), format!("the disc's eccentricity {e} mm must be smaller than its radius {r} mm"), Some("the shaft must lie inside the disc".into())));
                             }
-                            crate::thread::cam::Profile::Eccentric { r, e }
+                            crate::thread::cam::Profile::disc(r, e)
                         }
                         ProfileDef::Polar { theta, rho } => crate::thread::cam::Profile::spline(theta, rho),
                     };

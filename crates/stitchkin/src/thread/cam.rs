@@ -19,9 +19,9 @@ use nalgebra::ComplexField;
 use crate::geometry::{V2, V3};
 use crate::scalar::Real;
 
-/// A polar profile ρ(θ), θ in radians in the cam's own frame.
+/// The shape of a polar profile ρ(θ), θ in radians in the cam's own frame.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Profile {
+pub enum Shape {
     /// A disc of radius `r` whose centre is `e` from the shaft along θ = 0:
     /// `ρ(θ) = e cos θ + √(r² − e² sin² θ)`.
     Eccentric { r: f64, e: f64 },
@@ -29,7 +29,32 @@ pub enum Profile {
     Spline { theta: Vec<f64>, coef: Vec<[f64; 4]> },
 }
 
+/// A cam profile with its points sampled once (the starting guesses of the
+/// exact contact), so nothing is recomputed per φ.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Profile {
+    pub shape: Shape,
+    /// (θ, point) every degree.
+    samples: Vec<(f64, V2<f64>)>,
+}
+
 impl Profile {
+    fn new(shape: Shape) -> Profile {
+        let mut p = Profile { shape, samples: Vec::new() };
+        p.samples = (0..N_SAMPLES)
+            .map(|k| {
+                let th = k as f64 * std::f64::consts::TAU / N_SAMPLES as f64;
+                (th, p.point_f64(th).0)
+            })
+            .collect();
+        p
+    }
+
+    /// A disc of radius `r` set `e` off the shaft toward θ = 0.
+    pub fn disc(r: f64, e: f64) -> Profile {
+        Profile::new(Shape::Eccentric { r, e })
+    }
+
     /// A periodic cubic spline through the points (θ in rad, strictly
     /// increasing within one turn; ρ in mm).
     pub fn spline(theta: &[f64], rho: &[f64]) -> Profile {
@@ -62,17 +87,17 @@ impl Profile {
                 [y(i), c1, m0 / 2.0, (m1 - m0) / (6.0 * hi)]
             })
             .collect();
-        Profile::Spline { theta: theta.to_vec(), coef }
+        Profile::new(Shape::Spline { theta: theta.to_vec(), coef })
     }
 
     /// ρ(θ), generic so θ may carry derivatives.
     pub fn rho<T: Real>(&self, theta: T) -> T {
-        match self {
-            Profile::Eccentric { r, e } => {
+        match &self.shape {
+            Shape::Eccentric { r, e } => {
                 let (s, c) = theta.sin_cos();
                 c * T::cst(*e) + (T::cst(r * r) - s * s * T::cst(e * e)).sqrt()
             }
-            Profile::Spline { theta: knots, coef } => {
+            Shape::Spline { theta: knots, coef } => {
                 let tau = std::f64::consts::TAU;
                 let n = knots.len();
                 // Reduce θ into the turn that starts at the first knot.
@@ -186,6 +211,9 @@ pub fn offset_contact<T: Real>(profile: &Profile, at: &CamPlacement<T>, p: V3<T>
     Some(CamContact { length: (a - p).norm() + (q - a).norm(), engaged: true, wrap_rad: turn, touch: Some([ar, ar]) })
 }
 
+/// Profile samples per turn.
+const N_SAMPLES: usize = 360;
+
 /// The exact taut-thread wrap over a convex profile from `p` to `q`,
 /// turning in the sense `s` about the shaft axis (`+1` counter-clockwise,
 /// i.e. the cam on the thread's left). Free when the straight thread misses
@@ -202,13 +230,7 @@ pub fn exact_contact<T: Real>(profile: &Profile, at: &CamPlacement<T>, p: V3<T>,
     }
     // Does the straight thread keep the whole profile on its `s` side?
     let d = qr - pr;
-    const N: usize = 360;
-    let samples: Vec<(f64, V2<f64>)> = (0..N)
-        .map(|k| {
-            let th = k as f64 * std::f64::consts::TAU / N as f64;
-            (th, profile.point_f64(th).0)
-        })
-        .collect();
+    let samples = &profile.samples;
     let side = |pt: V2<f64>| s * (d.x * (pt.y - pr.y) - d.y * (pt.x - pr.x));
     let min_side = samples.iter().map(|(_, pt)| side(*pt)).fold(f64::MAX, f64::min);
     if min_side >= 0.0 {
@@ -302,13 +324,13 @@ fn point_t<T: Real>(profile: &Profile, th: T) -> (V2<T>, V2<T>) {
 
 /// ρ'(θ) for a dual θ, from the profile's closed form.
 fn rho_prime<T: Real>(profile: &Profile, th: T) -> T {
-    match profile {
-        Profile::Eccentric { r, e } => {
+    match &profile.shape {
+        Shape::Eccentric { r, e } => {
             let (s, c) = th.sin_cos();
             let root = (T::cst(r * r) - s * s * T::cst(e * e)).sqrt();
             -s * T::cst(*e) - s * c * T::cst(e * e) / root
         }
-        Profile::Spline { theta: knots, coef } => {
+        Shape::Spline { theta: knots, coef } => {
             let tau = std::f64::consts::TAU;
             let n = knots.len();
             let turns = ((th.re() - knots[0]) / tau).floor();
@@ -351,7 +373,7 @@ mod tests {
 
     #[test]
     fn eccentric_disc_radius() {
-        let p = Profile::Eccentric { r: 10.0, e: 3.0 };
+        let p = Profile::disc(10.0, 3.0);
         assert_relative_eq!(p.rho(0.0), 13.0, epsilon = 1e-12);
         assert_relative_eq!(p.rho(std::f64::consts::PI), 7.0, epsilon = 1e-12);
         assert_relative_eq!(p.rho(std::f64::consts::FRAC_PI_2), (100.0f64 - 9.0).sqrt(), epsilon = 1e-12);
@@ -376,7 +398,7 @@ mod tests {
     fn exact_wrap_around_a_centred_disc_is_the_roller_formula() {
         // A disc of radius 5 centred on the shaft: the cam's turning does not
         // matter, and the wrap equals a roller's (tangents plus arc).
-        let prof = Profile::Eccentric { r: 5.0, e: 0.0 };
+        let prof = Profile::disc(5.0, 0.0);
         let (p, q) = (V3::new(-20.0, -5.0, 0.0), V3::new(-20.0, 5.0, 0.0));
         for angle in [0.0, 1.0, 2.5] {
             let c = exact_contact(&prof, &at(angle), p, q, 1.0).unwrap();
@@ -394,7 +416,7 @@ mod tests {
     fn exact_wrap_around_an_eccentric_disc() {
         // A disc of radius 6 whose centre sits 2 mm from the shaft at angle
         // `a`: the wrap equals a roller's around the disc's own centre.
-        let prof = Profile::Eccentric { r: 6.0, e: 2.0 };
+        let prof = Profile::disc(6.0, 2.0);
         let (p, q) = (V3::new(-30.0, -4.0, 0.0), V3::new(25.0, -9.0, 3.0));
         for a in [0.0f64, 0.7, 2.0, 4.0] {
             let disc = V3::new(2.0 * a.cos(), 2.0 * a.sin(), 0.0);
@@ -409,7 +431,7 @@ mod tests {
     fn exact_wrap_analogs_are_derivatives() {
         use num_dual::Dual2_64;
         // The disc turning with φ; its analogs against central differences.
-        let prof = Profile::Eccentric { r: 6.0, e: 2.0 };
+        let prof = Profile::disc(6.0, 2.0);
         let len = |phi: Dual2_64| {
             let at = CamPlacement {
                 center: V3::zeros(),
@@ -432,7 +454,7 @@ mod tests {
 
     #[test]
     fn offset_model_with_symmetric_guides_is_twice_the_distance() {
-        let prof = Profile::Eccentric { r: 10.0, e: 3.0 };
+        let prof = Profile::disc(10.0, 3.0);
         let o2 = V3::new(-20.0, 30.0, 0.0);
         let o2s = V3::new(20.0, 30.0, 0.0);
         // Facing the guides (+y), turned by γ = 0.5 rad.

@@ -302,12 +302,6 @@ impl<T: Real> Threads<T> {
         }
         theta
     }
-
-    /// Thread tension after each node of `path` at the `k`-th φ by the
-    /// capstan law ([`capstan`]) with the angles of [`Self::wrap_angles`].
-    pub fn tension(&self, path: &ThreadPath, pose: &Pose<T>, k: usize, t0: f64) -> Vec<f64> {
-        capstan(&self.wrap_angles(path, pose, k), &path.friction, t0)
-    }
 }
 
 /// Tension after each node by the capstan (Euler–Eytelwein) law with

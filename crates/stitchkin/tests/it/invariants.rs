@@ -9,7 +9,7 @@ use stitchkin::eval::{CycleOptions, run_cycle};
 use stitchkin::geometry::V3;
 use stitchkin::mechanism::{Mechanism, Phi};
 use stitchkin::model::Model;
-use stitchkin::scalar::phi_dual;
+use stitchkin::scalar::Real;
 
 use crate::mechgen::{self, Generated};
 
@@ -51,7 +51,7 @@ fn check_analogs(g: &Generated) -> Result<(), TestCaseError> {
     for k in 0..24 {
         let phi = (k as f64 * 15.0 + 7.0).to_radians();
         let mut pose = exact.new_pose(1);
-        exact.solve(&[Phi::new(phi_dual(phi))], &mut pose).unwrap();
+        exact.solve(&[Phi::new(Dual2_64::var(phi))], &mut pose).unwrap();
         let (pm, p0, pp) = (positions(&plain, phi - h), positions(&plain, phi), positions(&plain, phi + h));
         for s in 0..exact.n_points() {
             for c in 0..3 {
