@@ -121,13 +121,8 @@ fn residuals(mech: &Mechanism<f64>, lay: &Layout, phi: f64, x: &DVector<f64>, ou
                     Some(t) => (pt(*t) - h).normalize(),
                     None => *dir,
                 };
-                let w = pt(*p) - h;
-                let across = w - u * w.dot(&u);
-                // Two components of the offset from the line, in a basis fixed by u.
-                let e = if u.x.abs() < 0.9 { V3::x() } else { V3::y() };
-                let n1 = u.cross(&e).normalize();
-                let n2 = u.cross(&n1);
-                out.extend([across.dot(&n1), across.dot(&n2), (pt(*p) - pt(*from)).norm() - l]);
+                let [o1, o2] = off_line(u, pt(*p) - h);
+                out.extend([o1, o2, (pt(*p) - pt(*from)).norm() - l]);
             }
             Step::Rigid { base, dc, ds, lift, plane, out: o } => {
                 let (a, _) = in_plane(plane, &pt(base[0]));
@@ -178,11 +173,7 @@ fn residuals(mech: &Mechanism<f64>, lay: &Layout, phi: f64, x: &DVector<f64>, ou
                             } else {
                                 let (h, t) = (pt(*h), pt(*t));
                                 let u = (t - h).normalize();
-                                let w = q - h;
-                                let across = w - u * w.dot(&u);
-                                let e = if u.x.abs() < 0.9 { V3::x() } else { V3::y() };
-                                let n1 = u.cross(&e).normalize();
-                                out.extend([across.dot(&n1), across.dot(&u.cross(&n1))]);
+                                out.extend(off_line(u, q - h));
                             }
                         }
                     }
@@ -195,6 +186,16 @@ fn residuals(mech: &Mechanism<f64>, lay: &Layout, phi: f64, x: &DVector<f64>, ou
             }
         }
     }
+}
+
+/// The two components, across the unit direction `u`, of the offset `w` of a
+/// point from a line (both zero when the point is on it), in a basis fixed
+/// by `u`.
+fn off_line(u: V3<f64>, w: V3<f64>) -> [f64; 2] {
+    let across = w - u * w.dot(&u);
+    let e = if u.x.abs() < 0.9 { V3::x() } else { V3::y() };
+    let n1 = u.cross(&e).normalize();
+    [across.dot(&n1), across.dot(&u.cross(&n1))]
 }
 
 /// Newton on the whole system from `x`; returns the final residual norm.

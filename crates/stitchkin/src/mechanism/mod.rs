@@ -264,7 +264,7 @@ impl<T: Real> Mechanism<T> {
                     match toward.map(tr) {
                         Some(t) => with_plane!(plane, pl => each(&mut o, |k| {
                             let hk = pl.project(&h[k]);
-                            let u = unit2(pl.project(&t[k]) - hk)?;
+                            let u = unit(pl.project(&t[k]) - hk)?;
                             line::point_on_line(hk + perp(u) * *offset, u, pl.project(&a[k]), l_sq, *sign)
                                 .map(|q| pl.lift(q, T::zero()))
                         })),
@@ -296,7 +296,7 @@ impl<T: Real> Mechanism<T> {
                     let l_sq = *l * *l;
                     each(&mut o, |k| {
                         let u = match t {
-                            Some(t) => unit3(t[k] - h[k])?,
+                            Some(t) => unit(t[k] - h[k])?,
                             None => *dir,
                         };
                         line::point_on_line(h[k], u, a[k], l_sq, *sign)
@@ -348,7 +348,7 @@ impl<T: Real> Mechanism<T> {
                 }
                 Step::Rrp { from, through, toward, dir, plane, out: g, .. } => {
                     let h = plane.project(&p[*through]);
-                    let u = toward.map_or(*dir, |t| unit2(plane.project(&p[t]) - h).unwrap_or(*dir));
+                    let u = toward.map_or(*dir, |t| unit(plane.project(&p[t]) - h).unwrap_or(*dir));
                     out.push(line::transmission(u, plane.project(&p[*from]), plane.project(&p[*g])));
                 }
                 Step::Rpr { from, pivot, e, plane, .. } => {
@@ -356,7 +356,7 @@ impl<T: Real> Mechanism<T> {
                 }
                 Step::Rssr { from, rocker, out: b, .. } => out.push(rssr::transmission(rocker, p[*from], p[*b])),
                 Step::PointOnLine { from, through, toward, dir, out: q, .. } => {
-                    let u = toward.map_or(*dir, |t| unit3(p[t] - p[*through]).unwrap_or(*dir));
+                    let u = toward.map_or(*dir, |t| unit(p[t] - p[*through]).unwrap_or(*dir));
                     out.push(line::transmission(u, p[*from], p[*q]));
                 }
                 _ => {}
@@ -406,11 +406,11 @@ impl<T: Real> Mechanism<T> {
                 MeasureStep::LineDeviation { p: q, h, t, plane } => match plane {
                     Some(pl) => {
                         let (h, t, q) = (pl.project(&p[*h]), pl.project(&p[*t]), pl.project(&p[*q]));
-                        let u = unit2(t - h).unwrap_or(V2::x());
+                        let u = unit(t - h).unwrap_or(V2::x());
                         crate::geometry::cross2(u, q - h)
                     }
                     None => {
-                        let u = unit3(p[*t] - p[*h]).unwrap_or(V3::x());
+                        let u = unit(p[*t] - p[*h]).unwrap_or(V3::x());
                         crate::geometry::norm_or_zero((p[*q] - p[*h]).cross(&u))
                     }
                 },
@@ -433,15 +433,8 @@ impl<T: Real> Mechanism<T> {
     }
 }
 
-fn unit2<T: Real>(d: V2<T>) -> Result<V2<T>, NoAssembly> {
-    let n = d.norm();
-    if n.re() <= 0.0 {
-        return Err(NoAssembly::coincident("the two points that define the guide line"));
-    }
-    Ok(d / n)
-}
-
-fn unit3<T: Real>(d: V3<T>) -> Result<V3<T>, NoAssembly> {
+/// Unit direction of a guide line given by the difference `d` of its points.
+fn unit<T: Real, const D: usize>(d: nalgebra::SVector<T, D>) -> Result<nalgebra::SVector<T, D>, NoAssembly> {
     let n = d.norm();
     if n.re() <= 0.0 {
         return Err(NoAssembly::coincident("the two points that define the guide line"));
