@@ -124,7 +124,7 @@ fn residuals(mech: &Mechanism<f64>, lay: &Layout, phi: f64, x: &DVector<f64>, ou
                 let [o1, o2] = off_line(u, pt(*p) - h);
                 out.extend([o1, o2, (pt(*p) - pt(*from)).norm() - l]);
             }
-            Step::Rigid { base, dc, ds, lift, plane, out: o } => {
+            Step::Rigid { base, dc, ds, lift, plane, out: o, .. } => {
                 let (a, _) = in_plane(plane, &pt(base[0]));
                 let (b, _) = in_plane(plane, &pt(base[1]));
                 let (q, h) = in_plane(plane, &pt(*o));

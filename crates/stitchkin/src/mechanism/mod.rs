@@ -79,7 +79,10 @@ pub enum Step<T: Real> {
     /// Spatial point on the line through `through` (toward `toward`, or along
     /// the fixed unit direction `dir`).
     PointOnLine { from: usize, through: usize, toward: Option<usize>, dir: V3<T>, l: T, sign: f64, out: usize },
-    Rigid { base: [usize; 2], dc: T, ds: T, lift: T, plane: Plane<T>, out: usize },
+    /// Rigid point `dc`, `ds` along and left of `base[0] → base[1]`;
+    /// `base_len` is that link's length when a group fixes it (the point
+    /// then needs no square root).
+    Rigid { base: [usize; 2], dc: T, ds: T, base_len: Option<T>, lift: T, plane: Plane<T>, out: usize },
     Rigid3 { frame: [usize; 3], at: V3<T>, out: usize },
     /// `out = from + by`: a point on the translating body of `from`.
     Offset { from: usize, by: V3<T>, out: usize },
@@ -302,11 +305,20 @@ impl<T: Real> Mechanism<T> {
                         line::point_on_line(h[k], u, a[k], l_sq, *sign)
                     })
                 }
-                Step::Rigid { base, dc, ds, lift, plane, .. } => {
+                Step::Rigid { base, dc, ds, base_len, lift, plane, .. } => {
                     let (a, b) = (tr(base[0]), tr(base[1]));
-                    with_plane!(plane, pl => each(&mut o, |k| {
-                        rigid::rigid_point(pl.project(&a[k]), pl.project(&b[k]), *dc, *ds).map(|q| pl.lift(q, *lift))
-                    }))
+                    match base_len {
+                        Some(l) => {
+                            let (dcl, dsl) = (*dc / *l, *ds / *l);
+                            with_plane!(plane, pl => each(&mut o, |k| {
+                                let ak = pl.project(&a[k]);
+                                Ok(pl.lift(rigid::rigid_point_on_link(ak, pl.project(&b[k]), dcl, dsl), *lift))
+                            }))
+                        }
+                        None => with_plane!(plane, pl => each(&mut o, |k| {
+                            rigid::rigid_point(pl.project(&a[k]), pl.project(&b[k]), *dc, *ds).map(|q| pl.lift(q, *lift))
+                        })),
+                    }
                 }
                 Step::Rigid3 { frame, at, .. } => {
                     let (f0, f1, f2) = (tr(frame[0]), tr(frame[1]), tr(frame[2]));

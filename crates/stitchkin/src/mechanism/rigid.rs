@@ -18,6 +18,14 @@ pub fn rigid_point<T: Real>(a: V2<T>, b: V2<T>, dc: T, ds: T) -> Result<V2<T>, N
     Ok(a + (e.map(|x| x.times_k(dc)) + perp(e).map(|x| x.times_k(ds))) * inv)
 }
 
+/// [`rigid_point`] on a link of known length `l = |b − a|`, with
+/// `dcl = d cos γ / l`, `dsl = d sin γ / l`: `P = a + dcl·(b − a) + dsl·perp(b − a)`.
+#[inline(always)]
+pub fn rigid_point_on_link<T: Real>(a: V2<T>, b: V2<T>, dcl: T, dsl: T) -> V2<T> {
+    let e = b - a;
+    a + e.map(|x| x.times_k(dcl)) + perp(e).map(|x| x.times_k(dsl))
+}
+
 /// Spatial rigid point at local coordinates `p` in the frame with origin
 /// `o`, `e1` toward `x`, `e3 = e1 × (y − o)` normalised and `e2 = e3 × e1`.
 #[inline(always)]
@@ -49,6 +57,9 @@ mod tests {
         let p = rigid_point(V2::new(1.0, 1.0), V2::new(1.0, 11.0), d * g.cos(), d * g.sin()).unwrap();
         // link along +y, 30° counter-clockwise from it points to (−sin30, cos30).
         assert_relative_eq!(p, V2::new(1.0 - 10.0, 1.0 + 20.0 * g.cos()), epsilon = 1e-12);
+        // The same point with the link's length (10) known.
+        let q = rigid_point_on_link(V2::new(1.0, 1.0), V2::new(1.0, 11.0), d * g.cos() / 10.0, d * g.sin() / 10.0);
+        assert_relative_eq!(q, p, epsilon = 1e-12);
     }
 
     #[test]

@@ -623,7 +623,19 @@ impl Model {
             .collect();
         let fixed_at = |slot: usize| fixed.iter().find(|(i, _)| *i == slot).map(|(_, p)| *p).unwrap_or_else(V3::zeros);
         let mut steps = Vec::with_capacity(self.steps.len());
+        // In-plane distances fixed by a link: (point, point, plane) → length.
+        // A rigid point on such a link needs no square root per position.
+        let mut links: Vec<([usize; 2], usize, T)> = Vec::new();
+        let link = |a: usize, b: usize| [a.min(b), a.max(b)];
         for s in &self.steps {
+            match s {
+                StepDef::Rrr { p1, p2, l1, l2, plane: pl, out, .. } => {
+                    links.push((link(*p1, *out), *pl, q[*l1]));
+                    links.push((link(*p2, *out), *pl, q[*l2]));
+                }
+                StepDef::Rrp { from, l, plane: pl, out, .. } => links.push((link(*from, *out), *pl, q[*l])),
+                _ => {}
+            }
             steps.push(match s {
                 StepDef::Crank { center, out, frame, axis, zero_dir, radius, phase, speed } => {
                     let (u, v, _) = basis(axis, zero_dir, *frame)?;
@@ -665,7 +677,9 @@ impl Model {
                 }
                 StepDef::Rigid { base, d, angle, lift, plane: pl, out } => {
                     let (s, c) = (q[*angle] * deg).sin_cos();
-                    Step::Rigid { base: *base, dc: q[*d] * c, ds: q[*d] * s, lift: q[*lift], plane: plane(*pl), out: *out }
+                    let base_len =
+                        links.iter().find(|(ab, p, l)| *ab == link(base[0], base[1]) && p == pl && l.re() > 0.0).map(|(_, _, l)| *l);
+                    Step::Rigid { base: *base, dc: q[*d] * c, ds: q[*d] * s, base_len, lift: q[*lift], plane: plane(*pl), out: *out }
                 }
                 StepDef::Rigid3 { frame, at, out } => {
                     Step::Rigid3 { frame: *frame, at: V3::new(q[at[0]], q[at[1]], q[at[2]]), out: *out }
