@@ -78,6 +78,11 @@ pub enum Error {
     /// A thread path that cannot be formed at some φ.
     #[error("{0}")]
     Thread(String),
+    /// A stitch process that cannot be evaluated: an organ inside the
+    /// material, a loop that is never caught, moments out of order. The
+    /// message names the organ, φ and the fix.
+    #[error("{0}")]
+    Stitch(String),
     #[error("{0}")]
     Io(String),
 }

@@ -1,4 +1,5 @@
-//! The stitch: thread consumption per stitch (and, to come, the required
-//! take-up P'(φ) of `docs/stitch-formation.md`).
+//! The stitch: thread consumption per stitch, and the required take-up
+//! P'(φ) of `docs/stitch-formation.md`.
 
 pub mod consumption;
+pub mod spec;

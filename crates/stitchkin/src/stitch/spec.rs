@@ -1,0 +1,309 @@
+//! What the required take-up P'(φ) is computed from: the stitch, the organs'
+//! motions in the stitch frame, and the cyclogram moments
+//! (`docs/stitch-formation.md` §2, §4, §9).
+//!
+//! Every angle here is the **cyclogram angle** φ_c in degrees (0 = needle
+//! BDC, seed 004 Table 2). Every position is in the **stitch frame**, mm:
+//! x across the seam toward the material edge, y along the seam in the feed
+//! direction, z up, z = 0 the needle-plate top, origin on the first needle's
+//! line.
+
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+use crate::geometry::V3;
+
+/// Stitch types whose required take-up stitchkin derives (§5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StitchType {
+    /// Two-thread chain stitch: one needle, one looper.
+    S401,
+    /// Two-needle chain stitch.
+    S406,
+    /// Three-needle chain stitch (Juki MF-7923D, seed 000).
+    S407,
+    /// Two-thread overedge: needle and looper thread (derived in §5.5, no
+    /// reference numbers; not computed yet).
+    S503,
+    /// Three-thread overedge (Textima Altin, seed 004): needle, lower- and
+    /// upper-looper threads.
+    S504,
+}
+
+impl StitchType {
+    pub fn number(self) -> u16 {
+        match self {
+            StitchType::S401 => 401,
+            StitchType::S406 => 406,
+            StitchType::S407 => 407,
+            StitchType::S503 => 503,
+            StitchType::S504 => 504,
+        }
+    }
+    /// How many needles the type has.
+    pub fn needles(self) -> usize {
+        match self {
+            StitchType::S406 => 2,
+            StitchType::S407 => 3,
+            _ => 1,
+        }
+    }
+}
+
+/// Material transport T(φ_c): displacement of the material along +y since
+/// the start of this cycle's transport, 0 before, t after.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FeedLaw {
+    /// Seed 004 §2.2.3 (reconstruction R1): a harmonic feed dog,
+    /// `T = 0.5·T_d·[sin(φ_c − φ_mid) + sin(φ_tr/2)]` on
+    /// `[start, start + duration]`, `T_d = t / sin(φ_tr/2)`.
+    Harmonic { start_deg: f64, duration_deg: f64 },
+}
+
+/// A point moving with the main shaft, in the stitch frame (mm) as a
+/// function of φ_c (deg). Laws are evaluated exactly; a mechanism point is a
+/// table sampled from the solved mechanism and interpolated linearly.
+#[derive(Clone)]
+pub enum Motion {
+    /// Samples at `start_deg + k·step_deg`, k = 0…n−1, covering one cycle
+    /// (periodic: φ_c is wrapped into the table).
+    Table { start_deg: f64, step_deg: f64, points: Arc<[V3<f64>]> },
+    /// Stand-in needle eye: `N = (x, 0, 0) + (s_B − S)·u_n` with
+    /// `S = stroke/2·(1 + cos(φ_c − bdc))` and `u_n = (0, −sin β, cos β)`.
+    NeedleLaw { x_mm: f64, eye_above_plate_mm: f64, stroke_mm: f64, bdc_deg: f64, tilt_deg: f64 },
+    /// Stand-in looper eye (catching point):
+    /// `x = x_c − stroke/2·cos(φ_c − far + 180°)`, with `x_c` such that
+    /// x = `catch_x_mm` at `catch_deg`; `y = y0 − avoid·sin(φ_c)`; `z = −depth`.
+    LooperLaw { stroke_mm: f64, far_deg: f64, catch_deg: f64, catch_x_mm: f64, y0_mm: f64, avoid_mm: f64, depth_mm: f64 },
+    /// Stand-in upper looper: along a polyline, with harmonic progress from
+    /// its first point at `low_deg` to its last at `high_deg` and back.
+    PolylineLaw { points: Arc<[V3<f64>]>, low_deg: f64, high_deg: f64 },
+}
+
+impl std::fmt::Debug for Motion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Motion::Table { start_deg, step_deg, points } => {
+                write!(f, "Table {{ start_deg: {start_deg}, step_deg: {step_deg}, n: {} }}", points.len())
+            }
+            Motion::NeedleLaw { .. } | Motion::LooperLaw { .. } | Motion::PolylineLaw { .. } => {
+                f.write_str(match self {
+                    Motion::NeedleLaw { .. } => "NeedleLaw",
+                    Motion::LooperLaw { .. } => "LooperLaw",
+                    _ => "PolylineLaw",
+                })
+            }
+        }
+    }
+}
+
+impl Motion {
+    /// Position at φ_c (deg), mm.
+    pub fn at(&self, phi_c_deg: f64) -> V3<f64> {
+        match self {
+            Motion::Table { start_deg, step_deg, points } => {
+                let n = points.len();
+                let u = (phi_c_deg - start_deg).rem_euclid(360.0) / step_deg;
+                let k = (u.floor() as usize).min(n - 1);
+                let s = u - k as f64;
+                let (a, b) = (points[k], points[(k + 1) % n]);
+                a + (b - a) * s
+            }
+            Motion::NeedleLaw { x_mm, eye_above_plate_mm, stroke_mm, bdc_deg, tilt_deg } => {
+                let s = 0.5 * stroke_mm * (1.0 + (phi_c_deg - bdc_deg).to_radians().cos());
+                let b = tilt_deg.to_radians();
+                let up = eye_above_plate_mm - s;
+                V3::new(*x_mm, -b.sin() * up, b.cos() * up)
+            }
+            Motion::LooperLaw { stroke_mm, far_deg, catch_deg, catch_x_mm, y0_mm, avoid_mm, depth_mm } => {
+                let amp = 0.5 * stroke_mm;
+                let x_c = catch_x_mm + amp * (catch_deg - far_deg + 180.0).to_radians().cos();
+                let x = x_c - amp * (phi_c_deg - far_deg + 180.0).to_radians().cos();
+                V3::new(x, y0_mm - avoid_mm * phi_c_deg.to_radians().sin(), -depth_mm)
+            }
+            Motion::PolylineLaw { points, low_deg, high_deg } => {
+                let x = (phi_c_deg - low_deg).rem_euclid(360.0);
+                let up = (high_deg - low_deg).rem_euclid(360.0);
+                let s = if x <= up {
+                    0.5 * (1.0 - (PI * x / up).cos())
+                } else {
+                    0.5 * (1.0 + (PI * (x - up) / (360.0 - up)).cos())
+                };
+                polyline_at(points, s)
+            }
+        }
+    }
+}
+
+/// Point at arc-length fraction `s` ∈ [0, 1] of a polyline.
+pub fn polyline_at(points: &[V3<f64>], s: f64) -> V3<f64> {
+    let total: f64 = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    if total < 1e-15 {
+        return points[0];
+    }
+    let mut target = s.clamp(0.0, 1.0) * total;
+    for w in points.windows(2) {
+        let l = (w[1] - w[0]).norm();
+        if target <= l {
+            return if l < 1e-15 { w[0] } else { w[0] + (w[1] - w[0]) * (target / l) };
+        }
+        target -= l;
+    }
+    points[points.len() - 1]
+}
+
+/// One needle and its thread.
+#[derive(Debug, Clone)]
+pub struct NeedleSpec {
+    /// Thread name, the column prefix (`n1`, `needle`).
+    pub name: String,
+    /// The needle eye N(φ_c). The needle's travel S(φ_c) below TDC is
+    /// `(N_TDC − N)·u_n`; the eye at TDC sits `s_B = z(N_TDC)/cos β` above
+    /// the plate; the needle line is `x = x(N_TDC)`.
+    pub eye: Motion,
+    /// Needle point below the eye, along the needle, mm.
+    pub point_below_eye_mm: f64,
+    /// Catch φ1 (the looper's catching point reaches the needle line);
+    /// `None` = derived.
+    pub catch_deg: Option<f64>,
+    /// Drop φ4 (the loop leaves the looper: the needle-thread lock);
+    /// `None` = derived (§4.4).
+    pub drop_deg: Option<f64>,
+}
+
+/// The looper that catches the needle loops (the lower looper of 503/504).
+#[derive(Debug, Clone)]
+pub struct LooperSpec {
+    /// Its catching point, which is also its eye LE: L(φ) = x, loop
+    /// position along the seam = y.
+    pub eye: Motion,
+    /// Plate top to the looper's upper face, mm (seed 004: k = 4).
+    pub k_mm: f64,
+    /// Half-cylinder radius a of the looper body, mm (seed 004: 1).
+    pub a_mm: f64,
+    /// Straight sides b of the looper body, mm (seed 004: 2.5).
+    pub b_mm: f64,
+    /// γmax, rad (seed 004: 0.4–0.8).
+    pub gamma_max_rad: f64,
+}
+
+/// The upper looper of stitch 504.
+#[derive(Debug, Clone)]
+pub struct UpperLooperSpec {
+    /// Its eye UE(φ_c).
+    pub eye: Motion,
+    /// φ_c window where the pick-up of the lower thread (closest approach) is
+    /// searched, deg.
+    pub pick_window_deg: [f64; 2],
+}
+
+/// Cyclogram moments, φ_c in degrees (seed 004 Table 2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Moments {
+    /// φ3: the looper thread touches the needle (stab).
+    pub stab_deg: f64,
+    /// φ_UD: the upper looper releases the lower thread's bight (504).
+    pub upper_release_deg: f64,
+    /// φ5: the looper thread is drawn into the loop (looper-thread lock).
+    pub draw_in_deg: f64,
+}
+
+/// Everything P'(φ) needs, resolved to numbers.
+#[derive(Debug, Clone)]
+pub struct StitchSpec {
+    pub stitch_type: StitchType,
+    /// Compressed material thickness m, mm.
+    pub m_mm: f64,
+    /// Stitch length t, mm.
+    pub t_mm: f64,
+    /// Needle inclination β along the seam, deg (seed 004: 20°).
+    pub tilt_deg: f64,
+    /// Overedge width a_e, mm (class 500).
+    pub a_e_mm: f64,
+    /// Edge split e, 0…1.
+    pub edge_split: f64,
+    pub feed: FeedLaw,
+    pub needles: Vec<NeedleSpec>,
+    pub looper: LooperSpec,
+    /// 504 only.
+    pub upper_looper: Option<UpperLooperSpec>,
+    pub moments: Moments,
+}
+
+/// Where η changes at a moment (§5.6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EventKind {
+    /// Continuous (a kink at most).
+    Cont,
+    /// A documented discontinuity (catch, stab, …).
+    Jump,
+    /// The thread's lock: the anchor moves on by one stitch.
+    Lock,
+}
+
+/// A moment of the cyclogram and η on both sides of it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Event {
+    pub name: String,
+    pub phi_c_deg: f64,
+    pub kind: EventKind,
+    pub eta_left_mm: f64,
+    pub eta_right_mm: f64,
+}
+
+/// Which thread of the stitch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ThreadRole {
+    Needle,
+    LowerLooper,
+    UpperLooper,
+}
+
+/// The consumption contour of one thread over the requested φ_c grid.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct RequiredThread {
+    /// `n1`, `needle`, `lower`, `upper`.
+    pub name: String,
+    pub role: ThreadRole,
+    /// Contour number of seed 004 §2.6 (1, 10, 13).
+    pub contour: u8,
+    /// Per-stitch consumption by the contour formula, mm.
+    pub per_stitch_mm: f64,
+    /// The lock moment φ_L, deg.
+    pub lock_deg: f64,
+    /// The thread cut at the lock, recomputed from the final nodes, mm (must
+    /// equal `per_stitch_mm`).
+    pub cut_mm: f64,
+    /// Thread released at the lock (the needle loop leaving the looper, ρ), mm.
+    pub released_mm: f64,
+    /// σ_snap: the contour rewritten on its final nodes minus the contour
+    /// just before the lock, mm (≥ 0).
+    pub snap_mm: f64,
+    /// η(φ_c) at each requested φ_c (right limits at events), mm.
+    pub eta_mm: Vec<f64>,
+    /// P'(φ_c) = η(φ_c) − η(φ0), mm.
+    pub pprime_mm: Vec<f64>,
+    /// Needle threads: S(φ_c), the needle's travel below TDC, mm (so that
+    /// P'_B = P' + S − S(φ0), seed 004's split at B).
+    pub travel_mm: Option<Vec<f64>>,
+    /// Needle threads: γ(φ_c), the loop angle on the looper, deg.
+    pub gamma_deg: Option<Vec<f64>>,
+    /// Piece id at each φ_c (`N1`, `N2a`, …, `L3`, `U2`).
+    pub piece: Vec<&'static str>,
+    /// Every moment of this thread in φ_c order.
+    pub events: Vec<Event>,
+}
+
+/// P'(φ) of every thread of a stitch process.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct RequiredTakeUp {
+    pub threads: Vec<RequiredThread>,
+    /// Derived moments (name, φ_c deg): eye leaves/enters the material,
+    /// catches, drops, pick-up, looper far extreme.
+    pub moments: Vec<(String, f64)>,
+    /// Validity warnings (a declared drop far from the derived one, a large
+    /// hook offset, …).
+    pub warnings: Vec<String>,
+}
