@@ -62,6 +62,18 @@ enum Command {
         Types: 401, 406, 407 and 501–512, 514, 521. Contours whose drawings are lost in the thesis\n\
         are reported as not derivable, never guessed.")]
     Consumption(ConsumptionArgs),
+    /// Compare the take-up P(φ) with the thread the stitch needs, P'(φ), for
+    /// every thread of the model's `[stitch]`: per-stitch consumption, the
+    /// mismatch D = P − P' and the match score.
+    #[command(
+        name = "match",
+        after_help = "Examples:\n  stitchkin match\n  stitchkin match --preset mf7923d --set m=4 --set t=2.5\n  \
+        stitchkin match my-machine.toml --format json -o match.json\n\n\
+        D > 0 is thread given but not needed (slack), D < 0 thread needed but not given (strain).\n\
+        Score s = 100·max(0, 1 − RMS(D)/range(P')): 100 is a perfect match (docs/stitch-formation.md §8).\n\
+        The P' columns themselves come with `stitchkin run` (THR.Pprime_mm, THR.D_mm, ...)."
+    )]
+    Match(MatchArgs),
     /// Print the JSON Schema of the model file format.
     #[command(after_help = "Example:\n  stitchkin schema > stitchkin-model.schema.json")]
     Schema,
@@ -138,6 +150,27 @@ struct CompareArgs {
     /// Write to FILE instead of stdout (written completely or not at all).
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct MatchArgs {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Step of the main-shaft angle φ, degrees.
+    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
+    step: f64,
+    /// Output format: a readable table or JSON.
+    #[arg(long, value_enum, default_value_t = MatchFormat::Table)]
+    format: MatchFormat,
+    /// Write to FILE instead of stdout (written completely or not at all).
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum MatchFormat {
+    Table,
+    Json,
 }
 
 #[derive(Args)]
@@ -231,6 +264,10 @@ fn report(e: Error) -> miette::Report {
         Error::NotFinite(m) => miette::miette!("{m}"),
         Error::Thread(m) => miette::miette!(
             help = "check the path's node order and the guides' positions at that φ",
+            "{m}"
+        ),
+        Error::Stitch(m) => miette::miette!(
+            help = "check the [stitch] table: organ motions, moments and the stitch frame (docs/model-format.md §13.11)",
             "{m}"
         ),
         Error::Io(m) => miette::miette!("{m}"),
@@ -367,10 +404,92 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
         }
         s += "\n";
     }
+    if let Some(st) = &table.stitch {
+        s += &format!(
+            "# stitch {}: m = {} mm, t = {} mm; P' = 0 at φ = {}°, needle BDC at φ = {}°\n",
+            st.stitch_type, st.m_mm, st.t_mm, st.phi0_deg, st.cyclogram_zero_deg
+        );
+        for t in &st.threads {
+            s += &format!(
+                "# {:<w$} max P' {:.3} mm at φ = {:.1}°; {:.3} mm per stitch (locked at φ = {:.1}°: {:.3} mm)",
+                t.thread, t.max_pprime_mm, t.phi_at_max_pprime_deg, t.per_stitch_mm, t.lock_phi_deg, t.locked_mm
+            );
+            if let (Some(p), Some(m)) = (&t.path, &t.mismatch) {
+                s += &format!("; vs {p}: RMS(P − P') {:.3} mm, score {}", m.rms_d_mm, score(m.score));
+            }
+            s += "\n";
+        }
+    }
     for w in &table.warnings {
         s += &format!("warning: {w}\n");
     }
     s
+}
+
+fn score(s: Option<f64>) -> String {
+    s.map_or("—".into(), |x| format!("{x:.1}"))
+}
+
+fn match_cmd(args: MatchArgs) -> Result<(), Error> {
+    let (model, params) = load(&args.model)?;
+    let opts = CycleOptions { step_deg: args.step, rpm: None, analogs: false, points: Some(Vec::new()) };
+    let table = eval::run_cycle(&model, &params, &opts)?;
+    let Some(st) = &table.stitch else {
+        return Err(Error::Stitch(format!(
+            "model `{}` has no [stitch] table, so there is no required take-up to match",
+            model.file.model.name
+        ) + "; add one (docs/model-format.md, \"Stitch process\") or try --preset mf7923d"));
+    };
+    let out = match args.format {
+        MatchFormat::Json => serde_json::to_string_pretty(st).map_err(|e| Error::Io(e.to_string()))? + "\n",
+        MatchFormat::Table => {
+            let mut s = format!(
+                "stitch {}: m = {} mm, t = {} mm; P' = 0 at φ = {}°; needle BDC at φ = {}°\n",
+                st.stitch_type, st.m_mm, st.t_mm, st.phi0_deg, st.cyclogram_zero_deg
+            );
+            s += "D = P − P': D > 0 thread given but not needed (slack), D < 0 needed but not given (strain)\n\n";
+            let iv = |v: &[[f64; 2]]| {
+                if v.is_empty() { "none".to_string() } else { v.iter().map(|i| format!("{:.0}–{:.0}°", i[0], i[1])).collect::<Vec<_>>().join(", ") }
+            };
+            for t in &st.threads {
+                s += &format!("{} (contour {}){}\n", t.thread, t.contour, t.path.as_ref().map(|p| format!(", take-up path {p}")).unwrap_or_default());
+                s += &format!("  per stitch          {:>9.3} mm (locked by P' at φ = {:.1}°: {:.3} mm)\n", t.per_stitch_mm, t.lock_phi_deg, t.locked_mm);
+                s += &format!("  max P'              {:>9.3} mm at φ = {:.1}°\n", t.max_pprime_mm, t.phi_at_max_pprime_deg);
+                match &t.mismatch {
+                    Some(m) => {
+                        s += &format!("  RMS(D)              {:>9.3} mm   (std {:.3} mm)\n", m.rms_d_mm, m.std_d_mm);
+                        s += &format!("  max |D|             {:>9.3} mm at φ = {:.1}°   (max D {:.3}, min D {:.3} mm)\n", m.max_abs_d_mm, m.max_abs_d_at_deg, m.max_d_mm, m.min_d_mm);
+                        s += &format!("  excess / deficit    {:>9.1} / {:.1} mm·deg\n", m.excess_area_mm_deg, m.deficit_area_mm_deg);
+                        s += &format!("  slack  (D > ε)      {}\n", iv(&m.excess_intervals_deg));
+                        s += &format!("  strain (D < −ε)     {}\n", iv(&m.deficit_intervals_deg));
+                        s += &format!("  phase of maxima     {:>9.1}°  (best lag {:.1}°)\n", m.phase_shift_max_deg, m.best_lag_deg);
+                        s += &format!("  match score         {:>9}   (offset-free {})\n", score(m.score), score(m.score_offset_free));
+                    }
+                    None => s += "  no take-up path to compare (give `path` in [stitch])\n",
+                }
+                let jumps: Vec<String> = t
+                    .events
+                    .iter()
+                    .filter(|e| e.kind != stitchkin::stitch::spec::EventKind::Cont)
+                    .map(|e| format!("{} at φ = {:.1}°: {:+.3} mm", e.name, e.phi_deg, e.jump_mm))
+                    .collect();
+                if !jumps.is_empty() {
+                    s += &format!("  jumps of P'         {}\n", jumps.join("; "));
+                }
+                s += "\n";
+            }
+            if !st.moments.is_empty() {
+                s += "moments (φ): ";
+                s += &st.moments.iter().map(|(n, p)| format!("{n} {p:.1}°")).collect::<Vec<_>>().join(", ");
+                s += "\n";
+            }
+            for w in &table.warnings {
+                s += &format!("warning: {w}\n");
+            }
+            s
+        }
+    };
+    emit(out.as_bytes(), args.output.as_ref())
 }
 
 /// φ intervals for a summary line, each end within 0…360°.
@@ -450,6 +569,7 @@ fn compare(args: CompareArgs) -> Result<(), Error> {
                 ranges: Vec::new(),
                 paths: Vec::new(),
                 take_up: None,
+                stitch: None,
                 warnings: Vec::new(),
             };
             for p in &c.paths {
@@ -541,6 +661,7 @@ fn main() -> miette::Result<()> {
         Command::Check(args) => check(args),
         Command::Compare2d3d(args) => compare(args),
         Command::Consumption(args) => consumption(args),
+        Command::Match(args) => match_cmd(args),
         Command::Schema => emit(stitchkin::model::schema_json().as_bytes(), None),
     };
     result.map_err(report)

@@ -40,7 +40,7 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
-const PRESETS: &[&str] = &["needle876", "overlock500", "altin-needle", "mf7923d", "takeup-lever"];
+const PRESETS: &[&str] = &["needle876", "overlock500", "altin-needle", "altin504", "mf7923d", "takeup-lever"];
 
 #[test]
 fn run_without_arguments_uses_the_default_preset() {
@@ -90,6 +90,34 @@ fn consumption_prints_the_thread_per_stitch() {
 }
 
 #[test]
+fn match_prints_the_mismatch_per_thread() {
+    let (out, _) = ok(&["match"]);
+    assert!(out.starts_with("stitch 407: m = 3 mm, t = 3 mm"), "{out}");
+    for thread in ["n1 (contour 1), take-up path n1_A", "n2 (contour 1)", "n3 (contour 1)"] {
+        assert!(out.contains(thread), "{thread} missing:\n{out}");
+    }
+    for line in ["per stitch", "max P'", "RMS(D)", "max |D|", "slack  (D > ε)", "strain (D < −ε)", "match score", "jumps of P'"] {
+        assert!(out.contains(line), "`{line}` missing:\n{out}");
+    }
+    assert!(out.contains("9.000 mm (locked by P'"), "{out}");
+    let (json, _) = ok(&["match", "--preset", "mf7923d", "--set", "m=4", "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["m_mm"], 4.0);
+    assert_eq!(v["threads"].as_array().unwrap().len(), 3);
+    assert!(v["threads"][0]["mismatch"]["score"].is_number() || v["threads"][0]["mismatch"]["score"].is_null());
+    // per stitch with m = 4: t + 2m = 11 mm.
+    assert!((v["threads"][0]["per_stitch_mm"].as_f64().unwrap() - 11.0).abs() < 1e-9);
+    // The P' columns come with `run`.
+    let (csv, _) = ok(&["run", "--columns", "*.Pprime_mm,*.D_mm"]);
+    assert!(csv.lines().next().unwrap().contains("n1.Pprime_mm"), "{csv}");
+    // A model without [stitch] says so and fails cleanly.
+    let e = fails(&["match", "--preset", "needle876"]);
+    assert!(e.contains("has no [stitch] table"), "{e}");
+    let e = fails(&["match", "--set", "m=9"]);
+    assert!(e.contains("outside its adjustable range"), "{e}");
+}
+
+#[test]
 fn compare_2d3d_reports_the_planar_error() {
     let (csv, summary) = ok(&["compare-2d3d", "--plane", "uvw", "--step", "10"]);
     let header = csv.lines().next().unwrap();
@@ -127,7 +155,7 @@ fn every_preset_runs_as_csv_and_json_and_checks() {
 #[test]
 fn presets_lists_name_machine_and_seed() {
     let (out, _) = ok(&["presets"]);
-    for (p, seed) in [("needle876", "002"), ("overlock500", "003"), ("altin-needle", "004"), ("mf7923d", "000"), ("takeup-lever", "001")] {
+    for (p, seed) in [("needle876", "002"), ("overlock500", "003"), ("altin-needle", "004"), ("altin504", "004"), ("mf7923d", "000"), ("takeup-lever", "001")] {
         let line = out.lines().find(|l| l.starts_with(p)).unwrap_or_else(|| panic!("{p} missing:\n{out}"));
         assert!(line.contains(seed), "{line}");
     }
@@ -209,7 +237,7 @@ fn a_failed_run_leaves_no_output_file() {
 
 #[test]
 fn every_subcommand_has_help_with_an_example() {
-    for sub in [vec!["--help"], vec!["run", "--help"], vec!["check", "--help"], vec!["presets", "--help"], vec!["schema", "--help"], vec!["compare-2d3d", "--help"], vec!["consumption", "--help"]] {
+    for sub in [vec!["--help"], vec!["run", "--help"], vec!["check", "--help"], vec!["presets", "--help"], vec!["schema", "--help"], vec!["compare-2d3d", "--help"], vec!["consumption", "--help"], vec!["match", "--help"]] {
         let (out, _) = ok(&sub);
         assert!(out.contains("Example"), "{sub:?}:\n{out}");
     }

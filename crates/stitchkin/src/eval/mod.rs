@@ -2,6 +2,8 @@
 //! real velocities and accelerations, link and transmission angles, measures,
 //! collected into a table of named, unit-carrying columns.
 
+pub mod stitch;
+
 use num_dual::Dual2_64;
 use serde::Serialize;
 
@@ -112,6 +114,9 @@ pub struct CycleTable {
     pub paths: Vec<PathSummary>,
     /// How P is signed, in words.
     pub take_up: Option<String>,
+    /// The stitch process: P' and the mismatch per thread, when the model
+    /// has a `[stitch]`.
+    pub stitch: Option<stitch::StitchSummary>,
     pub warnings: Vec<String>,
 }
 
@@ -319,6 +324,13 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
         Some(threads) => thread_columns(&mech, threads, &pose, &phis, opts, omega, &mut b.columns)?,
         None => (Vec::new(), None),
     };
+    let stitch = match model.stitch_setup(params)? {
+        Some(setup) => {
+            let phi0 = mech.threads.as_ref().map_or(model.phi_start_deg(), |t| t.phi0_deg);
+            Some(stitch::stitch_columns(&setup, &phis, phi0, &mut b.columns)?)
+        }
+        None => None,
+    };
     let columns = b.columns;
     // Never NaN or infinity in output.
     for c in &columns {
@@ -330,7 +342,7 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
             )));
         }
     }
-    let mut warnings = Vec::new();
+    let mut warnings: Vec<String> = stitch.iter().flat_map(|s| s.warnings.iter().cloned()).collect();
     let transmission: Vec<TransmissionSummary> = model
         .dyads
         .iter()
@@ -374,7 +386,7 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
             }
         })
         .collect();
-    Ok(CycleTable { step_deg: opts.step_deg, rpm: opts.rpm, columns, transmission, ranges, paths, take_up, warnings })
+    Ok(CycleTable { step_deg: opts.step_deg, rpm: opts.rpm, columns, transmission, ranges, paths, take_up, stitch, warnings })
 }
 
 /// ξ of every path at φ0, with φ0 a constant: P = ξ(φ0) − ξ(φ) must carry

@@ -54,6 +54,10 @@ pub struct ModelFile {
     /// Thread feed cams the thread paths may bear on.
     #[serde(default)]
     pub cams: Vec<Cam>,
+    /// The stitch process: what the stitch needs, P'(φ), and how P is
+    /// compared with it.
+    #[serde(default)]
+    pub stitch: Option<StitchFile>,
 }
 
 /// A thread feed cam (seed 004 §2.5): a convex profile turning with its
@@ -626,4 +630,199 @@ pub struct GuideNode {
 pub enum Wrap {
     Ccw,
     Cw,
+}
+
+/// The `[stitch]` table (`docs/stitch-formation.md` §9): the stitch the
+/// machine makes and the organs that make it. Angles of the cyclogram
+/// (`*_deg` inside `[stitch]`, except `regulator_window_deg`) are cyclogram
+/// angles φ_c: 0 = the needle's bottom dead centre, φ_c = φ −
+/// `cyclogram_zero_deg`. Positions are in the stitch frame: x across the
+/// seam toward the material edge, y along the seam in the feed direction,
+/// z up, z = 0 the needle-plate top.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StitchFile {
+    /// Stitch type: "401", "406", "407" (chain) or "504" (three-thread
+    /// overedge).
+    #[serde(rename = "type")]
+    pub stitch_type: String,
+    /// Compressed material thickness m, mm.
+    pub m_mm: Value,
+    /// Stitch length t, mm.
+    pub t_mm: Value,
+    /// Needle inclination β along the seam, degrees (default 0).
+    #[serde(default)]
+    pub tilt_deg: Option<Value>,
+    /// Overedge width a_e (class 500), mm.
+    #[serde(default)]
+    pub overedge_width_mm: Option<Value>,
+    /// Edge split e (0…1): the share of the edge covered by the lower-face
+    /// looper thread (default 0.5).
+    #[serde(default)]
+    pub edge_split: Option<f64>,
+    /// The model frame whose axes and origin are the stitch frame's
+    /// (default: the world frame).
+    #[serde(default)]
+    pub frame: Option<String>,
+    /// The model's φ of the needle's bottom dead centre (φ_c = 0), degrees.
+    pub cyclogram_zero_deg: f64,
+    /// Tolerance ε of the excess and deficit intervals, mm (default 0.5).
+    #[serde(default)]
+    pub tolerance_mm: Option<f64>,
+    /// Intervals of the model's φ, `[[from, to], …]` degrees, where thread
+    /// passes the tension regulator: left out of the mismatch metrics.
+    #[serde(default)]
+    pub regulator_window_deg: Vec<[f64; 2]>,
+    /// How the material is fed.
+    pub feed: StitchFeed,
+    /// The needles, in the order the looper catches their loops.
+    pub needles: Vec<StitchNeedle>,
+    /// The looper that catches the needle loops (the lower looper of 504).
+    pub looper: StitchLooper,
+    /// The upper looper (504).
+    #[serde(default)]
+    pub upper_looper: Option<StitchUpperLooper>,
+    /// Cyclogram moments (504), φ_c degrees.
+    #[serde(default)]
+    pub moments: Option<StitchMoments>,
+}
+
+/// The material transport T(φ_c).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StitchFeed {
+    /// "harmonic": the feed dog of seed 004 §2.2.3.
+    pub law: String,
+    /// φ_c where the transport starts, degrees.
+    pub start_deg: Value,
+    /// How long it lasts, degrees.
+    pub duration_deg: Value,
+}
+
+/// A needle: its eye is a mechanism point (`eye`) or a stand-in law (`law`).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StitchNeedle {
+    /// Thread name, the prefix of its columns (`n1.Pprime_mm`).
+    pub name: String,
+    /// The mechanism point that is the needle eye.
+    #[serde(default)]
+    pub eye: Option<String>,
+    /// A stand-in law instead of a mechanism point.
+    #[serde(default)]
+    pub law: Option<NeedleLawFile>,
+    /// With `eye`: the eye's height above the needle plate at TDC, along the
+    /// needle, mm (the stitch frame's z of the eye is then ignored).
+    #[serde(default)]
+    pub eye_above_plate_mm: Option<Value>,
+    /// Needle point below the eye, mm (default 2).
+    #[serde(default)]
+    pub point_below_eye_mm: Option<Value>,
+    /// The thread path (`[[thread.paths]]`) compared with this thread.
+    #[serde(default)]
+    pub path: Option<String>,
+    /// Catch φ1 (φ_c degrees); default: where the looper reaches the needle.
+    #[serde(default)]
+    pub catch_deg: Option<f64>,
+    /// Drop φ4 (φ_c degrees); default derived from the loop carry.
+    #[serde(default)]
+    pub drop_deg: Option<f64>,
+}
+
+/// Stand-in needle: S = stroke/2·(1 + cos(φ_c − bdc)).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct NeedleLawFile {
+    /// The needle line's x in the stitch frame, mm.
+    pub x_mm: Value,
+    /// Eye above the plate at TDC, along the needle, mm.
+    pub eye_above_plate_mm: Value,
+    pub stroke_mm: Value,
+    /// φ_c of the bottom dead centre (default 0).
+    #[serde(default)]
+    pub bdc_deg: Option<Value>,
+}
+
+/// The looper that catches the needle loops.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StitchLooper {
+    /// The mechanism point that is its catching point and eye.
+    #[serde(default)]
+    pub eye: Option<String>,
+    /// A stand-in law instead.
+    #[serde(default)]
+    pub law: Option<LooperLawFile>,
+    /// Plate top to the looper's upper face, mm.
+    pub k_mm: Value,
+    /// Half-cylinder radius of the looper body, mm.
+    pub a_mm: Value,
+    /// Straight sides of the looper body, mm.
+    pub b_mm: Value,
+    /// γmax, degrees (seed 004: 0.4–0.8 rad = 22.9°–45.8°).
+    pub gamma_max_deg: Value,
+    /// The looper thread's feed path (504).
+    #[serde(default)]
+    pub path: Option<String>,
+}
+
+/// Stand-in looper: harmonic across the seam, x = x_c − stroke/2·cos(φ_c −
+/// far + 180°) with x = `catch_x_mm` at `catch_deg`; y = y0 − avoid·sin φ_c;
+/// z = −depth.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LooperLawFile {
+    pub stroke_mm: Value,
+    /// φ_c of the far extreme of the carrying stroke.
+    pub far_deg: Value,
+    pub catch_deg: Value,
+    /// x where the catch happens (the first needle's line), mm (default 0).
+    #[serde(default)]
+    pub catch_x_mm: Option<Value>,
+    /// y of the loop on the looper, mm (default (k + b)·tan β).
+    #[serde(default)]
+    pub y0_mm: Option<Value>,
+    /// Amplitude of the avoid motion along the seam, mm (default 0).
+    #[serde(default)]
+    pub avoid_mm: Option<Value>,
+    /// Eye below the plate top, mm.
+    pub depth_mm: Value,
+}
+
+/// The upper looper of stitch 504.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StitchUpperLooper {
+    #[serde(default)]
+    pub eye: Option<String>,
+    #[serde(default)]
+    pub law: Option<PolylineLawFile>,
+    /// φ_c window where the pick-up of the lower thread is searched.
+    pub pick_window_deg: [f64; 2],
+    /// The upper looper thread's feed path.
+    #[serde(default)]
+    pub path: Option<String>,
+}
+
+/// Stand-in: the eye moves along a polyline, first point at `low_deg`, last
+/// at `high_deg`, harmonically in between and back.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PolylineLawFile {
+    /// Points `[x, y, z]` in the stitch frame, mm.
+    pub polyline_mm: Vec<[f64; 3]>,
+    pub low_deg: f64,
+    pub high_deg: f64,
+}
+
+/// Cyclogram moments, φ_c degrees (seed 004 Table 2).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StitchMoments {
+    /// φ3: the looper thread touches the needle.
+    pub stab_deg: f64,
+    /// φ_UD: the upper looper releases the lower thread's bight.
+    pub upper_release_deg: f64,
+    /// φ5: the looper thread is drawn into the loop.
+    pub draw_in_deg: f64,
 }

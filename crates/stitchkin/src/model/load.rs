@@ -264,17 +264,17 @@ impl<'a> Loader<'a> {
         Ok(self.exprs.len() - 1)
     }
 
-    fn length(&mut self, v: &Value, path: Path) -> R<Q> {
+    pub(super) fn length(&mut self, v: &Value, path: Path) -> R<Q> {
         self.qty(v, Some(Dim::LENGTH), path)
     }
 
-    fn positive_length(&mut self, v: &Value, path: Path, what: &'static str) -> R<Q> {
+    pub(super) fn positive_length(&mut self, v: &Value, path: Path, what: &'static str) -> R<Q> {
         let q = self.qty(v, Some(Dim::LENGTH), path.clone())?;
         self.positive.push((q, path, what));
         Ok(q)
     }
 
-    fn angle(&mut self, v: &Value, path: Path) -> R<Q> {
+    pub(super) fn angle(&mut self, v: &Value, path: Path) -> R<Q> {
         self.qty(v, Some(Dim::ANGLE), path)
     }
 
@@ -362,7 +362,7 @@ impl<'a> Loader<'a> {
         })
     }
 
-    fn opt_frame(&self, name: &Option<String>, path: Path) -> R<usize> {
+    pub(super) fn opt_frame(&self, name: &Option<String>, path: Path) -> R<usize> {
         match name {
             Some(n) => self.frame_ref(n, &path),
             None => Ok(0),
@@ -1070,7 +1070,7 @@ impl<'a> Loader<'a> {
 
 use super::ClosureRef;
 
-fn is_ident(s: &str) -> bool {
+pub(super) fn is_ident(s: &str) -> bool {
     let mut c = s.chars();
     matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_') && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
 }

@@ -14,6 +14,7 @@ pub mod expr;
 pub mod file;
 mod load;
 pub mod spans;
+pub mod stitch;
 
 use std::sync::Arc;
 
@@ -326,6 +327,7 @@ pub struct Model {
     /// Every point stays in the world xy-plane (z columns are omitted).
     pub planar: bool,
     threads: Option<ThreadsDef>,
+    stitch: Option<stitch::StitchDef>,
 }
 
 impl Model {
@@ -358,6 +360,7 @@ impl Model {
         let body_sets = bodies(&steps_now, &kinds_now);
         let same_body = |a: usize, b: usize| a == b || body_sets.iter().any(|s| s.contains(&a) && s.contains(&b));
         let threads = ld.threads(&file, &same_body)?;
+        let stitch = ld.stitch(&file, threads.as_ref())?;
         let measures = ld.measures(&file)?;
         let output_points = ld.output_points(&file)?;
         let point_names = ld.point_names();
@@ -418,6 +421,7 @@ impl Model {
             output_points,
             planar,
             threads,
+            stitch,
         };
         // Resolve once with the nominal values so impossible geometry is
         // reported at load time.
@@ -518,6 +522,13 @@ impl Model {
     /// Like [`Self::mechanism`] with parameter values of type `T`, so the
     /// result carries derivatives with respect to seeded parameters.
     pub fn mechanism_with<T: Real>(&self, base: &[T]) -> Result<Mechanism<T>, Box<ModelError>> {
+        let q = self.quantities(base)?;
+        self.mechanism_from(&q)
+    }
+
+    /// Every value of the file (each expression) resolved with the
+    /// parameter values `base`, checked finite and, where required, positive.
+    pub(crate) fn quantities<T: Real>(&self, base: &[T]) -> Result<Vec<T>, Box<ModelError>> {
         let mut pv: Vec<T> = base.to_vec();
         for &i in &self.param_order {
             if let Some(e) = &self.params[i].expr {
@@ -552,6 +563,10 @@ impl Model {
                 ));
             }
         }
+        Ok(q)
+    }
+
+    fn mechanism_from<T: Real>(&self, q: &[T]) -> Result<Mechanism<T>, Box<ModelError>> {
         let deg = T::cst(std::f64::consts::PI / 180.0);
         // Frames, parents first.
         let mut frames: Vec<Option<Placement<T>>> = vec![None; self.frames.len()];

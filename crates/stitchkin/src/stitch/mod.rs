@@ -2,4 +2,6 @@
 //! P'(φ) of `docs/stitch-formation.md`.
 
 pub mod consumption;
+pub mod mismatch;
 pub mod spec;
+pub mod feed; pub mod material; pub mod needle_thread; pub mod overedge; pub mod pprime;

@@ -10,3 +10,5 @@ mod loading;
 mod presets;
 mod threads;
 mod stitch;
+mod pprime;
+mod altin504;

@@ -1,0 +1,424 @@
+//! The `[stitch]` table: checked on load into a [`StitchDef`], resolved with
+//! parameter values into a [`StitchSpec`] whose organ motions are sampled
+//! from the solved mechanism (`docs/stitch-formation.md` §9).
+
+use std::sync::Arc;
+
+use super::file::{ModelFile, Value};
+use super::load::Loader;
+use super::spans::Path;
+use super::{Model, Params, Q, ThreadsDef};
+use crate::error::{Error, ModelError};
+use crate::geometry::V3;
+use crate::mechanism::Phi;
+use crate::stitch::spec::{FeedLaw, LooperSpec, Moments, Motion, NeedleSpec, StitchSpec, StitchType, UpperLooperSpec};
+
+type R<T> = Result<T, Box<ModelError>>;
+
+/// Step of the tables that sample mechanism points for the stitch process,
+/// degrees of φ. Linear interpolation between samples is within about 3e-7 mm
+/// of the mechanism for needle-bar accelerations of this size.
+pub const MOTION_STEP_DEG: f64 = 0.02;
+
+/// Where an organ's motion comes from.
+#[derive(Debug, Clone)]
+pub(crate) enum OrganDef {
+    /// A mechanism point (slot).
+    Point(usize),
+    NeedleLaw { x: Q, s_b: Q, stroke: Q, bdc: Option<Q> },
+    LooperLaw { stroke: Q, far: Q, catch: Q, catch_x: Option<Q>, y0: Option<Q>, avoid: Option<Q>, depth: Q },
+    Polyline { points: Vec<[f64; 3]>, low: f64, high: f64 },
+}
+
+#[derive(Debug, Clone)]
+pub(crate) struct NeedleDef {
+    pub name: String,
+    pub eye: OrganDef,
+    pub eye_above_plate: Option<Q>,
+    pub point_below_eye: Option<Q>,
+    pub path: Option<String>,
+    pub catch_deg: Option<f64>,
+    pub drop_deg: Option<f64>,
+}
+
+/// The checked `[stitch]` table, values as quantity indices.
+#[derive(Debug, Clone)]
+pub(crate) struct StitchDef {
+    pub stitch_type: StitchType,
+    pub m: Q,
+    pub t: Q,
+    pub tilt: Option<Q>,
+    pub a_e: Option<Q>,
+    pub edge_split: f64,
+    pub frame: usize,
+    pub cyclogram_zero_deg: f64,
+    pub tolerance_mm: f64,
+    pub regulator_window_deg: Vec<[f64; 2]>,
+    pub feed: (Q, Q),
+    pub needles: Vec<NeedleDef>,
+    pub looper: (OrganDef, [Q; 4], Option<String>),
+    pub upper: Option<(OrganDef, [f64; 2], Option<String>)>,
+    pub moments: Option<Moments>,
+}
+
+/// How the stitch process of a model is compared with its take-up: what
+/// `run` and `match` need besides the [`StitchSpec`].
+#[derive(Debug, Clone)]
+pub struct StitchSetup {
+    pub spec: StitchSpec,
+    /// The model's φ of φ_c = 0.
+    pub cyclogram_zero_deg: f64,
+    /// ε of the excess/deficit intervals, mm.
+    pub tolerance_mm: f64,
+    /// Model-φ intervals left out of the metrics.
+    pub regulator_window_deg: Vec<[f64; 2]>,
+    /// For each thread of the spec (needles in order, then `lower`, `upper`),
+    /// the thread path it is compared with.
+    pub paths: Vec<Option<String>>,
+}
+
+fn finite_deg(ld: &Loader, v: f64, path: &Path) -> R<f64> {
+    if v.is_finite() { Ok(v) } else { Err(ld.err(path, "the angle must be a finite number of degrees", None)) }
+}
+
+impl Loader<'_> {
+    /// An organ is a mechanism point (`eye`) or a stand-in `law`, never
+    /// both: the point's slot, or `None` for the law.
+    fn organ_point(&self, eye: &Option<String>, has_law: bool, path: &Path, what: &str) -> R<Option<usize>> {
+        match (eye, has_law) {
+            (Some(p), false) => Ok(Some(self.point(p, &path.key("eye"))?)),
+            (None, true) => Ok(None),
+            _ => Err(self.err(
+                path,
+                format!("the {what} needs exactly one of `eye` (a mechanism point) or `law` (a stand-in motion)"),
+                Some("e.g. `eye = \"N_1\"`".into()),
+            )),
+        }
+    }
+
+    fn opt_length(&mut self, v: &Option<Value>, path: Path) -> R<Option<Q>> {
+        v.as_ref().map(|v| self.length(v, path)).transpose()
+    }
+
+    pub(super) fn stitch(&mut self, f: &ModelFile, threads: Option<&ThreadsDef>) -> R<Option<StitchDef>> {
+        let Some(s) = &f.stitch else { return Ok(None) };
+        let path = Path::root().key("stitch");
+        let stitch_type = match s.stitch_type.as_str() {
+            "401" => StitchType::S401,
+            "406" => StitchType::S406,
+            "407" => StitchType::S407,
+            "504" => StitchType::S504,
+            "503" => {
+                return Err(self.err(
+                    &path.key("type"),
+                    "the required take-up of stitch 503 is derived (docs/stitch-formation.md §5.5) but not computed yet",
+                    Some("use \"504\", \"401\", \"406\" or \"407\"; `stitchkin consumption --type 503` gives its thread per stitch".into()),
+                ));
+            }
+            other => {
+                return Err(self.err(
+                    &path.key("type"),
+                    format!("unknown or unsupported stitch type `{other}`"),
+                    Some("write \"401\", \"406\", \"407\" or \"504\"".into()),
+                ));
+            }
+        };
+        let m = self.positive_length(&s.m_mm, path.key("m_mm"), "the material thickness m")?;
+        let t = self.positive_length(&s.t_mm, path.key("t_mm"), "the stitch length t")?;
+        let tilt = s.tilt_deg.as_ref().map(|v| self.angle(v, path.key("tilt_deg"))).transpose()?;
+        let a_e = self.opt_length(&s.overedge_width_mm, path.key("overedge_width_mm"))?;
+        if stitch_type == StitchType::S504 && a_e.is_none() {
+            return Err(self.err(&path, "stitch 504 needs the overedge width", Some("add `overedge_width_mm = 4`".into())));
+        }
+        let edge_split = s.edge_split.unwrap_or(0.5);
+        if !(0.0..=1.0).contains(&edge_split) {
+            return Err(self.err(&path.key("edge_split"), format!("edge_split = {edge_split} is outside 0…1"), Some("0.5 puts the looper threads' meeting point mid-edge".into())));
+        }
+        let frame = self.opt_frame(&s.frame, path.key("frame"))?;
+        let cyclogram_zero_deg = finite_deg(self, s.cyclogram_zero_deg, &path.key("cyclogram_zero_deg"))?;
+        let tolerance_mm = s.tolerance_mm.unwrap_or(0.5);
+        if !(tolerance_mm.is_finite() && tolerance_mm > 0.0) {
+            return Err(self.err(&path.key("tolerance_mm"), "the tolerance must be a positive number of mm", None));
+        }
+        for (k, w) in s.regulator_window_deg.iter().enumerate() {
+            if !(w[0].is_finite() && w[1].is_finite()) {
+                return Err(self.err(&path.key("regulator_window_deg").index(k), "window ends must be finite degrees", None));
+            }
+        }
+        if s.feed.law != "harmonic" {
+            return Err(self.err(&path.key("feed").key("law"), format!("unknown feed law `{}`", s.feed.law), Some("write law = \"harmonic\" (seed 004 §2.2.3)".into())));
+        }
+        let feed = (self.angle(&s.feed.start_deg, path.key("feed").key("start_deg"))?, self.angle(&s.feed.duration_deg, path.key("feed").key("duration_deg"))?);
+        let want = stitch_type.needles();
+        if s.needles.len() != want {
+            return Err(self.err(
+                &path.key("needles"),
+                format!("stitch {} has {want} needle(s), {} given", s.stitch_type, s.needles.len()),
+                Some(format!("give {want} [[stitch.needles]] tables")),
+            ));
+        }
+        let path_names: Vec<&str> = threads.map(|t| t.paths.iter().map(|p| p.name.as_str()).collect()).unwrap_or_default();
+        let check_path = |ld: &Self, p: &Option<String>, at: Path| -> R<Option<String>> {
+            match p {
+                Some(name) if !path_names.contains(&name.as_str()) => Err(ld.err(
+                    &at,
+                    format!("unknown thread path `{name}`"),
+                    Some(match crate::error::did_you_mean(name, path_names.iter().copied()) {
+                        Some(s) => format!("did you mean `{s}`? Paths are the [[thread.paths]] names"),
+                        None if path_names.is_empty() => "the model has no [[thread.paths]]; add one or remove `path`".into(),
+                        None => format!("paths are: {}", path_names.join(", ")),
+                    }),
+                )),
+                _ => Ok(p.clone()),
+            }
+        };
+        let mut names: Vec<String> = Vec::new();
+        let mut needles = Vec::new();
+        for (k, n) in s.needles.iter().enumerate() {
+            let np = path.key("needles").index(k);
+            if !super::load::is_ident(&n.name) || names.contains(&n.name) || ["lower", "upper"].contains(&n.name.as_str()) {
+                return Err(self.err(&np.key("name"), format!("`{}` is not a valid, unique thread name", n.name), Some("use letters, digits and `_`, e.g. `n1`; `lower` and `upper` are the looper threads".into())));
+            }
+            names.push(n.name.clone());
+            let eye = match (self.organ_point(&n.eye, n.law.is_some(), &np, "needle")?, &n.law) {
+                (Some(slot), _) => OrganDef::Point(slot),
+                (None, Some(l)) => {
+                    let lp = np.key("law");
+                    OrganDef::NeedleLaw {
+                        x: self.length(&l.x_mm, lp.key("x_mm"))?,
+                        s_b: self.length(&l.eye_above_plate_mm, lp.key("eye_above_plate_mm"))?,
+                        stroke: self.positive_length(&l.stroke_mm, lp.key("stroke_mm"), "the needle stroke")?,
+                        bdc: l.bdc_deg.as_ref().map(|v| self.angle(v, lp.key("bdc_deg"))).transpose()?,
+                    }
+                }
+                (None, None) => unreachable!("organ_point checked"),
+            };
+            if n.law.is_some() && n.eye_above_plate_mm.is_some() {
+                return Err(self.err(&np.key("eye_above_plate_mm"), "with a `law`, the eye height is the law's `eye_above_plate_mm`", Some("remove this line".into())));
+            }
+            let eye_above_plate = self.opt_length(&n.eye_above_plate_mm, np.key("eye_above_plate_mm"))?;
+            let point_below_eye = self.opt_length(&n.point_below_eye_mm, np.key("point_below_eye_mm"))?;
+            for (v, key) in [(n.catch_deg, "catch_deg"), (n.drop_deg, "drop_deg")] {
+                if let Some(v) = v {
+                    finite_deg(self, v, &np.key(key))?;
+                }
+            }
+            needles.push(NeedleDef {
+                name: n.name.clone(),
+                eye,
+                eye_above_plate,
+                point_below_eye,
+                path: check_path(self, &n.path, np.key("path"))?,
+                catch_deg: n.catch_deg,
+                drop_deg: n.drop_deg,
+            });
+        }
+        let lp = path.key("looper");
+        let l = &s.looper;
+        let looper_eye = match (self.organ_point(&l.eye, l.law.is_some(), &lp, "looper")?, &l.law) {
+            (Some(slot), _) => OrganDef::Point(slot),
+            (None, Some(w)) => {
+                let p = lp.key("law");
+                OrganDef::LooperLaw {
+                    stroke: self.positive_length(&w.stroke_mm, p.key("stroke_mm"), "the looper stroke")?,
+                    far: self.angle(&w.far_deg, p.key("far_deg"))?,
+                    catch: self.angle(&w.catch_deg, p.key("catch_deg"))?,
+                    catch_x: self.opt_length(&w.catch_x_mm, p.key("catch_x_mm"))?,
+                    y0: self.opt_length(&w.y0_mm, p.key("y0_mm"))?,
+                    avoid: self.opt_length(&w.avoid_mm, p.key("avoid_mm"))?,
+                    depth: self.length(&w.depth_mm, p.key("depth_mm"))?,
+                }
+            }
+            (None, None) => unreachable!("organ_point checked"),
+        };
+        let body = [
+            self.length(&l.k_mm, lp.key("k_mm"))?,
+            self.positive_length(&l.a_mm, lp.key("a_mm"), "the looper's half-cylinder radius a")?,
+            self.length(&l.b_mm, lp.key("b_mm"))?,
+            self.angle(&l.gamma_max_deg, lp.key("gamma_max_deg"))?,
+        ];
+        let looper = (looper_eye, body, check_path(self, &l.path, lp.key("path"))?);
+        let upper = match (&s.upper_looper, stitch_type) {
+            (Some(u), StitchType::S504) => {
+                let up = path.key("upper_looper");
+                let eye = match (self.organ_point(&u.eye, u.law.is_some(), &up, "upper looper")?, &u.law) {
+                    (Some(slot), _) => OrganDef::Point(slot),
+                    (None, Some(w)) => {
+                        let p = up.key("law");
+                        if w.polyline_mm.len() < 2 || w.polyline_mm.iter().flatten().any(|x| !x.is_finite()) {
+                            return Err(self.err(&p.key("polyline_mm"), "the polyline needs at least 2 finite points", Some("e.g. [[13, 1, -6], [5.5, 0, 4]]".into())));
+                        }
+                        let (low, high) = (finite_deg(self, w.low_deg, &p.key("low_deg"))?, finite_deg(self, w.high_deg, &p.key("high_deg"))?);
+                        OrganDef::Polyline { points: w.polyline_mm.clone(), low, high }
+                    }
+                    (None, None) => unreachable!("organ_point checked"),
+                };
+                let w = u.pick_window_deg;
+                if !(w[0].is_finite() && w[1].is_finite() && w[1] > w[0]) {
+                    return Err(self.err(&up.key("pick_window_deg"), "the pick-up window is [from, to] with from < to", None));
+                }
+                Some((eye, w, check_path(self, &u.path, up.key("path"))?))
+            }
+            (None, StitchType::S504) => {
+                return Err(self.err(&path, "stitch 504 needs an upper looper", Some("add a [stitch.upper_looper] table".into())));
+            }
+            (Some(_), _) => {
+                return Err(self.err(&path.key("upper_looper"), format!("stitch {} has no upper looper", s.stitch_type), Some("remove [stitch.upper_looper]".into())));
+            }
+            (None, _) => None,
+        };
+        let moments = match (&s.moments, stitch_type) {
+            (Some(mo), StitchType::S504) => {
+                let mp = path.key("moments");
+                for (v, key) in [(mo.stab_deg, "stab_deg"), (mo.upper_release_deg, "upper_release_deg"), (mo.draw_in_deg, "draw_in_deg")] {
+                    finite_deg(self, v, &mp.key(key))?;
+                }
+                if !(mo.stab_deg < mo.upper_release_deg && mo.upper_release_deg < mo.draw_in_deg && mo.draw_in_deg < 360.0) {
+                    return Err(self.err(&mp, "the moments must come in the order stab < upper_release < draw_in < 360 (φ_c, degrees)", Some("seed 004 Table 2: stab 270, draw-in 330".into())));
+                }
+                Some(Moments { stab_deg: mo.stab_deg, upper_release_deg: mo.upper_release_deg, draw_in_deg: mo.draw_in_deg })
+            }
+            (None, StitchType::S504) => {
+                return Err(self.err(&path, "stitch 504 needs its cyclogram moments", Some("add [stitch.moments] with stab_deg, upper_release_deg, draw_in_deg".into())));
+            }
+            (_, _) => None,
+        };
+        Ok(Some(StitchDef {
+            stitch_type,
+            m,
+            t,
+            tilt,
+            a_e,
+            edge_split,
+            frame,
+            cyclogram_zero_deg,
+            tolerance_mm,
+            regulator_window_deg: s.regulator_window_deg.clone(),
+            feed,
+            needles,
+            looper,
+            upper,
+            moments,
+        }))
+    }
+}
+
+impl Model {
+    /// The model's stitch process resolved with `params`, organ motions
+    /// sampled from the solved mechanism; `None` when the model has no
+    /// `[stitch]`.
+    pub fn stitch_setup(&self, params: &Params) -> Result<Option<StitchSetup>, Error> {
+        let Some(d) = &self.stitch else { return Ok(None) };
+        let base: Vec<f64> = params.values.clone();
+        let q = self.quantities(&base)?;
+        let tilt_deg = d.tilt.map_or(0.0, |i| q[i]);
+        let needs_mechanism = d.needles.iter().any(|n| matches!(n.eye, OrganDef::Point(_)))
+            || matches!(d.looper.0, OrganDef::Point(_))
+            || matches!(&d.upper, Some((OrganDef::Point(_), ..)));
+        // Sample the mechanism once over the cycle, φ_c = 0, step, …
+        let n = (360.0 / MOTION_STEP_DEG).round() as usize;
+        let pose = if needs_mechanism {
+            let mech = self.mechanism::<f64>(params)?;
+            let phis: Vec<f64> = (0..n).map(|k| d.cyclogram_zero_deg + k as f64 * MOTION_STEP_DEG).collect();
+            let mut pose = mech.new_pose(n);
+            mech.solve(&Phi::table(&phis), &mut pose)?;
+            Some(pose)
+        } else {
+            None
+        };
+        let placement = if d.frame == 0 { None } else { Some(self.mechanism::<f64>(params)?.frames[d.frame]) };
+        let table = |slot: usize| -> Motion {
+            let pose = pose.as_ref().expect("sampled when a point is used");
+            let pts: Vec<V3<f64>> = pose.track(slot).iter().map(|p| placement.map_or(*p, |pl| pl.to_local(*p))).collect();
+            Motion::Table { start_deg: 0.0, step_deg: MOTION_STEP_DEG, points: Arc::from(pts) }
+        };
+        let b = tilt_deg.to_radians();
+        let u_n = V3::new(0.0, -b.sin(), b.cos());
+        let (k, a, bb, gmax) = (q[d.looper.1[0]], q[d.looper.1[1]], q[d.looper.1[2]], q[d.looper.1[3]]);
+        let mut needles = Vec::new();
+        for nd in &d.needles {
+            let eye = match &nd.eye {
+                OrganDef::Point(slot) => {
+                    let Motion::Table { start_deg, step_deg, points } = table(*slot) else { unreachable!() };
+                    match nd.eye_above_plate {
+                        // Set the needle in its bar: shift the eye along the
+                        // needle so that it stands s_B above the plate at TDC.
+                        Some(sb) => {
+                            let s_b_now = points.iter().map(|p| p.z).fold(f64::MIN, f64::max) / b.cos();
+                            let shift = u_n * (q[sb] - s_b_now);
+                            let moved: Vec<V3<f64>> = points.iter().map(|p| p + shift).collect();
+                            Motion::Table { start_deg, step_deg, points: Arc::from(moved) }
+                        }
+                        None => Motion::Table { start_deg, step_deg, points },
+                    }
+                }
+                OrganDef::NeedleLaw { x, s_b, stroke, bdc } => Motion::NeedleLaw {
+                    x_mm: q[*x],
+                    eye_above_plate_mm: q[*s_b],
+                    stroke_mm: q[*stroke],
+                    bdc_deg: bdc.map_or(0.0, |i| q[i]),
+                    tilt_deg,
+                },
+                _ => unreachable!("needles take a point or a needle law"),
+            };
+            needles.push(NeedleSpec {
+                name: nd.name.clone(),
+                eye,
+                point_below_eye_mm: nd.point_below_eye.map_or(2.0, |i| q[i]),
+                catch_deg: nd.catch_deg,
+                drop_deg: nd.drop_deg,
+            });
+        }
+        let looper_eye = match &d.looper.0 {
+            OrganDef::Point(slot) => table(*slot),
+            OrganDef::LooperLaw { stroke, far, catch, catch_x, y0, avoid, depth } => Motion::LooperLaw {
+                stroke_mm: q[*stroke],
+                far_deg: q[*far],
+                catch_deg: q[*catch],
+                catch_x_mm: catch_x.map_or(0.0, |i| q[i]),
+                y0_mm: y0.map_or((k + bb) * b.tan(), |i| q[i]),
+                avoid_mm: avoid.map_or(0.0, |i| q[i]),
+                depth_mm: q[*depth],
+            },
+            _ => unreachable!("the looper takes a point or a looper law"),
+        };
+        let upper_looper = d.upper.as_ref().map(|(o, w, _)| UpperLooperSpec {
+            eye: match o {
+                OrganDef::Point(slot) => table(*slot),
+                OrganDef::Polyline { points, low, high } => Motion::PolylineLaw {
+                    points: points.iter().map(|p| V3::new(p[0], p[1], p[2])).collect::<Vec<_>>().into(),
+                    low_deg: *low,
+                    high_deg: *high,
+                },
+                _ => unreachable!("the upper looper takes a point or a polyline law"),
+            },
+            pick_window_deg: *w,
+        });
+        let spec = StitchSpec {
+            stitch_type: d.stitch_type,
+            m_mm: q[d.m],
+            t_mm: q[d.t],
+            tilt_deg,
+            a_e_mm: d.a_e.map_or(0.0, |i| q[i]),
+            edge_split: d.edge_split,
+            feed: FeedLaw::Harmonic { start_deg: q[d.feed.0], duration_deg: q[d.feed.1] },
+            needles,
+            looper: LooperSpec { eye: looper_eye, k_mm: k, a_mm: a, b_mm: bb, gamma_max_rad: gmax.to_radians() },
+            upper_looper,
+            // Chain stitches have no looper-thread moments.
+            moments: d.moments.unwrap_or(Moments { stab_deg: 0.0, upper_release_deg: 0.0, draw_in_deg: 0.0 }),
+        };
+        let mut paths: Vec<Option<String>> = d.needles.iter().map(|n| n.path.clone()).collect();
+        if d.stitch_type == StitchType::S504 {
+            paths.push(d.looper.2.clone());
+            paths.push(d.upper.as_ref().and_then(|u| u.2.clone()));
+        }
+        Ok(Some(StitchSetup {
+            spec,
+            cyclogram_zero_deg: d.cyclogram_zero_deg,
+            tolerance_mm: d.tolerance_mm,
+            regulator_window_deg: d.regulator_window_deg.clone(),
+            paths,
+        }))
+    }
+}

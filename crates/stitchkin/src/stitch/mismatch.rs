@@ -1,0 +1,194 @@
+//! How well the actual take-up P(φ) matches the required P'(φ)
+//! (`docs/stitch-formation.md` §8).
+//!
+//! With D(φ) = P(φ) − P'(φ), D > 0 is thread given but not needed (slack, a
+//! loose stitch) and D < 0 thread needed but not given (strain). Every metric
+//! is taken over the compared positions of a uniform φ grid covering one
+//! cycle (the cycle minus the regulator windows, where thread passes the
+//! tension regulator and the two need not agree).
+
+use serde::Serialize;
+
+/// The mismatch of one thread.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Mismatch {
+    /// max |D| and where, mm and deg.
+    pub max_abs_d_mm: f64,
+    pub max_abs_d_at_deg: f64,
+    /// Largest excess (max D) and largest deficit (min D), mm.
+    pub max_d_mm: f64,
+    pub min_d_mm: f64,
+    /// √(mean D²), mm.
+    pub rms_d_mm: f64,
+    /// Standard deviation of D (RMS with the mean offset removed), mm.
+    pub std_d_mm: f64,
+    /// ∫ max(D, 0) dφ and ∫ max(−D, 0) dφ, mm·deg.
+    pub excess_area_mm_deg: f64,
+    pub deficit_area_mm_deg: f64,
+    /// Maximal φ intervals [from, to] (deg) with D > ε and with D < −ε.
+    pub excess_intervals_deg: Vec<[f64; 2]>,
+    pub deficit_intervals_deg: Vec<[f64; 2]>,
+    /// φ(max P) − φ(max P'), wrapped to (−180°, 180°].
+    pub phase_shift_max_deg: f64,
+    /// The circular shift λ (deg, wrapped) that minimizes std(P(φ + λ) − P'(φ)).
+    pub best_lag_deg: f64,
+    /// Swing of P', max P' − min P', mm.
+    pub range_pprime_mm: f64,
+    /// The match score s = 100·max(0, 1 − RMS(D)/range(P')), 0…100: 100 is
+    /// a perfect match, 0 an RMS error as large as P' swings. What tuning
+    /// maximizes. `None` when P' does not vary.
+    pub score: Option<f64>,
+    /// s₀: the same with std(D) (offset-free), a diagnostic.
+    pub score_offset_free: Option<f64>,
+}
+
+/// Wraps an angle difference to (−180°, 180°].
+fn wrap180(x: f64) -> f64 {
+    let w = (x + 180.0).rem_euclid(360.0) - 180.0;
+    if w == -180.0 { 180.0 } else { w }
+}
+
+/// The mismatch of `p` against `pprime` on the uniform grid `phi_deg` (one
+/// cycle, step `phi_deg[1] − phi_deg[0]`). `compared[k]` is false inside a
+/// regulator window; `eps_mm` is the tolerance ε of the intervals. `None`
+/// when nothing is compared.
+pub fn mismatch(phi_deg: &[f64], p: &[f64], pprime: &[f64], compared: &[bool], eps_mm: f64) -> Option<Mismatch> {
+    let n = phi_deg.len();
+    assert!(p.len() == n && pprime.len() == n && compared.len() == n, "one value per φ");
+    let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
+    if ks.is_empty() {
+        return None;
+    }
+    let dphi = if n > 1 { phi_deg[1] - phi_deg[0] } else { 360.0 };
+    let d: Vec<f64> = (0..n).map(|k| p[k] - pprime[k]).collect();
+    let count = ks.len() as f64;
+    let mean = ks.iter().map(|&k| d[k]).sum::<f64>() / count;
+    let rms = (ks.iter().map(|&k| d[k] * d[k]).sum::<f64>() / count).sqrt();
+    let std = (ks.iter().map(|&k| (d[k] - mean).powi(2)).sum::<f64>() / count).sqrt();
+    let k_abs = *ks.iter().max_by(|&&a, &&b| d[a].abs().total_cmp(&d[b].abs()).then(b.cmp(&a))).unwrap();
+    let argmax = |v: &[f64]| *ks.iter().max_by(|&&a, &&b| v[a].total_cmp(&v[b]).then(b.cmp(&a))).unwrap();
+    let (pp_max, pp_min) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| (hi.max(pprime[k]), lo.min(pprime[k])));
+    let range = pp_max - pp_min;
+    // Best circular lag: λ = j·dφ minimizing std over the compared set of
+    // P(φ + λ) − P'(φ).
+    let mut best = (f64::INFINITY, 0usize);
+    for j in 0..n {
+        let (mut s1, mut s2) = (0.0, 0.0);
+        for &k in &ks {
+            let x = p[(k + j) % n] - pprime[k];
+            s1 += x;
+            s2 += x * x;
+        }
+        let var = (s2 / count - (s1 / count).powi(2)).max(0.0);
+        if var < best.0 - 1e-12 {
+            best = (var, j);
+        }
+    }
+    let intervals = |sel: &dyn Fn(f64) -> bool| {
+        let mut out = Vec::new();
+        let mut start: Option<usize> = None;
+        for k in 0..n {
+            let on = compared[k] && sel(d[k]);
+            match (on, start) {
+                (true, None) => start = Some(k),
+                (false, Some(s)) => {
+                    out.push([phi_deg[s], phi_deg[k - 1]]);
+                    start = None;
+                }
+                _ => {}
+            }
+        }
+        if let Some(s) = start {
+            out.push([phi_deg[s], phi_deg[n - 1]]);
+        }
+        out
+    };
+    let score = |e: f64| (range > 1e-12).then(|| 100.0 * (1.0 - e / range).max(0.0));
+    Some(Mismatch {
+        max_abs_d_mm: d[k_abs].abs(),
+        max_abs_d_at_deg: phi_deg[k_abs],
+        max_d_mm: ks.iter().map(|&k| d[k]).fold(f64::MIN, f64::max),
+        min_d_mm: ks.iter().map(|&k| d[k]).fold(f64::MAX, f64::min),
+        rms_d_mm: rms,
+        std_d_mm: std,
+        excess_area_mm_deg: ks.iter().map(|&k| d[k].max(0.0)).sum::<f64>() * dphi,
+        deficit_area_mm_deg: ks.iter().map(|&k| (-d[k]).max(0.0)).sum::<f64>() * dphi,
+        excess_intervals_deg: intervals(&|x| x > eps_mm),
+        deficit_intervals_deg: intervals(&|x| x < -eps_mm),
+        phase_shift_max_deg: wrap180(phi_deg[argmax(p)] - phi_deg[argmax(pprime)]),
+        best_lag_deg: wrap180(best.1 as f64 * dphi),
+        range_pprime_mm: range,
+        score: score(rms),
+        score_offset_free: score(std),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid(step: f64) -> Vec<f64> {
+        (0..(360.0 / step) as usize).map(|k| k as f64 * step).collect()
+    }
+
+    #[test]
+    fn identical_curves_score_100() {
+        let phi = grid(1.0);
+        let pp: Vec<f64> = phi.iter().map(|f| 10.0 * f.to_radians().sin()).collect();
+        let m = mismatch(&phi, &pp, &pp, &vec![true; phi.len()], 0.5).unwrap();
+        assert_eq!(m.rms_d_mm, 0.0);
+        assert_eq!(m.score, Some(100.0));
+        assert!(m.excess_intervals_deg.is_empty() && m.deficit_intervals_deg.is_empty());
+        assert_eq!(m.best_lag_deg, 0.0);
+    }
+
+    #[test]
+    fn offset_and_shift_are_measured() {
+        let phi = grid(1.0);
+        let pp: Vec<f64> = phi.iter().map(|f| 10.0 * f.to_radians().sin()).collect();
+        // P lags P' by 30°: P(φ) = P'(φ − 30°), plus 1 mm of slack.
+        let p: Vec<f64> = phi.iter().map(|f| 10.0 * (f - 30.0).to_radians().sin() + 1.0).collect();
+        let m = mismatch(&phi, &p, &pp, &vec![true; phi.len()], 0.5).unwrap();
+        assert!((m.phase_shift_max_deg - 30.0).abs() < 1e-9, "{m:?}");
+        // P(φ + 30°) = P'(φ): the best lag is +30°.
+        assert!((m.best_lag_deg - 30.0).abs() < 1e-9, "{m:?}");
+        assert!((m.range_pprime_mm - 20.0).abs() < 1e-9);
+        // D = 1 + 10(sin(φ−30°) − sin φ) = 1 − 2·10·sin15°·cos(φ − 15°):
+        // mean 1, std 20 sin15°/√2.
+        let std = 20.0 * 15f64.to_radians().sin() / 2f64.sqrt();
+        assert!((m.std_d_mm - std).abs() < 1e-9);
+        assert!((m.rms_d_mm - (1.0 + std * std).sqrt()).abs() < 1e-9);
+        assert!((m.score.unwrap() - 100.0 * (1.0 - m.rms_d_mm / 20.0)).abs() < 1e-12);
+        assert!(m.score_offset_free.unwrap() > m.score.unwrap());
+        // Areas: the excess minus the deficit is the mean times 360°.
+        assert!((m.excess_area_mm_deg - m.deficit_area_mm_deg - 360.0).abs() < 1e-6);
+        assert!(!m.excess_intervals_deg.is_empty() && !m.deficit_intervals_deg.is_empty());
+    }
+
+    #[test]
+    fn regulator_window_is_left_out() {
+        let phi = grid(1.0);
+        let pp = vec![0.0; 360];
+        let mut pp2 = pp.clone();
+        pp2[10] = 5.0;
+        let mut p = pp2.clone();
+        p[200] = 100.0; // a spike inside the window
+        let compared: Vec<bool> = (0..360).map(|k| !(190..=210).contains(&k)).collect();
+        let m = mismatch(&phi, &p, &pp2, &compared, 0.5).unwrap();
+        assert_eq!(m.max_abs_d_mm, 0.0);
+        assert!(mismatch(&phi, &p, &pp2, &[false; 360], 0.5).is_none());
+        // A flat P' has no score.
+        assert_eq!(mismatch(&phi, &p, &pp, &compared, 0.5).unwrap().score, None);
+    }
+
+    #[test]
+    fn intervals_are_maximal_runs() {
+        let phi = grid(10.0);
+        let pp = vec![0.0; 36];
+        let p: Vec<f64> = (0..36).map(|k| if (3..=6).contains(&k) { 1.0 } else if k >= 30 { -1.0 } else { 0.0 }).collect();
+        let m = mismatch(&phi, &p, &pp, &[true; 36], 0.5).unwrap();
+        assert_eq!(m.excess_intervals_deg, vec![[30.0, 60.0]]);
+        assert_eq!(m.deficit_intervals_deg, vec![[300.0, 350.0]]);
+        assert!((m.excess_area_mm_deg - 40.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,481 @@
+//! The required take-up P'(φ) of every thread of a stitch
+//! (`docs/stitch-formation.md` §3, §5, §7).
+//!
+//! Each thread's consumption contour η(φ_c) runs from its split point (the
+//! needle eye, a looper eye) to its anchor, the last material point of the
+//! newest finished stitch. P'(φ_c) = η(φ_c) − η(φ0) (seed 004 eq. 6). At the
+//! thread's lock the anchor moves on by one stitch and η drops by the thread
+//! cut off, which is exactly the per-stitch consumption of §6.
+
+use crate::Error;
+
+use super::consumption::{StitchGeometry, consumption};
+use super::feed::Feed;
+use super::needle_thread::{NeedleThread, Side};
+use super::overedge::Overedge;
+use super::spec::{Event, EventKind, Motion, RequiredTakeUp, RequiredThread, StitchSpec, StitchType, ThreadRole};
+
+/// One thread's contour, for the common bookkeeping.
+enum Contour<'a> {
+    Needle(&'a NeedleThread),
+    Lower(&'a Overedge),
+    Upper(&'a Overedge),
+}
+
+impl Contour<'_> {
+    fn eta(&self, phi: f64, side: Side) -> Result<f64, Error> {
+        match self {
+            Contour::Needle(n) => Ok(n.eta(phi, side)),
+            Contour::Lower(o) => o.eta_lower(phi, side),
+            Contour::Upper(o) => o.eta_upper(phi, side),
+        }
+    }
+
+    fn piece(&self, phi: f64) -> &'static str {
+        match self {
+            Contour::Needle(n) => n.piece(phi, Side::Right).id(),
+            Contour::Lower(o) => o.lower_piece(phi, Side::Right).id(),
+            Contour::Upper(o) => o.upper_piece(phi, Side::Right).id(),
+        }
+    }
+
+    fn events(&self) -> Vec<(String, f64, EventKind)> {
+        match self {
+            Contour::Needle(n) => n.events(),
+            Contour::Lower(o) => o.lower_events(),
+            Contour::Upper(o) => o.upper_events(),
+        }
+    }
+
+    /// The lock φ_L, deg.
+    fn lock(&self) -> f64 {
+        match self {
+            Contour::Needle(n) => n.phi_drop,
+            Contour::Lower(o) | Contour::Upper(o) => o.phi_draw_in,
+        }
+    }
+
+    /// The thread cut at the lock, from the final nodes, mm.
+    fn cut(&self) -> f64 {
+        match self {
+            Contour::Needle(n) => n.lock_cut(),
+            Contour::Lower(o) => o.lower_cut(),
+            Contour::Upper(o) => o.upper_cut(),
+        }
+    }
+
+    /// ρ: thread released at the lock, mm.
+    fn released(&self) -> f64 {
+        match self {
+            Contour::Needle(n) => n.released(),
+            Contour::Lower(_) | Contour::Upper(_) => 0.0,
+        }
+    }
+}
+
+/// φ wrapped into the cyclogram cycle [0, 360).
+fn wrap(phi: f64) -> f64 {
+    let w = phi.rem_euclid(360.0);
+    if w >= 360.0 { 0.0 } else { w }
+}
+
+/// P'(φ) of every thread of the stitch, at the cyclogram angles `phis_c_deg`
+/// (deg, 0 = needle BDC), with P' = η − η(phi0_c_deg).
+///
+/// Threads: for 401/406/407 one needle thread per `spec.needles` entry
+/// (contour 1, locked at its drop); for 504 the needle thread (contour 1,
+/// lock φ4), `lower` (contour 13) and `upper` (contour 10), both locked at
+/// φ5. At an event the right limit is given; the events list both limits.
+pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) -> Result<RequiredTakeUp, Error> {
+    let ty = spec.stitch_type;
+    if ty == StitchType::S503 {
+        return Err(Error::Stitch(
+            "stitch 503: the required take-up P' is derived in docs/stitch-formation.md §5.5 but not implemented \
+             yet (no reference numbers); use 504 or a chain stitch (401, 406, 407)"
+                .into(),
+        ));
+    }
+    let (m, t, tilt) = (spec.m_mm, spec.t_mm, spec.tilt_deg);
+    if !(m.is_finite() && m > 0.0) {
+        return Err(Error::Stitch(format!("the material thickness m = {m} mm must be > 0 (e.g. 2.5)")));
+    }
+    if !(tilt.is_finite() && tilt.abs() < 80.0) {
+        return Err(Error::Stitch(format!("the needle tilt β = {tilt}° must be between −80° and 80° (Altin: 20°)")));
+    }
+    if let Some(bad) = phis_c_deg.iter().chain([&phi0_c_deg]).find(|p| !p.is_finite()) {
+        return Err(Error::Stitch(format!("the angle φ_c = {bad} is not a number; give finite angles in degrees")));
+    }
+    if spec.needles.len() != ty.needles() {
+        return Err(Error::Stitch(format!(
+            "stitch {} has {} needle(s) but {} were given; give one [[stitch.needles]] entry per needle",
+            ty.number(),
+            ty.needles(),
+            spec.needles.len()
+        )));
+    }
+    let feed = Feed::new(&spec.feed, t)?;
+    for n in &spec.needles {
+        check_motion(&format!("needle {}: the eye", n.name), &n.eye)?;
+    }
+    check_motion("the looper's catching point", &spec.looper.eye)?;
+    if let Some(u) = spec.upper_looper.as_ref().filter(|_| ty == StitchType::S504) {
+        check_motion("the upper looper's eye", &u.eye)?;
+    }
+
+    // Per-stitch consumption by the contour formulas (§6). Chain stitches
+    // do not use the overedge width or the edge split.
+    let overedge = ty == StitchType::S504;
+    if overedge && !(spec.a_e_mm.is_finite() && spec.a_e_mm > 0.0) {
+        return Err(Error::Stitch(format!(
+            "stitch 504: the overedge width a_e = {} mm must be > 0 (e.g. 4)",
+            spec.a_e_mm
+        )));
+    }
+    if overedge && !(0.0..=1.0).contains(&spec.edge_split) {
+        return Err(Error::Stitch(format!(
+            "stitch 504: the edge split e = {} must be in [0, 1] (0.5: the looper threads meet mid-edge)",
+            spec.edge_split
+        )));
+    }
+    let geometry = StitchGeometry {
+        thickness_mm: m,
+        stitch_mm: t,
+        width_mm: if overedge { spec.a_e_mm } else { 0.0 },
+        incline_deg: tilt,
+        edge_fraction: if overedge { spec.edge_split } else { 0.5 },
+    };
+    let per_stitch = consumption(ty.number(), &geometry)?;
+    let formula = |thread: &str| per_stitch.threads.iter().find(|c| c.thread == thread).and_then(|c| c.length_mm);
+
+    let needles = spec
+        .needles
+        .iter()
+        .map(|n| NeedleThread::new(n, &spec.looper, m, tilt, feed))
+        .collect::<Result<Vec<_>, _>>()?;
+    let ov = if overedge { Some(Overedge::new(spec, &needles[0])?) } else { None };
+
+    let mut contours: Vec<(String, ThreadRole, u8, Contour)> =
+        needles.iter().map(|n| (n.name.clone(), ThreadRole::Needle, 1, Contour::Needle(n))).collect();
+    if let Some(o) = &ov {
+        contours.push(("lower".into(), ThreadRole::LowerLooper, 13, Contour::Lower(o)));
+        contours.push(("upper".into(), ThreadRole::UpperLooper, 10, Contour::Upper(o)));
+    }
+
+    let phis: Vec<f64> = phis_c_deg.iter().map(|&p| wrap(p)).collect();
+    let phi0 = wrap(phi0_c_deg);
+    let mut threads = Vec::new();
+    for (name, role, contour, c) in &contours {
+        let per_stitch_mm = match role {
+            ThreadRole::Needle => formula("needle 1"),
+            ThreadRole::LowerLooper => formula("lower looper"),
+            ThreadRole::UpperLooper => formula("upper looper"),
+        }
+        .ok_or_else(|| Error::Stitch(format!("thread {name}: no per-stitch formula for contour {contour}")))?;
+        let eta_mm = phis.iter().map(|&p| c.eta(p, Side::Right)).collect::<Result<Vec<_>, _>>()?;
+        let eta0 = c.eta(phi0, Side::Right)?;
+        let pprime_mm: Vec<f64> = eta_mm.iter().map(|e| e - eta0).collect();
+        let events = c
+            .events()
+            .into_iter()
+            .map(|(ev, phi, kind)| {
+                Ok(Event {
+                    name: ev,
+                    phi_c_deg: phi,
+                    kind,
+                    eta_left_mm: c.eta(phi, Side::Left)?,
+                    eta_right_mm: c.eta(phi, Side::Right)?,
+                })
+            })
+            .collect::<Result<Vec<_>, Error>>()?;
+        let lock = c.lock();
+        let (cut_mm, released_mm) = (c.cut(), c.released());
+        // σ_snap: J_L = −L_s − ρ + σ_snap (§3.3).
+        let snap_mm = c.eta(lock, Side::Right)? - c.eta(lock, Side::Left)? + cut_mm + released_mm;
+        let (travel_mm, gamma_deg) = match c {
+            Contour::Needle(n) => (
+                Some(phis.iter().map(|&p| n.travel(p)).collect()),
+                Some(phis.iter().map(|&p| n.carry.gamma(p).to_degrees()).collect()),
+            ),
+            _ => (None, None),
+        };
+        let thread = RequiredThread {
+            name: name.clone(),
+            role: *role,
+            contour: *contour,
+            per_stitch_mm,
+            lock_deg: lock,
+            cut_mm,
+            released_mm,
+            snap_mm,
+            piece: phis.iter().map(|&p| c.piece(p)).collect(),
+            eta_mm,
+            pprime_mm,
+            travel_mm,
+            gamma_deg,
+            events,
+        };
+        check_finite(&thread, &phis)?;
+        threads.push(thread);
+    }
+
+    let mut moments: Vec<(String, f64)> = needles.iter().flat_map(|n| n.moments()).collect();
+    let mut warnings: Vec<String> = needles.iter().flat_map(|n| n.warnings.iter().cloned()).collect();
+    if let Some(o) = &ov {
+        moments.push(("upper looper picks lower thread (φ_UC)".into(), o.phi_pick));
+        warnings.extend(o.warnings.iter().cloned());
+    }
+    Ok(RequiredTakeUp { threads, moments, warnings })
+}
+
+/// A motion that can be evaluated over the whole cycle without a NaN or a
+/// panic: finite numbers, a table covering one cycle, a polyline with points
+/// and distinct low and high angles.
+fn check_motion(organ: &str, motion: &Motion) -> Result<(), Error> {
+    let bad = |what: String| Err(Error::Stitch(format!("{organ}: {what}")));
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    match motion {
+        Motion::Table { start_deg, step_deg, points } => {
+            if points.is_empty() || !(step_deg.is_finite() && *step_deg > 0.0) || !start_deg.is_finite() {
+                return bad(format!(
+                    "the motion table ({} points, step {step_deg}°) is empty or has no positive step",
+                    points.len()
+                ));
+            }
+            let span = points.len() as f64 * step_deg;
+            if (span - 360.0).abs() > 1e-6 * 360.0 {
+                return bad(format!(
+                    "the motion table covers {span}° ({} points × {step_deg}°); it must cover one cycle, 360°",
+                    points.len()
+                ));
+            }
+            if let Some(k) = points.iter().position(|p| !finite(p.as_slice())) {
+                return bad(format!(
+                    "the motion table has a non-finite point at φ_c = {}°",
+                    start_deg + k as f64 * step_deg
+                ));
+            }
+        }
+        Motion::NeedleLaw { x_mm, eye_above_plate_mm, stroke_mm, bdc_deg, tilt_deg } => {
+            if !finite(&[*x_mm, *eye_above_plate_mm, *stroke_mm, *bdc_deg, *tilt_deg]) || *stroke_mm <= 0.0 {
+                return bad("the needle law needs finite numbers and a positive stroke".into());
+            }
+        }
+        Motion::LooperLaw { stroke_mm, far_deg, catch_deg, catch_x_mm, y0_mm, avoid_mm, depth_mm } => {
+            if !finite(&[*stroke_mm, *far_deg, *catch_deg, *catch_x_mm, *y0_mm, *avoid_mm, *depth_mm])
+                || *stroke_mm <= 0.0
+            {
+                return bad("the looper law needs finite numbers and a positive stroke".into());
+            }
+        }
+        Motion::PolylineLaw { points, low_deg, high_deg } => {
+            let up = (high_deg - low_deg).rem_euclid(360.0);
+            if points.is_empty() || !finite(&[*low_deg, *high_deg]) || up == 0.0 {
+                return bad(format!(
+                    "the polyline law needs points and distinct low and high angles (got {} points, low {low_deg}°, \
+                     high {high_deg}°)",
+                    points.len()
+                ));
+            }
+            if !points.iter().all(|p| finite(p.as_slice())) {
+                return bad("the polyline law has a non-finite point".into());
+            }
+        }
+    }
+    Ok(())
+}
+
+/// No NaN or infinity leaves: name the thread and φ instead.
+fn check_finite(th: &RequiredThread, phis: &[f64]) -> Result<(), Error> {
+    let series = [Some(&th.eta_mm), Some(&th.pprime_mm), th.travel_mm.as_ref(), th.gamma_deg.as_ref()];
+    for s in series.into_iter().flatten() {
+        if let Some(k) = s.iter().position(|v| !v.is_finite()) {
+            return Err(Error::Stitch(format!("thread {}: η is not finite at φ_c = {:.2}°", th.name, phis[k])));
+        }
+    }
+    let scalars = [th.per_stitch_mm, th.cut_mm, th.released_mm, th.snap_mm, th.lock_deg];
+    let events = th.events.iter().flat_map(|e| [e.eta_left_mm, e.eta_right_mm, e.phi_c_deg]);
+    if scalars.into_iter().chain(events).any(|v| !v.is_finite()) {
+        return Err(Error::Stitch(format!("thread {}: a lock or event value is not finite", th.name)));
+    }
+    Ok(())
+}
+
+/// The reference cases of `tests/data/stitch` with their stand-in laws, for
+/// the unit tests.
+#[cfg(test)]
+pub(crate) mod test_specs {
+    use std::sync::Arc;
+
+    use crate::geometry::V3;
+    use crate::stitch::spec::*;
+
+    /// altin504: Textima Altin, stitch 504 (the reference's stand-in laws).
+    pub fn altin504() -> StitchSpec {
+        StitchSpec {
+            stitch_type: StitchType::S504,
+            m_mm: 2.5,
+            t_mm: 2.8,
+            tilt_deg: 20.0,
+            a_e_mm: 4.0,
+            edge_split: 0.5,
+            feed: FeedLaw::Harmonic { start_deg: 134.0, duration_deg: 100.0 },
+            needles: vec![NeedleSpec {
+                name: "needle".into(),
+                eye: Motion::NeedleLaw {
+                    x_mm: 0.0,
+                    eye_above_plate_mm: 11.5,
+                    stroke_mm: 25.44,
+                    bdc_deg: 0.0,
+                    tilt_deg: 20.0,
+                },
+                point_below_eye_mm: 2.0,
+                catch_deg: Some(30.0),
+                drop_deg: Some(300.0),
+            }],
+            looper: LooperSpec {
+                eye: Motion::LooperLaw {
+                    stroke_mm: 17.32,
+                    far_deg: 180.0,
+                    catch_deg: 30.0,
+                    catch_x_mm: 0.0,
+                    y0_mm: 6.5 * 20f64.to_radians().tan(),
+                    avoid_mm: 0.75,
+                    depth_mm: 5.5,
+                },
+                k_mm: 4.0,
+                a_mm: 1.0,
+                b_mm: 2.5,
+                gamma_max_rad: 0.4,
+            },
+            upper_looper: Some(UpperLooperSpec {
+                eye: Motion::PolylineLaw {
+                    points: Arc::from(vec![V3::new(13.0, 1.0, -6.0), V3::new(5.5, 0.0, 4.0), V3::new(-1.0, -1.0, 4.0)]),
+                    low_deg: 110.0,
+                    high_deg: 270.0,
+                },
+                pick_window_deg: [120.0, 200.0],
+            }),
+            moments: Moments { stab_deg: 270.0, upper_release_deg: 290.0, draw_in_deg: 330.0 },
+        }
+    }
+
+    /// mf7923d / 407: three needles on the seed-000 slider-crank, tabulated
+    /// at 0.01°.
+    pub fn mf7923d_407() -> StitchSpec {
+        let (r2, l_de, s_b) = (15.5, 54.5, 20.5);
+        let needle = |name: &str, x: f64| {
+            let points: Vec<V3<f64>> = (0..36_000)
+                .map(|k| {
+                    let phi = (k as f64 * 0.01 + 180.0).to_radians(); // machine φ = φ_c + 180°
+                    let s = r2 * (1.0 - phi.cos()) + l_de - (l_de * l_de - (r2 * phi.sin()).powi(2)).sqrt();
+                    V3::new(x, 0.0, s_b - s)
+                })
+                .collect();
+            NeedleSpec {
+                name: name.into(),
+                eye: Motion::Table { start_deg: 0.0, step_deg: 0.01, points: Arc::from(points) },
+                point_below_eye_mm: 2.0,
+                catch_deg: None,
+                drop_deg: None,
+            }
+        };
+        StitchSpec {
+            stitch_type: StitchType::S407,
+            m_mm: 3.0,
+            t_mm: 3.0,
+            tilt_deg: 0.0,
+            a_e_mm: 0.0,
+            edge_split: 0.5,
+            feed: FeedLaw::Harmonic { start_deg: 130.0, duration_deg: 100.0 },
+            needles: vec![needle("n1", -4.0), needle("n2", 0.0), needle("n3", 4.0)],
+            looper: LooperSpec {
+                eye: Motion::LooperLaw {
+                    stroke_mm: 32.0,
+                    far_deg: 180.0,
+                    catch_deg: 30.0,
+                    catch_x_mm: -4.0,
+                    y0_mm: 0.0,
+                    avoid_mm: 0.0,
+                    depth_mm: 5.5,
+                },
+                k_mm: 4.0,
+                a_mm: 1.0,
+                b_mm: 2.5,
+                gamma_max_rad: 0.4,
+            },
+            upper_looper: None,
+            moments: Moments { stab_deg: 270.0, upper_release_deg: 290.0, draw_in_deg: 330.0 },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::test_specs::{altin504, mf7923d_407};
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn altin504_threads_locks_and_periodicity() {
+        let s = altin504();
+        let r = required_take_up(&s, &[0.0, 90.0, 359.999_999_999], 0.0).unwrap();
+        let names: Vec<_> = r.threads.iter().map(|t| (t.name.as_str(), t.contour)).collect();
+        assert_eq!(names, [("needle", 1), ("lower", 13), ("upper", 10)]);
+        assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+        for th in &r.threads {
+            assert_eq!(th.pprime_mm[0], 0.0);
+            // The cut recomputed from the nodes is the contour formula (§7a).
+            assert_relative_eq!(th.cut_mm, th.per_stitch_mm, epsilon = 1e-12);
+            // η(360⁻) = η(0⁺) (§7b).
+            assert!((th.eta_mm[2] - th.eta_mm[0]).abs() < 1e-6, "{}", th.name);
+            let lock = th.events.iter().find(|e| e.kind == EventKind::Lock).unwrap();
+            assert_eq!(lock.phi_c_deg, th.lock_deg);
+            assert!(th.snap_mm > -1e-9, "{}: snap {}", th.name, th.snap_mm);
+        }
+        let needle = &r.threads[0];
+        assert_relative_eq!(needle.released_mm, 17.749, epsilon = 5e-4);
+        assert_relative_eq!(needle.travel_mm.as_ref().unwrap()[0], 25.44, epsilon = 1e-12);
+        assert_eq!(needle.piece, ["N1", "N2a", "N3b"]);
+        assert!(r.moments.iter().any(|(n, p)| n.contains("φ_UC") && (p - 126.6).abs() < 1e-9));
+    }
+
+    #[test]
+    fn the_407_has_three_needle_threads() {
+        let r = required_take_up(&mf7923d_407(), &[180.0], 180.0).unwrap();
+        assert_eq!(r.threads.len(), 3);
+        assert!(r.threads.iter().all(|t| t.role == ThreadRole::Needle && t.per_stitch_mm == 9.0));
+        assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    }
+
+    #[test]
+    fn stitch_503_is_not_implemented_yet() {
+        let s = StitchSpec { stitch_type: StitchType::S503, ..altin504() };
+        let err = required_take_up(&s, &[0.0], 0.0).unwrap_err();
+        assert!(matches!(&err, Error::Stitch(m) if m.contains("503") && m.contains("§5.5")), "{err}");
+    }
+
+    #[test]
+    fn bad_input_is_an_error_not_a_panic() {
+        let s = altin504();
+        assert!(required_take_up(&s, &[f64::NAN], 0.0).is_err());
+        assert!(required_take_up(&StitchSpec { m_mm: -1.0, ..s.clone() }, &[0.0], 0.0).is_err());
+        assert!(required_take_up(&StitchSpec { needles: vec![], ..s.clone() }, &[0.0], 0.0).is_err());
+        let err = required_take_up(&StitchSpec { a_e_mm: 0.0, ..s.clone() }, &[0.0], 0.0).unwrap_err();
+        assert!(matches!(&err, Error::Stitch(m) if m.contains("a_e")), "{err}");
+        let err = required_take_up(&StitchSpec { edge_split: 1.5, ..s.clone() }, &[0.0], 0.0).unwrap_err();
+        assert!(matches!(&err, Error::Stitch(m) if m.contains("edge split")), "{err}");
+        let mut empty_table = s.clone();
+        empty_table.needles[0].eye = Motion::Table { start_deg: 0.0, step_deg: 0.01, points: Vec::new().into() };
+        let err = required_take_up(&empty_table, &[0.0], 0.0).unwrap_err().to_string();
+        assert!(err.contains("needle needle: the eye") && err.contains("empty"), "{err}");
+        let mut short_table = s.clone();
+        short_table.needles[0].eye =
+            Motion::Table { start_deg: 0.0, step_deg: 1.0, points: vec![crate::geometry::V3::zeros(); 90].into() };
+        let err = required_take_up(&short_table, &[0.0], 0.0).unwrap_err().to_string();
+        assert!(err.contains("one cycle"), "{err}");
+        let mut no_upper = s.clone();
+        no_upper.upper_looper = None;
+        let err = required_take_up(&no_upper, &[0.0], 0.0).unwrap_err().to_string();
+        assert!(err.contains("upper looper"), "{err}");
+    }
+}
