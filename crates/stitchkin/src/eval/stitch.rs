@@ -106,8 +106,11 @@ pub(crate) fn stitch_columns(setup: &StitchSetup, phis: &[f64], phi0_deg: f64, c
             push(columns, "D_mm", d);
             m = mismatch(phis, &p, pprime, &compared, setup.tolerance_mm).map(|mut m| {
                 m.max_abs_d_at_deg = wrap_deg(m.max_abs_d_at_deg);
-                for iv in m.excess_intervals_deg.iter_mut().chain(m.deficit_intervals_deg.iter_mut()) {
-                    *iv = [wrap_deg(iv[0]), wrap_deg(iv[1])];
+                for ivs in [&mut m.excess_intervals_deg, &mut m.deficit_intervals_deg] {
+                    for iv in ivs.iter_mut() {
+                        *iv = [wrap_deg(iv[0]), wrap_deg(iv[1])];
+                    }
+                    ivs.sort_by(|a, b| a[0].total_cmp(&b[0]));
                 }
                 m
             });

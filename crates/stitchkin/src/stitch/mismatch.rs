@@ -25,7 +25,9 @@ pub struct Mismatch {
     /// ∫ max(D, 0) dφ and ∫ max(−D, 0) dφ, mm·deg.
     pub excess_area_mm_deg: f64,
     pub deficit_area_mm_deg: f64,
-    /// Maximal φ intervals [from, to] (deg) with D > ε and with D < −ε.
+    /// Maximal φ intervals [from, to] (deg) with D > ε and with D < −ε, in
+    /// grid order; one that runs through the end of the grid into its start
+    /// is a single interval whose `to` is 360° more than its last φ.
     pub excess_intervals_deg: Vec<[f64; 2]>,
     pub deficit_intervals_deg: Vec<[f64; 2]>,
     /// φ(max P) − φ(max P'), wrapped to (−180°, 180°].
@@ -99,7 +101,14 @@ pub fn mismatch(phi_deg: &[f64], p: &[f64], pprime: &[f64], compared: &[bool], e
             }
         }
         if let Some(s) = start {
-            out.push([phi_deg[s], phi_deg[n - 1]]);
+            // The grid is one cycle: a run through its end goes on at its
+            // start, so the two pieces are one interval.
+            if out.first().is_some_and(|f| f[0] == phi_deg[0]) && s > 0 {
+                let first = out.remove(0);
+                out.push([phi_deg[s], first[1] + 360.0]);
+            } else {
+                out.push([phi_deg[s], phi_deg[n - 1]]);
+            }
         }
         out
     };
@@ -190,5 +199,9 @@ mod tests {
         assert_eq!(m.excess_intervals_deg, vec![[30.0, 60.0]]);
         assert_eq!(m.deficit_intervals_deg, vec![[300.0, 350.0]]);
         assert!((m.excess_area_mm_deg - 40.0).abs() < 1e-12);
+        // A run through the end of the cycle continues at its start.
+        let p: Vec<f64> = (0..36).map(|k| if k <= 2 || k >= 33 { 1.0 } else { 0.0 }).collect();
+        let m = mismatch(&phi, &p, &pp, &[true; 36], 0.5).unwrap();
+        assert_eq!(m.excess_intervals_deg, vec![[330.0, 380.0]]);
     }
 }
