@@ -74,6 +74,20 @@ enum Command {
         The P' columns themselves come with `stitchkin run` (THR.Pprime_mm, THR.D_mm, ...)."
     )]
     Match(MatchArgs),
+    /// Sweep adjustable parameters over a grid or random / Latin-hypercube
+    /// samples, in parallel, and write figures of merit per setting (CSV,
+    /// streamed).
+    #[command(after_help = "Examples:\n  stitchkin sweep --vary z=-10:10:21 --vary dphi=-20:20:21\n  \
+        stitchkin sweep --preset mf7923d --vary r1=4:6 --vary z=-10:10 --samples 1000 --method lhs --seed 7 -o lhs.csv\n  \
+        stitchkin sweep --preset needle876 --vary alpha=0:35:36 --figures 'needle_y.range_mm,mu.*'\n  \
+        stitchkin sweep --vary z=-10:10:101 --vary dphi=-20:20:101 --shard 2/4 -o part2.csv\n\n\
+        Figures of merit (--figures, patterns with *): PATH.max_P_mm, PATH.min_P_mm, THREAD.score,\n\
+        THREAD.rms_D_mm, THREAD.max_abs_D_mm, THREAD.max_Pprime_mm, score.mean, score.min, mu.min_deg,\n\
+        mu.max_deg, mu.ok, mu_KEY.min_deg, MEASURE.range_mm, POINT.y_stroke_mm, ... (the first setting's\n\
+        list is printed when a pattern matches nothing). Columns: index, the varied parameters, the\n\
+        figures, status (ok, or why the setting did not evaluate; its figures are then empty).\n\
+        Shards are contiguous blocks and only shard 1 writes the header: `cat part*.csv` is the sweep.")]
+    Sweep(SweepArgs),
     /// Print the JSON Schema of the model file format.
     #[command(after_help = "Example:\n  stitchkin schema > stitchkin-model.schema.json")]
     Schema,
@@ -150,6 +164,44 @@ struct CompareArgs {
     /// Write to FILE instead of stdout (written completely or not at all).
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct SweepArgs {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// A swept parameter: NAME=LO:HI:N (N values, ends included; default N
+    /// 11). Repeatable: a grid over all of them, the last fastest.
+    #[arg(long = "vary", value_name = "NAME=LO:HI:N", required = true)]
+    vary: Vec<String>,
+    /// Draw this many samples in the box instead of the grid.
+    #[arg(long, value_name = "N")]
+    samples: Option<usize>,
+    /// How samples are drawn.
+    #[arg(long, value_enum, default_value_t = Method::Lhs, requires = "samples")]
+    method: Method,
+    /// Seed of the samples (the same seed gives the same samples).
+    #[arg(long, default_value_t = 1, requires = "samples")]
+    seed: u64,
+    /// Figures of merit, comma-separated patterns (default: every match
+    /// score, the take-up extremes and the transmission-angle extremes).
+    #[arg(long, value_delimiter = ',', value_name = "PATTERN,…")]
+    figures: Option<Vec<String>>,
+    /// Step of the main-shaft angle φ, degrees.
+    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
+    step: f64,
+    /// Evaluate only shard K of N (contiguous blocks, 1-based).
+    #[arg(long, value_name = "K/N")]
+    shard: Option<String>,
+    /// Write to FILE instead of stdout (complete, or not at all).
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Method {
+    Lhs,
+    Random,
 }
 
 #[derive(Args)]
@@ -430,6 +482,132 @@ fn score(s: Option<f64>) -> String {
     s.map_or("—".into(), |x| format!("{x:.1}"))
 }
 
+fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
+    use stitchkin::study::sweep::{self, Design, Sweep, Vary};
+    let (model, params) = load(&args.model)?;
+    let vary = args.vary.iter().map(|v| Vary::parse(&model, v)).collect::<Result<Vec<_>, _>>()?;
+    let design = match (args.samples, args.method) {
+        (None, _) => Design::Grid,
+        (Some(samples), Method::Lhs) => Design::Lhs { samples, seed: args.seed },
+        (Some(samples), Method::Random) => Design::Random { samples, seed: args.seed },
+    };
+    let sw = Sweep::new(vary, design)?;
+    let opts = CycleOptions { step_deg: args.step, rpm: None, analogs: false, points: None };
+    // The nominal setting says which figures this model has.
+    let nominal = eval::run_cycle(&model, &params, &opts)?;
+    let available = sweep::figures(&nominal);
+    let patterns = args.figures.clone().unwrap_or_else(|| {
+        let defaults = ["*.score", "score.*", "*.max_P_mm", "mu.min_deg", "mu.max_deg", "*.range_mm", "*_stroke_mm"];
+        defaults.iter().filter(|p| available.iter().any(|(n, _)| eval::glob_match(p, n))).map(|p| p.to_string()).collect()
+    });
+    let names = sweep::select_figures(&available, &patterns)?;
+    let (k, n) = match &args.shard {
+        None => (1, 1),
+        Some(s) => {
+            let parsed = s.split_once('/').and_then(|(k, n)| Some((k.trim().parse::<usize>().ok()?, n.trim().parse::<usize>().ok()?)));
+            match parsed {
+                Some((k, n)) if n >= 1 && (1..=n).contains(&k) => (k, n),
+                _ => {
+                    return Err(Error::Param(stitchkin::error::ParamError {
+                        message: format!("`{s}` is not a shard K/N with 1 ≤ K ≤ N"),
+                        help: Some("e.g. --shard 2/4 evaluates the second quarter".into()),
+                    }));
+                }
+            }
+        }
+    };
+    let range = sw.shard(k, n);
+    let total = range.len();
+    let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        let b = indicatif::ProgressBar::new(total as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} settings, {per_sec}, ETA {eta}").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    // Stream to a temporary file next to the output (renamed at the end), or
+    // to stdout.
+    let mut sink = output::Sink::new(args.output.as_deref())?;
+    let mut header = String::new();
+    if k == 1 {
+        header += "index";
+        for v in &sw.vary {
+            header += &format!(",{}_{}", v.name, model.params[model.param_index(&v.name).unwrap_or(0)].unit_str());
+        }
+        for f in &names {
+            header += &format!(",{f}");
+        }
+        header += ",status\n";
+    }
+    sink.write(header.as_bytes())?;
+    // The extremes of one figure, for the summary: the mean match score
+    // when there is one, else the first figure.
+    let key = names.iter().position(|n| n == "score.mean").unwrap_or(0);
+    let mut lowest: Option<(f64, Vec<f64>)> = None;
+    let mut highest: Option<(f64, Vec<f64>)> = None;
+    let (mut ok, mut failed) = (0usize, 0usize);
+    let mut line = String::new();
+    sweep::run(
+        &model,
+        &params,
+        &sw,
+        &names,
+        &opts,
+        range,
+        |row| {
+            line.clear();
+            line += &row.index.to_string();
+            for v in &row.values {
+                line.push(',');
+                line += &output::fmt_num(*v);
+            }
+            for f in &row.figures {
+                line.push(',');
+                if let Some(x) = f {
+                    line += &output::fmt_num(*x);
+                }
+            }
+            match &row.error {
+                None => {
+                    line += ",ok\n";
+                    ok += 1;
+                    if let Some(Some(x)) = row.figures.get(key) {
+                        if lowest.as_ref().is_none_or(|(b, _)| x < b) {
+                            lowest = Some((*x, row.values.clone()));
+                        }
+                        if highest.as_ref().is_none_or(|(b, _)| x > b) {
+                            highest = Some((*x, row.values.clone()));
+                        }
+                    }
+                }
+                Some(e) => {
+                    line += &format!(",\"{}\"\n", e.replace('"', "'"));
+                    failed += 1;
+                }
+            }
+            sink.write(line.as_bytes())
+        },
+        |d| bar.inc(d as u64),
+    )?;
+    bar.finish_and_clear();
+    sink.finish()?;
+    let mut s = format!("# sweep: {total} settings ({ok} evaluated, {failed} without assembly or with errors)");
+    if n > 1 {
+        s += &format!(", shard {k}/{n} of {}", sw.len());
+    }
+    s += "\n";
+    for (word, ext) in [("largest", &highest), ("smallest", &lowest)] {
+        if let (Some((x, values)), Some(f)) = (ext, names.get(key)) {
+            let setting: Vec<String> = sw.vary.iter().zip(values).map(|(v, x)| format!("{} = {}", v.name, output::fmt_num(*x))).collect();
+            s += &format!("# {word} {f} = {} at {}\n", output::fmt_num(*x), setting.join(", "));
+        }
+    }
+    eprint!("{s}");
+    Ok(())
+}
+
 fn match_cmd(args: MatchArgs) -> Result<(), Error> {
     let (model, params) = load(&args.model)?;
     let opts = CycleOptions { step_deg: args.step, rpm: None, analogs: false, points: Some(Vec::new()) };
@@ -455,6 +633,9 @@ fn match_cmd(args: MatchArgs) -> Result<(), Error> {
                 s += &format!("{} (contour {}){}\n", t.thread, t.contour, t.path.as_ref().map(|p| format!(", take-up path {p}")).unwrap_or_default());
                 s += &format!("  per stitch          {:>9.3} mm (locked by P' at φ = {:.1}°: {:.3} mm)\n", t.per_stitch_mm, t.lock_phi_deg, t.locked_mm);
                 s += &format!("  max P'              {:>9.3} mm at φ = {:.1}°\n", t.max_pprime_mm, t.phi_at_max_pprime_deg);
+                if let Some(b) = t.max_pprime_b_mm {
+                    s += &format!("  max P' split at B   {:>9.3} mm (the eye at TDC, as the seeds plot it)\n", b);
+                }
                 match &t.mismatch {
                     Some(m) => {
                         s += &format!("  RMS(D)              {:>9.3} mm   (std {:.3} mm)\n", m.rms_d_mm, m.std_d_mm);
@@ -662,6 +843,7 @@ fn main() -> miette::Result<()> {
         Command::Compare2d3d(args) => compare(args),
         Command::Consumption(args) => consumption(args),
         Command::Match(args) => match_cmd(args),
+        Command::Sweep(args) => sweep_cmd(args),
         Command::Schema => emit(stitchkin::model::schema_json().as_bytes(), None),
     };
     result.map_err(report)

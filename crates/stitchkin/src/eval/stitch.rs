@@ -38,6 +38,9 @@ pub struct StitchThreadSummary {
     pub lock_phi_deg: f64,
     pub max_pprime_mm: f64,
     pub phi_at_max_pprime_deg: f64,
+    /// Needle threads: the largest P' split at B (the eye at TDC), as the
+    /// seeds plot it, mm.
+    pub max_pprime_b_mm: Option<f64>,
     pub events: Vec<StitchEvent>,
     /// P − P' metrics (with a path).
     pub mismatch: Option<Mismatch>,
@@ -87,9 +90,12 @@ pub(crate) fn stitch_columns(setup: &StitchSetup, phis: &[f64], phi0_deg: f64, c
         };
         push(columns, "eta_mm", th.eta_mm[..n].to_vec());
         push(columns, "Pprime_mm", pprime.to_vec());
+        let mut max_pprime_b_mm = None;
         if let Some(s) = &th.travel_mm {
             let s0 = s[n];
-            push(columns, "Pprime_B_mm", (0..n).map(|k| pprime[k] + s[k] - s0).collect());
+            let pb: Vec<f64> = (0..n).map(|k| pprime[k] + s[k] - s0).collect();
+            max_pprime_b_mm = pb.iter().cloned().reduce(f64::max);
+            push(columns, "Pprime_B_mm", pb);
         }
         if let Some(g) = &th.gamma_deg {
             push(columns, "gamma_deg", g[..n].to_vec());
@@ -126,6 +132,7 @@ pub(crate) fn stitch_columns(setup: &StitchSetup, phis: &[f64], phi0_deg: f64, c
             lock_phi_deg: from_c(th.lock_deg),
             max_pprime_mm: pprime[kmax],
             phi_at_max_pprime_deg: wrap_deg(phis[kmax]),
+            max_pprime_b_mm,
             events: th
                 .events
                 .iter()

@@ -642,8 +642,8 @@ pub enum Wrap {
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StitchFile {
-    /// Stitch type: "401", "406", "407" (chain) or "504" (three-thread
-    /// overedge).
+    /// Stitch type: "401", "406", "407" (chain), "503" (two-thread
+    /// overedge) or "504" (three-thread overedge).
     #[serde(rename = "type")]
     pub stitch_type: String,
     /// Compressed material thickness m, mm.
@@ -677,12 +677,16 @@ pub struct StitchFile {
     pub feed: StitchFeed,
     /// The needles, in the order the looper catches their loops.
     pub needles: Vec<StitchNeedle>,
-    /// The looper that catches the needle loops (the lower looper of 504).
+    /// The looper that catches the needle loops (the lower looper of 503
+    /// and 504).
     pub looper: StitchLooper,
     /// The upper looper (504).
     #[serde(default)]
     pub upper_looper: Option<StitchUpperLooper>,
-    /// Cyclogram moments (504), φ_c degrees.
+    /// The spreader (503).
+    #[serde(default)]
+    pub spreader: Option<StitchSpreader>,
+    /// Cyclogram moments (503, 504), φ_c degrees.
     #[serde(default)]
     pub moments: Option<StitchMoments>,
 }
@@ -691,12 +695,20 @@ pub struct StitchFile {
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StitchFeed {
-    /// "harmonic": the feed dog of seed 004 §2.2.3.
+    /// "harmonic": the feed dog of seed 004 §2.2.3 (with `start_deg` and
+    /// `duration_deg`); "point": a feed-dog tooth point of the mechanism
+    /// (with `point`).
     pub law: String,
-    /// φ_c where the transport starts, degrees.
-    pub start_deg: Value,
-    /// How long it lasts, degrees.
-    pub duration_deg: Value,
+    /// Harmonic: φ_c where the transport starts, degrees.
+    #[serde(default)]
+    pub start_deg: Option<Value>,
+    /// Harmonic: how long it lasts, degrees.
+    #[serde(default)]
+    pub duration_deg: Option<Value>,
+    /// Point: the mechanism point that is the feed dog's tooth; the material
+    /// moves with its y while it is above the plate (z > 0, stitch frame).
+    #[serde(default)]
+    pub point: Option<String>,
 }
 
 /// A needle: its eye is a mechanism point (`eye`) or a stand-in law (`law`).
@@ -761,7 +773,7 @@ pub struct StitchLooper {
     pub b_mm: Value,
     /// γmax, degrees (seed 004: 0.4–0.8 rad = 22.9°–45.8°).
     pub gamma_max_deg: Value,
-    /// The looper thread's feed path (504).
+    /// The looper thread's feed path (503, 504: the lower-looper thread).
     #[serde(default)]
     pub path: Option<String>,
 }
@@ -804,6 +816,22 @@ pub struct StitchUpperLooper {
     pub path: Option<String>,
 }
 
+/// The spreader of stitch 503: it takes the looper thread from the lower
+/// looper and carries it over the material edge to the needle. It carries no
+/// thread of its own (the looper thread's path is `[stitch.looper] path`).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StitchSpreader {
+    /// The mechanism point that is the spreader's hook.
+    #[serde(default)]
+    pub eye: Option<String>,
+    /// A stand-in law instead.
+    #[serde(default)]
+    pub law: Option<PolylineLawFile>,
+    /// φ_c window where the pick-up of the looper thread is searched.
+    pub pick_window_deg: [f64; 2],
+}
+
 /// Stand-in: the eye moves along a polyline, first point at `low_deg`, last
 /// at `high_deg`, harmonically in between and back.
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
@@ -821,8 +849,12 @@ pub struct PolylineLawFile {
 pub struct StitchMoments {
     /// φ3: the looper thread touches the needle.
     pub stab_deg: f64,
-    /// φ_UD: the upper looper releases the lower thread's bight.
-    pub upper_release_deg: f64,
+    /// φ_UD: the upper looper releases the lower thread's bight (504 only).
+    #[serde(default)]
+    pub upper_release_deg: Option<f64>,
+    /// φ_SD: the spreader releases the looper thread (503 only).
+    #[serde(default)]
+    pub spreader_release_deg: Option<f64>,
     /// φ5: the looper thread is drawn into the loop.
     pub draw_in_deg: f64,
 }

@@ -4,14 +4,16 @@
 
 use std::sync::Arc;
 
-use super::file::{ModelFile, Value};
+use super::file::{ModelFile, PolylineLawFile, Value};
 use super::load::Loader;
 use super::spans::Path;
 use super::{Model, Params, Q, ThreadsDef};
 use crate::error::{Error, ModelError};
 use crate::geometry::V3;
 use crate::mechanism::Phi;
-use crate::stitch::spec::{FeedLaw, LooperSpec, Moments, Motion, NeedleSpec, StitchSpec, StitchType, UpperLooperSpec};
+use crate::stitch::spec::{
+    FeedLaw, LooperSpec, Moments, Motion, NeedleSpec, SpreaderSpec, StitchSpec, StitchType, UpperLooperSpec,
+};
 
 type R<T> = Result<T, Box<ModelError>>;
 
@@ -41,6 +43,13 @@ pub(crate) struct NeedleDef {
     pub drop_deg: Option<f64>,
 }
 
+/// The material feed: harmonic (start, duration) or a feed-dog tooth point.
+#[derive(Debug, Clone)]
+pub(crate) enum FeedDef {
+    Harmonic(Q, Q),
+    Point(usize),
+}
+
 /// The checked `[stitch]` table, values as quantity indices.
 #[derive(Debug, Clone)]
 pub(crate) struct StitchDef {
@@ -54,10 +63,12 @@ pub(crate) struct StitchDef {
     pub cyclogram_zero_deg: f64,
     pub tolerance_mm: f64,
     pub regulator_window_deg: Vec<[f64; 2]>,
-    pub feed: (Q, Q),
+    pub feed: FeedDef,
     pub needles: Vec<NeedleDef>,
     pub looper: (OrganDef, [Q; 4], Option<String>),
     pub upper: Option<(OrganDef, [f64; 2], Option<String>)>,
+    /// 503: the spreader and its pick-up window.
+    pub spreader: Option<(OrganDef, [f64; 2])>,
     pub moments: Option<Moments>,
 }
 
@@ -72,8 +83,9 @@ pub struct StitchSetup {
     pub tolerance_mm: f64,
     /// Model-φ intervals left out of the metrics.
     pub regulator_window_deg: Vec<[f64; 2]>,
-    /// For each thread of the spec (needles in order, then `lower`, `upper`),
-    /// the thread path it is compared with.
+    /// For each thread of the spec (needles in order, then the looper
+    /// threads: `lower`, `upper` for 504, `looper` for 503), the thread path
+    /// it is compared with.
     pub paths: Vec<Option<String>>,
 }
 
@@ -100,6 +112,31 @@ impl Loader<'_> {
         v.as_ref().map(|v| self.length(v, path)).transpose()
     }
 
+    /// An organ that moves along a polyline stand-in (the upper looper, the
+    /// spreader): a mechanism point `eye` or a polyline `law`.
+    fn polyline_organ(&self, eye: &Option<String>, law: &Option<PolylineLawFile>, at: &Path, what: &str) -> R<OrganDef> {
+        match (self.organ_point(eye, law.is_some(), at, what)?, law) {
+            (Some(slot), _) => Ok(OrganDef::Point(slot)),
+            (None, Some(w)) => {
+                let p = at.key("law");
+                if w.polyline_mm.len() < 2 || w.polyline_mm.iter().flatten().any(|x| !x.is_finite()) {
+                    return Err(self.err(&p.key("polyline_mm"), "the polyline needs at least 2 finite points", Some("e.g. [[13, 1, -6], [5.5, 0, 4]]".into())));
+                }
+                let (low, high) = (finite_deg(self, w.low_deg, &p.key("low_deg"))?, finite_deg(self, w.high_deg, &p.key("high_deg"))?);
+                Ok(OrganDef::Polyline { points: w.polyline_mm.clone(), low, high })
+            }
+            (None, None) => unreachable!("organ_point checked"),
+        }
+    }
+
+    /// A pick-up window [from, to], from < to (φ_c degrees).
+    fn pick_window(&self, w: [f64; 2], at: &Path) -> R<[f64; 2]> {
+        if !(w[0].is_finite() && w[1].is_finite() && w[1] > w[0]) {
+            return Err(self.err(at, "the pick-up window is [from, to] with from < to", None));
+        }
+        Ok(w)
+    }
+
     pub(super) fn stitch(&mut self, f: &ModelFile, threads: Option<&ThreadsDef>) -> R<Option<StitchDef>> {
         let Some(s) = &f.stitch else { return Ok(None) };
         let path = Path::root().key("stitch");
@@ -107,19 +144,13 @@ impl Loader<'_> {
             "401" => StitchType::S401,
             "406" => StitchType::S406,
             "407" => StitchType::S407,
+            "503" => StitchType::S503,
             "504" => StitchType::S504,
-            "503" => {
-                return Err(self.err(
-                    &path.key("type"),
-                    "the required take-up of stitch 503 is derived (docs/stitch-formation.md §5.5) but not computed yet",
-                    Some("use \"504\", \"401\", \"406\" or \"407\"; `stitchkin consumption --type 503` gives its thread per stitch".into()),
-                ));
-            }
             other => {
                 return Err(self.err(
                     &path.key("type"),
                     format!("unknown or unsupported stitch type `{other}`"),
-                    Some("write \"401\", \"406\", \"407\" or \"504\"".into()),
+                    Some("write \"401\", \"406\", \"407\", \"503\" or \"504\"".into()),
                 ));
             }
         };
@@ -127,8 +158,8 @@ impl Loader<'_> {
         let t = self.positive_length(&s.t_mm, path.key("t_mm"), "the stitch length t")?;
         let tilt = s.tilt_deg.as_ref().map(|v| self.angle(v, path.key("tilt_deg"))).transpose()?;
         let a_e = self.opt_length(&s.overedge_width_mm, path.key("overedge_width_mm"))?;
-        if stitch_type == StitchType::S504 && a_e.is_none() {
-            return Err(self.err(&path, "stitch 504 needs the overedge width", Some("add `overedge_width_mm = 4`".into())));
+        if matches!(stitch_type, StitchType::S503 | StitchType::S504) && a_e.is_none() {
+            return Err(self.err(&path, format!("stitch {} needs the overedge width", s.stitch_type), Some("add `overedge_width_mm = 4`".into())));
         }
         let edge_split = s.edge_split.unwrap_or(0.5);
         if !(0.0..=1.0).contains(&edge_split) {
@@ -145,10 +176,20 @@ impl Loader<'_> {
                 return Err(self.err(&path.key("regulator_window_deg").index(k), "window ends must be finite degrees", None));
             }
         }
-        if s.feed.law != "harmonic" {
-            return Err(self.err(&path.key("feed").key("law"), format!("unknown feed law `{}`", s.feed.law), Some("write law = \"harmonic\" (seed 004 §2.2.3)".into())));
-        }
-        let feed = (self.angle(&s.feed.start_deg, path.key("feed").key("start_deg"))?, self.angle(&s.feed.duration_deg, path.key("feed").key("duration_deg"))?);
+        let fp = path.key("feed");
+        let feed = match (s.feed.law.as_str(), &s.feed.start_deg, &s.feed.duration_deg, &s.feed.point) {
+            ("harmonic", Some(a), Some(d), None) => FeedDef::Harmonic(self.angle(a, fp.key("start_deg"))?, self.angle(d, fp.key("duration_deg"))?),
+            ("harmonic", ..) => {
+                return Err(self.err(&fp, "the harmonic feed takes `start_deg` and `duration_deg` (and no `point`)", Some("e.g. feed = { law = \"harmonic\", start_deg = 134, duration_deg = 100 }".into())));
+            }
+            ("point", None, None, Some(p)) => FeedDef::Point(self.point(p, &fp.key("point"))?),
+            ("point", ..) => {
+                return Err(self.err(&fp, "the point feed takes `point`, the feed dog's tooth (and no angles: they follow from its motion)", Some("e.g. feed = { law = \"point\", point = \"DOG\" }".into())));
+            }
+            (other, ..) => {
+                return Err(self.err(&fp.key("law"), format!("unknown feed law `{other}`"), Some("write law = \"harmonic\" (seed 004 §2.2.3) or law = \"point\" (a feed-dog tooth of the mechanism)".into())));
+            }
+        };
         let want = stitch_type.needles();
         if s.needles.len() != want {
             return Err(self.err(
@@ -176,8 +217,8 @@ impl Loader<'_> {
         let mut needles = Vec::new();
         for (k, n) in s.needles.iter().enumerate() {
             let np = path.key("needles").index(k);
-            if !super::load::is_ident(&n.name) || names.contains(&n.name) || ["lower", "upper"].contains(&n.name.as_str()) {
-                return Err(self.err(&np.key("name"), format!("`{}` is not a valid, unique thread name", n.name), Some("use letters, digits and `_`, e.g. `n1`; `lower` and `upper` are the looper threads".into())));
+            if !super::load::is_ident(&n.name) || names.contains(&n.name) || ["lower", "upper", "looper"].contains(&n.name.as_str()) {
+                return Err(self.err(&np.key("name"), format!("`{}` is not a valid, unique thread name", n.name), Some("use letters, digits and `_`, e.g. `n1`; `lower`, `upper` and `looper` are the looper threads".into())));
             }
             names.push(n.name.clone());
             let eye = match (self.organ_point(&n.eye, n.law.is_some(), &np, "needle")?, &n.law) {
@@ -241,45 +282,67 @@ impl Loader<'_> {
         let upper = match (&s.upper_looper, stitch_type) {
             (Some(u), StitchType::S504) => {
                 let up = path.key("upper_looper");
-                let eye = match (self.organ_point(&u.eye, u.law.is_some(), &up, "upper looper")?, &u.law) {
-                    (Some(slot), _) => OrganDef::Point(slot),
-                    (None, Some(w)) => {
-                        let p = up.key("law");
-                        if w.polyline_mm.len() < 2 || w.polyline_mm.iter().flatten().any(|x| !x.is_finite()) {
-                            return Err(self.err(&p.key("polyline_mm"), "the polyline needs at least 2 finite points", Some("e.g. [[13, 1, -6], [5.5, 0, 4]]".into())));
-                        }
-                        let (low, high) = (finite_deg(self, w.low_deg, &p.key("low_deg"))?, finite_deg(self, w.high_deg, &p.key("high_deg"))?);
-                        OrganDef::Polyline { points: w.polyline_mm.clone(), low, high }
-                    }
-                    (None, None) => unreachable!("organ_point checked"),
-                };
-                let w = u.pick_window_deg;
-                if !(w[0].is_finite() && w[1].is_finite() && w[1] > w[0]) {
-                    return Err(self.err(&up.key("pick_window_deg"), "the pick-up window is [from, to] with from < to", None));
-                }
+                let eye = self.polyline_organ(&u.eye, &u.law, &up, "upper looper")?;
+                let w = self.pick_window(u.pick_window_deg, &up.key("pick_window_deg"))?;
                 Some((eye, w, check_path(self, &u.path, up.key("path"))?))
             }
             (None, StitchType::S504) => {
                 return Err(self.err(&path, "stitch 504 needs an upper looper", Some("add a [stitch.upper_looper] table".into())));
+            }
+            (Some(_), StitchType::S503) => {
+                return Err(self.err(&path.key("upper_looper"), "stitch 503 has no upper looper", Some("remove [stitch.upper_looper]; the organ that carries 503's looper thread over the edge is [stitch.spreader]".into())));
             }
             (Some(_), _) => {
                 return Err(self.err(&path.key("upper_looper"), format!("stitch {} has no upper looper", s.stitch_type), Some("remove [stitch.upper_looper]".into())));
             }
             (None, _) => None,
         };
-        let moments = match (&s.moments, stitch_type) {
-            (Some(mo), StitchType::S504) => {
-                let mp = path.key("moments");
-                for (v, key) in [(mo.stab_deg, "stab_deg"), (mo.upper_release_deg, "upper_release_deg"), (mo.draw_in_deg, "draw_in_deg")] {
-                    finite_deg(self, v, &mp.key(key))?;
-                }
-                if !(mo.stab_deg < mo.upper_release_deg && mo.upper_release_deg < mo.draw_in_deg && mo.draw_in_deg < 360.0) {
-                    return Err(self.err(&mp, "the moments must come in the order stab < upper_release < draw_in < 360 (φ_c, degrees)", Some("seed 004 Table 2: stab 270, draw-in 330".into())));
-                }
-                Some(Moments { stab_deg: mo.stab_deg, upper_release_deg: mo.upper_release_deg, draw_in_deg: mo.draw_in_deg })
+        let spreader = match (&s.spreader, stitch_type) {
+            (Some(sp), StitchType::S503) => {
+                let at = path.key("spreader");
+                let eye = self.polyline_organ(&sp.eye, &sp.law, &at, "spreader")?;
+                Some((eye, self.pick_window(sp.pick_window_deg, &at.key("pick_window_deg"))?))
             }
-            (None, StitchType::S504) => {
-                return Err(self.err(&path, "stitch 504 needs its cyclogram moments", Some("add [stitch.moments] with stab_deg, upper_release_deg, draw_in_deg".into())));
+            (None, StitchType::S503) => {
+                return Err(self.err(
+                    &path,
+                    "stitch 503 needs a spreader, the organ that carries the looper thread over the edge to the needle",
+                    Some("add a [stitch.spreader] table with `eye` (or `law`) and `pick_window_deg`".into()),
+                ));
+            }
+            (Some(_), _) => {
+                return Err(self.err(&path.key("spreader"), format!("stitch {} has no spreader", s.stitch_type), Some("remove [stitch.spreader] (only 503 has one)".into())));
+            }
+            (None, _) => None,
+        };
+        let moments = match (&s.moments, stitch_type) {
+            (Some(mo), StitchType::S503 | StitchType::S504) => {
+                let mp = path.key("moments");
+                // 504: the upper looper lets go of the lower thread's bight;
+                // 503: the spreader lets go of the looper thread (§5.5).
+                let ((key, release), (other_key, other)) = if stitch_type == StitchType::S504 {
+                    (("upper_release_deg", mo.upper_release_deg), ("spreader_release_deg", mo.spreader_release_deg))
+                } else {
+                    (("spreader_release_deg", mo.spreader_release_deg), ("upper_release_deg", mo.upper_release_deg))
+                };
+                if other.is_some() {
+                    return Err(self.err(&mp.key(other_key), format!("stitch {} has no `{other_key}`", s.stitch_type), Some(format!("write `{key}` instead"))));
+                }
+                let Some(release) = release else {
+                    return Err(self.err(&mp, format!("stitch {} needs `{key}`", s.stitch_type), Some(format!("add `{key} = 290` (φ_c, degrees, between stab and draw-in)"))));
+                };
+                for (v, k) in [(mo.stab_deg, "stab_deg"), (release, key), (mo.draw_in_deg, "draw_in_deg")] {
+                    finite_deg(self, v, &mp.key(k))?;
+                }
+                if !(mo.stab_deg < release && release < mo.draw_in_deg && mo.draw_in_deg < 360.0) {
+                    let name = key.trim_end_matches("_deg");
+                    return Err(self.err(&mp, format!("the moments must come in the order stab < {name} < draw_in < 360 (φ_c, degrees)"), Some("seed 004 Table 2: stab 270, draw-in 330".into())));
+                }
+                Some(Moments { stab_deg: mo.stab_deg, upper_release_deg: release, draw_in_deg: mo.draw_in_deg })
+            }
+            (None, StitchType::S503 | StitchType::S504) => {
+                let key = if stitch_type == StitchType::S504 { "upper_release_deg" } else { "spreader_release_deg" };
+                return Err(self.err(&path, format!("stitch {} needs its cyclogram moments", s.stitch_type), Some(format!("add [stitch.moments] with stab_deg, {key}, draw_in_deg"))));
             }
             (_, _) => None,
         };
@@ -298,6 +361,7 @@ impl Loader<'_> {
             needles,
             looper,
             upper,
+            spreader,
             moments,
         }))
     }
@@ -314,7 +378,9 @@ impl Model {
         let tilt_deg = d.tilt.map_or(0.0, |i| q[i]);
         let needs_mechanism = d.needles.iter().any(|n| matches!(n.eye, OrganDef::Point(_)))
             || matches!(d.looper.0, OrganDef::Point(_))
-            || matches!(&d.upper, Some((OrganDef::Point(_), ..)));
+            || matches!(&d.upper, Some((OrganDef::Point(_), ..)))
+            || matches!(&d.spreader, Some((OrganDef::Point(_), _)))
+            || matches!(d.feed, FeedDef::Point(_));
         // Sample the mechanism once over the cycle, φ_c = 0, step, …
         let n = (360.0 / MOTION_STEP_DEG).round() as usize;
         let pose = if needs_mechanism {
@@ -382,18 +448,18 @@ impl Model {
             },
             _ => unreachable!("the looper takes a point or a looper law"),
         };
-        let upper_looper = d.upper.as_ref().map(|(o, w, _)| UpperLooperSpec {
-            eye: match o {
-                OrganDef::Point(slot) => table(*slot),
-                OrganDef::Polyline { points, low, high } => Motion::PolylineLaw {
-                    points: points.iter().map(|p| V3::new(p[0], p[1], p[2])).collect::<Vec<_>>().into(),
-                    low_deg: *low,
-                    high_deg: *high,
-                },
-                _ => unreachable!("the upper looper takes a point or a polyline law"),
+        // The upper looper and the spreader: a point or a polyline law.
+        let polyline_motion = |o: &OrganDef| match o {
+            OrganDef::Point(slot) => table(*slot),
+            OrganDef::Polyline { points, low, high } => Motion::PolylineLaw {
+                points: points.iter().map(|p| V3::new(p[0], p[1], p[2])).collect::<Vec<_>>().into(),
+                low_deg: *low,
+                high_deg: *high,
             },
-            pick_window_deg: *w,
-        });
+            _ => unreachable!("the upper looper and the spreader take a point or a polyline law"),
+        };
+        let upper_looper = d.upper.as_ref().map(|(o, w, _)| UpperLooperSpec { eye: polyline_motion(o), pick_window_deg: *w });
+        let spreader = d.spreader.as_ref().map(|(o, w)| SpreaderSpec { eye: polyline_motion(o), pick_window_deg: *w });
         let spec = StitchSpec {
             stitch_type: d.stitch_type,
             m_mm: q[d.m],
@@ -401,16 +467,22 @@ impl Model {
             tilt_deg,
             a_e_mm: d.a_e.map_or(0.0, |i| q[i]),
             edge_split: d.edge_split,
-            feed: FeedLaw::Harmonic { start_deg: q[d.feed.0], duration_deg: q[d.feed.1] },
+            feed: match d.feed {
+                FeedDef::Harmonic(start, duration) => FeedLaw::Harmonic { start_deg: q[start], duration_deg: q[duration] },
+                FeedDef::Point(slot) => FeedLaw::Point { dog: table(slot) },
+            },
             needles,
             looper: LooperSpec { eye: looper_eye, k_mm: k, a_mm: a, b_mm: bb, gamma_max_rad: gmax.to_radians() },
             upper_looper,
+            spreader,
             // Chain stitches have no looper-thread moments.
             moments: d.moments.unwrap_or(Moments { stab_deg: 0.0, upper_release_deg: 0.0, draw_in_deg: 0.0 }),
         };
         let mut paths: Vec<Option<String>> = d.needles.iter().map(|n| n.path.clone()).collect();
-        if d.stitch_type == StitchType::S504 {
+        if matches!(d.stitch_type, StitchType::S503 | StitchType::S504) {
             paths.push(d.looper.2.clone());
+        }
+        if d.stitch_type == StitchType::S504 {
             paths.push(d.upper.as_ref().and_then(|u| u.2.clone()));
         }
         Ok(Some(StitchSetup {

@@ -97,6 +97,82 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     result
 }
 
+/// Streamed output: to stdout, or to a temporary file beside `path` that
+/// replaces `path` only when [`Sink::finish`] is called, so a run that fails
+/// half-way never leaves a half-written file (the temporary is removed when
+/// the sink is dropped unfinished).
+pub struct Sink {
+    target: SinkTarget,
+}
+
+enum SinkTarget {
+    Stdout(std::io::BufWriter<std::io::Stdout>),
+    File { tmp: std::path::PathBuf, path: std::path::PathBuf, file: Option<std::io::BufWriter<std::fs::File>> },
+}
+
+impl Sink {
+    pub fn new(path: Option<&Path>) -> Result<Sink, Error> {
+        let target = match path {
+            None => SinkTarget::Stdout(std::io::BufWriter::new(std::io::stdout())),
+            Some(path) => {
+                let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+                let name = path.file_name().ok_or_else(|| Error::Io(format!("`{}` is not a file path", path.display())))?;
+                let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+                let f = std::fs::File::create(&tmp)
+                    .map_err(|e| Error::Io(format!("cannot create a temporary file for `{}`: {e}", path.display())))?;
+                SinkTarget::File { tmp, path: path.to_path_buf(), file: Some(std::io::BufWriter::new(f)) }
+            }
+        };
+        Ok(Sink { target })
+    }
+
+    pub fn write(&mut self, bytes: &[u8]) -> Result<(), Error> {
+        match &mut self.target {
+            SinkTarget::Stdout(w) => match w.write_all(bytes) {
+                // A closed pipe (`| head`) ends the output quietly.
+                Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+                r => r.map_err(|e| Error::Io(format!("cannot write to stdout: {e}"))),
+            },
+            SinkTarget::File { path, file, .. } => file
+                .as_mut()
+                .expect("open until finished")
+                .write_all(bytes)
+                .map_err(|e| Error::Io(format!("cannot write `{}`: {e}", path.display()))),
+        }
+    }
+
+    /// Flushes and, for a file, moves it into place.
+    pub fn finish(mut self) -> Result<(), Error> {
+        match &mut self.target {
+            SinkTarget::Stdout(w) => match w.flush() {
+                Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Error::Io(format!("cannot write to stdout: {e}"))),
+                _ => Ok(()),
+            },
+            SinkTarget::File { tmp, path, file } => {
+                let w = file.take().expect("open until finished");
+                let io = |e: std::io::Error| Error::Io(format!("cannot write `{}`: {e}", path.display()));
+                let result = w
+                    .into_inner()
+                    .map_err(|e| io(e.into_error()))
+                    .and_then(|f| f.sync_all().map_err(io))
+                    .and_then(|_| std::fs::rename(&*tmp, &*path).map_err(io));
+                if result.is_err() {
+                    let _ = std::fs::remove_file(&*tmp);
+                }
+                result
+            }
+        }
+    }
+}
+
+impl Drop for Sink {
+    fn drop(&mut self) {
+        if let SinkTarget::File { tmp, file: Some(_), .. } = &self.target {
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,4 +4,4 @@
 pub mod consumption;
 pub mod mismatch;
 pub mod spec;
-pub mod feed; pub mod material; pub mod needle_thread; pub mod overedge; pub mod pprime;
+pub mod feed; pub mod material; pub mod needle_thread; pub mod overedge; pub mod overedge503; pub mod pprime;

@@ -576,6 +576,28 @@ impl NeedleThread {
         loop_length(&self.section, self.line.x_j + self.carry.x_loop(phi_c), y_loop, r1, r2)
     }
 
+    /// The looper's lowest point under this needle's loop,
+    /// (x_j + x_loop, y_loop, −D_L) (§4.4): where the loop's bight leaves
+    /// the looper body when it drops (503, §5.5).
+    pub fn loop_bottom(&self, phi_c: f64) -> V3<f64> {
+        let y_loop = self.looper_eye.at(phi_c).y;
+        V3::new(self.line.x_j + self.carry.x_loop(phi_c), y_loop, -self.section.d_l())
+    }
+
+    /// The head of the contour after the drop (§5.1 N3): the thread from the
+    /// eye to the top of hole c, |N − H_c^t| while the eye is above the
+    /// material (φ_c < φ_in), then (S − S_top) + |P_top − H_c^t| down needle
+    /// c+1 and along the top face, mm.
+    pub fn head(&self, phi_c: f64) -> f64 {
+        let s = self.travel(phi_c);
+        let (h_t, _) = self.hole_c(phi_c);
+        if before(phi_c, self.phi_in, Side::Right) {
+            (self.line.eye_at_travel(s) - h_t).norm()
+        } else {
+            (s - self.line.s_top) + (self.line.p_top() - h_t).norm()
+        }
+    }
+
     /// The piece at φ_c (the left one at a moment when `side` is Left).
     pub fn piece(&self, phi_c: f64, side: Side) -> NeedlePiece {
         let before = |at| before(phi_c, at, side);
@@ -617,8 +639,7 @@ impl NeedleThread {
             }
             NeedlePiece::N2b => (n - h_t).norm() + l_m + self.lam(phi_c, &h_b, &h_b) + tail,
             NeedlePiece::N2c => via_next_needle() + l_m + self.lam(phi_c, &h_b, &h_b) + tail,
-            NeedlePiece::N3a => (n - h_t).norm(),
-            NeedlePiece::N3b => via_next_needle(),
+            NeedlePiece::N3a | NeedlePiece::N3b => self.head(phi_c),
         }
     }
 
@@ -749,7 +770,7 @@ mod tests {
         let feed = Feed::new(&s.feed, s.t_mm).unwrap();
         let want = [(30.0, 311.91), (51.9735342, 294.7), (68.5292986, 279.67)];
         for (ns, (catch, drop)) in s.needles.iter().zip(want) {
-            let n = NeedleThread::new(ns, &s.looper, s.m_mm, s.tilt_deg, feed).unwrap();
+            let n = NeedleThread::new(ns, &s.looper, s.m_mm, s.tilt_deg, feed.clone()).unwrap();
             assert!((n.phi_catch - catch).abs() < 1e-6, "{}: catch {}", ns.name, n.phi_catch);
             if ns.name == "n1" {
                 assert!(n.phi_catch <= 30.0, "n1's catch falls on or before the grid angle 30°");

@@ -1,5 +1,8 @@
 //! Stitch 504: the lower- and upper-looper threads around the material edge
-//! (`docs/stitch-formation.md` §4.5, §4.6, §5.3, §5.4).
+//! (`docs/stitch-formation.md` §4.5, §4.6, §5.3, §5.4), and the seam that
+//! both overedge stitches (503, 504) share: the material points of cycle c,
+//! the thread around the edge W, and the pick-up of a thread by an organ
+//! ([`EdgeSeam`]).
 //!
 //! Material points of cycle c (they move with the feed T): hole j at
 //! y_j = T − j·t (j = 0: hole c, −1: hole c−1, +1: hole c+1), its vertical
@@ -41,7 +44,216 @@ const PICK_STEP_DEG: f64 = 0.05;
 /// Step of the scan for organ points inside the material, deg.
 const INSIDE_SCAN_STEP_DEG: f64 = 0.25;
 /// A hook offset above this is reported (§9, "checked while running"), mm.
-const HOOK_OFFSET_WARN_MM: f64 = 3.0;
+pub const HOOK_OFFSET_WARN_MM: f64 = 3.0;
+
+/// The φ_c of the scan for organ points inside the material: every 0.25°.
+pub fn inside_scan() -> impl Iterator<Item = f64> + Clone {
+    (0..(360.0 / INSIDE_SCAN_STEP_DEG) as usize).map(|k| k as f64 * INSIDE_SCAN_STEP_DEG)
+}
+
+fn fmt_p(p: &V3<f64>) -> String {
+    format!("({:.3}, {:.3}, {:.3})", p.x, p.y, p.z)
+}
+
+/// The seam of an overedge stitch (503, 504) in cycle c: the material slab,
+/// the material points on needle 1's line and at the edge, the thread
+/// around the edge W (§4.3) with errors that name the thread and φ, and the
+/// pick-up of a thread by an organ (§4.5).
+#[derive(Debug, Clone)]
+pub struct EdgeSeam {
+    /// The stitch type, 503 or 504 (for messages).
+    pub stitch: u16,
+    /// Needle 1's line: H̄ and G lie on it.
+    pub line: NeedleLine,
+    pub slab: Slab,
+    pub feed: Feed,
+    /// m, t, e, a_e.
+    pub m: f64,
+    pub t: f64,
+    pub e: f64,
+    pub a_e: f64,
+    /// d_p: needle point below the eye, mm.
+    pub d_point: f64,
+}
+
+/// An organ's pick-up of a thread (§4.5).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PickUp {
+    /// The moment of closest approach, φ_c deg.
+    pub phi: f64,
+    /// The organ's distance from the thread then (the hook offset), mm.
+    pub hook_offset_mm: f64,
+    /// Catching point − the organ's reference point: fixed to the organ
+    /// from then on.
+    pub offset: V3<f64>,
+}
+
+impl EdgeSeam {
+    /// The seam of `spec` (503 or 504) around needle 1 `needle`; checks a_e
+    /// and e.
+    pub fn new(spec: &StitchSpec, needle: &NeedleThread) -> Result<EdgeSeam, Error> {
+        let stitch = spec.stitch_type.number();
+        let (m, t, e, a_e) = (spec.m_mm, spec.t_mm, spec.edge_split, spec.a_e_mm);
+        let err = |msg: String| Err(Error::Stitch(format!("stitch {stitch}: {msg}")));
+        if !(a_e.is_finite() && a_e > 0.0) {
+            return err(format!("the overedge width a_e = {a_e} mm must be > 0 (e.g. 4)"));
+        }
+        if !(0.0..=1.0).contains(&e) {
+            return err(format!("the edge split e = {e} must be in [0, 1] (0.5: the threads meet mid-edge)"));
+        }
+        let line = needle.line.clone();
+        Ok(EdgeSeam {
+            stitch,
+            slab: Slab { x_edge: line.x_j + a_e, m },
+            line,
+            feed: needle.feed.clone(),
+            m,
+            t,
+            e,
+            a_e,
+            d_point: spec.needles[0].point_below_eye_mm,
+        })
+    }
+
+    /// A stitch error of this type.
+    pub fn err(&self, msg: String) -> Error {
+        Error::Stitch(format!("stitch {}: {msg}", self.stitch))
+    }
+
+    /// The looper-thread moments are in [0°, 360°) and ordered
+    /// φ3 < `release` < φ4 < φ5; `release` is (its name, φ_c).
+    pub fn check_moments(
+        &self,
+        phi_stab: f64,
+        (release_name, phi_release): (&str, f64),
+        (needle, phi_drop): (&str, f64),
+        phi_draw_in: f64,
+    ) -> Result<(), Error> {
+        for (what, v) in [("stab φ3", phi_stab), (release_name, phi_release), ("draw_in φ5", phi_draw_in)] {
+            if !(v.is_finite() && (0.0..360.0).contains(&v)) {
+                return Err(self.err(format!("the moment {what} = {v}° is not in [0°, 360°)")));
+            }
+        }
+        if !(phi_stab < phi_release && phi_release < phi_drop && phi_drop < phi_draw_in) {
+            return Err(self.err(format!(
+                "the moments must be ordered stab φ3 < {release_name} < drop φ4 < draw_in φ5, got \
+                 {phi_stab}° , {phi_release}°, {phi_drop:.2}° (needle {needle}), {phi_draw_in}°; reorder them"
+            )));
+        }
+        Ok(())
+    }
+
+    /// `p` of `organ` at φ_c is not inside the material (§4.3).
+    pub fn check_outside(&self, organ: &str, p: &V3<f64>, phi: f64) -> Result<(), Error> {
+        if self.slab.inside(p) {
+            return Err(self.err(format!(
+                "{organ} is inside the material at φ_c = {phi:.2}° (at {}; the material is x < {:.3}, \
+                 0 < z < {} mm); move it below the plate, above the material or beyond the edge",
+                fmt_p(p),
+                self.slab.x_edge,
+                self.m
+            )));
+        }
+        Ok(())
+    }
+
+    /// W(P, Q) with its nodes (§4.3), with an error naming the thread and φ.
+    pub fn path(&self, p: &V3<f64>, q: &V3<f64>, phi: f64, what: &str) -> Result<WPath, Error> {
+        self.slab.path(p, q).ok_or_else(|| {
+            self.err(format!(
+                "no thread path around the material for {what} at φ_c = {phi:.2}° (from {} to {}); a point is \
+                 inside the material",
+                fmt_p(p),
+                fmt_p(q)
+            ))
+        })
+    }
+
+    /// W(P, Q) (§4.3), with an error naming the thread and φ.
+    pub fn w(&self, p: &V3<f64>, q: &V3<f64>, phi: f64, what: &str) -> Result<f64, Error> {
+        self.path(p, q, phi, what).map(|w| w.length)
+    }
+
+    /// y of hole c + j: y(N0) + T(φ) − j·t (the material moves in +y, so
+    /// older holes lie further on).
+    fn y_hole(&self, j: i32, phi: f64) -> f64 {
+        self.line.n0.y + self.feed.at(phi) - f64::from(j) * self.t
+    }
+
+    /// K_j: the corner below the edge point of stitch j.
+    pub fn k_pt(&self, j: i32, phi: f64) -> V3<f64> {
+        V3::new(self.slab.x_edge, self.y_hole(j, phi), 0.0)
+    }
+
+    /// K'_j: the corner above the edge point of stitch j.
+    pub fn k_top(&self, j: i32, phi: f64) -> V3<f64> {
+        V3::new(self.slab.x_edge, self.y_hole(j, phi), self.m)
+    }
+
+    /// E_j = (x_e, y_j, e·m): the edge interloop point of stitch j.
+    pub fn e_pt(&self, j: i32, phi: f64) -> V3<f64> {
+        V3::new(self.slab.x_edge, self.y_hole(j, phi), self.e * self.m)
+    }
+
+    /// H̄_j^b: hole j's bottom, projected vertically (G5).
+    pub fn hb(&self, j: i32, phi: f64) -> V3<f64> {
+        V3::new(self.line.x_j, self.y_hole(j, phi), 0.0)
+    }
+
+    /// H̄_j^t: hole j's top, projected vertically (G5).
+    pub fn ht(&self, j: i32, phi: f64) -> V3<f64> {
+        V3::new(self.line.x_j, self.y_hole(j, phi), self.m)
+    }
+
+    /// G(φ): the needle node for the looper threads, the needle line at the
+    /// needle point's height or at the material top (§5.4).
+    pub fn g(&self, phi: f64) -> V3<f64> {
+        V3::new(self.line.x_j, self.line.n0.y, self.line.point_z(phi, self.d_point).max(self.m))
+    }
+
+    /// The thread on the top face cut at a lock φ_L, from the final nodes:
+    /// H̄_{c+1}^t → K'_c (l) → E_c → K'_c (2(1−e)m) → H̄_c^t (a_e) — contour
+    /// 10 (504 upper looper §5.4, 503 looper §5.5; §7).
+    pub fn top_face_cut(&self, phi_lock: f64) -> f64 {
+        let k_top = self.k_top(0, phi_lock);
+        (self.ht(1, phi_lock) - k_top).norm()
+            + 2.0 * (k_top - self.e_pt(0, phi_lock)).norm()
+            + (k_top - self.ht(0, phi_lock)).norm()
+    }
+
+    /// The pick-up (§4.5): the moment in `window` (φ_c deg) where `organ`
+    /// comes closest to the thread W(from(φ), to(φ)) (`what` names it), on
+    /// the reference's grid w0 + i·0.05°, and the catching point there, the
+    /// nearest point of the thread.
+    pub fn pick_up(
+        &self,
+        organ: &Motion,
+        window: [f64; 2],
+        what: &str,
+        ends: impl Fn(f64) -> (V3<f64>, V3<f64>),
+    ) -> Result<PickUp, Error> {
+        let [w0, w1] = window;
+        if !(w0.is_finite() && w1.is_finite() && 0.0 <= w0 && w0 < w1 && w1 <= 360.0) {
+            return Err(self.err(format!("the pick-up window [{w0}°, {w1}°] must satisfy 0° ≤ from < to ≤ 360°")));
+        }
+        let delta = (w0 + PICK_STEP_DEG) - w0;
+        let n = ((w1 - w0) / PICK_STEP_DEG).ceil() as usize;
+        let mut best: Option<(f64, f64, V3<f64>)> = None;
+        for i in 0..n {
+            let phi = w0 + i as f64 * delta;
+            let (from, to) = ends(phi);
+            let path = self.path(&from, &to, phi, what)?;
+            let Some((d, c)) = polyline_nearest(path.nodes(), &organ.at(phi)) else { continue };
+            if best.is_none_or(|(bd, _, _)| d < bd) {
+                best = Some((d, phi, c));
+            }
+        }
+        let Some((hook_offset_mm, phi, c)) = best else {
+            return Err(self.err(format!("the pick-up window [{w0}°, {w1}°] is empty")));
+        };
+        Ok(PickUp { phi, hook_offset_mm, offset: c - organ.at(phi) })
+    }
+}
 
 /// Piece of the lower-looper thread's contour (§5.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -88,17 +300,8 @@ impl UpperPiece {
 /// The two looper threads of stitch 504.
 #[derive(Debug, Clone)]
 pub struct Overedge {
-    /// Needle 1's line: H̄ and G lie on it.
-    pub line: NeedleLine,
-    pub slab: Slab,
-    pub feed: Feed,
-    /// m, t, e, a_e.
-    pub m: f64,
-    pub t: f64,
-    pub e: f64,
-    pub a_e: f64,
-    /// d_p: needle point below the eye, mm.
-    pub d_point: f64,
+    /// The material points and W.
+    pub seam: EdgeSeam,
     /// φ3 (stab), φ_UD (upper looper releases), φ4 (needle loop drops), φ5
     /// (drawn in: the lock), deg.
     pub phi_stab: f64,
@@ -119,10 +322,6 @@ pub struct Overedge {
     upper_eye: Motion,
 }
 
-fn fmt_p(p: &V3<f64>) -> String {
-    format!("({:.3}, {:.3}, {:.3})", p.x, p.y, p.z)
-}
-
 impl Overedge {
     /// The looper threads of `spec` (stitch 504), around needle 1 `needle`.
     pub fn new(spec: &StitchSpec, needle: &NeedleThread) -> Result<Overedge, Error> {
@@ -130,42 +329,13 @@ impl Overedge {
         let Some(upper) = spec.upper_looper.as_ref() else {
             return stitch_err("the upper looper is missing; give [stitch.upper_looper]".into());
         };
-        let (m, t, e, a_e) = (spec.m_mm, spec.t_mm, spec.edge_split, spec.a_e_mm);
-        if !(a_e.is_finite() && a_e > 0.0) {
-            return stitch_err(format!("the overedge width a_e = {a_e} mm must be > 0 (e.g. 4)"));
-        }
-        if !(0.0..=1.0).contains(&e) {
-            return stitch_err(format!("the edge split e = {e} must be in [0, 1] (0.5: the threads meet mid-edge)"));
-        }
+        let seam = EdgeSeam::new(spec, needle)?;
         let mo = spec.moments;
         let (phi_stab, phi_release, phi_draw_in) = (mo.stab_deg, mo.upper_release_deg, mo.draw_in_deg);
         let phi_drop = needle.phi_drop;
-        for (what, v) in [("stab φ3", phi_stab), ("upper_release φ_UD", phi_release), ("draw_in φ5", phi_draw_in)] {
-            if !(v.is_finite() && (0.0..360.0).contains(&v)) {
-                return stitch_err(format!("the moment {what} = {v}° is not in [0°, 360°)"));
-            }
-        }
-        if !(phi_stab < phi_release && phi_release < phi_drop && phi_drop < phi_draw_in) {
-            return stitch_err(format!(
-                "the moments must be ordered stab φ3 < upper_release φ_UD < drop φ4 < draw_in φ5, got \
-                 {phi_stab}° , {phi_release}°, {phi_drop:.2}° (needle {}), {phi_draw_in}°; reorder them",
-                needle.name
-            ));
-        }
-        let [w0, w1] = upper.pick_window_deg;
-        if !(w0.is_finite() && w1.is_finite() && 0.0 <= w0 && w0 < w1 && w1 <= 360.0) {
-            return stitch_err(format!("the pick-up window [{w0}°, {w1}°] must satisfy 0° ≤ from < to ≤ 360°"));
-        }
-        let line = needle.line.clone();
+        seam.check_moments(phi_stab, ("upper_release φ_UD", phi_release), (&needle.name, phi_drop), phi_draw_in)?;
         let mut ov = Overedge {
-            slab: Slab { x_edge: line.x_j + a_e, m },
-            line,
-            feed: needle.feed,
-            m,
-            t,
-            e,
-            a_e,
-            d_point: spec.needles[0].point_below_eye_mm,
+            seam,
             phi_stab,
             phi_release,
             phi_drop,
@@ -178,39 +348,29 @@ impl Overedge {
             lower_eye: spec.looper.eye.clone(),
             upper_eye: upper.eye.clone(),
         };
+        let seam = &ov.seam;
 
         // No looper eye inside the material, anywhere in the cycle (§4.3).
-        let scan = (0..(360.0 / INSIDE_SCAN_STEP_DEG) as usize).map(|k| k as f64 * INSIDE_SCAN_STEP_DEG);
-        for phi in scan.clone() {
-            ov.check_outside("the lower looper eye LE", &ov.lower_eye.at(phi), phi)?;
-            ov.check_outside("the upper looper eye UE", &ov.upper_eye.at(phi), phi)?;
+        for phi in inside_scan() {
+            seam.check_outside("the lower looper eye LE", &ov.lower_eye.at(phi), phi)?;
+            seam.check_outside("the upper looper eye UE", &ov.upper_eye.at(phi), phi)?;
         }
 
         // Pick-up φ_UC (§4.5): closest approach of UE to the lower thread's
-        // path W(LE, K_{c−1}), on the reference's grid w0 + i·δ.
-        let delta = (w0 + PICK_STEP_DEG) - w0;
-        let n = ((w1 - w0) / PICK_STEP_DEG).ceil() as usize;
-        let mut best: Option<(f64, f64, V3<f64>)> = None;
-        for i in 0..n {
-            let phi = w0 + i as f64 * delta;
-            let path = ov.path(&ov.lower_eye.at(phi), &ov.k_pt(-1, phi), phi, "the lower thread LE → K_{c−1}")?;
-            let Some((d, c)) = polyline_nearest(path.nodes(), &ov.upper_eye.at(phi)) else { continue };
-            if best.is_none_or(|(bd, _, _)| d < bd) {
-                best = Some((d, phi, c));
-            }
-        }
-        let Some((hook, phi_pick, c)) = best else {
-            return stitch_err(format!("the pick-up window [{w0}°, {w1}°] is empty"));
-        };
-        ov.phi_pick = phi_pick;
-        ov.hook_offset_mm = hook;
-        ov.qu_off = c - ov.upper_eye.at(phi_pick);
+        // path W(LE, K_{c−1}).
+        let pick = seam.pick_up(&ov.upper_eye, upper.pick_window_deg, "the lower thread LE → K_{c−1}", |phi| {
+            (ov.lower_eye.at(phi), seam.k_pt(-1, phi))
+        })?;
+        let (phi_pick, hook) = (pick.phi, pick.hook_offset_mm);
         if phi_pick >= phi_release {
             return stitch_err(format!(
                 "the upper looper picks the lower thread at φ_UC = {phi_pick:.2}°, not before it releases it \
                  (upper_release φ_UD = {phi_release}°); move the pick-up window or φ_UD"
             ));
         }
+        ov.phi_pick = phi_pick;
+        ov.hook_offset_mm = hook;
+        ov.qu_off = pick.offset;
         if hook > HOOK_OFFSET_WARN_MM {
             ov.warnings.push(format!(
                 "upper looper: its eye passes {hook:.3} mm from the lower thread at the pick-up φ_UC = \
@@ -218,74 +378,19 @@ impl Overedge {
                  the thread (§4.5)"
             ));
         }
-        for phi in scan.filter(|&phi| phi_pick <= phi && phi <= phi_release) {
-            ov.check_outside("the upper looper's hook Q_U (the lower thread's bight)", &ov.q_u(phi), phi)?;
+        for phi in inside_scan().filter(|&phi| phi_pick <= phi && phi <= phi_release) {
+            ov.seam.check_outside("the upper looper's hook Q_U (the lower thread's bight)", &ov.q_u(phi), phi)?;
         }
         // The released bight settles along W to its final place E_c (§4.6).
         let from = ov.q_u(phi_release);
-        ov.settle = ov.path(&from, &ov.e_pt(0, phi_draw_in), phi_release, "the released bight Q_U → E_c")?;
+        let to = ov.seam.e_pt(0, phi_draw_in);
+        ov.settle = ov.seam.path(&from, &to, phi_release, "the released bight Q_U → E_c")?;
         Ok(ov)
-    }
-
-    fn check_outside(&self, organ: &str, p: &V3<f64>, phi: f64) -> Result<(), Error> {
-        if self.slab.inside(p) {
-            return Err(Error::Stitch(format!(
-                "stitch 504: {organ} is inside the material at φ_c = {phi:.2}° (at {}; the material is x < {:.3}, \
-                 0 < z < {} mm); move it below the plate, above the material or beyond the edge",
-                fmt_p(p),
-                self.slab.x_edge,
-                self.m
-            )));
-        }
-        Ok(())
-    }
-
-    fn path(&self, p: &V3<f64>, q: &V3<f64>, phi: f64, what: &str) -> Result<WPath, Error> {
-        self.slab.path(p, q).ok_or_else(|| {
-            Error::Stitch(format!(
-                "stitch 504: no thread path around the material for {what} at φ_c = {phi:.2}° (from {} to {}); a \
-                 point is inside the material",
-                fmt_p(p),
-                fmt_p(q)
-            ))
-        })
     }
 
     /// W(P, Q) (§4.3), with an error naming the thread and φ.
     fn w(&self, p: &V3<f64>, q: &V3<f64>, phi: f64, what: &str) -> Result<f64, Error> {
-        self.path(p, q, phi, what).map(|w| w.length)
-    }
-
-    /// y of hole c + j: y(N0) + T(φ) − j·t (the material moves in +y, so
-    /// older holes lie further on).
-    fn y_hole(&self, j: i32, phi: f64) -> f64 {
-        self.line.n0.y + self.feed.at(phi) - f64::from(j) * self.t
-    }
-
-    /// K_j: the corner below the edge point of stitch j.
-    pub fn k_pt(&self, j: i32, phi: f64) -> V3<f64> {
-        V3::new(self.slab.x_edge, self.y_hole(j, phi), 0.0)
-    }
-
-    /// E_j = (x_e, y_j, e·m): the edge interloop point of stitch j.
-    pub fn e_pt(&self, j: i32, phi: f64) -> V3<f64> {
-        V3::new(self.slab.x_edge, self.y_hole(j, phi), self.e * self.m)
-    }
-
-    /// H̄_j^b: hole j's bottom, projected vertically (G5).
-    pub fn hb(&self, j: i32, phi: f64) -> V3<f64> {
-        V3::new(self.line.x_j, self.y_hole(j, phi), 0.0)
-    }
-
-    /// H̄_j^t: hole j's top, projected vertically (G5).
-    pub fn ht(&self, j: i32, phi: f64) -> V3<f64> {
-        V3::new(self.line.x_j, self.y_hole(j, phi), self.m)
-    }
-
-    /// G(φ): the needle node for the looper threads, the needle line at the
-    /// needle point's height or at the material top (§5.4).
-    pub fn g(&self, phi: f64) -> V3<f64> {
-        V3::new(self.line.x_j, self.line.n0.y, self.line.point_z(phi, self.d_point).max(self.m))
+        self.seam.w(p, q, phi, what)
     }
 
     /// LE(φ): the lower looper's eye.
@@ -317,7 +422,7 @@ impl Overedge {
     /// K_{c−1} to H̄_c^b on the bottom face, uniformly over [φ4, φ5].
     pub fn q_n(&self, phi: f64) -> V3<f64> {
         let mu = (phi - self.phi_drop) / (self.phi_draw_in - self.phi_drop);
-        let (k, h) = (self.k_pt(-1, phi), self.hb(0, phi));
+        let (k, h) = (self.seam.k_pt(-1, phi), self.seam.hb(0, phi));
         k + (h - k) * mu
     }
 
@@ -353,16 +458,16 @@ impl Overedge {
     /// H̄_{c−1}^b, mm (§5.3).
     pub fn eta_lower(&self, phi: f64, side: Side) -> Result<f64, Error> {
         let le = self.le(phi);
-        self.check_outside("the lower looper eye LE", &le, phi)?;
+        self.seam.check_outside("the lower looper eye LE", &le, phi)?;
         let w = |p: &V3<f64>, q: &V3<f64>| self.w(p, q, phi, "the lower-looper thread");
         // K_{c−1} → E_{c−1} → K_{c−1} → H̄_{c−1}^b, in final position.
-        let tail = 2.0 * self.e * self.m + self.a_e;
-        let k_prev = self.k_pt(-1, phi);
+        let tail = 2.0 * self.seam.e * self.seam.m + self.seam.a_e;
+        let k_prev = self.seam.k_pt(-1, phi);
         let body = match self.lower_piece(phi, side) {
             LowerPiece::L1 => w(&le, &k_prev)?,
             LowerPiece::L2 => {
                 let q = self.q_u(phi);
-                self.check_outside("the upper looper's hook Q_U", &q, phi)?;
+                self.seam.check_outside("the upper looper's hook Q_U", &q, phi)?;
                 w(&le, &q)? + w(&q, &k_prev)?
             }
             LowerPiece::L3 => {
@@ -374,7 +479,7 @@ impl Overedge {
                 w(&le, &ec)? + w(&ec, &qn)? + w(&qn, &k_prev)?
             }
             // Locked: the anchor is H̄_c^b.
-            LowerPiece::L5 => w(&le, &self.k_pt(0, phi))?,
+            LowerPiece::L5 => w(&le, &self.seam.k_pt(0, phi))?,
         };
         Ok(body + tail)
     }
@@ -383,21 +488,21 @@ impl Overedge {
     /// mm (§5.4).
     pub fn eta_upper(&self, phi: f64, side: Side) -> Result<f64, Error> {
         let ue = self.ue(phi);
-        self.check_outside("the upper looper eye UE", &ue, phi)?;
+        self.seam.check_outside("the upper looper eye UE", &ue, phi)?;
         let w = |p: &V3<f64>, q: &V3<f64>| self.w(p, q, phi, "the upper-looper thread");
-        let h_t = self.ht(0, phi);
+        let h_t = self.seam.ht(0, phi);
         Ok(match self.upper_piece(phi, side) {
             UpperPiece::U1 => w(&ue, &h_t)?,
             UpperPiece::U2 => {
-                let g = self.g(phi);
+                let g = self.seam.g(phi);
                 w(&ue, &g)? + w(&g, &h_t)?
             }
             UpperPiece::U3 => {
-                let (g, ec) = (self.g(phi), self.e_c(phi));
+                let (g, ec) = (self.seam.g(phi), self.e_c(phi));
                 w(&ue, &g)? + w(&g, &ec)? + w(&ec, &h_t)?
             }
             // Locked: the anchor is H̄_{c+1}^t.
-            UpperPiece::U4 => w(&ue, &self.ht(1, phi))?,
+            UpperPiece::U4 => w(&ue, &self.seam.ht(1, phi))?,
         })
     }
 
@@ -406,25 +511,25 @@ impl Overedge {
     /// contour 13 (§5.3, §7).
     pub fn lower_cut(&self) -> f64 {
         let phi = self.phi_draw_in;
-        let k = self.k_pt(-1, phi);
-        (self.hb(0, phi) - k).norm() + 2.0 * (k - self.e_pt(-1, phi)).norm() + (k - self.hb(-1, phi)).norm()
+        let k = self.seam.k_pt(-1, phi);
+        (self.seam.hb(0, phi) - k).norm()
+            + 2.0 * (k - self.seam.e_pt(-1, phi)).norm()
+            + (k - self.seam.hb(-1, phi)).norm()
     }
 
     /// The upper thread cut at the lock φ5, from the final nodes:
     /// H̄_{c+1}^t → K'_c (l) → E_c → K'_c (2(1−e)m) → H̄_c^t (a_e) —
     /// contour 10 (§5.4, §7).
     pub fn upper_cut(&self) -> f64 {
-        let phi = self.phi_draw_in;
-        let k_top = V3::new(self.slab.x_edge, self.y_hole(0, phi), self.m);
-        (self.ht(1, phi) - k_top).norm() + 2.0 * (k_top - self.e_pt(0, phi)).norm() + (k_top - self.ht(0, phi)).norm()
+        self.seam.top_face_cut(self.phi_draw_in)
     }
 
     /// The lower thread's moments in φ_c order (§5.6).
     pub fn lower_events(&self) -> Vec<(String, f64, EventKind)> {
         let mut ev = vec![
-            ("transport start".to_string(), self.feed.start_deg, EventKind::Cont),
+            ("transport start".to_string(), self.seam.feed.start_deg, EventKind::Cont),
             ("upper looper picks lower thread (φ_UC, derived)".to_string(), self.phi_pick, EventKind::Cont),
-            ("transport end".to_string(), self.feed.end_deg(), EventKind::Cont),
+            ("transport end".to_string(), self.seam.feed.end_deg(), EventKind::Cont),
             ("upper looper releases bight (φ_UD)".to_string(), self.phi_release, EventKind::Cont),
             ("needle loop drops (φ4): draw-in starts".to_string(), self.phi_drop, EventKind::Cont),
             ("drawn in = lock (φ5)".to_string(), self.phi_draw_in, EventKind::Lock),
@@ -436,8 +541,8 @@ impl Overedge {
     /// The upper thread's moments in φ_c order (§5.6).
     pub fn upper_events(&self) -> Vec<(String, f64, EventKind)> {
         let mut ev = vec![
-            ("transport start".to_string(), self.feed.start_deg, EventKind::Cont),
-            ("transport end".to_string(), self.feed.end_deg(), EventKind::Cont),
+            ("transport start".to_string(), self.seam.feed.start_deg, EventKind::Cont),
+            ("transport end".to_string(), self.seam.feed.end_deg(), EventKind::Cont),
             ("stab: needle takes the upper thread (φ3)".to_string(), self.phi_stab, EventKind::Jump),
             ("lower bight joins the upper thread (φ_UD)".to_string(), self.phi_release, EventKind::Jump),
             ("lock (φ5)".to_string(), self.phi_draw_in, EventKind::Lock),
@@ -495,7 +600,7 @@ mod tests {
         let ju = ov.eta_upper(phi5, Side::Right).unwrap() - ov.eta_upper(phi5, Side::Left).unwrap();
         assert_relative_eq!(ju, -11.2, epsilon = 1e-6);
         let snap = ju + ov.upper_cut();
-        let geodesic = ov.slab.w(&ov.ht(1, phi5), &ov.e_pt(0, phi5)).unwrap();
+        let geodesic = ov.seam.slab.w(&ov.seam.ht(1, phi5), &ov.seam.e_pt(0, phi5)).unwrap();
         assert_relative_eq!(snap, 4f64.hypot(2.8) + 1.25 - geodesic, epsilon = 1e-9);
         assert!((snap - 0.183).abs() < 0.001);
     }
@@ -505,12 +610,12 @@ mod tests {
         let (ov, _) = altin();
         // E_c leaves Q_U at φ_UD and reaches its final place at φ5.
         assert_relative_eq!(ov.e_c(ov.phi_release + 1e-9), ov.q_u(ov.phi_release), epsilon = 1e-6);
-        assert_relative_eq!(ov.e_c(ov.phi_draw_in), ov.e_pt(0, ov.phi_draw_in), epsilon = 1e-12);
+        assert_relative_eq!(ov.e_c(ov.phi_draw_in), ov.seam.e_pt(0, ov.phi_draw_in), epsilon = 1e-12);
         // Q_N goes from K_{c−1} at φ4 to H̄_c^b at φ5.
-        assert_relative_eq!(ov.q_n(ov.phi_drop), ov.k_pt(-1, ov.phi_drop), epsilon = 1e-12);
-        assert_relative_eq!(ov.q_n(ov.phi_draw_in), ov.hb(0, ov.phi_draw_in), epsilon = 1e-12);
+        assert_relative_eq!(ov.q_n(ov.phi_drop), ov.seam.k_pt(-1, ov.phi_drop), epsilon = 1e-12);
+        assert_relative_eq!(ov.q_n(ov.phi_draw_in), ov.seam.hb(0, ov.phi_draw_in), epsilon = 1e-12);
         // G: the material top while the point is in it, the point above.
-        assert_eq!(ov.g(0.0).z, 2.5);
-        assert!(ov.g(180.0).z > 2.5);
+        assert_eq!(ov.seam.g(0.0).z, 2.5);
+        assert!(ov.seam.g(180.0).z > 2.5);
     }
 }

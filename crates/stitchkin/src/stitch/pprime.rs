@@ -13,6 +13,7 @@ use super::consumption::{StitchGeometry, consumption};
 use super::feed::Feed;
 use super::needle_thread::{NeedleThread, Side};
 use super::overedge::Overedge;
+use super::overedge503::Overedge503;
 use super::spec::{Event, EventKind, Motion, RequiredTakeUp, RequiredThread, StitchSpec, StitchType, ThreadRole};
 
 /// One thread's contour, for the common bookkeeping.
@@ -20,6 +21,9 @@ enum Contour<'a> {
     Needle(&'a NeedleThread),
     Lower(&'a Overedge),
     Upper(&'a Overedge),
+    /// 503: the needle thread drawn to the edge, and the looper thread.
+    Needle503(&'a Overedge503),
+    Looper503(&'a Overedge503),
 }
 
 impl Contour<'_> {
@@ -28,6 +32,8 @@ impl Contour<'_> {
             Contour::Needle(n) => Ok(n.eta(phi, side)),
             Contour::Lower(o) => o.eta_lower(phi, side),
             Contour::Upper(o) => o.eta_upper(phi, side),
+            Contour::Needle503(o) => o.eta_needle(phi, side),
+            Contour::Looper503(o) => o.eta_looper(phi, side),
         }
     }
 
@@ -36,6 +42,8 @@ impl Contour<'_> {
             Contour::Needle(n) => n.piece(phi, Side::Right).id(),
             Contour::Lower(o) => o.lower_piece(phi, Side::Right).id(),
             Contour::Upper(o) => o.upper_piece(phi, Side::Right).id(),
+            Contour::Needle503(o) => o.needle_piece(phi, Side::Right).id(),
+            Contour::Looper503(o) => o.looper_piece(phi, Side::Right).id(),
         }
     }
 
@@ -44,6 +52,8 @@ impl Contour<'_> {
             Contour::Needle(n) => n.events(),
             Contour::Lower(o) => o.lower_events(),
             Contour::Upper(o) => o.upper_events(),
+            Contour::Needle503(o) => o.needle_events(),
+            Contour::Looper503(o) => o.looper_events(),
         }
     }
 
@@ -52,6 +62,7 @@ impl Contour<'_> {
         match self {
             Contour::Needle(n) => n.phi_drop,
             Contour::Lower(o) | Contour::Upper(o) => o.phi_draw_in,
+            Contour::Needle503(o) | Contour::Looper503(o) => o.phi_draw_in,
         }
     }
 
@@ -61,14 +72,26 @@ impl Contour<'_> {
             Contour::Needle(n) => n.lock_cut(),
             Contour::Lower(o) => o.lower_cut(),
             Contour::Upper(o) => o.upper_cut(),
+            Contour::Needle503(o) => o.needle_cut(),
+            Contour::Looper503(o) => o.looper_cut(),
         }
     }
 
-    /// ρ: thread released at the lock, mm.
+    /// ρ: thread released at the lock, mm (503: the needle loop leaves the
+    /// looper at φ4, before the lock).
     fn released(&self) -> f64 {
         match self {
             Contour::Needle(n) => n.released(),
-            Contour::Lower(_) | Contour::Upper(_) => 0.0,
+            Contour::Lower(_) | Contour::Upper(_) | Contour::Needle503(_) | Contour::Looper503(_) => 0.0,
+        }
+    }
+
+    /// The needle of a needle thread (S(φ) and γ(φ) columns).
+    fn needle(&self) -> Option<&NeedleThread> {
+        match self {
+            Contour::Needle(n) => Some(n),
+            Contour::Needle503(o) => Some(&o.needle),
+            _ => None,
         }
     }
 }
@@ -85,16 +108,11 @@ fn wrap(phi: f64) -> f64 {
 /// Threads: for 401/406/407 one needle thread per `spec.needles` entry
 /// (contour 1, locked at its drop); for 504 the needle thread (contour 1,
 /// lock φ4), `lower` (contour 13) and `upper` (contour 10), both locked at
-/// φ5. At an event the right limit is given; the events list both limits.
+/// φ5; for 503 the needle thread (contour 3) and `looper` (contour 10), both
+/// locked at φ5. At an event the right limit is given; the events list both
+/// limits.
 pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) -> Result<RequiredTakeUp, Error> {
     let ty = spec.stitch_type;
-    if ty == StitchType::S503 {
-        return Err(Error::Stitch(
-            "stitch 503: the required take-up P' is derived in docs/stitch-formation.md §5.5 but not implemented \
-             yet (no reference numbers); use 504 or a chain stitch (401, 406, 407)"
-                .into(),
-        ));
-    }
     let (m, t, tilt) = (spec.m_mm, spec.t_mm, spec.tilt_deg);
     if !(m.is_finite() && m > 0.0) {
         return Err(Error::Stitch(format!("the material thickness m = {m} mm must be > 0 (e.g. 2.5)")));
@@ -121,19 +139,24 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
     if let Some(u) = spec.upper_looper.as_ref().filter(|_| ty == StitchType::S504) {
         check_motion("the upper looper's eye", &u.eye)?;
     }
+    if let Some(sp) = spec.spreader.as_ref().filter(|_| ty == StitchType::S503) {
+        check_motion("the spreader", &sp.eye)?;
+    }
 
     // Per-stitch consumption by the contour formulas (§6). Chain stitches
     // do not use the overedge width or the edge split.
-    let overedge = ty == StitchType::S504;
+    let overedge = matches!(ty, StitchType::S503 | StitchType::S504);
     if overedge && !(spec.a_e_mm.is_finite() && spec.a_e_mm > 0.0) {
         return Err(Error::Stitch(format!(
-            "stitch 504: the overedge width a_e = {} mm must be > 0 (e.g. 4)",
+            "stitch {}: the overedge width a_e = {} mm must be > 0 (e.g. 4)",
+            ty.number(),
             spec.a_e_mm
         )));
     }
     if overedge && !(0.0..=1.0).contains(&spec.edge_split) {
         return Err(Error::Stitch(format!(
-            "stitch 504: the edge split e = {} must be in [0, 1] (0.5: the looper threads meet mid-edge)",
+            "stitch {}: the edge split e = {} must be in [0, 1] (0.5: the looper threads meet mid-edge)",
+            ty.number(),
             spec.edge_split
         )));
     }
@@ -150,12 +173,20 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
     let needles = spec
         .needles
         .iter()
-        .map(|n| NeedleThread::new(n, &spec.looper, m, tilt, feed))
+        .map(|n| NeedleThread::new(n, &spec.looper, m, tilt, feed.clone()))
         .collect::<Result<Vec<_>, _>>()?;
-    let ov = if overedge { Some(Overedge::new(spec, &needles[0])?) } else { None };
+    let ov = if ty == StitchType::S504 { Some(Overedge::new(spec, &needles[0])?) } else { None };
+    let ov503 = if ty == StitchType::S503 { Some(Overedge503::new(spec, &needles[0])?) } else { None };
 
-    let mut contours: Vec<(String, ThreadRole, u8, Contour)> =
-        needles.iter().map(|n| (n.name.clone(), ThreadRole::Needle, 1, Contour::Needle(n))).collect();
+    // Needles in order, then the looper threads (the order of the model's
+    // `StitchSetup::paths`).
+    let mut contours: Vec<(String, ThreadRole, u8, Contour)> = match &ov503 {
+        Some(o) => vec![
+            (o.needle.name.clone(), ThreadRole::Needle, 3, Contour::Needle503(o)),
+            ("looper".into(), ThreadRole::LowerLooper, 10, Contour::Looper503(o)),
+        ],
+        None => needles.iter().map(|n| (n.name.clone(), ThreadRole::Needle, 1, Contour::Needle(n))).collect(),
+    };
     if let Some(o) = &ov {
         contours.push(("lower".into(), ThreadRole::LowerLooper, 13, Contour::Lower(o)));
         contours.push(("upper".into(), ThreadRole::UpperLooper, 10, Contour::Upper(o)));
@@ -191,12 +222,12 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
         let (cut_mm, released_mm) = (c.cut(), c.released());
         // σ_snap: J_L = −L_s − ρ + σ_snap (§3.3).
         let snap_mm = c.eta(lock, Side::Right)? - c.eta(lock, Side::Left)? + cut_mm + released_mm;
-        let (travel_mm, gamma_deg) = match c {
-            Contour::Needle(n) => (
+        let (travel_mm, gamma_deg) = match c.needle() {
+            Some(n) => (
                 Some(phis.iter().map(|&p| n.travel(p)).collect()),
                 Some(phis.iter().map(|&p| n.carry.gamma(p).to_degrees()).collect()),
             ),
-            _ => (None, None),
+            None => (None, None),
         };
         let thread = RequiredThread {
             name: name.clone(),
@@ -218,10 +249,17 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
         threads.push(thread);
     }
 
-    let mut moments: Vec<(String, f64)> = needles.iter().flat_map(|n| n.moments()).collect();
-    let mut warnings: Vec<String> = needles.iter().flat_map(|n| n.warnings.iter().cloned()).collect();
+    let mut moments: Vec<(String, f64)> = match &ov503 {
+        Some(o) => o.moments(),
+        None => needles.iter().flat_map(|n| n.moments()).collect(),
+    };
+    let mut warnings: Vec<String> = feed.warning.iter().cloned().collect();
+    warnings.extend(needles.iter().flat_map(|n| n.warnings.iter().cloned()));
     if let Some(o) = &ov {
         moments.push(("upper looper picks lower thread (φ_UC)".into(), o.phi_pick));
+        warnings.extend(o.warnings.iter().cloned());
+    }
+    if let Some(o) = &ov503 {
         warnings.extend(o.warnings.iter().cloned());
     }
     Ok(RequiredTakeUp { threads, moments, warnings })
@@ -355,7 +393,26 @@ pub(crate) mod test_specs {
                 },
                 pick_window_deg: [120.0, 200.0],
             }),
+            spreader: None,
             moments: Moments { stab_deg: 270.0, upper_release_deg: 290.0, draw_in_deg: 330.0 },
+        }
+    }
+
+    /// altin503: the altin504 stand-ins with the reference's spreader in
+    /// place of the upper looper; φ_SD = 290° (the spreader lets go).
+    pub fn altin503() -> StitchSpec {
+        StitchSpec {
+            stitch_type: StitchType::S503,
+            upper_looper: None,
+            spreader: Some(SpreaderSpec {
+                eye: Motion::PolylineLaw {
+                    points: Arc::from(vec![V3::new(11.0, 1.5, -3.0), V3::new(5.5, 0.0, 4.0), V3::new(-1.0, -1.0, 4.0)]),
+                    low_deg: 110.0,
+                    high_deg: 270.0,
+                },
+                pick_window_deg: [120.0, 200.0],
+            }),
+            ..altin504()
         }
     }
 
@@ -404,6 +461,7 @@ pub(crate) mod test_specs {
                 gamma_max_rad: 0.4,
             },
             upper_looper: None,
+            spreader: None,
             moments: Moments { stab_deg: 270.0, upper_release_deg: 290.0, draw_in_deg: 330.0 },
         }
     }
@@ -411,7 +469,7 @@ pub(crate) mod test_specs {
 
 #[cfg(test)]
 mod tests {
-    use super::test_specs::{altin504, mf7923d_407};
+    use super::test_specs::{altin503, altin504, mf7923d_407};
     use super::*;
     use approx::assert_relative_eq;
 
@@ -448,10 +506,28 @@ mod tests {
     }
 
     #[test]
-    fn stitch_503_is_not_implemented_yet() {
-        let s = StitchSpec { stitch_type: StitchType::S503, ..altin504() };
-        let err = required_take_up(&s, &[0.0], 0.0).unwrap_err();
-        assert!(matches!(&err, Error::Stitch(m) if m.contains("503") && m.contains("§5.5")), "{err}");
+    fn altin503_has_a_needle_and_a_looper_thread_locked_at_the_draw_in() {
+        let r = required_take_up(&altin503(), &[0.0, 315.0, 359.999_999_999], 0.0).unwrap();
+        let names: Vec<_> = r.threads.iter().map(|t| (t.name.as_str(), t.role, t.contour)).collect();
+        assert_eq!(names, [("needle", ThreadRole::Needle, 3), ("looper", ThreadRole::LowerLooper, 10)]);
+        assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+        for th in &r.threads {
+            assert_relative_eq!(th.cut_mm, th.per_stitch_mm, epsilon = 1e-12);
+            assert_relative_eq!(th.lock_deg, 330.0);
+            assert!((th.eta_mm[2] - th.eta_mm[0]).abs() < 1e-6, "{}", th.name);
+            assert_eq!(th.released_mm, 0.0);
+            assert!(th.snap_mm > -1e-9, "{}: snap {}", th.name, th.snap_mm);
+        }
+        assert_eq!(r.threads[0].piece, ["N1", "N2d", "N3b"]);
+        assert_eq!(r.threads[1].piece, ["S1", "S4", "S5"]);
+        assert!(r.threads[0].travel_mm.is_some() && r.threads[1].travel_mm.is_none());
+        // 18.621 + 11.383 = 30.004 mm per stitch (§6.3).
+        assert_relative_eq!(r.threads[0].per_stitch_mm + r.threads[1].per_stitch_mm, 30.0035111, epsilon = 1e-6);
+        assert!(r.moments.iter().any(|(n, p)| n.contains("φ_SC") && (p - 143.7).abs() < 1e-9));
+        assert!(r.moments.iter().any(|(n, p)| n.contains("lock (φ5)") && *p == 330.0));
+        // A 503 without its spreader is an error that says what to add.
+        let err = required_take_up(&StitchSpec { spreader: None, ..altin503() }, &[0.0], 0.0).unwrap_err();
+        assert!(matches!(&err, Error::Stitch(m) if m.contains("503") && m.contains("[stitch.spreader]")), "{err}");
     }
 
     #[test]

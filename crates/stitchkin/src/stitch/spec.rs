@@ -22,8 +22,8 @@ pub enum StitchType {
     S406,
     /// Three-needle chain stitch (Juki MF-7923D, seed 000).
     S407,
-    /// Two-thread overedge: needle and looper thread (derived in §5.5, no
-    /// reference numbers; not computed yet).
+    /// Two-thread overedge: needle thread (drawn to the edge) and looper
+    /// thread (carried over the edge by a spreader), §5.5.
     S503,
     /// Three-thread overedge (Textima Altin, seed 004): needle, lower- and
     /// upper-looper threads.
@@ -52,12 +52,16 @@ impl StitchType {
 
 /// Material transport T(φ_c): displacement of the material along +y since
 /// the start of this cycle's transport, 0 before, t after.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone)]
 pub enum FeedLaw {
     /// Seed 004 §2.2.3 (reconstruction R1): a harmonic feed dog,
     /// `T = 0.5·T_d·[sin(φ_c − φ_mid) + sin(φ_tr/2)]` on
     /// `[start, start + duration]`, `T_d = t / sin(φ_tr/2)`.
     Harmonic { start_deg: f64, duration_deg: f64 },
+    /// A feed-dog tooth point of the mechanism (§4.2): the material moves
+    /// with the tooth's y while the tooth is above the plate (z > 0), scaled
+    /// so that one cycle's transport is exactly t.
+    Point { dog: Motion },
 }
 
 /// A point moving with the main shaft, in the stitch frame (mm) as a
@@ -75,8 +79,9 @@ pub enum Motion {
     /// `x = x_c − stroke/2·cos(φ_c − far + 180°)`, with `x_c` such that
     /// x = `catch_x_mm` at `catch_deg`; `y = y0 − avoid·sin(φ_c)`; `z = −depth`.
     LooperLaw { stroke_mm: f64, far_deg: f64, catch_deg: f64, catch_x_mm: f64, y0_mm: f64, avoid_mm: f64, depth_mm: f64 },
-    /// Stand-in upper looper: along a polyline, with harmonic progress from
-    /// its first point at `low_deg` to its last at `high_deg` and back.
+    /// Stand-in upper looper or spreader: along a polyline, with harmonic
+    /// progress from its first point at `low_deg` to its last at `high_deg`
+    /// and back.
     PolylineLaw { points: Arc<[V3<f64>]>, low_deg: f64, high_deg: f64 },
 }
 
@@ -197,12 +202,28 @@ pub struct UpperLooperSpec {
     pub pick_window_deg: [f64; 2],
 }
 
+/// The spreader of stitch 503 (§4.5, §5.5): it takes the looper thread
+/// from the lower looper, carries it over the material edge and holds it
+/// above the needle line until the needle has entered its triangle. It
+/// carries no thread of its own, so it has no eye in the thread sense: `eye`
+/// is its hook's reference point, and the catching point keeps the offset
+/// it has from that point at the pick-up.
+#[derive(Debug, Clone)]
+pub struct SpreaderSpec {
+    /// Its reference point S(φ_c).
+    pub eye: Motion,
+    /// φ_c window where the pick-up of the looper thread (closest approach)
+    /// is searched, deg.
+    pub pick_window_deg: [f64; 2],
+}
+
 /// Cyclogram moments, φ_c in degrees (seed 004 Table 2).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Moments {
     /// φ3: the looper thread touches the needle (stab).
     pub stab_deg: f64,
-    /// φ_UD: the upper looper releases the lower thread's bight (504).
+    /// 504: φ_UD, the upper looper releases the lower thread's bight.
+    /// 503: φ_SD, the spreader releases the looper thread (§5.5).
     pub upper_release_deg: f64,
     /// φ5: the looper thread is drawn into the loop (looper-thread lock).
     pub draw_in_deg: f64,
@@ -227,6 +248,8 @@ pub struct StitchSpec {
     pub looper: LooperSpec,
     /// 504 only.
     pub upper_looper: Option<UpperLooperSpec>,
+    /// 503 only.
+    pub spreader: Option<SpreaderSpec>,
     pub moments: Moments,
 }
 
@@ -257,6 +280,8 @@ pub struct Event {
 #[serde(rename_all = "snake_case")]
 pub enum ThreadRole {
     Needle,
+    /// The thread of the looper that catches the needle loops: 504's
+    /// `lower`, 503's `looper`.
     LowerLooper,
     UpperLooper,
 }
@@ -264,10 +289,10 @@ pub enum ThreadRole {
 /// The consumption contour of one thread over the requested φ_c grid.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct RequiredThread {
-    /// `n1`, `needle`, `lower`, `upper`.
+    /// `n1`, `needle`, `lower`, `upper`, `looper`.
     pub name: String,
     pub role: ThreadRole,
-    /// Contour number of seed 004 §2.6 (1, 10, 13).
+    /// Contour number of seed 004 §2.6 (1, 3, 10, 13).
     pub contour: u8,
     /// Per-stitch consumption by the contour formula, mm.
     pub per_stitch_mm: f64,
@@ -290,7 +315,7 @@ pub struct RequiredThread {
     pub travel_mm: Option<Vec<f64>>,
     /// Needle threads: γ(φ_c), the loop angle on the looper, deg.
     pub gamma_deg: Option<Vec<f64>>,
-    /// Piece id at each φ_c (`N1`, `N2a`, …, `L3`, `U2`).
+    /// Piece id at each φ_c (`N1`, `N2a`, …, `L3`, `U2`, `S3a`).
     pub piece: Vec<&'static str>,
     /// Every moment of this thread in φ_c order.
     pub events: Vec<Event>,

@@ -1,4 +1,5 @@
-//! Studies over a model: comparisons and (later) sweeps, sensitivity and
-//! tuning.
+//! Studies over a model: comparisons, parameter sweeps and (to come)
+//! sensitivity and tuning.
 
 pub mod compare2d3d;
+pub mod sweep;

@@ -72,7 +72,27 @@ fn altin504(m: f64, t: f64) -> StitchSpec {
             },
             pick_window_deg: [120.0, 200.0],
         }),
+        spreader: None,
         moments: Moments { stab_deg: 270.0, upper_release_deg: 290.0, draw_in_deg: 330.0 },
+    }
+}
+
+/// altin503: the altin504 stand-ins (needle, lower looper, feed, φ1, φ3,
+/// φ4, φ5) with the reference's illustrative spreader in place of the upper
+/// looper, releasing the looper thread at φ_SD = 290°.
+fn altin503(m: f64, t: f64) -> StitchSpec {
+    StitchSpec {
+        stitch_type: StitchType::S503,
+        upper_looper: None,
+        spreader: Some(SpreaderSpec {
+            eye: Motion::PolylineLaw {
+                points: Arc::from(vec![V3::new(11.0, 1.5, -3.0), V3::new(5.5, 0.0, 4.0), V3::new(-1.0, -1.0, 4.0)]),
+                low_deg: 110.0,
+                high_deg: 270.0,
+            },
+            pick_window_deg: [120.0, 200.0],
+        }),
+        ..altin504(m, t)
     }
 }
 
@@ -121,6 +141,7 @@ fn mf7923d_407(m: f64, t: f64) -> StitchSpec {
             gamma_max_rad: 0.4,
         },
         upper_looper: None,
+        spreader: None,
         moments: Moments { stab_deg: 270.0, upper_release_deg: 290.0, draw_in_deg: 330.0 },
     }
 }
@@ -495,9 +516,9 @@ fn stitch_error(spec: &StitchSpec, phis: &[f64]) -> String {
 
 #[test]
 fn bad_specs_are_errors() {
-    // 503: derived in §5.5, not implemented.
+    // 503 without its spreader.
     let msg = stitch_error(&StitchSpec { stitch_type: StitchType::S503, ..altin504(2.5, 2.8) }, &[0.0]);
-    assert!(msg.contains("503") && msg.contains("§5.5"), "{msg}");
+    assert!(msg.contains("503") && msg.contains("[stitch.spreader]"), "{msg}");
 
     // The looper never reaches the needles.
     let mut s = mf7923d_407(3.0, 3.0);
@@ -578,4 +599,168 @@ fn warnings_for_questionable_stand_ins() {
     let r1 = required_take_up(&altin504(2.5, 2.8), &[-60.0, 420.0], 0.0).unwrap();
     let r2 = required_take_up(&altin504(2.5, 2.8), &[300.0, 60.0], 0.0).unwrap();
     assert_eq!(r1.threads[1].eta_mm, r2.threads[1].eta_mm);
+}
+
+// ---------------------------------------------------------------------------
+// stitch 503 (docs §5.5): needle thread drawn to the edge, looper thread
+// carried over the edge by the spreader
+// ---------------------------------------------------------------------------
+
+#[test]
+fn altin503_matches_the_reference_table() {
+    let csv = Csv::read("altin503_Pprime.csv");
+    let phis = csv.f64("phi_c_deg");
+    let spec = altin503(2.5, 2.8);
+    let r = required_take_up(&spec, &phis, 0.0).unwrap();
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    let names: Vec<_> = r.threads.iter().map(|t| t.name.as_str()).collect();
+    assert_eq!(names, ["needle", "looper"]);
+
+    // The motions: S, T, the loop carry and the organs.
+    let needle = thread(&r, "needle");
+    assert_close("S", needle.travel_mm.as_ref().unwrap(), &csv.f64("S_mm"), &phis, TOL_MM);
+    let feed = Feed::new(&spec.feed, spec.t_mm).unwrap();
+    let t: Vec<f64> = phis.iter().map(|&p| feed.at(p)).collect();
+    assert_close("T", &t, &csv.f64("T_mm"), &phis, TOL_MM);
+    let gamma: Vec<f64> = needle.gamma_deg.as_ref().unwrap().iter().map(|g| g.to_radians()).collect();
+    assert_close("γ", &gamma, &csv.f64("gamma_rad"), &phis, 1e-8);
+    let spreader = spec.spreader.as_ref().unwrap();
+    for (axis, i) in [("x", 0), ("y", 1), ("z", 2)] {
+        let le: Vec<f64> = phis.iter().map(|&p| spec.looper.eye.at(p)[i]).collect();
+        let sp: Vec<f64> = phis.iter().map(|&p| spreader.eye.at(p)[i]).collect();
+        assert_close(&format!("LE_{axis}"), &le, &csv.f64(&format!("LE_{axis}_mm")), &phis, TOL_MM);
+        assert_close(&format!("SP_{axis}"), &sp, &csv.f64(&format!("SP_{axis}_mm")), &phis, TOL_MM);
+    }
+
+    // The contours, every row.
+    assert_close("needle η_N", &needle.eta_mm, &csv.f64("needle_eta_N_mm"), &phis, TOL_MM);
+    assert_close("needle P'_N", &needle.pprime_mm, &csv.f64("needle_Pprime_N_mm"), &phis, TOL_MM);
+    assert_close("needle P'_B", &pprime_b(needle, 25.44), &csv.f64("needle_Pprime_B_mm"), &phis, TOL_MM);
+    assert_pieces("needle", &needle.piece, &csv.str("needle_piece"), &phis);
+    let looper = thread(&r, "looper");
+    assert_close("looper η", &looper.eta_mm, &csv.f64("looper_eta_mm"), &phis, TOL_MM);
+    assert_close("looper P'", &looper.pprime_mm, &csv.f64("looper_Pprime_mm"), &phis, TOL_MM);
+    assert_pieces("looper", &looper.piece, &csv.str("looper_piece"), &phis);
+    assert!(looper.travel_mm.is_none() && looper.gamma_deg.is_none());
+}
+
+#[test]
+fn altin503_events_match_the_reference() {
+    let r = required_take_up(&altin503(2.5, 2.8), &[0.0], 0.0).unwrap();
+    check_events(&r, &Csv::read("altin503_events.csv"));
+    // README: the spreader picks the looper thread at 143.70°.
+    let moment = |name: &str| r.moments.iter().find(|(n, _)| n.contains(name)).unwrap_or_else(|| panic!("{name}")).1;
+    assert!((moment("φ_SC") - 143.7).abs() < 1e-9);
+    assert!((moment("lock (φ5)") - 330.0).abs() < 1e-12);
+}
+
+/// η's jump at the event of `th` at φ_c = `phi`.
+fn jump_at(th: &RequiredThread, phi: f64) -> f64 {
+    let ev = th.events.iter().find(|e| e.phi_c_deg == phi).unwrap_or_else(|| panic!("{}: no event at {phi}", th.name));
+    ev.eta_right_mm - ev.eta_left_mm
+}
+
+#[test]
+fn altin503_locks_cut_the_per_stitch_consumption_and_jumps_have_their_signs() {
+    let geometry =
+        StitchGeometry { thickness_mm: 2.5, stitch_mm: 2.8, width_mm: 4.0, incline_deg: 20.0, edge_fraction: 0.5 };
+    let c = consumption(503, &geometry).unwrap();
+    let r = required_take_up(&altin503(2.5, 2.8), &[0.0], 0.0).unwrap();
+    for th in &r.threads {
+        let formula = match th.role {
+            ThreadRole::Needle => "needle 1",
+            ThreadRole::LowerLooper => "lower looper",
+            ThreadRole::UpperLooper => panic!("503 has no upper looper thread"),
+        };
+        let want = c.threads.iter().find(|t| t.thread == formula).unwrap().length_mm.unwrap();
+        // §7 (a): the cut recomputed from the final nodes is the formula
+        // (contour 3: 18.621 mm, contour 10: 11.383 mm).
+        assert!((th.cut_mm - want).abs() < 1e-12, "{}: cut {} vs {want}", th.name, th.cut_mm);
+        assert!((th.per_stitch_mm - want).abs() < 1e-12);
+        // §7 (c): the lock (φ5 for both) is −L_s + σ_snap; nothing is
+        // released at it (the needle loop left the looper at φ4).
+        assert_eq!(th.lock_deg, 330.0);
+        let jump = jump_at(th, 330.0);
+        assert_eq!(th.released_mm, 0.0);
+        assert!((jump - (-th.cut_mm + th.snap_mm)).abs() < 1e-9, "{}", th.name);
+    }
+    let (needle, looper) = (thread(&r, "needle"), thread(&r, "looper"));
+    assert!((needle.cut_mm - 18.620888862).abs() < 1e-8 && needle.snap_mm.abs() < 1e-9);
+    // σ_snap = l + (1−e)m − W(H̄_{c+1}^t, E_c), as for the 504 upper thread.
+    assert!((looper.snap_mm - 0.1826222).abs() < 1e-6, "{}", looper.snap_mm);
+    // §5.5: the needle loses the wrap around the half-cylinder when its loop
+    // drops (small, negative); the looper thread's stab and drop jumps are
+    // ≥ 0, the spreader's release ≤ 0.
+    let j = jump_at(needle, 300.0);
+    assert!(j < 0.0 && (j + 1.45850195).abs() < 1e-7, "{j}");
+    assert!((jump_at(needle, 30.0) - 0.583905106).abs() < 1e-7);
+    let (stab, release, drop) = (jump_at(looper, 270.0), jump_at(looper, 290.0), jump_at(looper, 300.0));
+    assert!(stab >= 0.0 && release <= 0.0 && drop >= 0.0, "{stab} {release} {drop}");
+    assert!((stab - 0.67779987).abs() < 1e-7 && (release + 2.88239431).abs() < 1e-7 && (drop - 25.6132889).abs() < 1e-6);
+}
+
+#[test]
+fn altin503_is_periodic_and_continuous_away_from_its_events() {
+    // §7 (b): η(360°⁻) = η(0⁺), also for another material and stitch.
+    for (m, t) in [(2.5, 2.8), (1.5, 3.5)] {
+        let r = required_take_up(&altin503(m, t), &[0.0, 360.0 - 1e-9], 0.0).unwrap();
+        for th in &r.threads {
+            let d = th.eta_mm[1] - th.eta_mm[0];
+            assert!(d.abs() < 1e-6, "{} (m = {m}, t = {t}): η(360⁻) − η(0⁺) = {d}", th.name);
+        }
+    }
+    // §7 (d): on a 0.01° grid, away from the jump and lock moments, no step
+    // exceeds 0.01 mm. (The steepest continuous parts are 503's draw-in on
+    // [φ4, φ5]: the needle's loop legs grow by 0.58 mm/° while the bight
+    // climbs the edge face, and the looper thread shortens by 0.56 mm/° as the
+    // bight comes up from below the plate: 0.0071 and 0.0056 mm per step.)
+    let grid: Vec<f64> = (0..36_000).map(|k| k as f64 * 0.01).collect();
+    let r = required_take_up(&altin503(2.5, 2.8), &grid, 0.0).unwrap();
+    for th in &r.threads {
+        let jumps: Vec<f64> = th.events.iter().filter(|e| e.kind != EventKind::Cont).map(|e| e.phi_c_deg).collect();
+        let (mut worst, mut at) = (0.0_f64, 0.0);
+        for (k, w) in th.eta_mm.windows(2).enumerate() {
+            let (a, b) = (grid[k], grid[k + 1]);
+            if jumps.iter().any(|&ev| a - 1e-9 <= ev && ev <= b + 1e-9) {
+                continue;
+            }
+            if (w[1] - w[0]).abs() > worst {
+                (worst, at) = ((w[1] - w[0]).abs(), a);
+            }
+        }
+        assert!(worst <= 0.01, "{}: step {worst} mm at φ_c = {at}°", th.name);
+        for ev in th.events.iter() {
+            let j = ev.eta_right_mm - ev.eta_left_mm;
+            match ev.kind {
+                EventKind::Cont => assert!(j.abs() < 1e-9, "{} '{}': {j}", th.name, ev.name),
+                _ => assert!(j.abs() > 0.1, "{} '{}': {j}", th.name, ev.name),
+            }
+        }
+    }
+}
+
+#[test]
+fn altin503_bad_specs_are_errors() {
+    // The spreader releases after the needle loop drops.
+    let mut s = altin503(2.5, 2.8);
+    s.moments.upper_release_deg = 310.0;
+    let msg = stitch_error(&s, &[0.0]);
+    assert!(msg.contains("stitch 503") && msg.contains("spreader_release φ_SD") && msg.contains("ordered"), "{msg}");
+    // The spreader dips into the material.
+    let mut s = altin503(2.5, 2.8);
+    s.spreader.as_mut().unwrap().eye = Motion::PolylineLaw {
+        points: Arc::from(vec![V3::new(11.0, 1.5, -3.0), V3::new(2.0, 0.0, 1.0)]),
+        low_deg: 110.0,
+        high_deg: 270.0,
+    };
+    let msg = stitch_error(&s, &[0.0]);
+    assert!(msg.contains("spreader") && msg.contains("inside the material") && msg.contains("φ_c ="), "{msg}");
+    // A window where the spreader only gets the thread after the stab.
+    let mut s = altin503(2.5, 2.8);
+    s.spreader.as_mut().unwrap().pick_window_deg = [280.0, 300.0];
+    let msg = stitch_error(&s, &[0.0]);
+    assert!(msg.contains("φ_SC") && msg.contains("stab"), "{msg}");
+    // No overedge width.
+    let msg = stitch_error(&StitchSpec { a_e_mm: 0.0, ..altin503(2.5, 2.8) }, &[0.0]);
+    assert!(msg.contains("stitch 503") && msg.contains("a_e"), "{msg}");
 }

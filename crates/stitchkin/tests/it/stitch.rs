@@ -165,7 +165,7 @@ fn bad_stitch_tables_are_rejected_with_the_place_and_the_fix() {
     let e = stitch_err(r#"type = "401""#, r#"type = "301""#);
     assert!(e.contains("unknown or unsupported stitch type `301`") && e.contains("\"407\""), "{e}");
     let e = stitch_err(r#"type = "401""#, r#"type = "503""#);
-    assert!(e.contains("503") && e.contains("not computed yet") && e.contains("consumption"), "{e}");
+    assert!(e.contains("stitch 503 needs the overedge width"), "{e}");
     let e = stitch_err(r#"type = "401""#, r#"type = "406""#);
     assert!(e.contains("has 2 needle(s), 1 given"), "{e}");
     let e = stitch_err(r#"name = "thr""#, "name = \"thr\"\neye = \"N\"");
@@ -186,4 +186,216 @@ fn bad_stitch_tables_are_rejected_with_the_place_and_the_fix() {
     let model = Model::from_toml_str(STITCH_401, "chain.toml").unwrap();
     let mut p = model.defaults();
     assert!(model.set(&mut p, "m", 9.0).is_err());
+}
+
+#[test]
+fn a_feed_dog_on_a_circle_feeds_like_the_harmonic_law() {
+    // A tooth on a crank about −x (stitch frame = world): y = r sin θ,
+    // z = z0 + r cos θ, θ = φ_c − 184°, above the plate for 100° around
+    // θ = 0. Scaled to t it is exactly seed 004's harmonic feed, 134° + 100°
+    // (R1): T = 0.5·T_d·(sin θ + sin 50°).
+    let r = 2.0f64; // travel 2r·sin 50° = 3.064 mm, not t = 2.5: a warning
+    let dog = format!(
+        r#"DOGC = [0, 0, {z0}]
+[[drivers]]
+type = "crank"
+center = "DOGC"
+out = "DOG"
+radius = {r}
+axis = "-x"
+zero_dir = "z"
+phase_deg = -4
+"#,
+        z0 = -r * 50f64.to_radians().cos()
+    );
+    let point = STITCH_401
+        .replacen("O = [0, 0]\n", &format!("O = [0, 0]\n{dog}"), 1)
+        .replacen(r#"feed = { law = "harmonic", start_deg = 134, duration_deg = 100 }"#, r#"feed = { law = "point", point = "DOG" }"#, 1);
+    let harmonic = Model::from_toml_str(STITCH_401, "h.toml").unwrap();
+    let dogged = Model::from_toml_str(&point, "d.toml").unwrap();
+    let opts = CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()) };
+    let (a, b) = (run_cycle(&harmonic, &harmonic.defaults(), &opts).unwrap(), run_cycle(&dogged, &dogged.defaults(), &opts).unwrap());
+    let (pa, pb) = (a.column("thr.Pprime_mm").unwrap(), b.column("thr.Pprime_mm").unwrap());
+    let worst = pa.iter().zip(pb).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-6, "point-law P' differs from the harmonic law's by {worst} mm");
+    assert!(b.warnings.iter().any(|w| w.contains("travels 3.064 mm") && w.contains("t = 2.5 mm")), "{:?}", b.warnings);
+    assert!(a.warnings.iter().all(|w| !w.contains("feed dog")));
+    // A dog that never rises is refused with the fix.
+    let low = point.replacen(&format!("DOGC = [0, 0, {}]", -r * 50f64.to_radians().cos()), "DOGC = [0, 0, -5]", 1);
+    let m = Model::from_toml_str(&low, "low.toml").unwrap();
+    let e = run_cycle(&m, &m.defaults(), &opts).unwrap_err().to_string();
+    assert!(e.contains("never rises above the plate"), "{e}");
+    // Angles do not belong to the point law.
+    let e = Model::from_toml_str(&point.replacen(r#"point = "DOG" }"#, r#"point = "DOG", start_deg = 3 }"#, 1), "x.toml").unwrap_err().to_string();
+    assert!(e.contains("the point feed takes `point`"), "{e}");
+}
+
+/// Golden numbers of the mf7923d stitch 407 (m = t = 3, step 1°), for both
+/// readings of the take-up phase (docs/stitch-formation.md §10.1, Q4).
+#[test]
+fn mf7923d_match_golden() {
+    let close = |a: f64, b: f64, what: &str| assert!((a - b).abs() < 2e-3, "{what}: {a} vs golden {b}");
+    let golden_b = [20.4045, 14.0644, 8.1137];
+    let golden_lock = [137.22, 124.56, 113.62];
+    for (phase, rms, score) in [(0.0, [55.0393, 58.4166, 61.2172], [0.0, 0.0, 0.0]), (180.0, [9.5131, 8.5094, 7.8654], [71.2849, 76.5329, 79.9449])] {
+        let table = mf_run(&[("t1_phase", phase)]);
+        for (j, t) in table.stitch.as_ref().unwrap().threads.iter().enumerate() {
+            let m = t.mismatch.as_ref().unwrap();
+            close(m.rms_d_mm, rms[j], &format!("t1_phase {phase} n{} RMS(D)", j + 1));
+            close(m.score.unwrap(), score[j], &format!("t1_phase {phase} n{} score", j + 1));
+            close(t.max_pprime_b_mm.unwrap(), golden_b[j], &format!("n{} max P'_B", j + 1));
+            close(t.lock_phi_deg, golden_lock[j], &format!("n{} lock", j + 1));
+        }
+    }
+}
+
+/// Stitch 503 with the stand-in laws of the reference's altin503 case
+/// (tests/data/stitch/README.md): φ = φ_c, P' = 0 at φ_c = 0.
+const STITCH_503: &str = r#"
+[model]
+name = "overedge-503"
+[parameters]
+m = { value = 2.5, unit = "mm", range = [0.5, 5] }
+[points]
+O = [0, 0]
+G1 = [30, 10]
+[[drivers]]
+type = "crank"
+center = "O"
+out = "A"
+radius = 10
+[[groups]]
+type = "rrp"
+from = "A"
+length = 40
+through = "O"
+direction_deg = 90
+out = "N"
+branch = "forward"
+[thread]
+phi0_deg = 0
+[[thread.paths]]
+name = "needle"
+nodes = ["O", "A", "N"]
+[[thread.paths]]
+name = "lower"
+nodes = ["G1", "A"]
+[stitch]
+type = "503"
+m_mm = "m"
+t_mm = 2.8
+tilt_deg = 20
+overedge_width_mm = 4
+cyclogram_zero_deg = 0
+feed = { law = "harmonic", start_deg = 134, duration_deg = 100 }
+[[stitch.needles]]
+name = "needle"
+law = { x_mm = 0, eye_above_plate_mm = 11.5, stroke_mm = 25.44 }
+path = "needle"
+catch_deg = 30
+drop_deg = 300
+[stitch.looper]
+law = { stroke_mm = 17.32, far_deg = 180, catch_deg = 30, avoid_mm = 0.75, depth_mm = 5.5 }
+k_mm = 4
+a_mm = 1
+b_mm = 2.5
+gamma_max_deg = 22.918311805232928
+path = "lower"
+[stitch.spreader]
+law = { polyline_mm = [[11, 1.5, -3], [5.5, 0, 4], [-1, -1, 4]], low_deg = 110, high_deg = 270 }
+pick_window_deg = [120, 200]
+[stitch.moments]
+stab_deg = 270
+spreader_release_deg = 290
+draw_in_deg = 330
+"#;
+
+#[test]
+fn a_503_model_with_stand_in_laws_runs_and_gives_the_reference_pprime() {
+    let model = Model::from_toml_str(STITCH_503, "overedge.toml").unwrap();
+    let opts = CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()) };
+    let table = run_cycle(&model, &model.defaults(), &opts).unwrap();
+    let st = table.stitch.as_ref().expect("a [stitch]");
+    assert_eq!(st.stitch_type, 503);
+    // Needles, then the looper thread, each with its path.
+    let threads: Vec<_> = st.threads.iter().map(|t| (t.thread.as_str(), t.contour, t.path.as_deref())).collect();
+    assert_eq!(threads, [("needle", 3, Some("needle")), ("looper", 10, Some("lower"))]);
+    // Contour 3 and contour 10 (docs §6.3: 18.621 + 11.383 mm), locked at φ5.
+    for (t, want) in st.threads.iter().zip([18.620888862, 11.382622246]) {
+        assert!((t.per_stitch_mm - want).abs() < 1e-8 && (t.locked_mm - t.per_stitch_mm).abs() < 1e-12, "{t:?}");
+        assert!((t.lock_phi_deg - 330.0).abs() < 1e-9);
+        assert!(t.mismatch.as_ref().unwrap().score.is_some());
+    }
+    // P' at every whole degree is the reference's (altin503_Pprime.csv).
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/stitch/altin503_Pprime.csv")).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let (c_phi, c_n, c_l) = (col("phi_c_deg"), col("needle_Pprime_N_mm"), col("looper_Pprime_mm"));
+    let (phi, pn, pl) = (table.column("phi_deg").unwrap(), table.column("needle.Pprime_mm").unwrap(), table.column("looper.Pprime_mm").unwrap());
+    let mut checked = 0;
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        let p: f64 = f[c_phi].parse().unwrap();
+        let Some(k) = phi.iter().position(|x| (x - p).abs() < 1e-9) else { continue };
+        assert!((pn[k] - f[c_n].parse::<f64>().unwrap()).abs() < 1e-6, "needle P' at {p}°: {}", pn[k]);
+        assert!((pl[k] - f[c_l].parse::<f64>().unwrap()).abs() < 1e-6, "looper P' at {p}°: {}", pl[k]);
+        checked += 1;
+    }
+    assert_eq!(checked, 360);
+    assert!(table.column("needle.Pprime_B_mm").is_some() && table.column("looper.D_mm").is_some());
+    assert!(table.column("looper.Pprime_B_mm").is_none());
+}
+
+fn stitch503_err(from: &str, to: &str) -> String {
+    let text = STITCH_503.replacen(from, to, 1);
+    assert_ne!(text, STITCH_503, "`{from}` is not in the model");
+    match Model::from_toml_str(&text, "bad.toml") {
+        Ok(_) => panic!("expected an error after replacing `{from}` by `{to}`"),
+        Err(e) => {
+            assert!(e.line_col().is_some(), "no place: {e}");
+            e.to_string()
+        }
+    }
+}
+
+#[test]
+fn bad_503_tables_are_rejected_with_the_place_and_the_fix() {
+    let spreader = "[stitch.spreader]\nlaw = { polyline_mm = [[11, 1.5, -3], [5.5, 0, 4], [-1, -1, 4]], low_deg = 110, high_deg = 270 }\npick_window_deg = [120, 200]\n";
+    let e = stitch503_err(spreader, "");
+    assert!(e.contains("stitch 503 needs a spreader") && e.contains("[stitch.spreader]"), "{e}");
+    let e = stitch503_err("[stitch.spreader]\n", "[stitch.upper_looper]\n");
+    assert!(e.contains("stitch 503 has no upper looper") && e.contains("[stitch.spreader]"), "{e}");
+    let e = stitch503_err("spreader_release_deg = 290", "upper_release_deg = 290");
+    assert!(e.contains("stitch 503 has no `upper_release_deg`") && e.contains("spreader_release_deg"), "{e}");
+    let e = stitch503_err("spreader_release_deg = 290", "spreader_release_deg = 340");
+    assert!(e.contains("stab < spreader_release < draw_in"), "{e}");
+    let e = stitch503_err("[stitch.moments]\nstab_deg = 270\nspreader_release_deg = 290\ndraw_in_deg = 330\n", "");
+    assert!(e.contains("stitch 503 needs its cyclogram moments") && e.contains("spreader_release_deg"), "{e}");
+    let e = stitch503_err("overedge_width_mm = 4\n", "");
+    assert!(e.contains("stitch 503 needs the overedge width"), "{e}");
+    let e = stitch503_err("[stitch.spreader]\nlaw", "[stitch.spreader]\neye = \"N\"\nlaw");
+    assert!(e.contains("the spreader needs exactly one of `eye`"), "{e}");
+    let e = stitch503_err("pick_window_deg = [120, 200]", "pick_window_deg = [200, 120]");
+    assert!(e.contains("pick-up window"), "{e}");
+    let e = stitch503_err("name = \"needle\"\nlaw", "name = \"looper\"\nlaw");
+    assert!(e.contains("`looper` is not a valid, unique thread name"), "{e}");
+    // 504 needs an upper looper and takes no spreader.
+    let e = stitch503_err(r#"type = "503""#, r#"type = "504""#);
+    assert!(e.contains("stitch 504 needs an upper looper"), "{e}");
+    let model504 = STITCH_503
+        .replacen(r#"type = "503""#, r#"type = "504""#, 1)
+        .replacen("[stitch.spreader]\n", "[stitch.upper_looper]\n", 1)
+        .replacen("spreader_release_deg", "upper_release_deg", 1)
+        + spreader;
+    let e2 = match Model::from_toml_str(&model504, "bad.toml") {
+        Ok(_) => panic!("a 504 with a spreader loaded"),
+        Err(err) => err.to_string(),
+    };
+    assert!(e2.contains("stitch 504 has no spreader"), "{e2}");
+    // A spreader that enters the material is refused when the cycle runs,
+    // naming the organ and φ.
+    let m = Model::from_toml_str(&STITCH_503.replacen("[5.5, 0, 4], [-1, -1, 4]", "[2, 0, 1], [-1, -1, 4]", 1), "in.toml").unwrap();
+    let e = run_cycle(&m, &m.defaults(), &CycleOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("spreader") && e.contains("inside the material") && e.contains("φ_c"), "{e}");
 }

@@ -4,11 +4,14 @@
 Independent of stitchkin: numpy only.  Run it in this directory; it rewrites
 every CSV here and prints the checks (also written to checks.csv).
 
-Two cases, both with explicit STAND-IN motion laws (the real ones will come
+Three cases, all with explicit STAND-IN motion laws (the real ones will come
 from the mechanisms):
 
   altin504   Textima Altin overlock, stitch 504 (seed 004): needle thread,
              lower-looper thread, upper-looper thread.
+  altin503   The same stand-ins, stitch 503 (docs section 5.5): needle thread
+             drawn to the edge, looper thread carried over the edge by an
+             (illustrative) spreader.
   mf7923d407 Juki MF-7923D, stitch 407 (seed 000): the three needle threads.
 
 Frames and symbols follow docs/stitch-formation.md section 2:
@@ -591,6 +594,238 @@ class Altin504:
 
 
 # ----------------------------------------------------------------------------
+# case 1b: Textima Altin frame, stitch 503 (two-thread overedge, docs 5.5)
+# ----------------------------------------------------------------------------
+
+def altin503_params(**over):
+    """The altin504 stand-ins (needle, lower looper, feed, moments) with a
+    spreader in place of the upper looper.  The spreader has no data in any
+    seed (Q11): its polyline law is ILLUSTRATIVE, chosen so that it takes the
+    looper thread next to the lower-looper eye beyond the edge, carries it over
+    the material edge and holds it above (and past) the needle line at the
+    stab."""
+    p = altin504_params()
+    for k in ("U_lo", "U_mid", "U_hi", "U_lo_deg", "U_hi_deg", "phi_UD"):
+        del p[k]
+    p.update(
+        # spreader stand-in: polyline lo -> mid -> hi, harmonic progress,
+        # low beyond the edge at 110 deg, high over the needle line at 270 deg
+        SP_lo=(11.0, 1.5, -3.0), SP_mid=(5.5, 0.0, 4.0), SP_hi=(-1.0, -1.0, 4.0),
+        SP_lo_deg=110.0, SP_hi_deg=270.0,
+        SP_window=(120.0, 200.0),   # where the pick-up (closest approach) is searched
+        phi_SD=290.0,               # the spreader releases the looper thread (illustrative)
+    )
+    p.update(over)
+    return p
+
+
+class Altin503:
+    """Stitch 503 (docs 5.5): the needle thread (contour 3) and the looper
+    thread (contour 10), both locked at the draw-in phi5.
+
+    Needle thread: N1, N2 as in 5.1; N2d on [phi4, phi5): the dropped loop
+    slides onto the looper thread and its bight B_c is drawn along W from the
+    looper's lowest point to E'_c = (a_e, y_c, e m); lock at phi5, then N3.
+
+    Looper thread (split at the lower-looper eye LE, anchor H^t_c):
+      S1  [0, phi_SC)        W(LE, H^t_c)
+      S2  [phi_SC, phi3)     W(LE, Q_S) + W(Q_S, H^t_c)            spreader holds the thread
+      S3a [phi3, phi_SD)     W(LE, Q_S) + W(Q_S, G) + W(G, H^t_c)  needle c+1 in the spreader's triangle
+      S3b [phi_SD, phi4)     W(LE, G) + W(G, H^t_c)                spreader released
+      S4  [phi4, phi5)       W(LE, G) + W(G, B_c) + W(B_c, H^t_c)  the dropped needle loop draws the thread
+      S5  [phi5, 360)        W(LE, H^t_{c+1})                      locked
+    """
+
+    def __init__(self, p):
+        self.p = p
+        self.slab = Slab(p["a_e"], p["m"])
+        self.sl = seam_lengths(p)
+        A = p["S_stroke"] / 2.0
+        self.S = lambda ph: A * (1.0 + math.cos(ph * DEG))            # BDC at 0, TDC at 180
+        Ah = p["L_stroke"] / 2.0
+        L0 = Ah * (1.0 - math.cos(p["phi1"] * DEG))
+        self.tip = lambda ph: Ah * (1.0 - math.cos(ph * DEG)) - L0     # L(phi): 0 at phi1, far extreme at 180
+        self.Z = lambda ph: -p["Z_amp"] * math.sin(ph * DEG)
+        self.T = lambda ph: feed_T(ph, p["t"], p["tr_start"], p["tr_dur"])
+        self.needle = NeedleThread("needle", p, self.S, 0.0, p["s_B"], p["phi1"], p["phi4"],
+                                   self.tip, self.T)
+        self.SP_poly = [p["SP_lo"], p["SP_mid"], p["SP_hi"]]
+        self._find_pickup()
+        # the needle loop's bight: from the looper's lowest point at the drop
+        # to E'_c, along W, uniformly in phi over [phi4, phi5] (docs 4.6, 5.5)
+        n, ph4 = self.needle, p["phi4"]
+        D_L = p["k"] + p["b"] + p["a"]
+        self.B_start = (n.x + n.x_loop(ph4), n.yL0 + self.Z(ph4), -D_L)
+        _, self.B_poly = self.slab.path(self.B_start, self.Ef(0, p["phi5"]))
+
+    # organ positions --------------------------------------------------------
+    def LE(self, ph):
+        return (self.tip(ph), self.needle.yL0 + self.Z(ph), -self.p["H"])
+
+    def SP(self, ph):
+        """The spreader's reference point: polyline lo -> hi, harmonic progress."""
+        lo, hi = self.p["SP_lo_deg"], self.p["SP_hi_deg"]
+        x = wrap360(ph - lo)
+        up = wrap360(hi - lo)
+        if x <= up:
+            s = 0.5 * (1 - math.cos(math.pi * x / up))
+        else:
+            s = 0.5 * (1 + math.cos(math.pi * (x - up) / (360.0 - up)))
+        return polyline_at(self.SP_poly, s)
+
+    def G(self, ph):
+        """Needle node: the vertical needle line at the point's height or the material top (docs 5.4)."""
+        n = self.needle
+        z_pt = (n.s_B - self.S(ph) - self.p["d_point"]) * math.cos(n.beta)
+        return (0.0, 0.0, max(z_pt, self.p["m"]))
+
+    # material points (hole c at y = T, hole c-1 at y = t + T, hole c+1 at y = T - t)
+    def Ef(self, j, ph):
+        return (self.p["a_e"], self.T(ph) - j * self.p["t"], self.p["e"] * self.p["m"])
+
+    def K(self, j, ph):
+        return (self.p["a_e"], self.T(ph) - j * self.p["t"], 0.0)
+
+    def Ht(self, j, ph):
+        """Vertical projection of hole j's top (the looper thread sees the holes so, G5)."""
+        return (0.0, self.T(ph) - j * self.p["t"], self.p["m"])
+
+    # the spreader picks the looper thread (docs 4.5) ---------------------------
+    def _find_pickup(self):
+        best = None
+        w0, w1 = self.p["SP_window"]
+        for ph in np.arange(w0, w1, 0.05):
+            _, poly = self.slab.path(self.LE(ph), self.Ht(0, ph))
+            d, c = polyline_nearest(poly, self.SP(ph))
+            if best is None or d < best[0]:
+                best = (d, ph, c)
+        self.pick_dist, self.phi_SC, c = best
+        self.QS_off = sub(c, self.SP(self.phi_SC))
+
+    def QS(self, ph):
+        return add(self.SP(ph), self.QS_off)
+
+    def Bc(self, ph):
+        """The needle loop's bight on [phi4, phi5] (docs 5.5)."""
+        p = self.p
+        lam = min(1.0, max(0.0, (ph - p["phi4"]) / (p["phi5"] - p["phi4"])))
+        return polyline_at(self.B_poly, lam)
+
+    # needle thread (docs 5.5, contour 3) ----------------------------------------
+    def needle_piece(self, ph, side=+1):
+        p = self.p
+        def before(ev):
+            return ph < ev or (side < 0 and abs(ph - ev) < 1e-12)
+        if before(p["phi4"]):
+            return self.needle.piece(ph, side)                 # N1, N2a-c as in 5.1
+        if before(p["phi5"]):
+            return "N2d_loop_drawn_to_edge"
+        return self.needle.piece(ph, +1)                       # N3a/N3b as in 5.1
+
+    def needle_head(self, ph):
+        """Thread from the eye to the top of hole c: |N - H_c^t| while the eye
+        is above the material, then (S - S_top) + |P_top - H_c^t| (the N3
+        expression of 5.1)."""
+        n = self.needle
+        Ht, _ = n.hole_c(ph)
+        if ph < n.phi_in:
+            return dist(n.eye(ph), Ht)
+        return (self.S(ph) - n.S_top) + dist(n.Ptop(), Ht)
+
+    def eta_needle(self, ph, side=+1):
+        p, n = self.p, self.needle
+        pc = self.needle_piece(ph, side)
+        if pc.startswith("N2d"):
+            _, Hb = n.hole_c(ph)
+            return self.needle_head(ph) + n.lm + 2 * self.slab.W(Hb, self.Bc(ph)) + n.lm + p["t"]
+        return n.eta(ph, side, self.Z(ph))
+
+    # looper thread (docs 5.5, contour 10) -----------------------------------------
+    def looper_piece(self, ph, side=+1):
+        p = self.p
+        def before(ev):
+            return ph < ev or (side < 0 and abs(ph - ev) < 1e-12)
+        if before(self.phi_SC):
+            return "S1"
+        if before(p["phi3"]):
+            return "S2"
+        if before(p["phi_SD"]):
+            return "S3a"
+        if before(p["phi4"]):
+            return "S3b"
+        if before(p["phi5"]):
+            return "S4"
+        return "S5"
+
+    def eta_looper(self, ph, side=+1):
+        W = self.slab.W
+        pc = self.looper_piece(ph, side)
+        LE, H = self.LE(ph), self.Ht(0, ph)
+        if pc == "S1":
+            return W(LE, H)
+        if pc == "S2":
+            Q = self.QS(ph)
+            return W(LE, Q) + W(Q, H)
+        G = self.G(ph)
+        if pc == "S3a":
+            Q = self.QS(ph)
+            return W(LE, Q) + W(Q, G) + W(G, H)
+        if pc == "S3b":
+            return W(LE, G) + W(G, H)
+        if pc == "S4":
+            B = self.Bc(ph)
+            return W(LE, G) + W(G, B) + W(B, H)
+        return W(LE, self.Ht(1, ph))                          # S5: locked, anchor H^t_{c+1}
+
+    # per-thread bookkeeping -------------------------------------------------------
+    def threads(self):
+        p, n = self.p, self.needle
+        return {
+            "needle": dict(eta=self.eta_needle, piece=self.needle_piece,
+                           events=[("catch (phi1)", p["phi1"], "jump"),
+                                   ("eye leaves material", n.phi_out, "cont"),
+                                   ("transport start", p["tr_start"], "cont"),
+                                   ("transport end", p["tr_start"] + p["tr_dur"], "cont"),
+                                   ("eye enters material", n.phi_in, "cont"),
+                                   ("drop (phi4): the loop slides onto the looper thread", p["phi4"], "jump"),
+                                   ("drawn to the edge = lock (phi5)", p["phi5"], "lock")],
+                           lock=p["phi5"], Ls=self.sl["c3"], contour="3"),
+            "looper": dict(eta=self.eta_looper, piece=self.looper_piece,
+                           events=[("spreader picks the looper thread (derived)", self.phi_SC, "cont"),
+                                   ("transport start", p["tr_start"], "cont"),
+                                   ("transport end", p["tr_start"] + p["tr_dur"], "cont"),
+                                   ("stab: needle enters the spreader's triangle (phi3)", p["phi3"], "jump"),
+                                   ("spreader releases the looper thread", p["phi_SD"], "jump"),
+                                   ("needle loop drops onto the looper thread (phi4)", p["phi4"], "jump"),
+                                   ("drawn in = lock (phi5)", p["phi5"], "lock")],
+                           lock=p["phi5"], Ls=self.sl["c10"], contour="10"),
+        }
+
+    def cut_at_lock(self, name):
+        """The stitch part removed at the lock phi5, recomputed from the final
+        material nodes (not from the formula)."""
+        p = self.p
+        ph = p["phi5"]
+        if name == "needle":
+            # H_{c-1}^t <- H_c^t (t), down hole c, along the bottom face to K_c,
+            # up the edge face to E'_c and back, up hole c
+            Ht0, Hb0 = self.needle.hole_c(ph)
+            Ht1 = add(Ht0, (0.0, p["t"], 0.0))
+            leg = dist(Hb0, self.K(0, ph)) + dist(self.K(0, ph), self.Ef(0, ph))
+            return dist(Ht0, Hb0) + 2 * leg + dist(Hb0, Ht0) + dist(Ht0, Ht1)
+        # looper: H_{c+1}^t -> K'_c (diagonal on top) -> E_c -> K'_c -> H_c^t
+        Kp = (p["a_e"], self.T(ph), p["m"])
+        return dist(self.Ht(1, ph), Kp) + 2 * dist(Kp, self.Ef(0, ph)) + dist(Kp, self.Ht(0, ph))
+
+    def final_before_lock(self, name):
+        """Contour just before the lock written with the final nodes (for the snap)."""
+        ph = self.p["phi5"]
+        if name == "needle":
+            return self.needle_head(ph) + self.cut_at_lock("needle")
+        return self.slab.W(self.LE(ph), self.Ht(1, ph)) + self.cut_at_lock("looper")
+
+
+# ----------------------------------------------------------------------------
 # case 2: Juki MF-7923D, stitch 407, three needle threads
 # ----------------------------------------------------------------------------
 
@@ -833,6 +1068,83 @@ def main():
         snap = alt.final_before_lock(name) - th[name]["eta"](th[name]["lock"], -1)
         j = [e for e in ev if e["thread"] == name and e["kind"] == "lock"][0]["jump_mm"]
         check(f"altin504 {name}: lock jump = -stitch + snap", j, -alt.cut_at_lock(name) + snap, 1e-9, f"snap {snap:.4f} mm")
+
+    # ---------------- altin503, stitch 503 (docs 5.5)
+    p3 = altin503_params()
+    a3 = Altin503(p3)
+    grid3, eta3 = evaluate(a3)
+    th3 = a3.threads()
+    e03 = {k: th3[k]["eta"](phi0, +1) for k in th3}
+    rows = []
+    for i, g in enumerate(grid3):
+        LE, SPp = a3.LE(g), a3.SP(g)
+        Sg = a3.S(g)
+        rows.append([g, Sg, a3.T(g), a3.tip(g), a3.Z(g), a3.needle.x_loop(g), a3.needle.gamma(g),
+                     LE[0], LE[1], LE[2], SPp[0], SPp[1], SPp[2],
+                     eta3["needle"][i], eta3["needle"][i] - e03["needle"],
+                     eta3["needle"][i] + Sg - (e03["needle"] + a3.S(phi0)),
+                     th3["needle"]["piece"](g),
+                     eta3["looper"][i], eta3["looper"][i] - e03["looper"], th3["looper"]["piece"](g)])
+    write_csv(os.path.join(HERE, "altin503_Pprime.csv"),
+              ["phi_c_deg", "S_mm", "T_mm", "L_mm", "Z_mm", "x_loop_mm", "gamma_rad",
+               "LE_x_mm", "LE_y_mm", "LE_z_mm", "SP_x_mm", "SP_y_mm", "SP_z_mm",
+               "needle_eta_N_mm", "needle_Pprime_N_mm", "needle_Pprime_B_mm", "needle_piece",
+               "looper_eta_mm", "looper_Pprime_mm", "looper_piece"], rows)
+    ev3 = event_table(a3)
+    write_csv(os.path.join(HERE, "altin503_events.csv"),
+              ["thread", "event", "phi_c_deg", "kind", "eta_left_mm", "eta_right_mm", "jump_mm"],
+              [[e["thread"], e["event"], e["phi_c_deg"], e["kind"], e["eta_left_mm"], e["eta_right_mm"], e["jump_mm"]] for e in ev3])
+
+    print("\n== altin503 ==")
+    print(f"derived: spreader picks the looper thread {a3.phi_SC:.2f} (hook offset {a3.pick_dist:.3f} mm); "
+          f"needle loop's bight from {tuple(round(x, 3) for x in a3.B_start)} to E'_c along W")
+    n3 = a3.needle
+    check("altin503 valid: eye below the plate at the catch", 1.0 if n3.eye(p3["phi1"])[2] < 0 else 0.0, 1.0, 0.0)
+    check("altin503 valid: moments ordered (phi_SC < phi3 < phi_SD < phi4 < phi5)",
+          1.0 if a3.phi_SC < p3["phi3"] < p3["phi_SD"] < p3["phi4"] < p3["phi5"] else 0.0, 1.0, 0.0)
+    inside = [g for g in np.arange(0, 360, 0.25) if a3.slab.inside(a3.SP(g)) or a3.slab.inside(a3.LE(g))
+              or (a3.phi_SC <= g <= p3["phi_SD"] and a3.slab.inside(a3.QS(g)))]
+    check("altin503 valid: no looper or spreader point inside the material", 1.0 if not inside else 0.0, 1.0, 0.0)
+    check("altin503: spreader hook offset at pickup (mm)", a3.pick_dist, 0.0, 3.0, f"phi_SC = {a3.phi_SC:.2f}")
+    q3 = a3.QS(p3["phi3"])
+    check("altin503 valid: at the stab the spreader holds the thread above the material, past the needle line",
+          1.0 if q3[2] > p3["m"] and q3[0] < 0.0 else 0.0, 1.0, 0.0,
+          f"Q_S(phi3) = ({q3[0]:.3f}, {q3[1]:.3f}, {q3[2]:.3f})")
+    check("altin503: the needle loop's bight reaches E'_c at phi5", dist(a3.Bc(p3["phi5"]), a3.Ef(0, p3["phi5"])), 0.0, 1e-12)
+    for name in ("needle", "looper"):
+        d = th3[name]
+        cut = a3.cut_at_lock(name)
+        check(f"altin503 {name}: thread locked at the lock = per-stitch consumption (contour {d['contour']})",
+              cut, d["Ls"], 1e-12)
+        left_end, right_start = d["eta"](360.0 - 1e-9, +1), d["eta"](0.0, +1)
+        check(f"altin503 {name}: eta periodic (eta(360-) = eta(0+))", left_end - right_start, 0.0, 1e-6)
+        jumps = sum(e["jump_mm"] for e in ev3 if e["thread"] == name)
+        lock_jump = [e for e in ev3 if e["thread"] == name and e["kind"] == "lock"][0]["jump_mm"]
+        cont = (left_end - right_start) - jumps
+        other = jumps - lock_jump
+        rel = -(lock_jump + cut)
+        check(f"altin503 {name}: fixed-anchor contour gains one stitch per cycle", left_end + cut - right_start, d["Ls"], 1e-6,
+              f"continuous rise {cont:.4f} + other jumps {other:.4f} = stitch {cut:.4f} + released {rel:.4f}")
+        worst, where, bad = continuity_scan(a3, name)
+        check(f"altin503 {name}: no undeclared jump (max step on 0.01 deg grid)", worst, 0.0, 0.02, f"at {where}")
+        snap = a3.final_before_lock(name) - d["eta"](d["lock"], -1)
+        check(f"altin503 {name}: lock jump = -stitch + snap", lock_jump, -cut + snap, 1e-9, f"snap {snap:.4f} mm")
+        check(f"altin503 {name}: snap >= 0", 1.0 if snap > -1e-9 else 0.0, 1.0, 0.0, f"snap {snap:.4f} mm")
+    jump3 = {(e["thread"], e["phi_c_deg"]): e["jump_mm"] for e in ev3}
+    # needle: the loop leaves the looper body at phi4 (docs 5.5: small and negative)
+    ph4 = p3["phi4"]
+    _, Hb4 = n3.hole_c(ph4)
+    lam4 = n3.Lam(ph4, Hb4, Hb4, a3.Z(ph4))
+    j = jump3[("needle", ph4)]
+    check("altin503 needle: drop jump = 2 W(H_c^b, B_c(phi4)) - loop on the looper", j,
+          2 * a3.slab.W(Hb4, a3.B_start) - lam4, 1e-9, f"{j:.4f} mm")
+    check("altin503 needle: drop jump <= 0", 1.0 if j <= 0.0 else 0.0, 1.0, 0.0, f"{j:.4f} mm")
+    check("altin503 needle: lock jump = -(contour 3) (nothing released, no snap)",
+          [e for e in ev3 if e["thread"] == "needle" and e["kind"] == "lock"][0]["jump_mm"], -a3.sl["c3"], 1e-9)
+    for ph, sign, what in ((p3["phi3"], +1, "stab jump >= 0"), (p3["phi_SD"], -1, "spreader release jump <= 0"),
+                           (ph4, +1, "needle-loop drop jump >= 0")):
+        j = jump3[("looper", ph)]
+        check(f"altin503 looper: {what}", 1.0 if sign * j >= 0.0 else 0.0, 1.0, 0.0, f"{j:.4f} mm")
 
     # ---------------- mf7923d, stitch 407
     pm = mf407_params()
