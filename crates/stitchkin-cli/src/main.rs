@@ -379,6 +379,7 @@ fn run(args: RunArgs) -> Result<(), Error> {
         rpm: args.rpm.or(model.file.model.rpm),
         analogs: !args.no_analogs,
         points,
+        lean: false,
     };
     let mut table = eval::run_cycle(&model, &params, &opts)?;
     if let Some(patterns) = &args.columns {
@@ -492,7 +493,7 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
         (Some(samples), Method::Random) => Design::Random { samples, seed: args.seed },
     };
     let sw = Sweep::new(vary, design)?;
-    let opts = CycleOptions { step_deg: args.step, rpm: None, analogs: false, points: None };
+    let opts = CycleOptions { step_deg: args.step, rpm: None, analogs: false, points: None, lean: true };
     // The nominal setting says which figures this model has.
     let nominal = eval::run_cycle(&model, &params, &opts)?;
     let available = sweep::figures(&nominal);
@@ -518,6 +519,7 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
     };
     let range = sw.shard(k, n);
     let total = range.len();
+    let shared = sweep::shared_stitch(&model, &params, &sw, args.step)?;
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         let b = indicatif::ProgressBar::new(total as u64);
         b.set_style(
@@ -555,6 +557,7 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
         &sw,
         &names,
         &opts,
+        shared.as_ref(),
         range,
         |row| {
             line.clear();
@@ -610,7 +613,7 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
 
 fn match_cmd(args: MatchArgs) -> Result<(), Error> {
     let (model, params) = load(&args.model)?;
-    let opts = CycleOptions { step_deg: args.step, rpm: None, analogs: false, points: Some(Vec::new()) };
+    let opts = CycleOptions { step_deg: args.step, rpm: None, analogs: false, points: Some(Vec::new()), lean: false };
     let table = eval::run_cycle(&model, &params, &opts)?;
     let Some(st) = &table.stitch else {
         return Err(Error::Stitch(format!(
@@ -643,7 +646,8 @@ fn match_cmd(args: MatchArgs) -> Result<(), Error> {
                         s += &format!("  excess / deficit    {:>9.1} / {:.1} mm·deg\n", m.excess_area_mm_deg, m.deficit_area_mm_deg);
                         s += &format!("  slack  (D > ε)      {}\n", iv(&m.excess_intervals_deg));
                         s += &format!("  strain (D < −ε)     {}\n", iv(&m.deficit_intervals_deg));
-                        s += &format!("  phase of maxima     {:>9.1}°  (best lag {:.1}°)\n", m.phase_shift_max_deg, m.best_lag_deg);
+                        let lag = m.best_lag_deg.map_or(String::new(), |l| format!("  (best lag {l:.1}°)"));
+                        s += &format!("  phase of maxima     {:>9.1}°{lag}\n", m.phase_shift_max_deg);
                         s += &format!("  match score         {:>9}   (offset-free {})\n", score(m.score), score(m.score_offset_free));
                     }
                     None => s += "  no take-up path to compare (give `path` in [stitch])\n",

@@ -23,6 +23,16 @@ pub trait Real: RealField + Copy + std::fmt::Debug + Send + Sync + 'static {
     /// offset): the cheap product when `k` carries no derivatives, as in
     /// φ-analogs; the full product otherwise (parameter sensitivities).
     fn times_k(self, k: Self) -> Self;
+    /// The first derivative part (d/dφ for φ-analogs; 0 for `f64`).
+    #[inline(always)]
+    fn d1(self) -> f64 {
+        0.0
+    }
+    /// The second derivative part (0 for `f64` and first-order duals).
+    #[inline(always)]
+    fn d2(self) -> f64 {
+        0.0
+    }
     /// `self` with the sign of `sign` (an assembly branch, ±1).
     #[inline(always)]
     fn signed(self, sign: f64) -> Self {
@@ -77,6 +87,14 @@ impl Real for Dual2_64 {
         Dual2_64::from_re(x)
     }
     #[inline(always)]
+    fn d1(self) -> f64 {
+        self.v1
+    }
+    #[inline(always)]
+    fn d2(self) -> f64 {
+        self.v2
+    }
+    #[inline(always)]
     fn re(self) -> f64 {
         self.re
     }
@@ -98,6 +116,10 @@ impl Real for Dual64 {
     #[inline(always)]
     fn cst(x: f64) -> Self {
         Dual64::from_re(x)
+    }
+    #[inline(always)]
+    fn d1(self) -> f64 {
+        self.eps
     }
     #[inline(always)]
     fn re(self) -> f64 {

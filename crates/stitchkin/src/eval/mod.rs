@@ -30,11 +30,14 @@ pub struct CycleOptions {
     pub analogs: bool,
     /// Points to tabulate; `None`: the model's output points.
     pub points: Option<Vec<usize>>,
+    /// Leave out what studies do not need: the per-node wrap-angle and
+    /// tension columns of thread paths and the best lag of the P–P' match.
+    pub lean: bool,
 }
 
 impl Default for CycleOptions {
     fn default() -> Self {
-        CycleOptions { step_deg: 1.0, rpm: None, analogs: true, points: None }
+        CycleOptions { step_deg: 1.0, rpm: None, analogs: true, points: None, lean: false }
     }
 }
 
@@ -213,10 +216,23 @@ impl Builder {
     }
 }
 
-/// Runs a full cycle of `model` with `params`.
+/// Runs a full cycle of `model` with `params`. With analogs the mechanism
+/// is solved in second-order dual numbers; without, in plain `f64` (about
+/// four times faster, what studies use).
 pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<CycleTable, Error> {
+    run_cycle_with(model, params, opts, None)
+}
+
+/// [`run_cycle`] with the stitch process's P' already computed for this
+/// model and φ grid (see [`stitch::prepare`]): studies reuse it across
+/// settings that do not change the stitch.
+pub fn run_cycle_with(model: &Model, params: &Params, opts: &CycleOptions, prepared: Option<&stitch::Prepared>) -> Result<CycleTable, Error> {
     check_options(opts)?;
-    let mech = model.mechanism::<Dual2_64>(params)?;
+    if opts.analogs { cycle::<Dual2_64>(model, params, opts, prepared) } else { cycle::<f64>(model, params, opts, prepared) }
+}
+
+fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared: Option<&stitch::Prepared>) -> Result<CycleTable, Error> {
+    let mech = model.mechanism::<T>(params)?;
     let phis = cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
     let n = phis.len();
     let omega = opts.rpm.map(|r| r * std::f64::consts::TAU / 60.0);
@@ -292,30 +308,30 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
         for (p, pos, d1, d2, v, acc) in &point_cols {
             let q = pose.point(*p, k);
             for k in 0..pos.len() {
-                cols[pos[k]].values.push(q[k].re);
+                cols[pos[k]].values.push(q[k].re());
                 if !d1.is_empty() {
-                    cols[d1[k]].values.push(q[k].v1);
-                    cols[d2[k]].values.push(q[k].v2);
+                    cols[d1[k]].values.push(q[k].d1());
+                    cols[d2[k]].values.push(q[k].d2());
                 }
                 if !v.is_empty() {
-                    cols[v[k]].values.push(q[k].v1 * w);
-                    cols[acc[k]].values.push(q[k].v2 * w * w);
+                    cols[v[k]].values.push(q[k].d1() * w);
+                    cols[acc[k]].values.push(q[k].d2() * w * w);
                 }
             }
         }
         mech.link_angles(&pose, k, &mut angles);
         for (a, c) in angles.iter().zip(&angle_cols) {
-            for (j, val) in [a.re.to_degrees(), a.v1, a.v2, a.v1 * w, a.v2 * w * w].into_iter().enumerate() {
+            for (j, val) in [a.re().to_degrees(), a.d1(), a.d2(), a.d1() * w, a.d2() * w * w].into_iter().enumerate() {
                 push(cols, c[j], val);
             }
         }
         mech.transmission_angles(&pose, k, &mut mus);
         for (m, &c) in mus.iter().zip(&mu_cols) {
-            cols[c].values.push(m.re.to_degrees());
+            cols[c].values.push(m.re().to_degrees());
         }
         mech.measures(&pose, k, &mut measures);
         for (m, c) in measures.iter().zip(&measure_cols) {
-            for (j, val) in [m.re, m.v1, m.v2, m.v1 * w, m.v2 * w * w].into_iter().enumerate() {
+            for (j, val) in [m.re(), m.d1(), m.d2(), m.d1() * w, m.d2() * w * w].into_iter().enumerate() {
                 push(cols, c[j], val);
             }
         }
@@ -324,12 +340,12 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
         Some(threads) => thread_columns(&mech, threads, &pose, &phis, opts, omega, &mut b.columns)?,
         None => (Vec::new(), None),
     };
-    let stitch = match model.stitch_setup(params)? {
-        Some(setup) => {
-            let phi0 = mech.threads.as_ref().map_or(model.phi_start_deg(), |t| t.phi0_deg);
-            Some(stitch::stitch_columns(&setup, &phis, phi0, &mut b.columns)?)
-        }
-        None => None,
+    let stitch = match prepared {
+        Some(p) => Some(stitch::stitch_columns(p, &phis, opts.lean, &mut b.columns)?),
+        None => match stitch::prepare(model, params, opts.step_deg)? {
+            Some(p) => Some(stitch::stitch_columns(&p, &phis, opts.lean, &mut b.columns)?),
+            None => None,
+        },
     };
     let columns = b.columns;
     // Never NaN or infinity in output.
@@ -404,10 +420,10 @@ pub fn path_error(e: PathError, phi_deg: f64) -> Error {
 
 /// Adds each path's columns and returns its summary.
 #[allow(clippy::too_many_arguments)]
-fn thread_columns(
-    mech: &Mechanism<Dual2_64>,
-    threads: &Threads<Dual2_64>,
-    pose: &Pose<Dual2_64>,
+fn thread_columns<T: Real>(
+    mech: &Mechanism<T>,
+    threads: &Threads<T>,
+    pose: &Pose<T>,
     phis: &[f64],
     opts: &CycleOptions,
     omega: Option<f64>,
@@ -421,20 +437,22 @@ fn thread_columns(
     let mut summaries = Vec::new();
     for ((path, track), xi0) in threads.paths.iter().zip(tracks).zip(xi0) {
         let name = &path.name;
-        let p: Vec<Dual2_64> = track.xi.iter().map(|x| threads.convention.take_up(*x, xi0)).collect();
+        let p: Vec<T> = track.xi.iter().map(|x| threads.convention.take_up(*x, xi0)).collect();
         let mut col = |n: String, v: Vec<f64>| columns.push(Column { name: format!("{name}.{n}"), values: v });
-        col("xi_mm".into(), track.xi.iter().map(|x| x.re).collect());
-        col("P_mm".into(), p.iter().map(|x| x.re).collect());
+        col("xi_mm".into(), track.xi.iter().map(|x| x.re()).collect());
+        col("P_mm".into(), p.iter().map(|x| x.re()).collect());
         if opts.analogs {
-            col("dP_dphi_mm_per_rad".into(), p.iter().map(|x| x.v1).collect());
-            col("d2P_dphi2_mm_per_rad2".into(), p.iter().map(|x| x.v2).collect());
+            col("dP_dphi_mm_per_rad".into(), p.iter().map(|x| x.d1()).collect());
+            col("d2P_dphi2_mm_per_rad2".into(), p.iter().map(|x| x.d2()).collect());
             if let Some(w) = omega {
-                col("vP_mm_per_s".into(), p.iter().map(|x| x.v1 * w).collect());
+                col("vP_mm_per_s".into(), p.iter().map(|x| x.d1() * w).collect());
             }
         }
         // The angle the thread turns through at every node, per φ: a column
         // per guide between the ends, and the capstan tension from them.
-        let wraps: Vec<Vec<f64>> = (0..phis.len()).map(|k| threads.wrap_angles(path, pose, k)).collect();
+        // (Left out of lean runs.)
+        let wraps: Vec<Vec<f64>> =
+            if opts.lean { Vec::new() } else { (0..phis.len()).map(|k| threads.wrap_angles(path, pose, k)).collect() };
         let pins = path.pin_names();
         let mut pin = 0;
         for i in 1..path.nodes.len().saturating_sub(1) {
@@ -443,11 +461,15 @@ fn thread_columns(
                 col(format!("{node}_engaged"), track.engaged[pin].iter().map(|&e| if e { 1.0 } else { 0.0 }).collect());
                 pin += 1;
             }
-            col(format!("{node}_wrap_deg"), wraps.iter().map(|w| w[i].to_degrees()).collect());
+            if !opts.lean {
+                col(format!("{node}_wrap_deg"), wraps.iter().map(|w| w[i].to_degrees()).collect());
+            }
         }
         // Tension after each node at each φ; the eye's is the last.
-        let tensions: Option<Vec<Vec<f64>>> =
-            threads.tension_n.map(|t0| wraps.iter().map(|theta| crate::thread::capstan(theta, &path.friction, t0)).collect());
+        let tensions: Option<Vec<Vec<f64>>> = threads
+            .tension_n
+            .filter(|_| !opts.lean)
+            .map(|t0| wraps.iter().map(|theta| crate::thread::capstan(theta, &path.friction, t0)).collect());
         let eye_tension: Option<Vec<f64>> = tensions.as_ref().map(|t| t.iter().map(|row| *row.last().unwrap_or(&0.0)).collect());
         if let Some(t) = &eye_tension {
             col("tension_eye_N".into(), t.clone());
@@ -458,8 +480,17 @@ fn thread_columns(
                 .collect(),
             None => Vec::new(),
         };
-        let (imin, imax) = extremes(&p.iter().map(|x| x.re).collect::<Vec<_>>());
-        let flat_flags: Vec<bool> = p.iter().map(|x| x.v1.abs() * std::f64::consts::PI / 180.0 < FLAT_SLOPE_MM_PER_DEG).collect();
+        let p_re: Vec<f64> = p.iter().map(|x| x.re()).collect();
+        let (imin, imax) = extremes(&p_re);
+        // The slope dP/dφ: exact with analogs; otherwise the central
+        // difference on the (periodic) grid, enough to classify dwells.
+        let slope_mm_per_deg: Vec<f64> = if opts.analogs {
+            p.iter().map(|x| x.d1() * std::f64::consts::PI / 180.0).collect()
+        } else {
+            let n = p_re.len();
+            (0..n).map(|k| (p_re[(k + 1) % n] - p_re[(k + n - 1) % n]) / (2.0 * opts.step_deg)).collect()
+        };
+        let flat_flags: Vec<bool> = slope_mm_per_deg.iter().map(|s| s.abs() < FLAT_SLOPE_MM_PER_DEG).collect();
         let flat = crate::thread::intervals(&flat_flags, phis)
             .into_iter()
             .filter(|iv| iv.to_deg - iv.from_deg >= FLAT_MIN_DEG)
@@ -467,11 +498,11 @@ fn thread_columns(
         summaries.push(PathSummary {
             path: name.clone(),
             thread: path.label.clone(),
-            max_p_mm: p[imax].re,
+            max_p_mm: p_re[imax],
             phi_at_max_deg: wrap_deg(phis[imax]),
-            min_p_mm: p[imin].re,
+            min_p_mm: p_re[imin],
             phi_at_min_deg: wrap_deg(phis[imin]),
-            xi0_mm: xi0.re,
+            xi0_mm: xi0.re(),
             engaged: pins
                 .iter()
                 .enumerate()

@@ -7,6 +7,7 @@ use serde::Serialize;
 use super::{Column, wrap_deg};
 use crate::error::Error;
 use crate::model::stitch::StitchSetup;
+use crate::model::{Model, Params};
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::stitch::pprime::required_take_up;
 use crate::stitch::spec::{EventKind, ThreadRole};
@@ -68,17 +69,43 @@ fn in_window(phi: f64, w: [f64; 2]) -> bool {
     (phi - a).rem_euclid(360.0) <= len
 }
 
-/// Adds the stitch columns (`THR.eta_mm`, `THR.Pprime_mm`, needle threads'
-/// `THR.Pprime_B_mm` and `THR.gamma_deg`, and `THR.D_mm` = P − P' where the
-/// thread has a path) and returns the summary. `phis` are the cycle's model
-/// φ (uniform), `phi0_deg` the model φ where P' = 0.
-pub(crate) fn stitch_columns(setup: &StitchSetup, phis: &[f64], phi0_deg: f64, columns: &mut Vec<Column>) -> Result<StitchSummary, Error> {
+/// The stitch process of a model resolved for one φ grid: its setup and P'
+/// of every thread. Depends on the parameters only through the stitch's
+/// inputs (m, t, the organs' motions), so a study can compute it once for
+/// many settings that leave those alone.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    pub setup: StitchSetup,
+    pub required: crate::stitch::spec::RequiredTakeUp,
+    /// The model φ grid it was computed on, and φ0 (where P' = 0).
+    pub phis: Vec<f64>,
+    pub phi0_deg: f64,
+}
+
+/// P' of the model's stitch process with `params` on the cycle grid of
+/// `step_deg`; `None` when the model has no `[stitch]`.
+pub fn prepare(model: &Model, params: &Params, step_deg: f64) -> Result<Option<Prepared>, Error> {
+    let Some(setup) = model.stitch_setup(params)? else { return Ok(None) };
+    let phis = super::cycle_phis_deg(model.phi_start_deg(), step_deg);
+    let phi0_deg = model.file.thread.as_ref().and_then(|t| t.phi0_deg).unwrap_or(model.phi_start_deg());
     let to_c = |phi: f64| (phi - setup.cyclogram_zero_deg).rem_euclid(360.0);
-    let from_c = |phi_c: f64| wrap_deg(phi_c + setup.cyclogram_zero_deg);
     // φ0 rides at the end of the grid, for S(φ0) of P'_B.
     let mut grid: Vec<f64> = phis.iter().map(|&p| to_c(p)).collect();
     grid.push(to_c(phi0_deg));
-    let req = required_take_up(&setup.spec, &grid, to_c(phi0_deg))?;
+    let required = required_take_up(&setup.spec, &grid, to_c(phi0_deg))?;
+    Ok(Some(Prepared { setup, required, phis, phi0_deg }))
+}
+
+/// Adds the stitch columns (`THR.eta_mm`, `THR.Pprime_mm`, needle threads'
+/// `THR.Pprime_B_mm` and `THR.gamma_deg`, and `THR.D_mm` = P − P' where the
+/// thread has a path) and returns the summary. `phis` are the cycle's model
+/// φ (uniform), the grid `prepared` was computed on.
+pub(crate) fn stitch_columns(prepared: &Prepared, phis: &[f64], lean: bool, columns: &mut Vec<Column>) -> Result<StitchSummary, Error> {
+    if prepared.phis.len() != phis.len() || prepared.phis.first() != phis.first() {
+        return Err(Error::Stitch("the stitch process was prepared for another φ grid; prepare it with the same step".into()));
+    }
+    let (setup, req, phi0_deg) = (&prepared.setup, &prepared.required, prepared.phi0_deg);
+    let from_c = |phi_c: f64| wrap_deg(phi_c + setup.cyclogram_zero_deg);
     let n = phis.len();
     let compared: Vec<bool> = phis.iter().map(|&p| !setup.regulator_window_deg.iter().any(|w| in_window(wrap_deg(p), *w))).collect();
     let mut threads = Vec::new();
@@ -110,7 +137,7 @@ pub(crate) fn stitch_columns(setup: &StitchSetup, phis: &[f64], phi0_deg: f64, c
                 .ok_or_else(|| Error::Stitch(format!("thread `{name}`: the take-up column `{p_name}` of its path is missing")))?;
             let d: Vec<f64> = (0..n).map(|k| p[k] - pprime[k]).collect();
             push(columns, "D_mm", d);
-            m = mismatch(phis, &p, pprime, &compared, setup.tolerance_mm).map(|mut m| {
+            m = mismatch(phis, &p, pprime, &compared, setup.tolerance_mm, !lean).map(|mut m| {
                 m.max_abs_d_at_deg = wrap_deg(m.max_abs_d_at_deg);
                 for ivs in [&mut m.excess_intervals_deg, &mut m.deficit_intervals_deg] {
                     for iv in ivs.iter_mut() {

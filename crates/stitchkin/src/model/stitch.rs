@@ -74,7 +74,7 @@ pub(crate) struct StitchDef {
 
 /// How the stitch process of a model is compared with its take-up: what
 /// `run` and `match` need besides the [`StitchSpec`].
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct StitchSetup {
     pub spec: StitchSpec,
     /// The model's φ of φ_c = 0.

@@ -32,8 +32,9 @@ pub struct Mismatch {
     pub deficit_intervals_deg: Vec<[f64; 2]>,
     /// φ(max P) − φ(max P'), wrapped to (−180°, 180°].
     pub phase_shift_max_deg: f64,
-    /// The circular shift λ (deg, wrapped) that minimizes std(P(φ + λ) − P'(φ)).
-    pub best_lag_deg: f64,
+    /// The circular shift λ (deg, wrapped) that minimizes std(P(φ + λ) −
+    /// P'(φ)); `None` when not asked for.
+    pub best_lag_deg: Option<f64>,
     /// Swing of P', max P' − min P', mm.
     pub range_pprime_mm: f64,
     /// The match score s = 100·max(0, 1 − RMS(D)/range(P')), 0…100: 100 is
@@ -52,9 +53,9 @@ fn wrap180(x: f64) -> f64 {
 
 /// The mismatch of `p` against `pprime` on the uniform grid `phi_deg` (one
 /// cycle, step `phi_deg[1] − phi_deg[0]`). `compared[k]` is false inside a
-/// regulator window; `eps_mm` is the tolerance ε of the intervals. `None`
-/// when nothing is compared.
-pub fn mismatch(phi_deg: &[f64], p: &[f64], pprime: &[f64], compared: &[bool], eps_mm: f64) -> Option<Mismatch> {
+/// regulator window; `eps_mm` is the tolerance ε of the intervals; `lag`
+/// asks for the best lag (n² work). `None` when nothing is compared.
+pub fn mismatch(phi_deg: &[f64], p: &[f64], pprime: &[f64], compared: &[bool], eps_mm: f64, lag: bool) -> Option<Mismatch> {
     let n = phi_deg.len();
     assert!(p.len() == n && pprime.len() == n && compared.len() == n, "one value per φ");
     let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
@@ -72,20 +73,25 @@ pub fn mismatch(phi_deg: &[f64], p: &[f64], pprime: &[f64], compared: &[bool], e
     let (pp_max, pp_min) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| (hi.max(pprime[k]), lo.min(pprime[k])));
     let range = pp_max - pp_min;
     // Best circular lag: λ = j·dφ minimizing std over the compared set of
-    // P(φ + λ) − P'(φ).
-    let mut best = (f64::INFINITY, 0usize);
-    for j in 0..n {
-        let (mut s1, mut s2) = (0.0, 0.0);
-        for &k in &ks {
-            let x = p[(k + j) % n] - pprime[k];
-            s1 += x;
-            s2 += x * x;
+    // P(φ + λ) − P'(φ). P is laid out twice so no index wraps.
+    let best_lag = lag.then(|| {
+        let p2: Vec<f64> = p.iter().chain(p).copied().collect();
+        let mut best = (f64::INFINITY, 0usize);
+        for j in 0..n {
+            let shifted = &p2[j..j + n];
+            let (mut s1, mut s2) = (0.0, 0.0);
+            for &k in &ks {
+                let x = shifted[k] - pprime[k];
+                s1 += x;
+                s2 += x * x;
+            }
+            let var = (s2 / count - (s1 / count).powi(2)).max(0.0);
+            if var < best.0 - 1e-12 {
+                best = (var, j);
+            }
         }
-        let var = (s2 / count - (s1 / count).powi(2)).max(0.0);
-        if var < best.0 - 1e-12 {
-            best = (var, j);
-        }
-    }
+        wrap180(best.1 as f64 * dphi)
+    });
     let intervals = |sel: &dyn Fn(f64) -> bool| {
         let mut out = Vec::new();
         let mut start: Option<usize> = None;
@@ -125,7 +131,7 @@ pub fn mismatch(phi_deg: &[f64], p: &[f64], pprime: &[f64], compared: &[bool], e
         excess_intervals_deg: intervals(&|x| x > eps_mm),
         deficit_intervals_deg: intervals(&|x| x < -eps_mm),
         phase_shift_max_deg: wrap180(phi_deg[argmax(p)] - phi_deg[argmax(pprime)]),
-        best_lag_deg: wrap180(best.1 as f64 * dphi),
+        best_lag_deg: best_lag,
         range_pprime_mm: range,
         score: score(rms),
         score_offset_free: score(std),
@@ -144,11 +150,11 @@ mod tests {
     fn identical_curves_score_100() {
         let phi = grid(1.0);
         let pp: Vec<f64> = phi.iter().map(|f| 10.0 * f.to_radians().sin()).collect();
-        let m = mismatch(&phi, &pp, &pp, &vec![true; phi.len()], 0.5).unwrap();
+        let m = mismatch(&phi, &pp, &pp, &vec![true; phi.len()], 0.5, true).unwrap();
         assert_eq!(m.rms_d_mm, 0.0);
         assert_eq!(m.score, Some(100.0));
         assert!(m.excess_intervals_deg.is_empty() && m.deficit_intervals_deg.is_empty());
-        assert_eq!(m.best_lag_deg, 0.0);
+        assert_eq!(m.best_lag_deg, Some(0.0));
     }
 
     #[test]
@@ -157,10 +163,10 @@ mod tests {
         let pp: Vec<f64> = phi.iter().map(|f| 10.0 * f.to_radians().sin()).collect();
         // P lags P' by 30°: P(φ) = P'(φ − 30°), plus 1 mm of slack.
         let p: Vec<f64> = phi.iter().map(|f| 10.0 * (f - 30.0).to_radians().sin() + 1.0).collect();
-        let m = mismatch(&phi, &p, &pp, &vec![true; phi.len()], 0.5).unwrap();
+        let m = mismatch(&phi, &p, &pp, &vec![true; phi.len()], 0.5, true).unwrap();
         assert!((m.phase_shift_max_deg - 30.0).abs() < 1e-9, "{m:?}");
         // P(φ + 30°) = P'(φ): the best lag is +30°.
-        assert!((m.best_lag_deg - 30.0).abs() < 1e-9, "{m:?}");
+        assert!((m.best_lag_deg.unwrap() - 30.0).abs() < 1e-9, "{m:?}");
         assert!((m.range_pprime_mm - 20.0).abs() < 1e-9);
         // D = 1 + 10(sin(φ−30°) − sin φ) = 1 − 2·10·sin15°·cos(φ − 15°):
         // mean 1, std 20 sin15°/√2.
@@ -183,11 +189,11 @@ mod tests {
         let mut p = pp2.clone();
         p[200] = 100.0; // a spike inside the window
         let compared: Vec<bool> = (0..360).map(|k| !(190..=210).contains(&k)).collect();
-        let m = mismatch(&phi, &p, &pp2, &compared, 0.5).unwrap();
+        let m = mismatch(&phi, &p, &pp2, &compared, 0.5, true).unwrap();
         assert_eq!(m.max_abs_d_mm, 0.0);
-        assert!(mismatch(&phi, &p, &pp2, &[false; 360], 0.5).is_none());
+        assert!(mismatch(&phi, &p, &pp2, &[false; 360], 0.5, true).is_none());
         // A flat P' has no score.
-        assert_eq!(mismatch(&phi, &p, &pp, &compared, 0.5).unwrap().score, None);
+        assert_eq!(mismatch(&phi, &p, &pp, &compared, 0.5, true).unwrap().score, None);
     }
 
     #[test]
@@ -195,13 +201,13 @@ mod tests {
         let phi = grid(10.0);
         let pp = vec![0.0; 36];
         let p: Vec<f64> = (0..36).map(|k| if (3..=6).contains(&k) { 1.0 } else if k >= 30 { -1.0 } else { 0.0 }).collect();
-        let m = mismatch(&phi, &p, &pp, &[true; 36], 0.5).unwrap();
+        let m = mismatch(&phi, &p, &pp, &[true; 36], 0.5, true).unwrap();
         assert_eq!(m.excess_intervals_deg, vec![[30.0, 60.0]]);
         assert_eq!(m.deficit_intervals_deg, vec![[300.0, 350.0]]);
         assert!((m.excess_area_mm_deg - 40.0).abs() < 1e-12);
         // A run through the end of the cycle continues at its start.
         let p: Vec<f64> = (0..36).map(|k| if k <= 2 || k >= 33 { 1.0 } else { 0.0 }).collect();
-        let m = mismatch(&phi, &p, &pp, &[true; 36], 0.5).unwrap();
+        let m = mismatch(&phi, &p, &pp, &[true; 36], 0.5, true).unwrap();
         assert_eq!(m.excess_intervals_deg, vec![[330.0, 380.0]]);
     }
 }

@@ -52,7 +52,7 @@ impl StitchType {
 
 /// Material transport T(φ_c): displacement of the material along +y since
 /// the start of this cycle's transport, 0 before, t after.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum FeedLaw {
     /// Seed 004 §2.2.3 (reconstruction R1): a harmonic feed dog,
     /// `T = 0.5·T_d·[sin(φ_c − φ_mid) + sin(φ_tr/2)]` on
@@ -98,6 +98,29 @@ impl std::fmt::Debug for Motion {
                     _ => "PolylineLaw",
                 })
             }
+        }
+    }
+}
+
+/// Motions are equal when they give the same positions: same law and
+/// numbers, or tables with the same samples.
+impl PartialEq for Motion {
+    fn eq(&self, other: &Self) -> bool {
+        use Motion::*;
+        match (self, other) {
+            (Table { start_deg: a, step_deg: b, points: p }, Table { start_deg: c, step_deg: d, points: q }) => a == c && b == d && p[..] == q[..],
+            (
+                NeedleLaw { x_mm: a, eye_above_plate_mm: b, stroke_mm: c, bdc_deg: d, tilt_deg: e },
+                NeedleLaw { x_mm: f, eye_above_plate_mm: g, stroke_mm: h, bdc_deg: i, tilt_deg: j },
+            ) => [a, b, c, d, e] == [f, g, h, i, j],
+            (
+                LooperLaw { stroke_mm: a, far_deg: b, catch_deg: c, catch_x_mm: d, y0_mm: e, avoid_mm: f, depth_mm: g },
+                LooperLaw { stroke_mm: h, far_deg: i, catch_deg: j, catch_x_mm: k, y0_mm: l, avoid_mm: m, depth_mm: n },
+            ) => [a, b, c, d, e, f, g] == [h, i, j, k, l, m, n],
+            (PolylineLaw { points: p, low_deg: a, high_deg: b }, PolylineLaw { points: q, low_deg: c, high_deg: d }) => {
+                p[..] == q[..] && a == c && b == d
+            }
+            _ => false,
         }
     }
 }
@@ -158,7 +181,7 @@ pub fn polyline_at(points: &[V3<f64>], s: f64) -> V3<f64> {
 }
 
 /// One needle and its thread.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct NeedleSpec {
     /// Thread name, the column prefix (`n1`, `needle`).
     pub name: String,
@@ -177,7 +200,7 @@ pub struct NeedleSpec {
 }
 
 /// The looper that catches the needle loops (the lower looper of 503/504).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct LooperSpec {
     /// Its catching point, which is also its eye LE: L(φ) = x, loop
     /// position along the seam = y.
@@ -193,7 +216,7 @@ pub struct LooperSpec {
 }
 
 /// The upper looper of stitch 504.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct UpperLooperSpec {
     /// Its eye UE(φ_c).
     pub eye: Motion,
@@ -208,7 +231,7 @@ pub struct UpperLooperSpec {
 /// carries no thread of its own, so it has no eye in the thread sense: `eye`
 /// is its hook's reference point, and the catching point keeps the offset
 /// it has from that point at the pick-up.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SpreaderSpec {
     /// Its reference point S(φ_c).
     pub eye: Motion,
@@ -230,7 +253,7 @@ pub struct Moments {
 }
 
 /// Everything P'(φ) needs, resolved to numbers.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct StitchSpec {
     pub stitch_type: StitchType,
     /// Compressed material thickness m, mm.

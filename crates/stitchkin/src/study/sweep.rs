@@ -12,7 +12,8 @@
 use rayon::prelude::*;
 
 use crate::error::{Error, ParamError};
-use crate::eval::{CycleOptions, CycleTable, glob_match, run_cycle};
+use crate::eval::stitch::{Prepared, prepare};
+use crate::eval::{CycleOptions, CycleTable, glob_match, run_cycle_with};
 use crate::model::{Model, Params};
 
 /// One swept parameter: `NAME=LO:HI:N` (N values from LO to HI, both
@@ -247,6 +248,29 @@ pub fn select_figures(available: &[(String, f64)], patterns: &[String]) -> Resul
     Ok(available.iter().filter(|(n, _)| patterns.iter().any(|p| glob_match(p, n))).map(|(n, _)| n.clone()).collect())
 }
 
+/// P' computed once for the whole sweep, when the varied parameters leave
+/// the stitch process alone (they change only the take-up, as `z`, `dphi`,
+/// `r1` of the MF-7923D do). Decided by comparing the stitch's inputs (m,
+/// t, every organ's sampled motion, the moments) at the nominal setting
+/// with those at each varied parameter's two ends and a third of the way
+/// along: identical inputs give identical P'. `None` when the model has no
+/// stitch process or a varied parameter changes it (P' is then computed per
+/// setting).
+pub fn shared_stitch(model: &Model, base: &Params, sweep: &Sweep, step_deg: f64) -> Result<Option<Prepared>, Error> {
+    let Some(nominal) = model.stitch_setup(base)? else { return Ok(None) };
+    for v in &sweep.vary {
+        for x in [v.lo, v.hi, v.lo + (v.hi - v.lo) / 3.0] {
+            let mut p = base.clone();
+            model.set(&mut p, &v.name, x)?;
+            match model.stitch_setup(&p) {
+                Ok(Some(s)) if s == nominal => {}
+                _ => return Ok(None),
+            }
+        }
+    }
+    prepare(model, base, step_deg)
+}
+
 /// One evaluated setting.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
@@ -261,8 +285,8 @@ pub struct Row {
     pub error: Option<String>,
 }
 
-/// Evaluates one setting.
-pub fn evaluate(model: &Model, base: &Params, sweep: &Sweep, names: &[String], opts: &CycleOptions, index: usize) -> Row {
+/// Evaluates one setting (with P' from `shared` when given).
+pub fn evaluate(model: &Model, base: &Params, sweep: &Sweep, names: &[String], opts: &CycleOptions, shared: Option<&Prepared>, index: usize) -> Row {
     let values = sweep.setting(index);
     let mut p = base.clone();
     let mut result = Ok(());
@@ -272,7 +296,7 @@ pub fn evaluate(model: &Model, base: &Params, sweep: &Sweep, names: &[String], o
             break;
         }
     }
-    let table = result.and_then(|_| run_cycle(model, &p, opts));
+    let table = result.and_then(|_| run_cycle_with(model, &p, opts, shared));
     match table {
         Ok(t) => {
             let all = figures(&t);
@@ -295,6 +319,7 @@ pub fn run<E>(
     sweep: &Sweep,
     names: &[String],
     opts: &CycleOptions,
+    shared: Option<&Prepared>,
     range: std::ops::Range<usize>,
     mut sink: impl FnMut(&Row) -> Result<(), E>,
     progress: impl Fn(usize) + Sync,
@@ -305,7 +330,7 @@ pub fn run<E>(
         let rows: Vec<Row> = (start..end)
             .into_par_iter()
             .map(|i| {
-                let r = evaluate(model, base, sweep, names, opts, i);
+                let r = evaluate(model, base, sweep, names, opts, shared, i);
                 progress(1);
                 r
             })

@@ -16,7 +16,7 @@ fn run_with(set: &[(&str, f64)], step: f64) -> CycleTable {
     for (k, v) in set {
         model.set(&mut params, k, *v).unwrap();
     }
-    run_cycle(&model, &params, &CycleOptions { step_deg: step, rpm: None, analogs: false, points: Some(Vec::new()) }).unwrap()
+    run_cycle(&model, &params, &CycleOptions { step_deg: step, rpm: None, analogs: false, points: Some(Vec::new()), lean: false }).unwrap()
 }
 
 fn run() -> CycleTable {
@@ -102,7 +102,7 @@ fn needle_stroke_is_altin_needles() {
 fn eye_is_11_5_mm_above_the_plate_at_tdc_in_the_stitch_frame() {
     let model = Model::preset("altin504").unwrap();
     let params = model.defaults();
-    let t = run_cycle(&model, &params, &CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: None }).unwrap();
+    let t = run_cycle(&model, &params, &CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: None, lean: false }).unwrap();
     // Row 0 is φ = 174.85, the needle's TDC (phi_start_deg).
     let eye_z = col(&t, "eye_z_mm");
     let cos_b = 20f64.to_radians().cos();

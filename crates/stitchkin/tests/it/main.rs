@@ -10,5 +10,6 @@ mod loading;
 mod presets;
 mod threads;
 mod stitch;
+mod studies;
 mod pprime;
 mod altin504;

@@ -44,7 +44,7 @@ fn mf_run(set: &[(&str, f64)]) -> CycleTable {
     for (k, v) in set {
         model.set(&mut params, k, *v).unwrap();
     }
-    run_cycle(&model, &params, &CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()) }).unwrap()
+    run_cycle(&model, &params, &CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()), lean: false }).unwrap()
 }
 
 #[test]
@@ -213,7 +213,7 @@ phase_deg = -4
         .replacen(r#"feed = { law = "harmonic", start_deg = 134, duration_deg = 100 }"#, r#"feed = { law = "point", point = "DOG" }"#, 1);
     let harmonic = Model::from_toml_str(STITCH_401, "h.toml").unwrap();
     let dogged = Model::from_toml_str(&point, "d.toml").unwrap();
-    let opts = CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()) };
+    let opts = CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()), lean: false };
     let (a, b) = (run_cycle(&harmonic, &harmonic.defaults(), &opts).unwrap(), run_cycle(&dogged, &dogged.defaults(), &opts).unwrap());
     let (pa, pb) = (a.column("thr.Pprime_mm").unwrap(), b.column("thr.Pprime_mm").unwrap());
     let worst = pa.iter().zip(pb).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
@@ -313,7 +313,7 @@ draw_in_deg = 330
 #[test]
 fn a_503_model_with_stand_in_laws_runs_and_gives_the_reference_pprime() {
     let model = Model::from_toml_str(STITCH_503, "overedge.toml").unwrap();
-    let opts = CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()) };
+    let opts = CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()), lean: false };
     let table = run_cycle(&model, &model.defaults(), &opts).unwrap();
     let st = table.stitch.as_ref().expect("a [stitch]");
     assert_eq!(st.stitch_type, 503);
