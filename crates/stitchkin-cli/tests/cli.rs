@@ -164,6 +164,23 @@ fn sweep_writes_one_row_per_setting_and_shards_concatenate() {
 }
 
 #[test]
+fn tune_recommends_a_setting_with_before_and_after() {
+    let (out, _) = ok(&["tune", "--set", "t1_phase=180", "--thickness", "4", "--adjust", "z,dphi", "--step", "2"]);
+    assert!(out.starts_with("Recommended setting: z = "), "{out}");
+    assert!(out.contains("(from z = 0 mm, dphi = 0 deg)"), "{out}");
+    for line in ["score before", "RMS(D) after", "mean", "transmission angles: before", "within one score point", "cycles evaluated"] {
+        assert!(out.contains(line), "`{line}` missing:\n{out}");
+    }
+    let (json, _) = ok(&["tune", "--set", "t1_phase=180", "--adjust", "z", "--step", "3", "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!(v["after_figures"]["score_mean"].as_f64().unwrap() >= v["before_figures"]["score_mean"].as_f64().unwrap());
+    let e = fails(&["tune", "--preset", "needle876", "--adjust", "alpha"]);
+    assert!(e.contains("no [stitch]"), "{e}");
+    let e = fails(&["tune", "--thickness", "9"]);
+    assert!(e.contains("outside its adjustable range"), "{e}");
+}
+
+#[test]
 fn compare_2d3d_reports_the_planar_error() {
     let (csv, summary) = ok(&["compare-2d3d", "--plane", "uvw", "--step", "10"]);
     let header = csv.lines().next().unwrap();
@@ -283,7 +300,7 @@ fn a_failed_run_leaves_no_output_file() {
 
 #[test]
 fn every_subcommand_has_help_with_an_example() {
-    for sub in [vec!["--help"], vec!["run", "--help"], vec!["check", "--help"], vec!["presets", "--help"], vec!["schema", "--help"], vec!["compare-2d3d", "--help"], vec!["consumption", "--help"], vec!["match", "--help"], vec!["sweep", "--help"]] {
+    for sub in [vec!["--help"], vec!["run", "--help"], vec!["check", "--help"], vec!["presets", "--help"], vec!["schema", "--help"], vec!["compare-2d3d", "--help"], vec!["consumption", "--help"], vec!["match", "--help"], vec!["sweep", "--help"], vec!["tune", "--help"]] {
         let (out, _) = ok(&sub);
         assert!(out.contains("Example"), "{sub:?}:\n{out}");
     }

@@ -144,3 +144,34 @@ fn mf7923d_take_up(bencher: Bencher) {
 fn mf7923d_take_up_with_analogs(bencher: Bencher) {
     bench_takeup::<Dual2_64>(bencher);
 }
+
+/// Issue 5: one sweep setting of mf7923d (3 needles × contours A and B, 360
+/// steps, the three match scores), P' shared as the sweep shares it. Goal:
+/// ≥ 100 000 settings per second on 2 cores, i.e. ≤ 20 µs per setting per core.
+#[divan::bench]
+fn sweep_setting_mf7923d(bencher: Bencher) {
+    use stitchkin::eval::CycleOptions;
+    use stitchkin::study::sweep::{self, Design, Sweep, Vary};
+    let model = Model::preset("mf7923d").unwrap();
+    let base = model.defaults();
+    let sw = Sweep::new(vec![Vary::parse(&model, "z=-10:10:101").unwrap()], Design::Grid).unwrap();
+    let shared = sweep::shared_stitch(&model, &base, &sw, 1.0).unwrap();
+    let names = vec!["score.mean".to_string()];
+    let opts = CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()), lean: true };
+    let mut i = 0;
+    bencher.bench_local(|| {
+        i = (i + 1) % 101;
+        black_box(sweep::evaluate(&model, &base, &sw, &names, &opts, shared.as_ref(), i))
+    });
+}
+
+/// Issue 5: `stitchkin tune` of mf7923d over z and dphi (goal: under a second).
+#[divan::bench(sample_count = 5)]
+fn tune_mf7923d(bencher: Bencher) {
+    use stitchkin::study::tune::{TuneOptions, tune};
+    let model = Model::preset("mf7923d").unwrap();
+    let mut base = model.defaults();
+    model.set(&mut base, "t1_phase", 180.0).unwrap();
+    let opts = TuneOptions { adjust: vec!["z".into(), "dphi".into()], samples: 0, seed: 1, step_deg: 1.0 };
+    bencher.bench_local(|| black_box(tune(&model, &base, &opts).unwrap()));
+}

@@ -3,3 +3,4 @@
 
 pub mod compare2d3d;
 pub mod sweep;
+pub mod tune;

@@ -56,3 +56,37 @@ fn p_prime_is_shared_only_when_the_stitch_does_not_change() {
     let other = run_cycle_with(&m, &p, &CycleOptions { step_deg: 1.0, ..opts(false, true) }, Some(&shared));
     assert!(other.unwrap_err().to_string().contains("another φ grid"));
 }
+
+#[test]
+fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
+    use stitchkin::study::tune::{TuneOptions, default_adjustables, set_stitch_value, tune};
+    let m = Model::preset("mf7923d").unwrap();
+    let mut p = m.defaults();
+    m.set(&mut p, "t1_phase", 180.0).unwrap();
+    set_stitch_value(&m, &mut p, "m", 4.0).unwrap();
+    assert_eq!(p.values[m.param_index("m").unwrap()], 4.0);
+    // The technician's settings: not m, the stitch length, the needle crank r2
+    // (it moves the needle, so P') or the reading switch t1_phase.
+    let adjust = default_adjustables(&m, &p).unwrap();
+    assert_eq!(adjust, ["r1", "l_o2b", "z", "dphi"]);
+    let opts = TuneOptions { adjust: vec!["z".into(), "dphi".into()], samples: 0, seed: 5, step_deg: 2.0 };
+    let r = tune(&m, &p, &opts).unwrap();
+    assert!(r.after_figures.objective < r.before_figures.objective - 0.01, "{r:?}");
+    assert!(r.after_figures.score_mean > r.before_figures.score_mean + 1.0);
+    assert!(r.after_figures.feasible);
+    assert!((-10.0..=10.0).contains(&r.after[0]) && (-20.0..=20.0).contains(&r.after[1]));
+    for f in &r.flatness {
+        let x = r.after[r.names.iter().position(|n| n.0 == f.name).unwrap()];
+        assert!(f.lo <= x && x <= f.hi, "{f:?}");
+    }
+    // The same seed, the same answer.
+    assert_eq!(tune(&m, &p, &opts).unwrap(), r);
+    // Bad requests.
+    let e = tune(&m, &p, &TuneOptions { adjust: vec!["t1_phase".into()], ..opts.clone() }).unwrap_err().to_string();
+    assert!(e.contains("no adjustable range"), "{e}");
+    let e = tune(&m, &p, &TuneOptions { adjust: vec!["zz".into()], ..opts.clone() }).unwrap_err().to_string();
+    assert!(e.contains("no parameter `zz`"), "{e}");
+    let n = Model::preset("needle876").unwrap();
+    let e = tune(&n, &n.defaults(), &TuneOptions { adjust: vec!["alpha".into()], ..opts }).unwrap_err().to_string();
+    assert!(e.contains("no [stitch]"), "{e}");
+}

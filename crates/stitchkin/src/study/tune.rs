@@ -1,0 +1,291 @@
+//! Tuning: the adjustable settings that make the take-up P(φ) match the
+//! required P'(φ) of every thread together (issue 5, item 3).
+//!
+//! The objective is the mean over the compared threads of RMS(D)/range(P'),
+//! D = P − P' (docs/stitch-formation.md §8; the match score is
+//! 100·max(0, 1 − that)), plus a penalty for every degree a transmission
+//! angle leaves 30°…150° and a large one where the mechanism does not
+//! assemble. The search runs in the box of the adjustable ranges: a seeded
+//! Latin-hypercube sample on all cores (global), then Nelder–Mead (argmin)
+//! from the best few samples (local). The same seed gives the same answer.
+
+use argmin::core::{CostFunction, Executor, State};
+use argmin::solver::neldermead::NelderMead;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::sweep::{Design, Sweep, Vary};
+use crate::error::{Error, ParamError};
+use crate::eval::stitch::Prepared;
+use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle_with};
+use crate::model::{Model, Params};
+
+/// How to tune.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TuneOptions {
+    /// Parameters to adjust (each needs an adjustable range).
+    pub adjust: Vec<String>,
+    /// Global samples (Latin hypercube); 0: 32 per parameter, at least 64.
+    pub samples: usize,
+    pub seed: u64,
+    /// φ step of the evaluation, degrees.
+    pub step_deg: f64,
+}
+
+/// The match at one setting.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MatchFigures {
+    /// Mean match score of the compared threads (0…100).
+    pub score_mean: f64,
+    /// Per thread: name, score (None for a flat P'), RMS(D) mm, max |D| mm.
+    pub threads: Vec<(String, Option<f64>, f64, f64)>,
+    /// Transmission angles over the cycle, min and max, deg.
+    pub mu_min_deg: Option<f64>,
+    pub mu_max_deg: Option<f64>,
+    /// All transmission angles inside 30°…150°.
+    pub feasible: bool,
+    /// The objective minimised (see the module docs).
+    pub objective: f64,
+}
+
+/// How far one parameter may move from the optimum (the others held) with
+/// the objective within 0.01 of its best (one point of match score) and the
+/// transmission angles inside their band.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Flatness {
+    pub name: String,
+    pub lo: f64,
+    pub hi: f64,
+}
+
+/// The outcome of a tuning.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TuneResult {
+    /// The adjusted parameters with their units.
+    pub names: Vec<(String, &'static str)>,
+    pub before: Vec<f64>,
+    pub after: Vec<f64>,
+    pub before_figures: MatchFigures,
+    pub after_figures: MatchFigures,
+    pub flatness: Vec<Flatness>,
+    /// Cycles evaluated.
+    pub evaluations: usize,
+}
+
+/// Objective penalty per degree a transmission angle leaves the band.
+const MU_PENALTY_PER_DEG: f64 = 0.05;
+/// Objective of a setting that does not assemble or evaluate.
+const FAILED: f64 = 1.0e3;
+
+struct Problem<'a> {
+    model: &'a Model,
+    base: &'a Params,
+    vary: &'a [Vary],
+    opts: CycleOptions,
+    shared: Option<&'a Prepared>,
+}
+
+impl Problem<'_> {
+    /// The setting at u ∈ [0, 1]^d.
+    fn values(&self, u: &[f64]) -> Vec<f64> {
+        self.vary.iter().zip(u).map(|(v, &u)| v.lo + (v.hi - v.lo) * u.clamp(0.0, 1.0)).collect()
+    }
+
+    fn table(&self, x: &[f64]) -> Result<CycleTable, Error> {
+        let mut p = self.base.clone();
+        for (v, &x) in self.vary.iter().zip(x) {
+            self.model.set(&mut p, &v.name, x)?;
+        }
+        run_cycle_with(self.model, &p, &self.opts, self.shared)
+    }
+
+    fn figures(&self, x: &[f64]) -> Option<MatchFigures> {
+        let t = self.table(x).ok()?;
+        let st = t.stitch.as_ref()?;
+        let mut rel = Vec::new();
+        let mut threads = Vec::new();
+        for th in &st.threads {
+            if let Some(m) = &th.mismatch {
+                if m.range_pprime_mm > 1e-12 {
+                    rel.push(m.rms_d_mm / m.range_pprime_mm);
+                }
+                threads.push((th.thread.clone(), m.score, m.rms_d_mm, m.max_abs_d_mm));
+            }
+        }
+        if rel.is_empty() {
+            return None;
+        }
+        let mean_rel = rel.iter().sum::<f64>() / rel.len() as f64;
+        let scores: Vec<f64> = threads.iter().filter_map(|t| t.1).collect();
+        let mu_min = t.transmission.iter().map(|m| m.min_deg).reduce(f64::min);
+        let mu_max = t.transmission.iter().map(|m| m.max_deg).reduce(f64::max);
+        let out_of_band = mu_min.map_or(0.0, |m| (MU_MIN_DEG - m).max(0.0)) + mu_max.map_or(0.0, |m| (m - MU_MAX_DEG).max(0.0));
+        Some(MatchFigures {
+            score_mean: if scores.is_empty() { 0.0 } else { scores.iter().sum::<f64>() / scores.len() as f64 },
+            threads,
+            mu_min_deg: mu_min,
+            mu_max_deg: mu_max,
+            feasible: out_of_band == 0.0,
+            objective: mean_rel + MU_PENALTY_PER_DEG * out_of_band,
+        })
+    }
+
+    /// The objective at u, with a penalty for leaving the box (Nelder–Mead
+    /// is unconstrained: it is fed the clamped setting plus the distance).
+    fn objective(&self, u: &[f64]) -> f64 {
+        let outside: f64 = u.iter().map(|&u| (u - u.clamp(0.0, 1.0)).abs()).sum();
+        self.figures(&self.values(u)).map_or(FAILED, |f| f.objective) + 10.0 * outside
+    }
+}
+
+struct Cost<'a, 'b>(&'b Problem<'a>, &'b std::sync::atomic::AtomicUsize);
+
+impl CostFunction for Cost<'_, '_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, u: &Self::Param) -> Result<f64, argmin::core::Error> {
+        self.1.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        Ok(self.0.objective(u))
+    }
+}
+
+/// The settings a technician adjusts by default: every parameter with an
+/// adjustable range that leaves the stitch process alone (not the material
+/// or the stitch length, not the needle's own motion), in file order.
+pub fn default_adjustables(model: &Model, base: &Params) -> Result<Vec<String>, Error> {
+    let mut out = Vec::new();
+    for p in &model.params {
+        let Some([lo, hi]) = p.range else { continue };
+        if p.is_derived() || lo >= hi {
+            continue;
+        }
+        let one = Sweep::new(vec![Vary { name: p.name.clone(), lo, hi, n: 2 }], Design::Grid)?;
+        if super::sweep::shared_stitch(model, base, &one, 5.0)?.is_some() {
+            out.push(p.name.clone());
+        }
+    }
+    Ok(out)
+}
+
+/// Sets the stitch's thickness (`which` = "m") or length ("t") through the
+/// parameter its `[stitch]` value names.
+pub fn set_stitch_value(model: &Model, params: &mut Params, which: &str, value: f64) -> Result<(), Error> {
+    let v = model.file.stitch.as_ref().map(|s| if which == "m" { &s.m_mm } else { &s.t_mm });
+    match v {
+        Some(crate::model::file::Value::Expr(name)) if model.param_index(name.trim()).is_some() => {
+            model.set(params, name.trim(), value).map_err(Error::Param)
+        }
+        Some(_) => Err(Error::Param(ParamError {
+            message: format!("[stitch] {}_mm is not a parameter, so it cannot be set", which),
+            help: Some(format!("write {which}_mm = \"NAME\" with NAME in [parameters] (with a range), or use --set")),
+        })),
+        None => Err(Error::Stitch(format!("model `{}` has no [stitch]", model.file.model.name))),
+    }
+}
+
+/// Tunes `model` (with `base`, where the stitch's thickness and length are
+/// already set) over `opts.adjust`.
+pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResult, Error> {
+    let bad = |message: String, help: &str| Error::Param(ParamError { message, help: Some(help.into()) });
+    if opts.adjust.is_empty() {
+        return Err(bad("nothing to adjust".into(), "name the settings, e.g. --adjust z,dphi (parameters with an adjustable range)"));
+    }
+    let mut vary = Vec::new();
+    for name in &opts.adjust {
+        let i = model.param_index(name).ok_or_else(|| bad(format!("the model has no parameter `{name}`"), "see `stitchkin check` for its parameters"))?;
+        let Some([lo, hi]) = model.params[i].range else {
+            return Err(bad(format!("`{name}` has no adjustable range to tune in"), "give it `range = [lo, hi]` in [parameters]"));
+        };
+        vary.push(Vary { name: name.clone(), lo, hi, n: 2 });
+    }
+    let cycle = CycleOptions { step_deg: opts.step_deg, rpm: None, analogs: false, points: Some(Vec::new()), lean: true };
+    let samples = if opts.samples == 0 { (32 * vary.len()).max(64) } else { opts.samples };
+    let design = Sweep::new(vary.clone(), Design::Lhs { samples, seed: opts.seed })?;
+    let shared = super::sweep::shared_stitch(model, base, &design, opts.step_deg)?;
+    let problem = Problem { model, base, vary: &vary, opts: cycle, shared: shared.as_ref() };
+    let before: Vec<f64> = vary.iter().map(|v| base.values[model.param_index(&v.name).unwrap_or(0)]).collect();
+    let before_figures = problem.figures(&before).ok_or_else(|| {
+        match model.stitch_setup(base) {
+            Ok(None) => Error::Stitch(format!("model `{}` has no [stitch] with a take-up path to match", model.file.model.name)),
+            _ => problem.table(&before).err().unwrap_or_else(|| Error::Stitch("no thread of the stitch is compared with a take-up path (give `path` in [stitch])".into())),
+        }
+    })?;
+    let count = std::sync::atomic::AtomicUsize::new(0);
+    // Global: the Latin-hypercube sample, in parallel.
+    let unit = |i: usize| -> Vec<f64> {
+        design.setting(i).iter().zip(&vary).map(|(x, v)| (x - v.lo) / (v.hi - v.lo)).collect()
+    };
+    let mut scored: Vec<(f64, Vec<f64>)> = (0..samples)
+        .into_par_iter()
+        .map(|i| {
+            let u = unit(i);
+            count.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            (problem.objective(&u), u)
+        })
+        .collect();
+    // The nominal setting competes too.
+    let u0: Vec<f64> = before.iter().zip(&vary).map(|(x, v)| (x - v.lo) / (v.hi - v.lo)).collect();
+    scored.push((before_figures.objective, u0));
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Local: Nelder–Mead from the best three starts.
+    let d = vary.len();
+    let starts: Vec<Vec<f64>> = scored.iter().take(3).map(|s| s.1.clone()).collect();
+    let mut best = scored[0].clone();
+    for s in starts {
+        let mut simplex = vec![s.clone()];
+        for k in 0..d {
+            let mut v = s.clone();
+            v[k] += if v[k] > 0.5 { -0.08 } else { 0.08 };
+            simplex.push(v);
+        }
+        let solver = NelderMead::new(simplex).with_sd_tolerance(1e-7).map_err(|e| Error::Stitch(format!("tuning: {e}")))?;
+        let res = Executor::new(Cost(&problem, &count), solver)
+            .configure(|st| st.max_iters(60 * d as u64))
+            .run()
+            .map_err(|e| Error::Stitch(format!("tuning: {e}")))?;
+        let st = res.state();
+        if let Some(p) = st.get_best_param()
+            && st.get_best_cost() < best.0
+        {
+            best = (st.get_best_cost(), p.iter().map(|u| u.clamp(0.0, 1.0)).collect());
+        }
+    }
+    let after = problem.values(&best.1);
+    let after_figures = problem.figures(&after).ok_or_else(|| Error::Stitch("tuning: the optimum does not evaluate".into()))?;
+    // Flatness: each parameter alone across its range.
+    let flatness = vary
+        .iter()
+        .enumerate()
+        .map(|(k, v)| {
+            let xs: Vec<f64> = (0..=40).map(|j| v.lo + (v.hi - v.lo) * j as f64 / 40.0).collect();
+            let ok: Vec<bool> = xs
+                .par_iter()
+                .map(|&x| {
+                    let mut s = after.clone();
+                    s[k] = x;
+                    problem.figures(&s).is_some_and(|f| f.feasible && f.objective <= after_figures.objective + 0.01)
+                })
+                .collect();
+            count.fetch_add(xs.len(), std::sync::atomic::Ordering::Relaxed);
+            // The run of acceptable values around the optimum.
+            let j0 = xs.iter().enumerate().min_by(|a, b| (a.1 - after[k]).abs().total_cmp(&(b.1 - after[k]).abs())).map_or(0, |(j, _)| j);
+            let (mut a, mut b) = (j0, j0);
+            while a > 0 && ok[a - 1] {
+                a -= 1;
+            }
+            while b + 1 < xs.len() && ok[b + 1] {
+                b += 1;
+            }
+            Flatness { name: v.name.clone(), lo: xs[a].min(after[k]), hi: xs[b].max(after[k]) }
+        })
+        .collect();
+    Ok(TuneResult {
+        names: vary.iter().map(|v| (v.name.clone(), model.params[model.param_index(&v.name).unwrap_or(0)].unit_str())).collect(),
+        before,
+        after,
+        before_figures,
+        after_figures,
+        flatness,
+        evaluations: count.into_inner(),
+    })
+}
