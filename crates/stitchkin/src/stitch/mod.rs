@@ -1,7 +1,22 @@
 //! The stitch: thread consumption per stitch, and the required take-up
 //! P'(φ) of `docs/stitch-formation.md`.
+//!
+//! - [`spec`]: what P' is computed from (the stitch, the organs' motions, the
+//!   moments) and what comes out;
+//! - [`feed`], [`material`], [`needle_thread`], [`overedge`], [`overedge503`]:
+//!   the building blocks and the pieces of §4–§5;
+//! - [`pprime`]: [`pprime::required_take_up`], P' of every thread;
+//! - [`consumption`]: thread per finished stitch (§6);
+//! - [`mismatch`]: P against P' (§8);
+//! - [`reference`]: the stand-in cases of the independent numpy reference.
 
 pub mod consumption;
+pub mod feed;
+pub mod material;
 pub mod mismatch;
+pub mod needle_thread;
+pub mod overedge;
+pub mod overedge503;
+pub mod pprime;
+pub mod reference;
 pub mod spec;
-pub mod feed; pub mod material; pub mod needle_thread; pub mod overedge; pub mod overedge503; pub mod pprime;

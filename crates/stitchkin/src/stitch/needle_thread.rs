@@ -696,7 +696,12 @@ impl NeedleThread {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::stitch::pprime::test_specs::{altin504, mf7923d_407};
+    fn altin504() -> crate::stitch::spec::StitchSpec {
+        crate::stitch::reference::altin504(2.5, 2.8)
+    }
+    fn mf7923d_407() -> crate::stitch::spec::StitchSpec {
+        crate::stitch::reference::mf7923d_407(3.0, 3.0)
+    }
     use approx::assert_relative_eq;
 
     fn altin_needle() -> NeedleThread {

@@ -555,7 +555,9 @@ impl Overedge {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::stitch::pprime::test_specs::altin504;
+    fn altin504() -> crate::stitch::spec::StitchSpec {
+        crate::stitch::reference::altin504(2.5, 2.8)
+    }
     use approx::assert_relative_eq;
 
     fn altin() -> (Overedge, NeedleThread) {

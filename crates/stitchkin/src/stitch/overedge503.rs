@@ -346,7 +346,9 @@ impl Overedge503 {
 mod tests {
     use super::*;
     use crate::stitch::feed::Feed;
-    use crate::stitch::pprime::test_specs::altin503;
+    fn altin503() -> crate::stitch::spec::StitchSpec {
+        crate::stitch::reference::altin503(2.5, 2.8)
+    }
     use approx::assert_relative_eq;
 
     fn altin() -> Overedge503 {

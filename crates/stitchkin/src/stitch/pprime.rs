@@ -341,135 +341,17 @@ fn check_finite(th: &RequiredThread, phis: &[f64]) -> Result<(), Error> {
 /// The reference cases of `tests/data/stitch` with their stand-in laws, for
 /// the unit tests.
 #[cfg(test)]
-pub(crate) mod test_specs {
-    use std::sync::Arc;
-
-    use crate::geometry::V3;
-    use crate::stitch::spec::*;
-
-    /// altin504: Textima Altin, stitch 504 (the reference's stand-in laws).
-    pub fn altin504() -> StitchSpec {
-        StitchSpec {
-            stitch_type: StitchType::S504,
-            m_mm: 2.5,
-            t_mm: 2.8,
-            tilt_deg: 20.0,
-            a_e_mm: 4.0,
-            edge_split: 0.5,
-            feed: FeedLaw::Harmonic { start_deg: 134.0, duration_deg: 100.0 },
-            needles: vec![NeedleSpec {
-                name: "needle".into(),
-                eye: Motion::NeedleLaw {
-                    x_mm: 0.0,
-                    eye_above_plate_mm: 11.5,
-                    stroke_mm: 25.44,
-                    bdc_deg: 0.0,
-                    tilt_deg: 20.0,
-                },
-                point_below_eye_mm: 2.0,
-                catch_deg: Some(30.0),
-                drop_deg: Some(300.0),
-            }],
-            looper: LooperSpec {
-                eye: Motion::LooperLaw {
-                    stroke_mm: 17.32,
-                    far_deg: 180.0,
-                    catch_deg: 30.0,
-                    catch_x_mm: 0.0,
-                    y0_mm: 6.5 * 20f64.to_radians().tan(),
-                    avoid_mm: 0.75,
-                    depth_mm: 5.5,
-                },
-                k_mm: 4.0,
-                a_mm: 1.0,
-                b_mm: 2.5,
-                gamma_max_rad: 0.4,
-            },
-            upper_looper: Some(UpperLooperSpec {
-                eye: Motion::PolylineLaw {
-                    points: Arc::from(vec![V3::new(13.0, 1.0, -6.0), V3::new(5.5, 0.0, 4.0), V3::new(-1.0, -1.0, 4.0)]),
-                    low_deg: 110.0,
-                    high_deg: 270.0,
-                },
-                pick_window_deg: [120.0, 200.0],
-            }),
-            spreader: None,
-            moments: Moments { stab_deg: 270.0, upper_release_deg: 290.0, draw_in_deg: 330.0 },
-        }
-    }
-
-    /// altin503: the altin504 stand-ins with the reference's spreader in
-    /// place of the upper looper; φ_SD = 290° (the spreader lets go).
-    pub fn altin503() -> StitchSpec {
-        StitchSpec {
-            stitch_type: StitchType::S503,
-            upper_looper: None,
-            spreader: Some(SpreaderSpec {
-                eye: Motion::PolylineLaw {
-                    points: Arc::from(vec![V3::new(11.0, 1.5, -3.0), V3::new(5.5, 0.0, 4.0), V3::new(-1.0, -1.0, 4.0)]),
-                    low_deg: 110.0,
-                    high_deg: 270.0,
-                },
-                pick_window_deg: [120.0, 200.0],
-            }),
-            ..altin504()
-        }
-    }
-
-    /// mf7923d / 407: three needles on the seed-000 slider-crank, tabulated
-    /// at 0.01°.
-    pub fn mf7923d_407() -> StitchSpec {
-        let (r2, l_de, s_b) = (15.5, 54.5, 20.5);
-        let needle = |name: &str, x: f64| {
-            let points: Vec<V3<f64>> = (0..36_000)
-                .map(|k| {
-                    let phi = (k as f64 * 0.01 + 180.0).to_radians(); // machine φ = φ_c + 180°
-                    let s = r2 * (1.0 - phi.cos()) + l_de - (l_de * l_de - (r2 * phi.sin()).powi(2)).sqrt();
-                    V3::new(x, 0.0, s_b - s)
-                })
-                .collect();
-            NeedleSpec {
-                name: name.into(),
-                eye: Motion::Table { start_deg: 0.0, step_deg: 0.01, points: Arc::from(points) },
-                point_below_eye_mm: 2.0,
-                catch_deg: None,
-                drop_deg: None,
-            }
-        };
-        StitchSpec {
-            stitch_type: StitchType::S407,
-            m_mm: 3.0,
-            t_mm: 3.0,
-            tilt_deg: 0.0,
-            a_e_mm: 0.0,
-            edge_split: 0.5,
-            feed: FeedLaw::Harmonic { start_deg: 130.0, duration_deg: 100.0 },
-            needles: vec![needle("n1", -4.0), needle("n2", 0.0), needle("n3", 4.0)],
-            looper: LooperSpec {
-                eye: Motion::LooperLaw {
-                    stroke_mm: 32.0,
-                    far_deg: 180.0,
-                    catch_deg: 30.0,
-                    catch_x_mm: -4.0,
-                    y0_mm: 0.0,
-                    avoid_mm: 0.0,
-                    depth_mm: 5.5,
-                },
-                k_mm: 4.0,
-                a_mm: 1.0,
-                b_mm: 2.5,
-                gamma_max_rad: 0.4,
-            },
-            upper_looper: None,
-            spreader: None,
-            moments: Moments { stab_deg: 270.0, upper_release_deg: 290.0, draw_in_deg: 330.0 },
-        }
-    }
-}
-
-#[cfg(test)]
 mod tests {
-    use super::test_specs::{altin503, altin504, mf7923d_407};
+    use crate::stitch::reference::{altin503 as a503, altin504 as a504, mf7923d_407 as mf};
+    fn altin504() -> StitchSpec {
+        a504(2.5, 2.8)
+    }
+    fn altin503() -> StitchSpec {
+        a503(2.5, 2.8)
+    }
+    fn mf7923d_407() -> StitchSpec {
+        mf(3.0, 3.0)
+    }
     use super::*;
     use approx::assert_relative_eq;
 
