@@ -10,6 +10,14 @@ use stitchkin::eval::{self, CycleOptions};
 use stitchkin::model::{Model, Params};
 use stitchkin::{output, presets};
 
+mod cam;
+mod fit;
+mod sensitivity;
+mod straightness;
+mod stroke;
+
+mod nomogram;
+
 #[derive(Parser)]
 #[command(
     name = "stitchkin",
@@ -99,6 +107,92 @@ enum Command {
         seed gives the same answer. Prints the recommended setting, the match before and after, and how\n\
         far each setting may move with the match within one score point of the optimum.")]
     Tune(TuneArgs),
+    /// Tune at every point of a grid of material thickness (and stitch
+    /// length): the recommended settings, their tolerance and the match
+    /// before and after, as the nomogram a technician reads.
+    #[command(after_help = "Examples:\n  stitchkin nomogram --set t1_phase=180 --thickness 0.5:5:10 --adjust z\n  \
+        stitchkin nomogram --set t1_phase=180 --thickness 1:5:5 --stitch 1:4.5:8 --adjust z,dphi --format csv -o nomogram.csv\n  \
+        stitchkin nomogram --preset mf7923d --thickness 3:5:3 --adjust z --step 5 --format json\n\n\
+        Each grid point is `stitchkin tune --thickness M --stitch T` with the same --seed, so the nomogram\n\
+        is the same on every run. Table columns: m mm, t mm, each setting with its range within one score\n\
+        point, the mean score before and after, each thread's score after, and the objective J after.\n\
+        CSV columns: m_mm, t_mm, NAME_UNIT, NAME_lo_UNIT, NAME_hi_UNIT, score_mean_before, score_mean_after,\n\
+        J_before, J_after, THREAD.score_before, THREAD.score_after, THREAD.rms_D_before_mm, ..., status.")]
+    Nomogram(nomogram::NomogramArgs),
+    /// Rank the adjustable parameters by their effect on each figure of
+    /// merit: the exact derivative (dual numbers) times the range width, and
+    /// the change over the whole range.
+    #[command(after_help = "Examples:\n  stitchkin sensitivity\n  \
+        stitchkin sensitivity --preset mf7923d --output 'n1_A.max_P_mm,mu.*' --params r1,z\n  \
+        stitchkin sensitivity --preset needle876 --step 0.5 --format csv -o needle876-sensitivity.csv\n  \
+        stitchkin sensitivity --set t1_phase=180 --output '*.score' --rank range --format json\n\n\
+        Per figure (names as in `stitchkin sweep --figures`) and parameter: d/dp at the setting, exact by\n\
+        dual numbers for smooth figures (take-up, measure, coordinate and transmission-angle extremes) and a\n\
+        central difference (c) for the match figures; effect = d/dp × range width (figure unit); at lo, at hi\n\
+        = the figure at the range's ends, the others nominal (seed 000 Fig. 7); span = its max − min over the\n\
+        range (9 settings). Ranked by |effect| (by span for the match figures, or for all with --rank range).\n\
+        Units: mm/mm, mm/deg, deg/mm, pts/mm (score points); CSV columns figure, figure_unit, nominal, rank,\n\
+        parameter, parameter_unit, range_lo, range_hi, derivative, derivative_unit, method, ..., span, note.")]
+    Sensitivity(sensitivity::SensitivityArgs),
+    /// Fit model dimensions (figure-only, reconstructed ones) to stated
+    /// results by weighted least squares within bounds, and report the
+    /// fitted values, the residual per fact and the cost.
+    #[command(after_help = "Examples:\n  stitchkin fit --preset needle876 --target examples/facts/needle876.toml --set y_c=170\n  \
+        stitchkin fit --preset needle876 --target examples/facts/needle876.toml --set l_cf=41 --adjust l_cf=30:45\n  \
+        stitchkin fit my-machine.toml --target facts.toml --adjust y_c=160:190,l_cf=30:45 --format json -o fit.json\n\n\
+        facts.toml: [[fact]] figure = \"needle_y.range_mm\", value = 18, set = { alpha = 0 }, tolerance = 0.25\n\
+        (or weight = W; relative_to = { alpha = 0 } fits the difference to that setting; top-level\n\
+        adjust = [\"l_cf=30:45\"] names the default parameters). --adjust NAME uses the parameter's range,\n\
+        NAME=LO:HI gives bounds. Levenberg-Marquardt with exact Jacobians (dual numbers) where the figure is\n\
+        smooth; the start is the model with --set.")]
+    Fit(fit::FitArgs),
+    /// A point's stroke along an axis, both dead centres (refined below the
+    /// φ step) and the range of every transmission angle, per setting, with
+    /// where an angle leaves 30°…150° (seed 002 eq. 14, 15).
+    #[command(after_help = "Examples:\n  stitchkin stroke --preset needle876 --point G --axis y\n  \
+        stitchkin stroke --preset needle876 --point G --axis y --vary alpha=0:40:41\n  \
+        stitchkin stroke --preset altin-needle --point E --axis guide.y --format json -o stroke.json\n  \
+        stitchkin stroke my-machine.toml --point P --axis 0.34,0.94 --vary l_ef=20:30:11 --format csv\n\n\
+        Axis: x, y, z (world), FRAME.x|y|z (from the frame's origin) or a world direction X,Y[,Z].\n\
+        Dead centres: the zeros of the exact analog ds/dφ (dual numbers; Newton safeguarded by bisection).\n\
+        Where an angle leaves the band between two settings, the setting is bisected to the crossing.\n\
+        CSV columns: the varied parameters, P.AX_stroke_mm, P.AX_min_mm, P.AX_min_phi_deg, P.AX_max_mm,\n\
+        P.AX_max_phi_deg, P.AX_min_to_max_deg, P_at_min.x_mm, ..., mu_KEY.min_deg, ..., mu_KEY.ok, status.")]
+    Stroke(stroke::StrokeArgs),
+    /// How far a point's path strays from a straight line (two model points,
+    /// or the least-squares line): max and RMS deviation, minimum zone, over
+    /// the cycle or the working stroke.
+    #[command(after_help = "Examples:\n  stitchkin straightness --preset altin-needle --point E --line N1,N2\n  \
+        stitchkin straightness --preset altin-needle --point E --fit --over down\n  \
+        stitchkin straightness --preset altin-needle --point E --over 300:60 --step 0.25 --format csv -o dev.csv\n\n\
+        Paths in the world xy-plane: the deviation is signed, + to the left of the line's direction (as\n\
+        the line_deviation measure); spatial ones: the distance. --over down is the working stroke from the\n\
+        far dead centre along the line to the near one. CSV: phi_deg, P.along_mm, P.dev_mm per sample.")]
+    Straightness(straightness::StraightnessArgs),
+    /// Which dimensional tolerances keep a path straight: each parameter
+    /// alone at ± its tolerance, the largest tolerance each may have alone
+    /// (bisection), and a seeded Monte Carlo over all at once.
+    #[command(after_help = "Examples:\n  stitchkin tolerance --preset altin-needle --point E --limit 0.05\n  \
+        stitchkin tolerance --preset altin-needle --point E --line N1,N2 --tol beta=0.1 --tol l_lm=0 --samples 200\n  \
+        stitchkin tolerance --preset altin-needle --point E --length-tol 0 --tol l_ab=0.05 --tol l_be=0.05 --format json\n\n\
+        Every length parameter without a --tol gets ±0.05 mm (--length-tol; seed 004); angles need an\n\
+        explicit --tol NAME=±T in degrees, and T = 0 holds a parameter exact. The deviation is max |d| from\n\
+        the line (--line H,T or the least-squares line, over --over). Monte Carlo: uniform in ±T, or\n\
+        normal with σ = T/3 truncated at ±T; percentiles 50/90/99 %; the same --seed gives the same result.")]
+    Tolerance(straightness::ToleranceArgs),
+    /// Synthesise a thread feed cam: the polar profile ρ(θ) that makes a
+    /// path's take-up P(φ) equal the stitch's required P'(φ) or a given
+    /// curve (the inverse of seed 004 §2.5's cam feed, offset contact), with
+    /// checks, and CSV, SVG, DXF and a [[cams]] snippet to paste.
+    #[command(after_help = "Examples:\n  stitchkin cam --preset altin504 --path lower --target required -o lower-cam\n  \
+        stitchkin cam --preset altin504 --path upper --target required --anchor-radius 21 --smooth 20 --format svg -o upper-cam.svg\n  \
+        stitchkin cam my-machine.toml --path looper --target wanted.csv --points 72 --min-radius 5 --format toml\n\n\
+        The profile: one radius per position φ = φ0 + k·360/N, solved from the target by seed 004 §2.5's\n\
+        offset contact (a quadratic in ρ); the rest of the path from the solved mechanism. Checks (reported,\n\
+        not fixed): minimum radius, convexity, profile slope and the thread's contact angle. Files: PREFIX.csv\n\
+        (theta_deg,radius_mm), PREFIX.svg (to scale, mm), PREFIX.dxf (R12, mm), PREFIX.toml ([[cams]] entry).\n\
+        Target CSV: columns phi_deg,P_mm. The summary goes to stderr.")]
+    Cam(cam::CamArgs),
     /// Print the JSON Schema of the model file format.
     #[command(after_help = "Example:\n  stitchkin schema > stitchkin-model.schema.json")]
     Schema,
@@ -938,6 +1032,13 @@ fn main() -> miette::Result<()> {
         Command::Match(args) => match_cmd(args),
         Command::Sweep(args) => sweep_cmd(args),
         Command::Tune(args) => tune_cmd(args),
+        Command::Nomogram(args) => nomogram::run(args),
+        Command::Sensitivity(args) => sensitivity::run(args),
+        Command::Fit(args) => fit::run(args),
+        Command::Stroke(args) => stroke::run(args),
+        Command::Straightness(args) => straightness::run(args),
+        Command::Tolerance(args) => straightness::tolerance(args),
+        Command::Cam(args) => cam::run(args),
         Command::Schema => emit(stitchkin::model::schema_json().as_bytes(), None),
     };
     result.map_err(report)

@@ -40,6 +40,18 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
+#[path = "cli/strokes.rs"]
+mod strokes;
+#[path = "cli/nomogram.rs"]
+mod nomogram;
+#[path = "cli/examples.rs"]
+mod examples;
+#[path = "cli/sensitivity.rs"]
+mod sensitivity;
+
+#[path = "cli/cam.rs"]
+mod cam;
+
 const PRESETS: &[&str] = &["needle876", "overlock500", "altin-needle", "altin504", "mf7923d", "takeup-lever"];
 
 #[test]
@@ -176,6 +188,8 @@ fn tune_recommends_a_setting_with_before_and_after() {
     assert!(v["after_figures"]["score_mean"].as_f64().unwrap() >= v["before_figures"]["score_mean"].as_f64().unwrap());
     let e = fails(&["tune", "--preset", "needle876", "--adjust", "alpha"]);
     assert!(e.contains("no [stitch]"), "{e}");
+    let e = fails(&["tune", "--step", "0"]);
+    assert!(e.contains("step 0 deg is out of range"), "{e}");
     let e = fails(&["tune", "--thickness", "9"]);
     assert!(e.contains("outside its adjustable range"), "{e}");
 }
@@ -300,7 +314,7 @@ fn a_failed_run_leaves_no_output_file() {
 
 #[test]
 fn every_subcommand_has_help_with_an_example() {
-    for sub in [vec!["--help"], vec!["run", "--help"], vec!["check", "--help"], vec!["presets", "--help"], vec!["schema", "--help"], vec!["compare-2d3d", "--help"], vec!["consumption", "--help"], vec!["match", "--help"], vec!["sweep", "--help"], vec!["tune", "--help"]] {
+    for sub in [vec!["--help"], vec!["run", "--help"], vec!["check", "--help"], vec!["presets", "--help"], vec!["schema", "--help"], vec!["compare-2d3d", "--help"], vec!["consumption", "--help"], vec!["match", "--help"], vec!["sweep", "--help"], vec!["tune", "--help"], vec!["sensitivity", "--help"], vec!["fit", "--help"], vec!["cam", "--help"], vec!["nomogram", "--help"], vec!["stroke", "--help"], vec!["straightness", "--help"], vec!["tolerance", "--help"]] {
         let (out, _) = ok(&sub);
         assert!(out.contains("Example"), "{sub:?}:\n{out}");
     }

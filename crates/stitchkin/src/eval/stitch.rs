@@ -85,6 +85,7 @@ pub struct Prepared {
 /// P' of the model's stitch process with `params` on the cycle grid of
 /// `step_deg`; `None` when the model has no `[stitch]`.
 pub fn prepare(model: &Model, params: &Params, step_deg: f64) -> Result<Option<Prepared>, Error> {
+    super::check_options(&super::CycleOptions { step_deg, ..Default::default() })?;
     let Some(setup) = model.stitch_setup(params)? else { return Ok(None) };
     let phis = super::cycle_phis_deg(model.phi_start_deg(), step_deg);
     let phi0_deg = model.file.thread.as_ref().and_then(|t| t.phi0_deg).unwrap_or(model.phi_start_deg());

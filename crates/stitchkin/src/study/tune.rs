@@ -187,6 +187,7 @@ pub fn set_stitch_value(model: &Model, params: &mut Params, which: &str, value: 
 /// already set) over `opts.adjust`.
 pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResult, Error> {
     let bad = |message: String, help: &str| Error::Param(ParamError { message, help: Some(help.into()) });
+    crate::eval::check_options(&CycleOptions { step_deg: opts.step_deg, ..Default::default() })?;
     if opts.adjust.is_empty() {
         return Err(bad("nothing to adjust".into(), "name the settings, e.g. --adjust z,dphi (parameters with an adjustable range)"));
     }

@@ -1,0 +1,1236 @@
+//! Cam synthesis (issue 5, item 7): the inverse of the thread feed cam. Find
+//! the polar profile ρ(θ) of a `[[cams]]` cam that makes a thread path's
+//! take-up P(φ) equal a target: the required take-up P'(φ) of the stitch
+//! thread compared with the path, or a given curve.
+//!
+//! Seed 004 §2.8 designs the new lower-thread cam the same way: the guides'
+//! coordinates taken about the cam's centre, the contact turned by γ, and
+//! "the cam's radius vector r determined from the given increment of the
+//! thread contour" (its formulas are garbled in the text); the forward model
+//! is §2.5's offset contact (`thread::cam::offset_contact`).
+//!
+//! **The inverse, radius by radius.** At one φ, seen in the cam's frame (u
+//! toward the marker, v = w × u, w the shaft axis, origin C on the axis),
+//! the contact is A = C + ρ·e_β, e_β = cos β·u + sin β·v, β = β₀(φ) + γ
+//! with β₀ the bisector of the guides' directions (§13.5 of the format).
+//! With the guides p, q before and after the cam,
+//!
+//! ```text
+//! |A − p|² = ρ² − 2a_p ρ + c_p,   a_p = e_β·(p − C),   c_p = |p − C|²
+//! ```
+//!
+//! (and the same for q), so the cam's piece of the path is explicit in ρ:
+//!
+//! ```text
+//! L(ρ) = √(ρ² − 2a_p ρ + c_p) + √(ρ² − 2a_q ρ + c_q).
+//! ```
+//!
+//! For seed 004 §2.5's symmetric guides (a_p = a_q = a, c_p = c_q = c) this
+//! is ξ_cam = 2·|O₂ − A|, and L(ρ) = L gives the quadratic
+//! ρ² − 2aρ + c − L²/4 = 0, ρ = a ± √(a² − c + L²/4). In general the points
+//! with |A − p| + |A − q| = L form a prolate spheroid with foci p and q, and
+//! the contact ray meets it where a quadratic in ρ vanishes: writing
+//! s_p = |A − p|, s_q = |A − q|, s_p + s_q = L and s_p² − s_q² =
+//! −2δa ρ + δc (δa = a_p − a_q, δc = c_p − c_q, linear in ρ), so
+//! s_p = k + mρ with k = (L² + δc)/(2L), m = −δa/L, and squaring,
+//!
+//! ```text
+//! (1 − m²) ρ² − 2(a_p + k m) ρ + (c_p − k²) = 0,   0 ≤ k + mρ ≤ L.
+//! ```
+//!
+//! 1 − m² > 0 whenever L exceeds |δa| ≤ |p − q|, the straight thread. Of the
+//! positive roots that keep both pieces non-negative, the one nearest the
+//! model's own profile is taken (C inside the spheroid, the usual case,
+//! leaves exactly one). No root means the target asks for a piece shorter
+//! than min over ρ ≥ 0 of L(ρ) along that radius: an error naming φ and the
+//! shortfall. Each root is polished by Newton on L(ρ) − L.
+//!
+//! **The rest of the path.** ξ(φ) = ξ_rest(φ) + L(φ), ξ_rest from
+//! `Threads::evaluate` with the model's own profile minus its cam piece. The
+//! take-up fixes ξ up to ξ(φ0): release P = ξ(φ0) − ξ(φ) (seed 000 eq. 2),
+//! feed P = ξ(φ) − ξ(φ0) + ΔP (seed 001 eqs. 22–23). ξ(φ0) is the model's
+//! own (the radius at φ0's contact angle kept), or set by an anchor radius
+//! there. The knots are the contact angles of a uniform φ grid starting at
+//! φ0, so φ0 is a knot and P(φ0) comes out exactly as the convention makes
+//! it; a target that differs there is shifted by that constant (reported).
+//!
+//! **Exact contact** is not synthesised: the taut thread's length depends
+//! on the whole wrapped arc (tangent points and the arc integral), not on
+//! one radius, so there is no radius-by-radius inverse.
+
+use num_dual::Dual2_64;
+use serde::Serialize;
+
+use crate::error::{Error, ParamError};
+use crate::eval::{self, wrap_deg};
+use crate::geometry::{V2, V3};
+use crate::mechanism::{Mechanism, Phi};
+use crate::model::{Model, Params};
+use crate::output::fmt_num;
+use crate::stitch::mismatch::{Mismatch, mismatch};
+use crate::thread::cam::{CamPlacement, Profile};
+use crate::thread::{CamModel, Convention, Span, Threads};
+
+const TAU: f64 = std::f64::consts::TAU;
+
+/// What the take-up should be.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Target {
+    /// P'(φ) of the `[stitch]` thread compared with the path.
+    Required,
+    /// A periodic curve P(φ) through points (φ in degrees within one turn,
+    /// sorted), the periodic cubic spline between them.
+    Curve { phi_deg: Vec<f64>, p_mm: Vec<f64>, source: String },
+}
+
+/// How to synthesise.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CamOptions {
+    /// The thread path whose take-up is to match.
+    pub path: String,
+    /// The cam on it (needed when the path runs over several).
+    pub cam: Option<String>,
+    pub target: Target,
+    /// Profile points (knots) per turn, 8…1440.
+    pub points: usize,
+    /// Smoothing: a periodic moving average over this many degrees of
+    /// profile angle, applied twice; 0 for none.
+    pub smooth_deg: f64,
+    /// Smallest acceptable radius, mm (checked, not enforced).
+    pub min_radius_mm: f64,
+    /// Largest acceptable thread contact angle, deg (checked).
+    pub max_pressure_angle_deg: f64,
+    /// Profile radius at the contact angle of φ0, mm (default: the model's).
+    pub anchor_radius_mm: Option<f64>,
+}
+
+impl CamOptions {
+    /// Defaults: 360 points, no smoothing, min radius 3 mm, contact angle
+    /// at most 45°, the model's radius at φ0.
+    pub fn new(path: &str, target: Target) -> CamOptions {
+        CamOptions {
+            path: path.to_string(),
+            cam: None,
+            target,
+            points: 360,
+            smooth_deg: 0.0,
+            min_radius_mm: 3.0,
+            max_pressure_angle_deg: 45.0,
+            anchor_radius_mm: None,
+        }
+    }
+}
+
+/// One profile point.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Knot {
+    /// Profile angle from the marker direction, [0, 360), deg.
+    pub theta_deg: f64,
+    /// ρ, mm (after smoothing).
+    pub radius_mm: f64,
+    /// ρ solved from the target, before smoothing, mm.
+    pub solved_mm: f64,
+    /// The φ at which the thread bears at this angle, deg.
+    pub phi_deg: f64,
+}
+
+/// The checks of a profile: reported, never fixed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Checks {
+    pub min_radius_mm: f64,
+    pub min_radius_at_theta_deg: f64,
+    pub min_radius_limit_mm: f64,
+    pub min_radius_ok: bool,
+    /// ρ² + 2ρ'² − ρρ'' > 0 all round (what the exact contact needs).
+    pub convex: bool,
+    /// Its smallest value, mm².
+    pub convexity_min_mm2: f64,
+    /// Profile-angle intervals where it is not convex, deg.
+    pub not_convex_deg: Vec<[f64; 2]>,
+    /// Largest profile slope atan(|ρ'|/ρ): the angle between the radius and
+    /// the profile normal, deg.
+    pub max_slope_deg: f64,
+    pub max_slope_at_theta_deg: f64,
+    /// Largest thread contact angle: between the profile normal at the
+    /// contact and the thread's pull on the cam (the sum of the unit
+    /// vectors along its two pieces, seen along the shaft), deg.
+    pub max_contact_angle_deg: f64,
+    pub max_contact_angle_at_phi_deg: f64,
+    pub contact_angle_limit_deg: f64,
+    pub contact_angle_ok: bool,
+}
+
+/// The synthesised profile evaluated in the model again.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Verification {
+    /// The check grid: the knots' φ and the midpoints between them, from
+    /// φ0, deg.
+    pub phi_deg: Vec<f64>,
+    /// Target, take-up with the model's own cam, and with the synthesised
+    /// one, mm.
+    pub target_mm: Vec<f64>,
+    pub p_before_mm: Vec<f64>,
+    pub p_after_mm: Vec<f64>,
+    /// max |P − target| at the knots' φ and between them, with where.
+    pub max_err_knots_mm: f64,
+    pub max_err_knots_at_deg: f64,
+    pub max_err_between_mm: f64,
+    pub max_err_between_at_deg: f64,
+    /// The same before synthesis (the model's own cam), over the grid.
+    pub max_err_before_mm: f64,
+    /// Match with the stitch thread's P' (docs/stitch-formation.md §8) on
+    /// the knots' φ grid (every 360/N° from φ0: for N = 360 and φ0 on the
+    /// model's φ grid, the grid of `stitchkin match`), before and after;
+    /// `None` without a stitch thread on this path.
+    pub match_before: Option<Mismatch>,
+    pub match_after: Option<Mismatch>,
+    /// After, on the whole check grid (knots and midpoints).
+    pub match_after_all: Option<Mismatch>,
+}
+
+/// A synthesised cam.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CamSynthesis {
+    pub path: String,
+    pub cam: String,
+    /// The cam's `center` and `marker` points, and its axis and frame as
+    /// written in the model (for the `[[cams]]` snippet).
+    pub center: String,
+    pub marker: String,
+    pub axis_toml: Option<String>,
+    pub frame: Option<String>,
+    pub gamma_deg: f64,
+    /// What was matched, in words.
+    pub target: String,
+    /// The stitch thread compared with the path, if any.
+    pub thread: Option<String>,
+    pub phi0_deg: f64,
+    /// Knots in profile-angle order.
+    pub knots: Vec<Knot>,
+    pub smooth_deg: f64,
+    /// Constant taken off the target so that it has the convention's value
+    /// at φ0, mm (0 for P').
+    pub target_shift_mm: f64,
+    /// Radius at the contact angle of φ0 and that angle, mm and deg.
+    pub anchor_radius_mm: f64,
+    pub anchor_theta_deg: f64,
+    /// Radius range of the model's own profile and of the new one, mm.
+    pub reference_radius_mm: [f64; 2],
+    pub radius_mm: [f64; 2],
+    pub checks: Checks,
+    pub verify: Verification,
+    /// Other paths over the same cam: their take-up changes too.
+    pub shared_with: Vec<String>,
+    pub notes: Vec<String>,
+    #[serde(skip)]
+    pub profile: Profile,
+}
+
+fn bad(message: String, help: &str) -> Error {
+    Error::Param(ParamError { message, help: Some(help.to_string()) })
+}
+
+/// The contact ray of the offset model at one φ (seed 004 §2.5).
+#[derive(Debug, Clone, Copy)]
+struct Ray {
+    /// Contact profile angle β = β₀ + γ, rad.
+    beta: f64,
+    /// a = e_β·(guide − C), c = |guide − C|², for p and q.
+    ap: f64,
+    cp: f64,
+    aq: f64,
+    cq: f64,
+    /// The guides in the cam's frame: in-plane and height.
+    pl: V2<f64>,
+    ql: V2<f64>,
+    hp: f64,
+    hq: f64,
+}
+
+impl Ray {
+    /// As `offset_contact` places it; `None` where it cannot.
+    fn new(p: V3<f64>, q: V3<f64>, center: V3<f64>, marker: V3<f64>, axis: V3<f64>, gamma: f64) -> Option<Ray> {
+        let at = CamPlacement::new(center, marker, axis)?;
+        let local = |x: V3<f64>| {
+            let d = x - at.center;
+            (V2::new(d.dot(&at.u), d.dot(&at.v)), d.dot(&at.w))
+        };
+        let ((pl, hp), (ql, hq)) = (local(p), local(q));
+        let (np, nq) = (pl.norm(), ql.norm());
+        if np <= 0.0 || nq <= 0.0 {
+            return None;
+        }
+        let bis = pl / np + ql / nq;
+        if bis.norm() < 1e-9 {
+            return None;
+        }
+        let beta = bis.y.atan2(bis.x) + gamma;
+        let e = V2::new(beta.cos(), beta.sin());
+        Some(Ray { beta, ap: pl.dot(&e), cp: pl.norm_squared() + hp * hp, aq: ql.dot(&e), cq: ql.norm_squared() + hq * hq, pl, ql, hp, hq })
+    }
+
+    /// The two pieces |A − p|, |A − q| for radius ρ.
+    fn pieces(&self, rho: f64) -> (f64, f64) {
+        ((rho * rho - 2.0 * self.ap * rho + self.cp).max(0.0).sqrt(), (rho * rho - 2.0 * self.aq * rho + self.cq).max(0.0).sqrt())
+    }
+
+    /// L(ρ) = |A − p| + |A − q|.
+    fn length(&self, rho: f64) -> f64 {
+        let (a, b) = self.pieces(rho);
+        a + b
+    }
+
+    /// The shortest L along the ray, ρ ≥ 0 (L is convex in ρ, least between
+    /// the feet a_p and a_q): golden section.
+    fn min_length(&self) -> f64 {
+        let (mut lo, mut hi) = (self.ap.min(self.aq).max(0.0), self.ap.max(self.aq).max(0.0));
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        for _ in 0..100 {
+            let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+            if self.length(x1) < self.length(x2) {
+                hi = x2;
+            } else {
+                lo = x1;
+            }
+        }
+        self.length(0.5 * (lo + hi))
+    }
+
+    /// ρ > 0 with L(ρ) = `l`: the spheroid quadratic (module docs), the root
+    /// nearest `near`, polished by Newton. `None` when there is none.
+    fn solve(&self, l: f64, near: f64) -> Option<f64> {
+        let (da, dc) = (self.ap - self.aq, self.cp - self.cq);
+        if !(l.is_finite() && l > da.abs()) {
+            return None;
+        }
+        // s_p = k + mρ; (1 − m²)ρ² − 2(a_p + km)ρ + (c_p − k²) = 0.
+        let k = (l * l + dc) / (2.0 * l);
+        let m = -da / l;
+        let (a2, b, c) = (1.0 - m * m, self.ap + k * m, self.cp - k * k);
+        let disc = b * b - a2 * c;
+        if disc < 0.0 {
+            return None;
+        }
+        // Stable roots: q = b + sign(b)·√disc, ρ = q/a2 and c/q.
+        let q = b + if b >= 0.0 { disc.sqrt() } else { -disc.sqrt() };
+        let mut roots = vec![q / a2];
+        if q != 0.0 {
+            roots.push(c / q);
+        }
+        let tol = 1e-9 * l.max(1.0);
+        roots
+            .into_iter()
+            .filter(|&r| r.is_finite() && r > 0.0 && (-tol..=l + tol).contains(&(k + m * r)))
+            .map(|r| self.polish(r, l))
+            .filter(|&r| r > 0.0 && (self.length(r) - l).abs() < 1e-6 * l.max(1.0))
+            .min_by(|x, y| (x - near).abs().total_cmp(&(y - near).abs()))
+    }
+
+    /// Newton on L(ρ) − l, dL/dρ = (ρ − a_p)/s_p + (ρ − a_q)/s_q.
+    fn polish(&self, mut rho: f64, l: f64) -> f64 {
+        for _ in 0..4 {
+            let (sp, sq) = self.pieces(rho);
+            if sp <= 0.0 || sq <= 0.0 {
+                break;
+            }
+            let d = (rho - self.ap) / sp + (rho - self.aq) / sq;
+            if d.abs() < 1e-12 {
+                break;
+            }
+            let step = (sp + sq - l) / d;
+            if !step.is_finite() {
+                break;
+            }
+            rho -= step;
+        }
+        rho
+    }
+
+    /// The thread contact angle at the contact for `profile`: between the
+    /// profile normal at A and the in-plane part of the thread's pull on the
+    /// cam (û toward p plus û toward q), deg; `None` when the thread runs
+    /// straight through A.
+    fn contact_angle_deg(&self, profile: &Profile) -> Option<f64> {
+        let r = profile.rho(Dual2_64::new(self.beta, 1.0, 0.0));
+        let (s, c) = self.beta.sin_cos();
+        let a = V2::new(c, s) * r.re;
+        let t = V2::new(c, s) * r.v1 + V2::new(-s, c) * r.re;
+        let n = V2::new(t.y, -t.x);
+        let unit = |g: V2<f64>, h: f64| {
+            let d = V3::new(g.x - a.x, g.y - a.y, h);
+            let len = d.norm();
+            if len > 0.0 { d / len } else { V3::zeros() }
+        };
+        let pull = unit(self.pl, self.hp) + unit(self.ql, self.hq);
+        let pull = V2::new(pull.x, pull.y);
+        let (np, nn) = (pull.norm(), n.norm());
+        if np < 1e-9 || nn <= 0.0 {
+            return None;
+        }
+        Some((n.dot(&pull).abs() / (np * nn)).clamp(0.0, 1.0).acos().to_degrees())
+    }
+}
+
+/// The periodic cubic spline (C², as a polar profile) through a target
+/// curve's points, φ in degrees.
+struct PeriodicSpline {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    /// Second derivatives at the points, mm/deg².
+    m: Vec<f64>,
+}
+
+impl PeriodicSpline {
+    /// Through (x_i, y_i), x sorted within [0, 360), at least 3 points.
+    fn new(x: &[f64], y: &[f64]) -> PeriodicSpline {
+        let n = x.len();
+        let h: Vec<f64> = (0..n).map(|i| if i + 1 < n { x[i + 1] - x[i] } else { x[0] + 360.0 - x[n - 1] }).collect();
+        let rhs: Vec<f64> = (0..n)
+            .map(|i| {
+                let ip = (i + n - 1) % n;
+                (y[(i + 1) % n] - y[i]) / h[i] - (y[i] - y[ip]) / h[ip]
+            })
+            .collect();
+        // h_{i−1}/6·M_{i−1} + (h_{i−1} + h_i)/3·M_i + h_i/6·M_{i+1} = rhs_i,
+        // cyclic. The diagonal is twice the off-diagonal sum, so Jacobi
+        // halves the error each sweep: 80 sweeps reach rounding.
+        let mut m = vec![0.0; n];
+        for _ in 0..80 {
+            let prev = m.clone();
+            for i in 0..n {
+                let ip = (i + n - 1) % n;
+                m[i] = (rhs[i] - h[ip] / 6.0 * prev[ip] - h[i] / 6.0 * prev[(i + 1) % n]) / ((h[ip] + h[i]) / 3.0);
+            }
+        }
+        PeriodicSpline { x: x.to_vec(), y: y.to_vec(), m }
+    }
+
+    fn at(&self, phi_deg: f64) -> f64 {
+        let (xs, n) = (&self.x, self.x.len());
+        let x = phi_deg.rem_euclid(360.0);
+        // The segment [x_i, x_{i+1}] holding x, the last one wrapping to the
+        // first point a turn later.
+        let (i, x0, x1) = match xs.partition_point(|&v| v <= x) {
+            0 => (n - 1, xs[n - 1] - 360.0, xs[0]),
+            p if p == n => (n - 1, xs[n - 1], xs[0] + 360.0),
+            p => (p - 1, xs[p - 1], xs[p]),
+        };
+        let j = (i + 1) % n;
+        let h = x1 - x0;
+        let (a, b) = (x1 - x, x - x0);
+        let (m0, m1) = (self.m[i], self.m[j]);
+        m0 * a * a * a / (6.0 * h) + m1 * b * b * b / (6.0 * h) + (self.y[i] - m0 * h * h / 6.0) * a / h + (self.y[j] - m1 * h * h / 6.0) * b / h
+    }
+}
+
+/// Reads a target curve from CSV text: a header naming `phi_deg` and `P_mm`
+/// (or `phi_deg` and one other column, as `stitchkin run --columns` writes
+/// it), then rows; `#` lines are skipped. Periodic: φ is taken modulo 360.
+pub fn parse_target_csv(text: &str, source: &str) -> Result<Target, Error> {
+    let help = "write a header `phi_deg,P_mm` and one row per φ, e.g. `0,0.0` (at least 4 rows within one turn)";
+    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+    let Some((_, header)) = lines.next() else {
+        return Err(bad(format!("{source}: the target CSV is empty"), help));
+    };
+    let cols: Vec<&str> = header.split(',').map(|c| c.trim().trim_matches('"')).collect();
+    let iphi = cols.iter().position(|c| *c == "phi_deg").ok_or_else(|| bad(format!("{source}: the header has no `phi_deg` column (got `{header}`)"), help))?;
+    let ip = match cols.iter().position(|c| *c == "P_mm") {
+        Some(i) => i,
+        None if cols.len() == 2 => 1 - iphi,
+        None => return Err(bad(format!("{source}: the header has no `P_mm` column (got `{header}`)"), help)),
+    };
+    let mut pts: Vec<(f64, f64)> = Vec::new();
+    for (i, line) in lines {
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        let num = |j: usize| f.get(j).and_then(|s| s.parse::<f64>().ok()).filter(|v| v.is_finite());
+        match (num(iphi), num(ip)) {
+            (Some(x), Some(y)) => pts.push((turn_deg(x), y)),
+            _ => return Err(bad(format!("{source}:{}: not two finite numbers for phi_deg and the take-up: `{line}`", i + 1), help)),
+        }
+    }
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for w in pts.windows(2) {
+        if w[1].0 - w[0].0 < 1e-9 {
+            return Err(bad(format!("{source}: φ = {}° is given twice (modulo 360°)", fmt_num(w[0].0)), "give each φ once within one turn"));
+        }
+    }
+    if pts.len() < 4 {
+        return Err(bad(format!("{source}: the target needs at least 4 points, got {}", pts.len()), help));
+    }
+    Ok(Target::Curve { phi_deg: pts.iter().map(|p| p.0).collect(), p_mm: pts.iter().map(|p| p.1).collect(), source: source.to_string() })
+}
+
+/// An angle reduced to [0, 360) degrees (`rem_euclid` may round up to 360).
+fn turn_deg(x: f64) -> f64 {
+    let w = x.rem_euclid(360.0);
+    if w >= 360.0 { 0.0 } else { w }
+}
+
+/// Is model-φ `phi` inside the window [from, to] (which may wrap past 360°)?
+fn in_window(phi: f64, w: [f64; 2]) -> bool {
+    let (a, len) = (w[0].rem_euclid(360.0), (w[1] - w[0]).rem_euclid(360.0));
+    (phi.rem_euclid(360.0) - a).rem_euclid(360.0) <= len
+}
+
+/// P of path `pi` at every φ of `pose` with the mechanism's current cams.
+fn take_up(mech: &Mechanism<f64>, threads: &Threads<f64>, pose: &crate::mechanism::Pose<f64>, phis: &[f64], pi: usize) -> Result<Vec<f64>, Error> {
+    let tracks = threads.evaluate(pose, None).map_err(|e| {
+        let phi = phis[e.k];
+        eval::path_error(e, phi)
+    })?;
+    let xi0 = eval::xi_at_phi0(mech, threads)?[pi];
+    Ok(tracks[pi].xi.iter().map(|x| threads.convention.take_up(*x, xi0)).collect())
+}
+
+/// The take-up of path `path` over `phis` (deg) with the profile of cam
+/// `cam` replaced by `profile`: the forward model the synthesis inverts.
+pub fn take_up_with_profile(model: &Model, params: &Params, path: &str, cam: &str, profile: &Profile, phis: &[f64]) -> Result<Vec<f64>, Error> {
+    let mut mech = model.mechanism::<f64>(params)?;
+    let threads = mech.threads.as_mut().ok_or_else(|| bad(format!("model `{}` has no thread paths", model.file.model.name), "add [thread] paths"))?;
+    let pi = threads.paths.iter().position(|p| p.name == path).ok_or_else(|| bad(format!("unknown thread path `{path}`"), "see `stitchkin check`"))?;
+    let ci = threads.cams.iter().position(|c| c.name == cam).ok_or_else(|| bad(format!("unknown cam `{cam}`"), "see the model's [[cams]]"))?;
+    threads.cams[ci].profile = profile.clone();
+    let mut pose = mech.new_pose(phis.len());
+    mech.solve(&Phi::table(phis), &mut pose)?;
+    let threads = mech.threads.as_ref().expect("checked above");
+    take_up(&mech, threads, &pose, phis, pi)
+}
+
+/// Synthesises the profile of the cam on `opts.path` (module docs).
+pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<CamSynthesis, Error> {
+    // --- the inputs ---------------------------------------------------------
+    if !(8..=1440).contains(&opts.points) {
+        return Err(bad(format!("{} profile points is out of range", opts.points), "give --points between 8 and 1440, e.g. 360 (one per degree)"));
+    }
+    if !(opts.smooth_deg.is_finite() && (0.0..=180.0).contains(&opts.smooth_deg)) {
+        return Err(bad(format!("smoothing over {} deg is out of range", opts.smooth_deg), "give --smooth between 0 (none) and 180 degrees"));
+    }
+    if !(opts.min_radius_mm.is_finite() && opts.min_radius_mm >= 0.0) {
+        return Err(bad(format!("the minimum radius {} mm is out of range", opts.min_radius_mm), "give --min-radius as a non-negative number of mm, e.g. 3"));
+    }
+    if !(opts.max_pressure_angle_deg.is_finite() && opts.max_pressure_angle_deg > 0.0 && opts.max_pressure_angle_deg < 90.0) {
+        return Err(bad(format!("the contact-angle limit {} deg is out of range", opts.max_pressure_angle_deg), "give --max-pressure-angle between 0 and 90 degrees, e.g. 45"));
+    }
+    if let Some(r) = opts.anchor_radius_mm
+        && !(r.is_finite() && r > 0.0)
+    {
+        return Err(bad(format!("the anchor radius {r} mm must be a positive number of mm"), "e.g. --anchor-radius 12"));
+    }
+    let name = &model.file.model.name;
+    let mech = model.mechanism::<f64>(params)?;
+    let threads = mech.threads.as_ref().ok_or_else(|| {
+        bad(format!("model `{name}` has no thread paths, so there is no cam to synthesise"), "add [thread] paths with a cam node (docs/model-format.md §13.5)")
+    })?;
+    let all_paths = || threads.paths.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ");
+    let pi = threads
+        .paths
+        .iter()
+        .position(|p| p.name == opts.path)
+        .ok_or_else(|| bad(format!("model `{name}` has no thread path `{}`", opts.path), &format!("its paths are: {}", all_paths())))?;
+    let path = &threads.paths[pi];
+    // The path's cam pieces.
+    let cams: Vec<(usize, usize, usize, CamModel)> = path
+        .spans
+        .iter()
+        .filter_map(|&s| match &threads.spans[s] {
+            Span::Cam { a, b, cam, contact } => Some((*a, *b, *cam, *contact)),
+            _ => None,
+        })
+        .collect();
+    let cam_names = |v: &[(usize, usize, usize, CamModel)]| v.iter().map(|c| threads.cams[c.2].name.clone()).collect::<Vec<_>>().join(", ");
+    let (a, b, ci, contact) = match (&opts.cam, cams.len()) {
+        (_, 0) => {
+            let with: Vec<&str> = threads
+                .paths
+                .iter()
+                .filter(|p| p.spans.iter().any(|&s| matches!(threads.spans[s], Span::Cam { .. })))
+                .map(|p| p.name.as_str())
+                .collect();
+            return Err(bad(
+                format!("thread path `{}` runs over no cam, so there is no profile to synthesise", opts.path),
+                &if with.is_empty() {
+                    "give the path a cam node `{ cam = \"NAME\", contact = \"offset\", gamma_deg = 23 }` and a [[cams]] entry (docs/model-format.md §13.5)".to_string()
+                } else {
+                    format!("paths over a cam: {}", with.join(", "))
+                },
+            ));
+        }
+        (Some(c), _) => *cams.iter().find(|x| threads.cams[x.2].name == *c).ok_or_else(|| {
+            bad(format!("thread path `{}` does not run over cam `{c}`", opts.path), &format!("its cams: {}", cam_names(&cams)))
+        })?,
+        (None, 1) => cams[0],
+        (None, _) => return Err(bad(format!("thread path `{}` runs over several cams ({})", opts.path, cam_names(&cams)), "name one with --cam")),
+    };
+    let cam = &threads.cams[ci];
+    let gamma = match contact {
+        CamModel::Offset { gamma_rad } => gamma_rad,
+        CamModel::Exact { .. } => {
+            return Err(bad(
+                format!(
+                    "cam `{}` on path `{}` has contact = \"exact\": cam synthesis supports contact = \"offset\" only. Under the exact \
+                     (taut-thread) contact the length depends on the whole wrapped arc of the profile, through its tangent points and \
+                     the arc integral, not on one radius, so there is no radius-by-radius inverse",
+                    cam.name, opts.path
+                ),
+                "synthesise with the seed-004 model on this node, `contact = \"offset\", gamma_deg = 23` (0.4-0.8 rad), then check the profile",
+            ));
+        }
+    };
+    let file_cam = model.file.cams.iter().find(|c| c.name == cam.name);
+    // --- the grid: knots at even j, midpoints at odd j, from φ0 -------------
+    let n = opts.points;
+    let phi0 = threads.phi0_deg;
+    let phis: Vec<f64> = (0..2 * n).map(|j| phi0 + j as f64 * 180.0 / n as f64).collect();
+    let mut pose = mech.new_pose(phis.len());
+    mech.solve(&Phi::table(&phis), &mut pose)?;
+    let mut rays = Vec::with_capacity(phis.len());
+    for (j, &phi) in phis.iter().enumerate() {
+        let pt = |s: usize| pose.point(s, j);
+        let r = Ray::new(pt(a), pt(b), pt(cam.center), pt(cam.marker), cam.axis, gamma).ok_or_else(|| {
+            bad(
+                format!(
+                    "at φ = {:.3}° the contact on cam `{}` is not defined: a guide on the shaft axis, the marker on the axis, or the two guides facing each other through the shaft",
+                    wrap_deg(phi),
+                    cam.name
+                ),
+                "check the cam's guides and marker",
+            )
+        })?;
+        rays.push(r);
+    }
+    // The contact must sweep the profile exactly once per cycle, one way.
+    let mut turn = 0.0;
+    let mut sign = 0.0;
+    for j in 0..rays.len() {
+        let d = (rays[(j + 1) % rays.len()].beta - rays[j].beta + std::f64::consts::PI).rem_euclid(TAU) - std::f64::consts::PI;
+        if d == 0.0 || (sign != 0.0 && d.signum() != sign) {
+            return Err(bad(
+                format!(
+                    "the contact on cam `{}` does not turn steadily over the profile (it stops or turns back near φ = {:.1}°), so one \
+                     profile angle would have to serve two take-ups",
+                    cam.name,
+                    wrap_deg(phis[j])
+                ),
+                "cam synthesis needs a cam turning once per cycle relative to its guides (a cam on the main shaft)",
+            ));
+        }
+        sign = d.signum();
+        turn += d;
+    }
+    if (turn.abs() - TAU).abs() > 1e-6 {
+        return Err(bad(
+            format!("the contact sweeps cam `{}` {:.3} turns per cycle; a profile can be synthesised only for exactly one", cam.name, turn.abs() / TAU),
+            "cam synthesis needs a cam turning once per main-shaft cycle relative to its guides",
+        ));
+    }
+    // --- ξ_rest and the anchor ------------------------------------------------
+    let tracks = threads.evaluate(&pose, None).map_err(|e| {
+        let phi = phis[e.k];
+        eval::path_error(e, phi)
+    })?;
+    let xi_ref = &tracks[pi].xi;
+    let l_ref: Vec<f64> = rays.iter().map(|r| r.length(cam.profile.rho(r.beta))).collect();
+    let xi_rest: Vec<f64> = xi_ref.iter().zip(&l_ref).map(|(x, l)| x - l).collect();
+    let xi0_ref = eval::xi_at_phi0(&mech, threads)?[pi];
+    let anchor_rho = opts.anchor_radius_mm.unwrap_or_else(|| cam.profile.rho(rays[0].beta));
+    // ξ(φ0): the model's, or with the anchor radius at φ0's contact (j = 0 is φ0).
+    let xi0 = match opts.anchor_radius_mm {
+        None => xi0_ref,
+        Some(r) => xi_rest[0] + rays[0].length(r),
+    };
+    let p_conv0 = threads.convention.take_up(xi0, xi0);
+    // --- the target -------------------------------------------------------------
+    // The stitch process: needed for `required`; for a curve only for the
+    // match report, so a stitch that does not evaluate just leaves it out.
+    let required = matches!(opts.target, Target::Required);
+    let setup = match model.stitch_setup(params) {
+        Ok(s) => s,
+        Err(e) if required => return Err(e),
+        Err(_) => None,
+    };
+    let stitch_thread = setup.as_ref().and_then(|s| s.paths.iter().position(|p| p.as_deref() == Some(opts.path.as_str())));
+    // P' of the thread on this path over the grid, and the compared mask.
+    let pprime: Option<(String, Vec<f64>, Vec<bool>, f64)> = match (&setup, stitch_thread) {
+        (Some(s), Some(t)) => {
+            let to_c = |phi: f64| (phi - s.cyclogram_zero_deg).rem_euclid(360.0);
+            let mut grid: Vec<f64> = phis.iter().map(|&p| to_c(p)).collect();
+            grid.push(to_c(phi0));
+            match crate::stitch::pprime::required_take_up(&s.spec, &grid, to_c(phi0)) {
+                Ok(req) => {
+                    let th = &req.threads[t];
+                    let compared = phis.iter().map(|&p| !s.regulator_window_deg.iter().any(|w| in_window(p, *w))).collect();
+                    Some((th.name.clone(), th.pprime_mm[..phis.len()].to_vec(), compared, s.tolerance_mm))
+                }
+                Err(e) if required => return Err(e),
+                Err(_) => None,
+            }
+        }
+        _ => None,
+    };
+    let (label, raw): (String, Vec<f64>) = match &opts.target {
+        Target::Required => match &pprime {
+            Some((t, pp, ..)) => (format!("required take-up P' of thread `{t}`"), pp.clone()),
+            None if setup.is_none() => {
+                return Err(bad(
+                    format!("model `{name}` has no [stitch], so there is no required take-up P' to match"),
+                    "give the target as a curve instead: --target FILE.csv with columns phi_deg,P_mm",
+                ));
+            }
+            None => {
+                let listed: Vec<String> = setup
+                    .iter()
+                    .flat_map(|s| s.paths.iter().flatten().cloned())
+                    .collect();
+                return Err(bad(
+                    format!("no thread of [stitch] is compared with path `{}`, so it has no required take-up P'", opts.path),
+                    &format!("paths with a P': {}; or give --target FILE.csv", if listed.is_empty() { "none".into() } else { listed.join(", ") }),
+                ));
+            }
+        },
+        Target::Curve { source, phi_deg, p_mm } => {
+            let ok = phi_deg.len() >= 4
+                && phi_deg.len() == p_mm.len()
+                && phi_deg.iter().chain(p_mm).all(|v| v.is_finite())
+                && phi_deg.windows(2).all(|w| w[1] > w[0])
+                && phi_deg.first().is_some_and(|&a| a >= 0.0)
+                && phi_deg.last().is_some_and(|&b| b < 360.0);
+            if !ok {
+                return Err(bad(
+                    format!("the target curve from {source} is not at least 4 finite points with φ increasing within [0, 360)"),
+                    "read it with parse_target_csv",
+                ));
+            }
+            let sp = PeriodicSpline::new(phi_deg, p_mm);
+            (format!("curve from {source} ({} points)", phi_deg.len()), phis.iter().map(|&p| sp.at(p)).collect())
+        }
+    };
+    // Take-up is p_conv0 at φ0 by definition: shift the target to it.
+    let shift = raw[0] - p_conv0;
+    let target: Vec<f64> = raw.iter().map(|v| v - shift).collect();
+    let mut notes = Vec::new();
+    if shift.abs() > 1e-9 {
+        notes.push(format!(
+            "the target is {} mm at φ0 = {}°, where every take-up is {} mm by definition: it is matched up to that constant (shifted by {} mm)",
+            fmt_num(raw[0]),
+            fmt_num(wrap_deg(phi0)),
+            fmt_num(p_conv0),
+            fmt_num(-shift)
+        ));
+    }
+    // ξ the target asks for: release ξ = ξ0 − P, feed ξ = ξ0 + P − ΔP.
+    let xi_of = |p: f64| match threads.convention {
+        Convention::Release => xi0 - p,
+        Convention::Feed { elongation_mm } => xi0 + p - elongation_mm,
+    };
+    // --- radius by radius --------------------------------------------------------
+    let l_t: Vec<f64> = (0..n).map(|k| xi_of(target[2 * k]) - xi_rest[2 * k]).collect();
+    let mut knots = Vec::with_capacity(n);
+    // Positions out of reach: (k, the shortest L along the radius).
+    let mut short: Vec<(usize, f64)> = Vec::new();
+    for (k, &l) in l_t.iter().enumerate() {
+        let r = &rays[2 * k];
+        let near = if k == 0 { anchor_rho } else { cam.profile.rho(r.beta) };
+        match r.solve(l, near) {
+            Some(rho) => knots.push(Knot { theta_deg: turn_deg(r.beta.to_degrees()), radius_mm: rho, solved_mm: rho, phi_deg: wrap_deg(phis[2 * k]) }),
+            None => short.push((k, r.min_length())),
+        }
+    }
+    if let Some(&(k, lmin)) = short.iter().max_by(|a, b| (a.1 - l_t[a.0]).total_cmp(&(b.1 - l_t[b.0]))) {
+        // Every L grows with ξ(φ0) one for one: the worst shortfall (plus
+        // 0.01 mm) is what φ0's contour must gain, and the anchor radius
+        // that gives it lies on the rising side of L along φ0's radius.
+        let need = lmin - l_t[k];
+        let hint = match rays[0].solve(l_t[0] + need.max(0.0) + 0.01, 1e9) {
+            Some(r) if r.is_finite() => format!(
+                "the target gives out more thread there than this cam can release. ξ(φ0) sets the level: --anchor-radius {:.2} (or \
+                 larger) reaches every position; or set the guides further apart, or give the target less swing",
+                (r * 100.0).ceil() / 100.0
+            ),
+            _ => "the target gives out more thread there than this cam can release: set the guides further apart, or give the target less swing".to_string(),
+        };
+        return Err(bad(
+            format!(
+                "the target cannot be reached at {} of {n} positions; the worst is φ = {:.3}°, where the thread over cam `{}` would \
+                 have to be {:.4} mm long, but along the contact radius (θ = {:.2}°) it is never shorter than {:.4} mm ({:.4} mm short)",
+                short.len(),
+                wrap_deg(phis[2 * k]),
+                cam.name,
+                l_t[k],
+                wrap_deg(rays[2 * k].beta.to_degrees()),
+                lmin,
+                need
+            ),
+            &hint,
+        ));
+    }
+    knots.sort_by(|x, y| x.theta_deg.total_cmp(&y.theta_deg));
+    // Distinct within the turn, the last one short of the first a turn later.
+    for k in 0..n {
+        let (a, b) = (knots[k].theta_deg, if k + 1 < n { knots[k + 1].theta_deg } else { knots[0].theta_deg + 360.0 });
+        if b - a < 1e-9 {
+            return Err(bad(format!("two knots fall on profile angle {:.6}°", a), "use fewer --points"));
+        }
+    }
+    // --- smoothing: a periodic moving average over `smooth_deg`, twice -------
+    if opts.smooth_deg > 0.0 {
+        smooth(&mut knots, opts.smooth_deg);
+    }
+    let theta: Vec<f64> = knots.iter().map(|k| k.theta_deg.to_radians()).collect();
+    let rho: Vec<f64> = knots.iter().map(|k| k.radius_mm).collect();
+    let profile = Profile::spline(&theta, &rho);
+    if !(0..720).all(|i| profile.rho(i as f64 * TAU / 720.0).is_finite()) {
+        return Err(Error::NotFinite("the synthesised profile is not finite".into()));
+    }
+    // --- verify: the model again with the new profile --------------------------
+    let mut mech2 = mech.clone();
+    if let Some(t) = mech2.threads.as_mut() {
+        t.cams[ci].profile = profile.clone();
+    }
+    let threads2 = mech2.threads.as_ref().expect("cloned with its threads");
+    let p_after = take_up(&mech2, threads2, &pose, &phis, pi)?;
+    let p_before: Vec<f64> = xi_ref.iter().map(|x| threads.convention.take_up(*x, xi0_ref)).collect();
+    let worst = |js: &mut dyn Iterator<Item = usize>, p: &[f64]| {
+        js.map(|j| ((p[j] - target[j]).abs(), wrap_deg(phis[j]))).fold((0.0f64, phis[0]), |m, x| if x.0 > m.0 { x } else { m })
+    };
+    let (ek, ek_at) = worst(&mut (0..2 * n).step_by(2), &p_after);
+    let (eb, eb_at) = worst(&mut (1..2 * n).step_by(2), &p_after);
+    let (e0, _) = worst(&mut (0..2 * n), &p_before);
+    let (match_before, match_after, match_after_all) = match &pprime {
+        Some((_, pp, compared, tol)) => {
+            let even = |v: &[f64]| v.iter().step_by(2).copied().collect::<Vec<f64>>();
+            let ce: Vec<bool> = compared.iter().step_by(2).copied().collect();
+            let (ph, ppe) = (even(&phis), even(pp));
+            (
+                mismatch(&ph, &even(&p_before), &ppe, &ce, *tol, false),
+                mismatch(&ph, &even(&p_after), &ppe, &ce, *tol, false),
+                mismatch(&phis, &p_after, pp, compared, *tol, false),
+            )
+        }
+        None => (None, None, None),
+    };
+    // --- checks -------------------------------------------------------------
+    let checks = check(&profile, &rays, &phis, opts);
+    let range = |p: &Profile| (0..3600).map(|i| p.rho(i as f64 * TAU / 3600.0)).fold([f64::MAX, f64::MIN], |m, r| [m[0].min(r), m[1].max(r)]);
+    let shared_with: Vec<String> = threads
+        .paths
+        .iter()
+        .filter(|p| p.name != opts.path && p.spans.iter().any(|&s| matches!(threads.spans[s], Span::Cam { cam, .. } if cam == ci)))
+        .map(|p| p.name.clone())
+        .collect();
+    if !shared_with.is_empty() {
+        notes.push(format!("cam `{}` also feeds path(s) {}: their take-up changes with the new profile too", cam.name, shared_with.join(", ")));
+    }
+    let axis_toml = file_cam.and_then(|c| c.axis.as_ref()).map(|ax| match ax {
+        crate::model::file::Axis::Named(s) => format!("{s:?}"),
+        crate::model::file::Axis::Vector(v) => format!(
+            "[{}]",
+            v.iter()
+                .map(|x| match x {
+                    crate::model::file::Value::Number(x) => fmt_num(*x),
+                    crate::model::file::Value::Expr(e) => format!("{e:?}"),
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    });
+    Ok(CamSynthesis {
+        path: opts.path.clone(),
+        cam: cam.name.clone(),
+        center: file_cam.map_or_else(|| model.point_names[cam.center].clone(), |c| c.center.clone()),
+        marker: file_cam.map_or_else(|| model.point_names[cam.marker].clone(), |c| c.marker.clone()),
+        axis_toml,
+        frame: file_cam.and_then(|c| c.frame.clone()),
+        gamma_deg: gamma.to_degrees(),
+        target: label,
+        thread: pprime.as_ref().map(|p| p.0.clone()),
+        phi0_deg: wrap_deg(phi0),
+        knots,
+        smooth_deg: opts.smooth_deg,
+        target_shift_mm: -shift,
+        anchor_radius_mm: anchor_rho,
+        anchor_theta_deg: wrap_deg(rays[0].beta.to_degrees()),
+        reference_radius_mm: range(&cam.profile),
+        radius_mm: range(&profile),
+        checks,
+        verify: Verification {
+            phi_deg: phis.clone(),
+            target_mm: target,
+            p_before_mm: p_before,
+            p_after_mm: p_after,
+            max_err_knots_mm: ek,
+            max_err_knots_at_deg: ek_at,
+            max_err_between_mm: eb,
+            max_err_between_at_deg: eb_at,
+            max_err_before_mm: e0,
+            match_before,
+            match_after,
+            match_after_all,
+        },
+        shared_with,
+        notes,
+        profile,
+    })
+}
+
+/// Periodic moving average of the knot radii over `width_deg` of profile
+/// angle, applied twice: triangular weights reaching ±`width_deg`, each knot
+/// weighted by the angle it stands for (the knots may be spaced unevenly).
+fn smooth(knots: &mut [Knot], width_deg: f64) {
+    let n = knots.len();
+    let th: Vec<f64> = knots.iter().map(|k| k.theta_deg).collect();
+    let gap = |i: usize, j: usize| (th[j] - th[i]).rem_euclid(360.0);
+    let span: Vec<f64> = (0..n).map(|i| 0.5 * (gap((i + n - 1) % n, i) + gap(i, (i + 1) % n))).collect();
+    let rho: Vec<f64> = knots.iter().map(|k| k.radius_mm).collect();
+    for (i, k) in knots.iter_mut().enumerate() {
+        let (mut sw, mut s) = (0.0, 0.0);
+        for j in 0..n {
+            let d = ((th[j] - th[i] + 180.0).rem_euclid(360.0) - 180.0).abs();
+            let w = (1.0 - d / width_deg).max(0.0) * span[j];
+            sw += w;
+            s += w * rho[j];
+        }
+        if sw > 0.0 {
+            k.radius_mm = s / sw;
+        }
+    }
+}
+
+/// Minimum radius, convexity, slope and thread contact angle of `profile`.
+fn check(profile: &Profile, rays: &[Ray], phis: &[f64], opts: &CamOptions) -> Checks {
+    let m = 3600;
+    let mut min_r = (f64::MAX, 0.0);
+    let mut slope = (0.0f64, 0.0);
+    let mut conv_min = f64::MAX;
+    let mut flags = Vec::with_capacity(m);
+    let ths: Vec<f64> = (0..m).map(|i| i as f64 * 360.0 / m as f64).collect();
+    for &t in &ths {
+        let r = profile.rho(Dual2_64::new(t.to_radians(), 1.0, 0.0));
+        if r.re < min_r.0 {
+            min_r = (r.re, t);
+        }
+        let s = r.v1.abs().atan2(r.re.abs()).to_degrees();
+        if s > slope.0 {
+            slope = (s, t);
+        }
+        // The curvature numerator of a polar curve (cam.rs `convexity`).
+        let c = r.re * r.re + 2.0 * r.v1 * r.v1 - r.re * r.v2;
+        conv_min = conv_min.min(c);
+        flags.push(c <= 0.0);
+    }
+    let not_convex: Vec<[f64; 2]> = crate::thread::intervals(&flags, &ths).iter().map(|i| [i.from_deg, i.to_deg.min(i.from_deg + 360.0)]).collect();
+    let mut contact = (0.0f64, 0.0);
+    for (r, &phi) in rays.iter().zip(phis) {
+        if let Some(a) = r.contact_angle_deg(profile)
+            && a > contact.0
+        {
+            contact = (a, wrap_deg(phi));
+        }
+    }
+    Checks {
+        min_radius_mm: min_r.0,
+        min_radius_at_theta_deg: min_r.1,
+        min_radius_limit_mm: opts.min_radius_mm,
+        min_radius_ok: min_r.0 >= opts.min_radius_mm,
+        convex: conv_min > 0.0,
+        convexity_min_mm2: conv_min,
+        not_convex_deg: not_convex,
+        max_slope_deg: slope.0,
+        max_slope_at_theta_deg: slope.1,
+        max_contact_angle_deg: contact.0,
+        max_contact_angle_at_phi_deg: contact.1,
+        contact_angle_limit_deg: opts.max_pressure_angle_deg,
+        contact_angle_ok: contact.0 <= opts.max_pressure_angle_deg,
+    }
+}
+
+impl CamSynthesis {
+    /// Every knot as `theta_deg,radius_mm`.
+    pub fn csv(&self) -> String {
+        let mut s = String::from("theta_deg,radius_mm\n");
+        for k in &self.knots {
+            s += &format!("{},{}\n", fmt_num(k.theta_deg), fmt_num(k.radius_mm));
+        }
+        s
+    }
+
+    /// A `[[cams]]` entry with the polar profile, to paste over the model's.
+    pub fn toml_snippet(&self) -> String {
+        let list = |v: Vec<f64>| {
+            let items: Vec<String> = v.iter().map(|x| fmt_num(*x)).collect();
+            let rows: Vec<String> = items.chunks(8).map(|c| format!("    {}", c.join(", "))).collect();
+            format!("[\n{},\n  ]", rows.join(",\n"))
+        };
+        let mut s = format!(
+            "# Cam `{}` synthesised by `stitchkin cam` for thread path `{}`: {}.\n\
+             # {} knots, radius {:.3}…{:.3} mm; replace the [[cams]] entry named `{}` with this one.\n",
+            self.cam, self.path, self.target, self.knots.len(), self.radius_mm[0], self.radius_mm[1], self.cam
+        );
+        s += "[[cams]]\n";
+        s += &format!("name = {:?}\ncenter = {:?}\nmarker = {:?}\n", self.cam, self.center, self.marker);
+        if let Some(a) = &self.axis_toml {
+            s += &format!("axis = {a}\n");
+        }
+        if let Some(f) = &self.frame {
+            s += &format!("frame = {f:?}\n");
+        }
+        s += &format!(
+            "polar = {{ angle_deg = {}, radius_mm = {} }}\n",
+            list(self.knots.iter().map(|k| k.theta_deg).collect()),
+            list(self.knots.iter().map(|k| k.radius_mm).collect())
+        );
+        s
+    }
+
+    /// The profile sampled densely (θ rad, point in the cam frame, mm).
+    fn outline(&self) -> Vec<(f64, f64)> {
+        let m = (4 * self.knots.len()).max(1440);
+        (0..m)
+            .map(|i| {
+                let t = i as f64 * TAU / m as f64;
+                let r = self.profile.rho(t);
+                (r * t.cos(), r * t.sin())
+            })
+            .collect()
+    }
+
+    /// The profile drawn to scale (1 user unit = 1 mm) with its centre, the
+    /// marker direction (θ = 0) and a scale bar, seen from the tip of the
+    /// shaft axis (profile angles counter-clockwise).
+    pub fn svg(&self) -> String {
+        let pts = self.outline();
+        let r = pts.iter().map(|(x, y)| x.hypot(*y)).fold(1.0f64, f64::max);
+        let margin = 0.25 * r + 4.0;
+        let half = r + margin;
+        let bar = nice_length(0.5 * r);
+        let (w, h) = (2.0 * half, 2.0 * half + 12.0);
+        let f = |x: f64| format!("{x:.4}");
+        let mut d = String::new();
+        for (i, (x, y)) in pts.iter().enumerate() {
+            d += &format!("{}{} {} ", if i == 0 { "M" } else { "L" }, f(*x), f(-*y));
+        }
+        d += "Z";
+        let font = (0.06 * r).clamp(1.5, 6.0);
+        let mut s = String::new();
+        s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+        s += &format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}mm\" height=\"{}mm\" viewBox=\"{} {} {} {}\">\n",
+            f(w),
+            f(h),
+            f(-half),
+            f(-half),
+            f(w),
+            f(h)
+        );
+        s += &format!(
+            "  <title>cam {} for thread path {}: {} (stitchkin cam); 1 unit = 1 mm, seen from the tip of the shaft axis</title>\n",
+            xml(&self.cam),
+            xml(&self.path),
+            xml(&self.target)
+        );
+        s += &format!("  <path id=\"profile\" d=\"{d}\" fill=\"none\" stroke=\"black\" stroke-width=\"{}\"/>\n", f(0.01 * r));
+        let c = 0.06 * r;
+        s += &format!(
+            "  <g id=\"centre\" stroke=\"black\" stroke-width=\"{}\"><line x1=\"{}\" y1=\"0\" x2=\"{}\" y2=\"0\"/><line x1=\"0\" y1=\"{}\" x2=\"0\" y2=\"{}\"/><circle cx=\"0\" cy=\"0\" r=\"{}\" fill=\"none\"/></g>\n",
+            f(0.004 * r),
+            f(-c),
+            f(c),
+            f(-c),
+            f(c),
+            f(0.4 * c)
+        );
+        s += &format!(
+            "  <g id=\"marker\" stroke=\"blue\" stroke-width=\"{}\" stroke-dasharray=\"{} {}\"><line x1=\"0\" y1=\"0\" x2=\"{}\" y2=\"0\"/></g>\n",
+            f(0.006 * r),
+            f(0.04 * r),
+            f(0.02 * r),
+            f(r + 0.5 * margin)
+        );
+        s += &format!(
+            "  <text x=\"{}\" y=\"{}\" font-size=\"{}\" fill=\"blue\" text-anchor=\"end\">θ = 0 (toward {})</text>\n",
+            f(r + 0.5 * margin),
+            f(-0.4 * font),
+            f(font),
+            xml(&self.marker)
+        );
+        let (y0, x0) = (half + 4.0, -half + 2.0);
+        s += &format!(
+            "  <g id=\"scale\" stroke=\"black\" stroke-width=\"{}\"><line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\"/><line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\"/><line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\"/></g>\n",
+            f(0.3),
+            f(x0),
+            f(y0),
+            f(x0 + bar),
+            f(y0),
+            f(x0),
+            f(y0 - 1.0),
+            f(x0),
+            f(y0 + 1.0),
+            f(x0 + bar),
+            f(y0 - 1.0),
+            f(x0 + bar),
+            f(y0 + 1.0)
+        );
+        s += &format!(
+            "  <text x=\"{}\" y=\"{}\" font-size=\"{}\">{} mm</text>\n",
+            f(x0 + bar + 1.5),
+            f(y0 + 1.2),
+            f(3.0),
+            fmt_num(bar)
+        );
+        s += &format!(
+            "  <text x=\"{}\" y=\"{}\" font-size=\"{}\">cam {} (centre {}), radius {:.2}…{:.2} mm</text>\n",
+            f(x0),
+            f(y0 + 6.0),
+            f(3.0),
+            xml(&self.cam),
+            xml(&self.center),
+            self.radius_mm[0],
+            self.radius_mm[1]
+        );
+        s += "</svg>\n";
+        s
+    }
+
+    /// The profile as an R12 ASCII DXF (units mm): a closed POLYLINE on
+    /// layer PROFILE, the centre as a POINT and the marker direction as a
+    /// LINE on layer MARKER.
+    pub fn dxf(&self) -> String {
+        let mut s = String::new();
+        let mut g = |code: i32, v: &str| {
+            s += &format!("{code}\n{v}\n");
+        };
+        g(999, &format!("stitchkin cam: cam {} for thread path {}; units mm", self.cam, self.path));
+        for (c, v) in [(0, "SECTION"), (2, "HEADER"), (9, "$ACADVER"), (1, "AC1009"), (9, "$INSUNITS"), (70, "4"), (0, "ENDSEC")] {
+            g(c, v);
+        }
+        for (c, v) in [(0, "SECTION"), (2, "ENTITIES"), (0, "POLYLINE"), (8, "PROFILE"), (66, "1"), (70, "1"), (10, "0.0"), (20, "0.0"), (30, "0.0")] {
+            g(c, v);
+        }
+        let pts = self.outline();
+        for (x, y) in &pts {
+            for (c, v) in [(0, "VERTEX".to_string()), (8, "PROFILE".into()), (10, format!("{x:.6}")), (20, format!("{y:.6}")), (30, "0.0".into())] {
+                g(c, &v);
+            }
+        }
+        let r = pts.iter().map(|(x, y)| x.hypot(*y)).fold(0.0f64, f64::max);
+        for (c, v) in [(0, "SEQEND".to_string()), (8, "PROFILE".into()), (0, "POINT".into()), (8, "CENTER".into()), (10, "0.0".into()), (20, "0.0".into()), (30, "0.0".into())] {
+            g(c, &v);
+        }
+        for (c, v) in [
+            (0, "LINE".to_string()),
+            (8, "MARKER".into()),
+            (10, "0.0".into()),
+            (20, "0.0".into()),
+            (30, "0.0".into()),
+            (11, format!("{:.6}", 1.15 * r)),
+            (21, "0.0".into()),
+            (31, "0.0".into()),
+            (0, "ENDSEC".into()),
+            (0, "EOF".into()),
+        ] {
+            g(c, &v);
+        }
+        s
+    }
+}
+
+/// 1, 2 or 5 × 10^k, at most `x` (at least 1 mm).
+fn nice_length(x: f64) -> f64 {
+    let x = x.max(1.0);
+    let p = 10f64.powf(x.log10().floor());
+    [5.0, 2.0, 1.0].into_iter().map(|m| m * p).find(|&v| v <= x).unwrap_or(p)
+}
+
+fn xml(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::thread::cam::offset_contact;
+
+    fn at(angle: f64) -> CamPlacement<f64> {
+        CamPlacement { center: V3::zeros(), u: V3::new(angle.cos(), angle.sin(), 0.0), v: V3::new(-angle.sin(), angle.cos(), 0.0), w: V3::z() }
+    }
+
+    #[test]
+    fn the_ray_length_is_the_offset_contact() {
+        let prof = Profile::disc(10.0, 3.0);
+        let (p, q) = (V3::new(-20.0, 30.0, 2.0), V3::new(25.0, 28.0, -3.0));
+        for (ang, gamma) in [(0.0, 0.5), (1.3, -0.2), (4.0, 0.8)] {
+            let pl = at(ang);
+            let marker = pl.u * 5.0;
+            let r = Ray::new(p, q, V3::zeros(), marker, V3::z(), gamma).unwrap();
+            let want = offset_contact(&prof, &pl, p, q, gamma).unwrap().length;
+            assert!((r.length(prof.rho(r.beta)) - want).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn the_quadratic_inverts_the_length() {
+        // Unsymmetric guides: solve L(ρ) = L(ρ0) for ρ0 and get ρ0 back.
+        let (p, q) = (V3::new(-20.0, 30.0, 2.0), V3::new(25.0, 28.0, -3.0));
+        let r = Ray::new(p, q, V3::zeros(), V3::new(1.0, 0.0, 0.0), V3::z(), 0.4).unwrap();
+        for rho0 in [2.0, 7.5, 15.0, 26.0] {
+            let got = r.solve(r.length(rho0), rho0).unwrap();
+            assert!((got - rho0).abs() < 1e-10, "{got} vs {rho0}");
+        }
+        // Symmetric guides: seed 004 §2.5's ξ = 2|O2 − A| and its closed-form root.
+        let (p, q) = (V3::new(-18.0, 6.0, 0.0), V3::new(18.0, 6.0, 0.0));
+        let r = Ray::new(p, q, V3::zeros(), V3::new(1.0, 0.0, 0.0), V3::z(), 0.0).unwrap();
+        let l = 40.0;
+        let (a, c) = (r.ap, r.cp);
+        let want = a + (a * a - c + l * l / 4.0).sqrt();
+        assert!((r.solve(l, 10.0).unwrap() - want).abs() < 1e-12);
+        // Shorter than the thread can be along that radius: no root.
+        assert!(r.solve(r.min_length() - 0.1, 10.0).is_none());
+        assert!(r.solve(35.0, 10.0).is_none(), "shorter than the straight line between the guides");
+    }
+
+    fn spline(t: &Target) -> PeriodicSpline {
+        let Target::Curve { phi_deg, p_mm, .. } = t else { panic!("a curve") };
+        PeriodicSpline::new(phi_deg, p_mm)
+    }
+
+    #[test]
+    fn csv_targets_are_periodic_splines_and_checked() {
+        let t = parse_target_csv("# a comment\nphi_deg,P_mm\n0,0\n90,1\n180,2\n270,1\n", "t.csv").unwrap();
+        let s = spline(&t);
+        for (x, y) in [(0.0, 0.0), (90.0, 1.0), (180.0, 2.0), (270.0 + 360.0, 1.0), (-90.0, 1.0)] {
+            assert!((s.at(x) - y).abs() < 1e-12, "{x}");
+        }
+        // Symmetric about 180°, periodic.
+        assert!((s.at(45.0) - s.at(315.0)).abs() < 1e-12 && (s.at(45.0) - s.at(405.0)).abs() < 1e-12);
+        // Unsorted, off-grid, a column named as `stitchkin run` writes it:
+        // a sinusoid through 10 points comes back to 1e-3 between them.
+        let mut text = String::from("lower.P_mm,phi_deg\n");
+        for k in [3, 1, 4, 0, 5, 9, 2, 6, 8, 7] {
+            let x = 5.0 + 36.0 * k as f64;
+            text += &format!("{},{x}\n", 2.0 * x.to_radians().sin());
+        }
+        let s = spline(&parse_target_csv(&text, "t.csv").unwrap());
+        for x in [0.0, 17.0, 100.0, 359.0] {
+            assert!((s.at(x) - 2.0 * f64::to_radians(x).sin()).abs() < 1e-2, "{x}: {}", s.at(x));
+        }
+        for bad in ["", "phi,P_mm\n0,1\n", "phi_deg,P_mm\n0,1\n90,x\n", "phi_deg,P_mm\n0,1\n360,2\n90,1\n180,1\n", "phi_deg,P_mm\n0,1\n90,2\n"] {
+            assert!(parse_target_csv(bad, "t.csv").is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn smoothing_keeps_a_constant_and_flattens_a_spike() {
+        let mut k: Vec<Knot> = (0..36).map(|i| Knot { theta_deg: i as f64 * 10.0, radius_mm: 10.0, solved_mm: 10.0, phi_deg: 0.0 }).collect();
+        smooth(&mut k, 30.0);
+        assert!(k.iter().all(|k| (k.radius_mm - 10.0).abs() < 1e-12));
+        k[0].radius_mm = 20.0;
+        smooth(&mut k, 30.0);
+        assert!(k[0].radius_mm < 14.0 && k[1].radius_mm > 10.0 && k[35].radius_mm > 10.0 && (k[18].radius_mm - 10.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn nice_scale_bars() {
+        assert_eq!(nice_length(8.6), 5.0);
+        assert_eq!(nice_length(23.0), 20.0);
+        assert_eq!(nice_length(0.3), 1.0);
+    }
+}

@@ -1,0 +1,739 @@
+//! Calibration: fit model dimensions (figure-only, reconstructed ones) to
+//! stated results (issue 5, item 8).
+//!
+//! A facts file lists results a source states, each a figure of merit (named
+//! as [`super::sweep::figures`] names them) at a setting, with a tolerance
+//! or a weight:
+//!
+//! ```toml
+//! adjust = ["l_cf=30:45"]          # default parameters to fit, with bounds
+//! [[fact]]
+//! figure = "needle_y.range_mm"
+//! value = 18
+//! set = { alpha = 0 }
+//! tolerance = 0.25                 # residual / tolerance enters the cost
+//! [[fact]]                         # a difference: F(set) − F(relative_to)
+//! figure = "needle_y.min_mm"
+//! value = 0
+//! set = { alpha = 35 }
+//! relative_to = { alpha = 0 }
+//! tolerance = 0.01
+//! ```
+//!
+//! The fit minimises the weighted sum of squares
+//!
+//! ```text
+//! cost = Σ_i (w_i · (F_i(x) − v_i))²,   w_i = 1/tolerance_i (or the weight)
+//! ```
+//!
+//! over the adjusted parameters x within their bounds, by Levenberg–
+//! Marquardt: few parameters and few, smooth residuals make it the natural
+//! choice (Gauss–Newton's quadratic convergence near the solution, gradient
+//! descent's safety far from it), and every Jacobian column comes exact from
+//! one dual-number cycle per setting ([`super::sensitivity::figure_derivatives`]),
+//! a central difference only for the match figures. (argmin's Nelder–Mead
+//! would need hundreds of cycles and stop at a tolerance in x it cannot
+//! certify; its Gauss–Newton has neither damping nor bounds.) Bounds are kept
+//! by projecting every step onto the box. At the optimum the linearised
+//! standard error √((JᵀJ)⁻¹)_jj of each parameter is reported: with
+//! tolerances as weights, how far the parameter may move with the facts
+//! still met to their tolerances.
+
+use std::sync::Arc;
+
+use indexmap::IndexMap;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::sensitivity::{FD_REL_STEP, figure_derivatives, figure_unit};
+use super::sweep::figures;
+use crate::error::{Error, ModelError, ParamError};
+use crate::eval::{CycleOptions, check_options, run_cycle_with};
+use crate::model::spans::{Path, SpanIndex};
+use crate::model::{Model, Params};
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FactsFileDef {
+    title: Option<String>,
+    model: Option<String>,
+    #[serde(default)]
+    adjust: Vec<String>,
+    step_deg: Option<f64>,
+    #[serde(default)]
+    fact: Vec<FactDef>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FactDef {
+    figure: String,
+    value: f64,
+    #[serde(default)]
+    set: IndexMap<String, f64>,
+    relative_to: Option<IndexMap<String, f64>>,
+    weight: Option<f64>,
+    tolerance: Option<f64>,
+    source: Option<String>,
+}
+
+/// One stated result.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Fact {
+    /// A figure of merit, as `stitchkin sweep --figures` names it.
+    pub figure: String,
+    /// The stated value, in the figure's unit.
+    pub value: f64,
+    /// Parameter settings of this fact (on top of the model's and --set).
+    pub set: Vec<(String, f64)>,
+    /// When given, the fact is the difference F(set) − F(relative_to).
+    pub relative_to: Option<Vec<(String, f64)>>,
+    /// The residual's multiplier: 1/tolerance, or the weight (default 1).
+    pub weight: f64,
+    pub tolerance: Option<f64>,
+    pub source: Option<String>,
+}
+
+/// A facts file.
+#[derive(Debug, Clone)]
+pub struct Facts {
+    pub file: String,
+    pub text: Arc<str>,
+    pub title: Option<String>,
+    /// The model the facts are about (a preset name or a file), if stated.
+    pub model: Option<String>,
+    /// Parameters to fit when the command line names none: `NAME` or
+    /// `NAME=LO:HI`.
+    pub adjust: Vec<String>,
+    pub step_deg: Option<f64>,
+    pub facts: Vec<Fact>,
+}
+
+impl Facts {
+    /// Parses a facts file; `file` names it in messages.
+    pub fn from_toml_str(text: &str, file: &str) -> Result<Facts, Error> {
+        let text: Arc<str> = text.into();
+        let err = |span: Option<std::ops::Range<usize>>, path: String, message: String, help: &str| {
+            Error::Model(Box::new(ModelError { file: file.to_string(), text: text.clone(), span, path, message, help: Some(help.to_string()) }))
+        };
+        let def: FactsFileDef = toml::from_str(&text).map_err(|e| {
+            err(
+                e.span(),
+                String::new(),
+                e.message().to_string(),
+                "write [[fact]] tables with figure = \"NAME\", value = NUMBER, and optionally set = { PARAM = VALUE }, \
+                 relative_to = { PARAM = VALUE }, tolerance = NUMBER or weight = NUMBER, source = \"...\"",
+            )
+        })?;
+        let spans = SpanIndex::new(&text);
+        let at = |i: usize, key: &str| Path::root().key("fact").index(i).key(key);
+        let mut facts = Vec::new();
+        for (i, f) in def.fact.iter().enumerate() {
+            let fail = |key: &str, message: String, help: &str| {
+                let p = at(i, key);
+                err(spans.find(&p).or_else(|| spans.find(&Path::root().key("fact").index(i))), p.to_string(), message, help)
+            };
+            if !f.value.is_finite() {
+                return Err(fail("value", "the stated value must be a finite number".into(), "give the value in the figure's unit"));
+            }
+            let weight = match (f.weight, f.tolerance) {
+                (Some(_), Some(_)) => {
+                    return Err(fail("tolerance", "give a tolerance or a weight, not both".into(), "tolerance = T weighs the residual by 1/T"));
+                }
+                (Some(w), None) if !(w.is_finite() && w > 0.0) => {
+                    return Err(fail("weight", format!("the weight must be positive, got {w}"), "e.g. weight = 1"));
+                }
+                (None, Some(t)) if !(t.is_finite() && t > 0.0) => {
+                    return Err(fail("tolerance", format!("the tolerance must be positive, got {t}"), "in the figure's unit, e.g. tolerance = 0.1"));
+                }
+                (Some(w), None) => w,
+                (None, Some(t)) => 1.0 / t,
+                (None, None) => 1.0,
+            };
+            let pairs = |m: &IndexMap<String, f64>| m.iter().map(|(k, v)| (k.clone(), *v)).collect::<Vec<_>>();
+            facts.push(Fact {
+                figure: f.figure.trim().to_string(),
+                value: f.value,
+                set: pairs(&f.set),
+                relative_to: f.relative_to.as_ref().map(pairs),
+                weight,
+                tolerance: f.tolerance,
+                source: f.source.clone(),
+            });
+        }
+        if facts.is_empty() {
+            return Err(err(None, String::new(), "the facts file states no fact".into(), "add [[fact]] tables: figure = \"needle_y.range_mm\", value = 18"));
+        }
+        Ok(Facts { file: file.to_string(), text, title: def.title, model: def.model, adjust: def.adjust, step_deg: def.step_deg, facts })
+    }
+
+    /// Reads and parses a facts file.
+    pub fn from_path(path: &std::path::Path) -> Result<Facts, Error> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io(format!("cannot read facts file `{}`: {e}", path.display())))?;
+        Facts::from_toml_str(&text, &path.display().to_string())
+    }
+
+    /// An error at `fact[i].key` of the file.
+    fn error_at(&self, i: usize, key: &str, message: String, help: String) -> Error {
+        let spans = SpanIndex::new(&self.text);
+        let p = Path::root().key("fact").index(i).key(key);
+        let span = spans.find(&p).or_else(|| spans.find(&Path::root().key("fact").index(i)));
+        Error::Model(Box::new(ModelError { file: self.file.clone(), text: self.text.clone(), span, path: p.to_string(), message, help: Some(help) }))
+    }
+}
+
+/// A fitted parameter: `NAME` (within its adjustable range) or
+/// `NAME=LO:HI` (within these bounds).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Bounded {
+    pub name: String,
+    #[serde(skip)]
+    pub index: usize,
+    pub unit: &'static str,
+    pub lo: f64,
+    pub hi: f64,
+}
+
+impl Bounded {
+    pub fn parse(model: &Model, spec: &str) -> Result<Bounded, Error> {
+        let bad = |message: String, help: String| Error::Param(ParamError { message, help: Some(help) });
+        let (name, bounds) = match spec.split_once('=') {
+            Some((n, b)) => (n.trim(), Some(b)),
+            None => (spec.trim(), None),
+        };
+        let index = model.param_index(name).ok_or_else(|| {
+            let names: Vec<&str> = model.params.iter().filter(|p| !p.is_derived()).map(|p| p.name.as_str()).collect();
+            bad(format!("the model has no parameter `{name}` to fit"), format!("its parameters are: {}", names.join(", ")))
+        })?;
+        let p = &model.params[index];
+        if p.is_derived() {
+            return Err(bad(format!("`{name}` is derived from other parameters and cannot be fitted"), "fit the parameters its expression uses".into()));
+        }
+        let (lo, hi) = match bounds {
+            Some(b) => {
+                let parts: Vec<&str> = b.split(':').collect();
+                let num = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
+                match (parts.len(), parts.first().and_then(|s| num(s)), parts.get(1).and_then(|s| num(s))) {
+                    (2, Some(lo), Some(hi)) if lo < hi => (lo, hi),
+                    _ => return Err(bad(format!("`{spec}` does not give bounds LO:HI with LO < HI"), format!("e.g. --adjust {name}=30:45"))),
+                }
+            }
+            None => match p.range {
+                Some([lo, hi]) if lo < hi => (lo, hi),
+                _ => {
+                    return Err(bad(
+                        format!("`{name}` has no adjustable range to fit it in"),
+                        format!("give bounds: --adjust {name}=LO:HI (in {})", p.unit_str()),
+                    ));
+                }
+            },
+        };
+        if let Some([rlo, rhi]) = p.range
+            && (lo < rlo || hi > rhi)
+        {
+            return Err(bad(
+                format!("the bounds {lo}…{hi} {} of `{name}` leave its adjustable range {rlo}…{rhi}", p.unit_str()),
+                format!("fit within {rlo}…{rhi}"),
+            ));
+        }
+        Ok(Bounded { name: name.to_string(), index, unit: p.unit_str(), lo, hi })
+    }
+}
+
+/// How to fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitOptions {
+    /// `NAME` or `NAME=LO:HI`; empty: the facts file's `adjust`.
+    pub adjust: Vec<String>,
+    /// φ step of the cycles, degrees; `None`: the facts file's, else 1.
+    pub step_deg: Option<f64>,
+    /// Levenberg–Marquardt iterations at most.
+    pub max_iterations: usize,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions { adjust: Vec::new(), step_deg: None, max_iterations: 100 }
+    }
+}
+
+/// A parameter after the fit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FittedParam {
+    pub name: String,
+    pub unit: &'static str,
+    pub lo: f64,
+    pub hi: f64,
+    pub start: f64,
+    pub fitted: f64,
+    /// Linearised standard error √((JᵀJ)⁻¹)_jj, with J the weighted
+    /// residuals' Jacobian; `None` when the facts do not determine it.
+    pub std_error: Option<f64>,
+    /// The fit stopped at a bound.
+    pub at_bound: bool,
+}
+
+/// A fact after the fit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FactResult {
+    pub figure: String,
+    pub unit: &'static str,
+    /// Its setting in words (`alpha = 35 deg`, or `alpha = 35 deg minus alpha = 0 deg`).
+    pub setting: String,
+    pub target: f64,
+    pub tolerance: Option<f64>,
+    pub weight: f64,
+    pub start: f64,
+    pub fitted: f64,
+    /// fitted − target, in the figure's unit.
+    pub residual: f64,
+    /// weight × residual (residual / tolerance).
+    pub weighted: f64,
+    pub source: Option<String>,
+}
+
+/// The outcome of a fit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FitResult {
+    pub params: Vec<FittedParam>,
+    pub facts: Vec<FactResult>,
+    /// Σ (weight × residual)² at the start and at the end.
+    pub cost_start: f64,
+    pub cost: f64,
+    pub iterations: usize,
+    /// Cycles evaluated (plain and dual).
+    pub cycles: usize,
+    pub converged: bool,
+    /// Why the iteration stopped.
+    pub stop: String,
+    pub warnings: Vec<String>,
+}
+
+/// The distinct settings the facts need, and for each fact its (setting,
+/// relative-to setting) indices.
+type Settings = (Vec<Vec<(usize, f64)>>, Vec<(usize, Option<usize>)>);
+
+fn settings(model: &Model, facts: &Facts, adjusted: &[Bounded]) -> Result<Settings, Error> {
+    let mut list: Vec<Vec<(usize, f64)>> = Vec::new();
+    let mut index = |s: Vec<(usize, f64)>| match list.iter().position(|t| *t == s) {
+        Some(k) => k,
+        None => {
+            list.push(s);
+            list.len() - 1
+        }
+    };
+    let mut of_fact = Vec::new();
+    for (i, f) in facts.facts.iter().enumerate() {
+        let resolve = |pairs: &[(String, f64)], key: &str| -> Result<Vec<(usize, f64)>, Error> {
+            let mut out = Vec::new();
+            for (name, v) in pairs {
+                if adjusted.iter().any(|a| a.name == *name) {
+                    return Err(facts.error_at(i, key, format!("this fact sets `{name}`, which is being fitted"), format!("fit other parameters, or drop `{name}` from this fact's {key}")));
+                }
+                let mut p = model.defaults();
+                model.set(&mut p, name, *v).map_err(|e| facts.error_at(i, key, e.message.clone(), e.help.clone().unwrap_or_default()))?;
+                out.push((model.param_index(name).unwrap_or(0), *v));
+            }
+            Ok(out)
+        };
+        let s = resolve(&f.set, "set")?;
+        let r = match &f.relative_to {
+            Some(r) => Some(resolve(r, "relative_to")?),
+            None => None,
+        };
+        let a = index(s);
+        let b = r.map(&mut index);
+        of_fact.push((a, b));
+    }
+    Ok((list, of_fact))
+}
+
+/// Figures by name.
+type Named = Vec<(String, f64)>;
+/// A figure at one setting: name, value, d/dx_j for each adjusted x_j.
+type Row = (String, f64, Vec<f64>);
+
+/// What one evaluation gives: the facts' values and, when asked, their
+/// derivatives with respect to each adjusted parameter.
+struct Eval {
+    values: Vec<f64>,
+    jacobian: Option<Vec<Vec<f64>>>,
+}
+
+struct Problem<'a> {
+    model: &'a Model,
+    base: &'a Params,
+    facts: &'a Facts,
+    adjusted: &'a [Bounded],
+    settings: Vec<Vec<(usize, f64)>>,
+    of_fact: Vec<(usize, Option<usize>)>,
+    step_deg: f64,
+    cycles: std::sync::atomic::AtomicUsize,
+}
+
+impl Problem<'_> {
+    fn params_at(&self, x: &[f64], setting: usize) -> Params {
+        let mut p = self.base.clone();
+        for (a, &v) in self.adjusted.iter().zip(x) {
+            p.values[a.index] = v;
+        }
+        for &(i, v) in &self.settings[setting] {
+            p.values[i] = v;
+        }
+        p
+    }
+
+    fn plain(&self, p: &Params) -> Result<Vec<(String, f64)>, Error> {
+        self.cycles.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let opts = CycleOptions { step_deg: self.step_deg, rpm: None, analogs: false, points: None, lean: true };
+        Ok(figures(&run_cycle_with(self.model, p, &opts, None)?))
+    }
+
+    /// The figures each setting needs.
+    fn needed(&self, setting: usize) -> Vec<&str> {
+        let mut out: Vec<&str> = Vec::new();
+        for (f, &(a, b)) in self.facts.facts.iter().zip(&self.of_fact) {
+            if (a == setting || b == Some(setting)) && !out.contains(&f.figure.as_str()) {
+                out.push(&f.figure);
+            }
+        }
+        out
+    }
+
+    fn evaluate(&self, x: &[f64], jacobian: bool) -> Result<Eval, Error> {
+        let ns = self.settings.len();
+        let nx = self.adjusted.len();
+        // Per setting: each needed figure's value and d/dx_j.
+        let per: Vec<Result<Vec<Row>, Error>> = (0..ns)
+            .into_par_iter()
+            .map(|s| {
+                let p = self.params_at(x, s);
+                let plain = self.plain(&p)?;
+                let needed = self.needed(s);
+                let value = |list: &[(String, f64)], f: &str| list.iter().find(|(n, _)| n == f).map(|(_, v)| *v);
+                let mut rows: Vec<Row> = Vec::new();
+                for f in &needed {
+                    let v = value(&plain, f).filter(|v| v.is_finite()).ok_or_else(|| {
+                        Error::Param(ParamError { message: format!("figure `{f}` is not available at this setting"), help: None })
+                    })?;
+                    rows.push((f.to_string(), v, vec![0.0; nx]));
+                }
+                if jacobian {
+                    let cols: Vec<Result<Vec<f64>, Error>> = (0..nx)
+                        .into_par_iter()
+                        .map(|j| {
+                            let a = &self.adjusted[j];
+                            self.cycles.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                            let exact = figure_derivatives(self.model, &p, a.index, self.step_deg)?;
+                            let mut col = Vec::with_capacity(needed.len());
+                            let mut fd: Option<(Named, Named, f64)> = None;
+                            for f in &needed {
+                                match exact.iter().find(|(n, ..)| n == f) {
+                                    Some(e) => col.push(e.2),
+                                    None => {
+                                        // A match figure: central difference.
+                                        if fd.is_none() {
+                                            let h = FD_REL_STEP * (a.hi - a.lo);
+                                            let (mut up, mut dn) = (p.clone(), p.clone());
+                                            up.values[a.index] += h;
+                                            dn.values[a.index] -= h;
+                                            fd = Some((self.plain(&up)?, self.plain(&dn)?, h));
+                                        }
+                                        let (up, dn, h) = fd.as_ref().expect("computed above");
+                                        match (value(up, f), value(dn, f)) {
+                                            (Some(u), Some(d)) => col.push((u - d) / (2.0 * h)),
+                                            _ => return Err(Error::Param(ParamError { message: format!("figure `{f}` has no derivative here"), help: None })),
+                                        }
+                                    }
+                                }
+                            }
+                            Ok(col)
+                        })
+                        .collect();
+                    for (j, c) in cols.into_iter().enumerate() {
+                        for (row, d) in rows.iter_mut().zip(c?) {
+                            row.2[j] = d;
+                        }
+                    }
+                }
+                Ok(rows)
+            })
+            .collect();
+        let per = per.into_iter().collect::<Result<Vec<_>, _>>()?;
+        let get = |s: usize, f: &str| per[s].iter().find(|r| r.0 == f).expect("every needed figure is evaluated");
+        let mut values = Vec::new();
+        let mut jac = Vec::new();
+        for (f, &(a, b)) in self.facts.facts.iter().zip(&self.of_fact) {
+            let ra = get(a, &f.figure);
+            let (mut v, mut d) = (ra.1, ra.2.clone());
+            if let Some(b) = b {
+                let rb = get(b, &f.figure);
+                v -= rb.1;
+                d.iter_mut().zip(&rb.2).for_each(|(x, y)| *x -= y);
+            }
+            values.push(v);
+            jac.push(d);
+        }
+        Ok(Eval { values, jacobian: jacobian.then_some(jac) })
+    }
+
+    /// Weighted residuals w_i (F_i − v_i) and their cost Σ r².
+    fn residuals(&self, values: &[f64]) -> (Vec<f64>, f64) {
+        let r: Vec<f64> = self.facts.facts.iter().zip(values).map(|(f, v)| f.weight * (v - f.value)).collect();
+        let c = r.iter().map(|x| x * x).sum();
+        (r, c)
+    }
+}
+
+/// Solves the small symmetric system `a x = b` (Cholesky; `None` when `a`
+/// is not positive definite).
+fn solve_spd(a: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
+    let n = b.len();
+    let m = nalgebra::DMatrix::from_fn(n, n, |i, j| a[i][j]);
+    let chol = nalgebra::linalg::Cholesky::new(m)?;
+    let x = chol.solve(&nalgebra::DVector::from_column_slice(b));
+    x.iter().all(|v| v.is_finite()).then(|| x.iter().cloned().collect())
+}
+
+/// Fits `opts.adjust` of `model` (starting from `base`) to `facts`.
+pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Result<FitResult, Error> {
+    let step_deg = opts.step_deg.or(facts.step_deg).unwrap_or(1.0);
+    check_options(&CycleOptions { step_deg, ..Default::default() })?;
+    let specs = if opts.adjust.is_empty() { &facts.adjust } else { &opts.adjust };
+    if specs.is_empty() {
+        let rec: Vec<&str> = model
+            .params
+            .iter()
+            .filter(|p| p.provenance == Some(crate::model::Provenance::Reconstructed) && !p.is_derived())
+            .map(|p| p.name.as_str())
+            .collect();
+        return Err(Error::Param(ParamError {
+            message: "nothing to fit".into(),
+            help: Some(format!(
+                "name the parameters: --adjust NAME (within its range) or NAME=LO:HI, or `adjust = [...]` in the facts file{}",
+                if rec.is_empty() { String::new() } else { format!(" (reconstructed in this model: {})", rec.join(", ")) }
+            )),
+        }));
+    }
+    let adjusted = specs.iter().map(|s| Bounded::parse(model, s)).collect::<Result<Vec<_>, _>>()?;
+    for (k, a) in adjusted.iter().enumerate() {
+        if adjusted[..k].iter().any(|b| b.name == a.name) {
+            return Err(Error::Param(ParamError { message: format!("`{}` is fitted twice", a.name), help: Some("name each parameter once".into()) }));
+        }
+    }
+    let start: Vec<f64> = adjusted.iter().map(|a| base.values[a.index]).collect();
+    for (a, &x) in adjusted.iter().zip(&start) {
+        if x < a.lo || x > a.hi {
+            return Err(Error::Param(ParamError {
+                message: format!("the start {} = {x} {} lies outside its bounds {}…{} {}", a.name, a.unit, a.lo, a.hi, a.unit),
+                help: Some(format!("start inside them (--set {}=...) or widen them (--adjust {}=LO:HI)", a.name, a.name)),
+            }));
+        }
+    }
+    let (settings, of_fact) = settings(model, facts, &adjusted)?;
+    // Every figure must exist (checked at the start setting, naming the fact).
+    let problem = Problem { model, base, facts, adjusted: &adjusted, settings, of_fact, step_deg, cycles: Default::default() };
+    let start_figures = problem.plain(&problem.params_at(&start, 0))?;
+    for (i, f) in facts.facts.iter().enumerate() {
+        if !start_figures.iter().any(|(n, _)| *n == f.figure) {
+            let hint = crate::error::did_you_mean(&f.figure, start_figures.iter().map(|(n, _)| n.as_str()));
+            let names: Vec<&str> = start_figures.iter().map(|(n, _)| n.as_str()).collect();
+            return Err(facts.error_at(
+                i,
+                "figure",
+                format!("the model has no figure `{}`{}", f.figure, hint.map(|h| format!(" (did you mean `{h}`?)")).unwrap_or_default()),
+                format!("figures of this model: {}", names.join(", ")),
+            ));
+        }
+    }
+    let e0 = problem.evaluate(&start, true)?;
+    let (mut r, mut cost) = problem.residuals(&e0.values);
+    let cost_start = cost;
+    let start_values = e0.values.clone();
+    let mut values = e0.values;
+    let mut jac = e0.jacobian.expect("asked for");
+    let mut x = start.clone();
+    let n = x.len();
+    // Levenberg–Marquardt with Marquardt's scaling: (JᵀJ + λ diag JᵀJ) δ = −Jᵀr.
+    let mut lambda = 1e-3;
+    let mut iterations = 0;
+    let mut converged = false;
+    let mut stop = String::from("the iteration limit was reached");
+    'outer: while iterations < opts.max_iterations {
+        iterations += 1;
+        // J is of the facts' values; the normal equations weigh it.
+        let (a, g) = weighted_normal(&jac, &r, facts);
+        if cost <= 1e-24 || g.iter().zip(&adjusted).all(|(g, b)| (g * (b.hi - b.lo)).abs() <= 1e-12 * (1.0 + cost)) {
+            converged = true;
+            stop = "the gradient vanishes".into();
+            break;
+        }
+        loop {
+            let mut m = a.clone();
+            let floor = 1e-12 * (0..n).map(|j| a[j][j]).fold(0.0, f64::max).max(1e-300);
+            for j in 0..n {
+                m[j][j] += lambda * a[j][j].max(floor);
+            }
+            let neg: Vec<f64> = g.iter().map(|v| -v).collect();
+            let Some(delta) = solve_spd(&m, &neg) else {
+                lambda *= 10.0;
+                if lambda > 1e12 {
+                    stop = "no step lowers the cost (the system is singular)".into();
+                    break 'outer;
+                }
+                continue;
+            };
+            // Project the step onto the box.
+            let trial: Vec<f64> = x.iter().zip(&delta).zip(&adjusted).map(|((x, d), b)| (x + d).clamp(b.lo, b.hi)).collect();
+            let moved = trial.iter().zip(&x).zip(&adjusted).map(|((t, x), b)| (t - x).abs() / (b.hi - b.lo)).fold(0.0, f64::max);
+            if moved <= 1e-12 {
+                converged = true;
+                let pressed = x.iter().zip(&delta).zip(&adjusted).any(|((x, d), b)| (*x <= b.lo && *d < 0.0) || (*x >= b.hi && *d > 0.0));
+                stop = if pressed { "the step vanishes: pressed against a bound" } else { "the step vanishes" }.into();
+                break 'outer;
+            }
+            let tried = problem.evaluate(&trial, false);
+            let better = match &tried {
+                Ok(e) => {
+                    let (rt, ct) = problem.residuals(&e.values);
+                    (ct < cost).then_some((rt, ct, e.values.clone()))
+                }
+                // A setting that does not assemble counts as no better.
+                Err(_) => None,
+            };
+            match better {
+                Some((rt, ct, vt)) => {
+                    let drop = (cost - ct) / cost.max(1e-300);
+                    x = trial;
+                    r = rt;
+                    cost = ct;
+                    values = vt;
+                    lambda = (lambda / 10.0).max(1e-12);
+                    if drop < 1e-12 || moved < 1e-10 {
+                        converged = true;
+                        stop = "the cost no longer decreases".into();
+                        break 'outer;
+                    }
+                    jac = problem.evaluate(&x, true)?.jacobian.expect("asked for");
+                    break;
+                }
+                None => {
+                    lambda *= 10.0;
+                    if lambda > 1e12 {
+                        converged = true;
+                        stop = "no step lowers the cost (a local minimum)".into();
+                        break 'outer;
+                    }
+                }
+            }
+        }
+    }
+    // Standard errors at the optimum: √((JᵀJ)⁻¹)_jj of the weighted Jacobian.
+    let jac = problem.evaluate(&x, true)?.jacobian.expect("asked for");
+    let (a, _) = weighted_normal(&jac, &r, facts);
+    let mut warnings = Vec::new();
+    let std_error: Vec<Option<f64>> = match invert_spd(&a) {
+        Some(inv) => (0..n).map(|j| Some(inv[j][j].max(0.0).sqrt())).collect(),
+        None => vec![None; n],
+    };
+    for (b, s) in adjusted.iter().zip(&std_error) {
+        if s.is_none() {
+            warnings.push(format!("the facts do not determine `{}` (JᵀJ is singular): its fitted value is one of many", b.name));
+        }
+    }
+    if let Some(name) = &facts.model
+        && *name != model.file.model.name
+    {
+        warnings.push(format!("the facts are stated for model `{name}`, the fit ran on `{}`", model.file.model.name));
+    }
+    let m = facts.facts.len();
+    if m < n {
+        warnings.push(format!("{m} facts for {n} parameters: the fit is underdetermined"));
+    }
+    let words = |s: &[(String, f64)]| {
+        if s.is_empty() {
+            "nominal".to_string()
+        } else {
+            s.iter().map(|(k, v)| format!("{k} = {} {}", crate::output::fmt_num(*v), model.param_index(k).map_or("", |i| model.params[i].unit_str()))).collect::<Vec<_>>().join(", ")
+        }
+    };
+    let facts_out = facts
+        .facts
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let setting = match &f.relative_to {
+                Some(rel) => format!("{} minus {}", words(&f.set), words(rel)),
+                None => words(&f.set),
+            };
+            FactResult {
+                figure: f.figure.clone(),
+                unit: figure_unit(&f.figure),
+                setting,
+                target: f.value,
+                tolerance: f.tolerance,
+                weight: f.weight,
+                start: start_values[i],
+                fitted: values[i],
+                residual: values[i] - f.value,
+                weighted: f.weight * (values[i] - f.value),
+                source: f.source.clone(),
+            }
+        })
+        .collect();
+    let params = adjusted
+        .iter()
+        .zip(&x)
+        .zip(&start)
+        .zip(&std_error)
+        .map(|(((b, &xf), &x0), s)| FittedParam {
+            name: b.name.clone(),
+            unit: b.unit,
+            lo: b.lo,
+            hi: b.hi,
+            start: x0,
+            fitted: xf,
+            std_error: *s,
+            at_bound: xf <= b.lo || xf >= b.hi,
+        })
+        .collect();
+    Ok(FitResult { params, facts: facts_out, cost_start, cost, iterations, cycles: problem.cycles.into_inner(), converged, stop, warnings })
+}
+
+/// JᵀWᵀWJ and JᵀW r for the unweighted Jacobian `jac` of the facts' values
+/// and the weighted residuals `r`.
+fn weighted_normal(jac: &[Vec<f64>], r: &[f64], facts: &Facts) -> (Vec<Vec<f64>>, Vec<f64>) {
+    let n = jac.first().map_or(0, |row| row.len());
+    let mut a = vec![vec![0.0; n]; n];
+    let mut g = vec![0.0; n];
+    for ((row, ri), f) in jac.iter().zip(r).zip(&facts.facts) {
+        for j in 0..n {
+            let wj = f.weight * row[j];
+            g[j] += wj * ri;
+            for k in 0..n {
+                a[j][k] += wj * f.weight * row[k];
+            }
+        }
+    }
+    (a, g)
+}
+
+/// The inverse of a small symmetric positive definite matrix, `None` when
+/// it is singular to working precision (condition above 1e12 after scaling
+/// to a unit diagonal).
+fn invert_spd(a: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
+    let n = a.len();
+    let d: Vec<f64> = (0..n).map(|j| a[j][j].sqrt()).collect();
+    if d.iter().any(|&x| !x.is_finite() || x <= 0.0) {
+        return None;
+    }
+    // Scaled to a unit diagonal, so the condition measures correlation.
+    let s = nalgebra::DMatrix::from_fn(n, n, |i, j| a[i][j] / (d[i] * d[j]));
+    let eig = s.clone().symmetric_eigenvalues();
+    let (min, max) = eig.iter().fold((f64::MAX, 0.0f64), |(lo, hi), &e| (lo.min(e), hi.max(e)));
+    if min <= max * 1e-12 {
+        return None;
+    }
+    let inv = s.try_inverse()?;
+    Some((0..n).map(|i| (0..n).map(|j| inv[(i, j)] / (d[i] * d[j])).collect()).collect())
+}

@@ -1,0 +1,391 @@
+//! Nomograms: the tuned setting as a function of the technological
+//! parameters (issue 5, item 4).
+//!
+//! A technician reads a nomogram as "for 4 mm material set z = −4.7 mm".
+//! [`nomogram`] runs [`tune`](super::tune::tune) at every point of a grid of
+//! the material thickness m and, optionally, the stitch length t (both set
+//! through [`set_stitch_value`]). For each grid point it keeps the
+//! recommended setting, how flat the optimum is, and the match before and
+//! after (mean and per-thread scores, the objective J).
+//!
+//! Every grid point is tuned with the same seed, so a row equals
+//! `stitchkin tune --thickness m --stitch t --seed S` at that point, and the
+//! whole nomogram is the same on every run. Grid points run in parallel on
+//! rayon's global pool. Each `tune` also uses that pool for its samples, and
+//! rayon nests the two without starting more threads than cores, so the
+//! cores stay busy while one point is in its sequential Nelder–Mead phase.
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::tune::{TuneOptions, TuneResult, default_adjustables, set_stitch_value, tune};
+use crate::error::{Error, ParamError};
+use crate::model::file::Value;
+use crate::model::{Model, Params};
+use crate::output::fmt_num;
+
+/// The most grid points a nomogram may have (each one is a full tuning).
+pub const MAX_POINTS: usize = 10_000;
+
+/// One axis of the grid: N values from LO to HI, both included.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Axis {
+    pub lo: f64,
+    pub hi: f64,
+    pub n: usize,
+}
+
+impl Axis {
+    /// Parses `LO:HI:N`, `LO:HI` (11 values) or a single value `V`. `flag`
+    /// names the option in messages (`--thickness`).
+    pub fn parse(spec: &str, flag: &str) -> Result<Axis, Error> {
+        let bad = |message: String| {
+            Error::Param(ParamError {
+                message,
+                help: Some(format!("write {flag} LO:HI:N in mm, e.g. {flag} 0.5:5:10 (N values, ends included), or one value")),
+            })
+        };
+        let parts: Vec<&str> = spec.split(':').collect();
+        let num = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
+        let axis = match parts.as_slice() {
+            [v] => {
+                let v = num(v).ok_or_else(|| bad(format!("{flag} `{spec}` is not a number")))?;
+                Axis { lo: v, hi: v, n: 1 }
+            }
+            [lo, hi, rest @ ..] if rest.len() <= 1 => {
+                let (Some(lo), Some(hi)) = (num(lo), num(hi)) else {
+                    return Err(bad(format!("the ends of {flag} `{spec}` must be numbers")));
+                };
+                let n = match rest.first() {
+                    Some(s) => s
+                        .trim()
+                        .parse::<usize>()
+                        .ok()
+                        .filter(|&n| n >= 1)
+                        .ok_or_else(|| bad(format!("N = `{s}` must be a whole number ≥ 1 (in {flag} {spec})")))?,
+                    None => 11,
+                };
+                if n > 1 && lo == hi {
+                    return Err(bad(format!("{flag} {spec}: LO = HI gives {n} equal values; use N = 1 or widen the range")));
+                }
+                Axis { lo, hi, n }
+            }
+            _ => return Err(bad(format!("{flag} `{spec}` is not LO:HI:N"))),
+        };
+        Ok(axis)
+    }
+
+    /// The k-th value.
+    pub fn value(&self, k: usize) -> f64 {
+        if self.n == 1 { self.lo } else { self.lo + (self.hi - self.lo) * k as f64 / (self.n - 1) as f64 }
+    }
+}
+
+/// How to build a nomogram.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NomogramOptions {
+    /// Material thickness m, mm.
+    pub thickness: Axis,
+    /// Stitch length t, mm; `None` keeps the model's (or `--set`) value.
+    pub stitch: Option<Axis>,
+    /// The tuning at every grid point. An empty `adjust` means the default
+    /// adjustables ([`default_adjustables`]) at the nominal setting.
+    pub tune: TuneOptions,
+}
+
+/// One grid point.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct NomogramPoint {
+    pub m_mm: f64,
+    pub t_mm: f64,
+    /// The tuning, or `None` when it failed (see `error`).
+    pub tuned: Option<TuneResult>,
+    /// Why the tuning failed at this point (no assembly, a stitch that
+    /// cannot be formed, …).
+    pub error: Option<String>,
+}
+
+/// A nomogram: grid points in order, the thickness outermost and the stitch
+/// length fastest.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Nomogram {
+    pub model: String,
+    /// The adjusted settings with their units.
+    pub adjust: Vec<(String, &'static str)>,
+    /// The compared threads, in the model's order.
+    pub threads: Vec<String>,
+    pub thickness: Axis,
+    /// The stitch-length axis (one value when it was not varied).
+    pub stitch: Axis,
+    pub seed: u64,
+    pub step_deg: f64,
+    pub points: Vec<NomogramPoint>,
+}
+
+/// The parameter that the model's `[stitch] m_mm` (`which` = "m") or `t_mm`
+/// ("t") names, if it names one.
+fn stitch_param(model: &Model, which: &str) -> Option<String> {
+    let s = model.file.stitch.as_ref()?;
+    match if which == "m" { &s.m_mm } else { &s.t_mm } {
+        Value::Expr(name) if model.param_index(name.trim()).is_some() => Some(name.trim().to_string()),
+        _ => None,
+    }
+}
+
+/// Tunes `model` at every point of the grid. `progress` is called once per
+/// finished grid point (from any thread).
+///
+/// Bad input (an axis outside the parameter's range, a model without a
+/// stitch, nothing to adjust, adjusting m or t themselves) is an error
+/// before anything runs. A grid point whose tuning fails is kept with its
+/// reason; when every point fails, the first point's error is returned.
+pub fn nomogram(model: &Model, base: &Params, opts: &NomogramOptions, progress: impl Fn() + Sync) -> Result<Nomogram, Error> {
+    let bad = |message: String, help: String| Error::Param(ParamError { message, help: Some(help) });
+    crate::eval::check_options(&crate::eval::CycleOptions { step_deg: opts.tune.step_deg, ..Default::default() })?;
+    let nominal = model
+        .stitch_setup(base)?
+        .ok_or_else(|| Error::Stitch(format!("model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504", model.file.model.name)))?;
+    // Both ends of each axis must be settable (a parameter, inside its range).
+    for (which, axis) in [("m", Some(&opts.thickness)), ("t", opts.stitch.as_ref())] {
+        if let Some(a) = axis {
+            for v in [a.lo, a.hi] {
+                set_stitch_value(model, &mut base.clone(), which, v)?;
+            }
+        }
+    }
+    let stitch = opts.stitch.unwrap_or(Axis { lo: nominal.spec.t_mm, hi: nominal.spec.t_mm, n: 1 });
+    let total = opts.thickness.n.saturating_mul(stitch.n);
+    if total > MAX_POINTS {
+        return Err(bad(
+            format!("the nomogram has {total} grid points ({} × {})", opts.thickness.n, stitch.n),
+            format!("at most {MAX_POINTS}: each point is a full tuning; use fewer values per axis"),
+        ));
+    }
+    let mut tune_opts = opts.tune.clone();
+    if tune_opts.adjust.is_empty() {
+        tune_opts.adjust = default_adjustables(model, base)?;
+    }
+    for (which, flag, what) in [("m", "--thickness", "material thickness"), ("t", "--stitch", "stitch length")] {
+        if let Some(p) = stitch_param(model, which)
+            && tune_opts.adjust.contains(&p)
+        {
+            return Err(bad(
+                format!("`{p}` is the {what} the nomogram is drawn over, so it cannot also be adjusted"),
+                format!("leave it out of --adjust (give its values with {flag})"),
+            ));
+        }
+    }
+    let grid: Vec<(f64, f64)> = (0..opts.thickness.n).flat_map(|i| (0..stitch.n).map(move |j| (i, j))).map(|(i, j)| (opts.thickness.value(i), stitch.value(j))).collect();
+    let vary_t = opts.stitch.is_some();
+    let results: Vec<Result<TuneResult, Error>> = grid
+        .par_iter()
+        .map(|&(m, t)| {
+            let r = (|| {
+                let mut p = base.clone();
+                set_stitch_value(model, &mut p, "m", m)?;
+                if vary_t {
+                    set_stitch_value(model, &mut p, "t", t)?;
+                }
+                tune(model, &p, &tune_opts)
+            })();
+            progress();
+            r
+        })
+        .collect();
+    if let Some(Err(e)) = results.first()
+        && results.iter().all(Result::is_err)
+    {
+        return Err(e.clone());
+    }
+    let first = results.iter().find_map(|r| r.as_ref().ok());
+    let adjust = first.map(|r| r.names.clone()).unwrap_or_default();
+    let threads = first.map(|r| r.after_figures.threads.iter().map(|t| t.0.clone()).collect()).unwrap_or_default();
+    let points = grid
+        .iter()
+        .zip(results)
+        .map(|(&(m_mm, t_mm), r)| match r {
+            Ok(r) => NomogramPoint { m_mm, t_mm, tuned: Some(r), error: None },
+            Err(e) => NomogramPoint { m_mm, t_mm, tuned: None, error: Some(e.to_string().replace('\n', " ")) },
+        })
+        .collect();
+    Ok(Nomogram {
+        model: model.file.model.name.clone(),
+        adjust,
+        threads,
+        thickness: opts.thickness,
+        stitch,
+        seed: opts.tune.seed,
+        step_deg: opts.tune.step_deg,
+        points,
+    })
+}
+
+/// A thread's score at a point, before (`after` = false) or after tuning.
+fn thread_score(r: &TuneResult, thread: &str, after: bool) -> Option<f64> {
+    let f = if after { &r.after_figures } else { &r.before_figures };
+    f.threads.iter().find(|t| t.0 == thread).and_then(|t| t.1)
+}
+
+impl Nomogram {
+    /// Grid points that tuned.
+    pub fn tuned(&self) -> impl Iterator<Item = (&NomogramPoint, &TuneResult)> {
+        self.points.iter().filter_map(|p| p.tuned.as_ref().map(|r| (p, r)))
+    }
+
+    /// True when every tuned point has every thread's score 0 after tuning:
+    /// no setting inside the ranges brings P within P's swing of P'.
+    pub fn all_scores_zero(&self) -> bool {
+        let mut any = false;
+        for (_, r) in self.tuned() {
+            any = true;
+            if r.after_figures.threads.iter().any(|t| t.1.is_some_and(|s| s > 0.0)) {
+                return false;
+            }
+        }
+        any
+    }
+
+    /// The CSV: `m_mm,t_mm`, per adjusted setting its recommended value and
+    /// the range within one score point (`z_mm,z_lo_mm,z_hi_mm`), the mean
+    /// score and objective before and after, per thread the score and RMS(D)
+    /// before and after, the transmission angles after, and `status` (`ok`
+    /// or why the point did not tune; its other cells are then empty).
+    pub fn csv(&self) -> String {
+        let mut s = String::from("m_mm,t_mm");
+        for (n, u) in &self.adjust {
+            s += &format!(",{n}_{u},{n}_lo_{u},{n}_hi_{u}");
+        }
+        s += ",score_mean_before,score_mean_after,J_before,J_after";
+        for t in &self.threads {
+            s += &format!(",{t}.score_before,{t}.score_after,{t}.rms_D_before_mm,{t}.rms_D_after_mm");
+        }
+        s += ",mu_min_after_deg,mu_max_after_deg,status\n";
+        let cell = |x: Option<f64>| x.filter(|x| x.is_finite()).map(fmt_num).unwrap_or_default();
+        let cols = 3 * self.adjust.len() + 4 + 4 * self.threads.len() + 2;
+        for p in &self.points {
+            s += &format!("{},{}", fmt_num(p.m_mm), fmt_num(p.t_mm));
+            match &p.tuned {
+                Some(r) => {
+                    for (k, (name, _)) in self.adjust.iter().enumerate() {
+                        let f = r.flatness.iter().find(|f| &f.name == name);
+                        s += &format!(",{},{},{}", cell(r.after.get(k).copied()), cell(f.map(|f| f.lo)), cell(f.map(|f| f.hi)));
+                    }
+                    let (b, a) = (&r.before_figures, &r.after_figures);
+                    s += &format!(",{},{},{},{}", cell(Some(b.score_mean)), cell(Some(a.score_mean)), cell(Some(b.objective)), cell(Some(a.objective)));
+                    for t in &self.threads {
+                        let rms = |f: &super::tune::MatchFigures| f.threads.iter().find(|x| &x.0 == t).map(|x| x.2);
+                        s += &format!(
+                            ",{},{},{},{}",
+                            cell(thread_score(r, t, false)),
+                            cell(thread_score(r, t, true)),
+                            cell(rms(b)),
+                            cell(rms(a))
+                        );
+                    }
+                    s += &format!(",{},{},ok\n", cell(a.mu_min_deg), cell(a.mu_max_deg));
+                }
+                None => {
+                    s += &",".repeat(cols);
+                    s += &format!(",\"{}\"\n", p.error.as_deref().unwrap_or("failed").replace('"', "'"));
+                }
+            }
+        }
+        s
+    }
+
+    /// The readable table: one row per grid point, then (when both m and t
+    /// vary) each recommended setting as a matrix over m and t.
+    pub fn table(&self) -> String {
+        let r2 = |x: f64| {
+            let r = (x * 100.0).round() / 100.0;
+            if r == 0.0 { "0".to_string() } else { format!("{r}") }
+        };
+        let sc = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.1}"));
+        let mut s = format!(
+            "Nomogram of `{}`: the tuned setting for each material thickness m and stitch length t\n",
+            self.model
+        );
+        let adj: Vec<String> = self.adjust.iter().map(|(n, u)| format!("{n} ({u})")).collect();
+        s += &format!("adjusting {}; seed {}, φ step {}°\n", adj.join(", "), self.seed, self.step_deg);
+        s += &format!(
+            "score: the mean match score of {} (0…100); per thread after tuning; J: the objective tuned (J ≥ 1 gives score 0)\n",
+            self.threads.join(", ")
+        );
+        s += "within 1 pt: each setting alone may move this far with the match within one score point\n\n";
+        // Columns: (header, width).
+        let mut head: Vec<(String, usize)> = vec![("m mm".into(), 6), ("t mm".into(), 6)];
+        for (n, u) in &self.adjust {
+            head.push((format!("{n} {u}"), 9.max(n.len() + u.len() + 1)));
+            head.push((format!("{n} within 1 pt"), 15.max(n.len() + 12)));
+        }
+        for h in ["score before", "score after"] {
+            head.push((h.into(), 12));
+        }
+        for t in &self.threads {
+            head.push((t.clone(), 6.max(t.len())));
+        }
+        head.push(("J after".into(), 8));
+        let line = |cells: &[String]| -> String {
+            let mut l = String::new();
+            for (k, (c, (_, w))) in cells.iter().zip(&head).enumerate() {
+                if k > 0 {
+                    l += "  ";
+                }
+                l += &format!("{c:>w$}");
+            }
+            l.trim_end().to_string() + "\n"
+        };
+        s += &line(&head.iter().map(|h| h.0.clone()).collect::<Vec<_>>());
+        let mut failures = Vec::new();
+        for p in &self.points {
+            let mut cells = vec![r2(p.m_mm), r2(p.t_mm)];
+            match &p.tuned {
+                Some(r) => {
+                    for (k, (name, _)) in self.adjust.iter().enumerate() {
+                        cells.push(r2(r.after[k]));
+                        cells.push(r.flatness.iter().find(|f| &f.name == name).map_or("—".into(), |f| format!("{} … {}", r2(f.lo), r2(f.hi))));
+                    }
+                    cells.push(format!("{:.1}", r.before_figures.score_mean));
+                    cells.push(format!("{:.1}", r.after_figures.score_mean));
+                    for t in &self.threads {
+                        cells.push(sc(thread_score(r, t, true)));
+                    }
+                    cells.push(format!("{:.3}", r.after_figures.objective));
+                }
+                None => {
+                    cells.push(format!("not tuned [{}]", failures.len() + 1));
+                    failures.push(p.error.clone().unwrap_or_default());
+                }
+            }
+            s += &line(&cells);
+        }
+        for (k, e) in failures.iter().enumerate() {
+            s += &format!("[{}] {e}\n", k + 1);
+        }
+        if self.thickness.n > 1 && self.stitch.n > 1 {
+            for (k, (name, unit)) in self.adjust.iter().enumerate() {
+                s += &format!("\nrecommended {name} ({unit}): rows m (mm), columns t (mm)\n");
+                s += &format!("{:>6}", "m \\ t");
+                for j in 0..self.stitch.n {
+                    s += &format!("  {:>7}", r2(self.stitch.value(j)));
+                }
+                s += "\n";
+                for i in 0..self.thickness.n {
+                    s += &format!("{:>6}", r2(self.thickness.value(i)));
+                    for j in 0..self.stitch.n {
+                        let v = self.points[i * self.stitch.n + j].tuned.as_ref().map_or("—".into(), |r| r2(r.after[k]));
+                        s += &format!("  {v:>7}");
+                    }
+                    s += "\n";
+                }
+            }
+        }
+        if self.all_scores_zero() {
+            s += "\nEvery match score is 0, before and after tuning, at every grid point: RMS(P − P') exceeds the\n\
+                  swing of P' (J ≥ 1) whatever the settings, so no setting in the ranges fits this stitch. The\n\
+                  recommendation only minimises J and should not be used. (For mf7923d this is the default\n\
+                  reading t1_phase = 0; see docs/stitch-formation.md §10.1 and try --set t1_phase=180.)\n";
+        }
+        s
+    }
+}
