@@ -271,6 +271,30 @@ struct CompareArgs {
     output: Option<PathBuf>,
 }
 
+/// The search of `tune` and `nomogram`: what to adjust, how hard to look.
+#[derive(Args)]
+pub(crate) struct SearchArgs {
+    /// Settings to adjust, comma-separated (default: every ranged parameter
+    /// that leaves the stitch alone).
+    #[arg(long, value_delimiter = ',', value_name = "NAME,…")]
+    pub adjust: Option<Vec<String>>,
+    /// Global samples of each tuning (default 32 per setting, at least 64).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub samples: usize,
+    /// Seed of the global search (the same seed, the same answer).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Step of the main-shaft angle φ, degrees.
+    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
+    pub step: f64,
+}
+
+impl SearchArgs {
+    pub fn options(&self, adjust: Vec<String>) -> stitchkin::study::tune::TuneOptions {
+        stitchkin::study::tune::TuneOptions { adjust, samples: self.samples, seed: self.seed, step_deg: self.step }
+    }
+}
+
 #[derive(Args)]
 struct TuneArgs {
     #[command(flatten)]
@@ -281,19 +305,8 @@ struct TuneArgs {
     /// Stitch length t, mm (sets the parameter [stitch] t_mm names).
     #[arg(long, value_name = "MM", allow_negative_numbers = true)]
     stitch: Option<f64>,
-    /// Settings to adjust, comma-separated (default: every ranged parameter
-    /// that leaves the stitch alone).
-    #[arg(long, value_delimiter = ',', value_name = "NAME,…")]
-    adjust: Option<Vec<String>>,
-    /// Global samples (default 32 per setting, at least 64).
-    #[arg(long, default_value_t = 0, value_name = "N")]
-    samples: usize,
-    /// Seed of the global search.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// Step of the main-shaft angle φ, degrees.
-    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
-    step: f64,
+    #[command(flatten)]
+    search: SearchArgs,
     #[arg(long, value_enum, default_value_t = MatchFormat::Table)]
     format: MatchFormat,
     /// Write to FILE instead of stdout (written completely or not at all).
@@ -619,7 +632,7 @@ fn score(s: Option<f64>) -> String {
 }
 
 fn tune_cmd(args: TuneArgs) -> Result<(), Error> {
-    use stitchkin::study::tune::{TuneOptions, default_adjustables, set_stitch_value, tune};
+    use stitchkin::study::tune::{default_adjustables, set_stitch_value, tune};
     let (model, mut params) = load(&args.model)?;
     if let Some(m) = args.thickness {
         set_stitch_value(&model, &mut params, "m", m)?;
@@ -627,11 +640,11 @@ fn tune_cmd(args: TuneArgs) -> Result<(), Error> {
     if let Some(t) = args.stitch {
         set_stitch_value(&model, &mut params, "t", t)?;
     }
-    let adjust = match &args.adjust {
+    let adjust = match &args.search.adjust {
         Some(a) => a.clone(),
         None => default_adjustables(&model, &params)?,
     };
-    let r = tune(&model, &params, &TuneOptions { adjust, samples: args.samples, seed: args.seed, step_deg: args.step })?;
+    let r = tune(&model, &params, &args.search.options(adjust))?;
     let out = match args.format {
         MatchFormat::Json => serde_json::to_string_pretty(&r).map_err(|e| Error::Io(e.to_string()))? + "\n",
         MatchFormat::Table => {

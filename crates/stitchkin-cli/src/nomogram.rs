@@ -6,7 +6,6 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use stitchkin::error::Error;
 use stitchkin::study::nomogram::{Axis, NomogramOptions, nomogram};
-use stitchkin::study::tune::TuneOptions;
 
 #[derive(Args)]
 pub struct NomogramArgs {
@@ -19,19 +18,8 @@ pub struct NomogramArgs {
     /// Stitch length t, mm, as LO:HI:N (default: the model's stitch length).
     #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true)]
     stitch: Option<String>,
-    /// Settings to adjust, comma-separated (default: every ranged parameter
-    /// that leaves the stitch alone).
-    #[arg(long, value_delimiter = ',', value_name = "NAME,…")]
-    adjust: Option<Vec<String>>,
-    /// Global samples of each tuning (default 32 per setting, at least 64).
-    #[arg(long, default_value_t = 0, value_name = "N")]
-    samples: usize,
-    /// Seed of every grid point's tuning (the same seed, the same nomogram).
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// Step of the main-shaft angle φ, degrees.
-    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
-    step: f64,
+    #[command(flatten)]
+    search: crate::SearchArgs,
     /// Output format: a readable table, CSV or JSON.
     #[arg(long, value_enum, default_value_t = NomogramFormat::Table)]
     format: NomogramFormat,
@@ -61,7 +49,7 @@ pub fn run(args: NomogramArgs) -> Result<(), Error> {
     let opts = NomogramOptions {
         thickness,
         stitch,
-        tune: TuneOptions { adjust: args.adjust.clone().unwrap_or_default(), samples: args.samples, seed: args.seed, step_deg: args.step },
+        tune: args.search.options(args.search.adjust.clone().unwrap_or_default()),
     };
     let points = thickness.n * stitch.map_or(1, |s| s.n);
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {

@@ -522,8 +522,8 @@ fn thread_columns<T: Real>(
     Ok((summaries, Some(words)))
 }
 
-/// Indices of the smallest and largest value.
-fn extremes(vals: &[f64]) -> (usize, usize) {
+/// Indices of the smallest and largest value (the first of equals).
+pub(crate) fn extremes(vals: &[f64]) -> (usize, usize) {
     let (mut imin, mut imax) = (0, 0);
     for (k, v) in vals.iter().enumerate() {
         if *v < vals[imin] {

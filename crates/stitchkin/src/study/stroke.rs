@@ -181,18 +181,7 @@ pub(crate) fn neighbours(phis: &[f64], k: usize) -> (f64, f64) {
 }
 
 /// Indices of the smallest and the largest value.
-pub(crate) fn argminmax(v: &[f64]) -> (usize, usize) {
-    let (mut imin, mut imax) = (0, 0);
-    for (k, x) in v.iter().enumerate() {
-        if *x < v[imin] {
-            imin = k;
-        }
-        if *x > v[imax] {
-            imax = k;
-        }
-    }
-    (imin, imax)
-}
+pub(crate) use crate::eval::extremes as argminmax;
 
 /// The axis a stroke is measured along.
 #[derive(Debug, Clone, PartialEq)]
