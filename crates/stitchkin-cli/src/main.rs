@@ -1024,6 +1024,12 @@ fn consumption(args: ConsumptionArgs) -> Result<(), Error> {
 }
 
 fn main() -> miette::Result<()> {
+    // Into a pipe or a log, a diagnostic keeps each message on one line:
+    // wrapping at an assumed 80 columns splits messages at places that
+    // depend on the file's path, which makes logs hard to search.
+    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        let _ = miette::set_hook(Box::new(|_| Box::new(miette::MietteHandlerOpts::new().width(100_000).build())));
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Presets => {
