@@ -305,20 +305,21 @@ pub struct DeadCentre {
     pub point_mm: [f64; 3],
 }
 
-/// A transmission angle over the cycle.
+/// A transmission angle over the cycle: its extremes (refined below the
+/// grid step) and where it leaves 30°…150° (seed 002 eq. 15).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MuRange {
-    /// Column key: `mu_{key}_deg`.
-    pub key: String,
-    pub group: String,
-    pub min_deg: f64,
-    pub phi_at_min_deg: f64,
-    pub max_deg: f64,
-    pub phi_at_max_deg: f64,
-    /// Inside 30°…150° over the whole cycle (seed 002 eq. 15).
-    pub ok: bool,
+    #[serde(flatten)]
+    pub range: crate::eval::TransmissionSummary,
     /// φ intervals (on the grid) where it is outside the band, degrees.
     pub outside_deg: Vec<[f64; 2]>,
+}
+
+impl std::ops::Deref for MuRange {
+    type Target = crate::eval::TransmissionSummary;
+    fn deref(&self) -> &Self::Target {
+        &self.range
+    }
 }
 
 /// The stroke at one setting.
@@ -391,13 +392,15 @@ pub fn stroke(model: &Model, params: &Params, point: usize, axis: &Axis, step_de
         let flags: Vec<bool> = v.iter().map(|m| !(MU_MIN_DEG..=MU_MAX_DEG).contains(&m.to_degrees())).collect();
         let outside_deg = crate::thread::intervals(&flags, &phis).iter().map(|i| [wrap_deg(i.from_deg), wrap_deg(i.to_deg)]).collect();
         mu.push(MuRange {
-            key: d.key.clone(),
-            group: d.label.clone(),
-            min_deg,
-            phi_at_min_deg: wrap_deg(phi_min),
-            max_deg,
-            phi_at_max_deg: wrap_deg(phi_max),
-            ok: min_deg >= MU_MIN_DEG && max_deg <= MU_MAX_DEG,
+            range: crate::eval::TransmissionSummary {
+                key: d.key.clone(),
+                group: d.label.clone(),
+                min_deg,
+                phi_at_min_deg: wrap_deg(phi_min),
+                max_deg,
+                phi_at_max_deg: wrap_deg(phi_max),
+                ok: min_deg >= MU_MIN_DEG && max_deg <= MU_MAX_DEG,
+            },
             outside_deg,
         });
     }
