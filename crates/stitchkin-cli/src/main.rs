@@ -17,6 +17,7 @@ mod straightness;
 mod stroke;
 
 mod nomogram;
+mod plot;
 
 #[derive(Parser)]
 #[command(
@@ -193,6 +194,18 @@ enum Command {
         (theta_deg,radius_mm), PREFIX.svg (to scale, mm), PREFIX.dxf (R12, mm), PREFIX.toml ([[cams]] entry).\n\
         Target CSV: columns phi_deg,P_mm. The summary goes to stderr.")]
     Cam(cam::CamArgs),
+    /// Plot a cycle as SVG: the take-up P(φ) with the required P'(φ), the
+    /// transmission angles, or the trajectories of points.
+    #[command(after_help = "Examples:\n  stitchkin plot takeup -o mf7923d-takeup.svg\n  \
+        stitchkin plot takeup --preset altin504 --set m=2 --step 2 -o altin504.svg\n  \
+        stitchkin plot mu --preset needle876 --set alpha=38 -o mu.svg\n  \
+        stitchkin plot trajectory --preset needle876 --points G,E -o paths.svg\n  \
+        stitchkin plot trajectory --preset altin-needle --points E --plane guide -o altin-guide.svg\n\n\
+        takeup: P of every thread path (solid) and P' of every stitch thread (dashed, its path's colour),\n\
+        where a one-sided guide bears on the thread shaded lightly. mu: every transmission angle, the band\n\
+        30°…150° marked and the outside shaded. trajectory: each point's path in the world xy-plane (or --plane\n\
+        FRAME's), equal scales, a dot at the cycle's start. φ runs over one cycle from the model's start (docs/plots.md).")]
+    Plot(plot::PlotArgs),
     /// Print the JSON Schema of the model file format.
     #[command(after_help = "Example:\n  stitchkin schema > stitchkin-model.schema.json")]
     Schema,
@@ -1058,6 +1071,7 @@ fn main() -> miette::Result<()> {
         Command::Straightness(args) => straightness::run(args),
         Command::Tolerance(args) => straightness::tolerance(args),
         Command::Cam(args) => cam::run(args),
+        Command::Plot(args) => plot::run(args),
         Command::Schema => emit(stitchkin::model::schema_json().as_bytes(), None),
     };
     result.map_err(report)

@@ -51,6 +51,8 @@ mod sensitivity;
 
 #[path = "cli/cam.rs"]
 mod cam;
+#[path = "cli/plot.rs"]
+mod plot;
 
 const PRESETS: &[&str] = &["needle876", "overlock500", "altin-needle", "altin504", "mf7923d", "takeup-lever"];
 
@@ -314,7 +316,7 @@ fn a_failed_run_leaves_no_output_file() {
 
 #[test]
 fn every_subcommand_has_help_with_an_example() {
-    for sub in [vec!["--help"], vec!["run", "--help"], vec!["check", "--help"], vec!["presets", "--help"], vec!["schema", "--help"], vec!["compare-2d3d", "--help"], vec!["consumption", "--help"], vec!["match", "--help"], vec!["sweep", "--help"], vec!["tune", "--help"], vec!["sensitivity", "--help"], vec!["fit", "--help"], vec!["cam", "--help"], vec!["nomogram", "--help"], vec!["stroke", "--help"], vec!["straightness", "--help"], vec!["tolerance", "--help"]] {
+    for sub in [vec!["--help"], vec!["run", "--help"], vec!["check", "--help"], vec!["presets", "--help"], vec!["schema", "--help"], vec!["compare-2d3d", "--help"], vec!["consumption", "--help"], vec!["match", "--help"], vec!["sweep", "--help"], vec!["tune", "--help"], vec!["sensitivity", "--help"], vec!["fit", "--help"], vec!["cam", "--help"], vec!["nomogram", "--help"], vec!["stroke", "--help"], vec!["straightness", "--help"], vec!["tolerance", "--help"], vec!["plot", "--help"]] {
         let (out, _) = ok(&sub);
         assert!(out.contains("Example"), "{sub:?}:\n{out}");
     }

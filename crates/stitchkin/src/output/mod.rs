@@ -1,4 +1,8 @@
-//! Writing results: CSV and JSON, and files that are never half-written.
+//! Writing results: CSV and JSON, SVG plots, and files that are never
+//! half-written.
+
+pub mod svg;
+pub mod plots;
 
 use std::io::Write;
 use std::path::Path;

@@ -17,3 +17,4 @@ mod nomogram;
 mod pprime;
 mod altin504;
 mod cam_synthesis;
+mod plots;
