@@ -858,6 +858,12 @@ fn match_cmd(args: MatchArgs) -> Result<(), Error> {
                         let lag = m.best_lag_deg.map_or(String::new(), |l| format!("  (best lag {l:.1}°)"));
                         s += &format!("  phase of maxima     {:>9.1}°{lag}\n", m.phase_shift_max_deg);
                         s += &format!("  match score         {:>9}   (offset-free {})\n", score(m.score), score(m.score_offset_free));
+                        if m.score.is_some_and(|x| x < 20.0) && m.phase_shift_max_deg.abs() > 90.0 {
+                            s += &format!(
+                                "  note: P peaks {:.0}° away from P': the take-up works against the stitch; check the take-up's phase\n",
+                                m.phase_shift_max_deg.abs()
+                            );
+                        }
                     }
                     None => s += "  no take-up path to compare (give `path` in [stitch])\n",
                 }

@@ -114,6 +114,11 @@ fn match_prints_the_mismatch_per_thread() {
         assert!(out.contains(line), "`{line}` missing:\n{out}");
     }
     assert!(out.contains("9.000 mm (locked by P'"), "{out}");
+    // The default reading of the MF-7923D take-up phase is half a cycle off
+    // what the stitch needs: the match says so (docs/stitch-formation.md §10.1).
+    assert!(out.contains("note: P peaks 175° away from P'"), "{out}");
+    let (other, _) = ok(&["match", "--set", "t1_phase=180"]);
+    assert!(!other.contains("note: P peaks"), "{other}");
     let (json, _) = ok(&["match", "--preset", "mf7923d", "--set", "m=4", "--format", "json"]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["m_mm"], 4.0);
