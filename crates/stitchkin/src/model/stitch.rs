@@ -383,16 +383,19 @@ impl Model {
             || matches!(d.feed, FeedDef::Point(_));
         // Sample the mechanism once over the cycle, φ_c = 0, step, …
         let n = (360.0 / MOTION_STEP_DEG).round() as usize;
-        let pose = if needs_mechanism {
-            let mech = self.mechanism::<f64>(params)?;
-            let phis: Vec<f64> = (0..n).map(|k| d.cyclogram_zero_deg + k as f64 * MOTION_STEP_DEG).collect();
-            let mut pose = mech.new_pose(n);
-            mech.solve(&Phi::table(&phis), &mut pose)?;
-            Some(pose)
-        } else {
-            None
+        // One mechanism, from the quantities already resolved, gives both the
+        // samples and the stitch frame's placement.
+        let mech = if needs_mechanism || d.frame != 0 { Some(self.mechanism_from(&q)?) } else { None };
+        let pose = match &mech {
+            Some(mech) if needs_mechanism => {
+                let phis: Vec<f64> = (0..n).map(|k| d.cyclogram_zero_deg + k as f64 * MOTION_STEP_DEG).collect();
+                let mut pose = mech.new_pose(n);
+                mech.solve(&Phi::table(&phis), &mut pose)?;
+                Some(pose)
+            }
+            _ => None,
         };
-        let placement = if d.frame == 0 { None } else { Some(self.mechanism::<f64>(params)?.frames[d.frame]) };
+        let placement = mech.as_ref().filter(|_| d.frame != 0).map(|m| m.frames[d.frame]);
         let table = |slot: usize| -> Motion {
             let pose = pose.as_ref().expect("sampled when a point is used");
             let pts: Vec<V3<f64>> = pose.track(slot).iter().map(|p| placement.map_or(*p, |pl| pl.to_local(*p))).collect();

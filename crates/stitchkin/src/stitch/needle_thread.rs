@@ -45,6 +45,12 @@ pub fn before(phi: f64, at: f64, side: Side) -> bool {
     phi < at || (side == Side::Left && (phi - at).abs() < 1e-12)
 }
 
+/// The piece of a cyclogram at φ: the first of `pieces` (each with the
+/// moment it ends at, in order) whose end φ has not reached, else `last`.
+pub fn piece_at<P: Copy>(phi: f64, side: Side, pieces: &[(f64, P)], last: P) -> P {
+    pieces.iter().find(|(end, _)| before(phi, *end, side)).map_or(last, |(_, p)| *p)
+}
+
 /// A root of `f` in [a, b], f(a)·f(b) ≤ 0, by 60 bisections.
 pub fn bisect(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
     for _ in 0..60 {

@@ -36,7 +36,7 @@ use crate::geometry::V3;
 
 use super::feed::Feed;
 use super::material::{Slab, WPath, polyline_nearest};
-use super::needle_thread::{NeedleLine, NeedleThread, Side, before};
+use super::needle_thread::{NeedleLine, NeedleThread, Side, piece_at};
 use super::spec::{EventKind, Motion, StitchSpec, polyline_at};
 
 /// Step of the pick-up search, deg (the reference's).
@@ -427,31 +427,14 @@ impl Overedge {
     }
 
     pub fn lower_piece(&self, phi: f64, side: Side) -> LowerPiece {
-        let before = |at| before(phi, at, side);
-        if before(self.phi_pick) {
-            LowerPiece::L1
-        } else if before(self.phi_release) {
-            LowerPiece::L2
-        } else if before(self.phi_drop) {
-            LowerPiece::L3
-        } else if before(self.phi_draw_in) {
-            LowerPiece::L4
-        } else {
-            LowerPiece::L5
-        }
+        use LowerPiece::*;
+        let ends = [(self.phi_pick, L1), (self.phi_release, L2), (self.phi_drop, L3), (self.phi_draw_in, L4)];
+        piece_at(phi, side, &ends, L5)
     }
 
     pub fn upper_piece(&self, phi: f64, side: Side) -> UpperPiece {
-        let before = |at| before(phi, at, side);
-        if before(self.phi_stab) {
-            UpperPiece::U1
-        } else if before(self.phi_release) {
-            UpperPiece::U2
-        } else if before(self.phi_draw_in) {
-            UpperPiece::U3
-        } else {
-            UpperPiece::U4
-        }
+        use UpperPiece::*;
+        piece_at(phi, side, &[(self.phi_stab, U1), (self.phi_release, U2), (self.phi_draw_in, U3)], U4)
     }
 
     /// η of the lower-looper thread: from its eye LE to the anchor

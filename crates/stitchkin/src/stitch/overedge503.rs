@@ -33,7 +33,7 @@ use crate::Error;
 use crate::geometry::V3;
 
 use super::material::WPath;
-use super::needle_thread::{NeedlePiece, NeedleThread, Side, before};
+use super::needle_thread::{NeedlePiece, NeedleThread, Side, before, piece_at};
 use super::overedge::{EdgeSeam, HOOK_OFFSET_WARN_MM, inside_scan};
 use super::spec::{EventKind, Motion, StitchSpec, polyline_at};
 
@@ -212,20 +212,9 @@ impl Overedge503 {
     }
 
     pub fn looper_piece(&self, phi: f64, side: Side) -> LooperPiece {
-        let before = |at| before(phi, at, side);
-        if before(self.phi_pick) {
-            LooperPiece::S1
-        } else if before(self.phi_stab) {
-            LooperPiece::S2
-        } else if before(self.phi_release) {
-            LooperPiece::S3a
-        } else if before(self.phi_drop) {
-            LooperPiece::S3b
-        } else if before(self.phi_draw_in) {
-            LooperPiece::S4
-        } else {
-            LooperPiece::S5
-        }
+        use LooperPiece::*;
+        let ends = [(self.phi_pick, S1), (self.phi_stab, S2), (self.phi_release, S3a), (self.phi_drop, S3b), (self.phi_draw_in, S4)];
+        piece_at(phi, side, &ends, S5)
     }
 
     /// η_N of the needle thread: from the eye to the anchor H_{c−1}^t, mm

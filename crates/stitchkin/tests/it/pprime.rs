@@ -99,6 +99,31 @@ fn pprime_b(th: &RequiredThread, s0: f64) -> Vec<f64> {
 // the tables
 // ---------------------------------------------------------------------------
 
+/// What the overedge cases (504, 503) share, against every row of their
+/// table: the needle's travel S, the feed T, the loop angle γ, the lower
+/// looper's eye and `organ` (the upper looper's or the spreader's, with its
+/// column prefix), and the needle thread's η_N, P'_N, P'_B and pieces.
+fn check_overedge_needle(spec: &StitchSpec, r: &RequiredTakeUp, csv: &Csv, phis: &[f64], organ: (&str, &Motion)) {
+    let needle = thread(r, "needle");
+    assert_close("S", needle.travel_mm.as_ref().unwrap(), &csv.f64("S_mm"), phis, TOL_MM);
+    let feed = Feed::new(&spec.feed, spec.t_mm).unwrap();
+    let t: Vec<f64> = phis.iter().map(|&p| feed.at(p)).collect();
+    assert_close("T", &t, &csv.f64("T_mm"), phis, TOL_MM);
+    let gamma: Vec<f64> = needle.gamma_deg.as_ref().unwrap().iter().map(|g| g.to_radians()).collect();
+    assert_close("γ", &gamma, &csv.f64("gamma_rad"), phis, 1e-8);
+    let (prefix, eye) = organ;
+    for (axis, i) in [("x", 0), ("y", 1), ("z", 2)] {
+        let le: Vec<f64> = phis.iter().map(|&p| spec.looper.eye.at(p)[i]).collect();
+        let other: Vec<f64> = phis.iter().map(|&p| eye.at(p)[i]).collect();
+        assert_close(&format!("LE_{axis}"), &le, &csv.f64(&format!("LE_{axis}_mm")), phis, TOL_MM);
+        assert_close(&format!("{prefix}_{axis}"), &other, &csv.f64(&format!("{prefix}_{axis}_mm")), phis, TOL_MM);
+    }
+    assert_close("needle η_N", &needle.eta_mm, &csv.f64("needle_eta_N_mm"), phis, TOL_MM);
+    assert_close("needle P'_N", &needle.pprime_mm, &csv.f64("needle_Pprime_N_mm"), phis, TOL_MM);
+    assert_close("needle P'_B", &pprime_b(needle, 25.44), &csv.f64("needle_Pprime_B_mm"), phis, TOL_MM);
+    assert_pieces("needle", &needle.piece, &csv.str("needle_piece"), phis);
+}
+
 #[test]
 fn altin504_matches_the_reference_table() {
     let csv = Csv::read("altin504_Pprime.csv");
@@ -107,29 +132,11 @@ fn altin504_matches_the_reference_table() {
     let r = required_take_up(&spec, &phis, 0.0).unwrap();
     assert!(r.warnings.is_empty(), "{:?}", r.warnings);
 
-    // The motions: S, T, the loop carry and the organ eyes.
-    let needle = thread(&r, "needle");
-    assert_close("S", needle.travel_mm.as_ref().unwrap(), &csv.f64("S_mm"), &phis, TOL_MM);
-    let feed = Feed::new(&spec.feed, spec.t_mm).unwrap();
-    let t: Vec<f64> = phis.iter().map(|&p| feed.at(p)).collect();
-    assert_close("T", &t, &csv.f64("T_mm"), &phis, TOL_MM);
-    let gamma: Vec<f64> = needle.gamma_deg.as_ref().unwrap().iter().map(|g| g.to_radians()).collect();
-    assert_close("γ", &gamma, &csv.f64("gamma_rad"), &phis, 1e-8);
+    // The motions and the needle thread, then the loop carry and the looper threads.
+    check_overedge_needle(&spec, &r, &csv, &phis, ("UE", &spec.upper_looper.as_ref().unwrap().eye));
+    let gamma: Vec<f64> = thread(&r, "needle").gamma_deg.as_ref().unwrap().iter().map(|g| g.to_radians()).collect();
     let x_loop: Vec<f64> = gamma.iter().map(|g| 7.5 * g.tan()).collect(); // D_L·tan γ
     assert_close("x_loop", &x_loop, &csv.f64("x_loop_mm"), &phis, TOL_MM);
-    let upper = spec.upper_looper.as_ref().unwrap();
-    for (axis, i) in [("x", 0), ("y", 1), ("z", 2)] {
-        let le: Vec<f64> = phis.iter().map(|&p| spec.looper.eye.at(p)[i]).collect();
-        let ue: Vec<f64> = phis.iter().map(|&p| upper.eye.at(p)[i]).collect();
-        assert_close(&format!("LE_{axis}"), &le, &csv.f64(&format!("LE_{axis}_mm")), &phis, TOL_MM);
-        assert_close(&format!("UE_{axis}"), &ue, &csv.f64(&format!("UE_{axis}_mm")), &phis, TOL_MM);
-    }
-
-    // The contours.
-    assert_close("needle η_N", &needle.eta_mm, &csv.f64("needle_eta_N_mm"), &phis, TOL_MM);
-    assert_close("needle P'_N", &needle.pprime_mm, &csv.f64("needle_Pprime_N_mm"), &phis, TOL_MM);
-    assert_close("needle P'_B", &pprime_b(needle, 25.44), &csv.f64("needle_Pprime_B_mm"), &phis, TOL_MM);
-    assert_pieces("needle", &needle.piece, &csv.str("needle_piece"), &phis);
     for name in ["lower", "upper"] {
         let th = thread(&r, name);
         assert_close(&format!("{name} η"), &th.eta_mm, &csv.f64(&format!("{name}_eta_mm")), &phis, TOL_MM);
@@ -499,27 +506,8 @@ fn altin503_matches_the_reference_table() {
     let names: Vec<_> = r.threads.iter().map(|t| t.name.as_str()).collect();
     assert_eq!(names, ["needle", "looper"]);
 
-    // The motions: S, T, the loop carry and the organs.
-    let needle = thread(&r, "needle");
-    assert_close("S", needle.travel_mm.as_ref().unwrap(), &csv.f64("S_mm"), &phis, TOL_MM);
-    let feed = Feed::new(&spec.feed, spec.t_mm).unwrap();
-    let t: Vec<f64> = phis.iter().map(|&p| feed.at(p)).collect();
-    assert_close("T", &t, &csv.f64("T_mm"), &phis, TOL_MM);
-    let gamma: Vec<f64> = needle.gamma_deg.as_ref().unwrap().iter().map(|g| g.to_radians()).collect();
-    assert_close("γ", &gamma, &csv.f64("gamma_rad"), &phis, 1e-8);
-    let spreader = spec.spreader.as_ref().unwrap();
-    for (axis, i) in [("x", 0), ("y", 1), ("z", 2)] {
-        let le: Vec<f64> = phis.iter().map(|&p| spec.looper.eye.at(p)[i]).collect();
-        let sp: Vec<f64> = phis.iter().map(|&p| spreader.eye.at(p)[i]).collect();
-        assert_close(&format!("LE_{axis}"), &le, &csv.f64(&format!("LE_{axis}_mm")), &phis, TOL_MM);
-        assert_close(&format!("SP_{axis}"), &sp, &csv.f64(&format!("SP_{axis}_mm")), &phis, TOL_MM);
-    }
-
-    // The contours, every row.
-    assert_close("needle η_N", &needle.eta_mm, &csv.f64("needle_eta_N_mm"), &phis, TOL_MM);
-    assert_close("needle P'_N", &needle.pprime_mm, &csv.f64("needle_Pprime_N_mm"), &phis, TOL_MM);
-    assert_close("needle P'_B", &pprime_b(needle, 25.44), &csv.f64("needle_Pprime_B_mm"), &phis, TOL_MM);
-    assert_pieces("needle", &needle.piece, &csv.str("needle_piece"), &phis);
+    // The motions and the needle thread, every row; then the looper thread.
+    check_overedge_needle(&spec, &r, &csv, &phis, ("SP", &spec.spreader.as_ref().unwrap().eye));
     let looper = thread(&r, "looper");
     assert_close("looper η", &looper.eta_mm, &csv.f64("looper_eta_mm"), &phis, TOL_MM);
     assert_close("looper P'", &looper.pprime_mm, &csv.f64("looper_Pprime_mm"), &phis, TOL_MM);
