@@ -87,6 +87,26 @@ pub enum Error {
     Io(String),
 }
 
+impl Error {
+    /// What to do about it, when the error itself does not say: the model
+    /// file's or parameter's own help, or the usual fix for an assembly,
+    /// thread or stitch failure.
+    pub fn help(&self) -> Option<&str> {
+        match self {
+            Error::Model(m) => m.help.as_deref(),
+            Error::Param(p) => p.help.as_deref(),
+            Error::Assembly(_) => Some(
+                "check the dimensions and the branch of that group, or the φ range (`stitchkin check` shows where assembly is lost)",
+            ),
+            Error::Thread(_) => Some("check the path's node order and the guides' positions at that φ"),
+            Error::Stitch(_) => {
+                Some("check the [stitch] table: organ motions, moments and the stitch frame (docs/model-format.md §13.11)")
+            }
+            Error::NotFinite(_) | Error::Io(_) => None,
+        }
+    }
+}
+
 impl From<ModelError> for Error {
     fn from(e: ModelError) -> Self {
         Error::Model(Box::new(e))

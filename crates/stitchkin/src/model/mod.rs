@@ -526,6 +526,22 @@ impl Model {
         self.mechanism_from(&q)
     }
 
+    /// Every parameter's value with `params`, derived ones evaluated (in
+    /// parameter order, as `params.values`).
+    pub fn parameter_values(&self, params: &Params) -> Result<Vec<f64>, Box<ModelError>> {
+        let mut pv = params.values.clone();
+        for &i in &self.param_order {
+            if let Some(e) = &self.params[i].expr {
+                pv[i] = e.eval(&pv);
+            }
+        }
+        match self.params.iter().zip(&pv).find(|(_, v)| !v.is_finite()) {
+            // quantities() says which and why.
+            Some(_) => self.quantities(&params.values).map(|_| pv),
+            None => Ok(pv),
+        }
+    }
+
     /// Every value of the file (each expression) resolved with the
     /// parameter values `base`, checked finite and, where required, positive.
     pub(crate) fn quantities<T: Real>(&self, base: &[T]) -> Result<Vec<T>, Box<ModelError>> {

@@ -3,6 +3,8 @@
 
 pub mod svg;
 pub mod plots;
+pub mod drawing;
+pub mod report;
 
 use std::io::Write;
 use std::path::Path;

@@ -1,6 +1,9 @@
 //! A tiny SVG chart builder: axes with "nice" ticks and unit-carrying
 //! labels, polylines (solid or dashed), lightly shaded x-intervals,
-//! horizontal bands, a legend and a title.
+//! horizontal bands, filled areas between two curves, marked points, heat
+//! maps with a colour bar, a legend and a title; charts stacked as panels
+//! of one figure ([`Figure`]); and a projected wireframe surface
+//! ([`Surface`]).
 //!
 //! Written by hand rather than with a plotting crate: plotters, for one,
 //! rounds every coordinate to whole pixels, which blurs a take-up curve
@@ -78,8 +81,55 @@ pub struct Chart {
     pub y_lines: Vec<f64>,
     /// One data unit is as long on x as on y (a path drawn to scale).
     pub equal_scale: bool,
+    /// A heat map under the lines, with its colour bar in the legend.
+    pub heat: Option<Heat>,
+    /// Filled areas between two curves (under the lines).
+    pub areas: Vec<Area>,
+    /// Marked points (over the lines).
+    pub markers: Vec<Marker>,
     pub width: f64,
     pub height: f64,
+}
+
+/// A heat map: one cell per grid point, coloured by `z` on the
+/// [`ramp`] from the smallest to the largest finite value; a non-finite
+/// value (a setting that did not evaluate) is a grey cell. Cell edges lie
+/// halfway between neighbouring grid values.
+#[derive(Debug, Clone)]
+pub struct Heat {
+    /// Grid values along x, ascending.
+    pub xs: Vec<f64>,
+    /// Grid values along y, ascending.
+    pub ys: Vec<f64>,
+    /// `z[j][i]` is the value at (`xs[i]`, `ys[j]`).
+    pub z: Vec<Vec<f64>>,
+    /// The colour bar's label, with the unit (`P, mm`).
+    pub label: String,
+    /// Tooltips per cell, `tips[j][i]` (empty: none).
+    pub tips: Vec<Vec<String>>,
+    /// Legend text of the grey cells, shown when there are any.
+    pub missing: String,
+}
+
+/// The region between `lower` and `upper` (x, y in data units), filled
+/// lightly.
+#[derive(Debug, Clone)]
+pub struct Area {
+    pub upper: Vec<(f64, f64)>,
+    pub lower: Vec<(f64, f64)>,
+    pub color: String,
+    /// Tooltip.
+    pub label: String,
+}
+
+/// A dot at (x, y) with a tooltip and, when `legend` is set, a legend entry.
+#[derive(Debug, Clone)]
+pub struct Marker {
+    pub x: f64,
+    pub y: f64,
+    pub color: String,
+    pub label: String,
+    pub legend: Option<String>,
 }
 
 impl Chart {
@@ -94,6 +144,9 @@ impl Chart {
             y_bands: Vec::new(),
             y_lines: Vec::new(),
             equal_scale: false,
+            heat: None,
+            areas: Vec::new(),
+            markers: Vec::new(),
             width: 900.0,
             height: 540.0,
         }
@@ -182,25 +235,194 @@ fn n(v: f64) -> String {
     if s == "-0" || s.is_empty() { "0".into() } else { s.to_string() }
 }
 
+/// The viridis colour map at `t` ∈ [0, 1] (dark violet → yellow),
+/// perceptually uniform and readable in grey; linear between nine anchors.
+pub fn ramp(t: f64) -> String {
+    const VIRIDIS: [(u8, u8, u8); 9] = [
+        (0x44, 0x01, 0x54),
+        (0x47, 0x2d, 0x7b),
+        (0x3b, 0x52, 0x8b),
+        (0x2c, 0x72, 0x8e),
+        (0x21, 0x91, 0x8c),
+        (0x28, 0xae, 0x80),
+        (0x5e, 0xc9, 0x62),
+        (0xad, 0xdc, 0x30),
+        (0xfd, 0xe7, 0x25),
+    ];
+    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let u = t * (VIRIDIS.len() - 1) as f64;
+    let k = (u.floor() as usize).min(VIRIDIS.len() - 2);
+    let f = u - k as f64;
+    let (a, b) = (VIRIDIS[k], VIRIDIS[k + 1]);
+    let mix = |p: u8, q: u8| (p as f64 + (q as f64 - p as f64) * f).round() as u8;
+    format!("#{:02x}{:02x}{:02x}", mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// Colour `i` of a family of `n` lines: the dark three quarters of
+/// [`ramp`] (its yellow end is too light for a line on white).
+pub fn family_color(i: usize, n: usize) -> String {
+    ramp(if n > 1 { 0.82 * i as f64 / (n - 1) as f64 } else { 0.0 })
+}
+
+impl Series {
+    /// A solid line without a start mark.
+    pub fn new(name: impl Into<String>, points: Vec<(f64, f64)>, color: impl Into<String>) -> Series {
+        Series { name: name.into(), points, color: color.into(), dashed: false, mark_start: false }
+    }
+}
+
+/// Cell edges around grid values: halfway between neighbours, the ends
+/// half a spacing out.
+pub fn cell_edges(v: &[f64]) -> Vec<f64> {
+    match v.len() {
+        0 => Vec::new(),
+        1 => vec![v[0] - 0.5, v[0] + 0.5],
+        n => {
+            let mut e = Vec::with_capacity(n + 1);
+            e.push(v[0] - (v[1] - v[0]) / 2.0);
+            e.extend(v.windows(2).map(|w| (w[0] + w[1]) / 2.0));
+            e.push(v[n - 1] + (v[n - 1] - v[n - 2]) / 2.0);
+            e
+        }
+    }
+}
+
+impl Heat {
+    /// The smallest and largest finite value (widened when equal).
+    pub fn z_range(&self) -> Option<(f64, f64)> {
+        let (lo, hi) = self.z.iter().flatten().filter(|v| v.is_finite()).fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+        if lo > hi {
+            return None;
+        }
+        if hi - lo < 1e-12 * (1.0 + lo.abs()) {
+            let d = if lo.abs() > 0.0 { lo.abs() * 0.05 } else { 0.5 };
+            return Some((lo - d, hi + d));
+        }
+        Some((lo, hi))
+    }
+
+    fn has_missing(&self) -> bool {
+        self.z.iter().flatten().any(|v| !v.is_finite())
+    }
+}
+
 const LEGEND_W: f64 = 170.0;
 const MARGIN_L: f64 = 78.0;
 const MARGIN_R: f64 = 20.0;
 const MARGIN_B: f64 = 58.0;
+/// Approximate advance of one 12 px sans-serif character.
+const CHAR_W: f64 = 7.0;
+const COLORBAR_W: f64 = 14.0;
+
+/// The opening `<svg>` tag, the document title and a white background.
+fn open_document(s: &mut String, w: f64, h: f64, title: &str) {
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" viewBox="0 0 {} {}" font-family="sans-serif" font-size="12">"#,
+        n(w),
+        n(h),
+        n(w),
+        n(h)
+    );
+    let _ = writeln!(s, "<title>{}</title>", escape(title));
+    let _ = writeln!(s, r#"<rect x="0" y="0" width="{}" height="{}" fill="white"/>"#, n(w), n(h));
+}
+
+/// The bold title and the grey subtitle under it; returns the y where the
+/// content may start.
+fn write_titles(s: &mut String, x: f64, title: &str, subtitle: Option<&str>) -> f64 {
+    let _ = writeln!(s, r#"<text class="title" x="{}" y="24" font-size="16" font-weight="bold">{}</text>"#, n(x), escape(title));
+    if let Some(sub) = subtitle {
+        let _ = writeln!(s, r##"<text class="subtitle" x="{}" y="44" fill="#555">{}</text>"##, n(x), escape(sub));
+        62.0
+    } else {
+        44.0
+    }
+}
+
+/// A vertical colour bar of [`ramp`] over [lo, hi] at (x, top), `height`
+/// tall, with nice ticks and `label` (rotated) beside it. Returns the
+/// width it takes.
+fn colorbar(s: &mut String, id: &str, x: f64, top: f64, height: f64, (lo, hi): (f64, f64), label: &str) -> f64 {
+    let _ = writeln!(s, r#"<defs><linearGradient id="{id}" x1="0" y1="1" x2="0" y2="0">"#);
+    for k in 0..=8 {
+        let t = k as f64 / 8.0;
+        let _ = writeln!(s, r#"<stop offset="{}" stop-color="{}"/>"#, n(t), ramp(t));
+    }
+    s.push_str("</linearGradient></defs>\n");
+    let _ = writeln!(
+        s,
+        r##"<rect class="colorbar" x="{}" y="{}" width="{}" height="{}" fill="url(#{id})" stroke="#999"/>"##,
+        n(x),
+        n(top),
+        n(COLORBAR_W),
+        n(height)
+    );
+    let step = nice_step(hi - lo, 6);
+    let ticks = ticks_in(lo, hi, step);
+    let mut widest = 0usize;
+    for &t in &ticks {
+        let y = top + height * (1.0 - (t - lo) / (hi - lo));
+        let text = tick_label(t, step);
+        widest = widest.max(text.chars().count());
+        let _ = writeln!(s, r##"<line class="colorbar-mark" x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="#333"/>"##, n(x + COLORBAR_W), n(x + COLORBAR_W + 4.0), y = n(y));
+        let _ = writeln!(s, r##"<text class="colorbar-tick" x="{}" y="{}" fill="#333">{}</text>"##, n(x + COLORBAR_W + 7.0), n(y + 4.0), escape(&text));
+    }
+    let lx = x + COLORBAR_W + 7.0 + CHAR_W * widest as f64 + 14.0;
+    let _ = writeln!(
+        s,
+        r#"<text class="colorbar-label" x="{x}" y="{y}" text-anchor="middle" transform="rotate(-90 {x} {y})">{}</text>"#,
+        escape(label),
+        x = n(lx),
+        y = n(top + height / 2.0)
+    );
+    lx + 6.0 - x
+}
 
 impl Chart {
-    /// Data extent of the finite points of every series.
+    /// Data extent of every series, area, marker and heat-map cell.
     fn extent(&self) -> Option<(f64, f64, f64, f64)> {
-        let mut it = self.series.iter().flat_map(|s| s.points.iter()).filter(|(x, y)| x.is_finite() && y.is_finite());
+        let areas = self.areas.iter().flat_map(|a| a.upper.iter().chain(&a.lower));
+        let marks: Vec<(f64, f64)> = self.markers.iter().map(|m| (m.x, m.y)).collect();
+        let cells: Vec<(f64, f64)> = match &self.heat {
+            Some(h) => {
+                let (ex, ey) = (cell_edges(&h.xs), cell_edges(&h.ys));
+                match (ex.first(), ex.last(), ey.first(), ey.last()) {
+                    (Some(&a), Some(&b), Some(&c), Some(&d)) => vec![(a, c), (b, d)],
+                    _ => Vec::new(),
+                }
+            }
+            None => Vec::new(),
+        };
+        let mut it = self.series.iter().flat_map(|s| s.points.iter()).chain(areas).chain(&marks).chain(&cells).filter(|(x, y)| x.is_finite() && y.is_finite());
         let &(x0, y0) = it.next()?;
         Some(it.fold((x0, x0, y0, y0), |(a, b, c, d), &(x, y)| (a.min(x), b.max(x), c.min(y), d.max(y))))
     }
 
+    /// Width of the legend column: room for the longest entry.
+    fn legend_width(&self) -> f64 {
+        let names = self.series.iter().map(|s| s.name.chars().count()).chain(self.markers.iter().filter_map(|m| m.legend.as_ref().map(|l| l.chars().count())));
+        let longest = names.chain(self.heat.as_ref().filter(|h| h.has_missing()).map(|h| h.missing.chars().count())).max().unwrap_or(0);
+        (40.0 + CHAR_W * longest as f64).clamp(LEGEND_W, 360.0)
+    }
+
     /// The SVG document.
     pub fn render(&self) -> String {
-        let (w, h) = (self.width, self.height);
-        let top = if self.subtitle.is_some() { 62.0 } else { 44.0 };
-        let (px0, px1) = (MARGIN_L, w - LEGEND_W - MARGIN_R);
-        let (py0, py1) = (top, h - MARGIN_B);
+        let mut s = String::new();
+        open_document(&mut s, self.width, self.height, &self.title);
+        let top = write_titles(&mut s, MARGIN_L, &self.title, self.subtitle.as_deref());
+        self.draw(&mut s, top, self.height, self.legend_width(), "plot");
+        s.push_str("</svg>\n");
+        s
+    }
+
+    /// Draws the plot area from `py0` down to `bottom` (the x-axis label
+    /// included) with a legend column `legend_w` wide; `id` names its clip
+    /// path and gradient (unique within a document).
+    fn draw(&self, s: &mut String, py0: f64, bottom: f64, legend_w: f64, id: &str) {
+        let w = self.width;
+        let (px0, px1) = (MARGIN_L, w - legend_w - MARGIN_R);
+        let py1 = bottom - MARGIN_B;
         let (dx0, dx1, dy0, dy1) = self.extent().unwrap_or((0.0, 1.0, 0.0, 1.0));
         let fixed = |a: &Axis, lo: f64, hi: f64| a.range.map_or((lo, hi), |r| (r.0.min(lo), r.1.max(hi)));
         let (xlo, xhi) = self.x.range.unwrap_or((dx0, dx1));
@@ -222,13 +444,16 @@ impl Chart {
                 (Some(r), Some(s)) => (r.0, r.1, s, ticks_in(r.0, r.1, s)),
                 _ => nice_axis(xlo, xhi, 8),
             };
-            (y0, y1, ys, yt) = match self.y.step {
-                Some(s) => {
+            (y0, y1, ys, yt) = match (self.y.range, self.y.step) {
+                // A fixed range with a step is kept as it is (widened only
+                // to data outside it).
+                (Some(_), Some(s)) if yhi > ylo => (ylo, yhi, s, ticks_in(ylo, yhi, s)),
+                (_, Some(s)) => {
                     let (a, b) = ((ylo / s).floor() * s, (yhi / s).ceil() * s);
                     let (a, b) = if b > a { (a, b) } else { (a - s, b + s) };
                     (a, b, s, ticks_in(a, b, s))
                 }
-                None => nice_axis(ylo, yhi, 6),
+                (_, None) => nice_axis(ylo, yhi, 6),
             };
         }
         let sx = |x: f64| px0 + (x - x0) / (x1 - x0) * (px1 - px0);
@@ -236,21 +461,6 @@ impl Chart {
         let clamp_x = |x: f64| x.clamp(x0, x1);
         let clamp_y = |y: f64| y.clamp(y0, y1);
 
-        let mut s = String::new();
-        let _ = writeln!(
-            s,
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" viewBox="0 0 {} {}" font-family="sans-serif" font-size="12">"#,
-            n(w),
-            n(h),
-            n(w),
-            n(h)
-        );
-        let _ = writeln!(s, "<title>{}</title>", escape(&self.title));
-        let _ = writeln!(s, r#"<rect x="0" y="0" width="{}" height="{}" fill="white"/>"#, n(w), n(h));
-        let _ = writeln!(s, r#"<text class="title" x="{}" y="24" font-size="16" font-weight="bold">{}</text>"#, n(px0), escape(&self.title));
-        if let Some(sub) = &self.subtitle {
-            let _ = writeln!(s, r##"<text class="subtitle" x="{}" y="44" fill="#555">{}</text>"##, n(px0), escape(sub));
-        }
         let _ = writeln!(
             s,
             r##"<rect class="plot-area" x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#999"/>"##,
@@ -305,6 +515,42 @@ impl Chart {
             let _ = writeln!(s, r##"<line class="grid" x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="#e4e4e4"/>"##, n(px0), n(px1), y = n(y));
             let _ = writeln!(s, r##"<text class="tick y" x="{}" y="{}" text-anchor="end" fill="#333">{}</text>"##, n(px0 - 6.0), n(y + 4.0), escape(&tick_label(t, ys)));
         }
+        let _ = writeln!(s, r#"<clipPath id="{id}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>"#, n(px0), n(py0), n(px1 - px0), n(py1 - py0));
+        // The heat map covers the grid.
+        let z_range = self.heat.as_ref().and_then(Heat::z_range);
+        if let (Some(h), Some((zlo, zhi))) = (&self.heat, z_range) {
+            let (ex, ey) = (cell_edges(&h.xs), cell_edges(&h.ys));
+            let _ = writeln!(s, r#"<g clip-path="url(#{id})" shape-rendering="crispEdges">"#);
+            for (j, row) in h.z.iter().enumerate().take(h.ys.len()) {
+                for (i, &v) in row.iter().enumerate().take(h.xs.len()) {
+                    let (xa, xb, ya, yb) = (sx(ex[i]), sx(ex[i + 1]), sy(ey[j]), sy(ey[j + 1]));
+                    let (class, fill) = if v.is_finite() { ("cell", ramp((v - zlo) / (zhi - zlo))) } else { ("cell missing", "#d9d9d9".to_string()) };
+                    let tip = h.tips.get(j).and_then(|r| r.get(i)).map_or(String::new(), |t| format!("<title>{}</title>", escape(t)));
+                    let _ = writeln!(
+                        s,
+                        r#"<rect class="{class}" x="{}" y="{}" width="{}" height="{}" fill="{fill}">{tip}</rect>"#,
+                        n(xa.min(xb)),
+                        n(ya.min(yb)),
+                        n((xb - xa).abs()),
+                        n((yb - ya).abs())
+                    );
+                }
+            }
+            s.push_str("</g>\n");
+        }
+        for a in &self.areas {
+            let pts: Vec<String> =
+                a.upper.iter().chain(a.lower.iter().rev()).filter(|(x, y)| x.is_finite() && y.is_finite()).map(|&(x, y)| format!("{},{}", n(sx(x)), n(sy(y)))).collect();
+            if pts.len() >= 3 {
+                let _ = writeln!(
+                    s,
+                    r#"<polygon class="area" clip-path="url(#{id})" fill="{}" fill-opacity="0.15" stroke="none" points="{}"><title>{}</title></polygon>"#,
+                    escape(&a.color),
+                    pts.join(" "),
+                    escape(&a.label)
+                );
+            }
+        }
         for &v in &self.y_lines {
             if v.is_finite() && v >= y0 && v <= y1 {
                 let _ = writeln!(
@@ -320,7 +566,7 @@ impl Chart {
             s,
             r#"<text class="axis-label x" x="{}" y="{}" text-anchor="middle">{}</text>"#,
             n((px0 + px1) / 2.0),
-            n(h - 16.0),
+            n(bottom - 16.0),
             escape(&self.x.label)
         );
         let _ = writeln!(
@@ -331,13 +577,12 @@ impl Chart {
             y = n((py0 + py1) / 2.0)
         );
         // Data, clipped to the plot area.
-        let _ = writeln!(s, r#"<clipPath id="plot"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>"#, n(px0), n(py0), n(px1 - px0), n(py1 - py0));
         for se in &self.series {
             let pts: Vec<String> = se.points.iter().filter(|(x, y)| x.is_finite() && y.is_finite()).map(|&(x, y)| format!("{},{}", n(sx(x)), n(sy(y)))).collect();
             let dash = if se.dashed { r#" stroke-dasharray="6 4""# } else { "" };
             let _ = writeln!(
                 s,
-                r#"<polyline class="series" data-name="{}" clip-path="url(#plot)" fill="none" stroke="{}" stroke-width="1.6"{dash} points="{}"/>"#,
+                r#"<polyline class="series" data-name="{}" clip-path="url(#{id})" fill="none" stroke="{}" stroke-width="1.6"{dash} points="{}"/>"#,
                 escape(&se.name),
                 escape(&se.color),
                 pts.join(" ")
@@ -348,10 +593,28 @@ impl Chart {
                 let _ = writeln!(s, r#"<circle class="start" cx="{}" cy="{}" r="3" fill="{}"/>"#, n(sx(x)), n(sy(y)), escape(&se.color));
             }
         }
-        // Legend, right of the plot.
+        for m in self.markers.iter().filter(|m| m.x.is_finite() && m.y.is_finite()) {
+            let _ = writeln!(
+                s,
+                r#"<circle class="point" cx="{}" cy="{}" r="4" fill="{}" stroke="white" stroke-width="1.5"><title>{}</title></circle>"#,
+                n(sx(m.x)),
+                n(sy(m.y)),
+                escape(&m.color),
+                escape(&m.label)
+            );
+        }
+        // Legend, right of the plot: the colour bar, then the entries.
         let lx = px1 + 16.0;
-        for (i, se) in self.series.iter().enumerate() {
-            let y = py0 + 8.0 + 18.0 * i as f64;
+        let mut ly = py0 + 8.0;
+        let missing = self.heat.as_ref().filter(|h| h.has_missing());
+        let entries = self.series.len() + self.markers.iter().filter(|m| m.legend.is_some()).count() + usize::from(missing.is_some());
+        if let (Some(h), Some((zlo, zhi))) = (&self.heat, z_range) {
+            let height = if entries > 0 { ((py1 - py0) * 0.6).max(60.0) } else { (py1 - py0) * 0.8 };
+            colorbar(s, &format!("{id}-ramp"), lx, py0, height.min(py1 - py0), (zlo, zhi), &h.label);
+            ly = py0 + height + 24.0;
+        }
+        let pitch = if entries > 1 { ((py1 + MARGIN_B * 0.5 - ly) / (entries - 1) as f64).clamp(10.0, 18.0) } else { 18.0 };
+        for se in &self.series {
             let dash = if se.dashed { r#" stroke-dasharray="6 4""# } else { "" };
             let _ = writeln!(
                 s,
@@ -359,9 +622,225 @@ impl Chart {
                 n(lx),
                 n(lx + 26.0),
                 escape(&se.color),
-                y = n(y)
+                y = n(ly)
             );
-            let _ = writeln!(s, r#"<text class="legend" x="{}" y="{}">{}</text>"#, n(lx + 32.0), n(y + 4.0), escape(&se.name));
+            let _ = writeln!(s, r#"<text class="legend" x="{}" y="{}">{}</text>"#, n(lx + 32.0), n(ly + 4.0), escape(&se.name));
+            ly += pitch;
+        }
+        for m in &self.markers {
+            if let Some(text) = &m.legend {
+                let _ = writeln!(s, r##"<circle class="legend-sample" cx="{}" cy="{}" r="4" fill="{}" stroke="#555"/>"##, n(lx + 13.0), n(ly), escape(&m.color));
+                let _ = writeln!(s, r#"<text class="legend" x="{}" y="{}">{}</text>"#, n(lx + 32.0), n(ly + 4.0), escape(text));
+                ly += pitch;
+            }
+        }
+        if let Some(h) = missing {
+            let _ = writeln!(s, r##"<rect class="legend-sample" x="{}" y="{}" width="26" height="10" fill="#d9d9d9"/>"##, n(lx), n(ly - 5.0));
+            let _ = writeln!(s, r#"<text class="legend" x="{}" y="{}">{}</text>"#, n(lx + 32.0), n(ly + 4.0), escape(&h.missing));
+        }
+    }
+}
+
+/// Charts stacked as panels of one figure, under one title: each panel's
+/// own title heads it, and the panels share the legend column's width so
+/// their plot areas line up.
+#[derive(Debug, Clone)]
+pub struct Figure {
+    pub title: String,
+    pub subtitle: Option<String>,
+    pub panels: Vec<Chart>,
+}
+
+impl Figure {
+    pub fn new(title: impl Into<String>) -> Figure {
+        Figure { title: title.into(), subtitle: None, panels: Vec::new() }
+    }
+
+    /// The SVG document.
+    pub fn render(&self) -> String {
+        let w = self.panels.iter().map(|p| p.width).fold(0.0, f64::max).max(400.0);
+        let legend_w = self.panels.iter().map(Chart::legend_width).fold(LEGEND_W, f64::max);
+        let header = if self.subtitle.is_some() { 62.0 } else { 44.0 };
+        let h = header + self.panels.iter().map(|p| p.height).sum::<f64>();
+        let mut s = String::new();
+        open_document(&mut s, w, h, &self.title);
+        let mut y = write_titles(&mut s, MARGIN_L, &self.title, self.subtitle.as_deref());
+        for (k, p) in self.panels.iter().enumerate() {
+            let _ = writeln!(s, r#"<text class="panel-title" x="{}" y="{}" font-size="13" font-weight="bold">{}</text>"#, n(MARGIN_L), n(y + 16.0), escape(&p.title));
+            let mut panel = p.clone();
+            panel.width = w;
+            panel.draw(&mut s, y + 26.0, y + p.height, legend_w, &format!("plot{}", k + 1));
+            y += p.height;
+        }
+        s.push_str("</svg>\n");
+        s
+    }
+}
+
+/// A surface z(x, y) over a grid, drawn as a projected wireframe: an
+/// oblique view with x to the right, y going back and up to the right and
+/// z up; the quadrilaterals are filled by z on [`ramp`] and painted from
+/// the back to the front, so nearer parts hide farther ones. Grid lines
+/// run along x at every y value and across at every `cross_every`-th x.
+#[derive(Debug, Clone)]
+pub struct Surface {
+    pub title: String,
+    pub subtitle: Option<String>,
+    /// Across, at the front (`range`/`step` as for a chart).
+    pub x: Axis,
+    /// Into the depth.
+    pub y: Axis,
+    /// Up; its label also labels the colour bar.
+    pub z: Axis,
+    /// Grid values along x and y, ascending.
+    pub xs: Vec<f64>,
+    pub ys: Vec<f64>,
+    /// `z[j][i]` at (`xs[i]`, `ys[j]`).
+    pub z_values: Vec<Vec<f64>>,
+    /// Lines across the surface at every this-many x samples.
+    pub cross_every: usize,
+    pub width: f64,
+    pub height: f64,
+}
+
+impl Surface {
+    /// The SVG document.
+    pub fn render(&self) -> String {
+        let (w, h) = (self.width, self.height);
+        let mut s = String::new();
+        open_document(&mut s, w, h, &self.title);
+        let top = write_titles(&mut s, MARGIN_L, &self.title, self.subtitle.as_deref()) + 10.0;
+        let fin = |v: &[f64]| v.iter().copied().filter(|v| v.is_finite()).fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
+        let all: Vec<f64> = self.z_values.iter().flatten().copied().collect();
+        let ((zl, zh), (xl, xh), (yl, yh)) = (fin(&all), fin(&self.xs), fin(&self.ys));
+        let axis = |a: &Axis, lo: f64, hi: f64, target: usize| match (a.range, a.step) {
+            (Some(r), Some(s)) => (r.0, r.1, s, ticks_in(r.0, r.1, s)),
+            (Some(r), None) => {
+                let s = nice_step(r.1 - r.0, target);
+                (r.0, r.1, s, ticks_in(r.0, r.1, s))
+            }
+            _ => nice_axis(lo, hi, target),
+        };
+        let (x0, x1, xs_, xt) = axis(&self.x, xl, xh, 8);
+        let (y0, y1, ys_, yt) = match self.y.range {
+            Some(_) => axis(&self.y, yl, yh, 5),
+            // The depth axis spans the grid exactly, ticks inside.
+            None if yh > yl => {
+                let s = nice_step(yh - yl, 5);
+                (yl, yh, s, ticks_in(yl, yh, s))
+            }
+            None => nice_axis(yl, yh, 5),
+        };
+        let (z0, z1, zs_, zt) = axis(&self.z, zl, zh, 5);
+        // The projection: the box [x0,x1]×[y0,y1]×[z0,z1] fills the area
+        // left of the colour bar.
+        let (left, right, bottom) = (MARGIN_L + 10.0, w - 150.0 - 70.0, h - 50.0);
+        let (depth_x, depth_y) = (0.30 * (right - left), 0.32 * (bottom - top));
+        let (span_x, span_z) = (right - left - depth_x, bottom - top - depth_y);
+        let p = |x: f64, y: f64, z: f64| {
+            let (u, v, t) = ((x - x0) / (x1 - x0), (y - y0) / (y1 - y0), (z - z0) / (z1 - z0));
+            (left + u * span_x + v * depth_x, bottom - t * span_z - v * depth_y)
+        };
+        let pt = |q: (f64, f64)| format!("{},{}", n(q.0), n(q.1));
+        let line = |s: &mut String, class: &str, a: (f64, f64), b: (f64, f64), stroke: &str| {
+            let _ = writeln!(s, r#"<line class="{class}" x1="{}" y1="{}" x2="{}" y2="{}" stroke="{stroke}"/>"#, n(a.0), n(a.1), n(b.0), n(b.1));
+        };
+        // The floor and the two back walls, with grid lines.
+        for (class, corners) in [
+            ("floor", [p(x0, y0, z0), p(x1, y0, z0), p(x1, y1, z0), p(x0, y1, z0)]),
+            ("wall", [p(x0, y1, z0), p(x1, y1, z0), p(x1, y1, z1), p(x0, y1, z1)]),
+            ("wall", [p(x0, y0, z0), p(x0, y1, z0), p(x0, y1, z1), p(x0, y0, z1)]),
+        ] {
+            let pts: Vec<String> = corners.iter().map(|&q| pt(q)).collect();
+            let _ = writeln!(s, r##"<polygon class="{class}" points="{}" fill="#fafafa" stroke="#999"/>"##, pts.join(" "));
+        }
+        for &t in &xt {
+            line(&mut s, "grid", p(t, y0, z0), p(t, y1, z0), "#e4e4e4");
+            line(&mut s, "grid", p(t, y1, z0), p(t, y1, z1), "#e4e4e4");
+        }
+        for &t in &yt {
+            line(&mut s, "grid", p(x0, t, z0), p(x1, t, z0), "#e4e4e4");
+            line(&mut s, "grid", p(x0, t, z0), p(x0, t, z1), "#e4e4e4");
+        }
+        for &t in &zt {
+            line(&mut s, "grid", p(x0, y0, t), p(x0, y1, t), "#e4e4e4");
+            line(&mut s, "grid", p(x0, y1, t), p(x1, y1, t), "#e4e4e4");
+        }
+        // Tick labels on the front edge (x), the right floor edge (y) and
+        // the front left edge (z).
+        for &t in &xt {
+            let (a, b) = p(t, y0, z0);
+            let _ = writeln!(s, r##"<text class="tick x" x="{}" y="{}" text-anchor="middle" fill="#333">{}</text>"##, n(a), n(b + 16.0), escape(&tick_label(t, xs_)));
+        }
+        for &t in &yt {
+            let (a, b) = p(x1, t, z0);
+            let _ = writeln!(s, r##"<text class="tick y" x="{}" y="{}" fill="#333">{}</text>"##, n(a + 14.0), n(b + 8.0), escape(&tick_label(t, ys_)));
+        }
+        for &t in &zt {
+            let (a, b) = p(x0, y0, t);
+            let _ = writeln!(s, r##"<text class="tick z" x="{}" y="{}" text-anchor="end" fill="#333">{}</text>"##, n(a - 6.0), n(b + 4.0), escape(&tick_label(t, zs_)));
+        }
+        let (ax, ay) = p((x0 + x1) / 2.0, y0, z0);
+        let _ = writeln!(s, r#"<text class="axis-label x" x="{}" y="{}" text-anchor="middle">{}</text>"#, n(ax), n(ay + 36.0), escape(&self.x.label));
+        let (bx, by) = p(x1, (y0 + y1) / 2.0, z0);
+        let _ = writeln!(s, r#"<text class="axis-label y" x="{}" y="{}">{}</text>"#, n(bx + 54.0), n(by + 8.0), escape(&self.y.label));
+        let (cx, cy) = (22.0, (p(x0, y0, z0).1 + p(x0, y0, z1).1) / 2.0);
+        let _ = writeln!(
+            s,
+            r#"<text class="axis-label z" x="{x}" y="{y}" text-anchor="middle" transform="rotate(-90 {x} {y})">{}</text>"#,
+            escape(&self.z.label),
+            x = n(cx),
+            y = n(cy)
+        );
+        // The surface, back to front.
+        let z = |i: usize, j: usize| self.z_values.get(j).and_then(|r| r.get(i)).copied().unwrap_or(f64::NAN);
+        let (ni, nj) = (self.xs.len(), self.ys.len().min(self.z_values.len()));
+        let edge = |s: &mut String, j: usize| {
+            let mut run: Vec<String> = Vec::new();
+            let flush = |s: &mut String, run: &mut Vec<String>| {
+                if run.len() >= 2 {
+                    let _ = writeln!(s, r##"<polyline class="mesh" fill="none" stroke="#333" stroke-width="0.8" points="{}"/>"##, run.join(" "));
+                }
+                run.clear();
+            };
+            for i in 0..ni {
+                let v = z(i, j);
+                if v.is_finite() {
+                    run.push(pt(p(self.xs[i], self.ys[j], v)));
+                } else {
+                    flush(s, &mut run);
+                }
+            }
+            flush(s, &mut run);
+        };
+        let every = self.cross_every.max(1);
+        if nj >= 2 && ni >= 2 {
+            // Strip j lies between rows j and j + 1; its far edge (row
+            // j + 1) is drawn over it, the nearer strips may hide both.
+            for j in (0..nj - 1).rev() {
+                for i in 0..ni - 1 {
+                    let c = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
+                    let vs: Vec<f64> = c.iter().map(|&(a, b)| z(a, b)).collect();
+                    if vs.iter().any(|v| !v.is_finite()) {
+                        continue;
+                    }
+                    let fill = ramp((vs.iter().sum::<f64>() / 4.0 - zl) / (zh - zl).max(1e-12));
+                    let pts: Vec<String> = c.iter().zip(&vs).map(|(&(a, b), &v)| pt(p(self.xs[a], self.ys[b], v))).collect();
+                    let _ = writeln!(s, r#"<polygon class="facet" points="{}" fill="{fill}" stroke="{fill}" stroke-width="0.5"/>"#, pts.join(" "));
+                }
+                for i in (0..ni).step_by(every).chain(std::iter::once(ni - 1)) {
+                    let (a, b) = (z(i, j), z(i, j + 1));
+                    if a.is_finite() && b.is_finite() {
+                        line(&mut s, "mesh", p(self.xs[i], self.ys[j], a), p(self.xs[i], self.ys[j + 1], b), "#333");
+                    }
+                }
+                edge(&mut s, j + 1);
+            }
+            edge(&mut s, 0);
+        }
+        if zh >= zl {
+            let (lo, hi) = if zh - zl > 1e-12 { (zl, zh) } else { (zl - 0.5, zh + 0.5) };
+            colorbar(&mut s, "surface-ramp", w - 150.0, top, (bottom - top) * 0.7, (lo, hi), &self.z.label);
         }
         s.push_str("</svg>\n");
         s
@@ -426,5 +905,50 @@ mod tests {
         assert!(svg.contains("t &lt;1&gt;") && svg.contains(">a&amp;b</text>"));
         assert_eq!(svg.matches("class=\"shade\"").count(), 1);
         assert_eq!(svg.matches("<svg").count(), svg.matches("</svg>").count());
+    }
+
+    #[test]
+    fn the_ramp_runs_from_violet_to_yellow_and_cells_tile_the_grid() {
+        assert_eq!(ramp(0.0), "#440154");
+        assert_eq!(ramp(1.0), "#fde725");
+        assert_eq!(ramp(0.5), "#21918c");
+        assert_eq!(ramp(f64::NAN), "#440154");
+        assert_eq!(ramp(7.0), "#fde725");
+        assert_eq!(cell_edges(&[0.0, 1.0, 3.0]), vec![-0.5, 0.5, 2.0, 4.0]);
+        assert_eq!(cell_edges(&[2.0]), vec![1.5, 2.5]);
+    }
+
+    #[test]
+    fn a_heat_map_has_one_cell_per_value_and_a_labelled_colour_bar() {
+        let mut c = Chart::new("h", Axis::new("a, mm"), Axis::new("b, deg"));
+        c.heat = Some(Heat {
+            xs: vec![0.0, 1.0, 2.0],
+            ys: vec![10.0, 20.0],
+            z: vec![vec![1.0, 2.0, f64::NAN], vec![4.0, 5.0, 6.0]],
+            label: "P, mm".into(),
+            tips: Vec::new(),
+            missing: "no value".into(),
+        });
+        let svg = c.render();
+        assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
+        assert_eq!(svg.matches("<rect class=\"cell\"").count(), 5);
+        assert_eq!(svg.matches("<rect class=\"cell missing\"").count(), 1);
+        assert!(svg.contains(">P, mm</text>") && svg.contains(">no value</text>"));
+        assert!(svg.contains(r##"fill="#440154""##) && svg.contains(r##"fill="#fde725""##));
+    }
+
+    #[test]
+    fn figure_panels_get_their_own_clip_paths() {
+        let mut f = Figure::new("two");
+        for k in 0..2 {
+            let mut c = Chart::new(format!("panel {k}"), Axis::new("x"), Axis::new("y"));
+            c.series.push(Series::new("s", vec![(0.0, 0.0), (1.0, 1.0)], color(0)));
+            c.height = 300.0;
+            f.panels.push(c);
+        }
+        let svg = f.render();
+        assert!(svg.contains(r#"<clipPath id="plot1">"#) && svg.contains(r#"<clipPath id="plot2">"#));
+        assert!(svg.contains(r#"height="644""#), "header 44 + 2 × 300");
+        assert_eq!(svg.matches("class=\"panel-title\"").count(), 2);
     }
 }

@@ -18,3 +18,5 @@ mod pprime;
 mod altin504;
 mod cam_synthesis;
 mod plots;
+mod drawing;
+mod report;

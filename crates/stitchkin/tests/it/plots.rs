@@ -208,3 +208,310 @@ fn bad_input_gets_a_clear_error() {
     let e = render(&model, &p, &Plot::Mu, 0.0).unwrap_err().to_string();
     assert!(e.contains("step"), "{e}");
 }
+
+// ---- The charts over a varied parameter, a sweep, a nomogram, 2D/3D ----
+
+use stitchkin::output::plots::parse_vary;
+use stitchkin::study::nomogram::{Axis as GridAxis, NomogramOptions};
+use stitchkin::study::sweep::Vary;
+use stitchkin::study::tune::TuneOptions;
+
+/// The panels of a stacked figure: the text from each `panel-title` to the next.
+fn panels(svg: &str) -> Vec<&str> {
+    let starts: Vec<usize> = svg.match_indices("<text class=\"panel-title\"").map(|(i, _)| i).collect();
+    starts.iter().enumerate().map(|(k, &i)| &svg[i..starts.get(k + 1).copied().unwrap_or(svg.len())]).collect()
+}
+
+/// The points of every polyline, in pixels.
+fn polylines(svg: &str) -> Vec<Vec<(f64, f64)>> {
+    attrs(svg, "<polyline", "points")
+        .iter()
+        .map(|p| p.split_whitespace().map(|q| q.split_once(',').map(|(x, y)| (x.parse().unwrap(), y.parse().unwrap())).unwrap()).collect())
+        .collect()
+}
+
+fn numbers(texts: &[&str]) -> Vec<f64> {
+    texts.iter().map(|t| t.parse().unwrap_or_else(|_| panic!("`{t}` is not a number"))).collect()
+}
+
+/// An error's message and its help.
+fn full(e: stitchkin::error::Error) -> String {
+    match &e {
+        stitchkin::error::Error::Param(p) => format!("{} | {}", p.message, p.help.clone().unwrap_or_default()),
+        e => e.to_string(),
+    }
+}
+
+fn vary(name: &str, lo: f64, hi: f64, n: usize) -> Vary {
+    Vary { name: name.into(), lo, hi, n }
+}
+
+fn column_of(model: &Model, set: &[(&str, f64)], step: f64, name: &str) -> Vec<f64> {
+    let mut p = model.defaults();
+    for (k, v) in set {
+        model.set(&mut p, k, *v).unwrap();
+    }
+    let t = run_cycle(model, &p, &CycleOptions { step_deg: step, points: Some(Vec::new()), ..Default::default() }).unwrap();
+    t.column(name).unwrap().to_vec()
+}
+
+#[test]
+fn analogs_of_points_come_in_two_panels_with_units() {
+    let model = Model::preset("needle876").unwrap();
+    let plot = Plot::Analogs { points: vec!["G".into(), "E".into()], threads: vec![] };
+    let svg = render(&model, &model.defaults(), &plot, 5.0).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    let p = panels(&svg);
+    assert_eq!(p.len(), 2);
+    assert_eq!(texts(p[0], "legend"), ["G dx/dφ", "G dy/dφ", "E dx/dφ", "E dy/dφ"]);
+    assert_eq!(texts(p[1], "legend"), ["G d²x/dφ²", "G d²y/dφ²", "E d²x/dφ²", "E d²y/dφ²"]);
+    assert_eq!(texts(&svg, "axis-label y"), ["velocity analog, mm/rad", "acceleration analog, mm/rad²"]);
+    assert_eq!(texts(&svg, "axis-label x"), ["φ, deg", "φ, deg"]);
+    assert_eq!(svg.matches("<polyline").count(), 8);
+    // 72 steps and the first again; each panel's y ticks cover its data.
+    assert!(polylines(&svg).iter().all(|l| l.len() == 73));
+    let pts: Vec<usize> = ["G", "E"].iter().map(|q| model.point_names.iter().position(|p| p == q).unwrap()).collect();
+    for (panel, suffix) in p.iter().zip(["dy_dphi_mm_per_rad", "d2y_dphi2_mm_per_rad2"]) {
+        let t = run_cycle(&model, &model.defaults(), &CycleOptions { step_deg: 5.0, points: Some(pts.clone()), ..Default::default() }).unwrap();
+        let (lo, hi) = min_max(["G", "E"].iter().map(|q| t.column(&format!("{q}.{suffix}")).unwrap()));
+        let ticks = y_ticks(panel);
+        assert!(ticks[0] <= lo && *ticks.last().unwrap() >= hi, "{ticks:?} vs {lo}…{hi}");
+        assert!(hi - lo > 5.0, "{suffix}: {lo}…{hi}");
+    }
+}
+
+#[test]
+fn take_up_analogs_of_the_thread_paths() {
+    let model = Model::preset("mf7923d").unwrap();
+    let svg = render(&model, &model.defaults(), &Plot::Analogs { points: vec![], threads: vec![] }, 5.0).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    let names = ["n1_A", "n1_B", "n2_A", "n2_B", "n3_A", "n3_B"];
+    for p in panels(&svg) {
+        assert_eq!(texts(p, "legend"), names);
+    }
+    assert_eq!(texts(&svg, "axis-label y"), ["dP/dφ, mm/rad", "d²P/dφ², mm/rad²"]);
+    let one = render(&model, &model.defaults(), &Plot::Analogs { points: vec![], threads: vec!["n3_B".into()] }, 5.0).unwrap();
+    assert_eq!(texts(&one, "legend"), ["n3_B", "n3_B"]);
+    let e = full(render(&model, &model.defaults(), &Plot::Analogs { points: vec![], threads: vec!["n9".into()] }, 5.0).unwrap_err());
+    assert!(e.contains("no thread path `n9` (in --thread)") && e.contains("n1_A"), "{e}");
+    let e = full(render(&model, &model.defaults(), &Plot::Analogs { points: vec!["E".into()], threads: vec!["n1_A".into()] }, 5.0).unwrap_err());
+    assert!(e.contains("not both"), "{e}");
+    let needle = Model::preset("needle876").unwrap();
+    let e = full(render(&needle, &needle.defaults(), &Plot::Analogs { points: vec![], threads: vec![] }, 5.0).unwrap_err());
+    assert!(e.contains("needs points") && e.contains("--points"), "{e}");
+}
+
+#[test]
+fn a_family_of_take_up_curves_over_r1_with_the_required_take_up() {
+    // Seed 000 Fig. 7 a, b: r1 from 4 to 6 mm raises max P (by 17.7 mm
+    // in this model); P' of needle 1 for comparison.
+    let model = Model::preset("mf7923d").unwrap();
+    let plot = Plot::Family { vary: vary("r1", 4.0, 6.0, 5), thread: None };
+    let svg = render(&model, &model.defaults(), &plot, 5.0).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    assert_eq!(texts(&svg, "legend"), ["r1 = 4.0 mm", "r1 = 4.5 mm", "r1 = 5.0 mm", "r1 = 5.5 mm", "r1 = 6.0 mm", "n1 P′ (required)"]);
+    assert_eq!(svg.matches("<polyline").count(), 6);
+    assert_eq!(svg.lines().filter(|l| l.starts_with("<polyline") && l.contains("stroke-dasharray")).count(), 1);
+    assert_eq!(texts(&svg, "axis-label y"), ["P, mm"]);
+    assert!(texts(&svg, "title")[0].contains("mf7923d") && texts(&svg, "title")[0].contains("n1_A"));
+    // Five distinct colours of the ramp.
+    let colours = attrs(&svg, "<polyline", "stroke");
+    let mut distinct = colours[..5].to_vec();
+    distinct.dedup();
+    assert_eq!(distinct.len(), 5, "{colours:?}");
+    // Larger r1, higher peak: the top of each curve (smallest pixel y) rises.
+    let tops: Vec<f64> = polylines(&svg)[..5].iter().map(|l| l.iter().map(|p| p.1).fold(f64::MAX, f64::min)).collect();
+    assert!(tops.windows(2).all(|w| w[1] < w[0] - 5.0), "{tops:?}");
+    // The y axis covers P at r1 = 6 and P'.
+    let p6 = column_of(&model, &[("r1", 6.0)], 5.0, "n1_A.P_mm");
+    let pp = column_of(&model, &[], 5.0, "n1.Pprime_mm");
+    let (lo, hi) = min_max([p6.as_slice(), pp.as_slice()].into_iter());
+    let ticks = y_ticks(&svg);
+    assert!(ticks[0] <= lo && *ticks.last().unwrap() >= hi, "{ticks:?} vs {lo}…{hi}");
+    assert!(hi - column_of(&model, &[], 5.0, "n1_A.P_mm").iter().fold(0.0f64, |a, &b| a.max(b)) > 15.0);
+}
+
+#[test]
+fn a_family_over_the_thickness_draws_p_prime_per_value() {
+    // m moves P' but not P: one dashed P' per value, in its colour.
+    let model = Model::preset("mf7923d").unwrap();
+    let plot = Plot::Family { vary: vary("m", 1.0, 5.0, 3), thread: Some("n3_A".into()) };
+    let svg = render(&model, &model.defaults(), &plot, 10.0).unwrap();
+    assert_no_nan(&svg);
+    assert_eq!(texts(&svg, "legend"), ["m = 1 mm", "m = 3 mm", "m = 5 mm", "n3 P′, m = 1 mm", "n3 P′, m = 3 mm", "n3 P′, m = 5 mm"]);
+    let colours = attrs(&svg, "<polyline", "stroke");
+    assert_eq!(colours[..3], colours[3..]);
+    assert!(texts(&svg, "subtitle")[0].contains("P is the same for every value"));
+}
+
+#[test]
+fn surface_heat_map_of_p_over_phi_and_z() {
+    let model = Model::preset("mf7923d").unwrap();
+    let plot = Plot::Surface { vary: vary("z", -10.0, 10.0, 5), thread: None, wireframe: false };
+    let svg = render(&model, &model.defaults(), &plot, 10.0).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    // One cell per (z, φ), φ closed at 360°.
+    assert_eq!(svg.matches("<rect class=\"cell\"").count(), 5 * 37);
+    assert_eq!(svg.matches("class=\"cell missing\"").count(), 0);
+    assert_eq!((texts(&svg, "axis-label x"), texts(&svg, "axis-label y")), (vec!["φ, deg"], vec!["z, mm"]));
+    assert_eq!(texts(&svg, "tick x"), ["0", "45", "90", "135", "180", "225", "270", "315", "360"]);
+    assert_eq!(numbers(&texts(&svg, "tick y")), [-10.0, -5.0, 0.0, 5.0, 10.0]);
+    assert_eq!(texts(&svg, "colorbar-label"), ["P, mm"]);
+    // The colour bar spans the P of every row; its ticks lie inside.
+    let all: Vec<Vec<f64>> = [-10.0, -5.0, 0.0, 5.0, 10.0].iter().map(|&z| column_of(&model, &[("z", z)], 10.0, "n1_A.P_mm")).collect();
+    let (lo, hi) = min_max(all.iter().map(|v| v.as_slice()));
+    let bar = numbers(&texts(&svg, "colorbar-tick"));
+    assert!(bar.len() >= 3 && bar[0] >= lo && *bar.last().unwrap() <= hi, "{bar:?} vs {lo}…{hi}");
+    // The largest P is the bright end of the ramp, the smallest the dark.
+    let cell = |v: f64| svg.lines().find(|l| l.contains(&format!("P = {v:.2} mm"))).map(|l| l.split("fill=\"").nth(1).unwrap()[..7].to_string()).unwrap();
+    assert_eq!(cell(hi), "#fde725");
+    assert_eq!(cell(lo), "#440154");
+}
+
+#[test]
+fn surface_wireframe_is_painted_back_to_front() {
+    let model = Model::preset("mf7923d").unwrap();
+    let plot = Plot::Surface { vary: vary("z", -10.0, 10.0, 4), thread: None, wireframe: true };
+    let svg = render(&model, &model.defaults(), &plot, 10.0).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    // 36 facets between each pair of rows; one line along φ per row.
+    assert_eq!(svg.matches("class=\"facet\"").count(), 3 * 36);
+    assert_eq!(svg.matches("<polyline class=\"mesh\"").count(), 4);
+    assert_eq!(texts(&svg, "axis-label z"), ["P, mm"]);
+    assert_eq!(texts(&svg, "axis-label y"), ["z, mm"]);
+    assert_eq!(texts(&svg, "axis-label x"), ["φ, deg"]);
+    assert_eq!(texts(&svg, "colorbar-label"), ["P, mm"]);
+    let z = numbers(&texts(&svg, "tick z"));
+    let (lo, hi) = min_max(std::iter::once(column_of(&model, &[("z", 10.0)], 10.0, "n1_A.P_mm").as_slice()));
+    assert!(z[0] <= lo && *z.last().unwrap() >= hi, "{z:?}");
+    // The rows go from the back (z = 10) to the front (z = -10): the first
+    // facet drawn lies higher on the page than the last.
+    let first_y = |l: &str| -> f64 { attrs(l, "<polygon", "points")[0].split_whitespace().map(|p| p.split_once(',').unwrap().1.parse::<f64>().unwrap()).sum::<f64>() / 4.0 };
+    let facets: Vec<&str> = svg.lines().filter(|l| l.contains("class=\"facet\"")).collect();
+    assert!(first_y(facets[0]) < first_y(facets[facets.len() - 1]));
+}
+
+#[test]
+fn heat_map_of_a_sweep_figure_over_two_parameters() {
+    let model = Model::preset("mf7923d").unwrap();
+    let plot = Plot::Heatmap { vary: vec![vary("z", -10.0, 10.0, 3), vary("dphi", -20.0, 20.0, 3)], figure: "n1_A.max_P_mm".into() };
+    let svg = render(&model, &model.defaults(), &plot, 10.0).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    assert_eq!(svg.matches("<rect class=\"cell\"").count(), 9);
+    assert_eq!((texts(&svg, "axis-label x"), texts(&svg, "axis-label y")), (vec!["z, mm"], vec!["dphi, deg"]));
+    assert_eq!(texts(&svg, "colorbar-label"), ["n1_A.max_P, mm"]);
+    let xt = numbers(&texts(&svg, "tick x"));
+    assert!(xt.contains(&-10.0) && xt.contains(&10.0), "{xt:?}");
+    let yt = numbers(&texts(&svg, "tick y"));
+    assert!(yt.contains(&-20.0) && yt.contains(&20.0), "{yt:?}");
+    // The marked extremes are those of the nine settings.
+    let mut maxima = Vec::new();
+    for z in [-10.0, 0.0, 10.0] {
+        for d in [-20.0, 0.0, 20.0] {
+            maxima.push(column_of(&model, &[("z", z), ("dphi", d)], 10.0, "n1_A.P_mm").iter().fold(f64::MIN, |a, &b| a.max(b)));
+        }
+    }
+    let (lo, hi) = min_max(std::iter::once(maxima.as_slice()));
+    assert_eq!(texts(&svg, "legend"), [format!("max {hi:.3} mm"), format!("min {lo:.3} mm")]);
+    assert_eq!(svg.matches("<circle class=\"point\"").count(), 2);
+}
+
+#[test]
+fn heat_map_input_is_checked() {
+    let model = Model::preset("mf7923d").unwrap();
+    let p = model.defaults();
+    let heat = |v: Vec<Vary>, f: &str| full(render(&model, &p, &Plot::Heatmap { vary: v, figure: f.into() }, 10.0).unwrap_err());
+    let e = heat(vec![vary("z", -10.0, 10.0, 3)], "n1_A.max_P_mm");
+    assert!(e.contains("exactly 2 --vary, got 1"), "{e}");
+    let e = heat(vec![vary("z", -10.0, 10.0, 3), vary("dphi", -20.0, 20.0, 3)], "*.max_P_mm");
+    assert!(e.contains("matches 6 figures") && e.contains("n3_B.max_P_mm"), "{e}");
+    let e = heat(vec![vary("z", -10.0, 10.0, 3), vary("dphi", -20.0, 20.0, 3)], "nope");
+    assert!(e.contains("no figure of merit matches `nope` (in --figure)") && e.contains("n1_A.max_P_mm"), "{e}");
+    let e = heat(vec![vary("z", -10.0, 10.0, 1), vary("dphi", -20.0, 20.0, 3)], "n1_A.max_P_mm");
+    assert!(e.contains("at least 2") && e.contains("--vary z="), "{e}");
+    let e = heat(vec![vary("z", -10.0, 10.0, 3), vary("z", -5.0, 5.0, 3)], "n1_A.max_P_mm");
+    assert!(e.contains("varied twice"), "{e}");
+}
+
+#[test]
+fn varied_parameters_are_checked_naming_the_flag() {
+    let model = Model::preset("mf7923d").unwrap();
+    let v = parse_vary(&model, "r1=4:6", 5).unwrap();
+    assert_eq!(v, vary("r1", 4.0, 6.0, 5));
+    assert_eq!(parse_vary(&model, "r1=4:6:3", 5).unwrap().n, 3);
+    let e = full(parse_vary(&model, "r1=4:7", 5).unwrap_err());
+    assert!(e.contains("outside its adjustable range 4…6") && e.contains("(in --vary r1=4:7)"), "{e}");
+    let e = full(parse_vary(&model, "q=1:2", 5).unwrap_err());
+    assert!(e.contains("no parameter `q`") && e.contains("--vary"), "{e}");
+    // A hand-made range outside the parameter's is caught by render too.
+    let e = full(render(&model, &model.defaults(), &Plot::Family { vary: vary("r1", 3.0, 6.0, 3), thread: None }, 10.0).unwrap_err());
+    assert!(e.contains("outside") && e.contains("--vary r1=3:6:3"), "{e}");
+    let e = full(render(&model, &model.defaults(), &Plot::Surface { vary: vary("r1", 4.0, 6.0, 1), thread: None, wireframe: false }, 10.0).unwrap_err());
+    assert!(e.contains("at least 2"), "{e}");
+    let e = full(render(&model, &model.defaults(), &Plot::Family { vary: vary("r1", 4.0, 6.0, 3), thread: Some("n7".into()) }, 10.0).unwrap_err());
+    assert!(e.contains("no thread path `n7`"), "{e}");
+}
+
+#[test]
+fn nomogram_chart_reads_off_z_for_the_thickness() {
+    // Seed 000: z = -2…-5 mm suits 3…5 mm material; the tuned z falls as m grows.
+    let model = Model::preset("mf7923d").unwrap();
+    let mut p = model.defaults();
+    model.set(&mut p, "t1_phase", 180.0).unwrap();
+    let opts = NomogramOptions {
+        thickness: GridAxis { lo: 3.0, hi: 5.0, n: 3 },
+        stitch: None,
+        tune: TuneOptions { adjust: vec!["z".into()], samples: 0, seed: 1, step_deg: 5.0 },
+    };
+    let svg = render(&model, &p, &Plot::Nomogram(opts.clone()), 5.0).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    assert_eq!(texts(&svg, "panel-title"), ["recommended z"]);
+    assert_eq!(texts(&svg, "legend"), ["t = 3.0 mm"]);
+    assert_eq!((texts(&svg, "axis-label x"), texts(&svg, "axis-label y")), (vec!["material thickness m, mm"], vec!["z, mm"]));
+    assert_eq!(svg.matches("<circle class=\"point\"").count(), 3);
+    assert_eq!(svg.matches("<polygon class=\"area\"").count(), 1);
+    let n = stitchkin::study::nomogram::nomogram(&model, &p, &opts, || {}).unwrap();
+    let z: Vec<f64> = n.points.iter().map(|q| q.tuned.as_ref().unwrap().after[0]).collect();
+    assert!(z.windows(2).all(|w| w[1] < w[0]) && z[2] < -2.0, "{z:?}");
+    for v in &z {
+        assert!(svg.contains(&format!("z = {v:.2} mm")), "no tooltip for z = {v:.2}");
+    }
+    // The line falls: pixel y grows with m.
+    let line = &polylines(&svg)[0];
+    assert!(line.windows(2).all(|w| w[1].1 > w[0].1), "{line:?}");
+    let mut one = opts;
+    one.thickness = GridAxis { lo: 3.0, hi: 3.0, n: 1 };
+    let e = full(render(&model, &p, &Plot::Nomogram(one), 5.0).unwrap_err());
+    assert!(e.contains("--thickness gives one value"), "{e}");
+}
+
+#[test]
+fn delta_2d3d_shows_both_take_ups_and_their_difference() {
+    // Seed 000 Fig. 9: needle 1, contour A; ΔP about 0.11 mm in this model.
+    let model = Model::preset("mf7923d").unwrap();
+    let plot = Plot::Delta2d3d { plane: "uvw".into(), threads: vec!["n1_A".into()] };
+    let svg = render(&model, &model.defaults(), &plot, 5.0).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    let p = panels(&svg);
+    assert_eq!(p.len(), 2);
+    assert_eq!(texts(p[0], "legend"), ["n1_A 3D", "n1_A 2D"]);
+    assert_eq!(texts(p[1], "legend"), ["n1_A ΔP"]);
+    assert_eq!(texts(&svg, "axis-label y"), ["P, mm", "ΔP, mm"]);
+    let c = stitchkin::study::compare2d3d::compare_2d3d(&model, &model.defaults(), "uvw", 5.0).unwrap();
+    let dp = c.paths.iter().find(|q| q.path == "n1_A").unwrap().max_abs_dp_mm;
+    assert!((dp - 0.11).abs() < 0.02, "{dp}");
+    assert!(texts(&svg, "subtitle")[0].contains(&format!("largest |ΔP| {dp:.3} mm (n1_A")), "{:?}", texts(&svg, "subtitle"));
+    // ΔP's axis is scaled to ΔP (tenths of a mm), not to P.
+    let t = y_ticks(p[1]);
+    assert!(t.last().unwrap() - t[0] < 1.0 && t[0] <= -dp + 1e-9, "{t:?}");
+    let e = full(render(&model, &model.defaults(), &Plot::Delta2d3d { plane: "nope".into(), threads: vec![] }, 5.0).unwrap_err());
+    assert!(e.contains("no frame `nope`") && e.contains("--plane"), "{e}");
+}

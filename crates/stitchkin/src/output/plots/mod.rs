@@ -1,13 +1,30 @@
 //! The plots of `stitchkin plot` (docs/plots.md), as SVG charts built with
-//! [`super::svg`]: the take-up P(φ) of every thread path with the stitch's
-//! P'(φ), every transmission angle against the 30°…150° band, and the
-//! trajectories of chosen points.
+//! [`super::svg`]: of one cycle, the take-up P(φ) of every thread path with
+//! the stitch's P'(φ), every transmission angle against the 30°…150° band,
+//! the trajectories of chosen points and the velocity and acceleration
+//! analogs; over a varied parameter, P(φ) as a family of lines, a heat map
+//! or a projected surface; a figure of merit over two parameters as a heat
+//! map; a nomogram; and the 2D-vs-3D take-up difference.
 
 use super::svg::{Axis, Chart, Series, XShade, YBand, color};
 use crate::error::{Error, ParamError};
-use crate::geometry::{Plane, V3};
 use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle, wrap_deg};
+use crate::geometry::{Plane, V3};
 use crate::model::{Model, Params};
+use crate::study::nomogram::NomogramOptions;
+use crate::study::sweep::Vary;
+
+pub mod analogs;
+pub mod delta;
+pub mod family;
+pub mod heatmap;
+pub mod nomogram;
+
+pub use analogs::analogs;
+pub use delta::delta_2d3d;
+pub use family::{FamilyData, family, family_data, surface_heat, surface_wireframe};
+pub use heatmap::{figure_label, figure_names, heatmap};
+pub use nomogram::{default_thickness, nomogram_chart};
 
 /// What to plot.
 #[derive(Debug, Clone, PartialEq)]
@@ -20,21 +37,83 @@ pub enum Plot {
     /// The path of each named point over the cycle, to scale, in the
     /// xy-plane of frame `plane` (`None`: the world's).
     Trajectory { points: Vec<String>, plane: Option<String> },
+    /// Velocity and acceleration analogs over φ, in two panels: of each
+    /// named point (dx/dφ, … in mm/rad; d²x/dφ², … in mm/rad²), or, with
+    /// no points, dP/dφ and d²P/dφ² of the thread paths `threads` (empty:
+    /// every path).
+    Analogs { points: Vec<String>, threads: Vec<String> },
+    /// P(φ) of one thread path (`None`: the model's first) for each of the
+    /// N values of a parameter, as a family of lines, with the P'(φ) of
+    /// the stitch thread on that path (seed 000 Fig. 7).
+    Family { vary: Vary, thread: Option<String> },
+    /// The same data as [`Plot::Family`] as a heat map of P over (φ, the
+    /// parameter) with a colour bar, or with `wireframe` as a projected
+    /// surface (seed 000 Fig. 6–7, the spatial charts).
+    Surface { vary: Vary, thread: Option<String>, wireframe: bool },
+    /// One figure of merit of [`crate::study::sweep::figures`] (a pattern
+    /// matching exactly one) over the grid of two varied parameters, as a
+    /// heat map with a colour bar.
+    Heatmap { vary: Vec<Vary>, figure: String },
+    /// The tuned setting(s) of [`crate::study::nomogram::nomogram`] against
+    /// the material thickness m, one line per stitch length t, one panel
+    /// per adjusted parameter. The plot's step replaces the options' φ step.
+    Nomogram(NomogramOptions),
+    /// P_2D and P_3D of each thread path (`threads`; empty: every path)
+    /// and their difference ΔP(φ), the 2D model on the xy-plane of frame
+    /// `plane` (seed 000 Fig. 9; [`crate::study::compare2d3d`]).
+    Delta2d3d { plane: String, threads: Vec<String> },
+}
+
+impl Plot {
+    /// The kind's name on the command line (`takeup`, `family`, …).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Plot::TakeUp => "takeup",
+            Plot::Mu => "mu",
+            Plot::Trajectory { .. } => "trajectory",
+            Plot::Analogs { .. } => "analogs",
+            Plot::Family { .. } => "family",
+            Plot::Surface { .. } => "surface",
+            Plot::Heatmap { .. } => "heatmap",
+            Plot::Nomogram(_) => "nomogram",
+            Plot::Delta2d3d { .. } => "delta2d3d",
+        }
+    }
 }
 
 fn param_error(message: String, help: String) -> Error {
     Error::Param(ParamError { message, help: Some(help) })
 }
 
-/// Runs the cycle the plot needs (positions only) and draws it.
+/// Draws `plot` of the model at `params`, φ every `step_deg`, as an SVG
+/// document. Bad input (an unknown point, path, parameter or figure, a
+/// parameter range outside the adjustable one, …) is an error naming the
+/// option at fault and what to do instead.
 pub fn render(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Result<String, Error> {
+    crate::eval::check_options(&CycleOptions { step_deg, ..Default::default() })?;
+    match plot {
+        Plot::TakeUp | Plot::Mu | Plot::Trajectory { .. } => cycle_chart(model, params, plot, step_deg).map(|c| c.render()),
+        Plot::Analogs { points, threads } => analogs(model, params, points, threads, step_deg).map(|f| f.render()),
+        Plot::Family { vary, thread } => family(model, &family_data(model, params, vary, thread.as_deref(), step_deg)?).map(|c| c.render()),
+        Plot::Surface { vary, thread, wireframe } => {
+            let data = family_data(model, params, vary, thread.as_deref(), step_deg)?;
+            if *wireframe { Ok(surface_wireframe(model, &data).render()) } else { Ok(surface_heat(model, &data).render()) }
+        }
+        Plot::Heatmap { vary, figure } => heatmap(model, params, vary, figure, step_deg).map(|c| c.render()),
+        Plot::Nomogram(opts) => {
+            let mut opts = opts.clone();
+            opts.tune.step_deg = step_deg;
+            nomogram_chart(model, params, &opts).map(|f| f.render())
+        }
+        Plot::Delta2d3d { plane, threads } => delta_2d3d(model, params, plane, threads, step_deg).map(|f| f.render()),
+    }
+}
+
+/// The charts of one cycle: take-up, transmission angles, trajectories.
+fn cycle_chart(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Result<Chart, Error> {
     let mut opts = CycleOptions { step_deg, analogs: false, points: Some(Vec::new()), ..Default::default() };
     if let Plot::Trajectory { points, .. } = plot {
-        if points.is_empty() {
-            return Err(param_error("no points to trace".into(), format!("name them with --points A,B; the moving points are: {}", moving_points(model))));
-        }
-        let slots = points.iter().map(|p| crate::study::stroke::point_slot(model, p, "--points", true)).collect::<Result<Vec<_>, _>>()?;
-        opts.points = Some(slots);
+        opts.points = Some(point_slots(model, points)?);
     }
     // Fail before the cycle when there is nothing to plot.
     match plot {
@@ -43,9 +122,8 @@ pub fn render(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Res
         _ => {}
     }
     let table = run_cycle(model, params, &opts)?;
-    let chart = match plot {
-        Plot::TakeUp => take_up(model, &table)?,
-        Plot::Mu => transmission(model, &table)?,
+    match plot {
+        Plot::Mu => transmission(model, &table),
         Plot::Trajectory { points, plane } => {
             let frame = match plane {
                 None => None,
@@ -60,10 +138,115 @@ pub fn render(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Res
                 Some((name, i)) => Some((name, model.mechanism::<f64>(params)?.frame_plane(i))),
                 None => None,
             };
-            trajectory(model, &table, points, frame)?
+            trajectory(model, &table, points, frame)
         }
-    };
-    Ok(chart.render())
+        _ => take_up(model, &table),
+    }
+}
+
+/// The cycle slots of the named moving points (`--points`).
+fn point_slots(model: &Model, points: &[String]) -> Result<Vec<usize>, Error> {
+    if points.is_empty() {
+        return Err(param_error("no points to trace".into(), format!("name them with --points A,B; the moving points are: {}", moving_points(model))));
+    }
+    points.iter().map(|p| crate::study::stroke::point_slot(model, p, "--points", true)).collect()
+}
+
+/// The names of the model's thread paths, in order.
+fn path_names(model: &Model) -> Vec<String> {
+    model.file.thread.as_ref().map_or_else(Vec::new, |t| t.paths.iter().map(|p| p.name.clone()).collect())
+}
+
+/// The thread paths `wanted` (`--thread`; empty: all), checked against the
+/// model.
+fn select_paths(model: &Model, wanted: &[String]) -> Result<Vec<String>, Error> {
+    let all = path_names(model);
+    if all.is_empty() {
+        return Err(no_threads(model));
+    }
+    for w in wanted {
+        if !all.contains(w) {
+            return Err(param_error(
+                format!("the model has no thread path `{w}` (in --thread)"),
+                format!("its thread paths are: {}", all.join(", ")),
+            ));
+        }
+    }
+    Ok(if wanted.is_empty() { all } else { wanted.to_vec() })
+}
+
+/// The unit of parameter `name` as charts write it (`mm`, `deg`; empty for
+/// a plain number).
+fn param_unit(model: &Model, name: &str) -> &'static str {
+    match model.param_index(name).map(|i| model.params[i].unit_str()) {
+        Some("1") | None => "",
+        Some(u) => u,
+    }
+}
+
+/// An axis label `name, unit` (just `name` without a unit).
+fn unit_label(name: &str, unit: &str) -> String {
+    if unit.is_empty() { name.to_string() } else { format!("{name}, {unit}") }
+}
+
+/// `4.5 mm`: a value with the decimals a grid `step` needs (at most 3).
+fn number_text(v: f64, step: f64, unit: &str) -> String {
+    let decimals = (0..=3i32)
+        .find(|&d| {
+            let m = step.abs() * 10f64.powi(d);
+            (m - m.round()).abs() < 1e-6 * m.max(1.0)
+        })
+        .unwrap_or(3);
+    let text = super::svg::tick_label((v * 10f64.powi(decimals)).round() / 10f64.powi(decimals), 10f64.powi(-decimals));
+    if unit.is_empty() { text } else { format!("{text} {unit}") }
+}
+
+/// `r1 = 4.5 mm`: [`number_text`] with the parameter's name.
+fn value_text(name: &str, v: f64, step: f64, unit: &str) -> String {
+    format!("{name} = {}", number_text(v, step, unit))
+}
+
+/// Checks a varied parameter for a chart: at least two values, both ends
+/// settable. Errors name `--vary` and the fix.
+fn check_vary(model: &Model, vary: &Vary) -> Result<(), Error> {
+    let spec = format!("{}={}:{}:{}", vary.name, vary.lo, vary.hi, vary.n);
+    if vary.n < 2 {
+        return Err(param_error(
+            format!("--vary {spec} gives one value; a chart needs at least 2"),
+            format!("give N ≥ 2, e.g. --vary {}={}:{}:5", vary.name, vary.lo, vary.hi),
+        ));
+    }
+    if vary.n > 1001 {
+        return Err(param_error(format!("--vary {spec} gives {} values", vary.n), "at most 1001 values per parameter in a chart".into()));
+    }
+    if !(vary.lo.is_finite() && vary.hi.is_finite()) || vary.lo == vary.hi {
+        return Err(param_error(format!("--vary {spec}: the range is empty"), "give two different ends, LO:HI:N".into()));
+    }
+    let mut p = model.defaults();
+    for v in [vary.lo, vary.hi] {
+        model.set(&mut p, &vary.name, v).map_err(|e| in_flag(e, &format!("--vary {spec}")))?;
+    }
+    Ok(())
+}
+
+/// The error with `(in FLAG)` added to its message.
+fn in_flag(mut e: ParamError, flag: &str) -> Error {
+    e.message = format!("{} (in {flag})", e.message);
+    Error::Param(e)
+}
+
+/// Parses `--vary NAME=LO:HI[:N]` for a chart: N defaults to `default_n`;
+/// unknown parameters and ends outside the adjustable range are errors
+/// that name the flag.
+pub fn parse_vary(model: &Model, spec: &str, default_n: usize) -> Result<Vary, Error> {
+    let mut v = Vary::parse(model, spec).map_err(|e| match e {
+        Error::Param(p) if !p.message.contains("--vary") => in_flag(p, &format!("--vary {spec}")),
+        e => e,
+    })?;
+    if spec.split_once('=').is_some_and(|(_, r)| r.split(':').count() == 2) {
+        v.n = default_n;
+    }
+    Ok(v)
 }
 
 fn moving_points(model: &Model) -> String {

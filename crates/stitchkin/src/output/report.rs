@@ -1,0 +1,321 @@
+//! `stitchkin report`: one self-contained HTML file about a machine at one
+//! setting — its parameters, the mechanism drawing (still and animated),
+//! P(φ) with P′(φ), the mismatch per thread, the transmission angles and,
+//! when asked, the tuning result and the nomogram (docs/report.md).
+//!
+//! Self-contained: styles inline, every picture an inline SVG, no script
+//! and no reference to another file or site, so the file can be mailed or
+//! archived as is. It is well-formed XML as well as HTML (every element
+//! closed, every text escaped), which the tests check with an XML parser.
+
+use std::fmt::Write;
+
+use super::drawing::{self, DrawOptions, View};
+use super::plots::{self, Plot};
+use super::svg::escape;
+use crate::error::Error;
+use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle};
+use crate::model::{Model, Params};
+use crate::study::nomogram::NomogramOptions;
+use crate::study::tune::{self, TuneOptions, TuneResult};
+
+/// What the report holds beyond its fixed sections.
+#[derive(Debug, Clone)]
+pub struct ReportOptions {
+    /// φ step of every cycle, degrees.
+    pub step_deg: f64,
+    /// Main-shaft angle of the still mechanism drawing, degrees (default:
+    /// the model's start).
+    pub phi_deg: Option<f64>,
+    /// View of the drawings (default: [`View::default_for`] the model).
+    pub view: Option<View>,
+    /// Include the drawing animated over the cycle.
+    pub animate: bool,
+    /// Tune the adjustable settings and report the result.
+    pub tune: Option<TuneOptions>,
+    /// Compute and draw a nomogram.
+    pub nomogram: Option<NomogramOptions>,
+}
+
+impl Default for ReportOptions {
+    fn default() -> Self {
+        ReportOptions { step_deg: 1.0, phi_deg: None, view: None, animate: true, tune: None, nomogram: None }
+    }
+}
+
+/// Numbers as the report prints them: `d` decimals, `–` for none.
+fn num(x: Option<f64>, d: usize) -> String {
+    match x {
+        Some(x) if x.is_finite() => format!("{x:.d$}"),
+        _ => "–".into(),
+    }
+}
+
+/// A table from a header and rows of cells (already escaped).
+fn table(class: &str, head: &[&str], rows: &[Vec<String>]) -> String {
+    let mut s = format!("<table class=\"{class}\"><thead><tr>");
+    for h in head {
+        let _ = write!(s, "<th>{}</th>", escape(h));
+    }
+    s += "</tr></thead><tbody>";
+    for r in rows {
+        s += "<tr>";
+        for c in r {
+            let _ = write!(s, "<td>{c}</td>");
+        }
+        s += "</tr>";
+    }
+    s + "</tbody></table>"
+}
+
+/// An SVG as a figure with a caption.
+fn figure(id: &str, svg: &str, caption: &str) -> String {
+    // The XML declaration, if any, cannot stand inside HTML.
+    let svg = svg.trim_start().strip_prefix("<?xml").map_or(svg, |rest| rest.split_once("?>").map_or(rest, |(_, s)| s));
+    format!("<figure id=\"{id}\">{svg}<figcaption>{}</figcaption></figure>", escape(caption))
+}
+
+const STYLE: &str = "body{font:14px/1.45 system-ui,sans-serif;color:#222;max-width:1000px;margin:0 auto;padding:16px 20px}\
+h1{font-size:22px;margin:0 0 4px}h2{font-size:18px;margin:28px 0 8px;border-bottom:1px solid #ddd;padding-bottom:3px}\
+.meta{color:#666;font-size:12px}nav a{margin-right:12px}\
+table{border-collapse:collapse;font-variant-numeric:tabular-nums;font-size:13px;margin:6px 0}\
+th,td{padding:3px 8px;border-bottom:1px solid #ddd;text-align:right;vertical-align:top}\
+th:first-child,td:first-child{text-align:left}td:has(> .text){text-align:left}\
+.bad{color:#b3261e;font-weight:600}.good{color:#2e7d32}.warn{color:#8a5a00}\
+figure{margin:8px 0}figure svg{width:100%;height:auto}figcaption{color:#555;font-size:12px}\
+@media print{nav{display:none}h2{break-after:avoid}figure{break-inside:avoid}}";
+
+/// The whole report for `model` at `params`.
+pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<String, Error> {
+    crate::eval::check_options(&CycleOptions { step_deg: opts.step_deg, ..Default::default() })?;
+    let info = &model.file.model;
+    let cycle = CycleOptions { step_deg: opts.step_deg, analogs: false, points: Some(Vec::new()), ..Default::default() };
+    let table_ = run_cycle(model, params, &cycle)?;
+    let phi = opts.phi_deg.unwrap_or_else(|| model.phi_start_deg());
+    let view = opts.view.clone().unwrap_or_else(|| View::default_for(model));
+
+    let mut sections: Vec<(&str, &str, String)> = Vec::new();
+    sections.push(("parameters", "Parameters", parameters(model, params)?));
+    sections.push(("mechanism", "Mechanism", mechanism(model, params, phi, &view, opts.animate)?));
+    if !table_.paths.is_empty() {
+        sections.push(("takeup", "Take-up P(φ) and required P′(φ)", take_up(model, params, &table_, opts.step_deg)?));
+    }
+    if table_.stitch.is_some() {
+        sections.push(("mismatch", "Mismatch P − P′", mismatch(&table_)));
+    }
+    if !table_.transmission.is_empty() {
+        sections.push(("transmission", "Transmission angles", transmission(model, params, &table_, opts.step_deg)?));
+    }
+    if let Some(t) = &opts.tune {
+        let r = tune::tune(model, params, t)?;
+        sections.push(("tuning", "Tuning", tuning(model, params, &r, opts.step_deg)?));
+    }
+    if let Some(n) = &opts.nomogram {
+        let chart = plots::nomogram::nomogram_chart(model, params, n)?;
+        sections.push(("nomogram", "Nomogram", figure("nomogram-chart", &chart.render(), "The tuned setting against the material thickness, one line per stitch length.")));
+    }
+    let mut warnings = table_.warnings.clone();
+    if let Some(s) = &table_.stitch {
+        warnings.extend(s.warnings.iter().cloned());
+    }
+    if !warnings.is_empty() {
+        let items: String = warnings.iter().map(|w| format!("<li class=\"warn\">{}</li>", escape(w))).collect();
+        sections.push(("warnings", "Warnings", format!("<ul>{items}</ul>")));
+    }
+
+    let title = match &info.title {
+        Some(t) => format!("{} — {t}", info.name),
+        None => info.name.clone(),
+    };
+    let mut html = String::with_capacity(1 << 20);
+    html += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"/>";
+    let _ = write!(html, "<title>stitchkin report · {}</title><style>{STYLE}</style></head><body>", escape(&info.name));
+    let _ = write!(html, "<header><h1>{}</h1><p class=\"meta\">model {}", escape(&title), escape(&model.file_name));
+    if let Some(seed) = &info.seed {
+        let _ = write!(html, " · seed {}", escape(seed));
+    }
+    let changed: Vec<String> = model
+        .params
+        .iter()
+        .zip(&params.values)
+        .filter(|(p, v)| !p.is_derived() && p.value.is_some_and(|n| n != **v))
+        .map(|(p, v)| format!("{} = {} {}", p.name, super::fmt_num(*v), p.unit_str()))
+        .collect();
+    if !changed.is_empty() {
+        let _ = write!(html, " · set: {}", escape(&changed.join(", ")));
+    }
+    let _ = write!(html, " · φ step {} deg · stitchkin {}</p>", super::fmt_num(opts.step_deg), env!("CARGO_PKG_VERSION"));
+    if let Some(notes) = &info.notes {
+        let _ = write!(html, "<p class=\"meta\">{}</p>", escape(notes));
+    }
+    html += "<nav>";
+    for (id, name, _) in &sections {
+        let _ = write!(html, "<a href=\"#{id}\">{}</a>", escape(name));
+    }
+    html += "</nav></header>";
+    for (k, (id, name, body)) in sections.iter().enumerate() {
+        let _ = write!(html, "<section id=\"{id}\"><h2>{}. {}</h2>{body}</section>", k + 1, escape(name));
+    }
+    html += "</body></html>\n";
+    Ok(html)
+}
+
+fn parameters(model: &Model, params: &Params) -> Result<String, Error> {
+    let values = model.parameter_values(params)?;
+    let rows: Vec<Vec<String>> = model
+        .params
+        .iter()
+        .zip(&values)
+        .map(|(p, v)| {
+            let unit = if p.unit_str() == "1" { "" } else { p.unit_str() };
+            let range = match p.range {
+                Some([lo, hi]) => format!("{}…{}", super::fmt_num(lo), super::fmt_num(hi)),
+                None if p.is_derived() => "derived".into(),
+                None => String::new(),
+            };
+            let changed = !p.is_derived() && p.value.is_some_and(|n| n != *v);
+            let value = format!("{}{}", num(Some(*v), 4).trim_end_matches('0').trim_end_matches('.'), if changed { " (set)" } else { "" });
+            vec![
+                escape(&p.name),
+                escape(&value),
+                unit.into(),
+                escape(&range),
+                p.provenance.as_ref().map_or(String::new(), |pr| escape(&format!("{pr:?}").to_lowercase())),
+                format!("<span class=\"text\">{}</span>", escape(p.source.as_deref().unwrap_or(""))),
+            ]
+        })
+        .collect();
+    Ok(table("parameters", &["parameter", "value", "unit", "range", "provenance", "source"], &rows))
+}
+
+fn mechanism(model: &Model, params: &Params, phi: f64, view: &View, animate: bool) -> Result<String, Error> {
+    let still = DrawOptions { phi_deg: phi, view: view.clone(), dimensions: true, ..Default::default() };
+    let mut s = figure("mechanism-still", &drawing::render(model, params, &still)?, &format!("The mechanism and its threads at φ = {} deg, dimensioned.", super::fmt_num(phi)));
+    if animate {
+        let moving = DrawOptions { phi_deg: phi, view: view.clone(), animate: true, ..Default::default() };
+        s += &figure("mechanism-animated", &drawing::render(model, params, &moving)?, "One turn of the main shaft, animated (plays in any browser).");
+    }
+    Ok(s)
+}
+
+fn take_up(model: &Model, params: &Params, t: &CycleTable, step: f64) -> Result<String, Error> {
+    let chart = plots::render(model, params, &Plot::TakeUp, step)?;
+    let rows: Vec<Vec<String>> = t
+        .paths
+        .iter()
+        .map(|p| {
+            vec![
+                escape(&p.path),
+                format!("<span class=\"text\">{}</span>", escape(p.thread.as_deref().unwrap_or(""))),
+                num(Some(p.max_p_mm), 2),
+                num(Some(p.phi_at_max_deg), 1),
+                num(Some(p.min_p_mm), 2),
+                num(Some(p.xi0_mm), 2),
+            ]
+        })
+        .collect();
+    let mut s = figure("takeup-chart", &chart, "P(φ) of every thread path (solid) and the required P′(φ) of every stitch thread (dashed); shaded: a one-sided guide engaged.");
+    s += &table("paths", &["thread path", "thread", "max P, mm", "at φ, deg", "min P, mm", "length at φ0, mm"], &rows);
+    if let Some(words) = &t.take_up {
+        let _ = write!(s, "<p class=\"meta\">{}</p>", escape(words));
+    }
+    Ok(s)
+}
+
+fn score_cell(score: Option<f64>) -> String {
+    let class = match score {
+        Some(s) if s < 50.0 => "bad",
+        Some(s) if s >= 80.0 => "good",
+        _ => "",
+    };
+    format!("<span class=\"{class}\">{}</span>", num(score, 1))
+}
+
+fn mismatch(t: &CycleTable) -> String {
+    let Some(st) = &t.stitch else { return String::new() };
+    let rows: Vec<Vec<String>> = st
+        .threads
+        .iter()
+        .map(|th| {
+            let m = th.mismatch.as_ref();
+            vec![
+                escape(&th.thread),
+                escape(th.path.as_deref().unwrap_or("–")),
+                num(Some(th.per_stitch_mm), 2),
+                num(Some(th.max_pprime_mm), 2),
+                num(th.max_pprime_b_mm, 2),
+                num(m.map(|m| m.rms_d_mm), 2),
+                num(m.map(|m| m.max_abs_d_mm), 2),
+                num(m.map(|m| m.max_abs_d_at_deg), 1),
+                num(m.map(|m| m.excess_area_mm_deg), 0),
+                num(m.map(|m| m.deficit_area_mm_deg), 0),
+                num(m.map(|m| m.phase_shift_max_deg), 1),
+                score_cell(m.and_then(|m| m.score)),
+            ]
+        })
+        .collect();
+    let mut s = format!(
+        "<p>Stitch {}, material thickness m = {} mm, stitch length t = {} mm. D = P − P′: D &gt; 0 is thread given but not needed (slack), \
+         D &lt; 0 thread needed but not given (strain). Score s = 100·max(0, 1 − RMS(D)/range(P′)).</p>",
+        st.stitch_type,
+        num(Some(st.m_mm), 2),
+        num(Some(st.t_mm), 2)
+    );
+    s += &table(
+        "mismatch",
+        &["thread", "path", "per stitch, mm", "max P′, mm", "max P′ at B, mm", "RMS(D), mm", "max |D|, mm", "at φ, deg", "slack, mm·deg", "strain, mm·deg", "Δφ of maxima, deg", "score"],
+        &rows,
+    );
+    s
+}
+
+fn transmission(model: &Model, params: &Params, t: &CycleTable, step: f64) -> Result<String, Error> {
+    let chart = plots::render(model, params, &Plot::Mu, step)?;
+    let rows: Vec<Vec<String>> = t
+        .transmission
+        .iter()
+        .map(|m| {
+            vec![
+                escape(&m.group),
+                num(Some(m.min_deg), 1),
+                num(Some(m.phi_at_min_deg), 1),
+                num(Some(m.max_deg), 1),
+                num(Some(m.phi_at_max_deg), 1),
+                if m.ok { "<span class=\"good\">inside</span>".into() } else { "<span class=\"bad\">outside</span>".into() },
+            ]
+        })
+        .collect();
+    let mut s = figure("mu-chart", &chart, &format!("Transmission angles μ(φ); outside {MU_MIN_DEG}°…{MU_MAX_DEG}° (shaded) the mechanism risks jamming."));
+    s += &table("transmission", &["group", "min μ, deg", "at φ, deg", "max μ, deg", "at φ, deg", &format!("{MU_MIN_DEG}°…{MU_MAX_DEG}°")], &rows);
+    Ok(s)
+}
+
+fn tuning(model: &Model, params: &Params, r: &TuneResult, step: f64) -> Result<String, Error> {
+    let rows: Vec<Vec<String>> = r
+        .names
+        .iter()
+        .zip(r.before.iter().zip(&r.after))
+        .map(|((name, unit), (b, a))| {
+            let flat = r.flatness.iter().find(|f| f.name == *name).map_or(String::new(), |f| format!("{}…{}", num(Some(f.lo), 2), num(Some(f.hi), 2)));
+            vec![escape(name), (*unit).into(), num(Some(*b), 3), format!("<b>{}</b>", num(Some(*a), 3)), num(Some(a - b), 3), flat]
+        })
+        .collect();
+    let mut s = String::from("<p>The adjustable settings that make P match P′ best for every thread together, transmission angles kept inside their band.</p>");
+    s += &table("tuning", &["setting", "unit", "before", "recommended", "change", "within one score point"], &rows);
+    let threads: Vec<Vec<String>> = r
+        .before_figures
+        .threads
+        .iter()
+        .zip(&r.after_figures.threads)
+        .map(|(b, a)| vec![escape(&b.0), score_cell(b.1), score_cell(a.1), num(Some(b.2), 2), num(Some(a.2), 2)])
+        .collect();
+    s += &table("tuning-scores", &["thread", "score before", "score after", "RMS(D) before, mm", "RMS(D) after, mm"], &threads);
+    let _ = write!(s, "<p class=\"meta\">mean score {} → {}; {} cycles evaluated.</p>", num(Some(r.before_figures.score_mean), 1), num(Some(r.after_figures.score_mean), 1), r.evaluations);
+    let mut tuned = params.clone();
+    for ((name, _), v) in r.names.iter().zip(&r.after) {
+        model.set(&mut tuned, name, *v)?;
+    }
+    let chart = plots::render(model, &tuned, &Plot::TakeUp, step)?;
+    s += &figure("tuned-takeup-chart", &chart, "P(φ) and P′(φ) at the recommended setting.");
+    Ok(s)
+}

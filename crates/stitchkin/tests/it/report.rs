@@ -1,0 +1,117 @@
+//! `output::report`: one self-contained, well-formed HTML file.
+
+use stitchkin::model::Model;
+use stitchkin::output::drawing::View;
+use stitchkin::output::report::{ReportOptions, render};
+use stitchkin::study::nomogram::{Axis, NomogramOptions};
+use stitchkin::study::tune::TuneOptions;
+
+/// Parses the report as XML (it is written to be both) and returns it.
+fn parse(html: &str) -> roxmltree::Document<'_> {
+    let opts = roxmltree::ParsingOptions { allow_dtd: true, ..Default::default() };
+    roxmltree::Document::parse_with_options(html, opts).unwrap_or_else(|e| panic!("the report is not well-formed: {e}"))
+}
+
+fn section_ids(doc: &roxmltree::Document) -> Vec<String> {
+    doc.descendants().filter(|n| n.has_tag_name("section")).map(|n| n.attribute("id").unwrap().to_string()).collect()
+}
+
+fn rows(doc: &roxmltree::Document, class: &str) -> Vec<Vec<String>> {
+    let table = doc.descendants().find(|n| n.has_tag_name("table") && n.attribute("class") == Some(class)).unwrap_or_else(|| panic!("no table {class}"));
+    table
+        .descendants()
+        .filter(|n| n.has_tag_name("tr") && n.parent().is_some_and(|p| p.has_tag_name("tbody")))
+        .map(|tr| tr.children().filter(|c| c.has_tag_name("td")).map(|td| td.descendants().filter(|d| d.is_text()).filter_map(|d| d.text()).collect::<String>()).collect())
+        .collect()
+}
+
+fn self_contained(html: &str) {
+    assert!(!html.contains("NaN") && !html.contains("inf\""), "no non-finite number");
+    assert!(!html.contains("<script"), "no script");
+    for attr in ["src=\"", "href=\"http", "@import"] {
+        assert!(!html.contains(attr), "a reference to another file: {attr}");
+    }
+    // url(#id) refers inside the file (clip paths); nothing else may.
+    assert!(html.match_indices("url(").all(|(i, _)| html[i + 4..].starts_with('#')), "a url() to another file");
+}
+
+#[test]
+fn mf7923d_report_has_every_section_and_is_self_contained() {
+    let model = Model::preset("mf7923d").unwrap();
+    let mut params = model.defaults();
+    model.set(&mut params, "r1", 5.0).unwrap();
+    let html = render(&model, &params, &ReportOptions { step_deg: 2.0, ..Default::default() }).unwrap();
+    self_contained(&html);
+    let doc = parse(&html);
+    let ids = section_ids(&doc);
+    assert_eq!(ids[..5], ["parameters", "mechanism", "takeup", "mismatch", "transmission"]);
+    // Pictures: still and animated mechanism, P/P′, μ — all inline SVG.
+    let svgs = doc.descendants().filter(|n| n.tag_name().name() == "svg").count();
+    assert_eq!(svgs, 4);
+    assert!(doc.descendants().any(|n| n.tag_name().name() == "animate"), "the animated drawing");
+    // The parameters with units and ranges; the changed one marked.
+    let p = rows(&doc, "parameters");
+    let r1 = p.iter().find(|r| r[0] == "r1").unwrap();
+    assert_eq!(r1[1], "5 (set)");
+    assert_eq!(r1[2], "mm");
+    assert_eq!(r1[3], "4…6");
+    assert!(html.contains("set: r1 = 5 mm"));
+    // Mismatch per needle thread, with a score.
+    let m = rows(&doc, "mismatch");
+    assert_eq!(m.iter().map(|r| r[0].as_str()).collect::<Vec<_>>(), ["n1", "n2", "n3"]);
+    for r in &m {
+        let score: f64 = r[11].parse().unwrap();
+        assert!((0.0..=100.0).contains(&score));
+    }
+    assert_eq!(rows(&doc, "paths").len(), 6);
+    assert_eq!(rows(&doc, "transmission").len(), 2);
+}
+
+#[test]
+fn a_planar_model_without_threads_reports_what_it_has() {
+    let model = Model::preset("needle876").unwrap();
+    let opts = ReportOptions { step_deg: 2.0, animate: false, view: Some(View::parse("xy").unwrap()), ..Default::default() };
+    let html = render(&model, &model.defaults(), &opts).unwrap();
+    self_contained(&html);
+    let doc = parse(&html);
+    let ids = section_ids(&doc);
+    assert!(ids.starts_with(&["parameters".to_string(), "mechanism".to_string()]), "{ids:?}");
+    assert!(!ids.contains(&"takeup".to_string()) && !ids.contains(&"mismatch".to_string()));
+    assert!(ids.contains(&"transmission".to_string()));
+    assert!(!html.contains("<animate"), "no animation when not asked");
+}
+
+#[test]
+fn tuning_and_nomogram_sections_when_asked() {
+    let model = Model::preset("mf7923d").unwrap();
+    let params = model.defaults();
+    let tune = TuneOptions { adjust: vec!["dphi".into()], samples: 8, seed: 1, step_deg: 4.0 };
+    let opts = ReportOptions {
+        step_deg: 4.0,
+        animate: false,
+        tune: Some(tune.clone()),
+        nomogram: Some(NomogramOptions { thickness: Axis::parse("2:4:2", "--nomogram-thickness").unwrap(), stitch: None, tune }),
+        ..Default::default()
+    };
+    let html = render(&model, &params, &opts).unwrap();
+    self_contained(&html);
+    let doc = parse(&html);
+    let ids = section_ids(&doc);
+    assert!(ids.contains(&"tuning".to_string()) && ids.contains(&"nomogram".to_string()), "{ids:?}");
+    let t = rows(&doc, "tuning");
+    assert_eq!(t.len(), 1);
+    assert_eq!(t[0][0], "dphi");
+    let after: f64 = t[0][3].parse().unwrap();
+    assert!((-20.0..=20.0).contains(&after), "the recommendation stays in dphi's range: {after}");
+    assert!(doc.descendants().any(|n| n.attribute("id") == Some("tuned-takeup-chart")));
+    assert!(doc.descendants().any(|n| n.attribute("id") == Some("nomogram-chart")));
+}
+
+#[test]
+fn bad_options_are_errors_not_reports() {
+    let model = Model::preset("mf7923d").unwrap();
+    let err = render(&model, &model.defaults(), &ReportOptions { step_deg: 0.0, ..Default::default() }).unwrap_err();
+    assert!(err.to_string().contains("step"), "{err}");
+    let err = render(&model, &model.defaults(), &ReportOptions { view: Some(View::Frame("nowhere".into())), ..Default::default() }).unwrap_err();
+    assert!(err.to_string().contains("nowhere"), "{err}");
+}
