@@ -1,0 +1,199 @@
+//! `App::handle` on the presets and on bad requests.
+
+use serde_json::Value;
+use stitchkin::model::Model;
+use stitchkin_web::{App, Reply};
+
+fn app(preset: &str) -> App {
+    let model = Model::preset(preset).unwrap();
+    let base = model.defaults();
+    App::new(model, base)
+}
+
+fn json(reply: &Reply) -> Value {
+    assert!(reply.content_type.starts_with("application/json"), "{}", reply.content_type);
+    serde_json::from_slice(&reply.body).unwrap()
+}
+
+fn get(app: &App, url: &str) -> Reply {
+    app.handle("GET", url)
+}
+
+/// A 4xx whose JSON names what is wrong (`says`) and carries a help line.
+fn assert_client_error(app: &App, url: &str, status: u16, says: &str) {
+    let r = get(app, url);
+    assert_eq!(r.status, status, "{url}: {}", r.text());
+    let v = json(&r);
+    let error = v["error"].as_str().unwrap();
+    assert!(error.contains(says), "{url}: `{error}` should say `{says}`");
+}
+
+#[test]
+fn page_is_html_with_its_script_inline() {
+    let r = get(&app("mf7923d"), "/");
+    assert_eq!(r.status, 200);
+    assert!(r.content_type.starts_with("text/html"));
+    let html = r.text();
+    assert!(html.contains("<script>") && html.contains("/api/evaluate") && html.contains("/api/drawing"));
+    assert!(!html.contains("src=\"http"), "the page loads nothing from elsewhere");
+}
+
+#[test]
+fn model_lists_parameters_with_units_ranges_and_roles() {
+    let v = json(&get(&app("mf7923d"), "/api/model"));
+    assert_eq!(v["name"], "mf7923d");
+    let params = v["parameters"].as_array().unwrap();
+    let find = |n: &str| params.iter().find(|p| p["name"] == n).unwrap_or_else(|| panic!("no {n}"));
+    assert_eq!(find("r1")["role"], "adjustable");
+    assert_eq!(find("r1")["unit"], "mm");
+    assert_eq!(find("r1")["range"], serde_json::json!([4.0, 6.0]));
+    assert_eq!(find("dphi")["unit"], "deg");
+    assert_eq!(find("m")["role"], "thickness");
+    assert_eq!(find("stitch")["role"], "stitch_length");
+    assert_eq!(v["stitch"]["type"], "407");
+    assert_eq!(v["chart"], "takeup");
+    assert_eq!(v["threads"].as_array().unwrap().len(), 6);
+    assert!(!v["views"].as_array().unwrap().is_empty());
+    // Derived parameters cannot be set, so the page does not offer them.
+    let model = Model::preset("mf7923d").unwrap();
+    for p in model.params.iter().filter(|p| p.is_derived()) {
+        assert!(params.iter().all(|q| q["name"] != p.name.as_str()), "{} is derived", p.name);
+    }
+}
+
+#[test]
+fn evaluate_charts_and_sums_up_and_follows_the_sliders() {
+    let app = app("mf7923d");
+    let base = get(&app, "/api/evaluate");
+    assert_eq!(base.status, 200, "{}", base.text());
+    assert!(!base.text().contains("NaN"));
+    let v = json(&base);
+    let svg = v["chart_svg"].as_str().unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("polyline"));
+    let threads = v["stitch"]["threads"].as_array().unwrap();
+    assert_eq!(threads.len(), 3);
+    for t in threads {
+        assert!(t["rms_d_mm"].as_f64().unwrap() > 0.0);
+        assert!((0.0..=100.0).contains(&t["score"].as_f64().unwrap()));
+    }
+    assert_eq!(v["values"]["r1"], 4.0);
+    let max_p = |v: &Value| v["paths"][0]["max_p_mm"].as_f64().unwrap();
+
+    // A larger eccentric gives more thread (seed 000 §6: r1 4 → 6 mm adds about 10 mm to max P).
+    let r1 = json(&get(&app, "/api/evaluate?p.r1=6"));
+    assert_eq!(r1["values"]["r1"], 6.0);
+    assert!(max_p(&r1) > max_p(&v) + 3.0, "{} vs {}", max_p(&r1), max_p(&v));
+    assert_ne!(r1["chart_svg"], v["chart_svg"]);
+
+    // Thickness and stitch length move P' (and so the mismatch), not P.
+    let m = json(&get(&app, "/api/evaluate?p.m=5&p.stitch=4"));
+    assert_eq!(m["stitch"]["m_mm"], 5.0);
+    assert_eq!(m["stitch"]["t_mm"], 4.0);
+    assert_eq!(max_p(&m), max_p(&v));
+    assert!(m["stitch"]["threads"][0]["max_pprime_mm"].as_f64() > v["stitch"]["threads"][0]["max_pprime_mm"].as_f64());
+
+    // A coarser step is accepted and reported.
+    assert_eq!(json(&get(&app, "/api/evaluate?step=2"))["step_deg"], 2.0);
+}
+
+#[test]
+fn a_model_without_threads_charts_its_transmission_angles() {
+    let app = app("needle876");
+    assert_eq!(json(&get(&app, "/api/model"))["chart"], "mu");
+    let v = json(&get(&app, "/api/evaluate"));
+    assert!(v["stitch"].is_null());
+    let dyads = v["transmission"].as_array().unwrap().len();
+    assert!(dyads > 0);
+    let svg = v["chart_svg"].as_str().unwrap();
+    assert_eq!(svg.matches("class=\"series\"").count(), dyads, "one μ line per dyad");
+}
+
+#[test]
+fn drawing_is_svg_at_phi() {
+    let app = app("mf7923d");
+    let r = get(&app, "/api/drawing?phi=90");
+    assert_eq!(r.status, 200, "{}", r.text());
+    assert!(r.content_type.starts_with("image/svg+xml"));
+    assert!(r.text().starts_with("<svg"));
+    assert!(!r.text().contains("NaN"));
+    let other = get(&app, "/api/drawing?phi=180");
+    assert_ne!(r.body, other.body, "the mechanism moves with φ");
+    let anim = get(&app, "/api/drawing?animate=1");
+    assert_eq!(anim.status, 200, "{}", anim.text());
+    assert!(anim.text().contains("<animate"), "an animation over the cycle");
+}
+
+#[test]
+fn bad_requests_get_a_4xx_that_says_what_to_fix() {
+    let app = app("mf7923d");
+    assert_client_error(&app, "/api/evaluate?p.r1=99", 400, "outside its adjustable range 4…6");
+    assert_client_error(&app, "/api/evaluate?p.zz=1", 400, "no parameter `zz`");
+    assert_client_error(&app, "/api/evaluate?p.r1=abc", 400, "not a finite number");
+    assert_client_error(&app, "/api/evaluate?p.r1=NaN", 400, "not a finite number");
+    assert_client_error(&app, "/api/evaluate?p.r1=inf", 400, "not a finite number");
+    assert_client_error(&app, "/api/evaluate?p.r1=", 400, "not a finite number");
+    assert_client_error(&app, "/api/evaluate?p.r1=5&p.r1=6", 400, "given twice");
+    assert_client_error(&app, "/api/evaluate?rpm=100", 400, "unknown query key `rpm`");
+    assert_client_error(&app, "/api/evaluate?step=0", 400, "outside 0.25…10");
+    assert_client_error(&app, "/api/evaluate?step=-1", 400, "outside 0.25…10");
+    assert_client_error(&app, "/api/model?x=1", 400, "unknown query key");
+    assert_client_error(&app, "/api/drawing?phi=north", 400, "not a finite number");
+    assert_client_error(&app, "/api/drawing?animate=maybe", 400, "not a switch");
+    assert_client_error(&app, "/api/drawing?view=sideways", 400, "sideways");
+    assert_client_error(&app, "/nothing/here", 404, "nothing at /nothing/here");
+    let long = format!("/api/evaluate?p.r1={}", "5".repeat(20_000));
+    assert_eq!(get(&app, &long).status, 414);
+    let post = app.handle("POST", "/api/evaluate");
+    assert_eq!(post.status, 405);
+    // Percent-encoded keys and values are decoded before the checks.
+    assert_eq!(get(&app, "/api/evaluate?p.r1=5%2E5").status, 200);
+}
+
+#[test]
+fn derived_parameters_cannot_be_set() {
+    let model = Model::preset("mf7923d").unwrap();
+    let Some(derived) = model.params.iter().find(|p| p.is_derived()) else { return };
+    let app = App::new(model.clone(), model.defaults());
+    assert_client_error(&app, &format!("/api/evaluate?p.{}=1", derived.name), 400, "derived");
+}
+
+#[test]
+fn a_setting_without_assembly_is_a_422_naming_the_group() {
+    let model = Model::from_toml_str(
+        r#"[model]
+name = "four-bar"
+[parameters]
+r = { value = 15, unit = "mm", range = [10, 20] }
+l = { value = 50, unit = "mm", range = [5, 80] }
+c = { value = 40, unit = "mm" }
+[points]
+O1 = [0, 0]
+O2 = [60, 0]
+[[drivers]]
+type = "crank"
+center = "O1"
+out = "A"
+radius = "r"
+[[groups]]
+type = "rrr"
+name = "bc"
+joints = ["A", "O2"]
+lengths = ["l", "c"]
+out = "B"
+branch = "left"
+"#,
+        "four-bar.toml",
+    )
+    .unwrap();
+    let app = App::new(model.clone(), model.defaults());
+    assert_eq!(get(&app, "/api/evaluate").status, 200);
+    // With l = 10 mm the coupler reaches O2 near φ = 0 but not at φ = 180°.
+    assert_eq!(get(&app, "/api/drawing?p.l=10&phi=0").status, 200);
+    for url in ["/api/evaluate?p.l=10", "/api/drawing?p.l=10&phi=180", "/api/drawing?p.l=10&animate=1"] {
+        let r = get(&app, url);
+        assert_eq!(r.status, 422, "{url}: {}", r.text());
+        let v = json(&r);
+        assert!(v["error"].as_str().unwrap().contains("bc"), "{v}");
+        assert!(v["help"].as_str().unwrap().contains("dimensions"), "{v}");
+    }
+}
