@@ -11,13 +11,17 @@ use stitchkin::model::{Model, Params};
 use stitchkin::{output, presets};
 
 mod cam;
+mod draw;
 mod fit;
+mod image;
 mod sensitivity;
 mod straightness;
 mod stroke;
 
 mod nomogram;
 mod plot;
+mod report;
+mod serve;
 
 #[derive(Parser)]
 #[command(
@@ -206,6 +210,23 @@ enum Command {
         30°…150° marked and the outside shaded. trajectory: each point's path in the world xy-plane (or --plane\n\
         FRAME's), equal scales, a dot at the cycle's start. φ runs over one cycle from the model's start (docs/plots.md).")]
     Plot(plot::PlotArgs),
+    /// Draw the mechanism as SVG at a main-shaft angle, or animated over the cycle (docs/drawing.md).
+    Draw(draw::DrawArgs),
+    /// A local web page: a slider per adjustable parameter, thickness and
+    /// stitch length inputs, and live P/P′, mismatch and mechanism drawing.
+    #[command(after_help = "Examples:\n  stitchkin serve\n  stitchkin serve --preset altin504 --port 8081\n  \
+        stitchkin serve my-machine.toml --set r1=5 --port 0\n\n\
+        Open the address it prints in a browser; Ctrl-C stops it. It listens on 127.0.0.1 only, unless\n\
+        --bind says otherwise, and answers requests for this machine's host names only (docs/web.md).")]
+    Serve(serve::ServeArgs),
+    /// One self-contained HTML report: parameters, mechanism drawing (still
+    /// and animated), P/P′ chart, mismatch, transmission angles and, when
+    /// asked, the tuning result and a nomogram.
+    #[command(after_help = "Examples:\n  stitchkin report -o report.html\n  \
+        stitchkin report --preset altin504 --set m=2 -o altin504.html\n  \
+        stitchkin report --tune --nomogram-thickness 1:5:3 -o tuned.html\n\n\
+        The file holds everything (styles, every picture as inline SVG, no script) and opens in any browser (docs/report.md).")]
+    Report(report::ReportArgs),
     /// Print the JSON Schema of the model file format.
     #[command(after_help = "Example:\n  stitchkin schema > stitchkin-model.schema.json")]
     Schema,
@@ -466,24 +487,10 @@ fn report(e: Error) -> miette::Report {
             let src = NamedSource::new(m.file.clone(), m.text.to_string());
             miette::Report::new(FileDiagnostic { err: *m, src })
         }
-        Error::Param(p) => match p.help {
-            Some(h) => miette::miette!(help = h, "{}", p.message),
-            None => miette::miette!("{}", p.message),
+        other => match other.help() {
+            Some(h) => miette::miette!(help = h.to_string(), "{other}"),
+            None => miette::miette!("{other}"),
         },
-        Error::Assembly(a) => miette::miette!(
-            help = "check the dimensions and the branch of that group, or the φ range (`stitchkin check` shows where assembly is lost)",
-            "{a}"
-        ),
-        Error::NotFinite(m) => miette::miette!("{m}"),
-        Error::Thread(m) => miette::miette!(
-            help = "check the path's node order and the guides' positions at that φ",
-            "{m}"
-        ),
-        Error::Stitch(m) => miette::miette!(
-            help = "check the [stitch] table: organ motions, moments and the stitch frame (docs/model-format.md §13.11)",
-            "{m}"
-        ),
-        Error::Io(m) => miette::miette!("{m}"),
     }
 }
 
@@ -1078,6 +1085,9 @@ fn main() -> miette::Result<()> {
         Command::Tolerance(args) => straightness::tolerance(args),
         Command::Cam(args) => cam::run(args),
         Command::Plot(args) => plot::run(args),
+        Command::Draw(args) => draw::run(args),
+        Command::Serve(args) => serve::run(args),
+        Command::Report(args) => report::run(args),
         Command::Schema => emit(stitchkin::model::schema_json().as_bytes(), None),
     };
     result.map_err(report)

@@ -1,12 +1,16 @@
-//! `stitchkin plot`: SVG charts of a cycle (stitchkin::output::plots).
+//! `stitchkin plot`: SVG charts of a cycle, of a varied parameter, of a
+//! sweep, of a nomogram (stitchkin::output::plots).
 
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use stitchkin::error::Error;
+use stitchkin::error::{Error, ParamError};
+use stitchkin::model::Model;
 use stitchkin::output::plots::{self, Plot};
+use stitchkin::study::nomogram::{Axis, NomogramOptions};
+use stitchkin::study::tune::TuneOptions;
 
-#[derive(Clone, Copy, ValueEnum)]
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum What {
     /// P(φ) of every thread path and P'(φ) of every stitch thread (dashed),
     /// one-sided guides' engaged intervals shaded.
@@ -15,6 +19,35 @@ pub enum What {
     Mu,
     /// The path of each --points point over the cycle, in the xy-plane, to scale.
     Trajectory,
+    /// Velocity and acceleration analogs over φ of --points, or dP/dφ and
+    /// d²P/dφ² of the thread paths.
+    Analogs,
+    /// P(φ) of one thread path for N values of a --vary parameter, with P'(φ).
+    Family,
+    /// P over φ and a --vary parameter as a heat map (--wireframe: a surface).
+    Surface,
+    /// A --figure of merit over two --vary parameters as a heat map.
+    Heatmap,
+    /// The tuned setting against the material thickness, per stitch length.
+    Nomogram,
+    /// P_2D and P_3D of each thread path and ΔP(φ) (2D model on --plane).
+    Delta2d3d,
+}
+
+impl What {
+    fn name(self) -> &'static str {
+        match self {
+            What::Takeup => "takeup",
+            What::Mu => "mu",
+            What::Trajectory => "trajectory",
+            What::Analogs => "analogs",
+            What::Family => "family",
+            What::Surface => "surface",
+            What::Heatmap => "heatmap",
+            What::Nomogram => "nomogram",
+            What::Delta2d3d => "delta2d3d",
+        }
+    }
 }
 
 #[derive(Args)]
@@ -24,34 +57,177 @@ pub struct PlotArgs {
     what: What,
     #[command(flatten)]
     model: crate::ModelArgs,
-    /// Points to trace (trajectory), comma-separated.
+    /// Trajectory, analogs: points to draw, comma-separated.
     #[arg(long, value_delimiter = ',', value_name = "A,B,…")]
     points: Vec<String>,
     /// Trajectory: draw in the xy-plane of this model frame (default: the
-    /// world's).
+    /// world's). Delta2d3d: the frame whose xy-plane is the 2D model's
+    /// (default: world).
     #[arg(long, value_name = "FRAME")]
     plane: Option<String>,
-    /// Step of the main-shaft angle φ, degrees.
-    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
-    step: f64,
-    /// Write the SVG to FILE instead of stdout (written completely or not at all).
-    #[arg(short, long, value_name = "FILE.svg")]
+    /// Analogs, delta2d3d: thread paths to draw, comma-separated (default:
+    /// all). Family, surface: the one path (default: the model's first).
+    #[arg(long, value_delimiter = ',', value_name = "PATH,…")]
+    thread: Vec<String>,
+    /// Family, surface: the varied parameter, NAME=LO:HI:N (N values, ends
+    /// included; N default 5 for family, 11 for surface). Heatmap: give it
+    /// twice (N default 11), the first across, the second up.
+    #[arg(long = "vary", value_name = "NAME=LO:HI:N")]
+    vary: Vec<String>,
+    /// Surface: draw a projected wireframe surface instead of the heat map.
+    #[arg(long)]
+    wireframe: bool,
+    /// Heatmap: the figure of merit to draw (a name as in `stitchkin sweep
+    /// --figures`, e.g. score.mean, n1_A.max_P_mm, mu.min_deg).
+    #[arg(long, value_name = "NAME")]
+    figure: Option<String>,
+    /// Nomogram: material thickness m, mm, LO:HI:N (default: the range of
+    /// the model's thickness parameter, 5 values).
+    #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true)]
+    thickness: Option<String>,
+    /// Nomogram: stitch length t, mm, LO:HI:N, one line each (default: the
+    /// model's stitch length).
+    #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true)]
+    stitch: Option<String>,
+    /// Nomogram: settings to tune, comma-separated (default: every ranged
+    /// parameter that leaves the stitch alone).
+    #[arg(long, value_delimiter = ',', value_name = "NAME,…")]
+    adjust: Vec<String>,
+    /// Nomogram: global samples of each tuning (default 32 per setting, at least 64).
+    #[arg(long, value_name = "N")]
+    samples: Option<usize>,
+    /// Nomogram: seed of the search (the same seed, the same chart).
+    #[arg(long, value_name = "N")]
+    seed: Option<u64>,
+    /// Step of the main-shaft angle φ, degrees (default 1; 2 for family,
+    /// surface, heatmap and nomogram, which evaluate many cycles).
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    step: Option<f64>,
+    /// Write the chart to FILE instead of stdout: FILE.svg, or FILE.png for
+    /// the same drawing rasterised (2 px per SVG unit). Written completely
+    /// or not at all.
+    #[arg(short, long, value_name = "FILE.svg|FILE.png")]
     output: Option<PathBuf>,
 }
 
+fn bad(message: String, help: String) -> Error {
+    Error::Param(ParamError { message, help: Some(help) })
+}
+
+/// `plot family`, `plot surface` and `plot heatmap` (`a`, `a` and `b`).
+fn list(kinds: &[What]) -> String {
+    let names: Vec<String> = kinds.iter().map(|k| format!("`plot {}`", k.name())).collect();
+    match names.as_slice() {
+        [one] => one.clone(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
+        [] => String::new(),
+    }
+}
+
+/// Rejects options that belong to another kind of plot.
+fn check_options(args: &PlotArgs) -> Result<(), Error> {
+    use What::*;
+    let nomogram_example = "stitchkin plot nomogram --set t1_phase=180 --thickness 3:5:3 --adjust z";
+    let owners: [(&str, bool, &[What], &str); 11] = [
+        ("--points", !args.points.is_empty(), &[Trajectory, Analogs], "stitchkin plot trajectory --points A,B"),
+        ("--plane", args.plane.is_some(), &[Trajectory, Delta2d3d], "stitchkin plot delta2d3d --plane uvw"),
+        ("--thread", !args.thread.is_empty(), &[Analogs, Family, Surface, Delta2d3d], "stitchkin plot family --vary z=-10:10:5 --thread n3_A"),
+        ("--vary", !args.vary.is_empty(), &[Family, Surface, Heatmap], "stitchkin plot family --vary r1=4:6:5"),
+        ("--wireframe", args.wireframe, &[Surface], "stitchkin plot surface --vary r1=4:6:9 --wireframe"),
+        ("--figure", args.figure.is_some(), &[Heatmap], "stitchkin plot heatmap --vary z=-10:10:11 --vary dphi=-20:20:11 --figure n1_A.max_P_mm"),
+        ("--thickness", args.thickness.is_some(), &[Nomogram], nomogram_example),
+        ("--stitch", args.stitch.is_some(), &[Nomogram], nomogram_example),
+        ("--adjust", !args.adjust.is_empty(), &[Nomogram], nomogram_example),
+        ("--samples", args.samples.is_some(), &[Nomogram], nomogram_example),
+        ("--seed", args.seed.is_some(), &[Nomogram], nomogram_example),
+    ];
+    for (flag, given, kinds, example) in owners {
+        if given && !kinds.contains(&args.what) {
+            return Err(bad(
+                format!("{flag} is for {}, not `plot {}`", list(kinds), args.what.name()),
+                format!("leave it out, or use it as in `{example}`"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The ranged parameters with their ranges, for a missing --vary.
+fn ranged(model: &Model) -> String {
+    let v: Vec<String> = model
+        .params
+        .iter()
+        .filter(|p| !p.is_derived())
+        .filter_map(|p| p.range.filter(|r| r[1] > r[0]).map(|r| format!("{} ({}…{} {})", p.name, r[0], r[1], p.unit_str())))
+        .collect();
+    if v.is_empty() { "the model has no parameter with an adjustable range".into() } else { format!("the ranged parameters are: {}", v.join(", ")) }
+}
+
+/// The one path of a family or surface.
+fn one_thread(args: &PlotArgs) -> Result<Option<String>, Error> {
+    match args.thread.as_slice() {
+        [] => Ok(None),
+        [one] => Ok(Some(one.clone())),
+        many => Err(bad(
+            format!("`plot {}` draws one thread path; --thread names {}", args.what.name(), many.len()),
+            format!("give one, e.g. --thread {}", many[0]),
+        )),
+    }
+}
+
+/// The one --vary of a family or surface, N defaulting to `default_n`.
+fn one_vary(args: &PlotArgs, model: &Model, default_n: usize) -> Result<stitchkin::study::sweep::Vary, Error> {
+    match args.vary.as_slice() {
+        [] => Err(bad(
+            format!("`plot {}` needs the parameter to vary: --vary NAME=LO:HI:N", args.what.name()),
+            format!("e.g. --vary r1=4:6:{default_n}; {}", ranged(model)),
+        )),
+        [one] => plots::parse_vary(model, one, default_n),
+        many => Err(bad(
+            format!("`plot {}` varies one parameter; --vary is given {} times", args.what.name(), many.len()),
+            "keep one, or draw two parameters with `plot heatmap --vary A=… --vary B=… --figure NAME`".into(),
+        )),
+    }
+}
+
 pub fn run(args: PlotArgs) -> Result<(), Error> {
+    check_options(&args)?;
+    crate::image::check_output(args.output.as_ref(), false)?;
+    let (model, params) = crate::load(&args.model)?;
+    let many_cycles = matches!(args.what, What::Family | What::Surface | What::Heatmap | What::Nomogram);
+    let step = args.step.unwrap_or(if many_cycles { 2.0 } else { 1.0 });
     let plot = match args.what {
         What::Takeup => Plot::TakeUp,
         What::Mu => Plot::Mu,
         What::Trajectory => Plot::Trajectory { points: args.points.clone(), plane: args.plane.clone() },
+        What::Analogs => Plot::Analogs { points: args.points.clone(), threads: args.thread.clone() },
+        What::Family => Plot::Family { vary: one_vary(&args, &model, 5)?, thread: one_thread(&args)? },
+        What::Surface => Plot::Surface { vary: one_vary(&args, &model, 11)?, thread: one_thread(&args)?, wireframe: args.wireframe },
+        What::Heatmap => {
+            let vary = args.vary.iter().map(|v| plots::parse_vary(&model, v, 11)).collect::<Result<Vec<_>, _>>()?;
+            if vary.len() != 2 {
+                return Err(bad(
+                    format!("`plot heatmap` needs exactly 2 --vary, got {}", vary.len()),
+                    format!("e.g. --vary z=-10:10:11 --vary dphi=-20:20:11 (the first across, the second up); {}", ranged(&model)),
+                ));
+            }
+            let Some(figure) = args.figure.clone() else {
+                let names = plots::figure_names(&model, &params, step)?;
+                return Err(bad("`plot heatmap` needs the figure of merit to draw: --figure NAME".into(), format!("this model offers: {}", names.join(", "))));
+            };
+            Plot::Heatmap { vary, figure }
+        }
+        What::Nomogram => {
+            let thickness = match &args.thickness {
+                Some(s) => Axis::parse(s, "--thickness")?,
+                None => plots::default_thickness(&model)?,
+            };
+            let stitch = args.stitch.as_deref().map(|s| Axis::parse(s, "--stitch")).transpose()?;
+            let tune = TuneOptions { adjust: args.adjust.clone(), samples: args.samples.unwrap_or(0), seed: args.seed.unwrap_or(1), step_deg: step };
+            Plot::Nomogram(NomogramOptions { thickness, stitch, tune })
+        }
+        What::Delta2d3d => Plot::Delta2d3d { plane: args.plane.clone().unwrap_or_else(|| "world".into()), threads: args.thread.clone() },
     };
-    if !matches!(plot, Plot::Trajectory { .. }) && (!args.points.is_empty() || args.plane.is_some()) {
-        return Err(Error::Param(stitchkin::error::ParamError {
-            message: "--points and --plane are for `plot trajectory`".into(),
-            help: Some("leave it out, or plot the points' paths with `stitchkin plot trajectory --points A,B`".into()),
-        }));
-    }
-    let (model, params) = crate::load(&args.model)?;
-    let svg = plots::render(&model, &params, &plot, args.step)?;
-    crate::emit(svg.as_bytes(), args.output.as_ref())
+    let svg = plots::render(&model, &params, &plot, step)?;
+    crate::image::emit_picture(&svg, args.output.as_ref(), false)
 }

@@ -53,6 +53,10 @@ mod sensitivity;
 mod cam;
 #[path = "cli/plot.rs"]
 mod plot;
+#[path = "cli/draw.rs"]
+mod draw;
+#[path = "cli/report.rs"]
+mod report;
 
 const PRESETS: &[&str] = &["needle876", "overlock500", "altin-needle", "altin504", "mf7923d", "takeup-lever"];
 
@@ -338,27 +342,75 @@ fn schema_is_json_schema_of_the_format() {
     }
 }
 
-/// Every `stitchkin …` command in the README's shell blocks runs.
-#[test]
-fn readme_examples_run() {
-    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../README.md")).unwrap();
-    let d = scratch("readme");
+/// Starts `stitchkin ARGS --port 0` (a `serve`), reads the address it
+/// prints, checks that `/api/model` answers, and stops it.
+fn serve_answers(args: &[&str]) {
+    use std::io::{BufRead, BufReader, Read, Write};
+    let mut child = bin().args(args).args(["--port", "0"]).stdout(std::process::Stdio::piped()).spawn().unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
+    let url = line.split("open ").nth(1).and_then(|u| u.split_whitespace().next()).unwrap_or_else(|| panic!("no address in `{line}`"));
+    let addr = url.trim_start_matches("http://").trim_end_matches('/');
+    let mut s = std::net::TcpStream::connect(addr).unwrap();
+    write!(s, "GET /api/model HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n").unwrap();
+    let mut answer = String::new();
+    s.read_to_string(&mut answer).unwrap();
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(answer.starts_with("HTTP/1.1 200") && answer.contains("\"parameters\""), "{answer}");
+}
+
+/// The `stitchkin …` commands of the ```sh blocks of a file of the
+/// repository (comments and shell quoting taken off, as a shell would).
+fn doc_commands(file: &str) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(file)).unwrap();
     let mut in_sh = false;
-    let mut ran = 0;
-    for line in readme.lines() {
+    let mut out = Vec::new();
+    for line in text.lines() {
         if line.starts_with("```") {
             in_sh = line == "```sh";
             continue;
         }
         let cmd = line.split('#').next().unwrap().trim();
         if in_sh && cmd.starts_with("stitchkin ") {
-            // Shell quoting (for patterns like '*.P_mm') is taken off, as a shell would.
-            let args: Vec<&str> = cmd.split_whitespace().skip(1).map(|a| a.trim_matches('\'')).collect();
-            let out = run_in(&args, &d);
-            assert!(out.status.success(), "README command failed: {cmd}\n{}", String::from_utf8_lossy(&out.stderr));
-            ran += 1;
+            out.push(cmd.split_whitespace().skip(1).map(|a| a.trim_matches('\'').to_string()).collect());
         }
     }
+    out
+}
+
+/// Runs every `stitchkin …` command of `file` in the scratch folder `d`
+/// (a `serve` is started, asked and stopped); returns how many ran.
+fn run_doc_commands(file: &str, d: &Path) -> usize {
+    let commands = doc_commands(file);
+    for args in &commands {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        if args[0] == "serve" {
+            serve_answers(&args);
+            continue;
+        }
+        let out = run_in(&args, d);
+        assert!(out.status.success(), "{file}: `stitchkin {}` failed\n{}", args.join(" "), String::from_utf8_lossy(&out.stderr));
+    }
+    commands.len()
+}
+
+/// Every `stitchkin …` command in the README's shell blocks runs.
+#[test]
+fn readme_examples_run() {
+    let d = scratch("readme");
+    let ran = run_doc_commands("README.md", &d);
     assert!(ran >= 4, "only {ran} README commands found");
     assert!(d.join("needle876-alpha30.json").exists());
+}
+
+/// And every one in the picture, report and web docs.
+#[test]
+fn picture_docs_examples_run() {
+    let d = scratch("picture-docs");
+    for (file, at_least) in [("docs/plots.md", 10), ("docs/drawing.md", 5), ("docs/report.md", 4)] {
+        let ran = run_doc_commands(file, &d);
+        assert!(ran >= at_least, "only {ran} commands in {file}");
+    }
+    assert!(d.join("tuned.html").exists() && d.join("takeup-lever.svg").exists());
 }

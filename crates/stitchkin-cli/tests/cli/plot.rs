@@ -31,9 +31,112 @@ fn plot_rejects_bad_input_with_the_fix() {
     let e = fails(&["plot", "trajectory", "--preset", "needle876"]);
     assert!(e.contains("no points to trace") && e.contains("--points"), "{e}");
     let e = fails(&["plot", "mu", "--points", "G"]);
-    assert!(e.contains("--points and --plane are for `plot trajectory`"), "{e}");
+    assert!(e.contains("--points is for `plot trajectory` and `plot analogs`, not `plot mu`"), "{e}");
     let e = fails(&["plot", "trajectory", "--preset", "altin-needle", "--points", "E", "--plane", "nope"]);
     assert!(e.contains("no frame `nope`") && e.contains("guide"), "{e}");
     let e = fails(&["plot", "pie"]);
-    assert!(e.contains("takeup") && e.contains("trajectory"), "{e}");
+    assert!(e.contains("takeup") && e.contains("trajectory") && e.contains("heatmap") && e.contains("delta2d3d"), "{e}");
+}
+
+#[test]
+fn plot_draws_the_charts_over_parameters_sweeps_and_2d_3d() {
+    let d = scratch("plot-kinds");
+    let runs: [(&[&str], &str, usize); 7] = [
+        (&["analogs", "--preset", "needle876", "--points", "G", "--step", "10"], ">velocity analog, mm/rad</text>", 4),
+        (&["analogs", "--thread", "n1_A", "--step", "10"], ">d²P/dφ², mm/rad²</text>", 2),
+        (&["family", "--vary", "r1=4:6", "--step", "10"], ">r1 = 6.0 mm</text>", 6),
+        (&["surface", "--vary", "z=-10:10:3", "--step", "10"], "class=\"colorbar-label\"", 0),
+        (&["surface", "--vary", "dphi=-20:20:3", "--wireframe", "--step", "10"], "<polyline class=\"mesh\"", 0),
+        (&["heatmap", "--vary", "z=-10:10:3", "--vary", "dphi=-20:20:3", "--figure", "n1_A.max_P_mm", "--step", "10"], ">n1_A.max_P, mm</text>", 0),
+        (&["delta2d3d", "--plane", "uvw", "--thread", "n1_A,n1_B", "--step", "10"], ">ΔP, mm</text>", 6),
+    ];
+    for (args, needle, polylines) in runs {
+        let mut full = vec!["plot"];
+        full.extend_from_slice(args);
+        let (svg, _) = ok(&full);
+        assert!(svg.starts_with("<svg ") && svg.trim_end().ends_with("</svg>"), "{args:?}");
+        assert!(svg.contains(needle), "{args:?}: no {needle}");
+        assert!(!svg.contains("NaN") && !svg.contains("inf"), "{args:?}");
+        assert_eq!(svg.matches("<polyline class=\"series\"").count(), polylines, "{args:?}");
+    }
+    // A nomogram into a file.
+    let file = d.join("nomogram.svg");
+    let (out, _) = ok(&["plot", "nomogram", "--set", "t1_phase=180", "--thickness", "3:5:3", "--adjust", "z", "--step", "5", "-o", file.to_str().unwrap()]);
+    assert!(out.is_empty());
+    let svg = std::fs::read_to_string(&file).unwrap();
+    assert!(svg.contains(">recommended z</text>") && svg.contains(">material thickness m, mm</text>") && svg.contains(">t = 3.0 mm</text>"));
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
+}
+
+#[test]
+fn plot_rejects_bad_chart_options_with_the_fix() {
+    let e = fails(&["plot", "family"]);
+    assert!(e.contains("`plot family` needs the parameter to vary") && e.contains("r1 (4…6 mm)"), "{e}");
+    let e = fails(&["plot", "family", "--vary", "r1=4:7"]);
+    assert!(e.contains("outside its adjustable range") && e.contains("--vary r1=4:7") && e.contains("between 4 and 6"), "{e}");
+    let e = fails(&["plot", "surface", "--vary", "q=1:2"]);
+    assert!(e.contains("no parameter `q`") && e.contains("--vary"), "{e}");
+    let e = fails(&["plot", "family", "--vary", "r1=4:6:1"]);
+    assert!(e.contains("at least 2") && e.contains("N ≥ 2"), "{e}");
+    let e = fails(&["plot", "family", "--vary", "r1=4:6", "--vary", "z=-1:1"]);
+    assert!(e.contains("varies one parameter") && e.contains("plot heatmap"), "{e}");
+    let e = fails(&["plot", "family", "--vary", "r1=4:6", "--thread", "n1_A,n1_B"]);
+    assert!(e.contains("draws one thread path"), "{e}");
+    let e = fails(&["plot", "heatmap", "--vary", "z=-10:10:3", "--figure", "n1_A.max_P_mm"]);
+    assert!(e.contains("exactly 2 --vary, got 1"), "{e}");
+    let e = fails(&["plot", "heatmap", "--vary", "z=-10:10:3", "--vary", "dphi=-20:20:3", "--step", "30"]);
+    assert!(e.contains("needs the figure of merit") && e.contains("n1_A.max_P_mm"), "{e}");
+    let e = fails(&["plot", "heatmap", "--vary", "z=-10:10:3", "--vary", "dphi=-20:20:3", "--figure", "bogus", "--step", "30"]);
+    assert!(e.contains("no figure of merit matches `bogus`") && e.contains("--figure"), "{e}");
+    let e = fails(&["plot", "takeup", "--vary", "r1=4:6"]);
+    assert!(e.contains("--vary is for `plot family`, `plot surface` and `plot heatmap`, not `plot takeup`"), "{e}");
+    let e = fails(&["plot", "family", "--vary", "r1=4:6", "--figure", "score.mean"]);
+    assert!(e.contains("--figure is for `plot heatmap`"), "{e}");
+    let e = fails(&["plot", "mu", "--thickness", "3:5:3"]);
+    assert!(e.contains("--thickness is for `plot nomogram`") && e.contains("stitchkin plot nomogram"), "{e}");
+    let e = fails(&["plot", "nomogram", "--preset", "needle876"]);
+    assert!(e.contains("no [stitch]"), "{e}");
+    let e = fails(&["plot", "nomogram", "--thickness", "3"]);
+    assert!(e.contains("--thickness gives one value"), "{e}");
+    let e = fails(&["plot", "nomogram", "--thickness", "0:9:3"]);
+    assert!(e.contains("outside"), "{e}");
+    let e = fails(&["plot", "delta2d3d", "--plane", "nope"]);
+    assert!(e.contains("no frame `nope`") && e.contains("uvw"), "{e}");
+    let e = fails(&["plot", "analogs", "--preset", "needle876"]);
+    assert!(e.contains("needs points") && e.contains("G"), "{e}");
+    let e = fails(&["plot", "analogs", "--thread", "n9"]);
+    assert!(e.contains("no thread path `n9`") && e.contains("n3_B"), "{e}");
+    let e = fails(&["plot", "surface", "--vary", "r1=4:6", "--step", "0"]);
+    assert!(e.contains("step"), "{e}");
+}
+
+// docs/plots.md's examples run in `picture_docs_examples_run` (cli.rs).
+
+#[test]
+fn plot_writes_png_of_the_same_drawing() {
+    let dir = scratch("plot-png");
+    let png = dir.join("takeup.png");
+    let svg = dir.join("takeup.svg");
+    ok(&["plot", "takeup", "--step", "5", "-o", png.to_str().unwrap()]);
+    ok(&["plot", "takeup", "--step", "5", "-o", svg.to_str().unwrap()]);
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    // IHDR: width and height are the SVG's times 2 px per unit.
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let attr = |name: &str| -> u32 {
+        let at = text.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+        text[at..].split('"').next().unwrap().parse::<f64>().unwrap() as u32
+    };
+    assert_eq!(u32::from_be_bytes(bytes[16..20].try_into().unwrap()), 2 * attr("width"));
+    assert_eq!(u32::from_be_bytes(bytes[20..24].try_into().unwrap()), 2 * attr("height"));
+    assert!(bytes.len() > 20_000, "a chart, not a blank picture: {} bytes", bytes.len());
+}
+
+#[test]
+fn plot_refuses_an_unknown_picture_format_before_computing() {
+    let dir = scratch("plot-jpg");
+    let jpg = dir.join("takeup.jpg");
+    let err = fails(&["plot", "takeup", "-o", jpg.to_str().unwrap()]);
+    assert!(err.contains(".svg") && err.contains(".png"), "{err}");
+    assert!(!jpg.exists());
 }

@@ -1,0 +1,95 @@
+//! `stitchkin report`: one self-contained HTML file about a model
+//! (stitchkin::output::report).
+
+use std::path::PathBuf;
+
+use clap::Args;
+use stitchkin::error::{Error, ParamError};
+use stitchkin::output::drawing::View;
+use stitchkin::output::report::{self, ReportOptions};
+use stitchkin::study::nomogram::{Axis, NomogramOptions};
+
+#[derive(Args)]
+pub struct ReportArgs {
+    #[command(flatten)]
+    model: crate::ModelArgs,
+    /// Main-shaft angle of the still mechanism drawing, degrees (default:
+    /// the model's start).
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    phi: Option<f64>,
+    /// View of the mechanism drawings: xy, xz, yz, iso or a model frame
+    /// (default: iso for a spatial model, xy for a planar one).
+    #[arg(long, value_name = "VIEW")]
+    view: Option<String>,
+    /// Leave out the animated drawing (a smaller file).
+    #[arg(long)]
+    no_animation: bool,
+    /// Tune the adjustable settings (as `stitchkin tune`) and report the
+    /// recommended setting with its P/P′ chart.
+    #[arg(long)]
+    tune: bool,
+    /// Add a nomogram over this material thickness, mm: LO:HI:N (as
+    /// `stitchkin nomogram --thickness`).
+    #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true)]
+    nomogram_thickness: Option<String>,
+    /// The nomogram's stitch lengths, mm, LO:HI:N (default: the model's).
+    #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true, requires = "nomogram_thickness")]
+    nomogram_stitch: Option<String>,
+    /// Tuning settings (--tune and the nomogram), and the φ step of every
+    /// cycle in the report.
+    #[command(flatten)]
+    search: crate::SearchArgs,
+    /// Write the report to FILE.html (written completely or not at all)
+    /// instead of stdout.
+    #[arg(short, long, value_name = "FILE.html")]
+    output: Option<PathBuf>,
+}
+
+pub fn run(args: ReportArgs) -> Result<(), Error> {
+    let (model, params) = crate::load(&args.model)?;
+    if let Some(path) = &args.output {
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        if !matches!(ext.as_deref(), Some("html" | "htm")) {
+            return Err(Error::Param(ParamError {
+                message: format!("the report is HTML, but `{}` does not end in .html (in -o)", path.display()),
+                help: Some("name it e.g. report.html".into()),
+            }));
+        }
+        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+        if !dir.is_dir() {
+            return Err(Error::Io(format!("cannot write `{}`: there is no folder `{}`", path.display(), dir.display())));
+        }
+    }
+    let adjust = args.search.adjust.clone().unwrap_or_default();
+    let tune_opts = args.search.options(adjust.clone());
+    let tune = if args.tune {
+        let mut t = tune_opts.clone();
+        if t.adjust.is_empty() {
+            t.adjust = stitchkin::study::tune::default_adjustables(&model, &params)?;
+        }
+        Some(t)
+    } else {
+        None
+    };
+    let nomogram = match &args.nomogram_thickness {
+        None => None,
+        Some(th) => Some(NomogramOptions {
+            thickness: Axis::parse(th, "--nomogram-thickness")?,
+            stitch: args.nomogram_stitch.as_deref().map(|s| Axis::parse(s, "--nomogram-stitch")).transpose()?,
+            tune: tune_opts,
+        }),
+    };
+    let opts = ReportOptions {
+        step_deg: args.search.step,
+        phi_deg: args.phi,
+        view: args.view.as_deref().map(View::parse).transpose()?,
+        animate: !args.no_animation,
+        tune,
+        nomogram,
+    };
+    if opts.tune.is_some() || opts.nomogram.is_some() {
+        eprintln!("# report: tuning (this takes a few seconds per tuning)…");
+    }
+    let html = report::render(&model, &params, &opts)?;
+    crate::emit(html.as_bytes(), args.output.as_ref())
+}

@@ -1,0 +1,52 @@
+//! `stitchkin serve`: the live web page (stitchkin_web) for one model.
+
+use std::io::Write;
+use std::net::IpAddr;
+
+use clap::Args;
+use stitchkin::error::{Error, ParamError};
+use stitchkin_web::{App, Server};
+
+#[derive(Args)]
+pub struct ServeArgs {
+    #[command(flatten)]
+    model: crate::ModelArgs,
+    /// TCP port to listen on (0: any free port, printed at start).
+    #[arg(long, default_value_t = 8080, value_name = "PORT")]
+    port: u16,
+    /// Address to listen on. The default, 127.0.0.1, keeps the page on this
+    /// machine; another address exposes it to the network.
+    #[arg(long, default_value = "127.0.0.1", value_name = "IP")]
+    bind: IpAddr,
+    /// Requests computed at the same time.
+    #[arg(long, default_value_t = 2, value_name = "N")]
+    threads: usize,
+}
+
+pub fn run(args: ServeArgs) -> Result<(), Error> {
+    if !(1..=64).contains(&args.threads) {
+        return Err(Error::Param(ParamError {
+            message: format!("--threads {} is outside 1…64", args.threads),
+            help: Some("one thread per core is plenty (the default is 2)".into()),
+        }));
+    }
+    let (model, params) = crate::load(&args.model)?;
+    let addr = std::net::SocketAddr::new(args.bind, args.port);
+    let server = Server::start(App::new(model, params), &addr.to_string(), args.threads).map_err(|e| match e {
+        Error::Io(m) => Error::Param(ParamError {
+            message: m,
+            help: Some(format!("another program may be using port {}: choose another with --port, or --port 0 for any free one", args.port)),
+        }),
+        other => other,
+    })?;
+    if !args.bind.is_loopback() {
+        eprintln!("warning: listening on {} — anyone who can reach this machine can use the page", args.bind);
+    }
+    // The address on stdout (a script can read it), flushed at once.
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(out, "stitchkin serve: open {}  (Ctrl-C stops)", server.url());
+    let _ = out.flush();
+    drop(out);
+    server.join();
+    Ok(())
+}
