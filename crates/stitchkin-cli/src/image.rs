@@ -59,6 +59,7 @@ pub fn emit_picture(svg: &str, out: Option<&PathBuf>, animated: bool) -> Result<
 
 /// Pixels per SVG unit of the PNG: 2, crisp on high-density screens and in
 /// print at the charts' 900 px width.
+#[cfg(feature = "png")]
 pub const PNG_SCALE: f32 = 2.0;
 
 #[cfg(feature = "png")]

@@ -159,32 +159,9 @@ fn derived_parameters_cannot_be_set() {
 
 #[test]
 fn a_setting_without_assembly_is_a_422_naming_the_group() {
-    let model = Model::from_toml_str(
-        r#"[model]
-name = "four-bar"
-[parameters]
-r = { value = 15, unit = "mm", range = [10, 20] }
-l = { value = 50, unit = "mm", range = [5, 80] }
-c = { value = 40, unit = "mm" }
-[points]
-O1 = [0, 0]
-O2 = [60, 0]
-[[drivers]]
-type = "crank"
-center = "O1"
-out = "A"
-radius = "r"
-[[groups]]
-type = "rrr"
-name = "bc"
-joints = ["A", "O2"]
-lengths = ["l", "c"]
-out = "B"
-branch = "left"
-"#,
-        "four-bar.toml",
-    )
-    .unwrap();
+    // r 15 mm, l 50 mm, c 40 mm, O1O2 60 mm: a crank-rocker (the library's
+    // test four-bar).
+    let model = Model::from_toml_str(include_str!("../../../stitchkin/tests/data/four-bar.toml"), "four-bar.toml").unwrap();
     let app = App::new(model.clone(), model.defaults());
     assert_eq!(get(&app, "/api/evaluate").status, 200);
     // With l = 10 mm the coupler reaches O2 near φ = 0 but not at φ = 180°.

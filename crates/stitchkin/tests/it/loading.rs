@@ -6,41 +6,9 @@ use stitchkin::error::ModelError;
 use stitchkin::eval::{CycleOptions, run_cycle};
 use stitchkin::model::Model;
 
-const FOUR_BAR: &str = r#"[model]
-name = "four-bar"
-
-[parameters]
-r = { value = 15, unit = "mm", range = [10, 20] }
-l = { value = 50, unit = "mm" }
-c = { value = 40, unit = "mm" }
-gamma = { value = 30, unit = "deg" }
-twice_r = { expr = "2*r", unit = "mm" }
-
-[points]
-O1 = [0, 0]
-O2 = [60, 0]
-
-[[drivers]]
-type = "crank"
-center = "O1"
-out = "A"
-radius = "r"
-
-[[groups]]
-type = "rrr"
-name = "bc"
-joints = ["A", "O2"]
-lengths = ["l", "c"]
-out = "B"
-branch = "left"
-
-[[groups]]
-type = "rigid_point"
-base = ["A", "B"]
-distance = 20
-angle_deg = "gamma"
-out = "P"
-"#;
+/// A four-bar with a coupler point, parameters with and without a range
+/// and a derived one (shared with the web tests).
+const FOUR_BAR: &str = include_str!("../data/four-bar.toml");
 
 fn load_err(text: &str) -> ModelError {
     match Model::from_toml_str(text, "bad.toml") {
