@@ -192,10 +192,13 @@ impl App {
         };
         let opts = CycleOptions { step_deg: step, analogs: false, points: Some(Vec::new()), ..Default::default() };
         let table = run_cycle(&self.model, &params, &opts).map_err(|e| library_error(&e))?;
+        // The chart from the same cycle as the summary.
         let chart = match chart_kind(&self.model) {
-            Some(kind) => Some(plots::render(&self.model, &params, &kind, step).map_err(|e| library_error(&e))?),
+            Some(Plot::TakeUp) => Some(plots::take_up(&self.model, &table)),
+            Some(_) => Some(plots::transmission(&self.model, &table)),
             None => None,
         };
+        let chart = chart.transpose().map_err(|e| library_error(&e))?.map(|c| c.render());
         let paths: Vec<Value> = table
             .paths
             .iter()

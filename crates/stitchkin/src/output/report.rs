@@ -98,13 +98,13 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
     sections.push(("parameters", "Parameters", parameters(model, params)?));
     sections.push(("mechanism", "Mechanism", mechanism(model, params, phi, &view, opts.animate)?));
     if !table_.paths.is_empty() {
-        sections.push(("takeup", "Take-up P(φ) and required P′(φ)", take_up(model, params, &table_, opts.step_deg)?));
+        sections.push(("takeup", "Take-up P(φ) and required P′(φ)", take_up(model, &table_)?));
     }
     if table_.stitch.is_some() {
         sections.push(("mismatch", "Mismatch P − P′", mismatch(&table_)));
     }
     if !table_.transmission.is_empty() {
-        sections.push(("transmission", "Transmission angles", transmission(model, params, &table_, opts.step_deg)?));
+        sections.push(("transmission", "Transmission angles", transmission(model, &table_)?));
     }
     if let Some(t) = &opts.tune {
         let r = tune::tune(model, params, t)?;
@@ -198,8 +198,8 @@ fn mechanism(model: &Model, params: &Params, phi: f64, view: &View, animate: boo
     Ok(s)
 }
 
-fn take_up(model: &Model, params: &Params, t: &CycleTable, step: f64) -> Result<String, Error> {
-    let chart = plots::render(model, params, &Plot::TakeUp, step)?;
+fn take_up(model: &Model, t: &CycleTable) -> Result<String, Error> {
+    let chart = plots::take_up(model, t)?.render();
     let rows: Vec<Vec<String>> = t
         .paths
         .iter()
@@ -269,8 +269,8 @@ fn mismatch(t: &CycleTable) -> String {
     s
 }
 
-fn transmission(model: &Model, params: &Params, t: &CycleTable, step: f64) -> Result<String, Error> {
-    let chart = plots::render(model, params, &Plot::Mu, step)?;
+fn transmission(model: &Model, t: &CycleTable) -> Result<String, Error> {
+    let chart = plots::transmission(model, t)?.render();
     let rows: Vec<Vec<String>> = t
         .transmission
         .iter()
