@@ -7,6 +7,7 @@
 use divan::{Bencher, black_box};
 use num_dual::Dual2_64;
 use stitchkin::eval::cycle_phis_deg;
+use stitchkin::mechanism::analogs::PoseAnalogs;
 use stitchkin::mechanism::{Mechanism, Phi};
 use stitchkin::model::Model;
 use stitchkin::scalar::Real;
@@ -66,8 +67,30 @@ fn four_bar_positions(bencher: Bencher) {
     bench_cycle::<f64>(bencher, &Model::from_toml_str(FOUR_BAR, "bench").unwrap());
 }
 
+/// Positions in `f64`, then exact first and second analogs of every point
+/// in closed form (mechanism::analogs), as `run` computes them.
+fn bench_closed_form(bencher: Bencher, model: &Model) {
+    let (mech, phis) = cycle::<f64>(model);
+    assert!(mech.has_closed_form_analogs());
+    let mut pose = mech.new_pose(phis.len());
+    let mut an = PoseAnalogs::new(mech.n_points(), phis.len());
+    let p = mech.n_points() - 1;
+    bencher.bench_local(|| {
+        mech.solve(black_box(&phis), &mut pose).unwrap();
+        mech.analogs(&phis, &pose, &mut an).unwrap();
+        black_box(an.acc(p, 180))
+    });
+}
+
 #[divan::bench]
 fn four_bar_with_analogs(bencher: Bencher) {
+    bench_closed_form(bencher, &Model::from_toml_str(FOUR_BAR, "bench").unwrap());
+}
+
+/// The same analogs carried by second-order dual numbers through the
+/// position formulas (the solve for groups without a closed form).
+#[divan::bench]
+fn four_bar_with_analogs_dual(bencher: Bencher) {
     bench_cycle::<Dual2_64>(bencher, &Model::from_toml_str(FOUR_BAR, "bench").unwrap());
 }
 
@@ -78,6 +101,11 @@ fn needle876_positions(bencher: Bencher) {
 
 #[divan::bench]
 fn needle876_with_analogs(bencher: Bencher) {
+    bench_closed_form(bencher, &Model::preset("needle876").unwrap());
+}
+
+#[divan::bench]
+fn needle876_with_analogs_dual(bencher: Bencher) {
     bench_cycle::<Dual2_64>(bencher, &Model::preset("needle876").unwrap());
 }
 
@@ -140,8 +168,28 @@ fn mf7923d_take_up(bencher: Bencher) {
     bench_takeup::<f64>(bencher);
 }
 
+/// P's analogs: the mechanism's analogs in closed form, carried into the
+/// thread paths as dual numbers (as `run` does).
 #[divan::bench]
 fn mf7923d_take_up_with_analogs(bencher: Bencher) {
+    let model = Model::preset("mf7923d").unwrap();
+    let (plain, phis) = cycle::<f64>(&model);
+    let (mech, _) = cycle::<Dual2_64>(&model);
+    let threads = mech.threads.clone().unwrap();
+    let mut pose = plain.new_pose(phis.len());
+    let mut an = PoseAnalogs::new(plain.n_points(), phis.len());
+    let mut dual = mech.new_pose(phis.len());
+    bencher.bench_local(|| {
+        plain.solve(black_box(&phis), &mut pose).unwrap();
+        plain.analogs(&phis, &pose, &mut an).unwrap();
+        dual.set_analogs(&pose, &an);
+        let tracks = threads.evaluate(&dual, None).unwrap();
+        black_box(tracks[5].xi[90])
+    });
+}
+
+#[divan::bench]
+fn mf7923d_take_up_with_analogs_dual(bencher: Bencher) {
     bench_takeup::<Dual2_64>(bencher);
 }
 

@@ -33,6 +33,9 @@ pub trait Real: RealField + Copy + std::fmt::Debug + Send + Sync + 'static {
     fn d2(self) -> f64 {
         0.0
     }
+    /// A number with value `re` and φ-derivatives `d1`, `d2` (the parts a
+    /// type cannot carry are dropped: `f64` keeps `re`, `Dual64` `re, d1`).
+    fn from_parts(re: f64, d1: f64, d2: f64) -> Self;
     /// `self` with the sign of `sign` (an assembly branch, ±1).
     #[inline(always)]
     fn signed(self, sign: f64) -> Self {
@@ -60,6 +63,10 @@ impl Real for f64 {
         x
     }
     #[inline(always)]
+    fn from_parts(re: f64, _d1: f64, _d2: f64) -> Self {
+        re
+    }
+    #[inline(always)]
     fn re(self) -> f64 {
         self
     }
@@ -85,6 +92,10 @@ impl Real for Dual2_64 {
     #[inline(always)]
     fn cst(x: f64) -> Self {
         Dual2_64::from_re(x)
+    }
+    #[inline(always)]
+    fn from_parts(re: f64, d1: f64, d2: f64) -> Self {
+        Dual2_64::new(re, d1, d2)
     }
     #[inline(always)]
     fn d1(self) -> f64 {
@@ -116,6 +127,10 @@ impl Real for Dual64 {
     #[inline(always)]
     fn cst(x: f64) -> Self {
         Dual64::from_re(x)
+    }
+    #[inline(always)]
+    fn from_parts(re: f64, d1: f64, _d2: f64) -> Self {
+        Dual64::new(re, d1)
     }
     #[inline(always)]
     fn d1(self) -> f64 {

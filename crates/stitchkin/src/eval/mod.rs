@@ -301,8 +301,14 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
             cols[c].values.push(v);
         }
     };
-    let mut pose = mech.new_pose(n);
-    mech.solve(&Phi::table(&phis), &mut pose)?;
+    // Analogs in closed form where every group has one (mechanism::analogs):
+    // about 2× faster than dual numbers for the four-bar and needle876. With
+    // thread paths the dual pose feeds the paths' own analogs, and building
+    // it from the closed form costs more than it saves (mf7923d: about 10 %
+    // slower per cycle, docs/benchmarks.md), so those stay dual.
+    let closed_form = opts.analogs && mech.threads.is_none();
+    let plain = if closed_form { model.mechanism::<f64>(params).ok() } else { None };
+    let pose = crate::mechanism::analogs::solve_cycle(&mech, plain.as_ref(), &phis)?;
     for (k, &phi_deg) in phis.iter().enumerate() {
         cols[phi_col].values.push(phi_deg);
         for (p, pos, d1, d2, v, acc) in &point_cols {

@@ -121,6 +121,10 @@ impl<T: Real> Plane<T> {
 pub trait PlaneMap<T: Real>: Copy {
     fn project(&self, p: &V3<T>) -> V2<T>;
     fn lift(&self, q: V2<T>, lift: T) -> V3<T>;
+    /// In-plane components of a direction (a velocity, an acceleration).
+    fn project_dir(&self, d: &V3<T>) -> V2<T>;
+    /// World direction of an in-plane direction.
+    fn lift_dir(&self, q: V2<T>) -> V3<T>;
 }
 
 /// The world xy-plane: projection drops z.
@@ -136,6 +140,14 @@ impl<T: Real> PlaneMap<T> for WorldXy {
     fn lift(&self, q: V2<T>, lift: T) -> V3<T> {
         V3::new(q.x, q.y, lift)
     }
+    #[inline(always)]
+    fn project_dir(&self, d: &V3<T>) -> V2<T> {
+        V2::new(d.x, d.y)
+    }
+    #[inline(always)]
+    fn lift_dir(&self, q: V2<T>) -> V3<T> {
+        V3::new(q.x, q.y, T::zero())
+    }
 }
 
 /// The xy-plane of a frame.
@@ -150,6 +162,14 @@ impl<T: Real> PlaneMap<T> for FrameXy<'_, T> {
     #[inline(always)]
     fn lift(&self, q: V2<T>, lift: T) -> V3<T> {
         self.0.to_world(V3::new(q.x, q.y, lift))
+    }
+    #[inline(always)]
+    fn project_dir(&self, d: &V3<T>) -> V2<T> {
+        self.0.rot.tr_mul(d).xy()
+    }
+    #[inline(always)]
+    fn lift_dir(&self, q: V2<T>) -> V3<T> {
+        self.0.dir_to_world(V3::new(q.x, q.y, T::zero()))
     }
 }
 

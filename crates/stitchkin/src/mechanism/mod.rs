@@ -5,6 +5,7 @@
 //! at a batch of φ values (one, or a whole cycle) fills a preallocated
 //! [`Pose`] group by group; nothing is allocated per step.
 
+pub mod analogs;
 pub mod line;
 pub mod newton;
 pub mod rigid;
