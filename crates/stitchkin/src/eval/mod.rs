@@ -30,8 +30,9 @@ pub struct CycleOptions {
     pub analogs: bool,
     /// Points to tabulate; `None`: the model's output points.
     pub points: Option<Vec<usize>>,
-    /// Leave out what studies do not need: the per-node wrap-angle and
-    /// tension columns of thread paths and the best lag of the P–P' match.
+    /// Leave out what studies do not need: link-angle columns, the per-node
+    /// wrap-angle and tension columns of thread paths and the best lag of
+    /// the P–P' match.
     pub lean: bool,
 }
 
@@ -279,11 +280,13 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
         };
         [c0, c1, c2, c3, c4]
     };
-    let angle_cols: Vec<[Option<usize>; 5]> = model
-        .link_angle_names
-        .iter()
-        .map(|a| scalar_cols(&mut b, a, "deg", "rad", ("omega_rad_per_s", "eps_rad_per_s2")))
-        .collect();
+    // Link angles are columns only (no summary or study figure reads
+    // them): a lean run leaves them out.
+    let angle_cols: Vec<[Option<usize>; 5]> = if opts.lean {
+        Vec::new()
+    } else {
+        model.link_angle_names.iter().map(|a| scalar_cols(&mut b, a, "deg", "rad", ("omega_rad_per_s", "eps_rad_per_s2"))).collect()
+    };
     let mu_cols: Vec<usize> = model.dyads.iter().map(|d| b.col(format!("mu_{}_deg", d.key), n)).collect();
     let measure_cols: Vec<[Option<usize>; 5]> = model
         .measure_names
@@ -325,7 +328,9 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
                 }
             }
         }
-        mech.link_angles(&pose, k, &mut angles);
+        if !angle_cols.is_empty() {
+            mech.link_angles(&pose, k, &mut angles);
+        }
         for (a, c) in angles.iter().zip(&angle_cols) {
             for (j, val) in [a.re().to_degrees(), a.d1(), a.d2(), a.d1() * w, a.d2() * w * w].into_iter().enumerate() {
                 push(cols, c[j], val);
