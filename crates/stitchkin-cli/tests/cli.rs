@@ -57,6 +57,8 @@ mod plot;
 mod draw;
 #[path = "cli/report.rs"]
 mod report;
+#[path = "cli/serve.rs"]
+mod serve;
 
 const PRESETS: &[&str] = &["needle876", "overlock500", "altin-needle", "altin504", "mf7923d", "takeup-lever"];
 

@@ -65,7 +65,7 @@ impl Browser {
                 "--disable-component-update",
                 "--disable-sync",
                 "--remote-debugging-port=0",
-                "--window-size=1400,1700",
+                "--window-size=1400,2600",
             ])
             .arg(format!("--user-data-dir={}", profile.0.display()))
             .arg("about:blank")
@@ -123,7 +123,10 @@ impl Browser {
         let attached = self.call("Target.attachToTarget", json!({ "targetId": target["targetId"], "flatten": true }));
         self.session = Some(attached["sessionId"].as_str().unwrap().to_string());
         self.call("Page.enable", json!({}));
-        self.call("Emulation.setDeviceMetricsOverride", json!({ "width": 1400, "height": 1700, "deviceScaleFactor": 1, "mobile": false }));
+        // Tall enough for the whole page: screenshots need not capture
+        // beyond the viewport (which re-lays the page out and can move an
+        // element between a mouse press and its release).
+        self.call("Emulation.setDeviceMetricsOverride", json!({ "width": 1400, "height": 2600, "deviceScaleFactor": 1, "mobile": false }));
     }
 
     /// Evaluates `js` in the page and returns its value.
@@ -155,7 +158,7 @@ impl Browser {
 
     /// Saves a PNG of the whole page under the test artifacts.
     fn screenshot(&mut self, name: &str) -> PathBuf {
-        let shot = self.call("Page.captureScreenshot", json!({ "format": "png", "captureBeyondViewport": true }));
+        let shot = self.call("Page.captureScreenshot", json!({ "format": "png" }));
         let png = base64::engine::general_purpose::STANDARD.decode(shot["data"].as_str().unwrap()).unwrap();
         assert_eq!(&png[1..4], b"PNG");
         let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("browser");
@@ -220,6 +223,22 @@ fn moving_a_slider_redraws_the_take_up_summary_and_mechanism() {
     assert_eq!(b.eval("document.getElementById('error').classList.contains('shown')"), json!(false));
     let shot = b.screenshot("serve-mf7923d-after.png");
     eprintln!("browser test: screenshot saved to {}", shot.display());
+
+    // An impossible setting typed into a number box: the page shows the
+    // server's 422 message in its error box; Reset brings the model back.
+    b.eval("(() => { document.getElementById('settings-box').open = true; const e = document.getElementById('p-l_ab'); e.scrollIntoView(); e.focus(); e.select(); })()");
+    b.call("Input.insertText", json!({ "text": "5" }));
+    b.wait_for(&format!("{SETTLED} && document.getElementById('error').classList.contains('shown')"), "the error box for l_ab = 5 mm");
+    let message = b.eval("document.getElementById('error').textContent");
+    assert!(message.as_str().unwrap().contains("alpha0"), "the library's message: {message}");
+    for id in ["chart", "summary", "drawing"] {
+        assert_eq!(b.eval(&format!("document.getElementById('{id}').classList.contains('stale')")), json!(true), "the last good {id} is greyed");
+    }
+    b.screenshot("serve-mf7923d-error.png");
+    let reset = b.eval("(() => { const e = document.getElementById('reset'); e.scrollIntoView(); const r = e.getBoundingClientRect(); return [r.x + r.width / 2, r.y + r.height / 2]; })()");
+    b.click(reset[0].as_f64().unwrap(), reset[1].as_f64().unwrap());
+    b.wait_for(&format!("{SETTLED} && !document.getElementById('error').classList.contains('shown')"), "the page to recover after Reset");
+    assert_eq!(b.eval("document.getElementById('p-r1').value"), json!("4"));
 
     // Animation on request.
     let anim = b.eval("(() => { const e = document.getElementById('animate'); e.scrollIntoView(); const r = e.getBoundingClientRect(); return [r.x + r.width / 2, r.y + r.height / 2]; })()");
