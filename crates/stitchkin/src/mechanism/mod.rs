@@ -258,9 +258,17 @@ impl<T: Real> Mechanism<T> {
                 Step::Rrr { p1, p2, l1, l2, sign, plane, .. } => {
                     let (a, b) = (tr(*p1), tr(*p2));
                     let (l1sq, l2sq) = (*l1 * *l1, *l2 * *l2);
-                    with_plane!(plane, pl => each(&mut o, |k| {
-                        rrr::rrr(pl.project(&a[k]), pl.project(&b[k]), l1sq, l2sq, *sign).map(|q| pl.lift(q, T::zero()))
-                    }))
+                    match self.fixed_point(*p2) {
+                        // A dyad on a fixed pivot (a four-bar's rocker): the
+                        // pivot is projected once, not read at every φ.
+                        Some(c) => with_plane!(plane, pl => {
+                            let c = pl.project(&c);
+                            each(&mut o, |k| rrr::rrr(pl.project(&a[k]), c, l1sq, l2sq, *sign).map(|q| pl.lift(q, T::zero())))
+                        }),
+                        None => with_plane!(plane, pl => each(&mut o, |k| {
+                            rrr::rrr(pl.project(&a[k]), pl.project(&b[k]), l1sq, l2sq, *sign).map(|q| pl.lift(q, T::zero()))
+                        })),
+                    }
                 }
                 Step::Rrp { from, through, toward, dir, offset, l, sign, plane, .. } => {
                     let (a, h) = (tr(*from), tr(*through));
@@ -433,6 +441,11 @@ impl<T: Real> Mechanism<T> {
                 }
             });
         }
+    }
+
+    /// The position of point `slot` if it is fixed.
+    fn fixed_point(&self, slot: usize) -> Option<V3<T>> {
+        self.fixed.iter().find(|(s, _)| *s == slot).map(|(_, p)| *p)
     }
 
     /// Number of point slots.
