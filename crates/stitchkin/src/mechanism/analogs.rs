@@ -81,16 +81,7 @@ impl Mechanism<f64> {
         assert!(phis.len() == n && out.n == n, "one φ per pose position");
         let x = &pose.tracks;
         for step in &self.steps {
-            let o = match step {
-                Step::Crank { out, .. }
-                | Step::Rrr { out, .. }
-                | Step::Rrp { out, .. }
-                | Step::Rssr { out, .. }
-                | Step::PointOnLine { out, .. }
-                | Step::Rigid { out, .. }
-                | Step::Offset { out, .. } => *out,
-                Step::Rpr { .. } | Step::Rigid3 { .. } | Step::Newton(_) => unreachable!("checked above"),
-            };
+            let o = step.out().expect("closed-form steps place one point");
             // The output's analogs are taken out while the inputs' are read.
             let (mut v, mut a) = (std::mem::take(&mut out.vel[o]), std::mem::take(&mut out.acc[o]));
             let (vt, at) = (&out.vel, &out.acc);

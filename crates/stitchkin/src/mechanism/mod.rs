@@ -90,6 +90,25 @@ pub enum Step<T: Real> {
     Newton(Box<NewtonGroup<T>>),
 }
 
+impl<T: Real> Step<T> {
+    /// The point a closed-form step places (`None` for a numerical group,
+    /// which places several).
+    pub fn out(&self) -> Option<usize> {
+        match self {
+            Step::Crank { out, .. }
+            | Step::Rrr { out, .. }
+            | Step::Rrp { out, .. }
+            | Step::Rpr { out, .. }
+            | Step::Rssr { out, .. }
+            | Step::PointOnLine { out, .. }
+            | Step::Rigid { out, .. }
+            | Step::Rigid3 { out, .. }
+            | Step::Offset { out, .. } => Some(*out),
+            Step::Newton(_) => None,
+        }
+    }
+}
+
 /// A derived quantity, evaluated from a solved pose.
 #[derive(Debug, Clone, PartialEq)]
 pub enum MeasureStep<T: Real> {
@@ -213,18 +232,7 @@ impl<T: Real> Mechanism<T> {
         let tracks = &mut pose.tracks;
         let mut newton = 0;
         for (i, step) in self.steps.iter().enumerate() {
-            let out_slot = match step {
-                Step::Crank { out, .. }
-                | Step::Rrr { out, .. }
-                | Step::Rrp { out, .. }
-                | Step::Rpr { out, .. }
-                | Step::Rssr { out, .. }
-                | Step::PointOnLine { out, .. }
-                | Step::Rigid { out, .. }
-                | Step::Rigid3 { out, .. }
-                | Step::Offset { out, .. } => *out,
-                Step::Newton(_) => usize::MAX,
-            };
+            let out_slot = step.out().unwrap_or(usize::MAX);
             // The output track is taken out while the inputs are read.
             let mut o = if out_slot == usize::MAX { Vec::new() } else { std::mem::take(&mut tracks[out_slot]) };
             let t = &*tracks;
