@@ -80,7 +80,7 @@ h1{font-size:22px;margin:0 0 4px}h2{font-size:18px;margin:28px 0 8px;border-bott
 .meta{color:#666;font-size:12px}nav a{margin-right:12px}\
 table{border-collapse:collapse;font-variant-numeric:tabular-nums;font-size:13px;margin:6px 0}\
 th,td{padding:3px 8px;border-bottom:1px solid #ddd;text-align:right;vertical-align:top}\
-th:first-child,td:first-child{text-align:left}td:has(> .text){text-align:left}\
+th:first-child,td:first-child{text-align:left}td:has(> .text){text-align:left}td:not(:has(> .text)){white-space:nowrap}\
 .bad{color:#b3261e;font-weight:600}.good{color:#2e7d32}.warn{color:#8a5a00}\
 figure{margin:8px 0}figure svg{width:100%;height:auto}figcaption{color:#555;font-size:12px}\
 @media print{nav{display:none}h2{break-after:avoid}figure{break-inside:avoid}}";

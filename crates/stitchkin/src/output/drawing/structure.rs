@@ -1,0 +1,364 @@
+//! What is drawn, derived from the resolved mechanism's solve steps: the
+//! links (bars and plates), sliders on their guide lines, link lengths for
+//! `--dimensions` and crank circles, and the positions of every point.
+
+use std::collections::BTreeSet;
+
+use crate::error::Error;
+use crate::geometry::{Plane as FramePlane, V2, V3, perp};
+use crate::mechanism::newton::{Closure, PointRef};
+use crate::mechanism::{Mechanism, Phi, Step, rpr};
+use crate::model::Model;
+
+/// Positions of every point slot at each φ of `phis` (degrees, increasing).
+/// Numerical groups follow their assembly by continuation from the model's
+/// start in steps of at most 1°; closed-form groups are solved at `phis`
+/// alone. No assembly at some φ is the library's usual error.
+pub(super) fn solve(model: &Model, mech: &Mechanism<f64>, phis: &[f64]) -> Result<Vec<Vec<V3<f64>>>, Error> {
+    let continuation = mech.steps.iter().any(|s| matches!(s, Step::Newton(_)));
+    let mut grid = Vec::new();
+    let mut pick = Vec::with_capacity(phis.len());
+    let fill = |grid: &mut Vec<f64>, from: f64, to: f64| {
+        let k = ((to - from) / 1.0).ceil().max(1.0) as usize;
+        for j in 1..k {
+            grid.push(from + (to - from) * j as f64 / k as f64);
+        }
+    };
+    for (i, &phi) in phis.iter().enumerate() {
+        if continuation {
+            let from = if i == 0 { phi - (phi - model.phi_start_deg()).rem_euclid(360.0) } else { phis[i - 1] };
+            if i == 0 {
+                grid.push(from);
+            }
+            fill(&mut grid, from, phi);
+            if i > 0 || phi != from {
+                grid.push(phi);
+            }
+        } else {
+            grid.push(phi);
+        }
+        pick.push(grid.len() - 1);
+    }
+    let mut pose = mech.new_pose(grid.len());
+    mech.solve(&Phi::table(&grid), &mut pose)?;
+    Ok(pick.into_iter().map(|k| (0..mech.n_points()).map(|s| pose.point(s, k)).collect()).collect())
+}
+
+/// A point added to the drawing that is not a model point: a rocker's
+/// centre on its axis, a slotted lever's foot.
+#[derive(Debug, Clone)]
+enum Extra {
+    At(V3<f64>),
+    SlotFoot { from: usize, pivot: usize, e: f64, plane: FramePlane<f64> },
+}
+
+/// How a link is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Kind {
+    Crank,
+    Bar,
+    Rod,
+    Offset,
+    Plate,
+}
+
+impl Kind {
+    pub(super) fn class(self) -> &'static str {
+        match self {
+            Kind::Crank => "link crank",
+            Kind::Bar => "link bar",
+            Kind::Rod => "link rod",
+            Kind::Offset => "link offset",
+            Kind::Plate => "link plate",
+        }
+    }
+}
+
+/// A rigid body: its points (slots, then extras numbered after the slots).
+#[derive(Debug, Clone)]
+pub(super) struct Body {
+    pub(super) pts: Vec<usize>,
+    pub(super) kind: Kind,
+}
+
+/// A slider's guide line at each φ: where it passes and which way it runs.
+#[derive(Debug, Clone)]
+pub(super) enum Guide {
+    /// Planar: through `through` shifted by `offset` to the left, toward
+    /// `toward` or along `dir` in `plane`.
+    Planar { through: usize, toward: Option<usize>, dir: V2<f64>, offset: f64, plane: FramePlane<f64> },
+    /// Spatial: through `through` toward `toward` or along `dir`.
+    Spatial { through: usize, toward: Option<usize>, dir: V3<f64> },
+    /// A slotted lever's slot: the block rides on the pin `from`.
+    Slot { from: usize, pivot: usize, e: f64, plane: FramePlane<f64> },
+}
+
+#[derive(Debug, Clone)]
+pub(super) struct Slider {
+    pub(super) at: usize,
+    pub(super) guide: Guide,
+}
+
+/// A link length written with `--dimensions`.
+#[derive(Debug, Clone)]
+pub(super) struct Dim {
+    pub(super) a: usize,
+    pub(super) b: usize,
+    pub(super) length: f64,
+    /// `l` for links, `r` for crank and rocker radii.
+    pub(super) symbol: &'static str,
+}
+
+/// A crank pin's circle: centre slot, the crank plane's unit vectors, radius.
+#[derive(Debug, Clone)]
+pub(super) struct Circle {
+    pub(super) center: usize,
+    pub(super) u: V3<f64>,
+    pub(super) v: V3<f64>,
+    pub(super) r: f64,
+}
+
+/// The drawing's structure, from the solve steps.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Structure {
+    extras: Vec<Extra>,
+    pub(super) bodies: Vec<Body>,
+    pub(super) sliders: Vec<Slider>,
+    pub(super) dims: Vec<Dim>,
+    pub(super) circles: Vec<Circle>,
+    /// Ball-ended rod ends (RSSR).
+    pub(super) spherical: BTreeSet<usize>,
+    /// Fixed points that only place a guide line (drawn as a small cross).
+    pub(super) guide_points: BTreeSet<usize>,
+}
+
+impl Structure {
+    pub(super) fn of(mech: &Mechanism<f64>, model: &Model) -> Structure {
+        let mut st = Structure::default();
+        let np = mech.n_points();
+        let bar = |st: &mut Structure, a: usize, b: usize, kind: Kind| st.bodies.push(Body { pts: vec![a, b], kind });
+        for step in &mech.steps {
+            match step {
+                Step::Crank { center, out, r, u, v, .. } => {
+                    bar(&mut st, *center, *out, Kind::Crank);
+                    st.dims.push(Dim { a: *center, b: *out, length: *r, symbol: "r" });
+                    st.circles.push(Circle { center: *center, u: *u, v: *v, r: *r });
+                }
+                Step::Rrr { p1, p2, l1, l2, out, .. } => {
+                    bar(&mut st, *p1, *out, Kind::Bar);
+                    bar(&mut st, *p2, *out, Kind::Bar);
+                    st.dims.push(Dim { a: *p1, b: *out, length: *l1, symbol: "l" });
+                    st.dims.push(Dim { a: *p2, b: *out, length: *l2, symbol: "l" });
+                }
+                Step::Rrp { from, through, toward, dir, offset, l, plane, out, .. } => {
+                    bar(&mut st, *from, *out, Kind::Bar);
+                    st.dims.push(Dim { a: *from, b: *out, length: *l, symbol: "l" });
+                    st.sliders.push(Slider { at: *out, guide: Guide::Planar { through: *through, toward: *toward, dir: *dir, offset: *offset, plane: *plane } });
+                    st.guide_points.insert(*through);
+                    st.guide_points.extend(*toward);
+                }
+                Step::Rpr { from, pivot, e, plane, out, .. } => {
+                    // The lever: pivot, the pivot's foot on the slot (when
+                    // the slot is offset), the lever point.
+                    let mut pts = vec![*pivot];
+                    if e.abs() > 1e-9 {
+                        st.extras.push(Extra::SlotFoot { from: *from, pivot: *pivot, e: *e, plane: *plane });
+                        pts.push(np + st.extras.len() - 1);
+                    }
+                    pts.push(*out);
+                    st.bodies.push(Body { pts, kind: Kind::Bar });
+                    st.sliders.push(Slider { at: *from, guide: Guide::Slot { from: *from, pivot: *pivot, e: *e, plane: *plane } });
+                }
+                Step::Rssr { from, rocker, l, out, .. } => {
+                    // The rocker turns about its axis: from the fixed point
+                    // on the axis (its pivot) to the arm's centre, then out.
+                    let c = rocker.c;
+                    let on_axis = mech
+                        .fixed
+                        .iter()
+                        .filter(|(_, p)| (p - c).cross(&rocker.w).norm() < 1e-6 * (1.0 + (p - c).norm()))
+                        .min_by(|a, b| (a.1 - c).norm().total_cmp(&(b.1 - c).norm()));
+                    let mut pts = Vec::new();
+                    match on_axis {
+                        Some((slot, p)) if (p - c).norm() < 1e-9 => pts.push(*slot),
+                        Some((slot, _)) => {
+                            st.extras.push(Extra::At(c));
+                            pts.extend([*slot, np + st.extras.len() - 1]);
+                        }
+                        None => {
+                            st.extras.push(Extra::At(c));
+                            pts.push(np + st.extras.len() - 1);
+                        }
+                    }
+                    let centre = *pts.last().expect("the arm has its centre");
+                    pts.push(*out);
+                    st.bodies.push(Body { pts, kind: Kind::Bar });
+                    bar(&mut st, *from, *out, Kind::Rod);
+                    st.dims.push(Dim { a: centre, b: *out, length: rocker.r, symbol: "r" });
+                    st.dims.push(Dim { a: *from, b: *out, length: *l, symbol: "l" });
+                    st.spherical.extend([*from, *out]);
+                }
+                Step::PointOnLine { from, through, toward, dir, l, out, .. } => {
+                    bar(&mut st, *from, *out, Kind::Rod);
+                    st.dims.push(Dim { a: *from, b: *out, length: *l, symbol: "l" });
+                    st.sliders.push(Slider { at: *out, guide: Guide::Spatial { through: *through, toward: *toward, dir: *dir } });
+                    st.guide_points.insert(*through);
+                    st.guide_points.extend(*toward);
+                }
+                Step::Rigid { base, out, .. } => st.attach(&base[..], *out),
+                Step::Rigid3 { frame, out, .. } => st.attach(&frame[..], *out),
+                Step::Offset { from, out, .. } => bar(&mut st, *from, *out, Kind::Offset),
+                Step::Newton(g) => {
+                    let slot = |r: &PointRef| match r {
+                        PointRef::Unknown(u) => g.outs[*u],
+                        PointRef::Known(k) => *k,
+                    };
+                    for c in &g.closures {
+                        match c {
+                            Closure::Distance { a, b, l } => {
+                                bar(&mut st, slot(a), slot(b), Kind::Bar);
+                                st.dims.push(Dim { a: slot(a), b: slot(b), length: *l, symbol: "l" });
+                            }
+                            Closure::OnLine { p, h, t } => {
+                                st.sliders.push(Slider { at: *p, guide: Guide::Spatial { through: *h, toward: Some(*t), dir: V3::x() } });
+                                st.guide_points.extend([*h, *t]);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        st.merge_triangles();
+        // A guide-line point that is also a joint or a thread guide is drawn as such.
+        let in_body: BTreeSet<usize> = st.bodies.iter().flat_map(|b| b.pts.iter().copied()).collect();
+        st.guide_points.retain(|p| model.is_fixed(*p) && !in_body.contains(p));
+        st
+    }
+
+    /// `out` rides on the body of `base`: the plate holding at least two of
+    /// them, or the bar between two of them made a plate, or a new plate.
+    fn attach(&mut self, base: &[usize], out: usize) {
+        let holds = |b: &Body| base.iter().filter(|p| b.pts.contains(p)).count() >= 2.min(base.len());
+        let found = self.bodies.iter().position(|b| b.kind == Kind::Plate && holds(b)).or_else(|| self.bodies.iter().position(|b| b.kind != Kind::Offset && holds(b)));
+        match found {
+            Some(i) => {
+                let b = &mut self.bodies[i];
+                b.kind = Kind::Plate;
+                for p in base.iter().chain([&out]) {
+                    if !b.pts.contains(p) {
+                        b.pts.push(*p);
+                    }
+                }
+            }
+            None => {
+                let mut pts = base.to_vec();
+                pts.push(out);
+                self.bodies.push(Body { pts, kind: Kind::Plate });
+            }
+        }
+    }
+
+    /// Three bars joining three points pairwise are one rigid triangle
+    /// (a ternary link of a numerical group): drawn as a plate.
+    fn merge_triangles(&mut self) {
+        loop {
+            let bars: Vec<(usize, [usize; 2])> = self
+                .bodies
+                .iter()
+                .enumerate()
+                .filter(|(_, b)| b.kind == Kind::Bar && b.pts.len() == 2)
+                .map(|(i, b)| (i, [b.pts[0].min(b.pts[1]), b.pts[0].max(b.pts[1])]))
+                .collect();
+            let find = |a: usize, b: usize| bars.iter().find(|(_, e)| *e == [a.min(b), a.max(b)]).map(|(i, _)| *i);
+            let mut merged = None;
+            'search: for (i, [a, b]) in &bars {
+                for (j, [c, d]) in &bars {
+                    if j <= i {
+                        continue;
+                    }
+                    let third = if c == a || c == b { *d } else if d == a || d == b { *c } else { continue };
+                    let shared = if c == a || d == a { *b } else { *a };
+                    if third == *a || third == *b {
+                        continue;
+                    }
+                    if let Some(k) = find(shared, third) {
+                        merged = Some(([*i, *j, k], [*a, *b, third]));
+                        break 'search;
+                    }
+                }
+            }
+            let Some((idx, pts)) = merged else { break };
+            let mut idx = idx.to_vec();
+            idx.sort_unstable();
+            for i in idx.into_iter().rev() {
+                self.bodies.remove(i);
+            }
+            self.bodies.push(Body { pts: pts.to_vec(), kind: Kind::Plate });
+        }
+    }
+
+    /// Every point of one frame: the model's slots, then the extras.
+    pub(super) fn positions(&self, slots: &[V3<f64>]) -> Vec<V3<f64>> {
+        let mut out = slots.to_vec();
+        for e in &self.extras {
+            out.push(match e {
+                Extra::At(p) => *p,
+                Extra::SlotFoot { from, pivot, e, plane } => {
+                    let c = plane.project(&slots[*pivot]);
+                    match rpr::rpr(plane.project(&slots[*from]), c, *e) {
+                        Ok((u, _)) => plane.lift(c + perp(u) * *e, 0.0),
+                        Err(_) => slots[*pivot],
+                    }
+                }
+            });
+        }
+        out
+    }
+}
+
+/// A guide line at one φ: a point on it and its unit direction (world).
+pub(super) fn guide_line(g: &Guide, p: &[V3<f64>]) -> Option<(V3<f64>, V3<f64>)> {
+    match g {
+        Guide::Planar { through, toward, dir, offset, plane } => {
+            let h = plane.project(&p[*through]);
+            let u = match toward {
+                Some(t) => {
+                    let d = plane.project(&p[*t]) - h;
+                    if d.norm() <= 0.0 {
+                        return None;
+                    }
+                    d / d.norm()
+                }
+                None => *dir,
+            };
+            Some((plane.lift(h + perp(u) * *offset, 0.0), plane.dir(u)))
+        }
+        Guide::Spatial { through, toward, dir } => {
+            let u = match toward {
+                Some(t) => {
+                    let d = p[*t] - p[*through];
+                    if d.norm() <= 0.0 {
+                        return None;
+                    }
+                    d / d.norm()
+                }
+                None => *dir,
+            };
+            Some((p[*through], u))
+        }
+        Guide::Slot { from, pivot, e, plane } => {
+            let c = plane.project(&p[*pivot]);
+            let (u, _) = rpr::rpr(plane.project(&p[*from]), c, *e).ok()?;
+            Some((plane.lift(c + perp(u) * *e, 0.0), plane.dir(u)))
+        }
+    }
+}
+
+/// Whether a guide line stays put over the cycle (drawn with rails and a
+/// ground hatch).
+pub(super) fn guide_is_fixed(g: &Guide, model: &Model) -> bool {
+    match g {
+        Guide::Planar { through, toward, .. } | Guide::Spatial { through, toward, .. } => model.is_fixed(*through) && toward.is_none_or(|t| model.is_fixed(t)),
+        Guide::Slot { .. } => false,
+    }
+}
