@@ -251,10 +251,18 @@ impl<T: Real> Mechanism<T> {
                         // sin(φ + ph) from the shared cos φ, sin φ.
                         let (cx, cy) = (ru.x * *cos_ph + rv.x * *sin_ph, ru.y * *cos_ph + rv.y * *sin_ph);
                         let (sx, sy) = (rv.x * *cos_ph - ru.x * *sin_ph, rv.y * *cos_ph - ru.y * *sin_ph);
-                        each(&mut o, |k| {
-                            let (c, s) = (phis[k].cos, phis[k].sin);
-                            Ok(V3::new(c0[k].x + c.times_k(cx) + s.times_k(sx), c0[k].y + c.times_k(cy) + s.times_k(sy), c0[k].z))
-                        })
+                        match self.fixed_point(*center) {
+                            // A crank on a fixed shaft (every crank of the
+                            // presets): its centre is read once.
+                            Some(c0) => each(&mut o, |k| {
+                                let (c, s) = (phis[k].cos, phis[k].sin);
+                                Ok(V3::new(c0.x + c.times_k(cx) + s.times_k(sx), c0.y + c.times_k(cy) + s.times_k(sy), c0.z))
+                            }),
+                            None => each(&mut o, |k| {
+                                let (c, s) = (phis[k].cos, phis[k].sin);
+                                Ok(V3::new(c0[k].x + c.times_k(cx) + s.times_k(sx), c0[k].y + c.times_k(cy) + s.times_k(sy), c0[k].z))
+                            }),
+                        }
                     } else {
                         each(&mut o, |k| {
                             let phi = &phis[k];
