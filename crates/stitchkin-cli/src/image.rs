@@ -32,9 +32,12 @@ pub fn format_of(out: Option<&PathBuf>) -> Result<Format, Error> {
 }
 
 /// The format `-o` asks for, checked before any work: a known extension,
-/// and no PNG of an animation (a PNG would show one frame and silently drop
-/// the motion).
+/// an existing folder, and no PNG of an animation (a PNG would show one
+/// frame and silently drop the motion).
 pub fn check_output(out: Option<&PathBuf>, animated: bool) -> Result<Format, Error> {
+    if let Some(path) = out {
+        stitchkin::output::check_folder(path)?;
+    }
     match format_of(out)? {
         Format::Png if animated => Err(Error::Param(ParamError {
             message: "an animation cannot be written as PNG (in -o)".into(),

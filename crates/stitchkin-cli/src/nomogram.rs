@@ -39,10 +39,7 @@ pub fn run(args: NomogramArgs) -> Result<(), Error> {
     let (model, params) = crate::load(&args.model)?;
     // A bad -o is reported before the tuning, not after it.
     if let Some(path) = &args.output {
-        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
-        if !dir.is_dir() {
-            return Err(Error::Io(format!("cannot write `{}`: there is no folder `{}`", path.display(), dir.display())));
-        }
+        stitchkin::output::check_folder(path)?;
     }
     let thickness = Axis::parse(&args.thickness, "--thickness")?;
     let stitch = args.stitch.as_deref().map(|s| Axis::parse(s, "--stitch")).transpose()?;

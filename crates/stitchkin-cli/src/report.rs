@@ -55,10 +55,7 @@ pub fn run(args: ReportArgs) -> Result<(), Error> {
                 help: Some("name it e.g. report.html".into()),
             }));
         }
-        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
-        if !dir.is_dir() {
-            return Err(Error::Io(format!("cannot write `{}`: there is no folder `{}`", path.display(), dir.display())));
-        }
+        stitchkin::output::check_folder(path)?;
     }
     let adjust = args.search.adjust.clone().unwrap_or_default();
     let tune_opts = args.search.options(adjust.clone());

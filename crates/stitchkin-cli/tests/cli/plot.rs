@@ -140,3 +140,14 @@ fn plot_refuses_an_unknown_picture_format_before_computing() {
     assert!(err.contains(".svg") && err.contains(".png"), "{err}");
     assert!(!jpg.exists());
 }
+
+#[test]
+fn plot_and_draw_refuse_a_missing_folder_before_computing() {
+    let dir = scratch("plot-nofolder");
+    for cmd in [&["plot", "nomogram"][..], &["draw"][..]] {
+        let out = dir.join("no/such/folder/x.svg");
+        let mut args = cmd.to_vec();
+        args.extend(["-o", out.to_str().unwrap()]);
+        assert!(fails(&args).contains("there is no folder"), "{cmd:?}");
+    }
+}

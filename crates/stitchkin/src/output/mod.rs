@@ -84,10 +84,26 @@ pub fn write_json(model: &Model, params: &Params, table: &CycleTable, out: &mut 
     writeln!(out)
 }
 
+/// The folder a file `path` goes into (`.` for a bare name).
+fn folder_of(path: &Path) -> &Path {
+    path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."))
+}
+
+/// Checks, before a long computation, that `path` can be written: its
+/// folder exists.
+pub fn check_folder(path: &Path) -> Result<(), Error> {
+    let dir = folder_of(path);
+    if dir.is_dir() {
+        Ok(())
+    } else {
+        Err(Error::Io(format!("cannot write `{}`: there is no folder `{}`", path.display(), dir.display())))
+    }
+}
+
 /// Writes `bytes` to `path` through a temporary file in the same folder and
 /// a rename, so the file is either complete or untouched.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let dir = folder_of(path);
     let name = path.file_name().ok_or_else(|| Error::Io(format!("`{}` is not a file path", path.display())))?;
     let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
     let io = |e: std::io::Error, what: &str| Error::Io(format!("cannot {what} `{}`: {e}", path.display()));
@@ -121,7 +137,7 @@ impl Sink {
         let target = match path {
             None => SinkTarget::Stdout(std::io::BufWriter::new(std::io::stdout())),
             Some(path) => {
-                let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+                let dir = folder_of(path);
                 let name = path.file_name().ok_or_else(|| Error::Io(format!("`{}` is not a file path", path.display())))?;
                 let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
                 let f = std::fs::File::create(&tmp)
