@@ -159,7 +159,7 @@ impl App {
             "threads": threads,
             "chart": chart_kind(model).map(|p| match p { Plot::TakeUp => "takeup", _ => "mu" }),
             "views": view::names(model),
-            "moving_points": view::moving_points(model),
+            "moving_points": model.moving_point_names(),
             "step_deg": STEP_DEG,
         })
     }

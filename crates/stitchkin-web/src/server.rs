@@ -64,8 +64,8 @@ impl Server {
 
     /// Stops taking requests and waits for the workers.
     pub fn stop(self) {
-        self.http.unblock();
-        for _ in 1..self.workers.len() {
+        // Each call releases one worker waiting in `recv`.
+        for _ in &self.workers {
             self.http.unblock();
         }
         self.join();

@@ -21,11 +21,6 @@ pub fn names(model: &Model) -> Vec<Value> {
     out
 }
 
-/// The points that move, for trajectories.
-pub fn moving_points(model: &Model) -> Vec<String> {
-    (0..model.point_names.len()).filter(|&i| !model.is_fixed(i)).map(|i| model.point_names[i].clone()).collect()
-}
-
 /// What `/api/drawing` asks for (checked there).
 #[derive(Debug, Clone)]
 pub struct DrawingRequest {

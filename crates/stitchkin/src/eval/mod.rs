@@ -310,7 +310,7 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
     // it from the closed form costs more than it saves (mf7923d: about 10 %
     // slower per cycle, docs/benchmarks.md), so those stay dual.
     let closed_form = opts.analogs && mech.threads.is_none();
-    let plain = if closed_form { model.mechanism::<f64>(params).ok() } else { None };
+    let plain = if closed_form { Some(model.mechanism::<f64>(params)?) } else { None };
     let pose = crate::mechanism::analogs::solve_cycle(&mech, plain.as_ref(), &phis)?;
     for (k, &phi_deg) in phis.iter().enumerate() {
         cols[phi_col].values.push(phi_deg);

@@ -180,8 +180,8 @@ impl Mechanism<f64> {
                                 ao[k] = pl.lift_dir(lin(pl.project_dir(&a0s[k]), pl.project_dir(&a1s[k])));
                             })
                         }
-                        // P = A + dc·e + ds·perp(e), e = d/L: with L′ = e·d′,
-                        // e′ = (d′ − e L′)/L, L″ = e′·d′ + e·d″, e″ = (d″ − L″ e − 2L′ e′)/L.
+                        // P = A + dc·e + ds·perp(e), e = d/L: with L′ = e·d′ (l_1),
+                        // e′ = (d′ − e L′)/L, L″ = e′·d′ + e·d″ (l_2), e″ = (d″ − L″ e − 2L′ e′)/L.
                         None => with_plane!(plane, pl => for k in 0..n {
                             let d = pl.project(&x1[k]) - pl.project(&x0[k]);
                             let (a0v, a0a) = (pl.project_dir(&v0s[k]), pl.project_dir(&a0s[k]));
@@ -189,10 +189,10 @@ impl Mechanism<f64> {
                             let da = pl.project_dir(&a1s[k]) - a0a;
                             let inv_l = 1.0 / d.norm();
                             let e = d * inv_l;
-                            let l1 = e.dot(&dv);
-                            let e1 = (dv - e * l1) * inv_l;
-                            let l2 = e1.dot(&dv) + e.dot(&da);
-                            let e2 = (da - e * l2 - e1 * (2.0 * l1)) * inv_l;
+                            let l_1 = e.dot(&dv);
+                            let e1 = (dv - e * l_1) * inv_l;
+                            let l_2 = e1.dot(&dv) + e.dot(&da);
+                            let e2 = (da - e * l_2 - e1 * (2.0 * l_1)) * inv_l;
                             vo[k] = pl.lift_dir(a0v + e1 * *dc + perp(e1) * *ds);
                             ao[k] = pl.lift_dir(a0a + e2 * *dc + perp(e2) * *ds);
                         }),

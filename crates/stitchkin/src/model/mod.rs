@@ -867,6 +867,11 @@ impl Model {
     pub fn is_fixed(&self, slot: usize) -> bool {
         matches!(self.point_kinds[slot], PointKind::Fixed { .. })
     }
+
+    /// The names of the points that move, in slot order.
+    pub fn moving_point_names(&self) -> Vec<&str> {
+        (0..self.point_names.len()).filter(|&i| !self.is_fixed(i)).map(|i| self.point_names[i].as_str()).collect()
+    }
 }
 
 /// The JSON Schema of the model file format, pretty-printed.

@@ -15,7 +15,7 @@ use super::plots::{self, Plot};
 use super::svg::escape;
 use crate::error::Error;
 use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle};
-use crate::model::{Model, Params};
+use crate::model::{Model, ParamDef, Params};
 use crate::study::nomogram::NomogramOptions;
 use crate::study::tune::{self, TuneOptions, TuneResult};
 
@@ -49,6 +49,12 @@ fn num(x: Option<f64>, d: usize) -> String {
         Some(x) if x.is_finite() => format!("{x:.d$}"),
         _ => "–".into(),
     }
+}
+
+/// Whether a settable parameter's `value` differs from the model's (a
+/// `--set` changed it).
+fn is_set(p: &ParamDef, value: f64) -> bool {
+    !p.is_derived() && p.value.is_some_and(|nominal| nominal != value)
 }
 
 /// A table from a header and rows of cells (already escaped).
@@ -138,7 +144,7 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
         .params
         .iter()
         .zip(&params.values)
-        .filter(|(p, v)| !p.is_derived() && p.value.is_some_and(|n| n != **v))
+        .filter(|(p, v)| is_set(p, **v))
         .map(|(p, v)| format!("{} = {} {}", p.name, super::fmt_num(*v), p.unit_str()))
         .collect();
     if !changed.is_empty() {
@@ -173,7 +179,7 @@ fn parameters(model: &Model, params: &Params) -> Result<String, Error> {
                 None if p.is_derived() => "derived".into(),
                 None => String::new(),
             };
-            let changed = !p.is_derived() && p.value.is_some_and(|n| n != *v);
+            let changed = is_set(p, *v);
             let value = format!("{}{}", num(Some(*v), 4).trim_end_matches('0').trim_end_matches('.'), if changed { " (set)" } else { "" });
             vec![
                 escape(&p.name),

@@ -284,10 +284,9 @@ pub fn point_slot(model: &Model, name: &str, option: &str, moving: bool) -> Resu
         })
     })?;
     if moving && model.is_fixed(slot) {
-        let names: Vec<&str> = (0..model.point_names.len()).filter(|&i| !model.is_fixed(i)).map(|i| model.point_names[i].as_str()).collect();
         return Err(Error::Param(ParamError {
             message: format!("point `{name}` is fixed, so it has no path (in {option})"),
-            help: Some(format!("the moving points are: {}", names.join(", "))),
+            help: Some(format!("the moving points are: {}", model.moving_point_names().join(", "))),
         }));
     }
     Ok(slot)

@@ -250,8 +250,7 @@ pub fn parse_vary(model: &Model, spec: &str, default_n: usize) -> Result<Vary, E
 }
 
 fn moving_points(model: &Model) -> String {
-    let names: Vec<&str> = (0..model.point_names.len()).filter(|&i| !model.is_fixed(i)).map(|i| model.point_names[i].as_str()).collect();
-    names.join(", ")
+    model.moving_point_names().join(", ")
 }
 
 fn no_threads(model: &Model) -> Error {
