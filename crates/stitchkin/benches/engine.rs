@@ -11,6 +11,7 @@ use stitchkin::mechanism::analogs::PoseAnalogs;
 use stitchkin::mechanism::{Mechanism, Phi};
 use stitchkin::model::Model;
 use stitchkin::scalar::Real;
+use stitchkin::thread::ThreadWork;
 
 #[global_allocator]
 static ALLOC: divan::AllocProfiler = divan::AllocProfiler::system();
@@ -156,10 +157,11 @@ fn bench_takeup<T: Real>(bencher: Bencher) {
     let (mech, phis) = cycle::<T>(&model);
     let mut pose = mech.new_pose(phis.len());
     let threads = mech.threads.clone().unwrap();
+    let mut work = ThreadWork::default();
     bencher.bench_local(|| {
         mech.solve(black_box(&phis), &mut pose).unwrap();
-        let tracks = threads.evaluate(&pose, None).unwrap();
-        black_box(tracks[5].xi[90])
+        threads.evaluate_into(&pose, None, &mut work).unwrap();
+        black_box(work.tracks[5].xi[90])
     });
 }
 
@@ -179,12 +181,13 @@ fn mf7923d_take_up_with_analogs(bencher: Bencher) {
     let mut pose = plain.new_pose(phis.len());
     let mut an = PoseAnalogs::new(plain.n_points(), phis.len());
     let mut dual = mech.new_pose(phis.len());
+    let mut work = ThreadWork::default();
     bencher.bench_local(|| {
         plain.solve(black_box(&phis), &mut pose).unwrap();
         plain.analogs(&phis, &pose, &mut an).unwrap();
         dual.set_analogs(&pose, &an);
-        let tracks = threads.evaluate(&dual, None).unwrap();
-        black_box(tracks[5].xi[90])
+        threads.evaluate_into(&dual, None, &mut work).unwrap();
+        black_box(work.tracks[5].xi[90])
     });
 }
 

@@ -780,7 +780,10 @@ impl Model {
                     let mut pin_span = vec![None; p.nodes.len()];
                     for sp in &p.spans {
                         let span = match sp {
-                            SpanDef::Straight { a, b, constant } => Span::Straight { a: *a, b: *b, constant: *constant },
+                            SpanDef::Straight { a, b, constant } => {
+                                let still = |slot: &usize| fixed.iter().any(|(s, _)| s == slot);
+                                Span::Straight { a: *a, b: *b, constant: *constant, fixed: [still(a), still(b)] }
+                            }
                             SpanDef::Pin { a, b, c, axis, frame, r, sense, node } => {
                                 if q[*r].re() < 0.0 {
                                     return Err(self.error_at(&self.expr_paths[*r], "a pin radius cannot be negative", Some("give the radius in mm, 0 for a thin pin".into())));

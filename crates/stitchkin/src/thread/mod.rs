@@ -23,8 +23,8 @@ use crate::scalar::Real;
 #[derive(Debug, Clone, PartialEq)]
 pub enum Span<T: Real> {
     /// A straight segment `a → b`; `constant` when both ends ride on one
-    /// rigid body.
-    Straight { a: usize, b: usize, constant: bool },
+    /// rigid body; `fixed[i]` when end `i` (a, b) never moves.
+    Straight { a: usize, b: usize, constant: bool, fixed: [bool; 2] },
     /// `a → b` over a one-sided cylindrical guide through point `c` (named
     /// `name`), turning in the sense `sense` about `axis`.
     Pin { a: usize, b: usize, c: usize, axis: V3<T>, r: T, sense: f64, name: String },
@@ -124,11 +124,39 @@ pub struct PathError {
     pub message: String,
 }
 
-/// One distinct piece evaluated over a pose.
-enum SpanTrack<T: Real> {
-    Constant(T),
-    Varying(Vec<T>),
-    Pin(Vec<T>, Vec<bool>),
+/// One distinct piece's lengths over a pose.
+#[derive(Debug, Clone)]
+struct SpanBuf<T: Real> {
+    /// The length when it is the same at every φ (both ends on one body).
+    constant: Option<T>,
+    /// Otherwise the length at each φ…
+    len: Vec<T>,
+    /// …and, for a guide, whether the thread bears on it.
+    on: Vec<bool>,
+}
+
+impl<T: Real> Default for SpanBuf<T> {
+    fn default() -> Self {
+        SpanBuf { constant: None, len: Vec::new(), on: Vec::new() }
+    }
+}
+
+/// The buffers of [`Threads::evaluate_into`], kept from one cycle to the
+/// next so a study's inner loop allocates nothing once they have grown.
+#[derive(Debug, Clone)]
+pub struct ThreadWork<T: Real> {
+    /// Every path's contour length and guide contacts from the last
+    /// evaluation, in path order.
+    pub tracks: Vec<PathTrack<T>>,
+    spans: Vec<SpanBuf<T>>,
+    rho_p: Vec<T>,
+    rho_q: Vec<T>,
+}
+
+impl<T: Real> Default for ThreadWork<T> {
+    fn default() -> Self {
+        ThreadWork { tracks: Vec::new(), spans: Vec::new(), rho_p: Vec::new(), rho_q: Vec::new() }
+    }
 }
 
 impl<T: Real> Threads<T> {
@@ -137,6 +165,16 @@ impl<T: Real> Threads<T> {
     /// pins stand across it (the 2D model). Each distinct piece is computed
     /// once, a constant one once per pose.
     pub fn evaluate(&self, pose: &Pose<T>, project: Option<&Plane<T>>) -> Result<Vec<PathTrack<T>>, PathError> {
+        let mut work = ThreadWork::default();
+        self.evaluate_into(pose, project, &mut work)?;
+        Ok(work.tracks)
+    }
+
+    /// [`Self::evaluate`] into `work.tracks`, reusing `work`'s buffers: no
+    /// heap allocation once they have the pose's size. Straight pieces and
+    /// thin pins take their square roots a whole cycle at a time
+    /// ([`Real::sqrt_slice`]).
+    pub fn evaluate_into(&self, pose: &Pose<T>, project: Option<&Plane<T>>, work: &mut ThreadWork<T>) -> Result<(), PathError> {
         let projected;
         let (pose, axis_override) = match project {
             Some(pl) => {
@@ -146,59 +184,79 @@ impl<T: Real> Threads<T> {
             None => (pose, None),
         };
         let n = pose.len();
-        let mut tracks = Vec::with_capacity(self.spans.len());
+        work.spans.resize_with(self.spans.len(), SpanBuf::default);
         for (i, span) in self.spans.iter().enumerate() {
-            tracks.push(match span {
-                Span::Straight { a, b, constant: true } if n > 0 => SpanTrack::Constant((pose.point(*b, 0) - pose.point(*a, 0)).norm()),
-                Span::Straight { a, b, .. } => {
-                    SpanTrack::Varying(pose.track(*a).iter().zip(pose.track(*b)).map(|(p, q)| (q - p).norm()).collect())
+            let buf = &mut work.spans[i];
+            buf.constant = None;
+            buf.len.clear();
+            buf.on.clear();
+            match span {
+                Span::Straight { a, b, constant: true, .. } if n > 0 => buf.constant = Some((pose.point(*b, 0) - pose.point(*a, 0)).norm_squared().sqrt()),
+                Span::Straight { a, b, fixed, .. } => {
+                    // A fixed end is read once (one of the ends of most
+                    // varying pieces is a guide on the frame).
+                    let (ta, tb) = (pose.track(*a), pose.track(*b));
+                    match fixed {
+                        _ if n == 0 => {}
+                        [true, _] => buf.len.extend(tb.iter().map(|q| (*q - ta[0]).norm_squared())),
+                        [_, true] => buf.len.extend(ta.iter().map(|p| (tb[0] - *p).norm_squared())),
+                        _ => buf.len.extend(ta.iter().zip(tb).map(|(p, q)| (*q - *p).norm_squared())),
+                    }
+                    T::sqrt_slice(&mut buf.len);
+                }
+                Span::Pin { a, b, c, axis, r, sense, .. } if r.re() == 0.0 => {
+                    let axis = axis_override.unwrap_or(*axis);
+                    let ends = (pose.track(*a), pose.track(*b), pose.track(*c));
+                    let roots = (&mut work.rho_p, &mut work.rho_q);
+                    wrap::thin_pin_lengths(ends, axis, *sense, &mut buf.len, &mut buf.on, roots).map_err(|k| self.inside(i, k))?;
                 }
                 Span::Pin { a, b, c, axis, r, sense, .. } => {
                     let axis = axis_override.unwrap_or(*axis);
                     let (ta, tb, tc) = (pose.track(*a), pose.track(*b), pose.track(*c));
-                    let mut len = Vec::with_capacity(n);
-                    let mut on = Vec::with_capacity(n);
                     for k in 0..n {
                         let (l, e) = wrap::pin_length(ta[k], tb[k], tc[k], axis, *r, *sense).ok_or_else(|| self.inside(i, k))?;
-                        len.push(l);
-                        on.push(e);
+                        buf.len.push(l);
+                        buf.on.push(e);
                     }
-                    SpanTrack::Pin(len, on)
                 }
                 Span::Cam { a, b, cam, contact } => {
                     let c = &self.cams[*cam];
                     let axis = axis_override.unwrap_or(c.axis);
                     let (ta, tb, tc, tm) = (pose.track(*a), pose.track(*b), pose.track(c.center), pose.track(c.marker));
-                    let mut len = Vec::with_capacity(n);
-                    let mut on = Vec::with_capacity(n);
                     for k in 0..n {
                         let (l, e) = cam_length(c, *contact, axis, ta[k], tb[k], tc[k], tm[k]).ok_or_else(|| self.inside(i, k))?;
-                        len.push(l);
-                        on.push(e);
+                        buf.len.push(l);
+                        buf.on.push(e);
                     }
-                    SpanTrack::Pin(len, on)
                 }
-            });
+            }
         }
-        Ok(self
-            .paths
-            .iter()
-            .map(|p| {
-                let mut xi = vec![T::zero(); n];
-                let mut engaged = Vec::new();
-                for &s in &p.spans {
-                    match &tracks[s] {
-                        SpanTrack::Constant(l) => xi.iter_mut().for_each(|x| *x += *l),
-                        SpanTrack::Varying(l) => xi.iter_mut().zip(l).for_each(|(x, l)| *x += *l),
-                        SpanTrack::Pin(l, on) => {
-                            xi.iter_mut().zip(l).for_each(|(x, l)| *x += *l);
-                            engaged.push(on.clone());
-                        }
-                    }
+        work.tracks.resize_with(self.paths.len(), || PathTrack { xi: Vec::new(), engaged: Vec::new() });
+        for (p, track) in self.paths.iter().zip(&mut work.tracks) {
+            // ξ = the sum of the constant pieces and of the varying ones,
+            // four varying pieces per pass over ξ.
+            let bufs = p.spans.iter().map(|&s| &work.spans[s]);
+            let constant = bufs.clone().filter_map(|b| b.constant).fold(T::zero(), |x, l| x + l);
+            track.xi.clear();
+            track.xi.resize(n, constant);
+            let mut parts: [&[T]; 4] = [&[]; 4];
+            let mut m = 0;
+            for b in bufs.filter(|b| b.constant.is_none()) {
+                parts[m] = &b.len;
+                m += 1;
+                if m == 4 {
+                    add_parts(&mut track.xi, &parts);
+                    m = 0;
                 }
-                PathTrack { xi, engaged }
-            })
-            .collect())
+            }
+            add_parts(&mut track.xi, &parts[..m]);
+            let guides = p.spans.iter().filter(|&&s| !matches!(self.spans[s], Span::Straight { .. })).count();
+            track.engaged.resize_with(guides, Vec::new);
+            for (g, &s) in p.spans.iter().filter(|&&s| !matches!(self.spans[s], Span::Straight { .. })).enumerate() {
+                track.engaged[g].clone_from(&work.spans[s].on);
+            }
+        }
+        Ok(())
     }
 
     /// ξ of every path at the `k`-th φ of `pose` alone.
@@ -208,7 +266,7 @@ impl<T: Real> Threads<T> {
             .iter()
             .enumerate()
             .map(|(i, span)| match span {
-                Span::Straight { a, b, .. } => Ok((pose.point(*b, k) - pose.point(*a, k)).norm()),
+                Span::Straight { a, b, .. } => Ok((pose.point(*b, k) - pose.point(*a, k)).norm_squared().sqrt()),
                 Span::Pin { a, b, c, axis, r, sense, .. } => {
                     wrap::pin_length(pose.point(*a, k), pose.point(*b, k), pose.point(*c, k), *axis, *r, *sense)
                         .map(|(l, _)| l)
@@ -222,7 +280,28 @@ impl<T: Real> Threads<T> {
                 }
             })
             .collect::<Result<Vec<T>, PathError>>()?;
-        Ok(self.paths.iter().map(|p| p.spans.iter().fold(T::zero(), |x, &s| x + lengths[s])).collect())
+        // Summed as `evaluate_into` sums, so ξ(φ0) here is bit for bit ξ at
+        // φ0 in a cycle and P(φ0) is exactly 0.
+        Ok(self
+            .paths
+            .iter()
+            .map(|p| {
+                let constant = p.spans.iter().filter(|&&s| self.is_constant(s)).fold(T::zero(), |x, &s| x + lengths[s]);
+                let varying: Vec<T> = p.spans.iter().filter(|&&s| !self.is_constant(s)).map(|&s| lengths[s]).collect();
+                varying.chunks(4).fold(constant, |x, c| match *c {
+                    [a] => x + a,
+                    [a, b] => x + (a + b),
+                    [a, b, c] => x + (a + b + c),
+                    [a, b, c, d, ..] => x + ((a + b) + (c + d)),
+                    [] => x,
+                })
+            })
+            .collect())
+    }
+
+    /// Whether piece `s` has one length over a pose (see `evaluate_into`).
+    fn is_constant(&self, s: usize) -> bool {
+        matches!(self.spans[s], Span::Straight { constant: true, .. })
     }
 
     fn inside(&self, span: usize, k: usize) -> PathError {
@@ -320,6 +399,18 @@ impl ThreadPath {
     /// Names of the path's pins, in order.
     pub fn pin_names(&self) -> Vec<&str> {
         (0..self.nodes.len()).filter(|&i| self.pin_span[i].is_some()).map(|i| self.node_names[i].as_str()).collect()
+    }
+}
+
+/// `xi[k] += Σ_j parts[j][k]` for up to four parts in one pass.
+#[inline]
+fn add_parts<T: Real>(xi: &mut [T], parts: &[&[T]]) {
+    match *parts {
+        [] => {}
+        [a] => xi.iter_mut().zip(a).for_each(|(x, a)| *x += *a),
+        [a, b] => xi.iter_mut().zip(a).zip(b).for_each(|((x, a), b)| *x += *a + *b),
+        [a, b, c] => xi.iter_mut().zip(a).zip(b).zip(c).for_each(|(((x, a), b), c)| *x += *a + *b + *c),
+        [a, b, c, d, ..] => xi.iter_mut().zip(a).zip(b).zip(c).zip(d).for_each(|((((x, a), b), c), d)| *x += (*a + *b) + (*c + *d)),
     }
 }
 

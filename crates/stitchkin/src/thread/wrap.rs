@@ -37,22 +37,96 @@ pub fn pin_length<T: Real>(p: V3<T>, q: V3<T>, c: V3<T>, a: V3<T>, r: T, s: f64)
     if r.re() > 0.0 {
         return pin_wrap(p, q, c, a, r, s).map(|w| (w.length, w.engaged));
     }
-    let (wp, wq) = (p - c, q - c);
-    let (hp, hq) = (wp.dot(&a), wq.dot(&a));
-    let (pp, qq) = (wp - a * hp, wq - a * hq);
-    let d = qq - pp;
-    // The pin stands on the side the thread turns toward: it does not touch
-    // (the same test as in `pin_wrap`, with r = 0).
-    if d.norm_squared().re() > 0.0 && s * pp.cross(&d).dot(&a).re() >= 0.0 {
-        return Some(((q - p).norm(), false));
+    let t = ThinPin::at(p, q, c, a, s);
+    if !t.engaged {
+        return Some((t.l2.sqrt(), false));
     }
-    let (rho_p2, rho_q2) = (pp.norm_squared(), qq.norm_squared());
-    if rho_p2.re() <= 0.0 || rho_q2.re() <= 0.0 {
+    if t.rho_p2.re() <= 0.0 || t.rho_q2.re() <= 0.0 {
         return None;
     }
-    let rho = rho_p2.sqrt() + rho_q2.sqrt();
-    let dh = hq - hp;
-    Some(((rho * rho + dh * dh).sqrt(), true))
+    let rho = t.rho_p2.sqrt() + t.rho_q2.sqrt();
+    Some(((t.l2 + rho * rho).sqrt(), true))
+}
+
+/// A thin pin at one position, before any square root.
+struct ThinPin<T: Real> {
+    engaged: bool,
+    /// |q − p|² when free; Δh² (the climb along the axis) when engaged.
+    l2: T,
+    /// Squared distances of the ends from the axis (when engaged).
+    rho_p2: T,
+    rho_q2: T,
+}
+
+impl<T: Real> ThinPin<T> {
+    /// With w = end − c and h = w·a: ρ² = |w|² − h²; the thread across the
+    /// axis is d = q⊥ − p⊥ with |d|² = |q − p|² − Δh², and it passes the
+    /// pin on the side given by the sign of (p⊥ × q⊥)·a = (wp × wq)·a.
+    #[inline(always)]
+    fn at(p: V3<T>, q: V3<T>, c: V3<T>, a: V3<T>, s: f64) -> Self {
+        let (wp, wq, e) = (p - c, q - c, q - p);
+        let (hp, hq) = (wp.dot(&a), wq.dot(&a));
+        let dh = hq - hp;
+        let e2 = e.norm_squared();
+        let d2 = e2 - dh * dh;
+        // The pin stands on the side the thread turns toward: it does not touch.
+        let free = d2.re() > 0.0 && s * wp.cross(&wq).dot(&a).re() >= 0.0;
+        ThinPin {
+            engaged: !free,
+            l2: if free { e2 } else { dh * dh },
+            rho_p2: wp.norm_squared() - hp * hp,
+            rho_q2: wq.norm_squared() - hq * hq,
+        }
+    }
+}
+
+/// [`pin_length`] of a thin pin (`r = 0`) at every position of a cycle:
+/// the ends' tracks `(p, q)` and the pin's `c`, axis `a`, sense `s`.
+/// Written in passes so the square roots run a whole cycle at a time
+/// ([`Real::sqrt_slice`]): first ρp², ρq² and the squared length that
+/// does not need them, then ρp and ρq, then the length. `rho_p`, `rho_q`
+/// are scratch. On an end inside the pin, the failing position's index.
+pub fn thin_pin_lengths<T: Real>(
+    (tp, tq, tc): (&[V3<T>], &[V3<T>], &[V3<T>]),
+    a: V3<T>,
+    s: f64,
+    len: &mut Vec<T>,
+    engaged: &mut Vec<bool>,
+    (rho_p, rho_q): (&mut Vec<T>, &mut Vec<T>),
+) -> Result<(), usize> {
+    let n = tp.len();
+    for v in [&mut *len, &mut *rho_p, &mut *rho_q] {
+        v.clear();
+        v.resize(n, T::one());
+    }
+    engaged.clear();
+    engaged.resize(n, false);
+    let mut bad = false;
+    for ((((((p, q), c), l), on), rp), rq) in
+        tp.iter().zip(tq).zip(tc).zip(len.iter_mut()).zip(engaged.iter_mut()).zip(rho_p.iter_mut()).zip(rho_q.iter_mut())
+    {
+        let t = ThinPin::at(*p, *q, *c, a, s);
+        bad |= t.engaged && (t.rho_p2.re() <= 0.0 || t.rho_q2.re() <= 0.0);
+        *on = t.engaged;
+        *l = t.l2;
+        if t.engaged {
+            (*rp, *rq) = (t.rho_p2, t.rho_q2);
+        }
+    }
+    if bad {
+        return Err(rho_p.iter().zip(rho_q.iter()).zip(engaged.iter()).position(|((a, b), on)| *on && (a.re() <= 0.0 || b.re() <= 0.0)).unwrap_or(0));
+    }
+    T::sqrt_slice(rho_p);
+    T::sqrt_slice(rho_q);
+    for (((l, on), rp), rq) in len.iter_mut().zip(engaged.iter()).zip(rho_p.iter()).zip(rho_q.iter()) {
+        if *on {
+            // √(Δh² + (ρp + ρq)²), as in `pin_length`
+            let rho = *rp + *rq;
+            *l += rho * rho;
+        }
+    }
+    T::sqrt_slice(len);
+    Ok(())
 }
 
 /// Thread from `p` to `q` on a guide (axis through `c` along unit `a`,
@@ -198,6 +272,51 @@ mod tests {
                 assert_eq!(on, full.engaged);
             }
         }
+    }
+
+    #[test]
+    fn thin_pin_over_a_cycle_equals_one_position_at_a_time() {
+        use num_dual::Dual2_64;
+        // Tracks sweeping the thread across the pin, so it engages and releases.
+        let a = V3::new(0.1, 0.2, 1.0).normalize();
+        let track = |f: &dyn Fn(f64) -> V3<f64>| -> Vec<V3<Dual2_64>> {
+            (0..97).map(|k| {
+                let t = k as f64 * 0.065;
+                let (v, d, dd) = (f(t), (f(t + 1e-4) - f(t - 1e-4)) / 2e-4, V3::zeros());
+                V3::new(Dual2_64::new(v.x, d.x, dd.x), Dual2_64::new(v.y, d.y, dd.y), Dual2_64::new(v.z, d.z, dd.z))
+            }).collect()
+        };
+        let tp = track(&|t| V3::new(-10.0, 4.0 * t.sin(), t));
+        let tq = track(&|t| V3::new(9.0, 3.0 * t.cos(), -2.0 * t));
+        let tc = track(&|t| V3::new(0.3 * t, 0.0, 0.5));
+        let ad = a.map(Dual2_64::from_re);
+        for s in [1.0, -1.0] {
+            let (mut len, mut on, mut rp, mut rq) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+            thin_pin_lengths((&tp, &tq, &tc), ad, s, &mut len, &mut on, (&mut rp, &mut rq)).unwrap();
+            assert!(on.iter().any(|e| *e) && on.iter().any(|e| !*e), "the sweep both engages and releases");
+            for k in 0..tp.len() {
+                let (l, e) = pin_length(tp[k], tq[k], tc[k], ad, Dual2_64::from_re(0.0), s).unwrap();
+                assert_eq!(e, on[k]);
+                assert_relative_eq!(l.re, len[k].re, epsilon = 1e-12);
+                assert_relative_eq!(l.v1, len[k].v1, epsilon = 1e-9);
+                assert_relative_eq!(l.v2, len[k].v2, epsilon = 1e-9);
+            }
+            // Plain numbers take the vectorised square roots.
+            let re = |t: &[V3<Dual2_64>]| t.iter().map(|v| v.map(|x| x.re)).collect::<Vec<_>>();
+            let (mut lf, mut onf, mut rpf, mut rqf) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+            thin_pin_lengths((&re(&tp), &re(&tq), &re(&tc)), a, s, &mut lf, &mut onf, (&mut rpf, &mut rqf)).unwrap();
+            assert_eq!(onf, on);
+            assert!(lf.iter().zip(&len).all(|(x, y)| (x - y.re).abs() < 1e-12));
+        }
+        // Both ends on the pin's axis: no path; the failing position is named.
+        let (mut p_axis, mut q_axis) = (tp.clone(), tq.clone());
+        let z = Z.map(Dual2_64::from_re);
+        p_axis[40] = tc[40] + z * Dual2_64::from_re(2.0);
+        q_axis[40] = tc[40] - z * Dual2_64::from_re(3.0);
+        let (mut len, mut on, mut rp, mut rq) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let r = thin_pin_lengths((&p_axis, &q_axis, &tc), z, 1.0, &mut len, &mut on, (&mut rp, &mut rq));
+        assert_eq!(r, Err(40));
+        assert!(pin_length(p_axis[40], q_axis[40], tc[40], z, Dual2_64::from_re(0.0), 1.0).is_none());
     }
 
     #[test]
