@@ -416,3 +416,23 @@ fn picture_docs_examples_run() {
     }
     assert!(d.join("tuned.html").exists() && d.join("takeup-lever.svg").exists());
 }
+
+/// The engine's cycle loops run on the widest vector unit the CPU has; plain
+/// IEEE arithmetic gives the same bits at any width, so every unit prints
+/// the same numbers (`STITCHKIN_SIMD` caps the unit).
+#[test]
+fn results_do_not_depend_on_the_vector_unit() {
+    let sweep = ["sweep", "--vary", "z=-10:10:5", "--vary", "r1=4:6:3"];
+    for args in [&["run"][..], &["run", "--preset", "takeup-lever"], &["run", "--preset", "needle876"], &sweep] {
+        let with = |unit: &str| {
+            let out = bin().args(args).env("NO_COLOR", "1").env("STITCHKIN_SIMD", unit).output().expect("the binary runs");
+            assert!(out.status.success(), "{args:?} with {unit} failed");
+            out.stdout
+        };
+        let widest = with("avx512");
+        assert!(widest.len() > 1000);
+        for unit in ["baseline", "avx2"] {
+            assert!(with(unit) == widest, "{args:?}: {unit} differs from the widest unit");
+        }
+    }
+}

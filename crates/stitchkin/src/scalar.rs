@@ -47,10 +47,10 @@ pub trait Real: RealField + Copy + std::fmt::Debug + Send + Sync + 'static {
     /// (num-dual's `atan2` differentiates `atan(y/x)`, which is NaN when x is
     /// exactly 0.) Written as θ0 + atan(y'/x') with (x', y') the vector turned
     /// back by its own angle θ0, so x' = |(x, y)| > 0.
-    /// Replaces every element by its square root. For `f64` this runs on
-    /// the widest vector unit the CPU has (see [`sqrt_slice_f64`]); the
-    /// thread paths take a cycle's square roots this way.
-    #[inline]
+    /// Replaces every element by its square root (a loop the compiler
+    /// vectorises inside a [`widest`] function); the thread paths take a
+    /// cycle's square roots this way.
+    #[inline(always)]
     fn sqrt_slice(x: &mut [Self]) {
         for v in x {
             *v = v.sqrt();
@@ -96,49 +96,6 @@ impl Real for f64 {
     fn angle_of(self, x: Self) -> Self {
         self.atan2(x)
     }
-    #[inline]
-    fn sqrt_slice(x: &mut [Self]) {
-        sqrt_slice_f64(x)
-    }
-}
-
-/// Square roots of a slice in place, 8 (AVX-512) or 4 (AVX) at a time when
-/// the CPU has those units (checked at run time, once), else one by one.
-/// The result is the same correctly rounded `sqrt` either way; only the
-/// throughput differs (the MF-7923D's six thread paths take about 8 600
-/// square roots per cycle; docs/benchmarks.md).
-pub fn sqrt_slice_f64(x: &mut [f64]) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has AVX-512F (checked just above).
-            return unsafe { sqrt_avx512(x) };
-        }
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the CPU has AVX (checked just above).
-            return unsafe { sqrt_avx(x) };
-        }
-    }
-    sqrt_plain(x)
-}
-
-#[inline(always)]
-fn sqrt_plain(x: &mut [f64]) {
-    for v in x {
-        *v = v.sqrt();
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn sqrt_avx512(x: &mut [f64]) {
-    sqrt_plain(x)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-fn sqrt_avx(x: &mut [f64]) {
-    sqrt_plain(x)
 }
 
 impl Real for Dual2_64 {
@@ -207,6 +164,108 @@ impl Real for Dual64 {
     }
 }
 
+/// The vector unit the engine's cycle loops are compiled for (see
+/// [`widest`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum VectorUnit {
+    Baseline,
+    Avx2,
+    Avx512,
+}
+
+/// The widest vector unit this CPU has (read once). The environment
+/// variable `STITCHKIN_SIMD` = `baseline`, `avx2` or `avx512` caps it, for
+/// benchmarks and for ruling the vector units out when chasing a problem.
+pub fn vector_unit() -> VectorUnit {
+    static UNIT: std::sync::OnceLock<VectorUnit> = std::sync::OnceLock::new();
+    *UNIT.get_or_init(|| {
+        #[allow(unused_mut)]
+        let mut has = VectorUnit::Baseline;
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                has = VectorUnit::Avx512;
+            } else if std::arch::is_x86_feature_detected!("avx2") {
+                has = VectorUnit::Avx2;
+            }
+        }
+        let cap = match std::env::var("STITCHKIN_SIMD").ok().as_deref() {
+            Some("baseline") => VectorUnit::Baseline,
+            Some("avx2") => VectorUnit::Avx2,
+            _ => VectorUnit::Avx512,
+        };
+        has.min(cap)
+    })
+}
+
+/// Defines `$name`, which runs `$inner` (an `#[inline(always)]` method or
+/// function with the same arguments) compiled for the widest vector unit the
+/// CPU has: AVX-512 or AVX2 when present (checked once, [`vector_unit`]),
+/// else the baseline. The engine's cycle loops (a group over every φ, a
+/// thread piece over every φ) run this way, so loops without branches
+/// (offsets, straight thread pieces, square roots) process 4 or 8 positions
+/// per instruction. Plain IEEE arithmetic gives the same bits at any width
+/// (no fused multiply-add is formed), so results do not depend on the
+/// machine.
+macro_rules! widest {
+    ($(#[$meta:meta])* $vis:vis fn $name:ident(&self $(, $arg:ident: $ty:ty)*) -> $ret:ty
+        => $inner:ident for $this:ty $(, <$g:ident: $bound:path>)?) => {
+        $(#[$meta])*
+        $vis fn $name(&self $(, $arg: $ty)*) -> $ret {
+            #[cfg(target_arch = "x86_64")]
+            {
+                #[target_feature(enable = "avx512f")]
+                fn avx512$(<$g: $bound>)?(this: &$this $(, $arg: $ty)*) -> $ret {
+                    this.$inner($($arg),*)
+                }
+                #[target_feature(enable = "avx2")]
+                fn avx2$(<$g: $bound>)?(this: &$this $(, $arg: $ty)*) -> $ret {
+                    this.$inner($($arg),*)
+                }
+                match $crate::scalar::vector_unit() {
+                    // SAFETY: `vector_unit` names a unit only when the CPU has it.
+                    $crate::scalar::VectorUnit::Avx512 => return unsafe { avx512(self $(, $arg)*) },
+                    // SAFETY: as above.
+                    $crate::scalar::VectorUnit::Avx2 => return unsafe { avx2(self $(, $arg)*) },
+                    $crate::scalar::VectorUnit::Baseline => {}
+                }
+            }
+            self.$inner($($arg),*)
+        }
+    };
+}
+pub(crate) use widest;
+
+/// [`widest!`] for a free function returning nothing: `$name` runs
+/// `$inner` (`#[inline(always)]`, same arguments) compiled for the widest
+/// vector unit.
+macro_rules! widest_fn {
+    ($(#[$meta:meta])* $vis:vis fn $name:ident<$($g:ident: $bound:path),*>($($arg:ident: $ty:ty),* $(,)?) => $inner:ident) => {
+        $(#[$meta])*
+        $vis fn $name<$($g: $bound),*>($($arg: $ty),*) {
+            #[cfg(target_arch = "x86_64")]
+            {
+                #[target_feature(enable = "avx512f")]
+                fn avx512<$($g: $bound),*>($($arg: $ty),*) {
+                    $inner($($arg),*)
+                }
+                #[target_feature(enable = "avx2")]
+                fn avx2<$($g: $bound),*>($($arg: $ty),*) {
+                    $inner($($arg),*)
+                }
+                match $crate::scalar::vector_unit() {
+                    // SAFETY: `vector_unit` names a unit only when the CPU has it.
+                    $crate::scalar::VectorUnit::Avx512 => return unsafe { avx512($($arg),*) },
+                    // SAFETY: as above.
+                    $crate::scalar::VectorUnit::Avx2 => return unsafe { avx2($($arg),*) },
+                    $crate::scalar::VectorUnit::Baseline => {}
+                }
+            }
+            $inner($($arg),*)
+        }
+    };
+}
+pub(crate) use widest_fn;
 
 #[cfg(test)]
 mod tests {

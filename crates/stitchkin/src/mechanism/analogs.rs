@@ -70,10 +70,16 @@ impl Mechanism<f64> {
         })
     }
 
-    /// The analogs of a solved `pose` at `phis` (the φ it was solved at),
-    /// into `out`; `None` when a step has no closed form (then nothing is
-    /// written).
-    pub fn analogs(&self, phis: &[Phi<f64>], pose: &Pose<f64>, out: &mut PoseAnalogs) -> Option<()> {
+    crate::scalar::widest! {
+        /// The analogs of a solved `pose` at `phis` (the φ it was solved at),
+        /// into `out`; `None` when a step has no closed form (then nothing is
+        /// written).
+        pub fn analogs(&self, phis: &[Phi<f64>], pose: &Pose<f64>, out: &mut PoseAnalogs) -> Option<()> => analogs_in for Mechanism<f64>
+    }
+
+    /// [`Self::analogs`], inlined into each vector-unit variant.
+    #[inline(always)]
+    fn analogs_in(&self, phis: &[Phi<f64>], pose: &Pose<f64>, out: &mut PoseAnalogs) -> Option<()> {
         if !self.has_closed_form_analogs() {
             return None;
         }

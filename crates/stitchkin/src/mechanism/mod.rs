@@ -6,6 +6,7 @@
 //! [`Pose`] group by group; nothing is allocated per step.
 
 pub mod analogs;
+mod kernels;
 pub mod line;
 pub mod newton;
 pub mod rigid;
@@ -226,6 +227,10 @@ impl<T: Real> Mechanism<T> {
     /// Solves every group at each φ of `phis` (as many as the pose holds),
     /// group by group, writing into `pose`. Numerical groups continue from
     /// the previous φ (and from the previous call).
+    ///
+    /// (Not compiled per vector unit as the thread paths are: most groups
+    /// can fail at any φ, so their loops do not vectorise, and one copy
+    /// keeps each group's loop body inlined.)
     pub fn solve(&self, phis: &[Phi<T>], pose: &mut Pose<T>) -> Result<(), AssemblyError> {
         let n = pose.n;
         assert_eq!(phis.len(), n, "one φ per pose position");
@@ -254,15 +259,18 @@ impl<T: Real> Mechanism<T> {
                         match self.fixed_point(*center) {
                             // A crank on a fixed shaft (every crank of the
                             // presets): its centre is read once.
-                            Some(c0) => each(&mut o, |k| {
-                                let (c, s) = (phis[k].cos, phis[k].sin);
-                                Ok(V3::new(c0.x + c.times_k(cx) + s.times_k(sx), c0.y + c.times_k(cy) + s.times_k(sy), c0.z))
-                            }),
+                            Some(c0) => {
+                                kernels::planar_crank(&mut o[..n], phis, c0, [cx, cy, sx, sy]);
+                                Ok(())
+                            }
                             None => each(&mut o, |k| {
                                 let (c, s) = (phis[k].cos, phis[k].sin);
                                 Ok(V3::new(c0[k].x + c.times_k(cx) + s.times_k(sx), c0[k].y + c.times_k(cy) + s.times_k(sy), c0[k].z))
                             }),
                         }
+                    } else if let Some(c0) = self.fixed_point(*center) {
+                        kernels::crank(&mut o[..n], phis, c0, [ru, rv], [*cos_ph, *sin_ph]);
+                        Ok(())
                     } else {
                         each(&mut o, |k| {
                             let phi = &phis[k];
@@ -333,12 +341,12 @@ impl<T: Real> Mechanism<T> {
                 Step::Rigid { base, dc, ds, base_len, lift, plane, .. } => {
                     let (a, b) = (tr(base[0]), tr(base[1]));
                     match base_len {
+                        // On a link of known length it cannot fail: a loop
+                        // without branches, which vectorises.
                         Some(l) => {
                             let (dcl, dsl) = (*dc / *l, *ds / *l);
-                            with_plane!(plane, pl => each(&mut o, |k| {
-                                let ak = pl.project(&a[k]);
-                                Ok(pl.lift(rigid::rigid_point_on_link(ak, pl.project(&b[k]), dcl, dsl), *lift))
-                            }))
+                            with_plane!(plane, pl => kernels::rigid_on_link(&mut o[..n], a, b, pl, dcl, dsl, *lift));
+                            Ok(())
                         }
                         None => with_plane!(plane, pl => each(&mut o, |k| {
                             rigid::rigid_point(pl.project(&a[k]), pl.project(&b[k]), *dc, *ds).map(|q| pl.lift(q, *lift))
@@ -350,8 +358,8 @@ impl<T: Real> Mechanism<T> {
                     each(&mut o, |k| rigid::rigid_point_3d(f0[k], f1[k], f2[k], *at))
                 }
                 Step::Offset { from, by, .. } => {
-                    let a = tr(*from);
-                    each(&mut o, |k| Ok(a[k] + *by))
+                    kernels::offset(&mut o[..n], tr(*from), *by);
+                    Ok(())
                 }
                 Step::Newton(g) => {
                     let st = &mut pose.newton[newton];

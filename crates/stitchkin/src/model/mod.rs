@@ -657,6 +657,9 @@ impl Model {
         // In-plane distances fixed by a link: (point, point, plane) → length.
         // A rigid point on such a link needs no square root per position.
         let mut links: Vec<([usize; 2], usize, T)> = Vec::new();
+        // Rocker arms of RSSR groups: (pivot, ball end), axis, radius. In a
+        // plane across the axis the arm's projection keeps its length.
+        let mut arms: Vec<([usize; 2], V3<T>, T)> = Vec::new();
         let link = |a: usize, b: usize| [a.min(b), a.max(b)];
         for s in &self.steps {
             match s {
@@ -697,6 +700,7 @@ impl Model {
                 StepDef::Rssr { from, l, pivot, frame, axis, r, offset, zero_dir, sign, out } => {
                     let (u, v, w) = basis(axis, zero_dir, *frame)?;
                     let c = fixed_at(*pivot) + w * q[*offset];
+                    arms.push((link(*pivot, *out), w, q[*r]));
                     Step::Rssr { from: *from, rocker: Rocker { c, u, v, w, r: q[*r] }, zero: u, l: q[*l], sign: *sign, out: *out }
                 }
                 StepDef::PointOnLine { from, through, toward, dir: d, frame, l, sign, out } => {
@@ -709,7 +713,15 @@ impl Model {
                 StepDef::Rigid { base, d, angle, lift, plane: pl, out } => {
                     let (s, c) = (q[*angle] * deg).sin_cos();
                     let base_len =
-                        links.iter().find(|(ab, p, l)| *ab == link(base[0], base[1]) && p == pl && l.re() > 0.0).map(|(_, _, l)| *l);
+                        links.iter().find(|(ab, p, l)| *ab == link(base[0], base[1]) && p == pl && l.re() > 0.0).map(|(_, _, l)| *l).or_else(|| {
+                            let normal = match &plane(*pl).0 {
+                                None => V3::z(),
+                                Some(f) => f.dir_to_world(V3::z()),
+                            };
+                            arms.iter()
+                                .find(|(ab, w, r)| *ab == link(base[0], base[1]) && r.re() > 0.0 && normal.cross(w).norm().re() < 1e-12)
+                                .map(|(_, _, r)| *r)
+                        });
                     Step::Rigid { base: *base, dc: q[*d] * c, ds: q[*d] * s, base_len, lift: q[*lift], plane: plane(*pl), out: *out }
                 }
                 StepDef::Rigid3 { frame, at, out } => {

@@ -149,13 +149,11 @@ pub struct ThreadWork<T: Real> {
     /// evaluation, in path order.
     pub tracks: Vec<PathTrack<T>>,
     spans: Vec<SpanBuf<T>>,
-    rho_p: Vec<T>,
-    rho_q: Vec<T>,
 }
 
 impl<T: Real> Default for ThreadWork<T> {
     fn default() -> Self {
-        ThreadWork { tracks: Vec::new(), spans: Vec::new(), rho_p: Vec::new(), rho_q: Vec::new() }
+        ThreadWork { tracks: Vec::new(), spans: Vec::new() }
     }
 }
 
@@ -170,11 +168,18 @@ impl<T: Real> Threads<T> {
         Ok(work.tracks)
     }
 
-    /// [`Self::evaluate`] into `work.tracks`, reusing `work`'s buffers: no
-    /// heap allocation once they have the pose's size. Straight pieces and
-    /// thin pins take their square roots a whole cycle at a time
-    /// ([`Real::sqrt_slice`]).
-    pub fn evaluate_into(&self, pose: &Pose<T>, project: Option<&Plane<T>>, work: &mut ThreadWork<T>) -> Result<(), PathError> {
+    crate::scalar::widest! {
+        /// [`Self::evaluate`] into `work.tracks`, reusing `work`'s buffers: no
+        /// heap allocation once they have the pose's size. Straight pieces and
+        /// thin pins take their square roots a whole cycle at a time
+        /// ([`Real::sqrt_slice`]).
+        pub fn evaluate_into(&self, pose: &Pose<T>, project: Option<&Plane<T>>, work: &mut ThreadWork<T>) -> Result<(), PathError>
+            => evaluate_in for Threads<T>, <T: Real>
+    }
+
+    /// [`Self::evaluate_into`], inlined into each vector-unit variant.
+    #[inline(always)]
+    fn evaluate_in(&self, pose: &Pose<T>, project: Option<&Plane<T>>, work: &mut ThreadWork<T>) -> Result<(), PathError> {
         let projected;
         let (pose, axis_override) = match project {
             Some(pl) => {
@@ -207,8 +212,7 @@ impl<T: Real> Threads<T> {
                 Span::Pin { a, b, c, axis, r, sense, .. } if r.re() == 0.0 => {
                     let axis = axis_override.unwrap_or(*axis);
                     let ends = (pose.track(*a), pose.track(*b), pose.track(*c));
-                    let roots = (&mut work.rho_p, &mut work.rho_q);
-                    wrap::thin_pin_lengths(ends, axis, *sense, &mut buf.len, &mut buf.on, roots).map_err(|k| self.inside(i, k))?;
+                    wrap::thin_pin_lengths(ends, axis, *sense, &mut buf.len, &mut buf.on).map_err(|k| self.inside(i, k))?;
                 }
                 Span::Pin { a, b, c, axis, r, sense, .. } => {
                     let axis = axis_override.unwrap_or(*axis);

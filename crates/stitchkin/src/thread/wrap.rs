@@ -81,51 +81,42 @@ impl<T: Real> ThinPin<T> {
 }
 
 /// [`pin_length`] of a thin pin (`r = 0`) at every position of a cycle:
-/// the ends' tracks `(p, q)` and the pin's `c`, axis `a`, sense `s`.
-/// Written in passes so the square roots run a whole cycle at a time
-/// ([`Real::sqrt_slice`]): first ρp², ρq² and the squared length that
-/// does not need them, then ρp and ρq, then the length. `rho_p`, `rho_q`
-/// are scratch. On an end inside the pin, the failing position's index.
+/// the ends' tracks `(p, q)` and the pin's `c`, axis `a`, sense `s`. One
+/// loop without branches (both lengths computed, one kept), so it runs on
+/// the vector unit; the same arithmetic as [`pin_length`], so the same
+/// bits. On an end inside the pin, the first failing position's index.
+#[inline(always)]
 pub fn thin_pin_lengths<T: Real>(
     (tp, tq, tc): (&[V3<T>], &[V3<T>], &[V3<T>]),
     a: V3<T>,
     s: f64,
     len: &mut Vec<T>,
     engaged: &mut Vec<bool>,
-    (rho_p, rho_q): (&mut Vec<T>, &mut Vec<T>),
 ) -> Result<(), usize> {
-    let n = tp.len();
-    for v in [&mut *len, &mut *rho_p, &mut *rho_q] {
-        v.clear();
-        v.resize(n, T::one());
-    }
+    let n = tp.len().min(tq.len()).min(tc.len());
+    len.clear();
+    len.resize(n, T::zero());
     engaged.clear();
     engaged.resize(n, false);
+    let (tp, tq, tc, len_, on_) = (&tp[..n], &tq[..n], &tc[..n], &mut len[..n], &mut engaged[..n]);
     let mut bad = false;
-    for ((((((p, q), c), l), on), rp), rq) in
-        tp.iter().zip(tq).zip(tc).zip(len.iter_mut()).zip(engaged.iter_mut()).zip(rho_p.iter_mut()).zip(rho_q.iter_mut())
-    {
-        let t = ThinPin::at(*p, *q, *c, a, s);
-        bad |= t.engaged && (t.rho_p2.re() <= 0.0 || t.rho_q2.re() <= 0.0);
-        *on = t.engaged;
-        *l = t.l2;
-        if t.engaged {
-            (*rp, *rq) = (t.rho_p2, t.rho_q2);
-        }
+    for k in 0..n {
+        let t = ThinPin::at(tp[k], tq[k], tc[k], a, s);
+        bad |= t.engaged & ((t.rho_p2.re() <= 0.0) | (t.rho_q2.re() <= 0.0));
+        // √(Δh² + (ρp + ρq)²) when it bears, else |q − p| (as `pin_length`).
+        let rho = t.rho_p2.sqrt() + t.rho_q2.sqrt();
+        let engaged_l2 = t.l2 + rho * rho;
+        len_[k] = if t.engaged { engaged_l2 } else { t.l2 }.sqrt();
+        on_[k] = t.engaged;
     }
     if bad {
-        return Err(rho_p.iter().zip(rho_q.iter()).zip(engaged.iter()).position(|((a, b), on)| *on && (a.re() <= 0.0 || b.re() <= 0.0)).unwrap_or(0));
+        return Err((0..n)
+            .position(|k| {
+                let t = ThinPin::at(tp[k], tq[k], tc[k], a, s);
+                t.engaged && (t.rho_p2.re() <= 0.0 || t.rho_q2.re() <= 0.0)
+            })
+            .unwrap_or(0));
     }
-    T::sqrt_slice(rho_p);
-    T::sqrt_slice(rho_q);
-    for (((l, on), rp), rq) in len.iter_mut().zip(engaged.iter()).zip(rho_p.iter()).zip(rho_q.iter()) {
-        if *on {
-            // √(Δh² + (ρp + ρq)²), as in `pin_length`
-            let rho = *rp + *rq;
-            *l += rho * rho;
-        }
-    }
-    T::sqrt_slice(len);
     Ok(())
 }
 
@@ -291,8 +282,8 @@ mod tests {
         let tc = track(&|t| V3::new(0.3 * t, 0.0, 0.5));
         let ad = a.map(Dual2_64::from_re);
         for s in [1.0, -1.0] {
-            let (mut len, mut on, mut rp, mut rq) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-            thin_pin_lengths((&tp, &tq, &tc), ad, s, &mut len, &mut on, (&mut rp, &mut rq)).unwrap();
+            let (mut len, mut on) = (Vec::new(), Vec::new());
+            thin_pin_lengths((&tp, &tq, &tc), ad, s, &mut len, &mut on).unwrap();
             assert!(on.iter().any(|e| *e) && on.iter().any(|e| !*e), "the sweep both engages and releases");
             for k in 0..tp.len() {
                 let (l, e) = pin_length(tp[k], tq[k], tc[k], ad, Dual2_64::from_re(0.0), s).unwrap();
@@ -303,8 +294,8 @@ mod tests {
             }
             // Plain numbers take the vectorised square roots.
             let re = |t: &[V3<Dual2_64>]| t.iter().map(|v| v.map(|x| x.re)).collect::<Vec<_>>();
-            let (mut lf, mut onf, mut rpf, mut rqf) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-            thin_pin_lengths((&re(&tp), &re(&tq), &re(&tc)), a, s, &mut lf, &mut onf, (&mut rpf, &mut rqf)).unwrap();
+            let (mut lf, mut onf) = (Vec::new(), Vec::new());
+            thin_pin_lengths((&re(&tp), &re(&tq), &re(&tc)), a, s, &mut lf, &mut onf).unwrap();
             assert_eq!(onf, on);
             assert!(lf.iter().zip(&len).all(|(x, y)| (x - y.re).abs() < 1e-12));
         }
@@ -313,8 +304,8 @@ mod tests {
         let z = Z.map(Dual2_64::from_re);
         p_axis[40] = tc[40] + z * Dual2_64::from_re(2.0);
         q_axis[40] = tc[40] - z * Dual2_64::from_re(3.0);
-        let (mut len, mut on, mut rp, mut rq) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        let r = thin_pin_lengths((&p_axis, &q_axis, &tc), z, 1.0, &mut len, &mut on, (&mut rp, &mut rq));
+        let (mut len, mut on) = (Vec::new(), Vec::new());
+        let r = thin_pin_lengths((&p_axis, &q_axis, &tc), z, 1.0, &mut len, &mut on);
         assert_eq!(r, Err(40));
         assert!(pin_length(p_axis[40], q_axis[40], tc[40], z, Dual2_64::from_re(0.0), 1.0).is_none());
     }
