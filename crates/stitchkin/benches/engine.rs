@@ -170,23 +170,21 @@ fn mf7923d_take_up(bencher: Bencher) {
     bench_takeup::<f64>(bencher);
 }
 
-/// P's analogs: the mechanism's analogs in closed form, carried into the
-/// thread paths as dual numbers (as `run` does).
+/// P's analogs in closed form: the mechanism's (`Mechanism::analogs`),
+/// then the thread paths' (`Threads::evaluate_analogs`), with no pose of
+/// dual numbers.
 #[divan::bench]
 fn mf7923d_take_up_with_analogs(bencher: Bencher) {
     let model = Model::preset("mf7923d").unwrap();
     let (plain, phis) = cycle::<f64>(&model);
-    let (mech, _) = cycle::<Dual2_64>(&model);
-    let threads = mech.threads.clone().unwrap();
+    let threads = plain.threads.clone().unwrap();
     let mut pose = plain.new_pose(phis.len());
     let mut an = PoseAnalogs::new(plain.n_points(), phis.len());
-    let mut dual = mech.new_pose(phis.len());
     let mut work = ThreadWork::default();
     bencher.bench_local(|| {
         plain.solve(black_box(&phis), &mut pose).unwrap();
         plain.analogs(&phis, &pose, &mut an).unwrap();
-        dual.set_analogs(&pose, &an);
-        threads.evaluate_into(&dual, None, &mut work).unwrap();
+        threads.evaluate_analogs(&pose, &an, &mut work).unwrap();
         black_box(work.tracks[5].xi[90])
     });
 }

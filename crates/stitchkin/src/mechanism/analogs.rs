@@ -48,6 +48,14 @@ impl PoseAnalogs {
     pub fn is_empty(&self) -> bool {
         self.n == 0
     }
+    /// First analogs of point `slot` over the cycle.
+    pub fn vel_track(&self, slot: usize) -> &[V3<f64>] {
+        &self.vel[slot]
+    }
+    /// Second analogs of point `slot` over the cycle.
+    pub fn acc_track(&self, slot: usize) -> &[V3<f64>] {
+        &self.acc[slot]
+    }
 }
 
 /// `x` with `m·x = rhs` for the 2×2 matrix of rows `r1`, `r2` (Cramer),

@@ -14,7 +14,10 @@ pub mod cam;
 pub mod wrap;
 
 use crate::geometry::{Plane, V3};
+use num_dual::Dual2_64;
+
 use crate::mechanism::Pose;
+use crate::mechanism::analogs::PoseAnalogs;
 use crate::scalar::Real;
 
 /// One piece of a path between two nodes the thread passes through. Paths
@@ -235,31 +238,7 @@ impl<T: Real> Threads<T> {
                 }
             }
         }
-        work.tracks.resize_with(self.paths.len(), || PathTrack { xi: Vec::new(), engaged: Vec::new() });
-        for (p, track) in self.paths.iter().zip(&mut work.tracks) {
-            // ξ = the sum of the constant pieces and of the varying ones,
-            // four varying pieces per pass over ξ.
-            let bufs = p.spans.iter().map(|&s| &work.spans[s]);
-            let constant = bufs.clone().filter_map(|b| b.constant).fold(T::zero(), |x, l| x + l);
-            track.xi.clear();
-            track.xi.resize(n, constant);
-            let mut parts: [&[T]; 4] = [&[]; 4];
-            let mut m = 0;
-            for b in bufs.filter(|b| b.constant.is_none()) {
-                parts[m] = &b.len;
-                m += 1;
-                if m == 4 {
-                    add_parts(&mut track.xi, &parts);
-                    m = 0;
-                }
-            }
-            add_parts(&mut track.xi, &parts[..m]);
-            let guides = p.spans.iter().filter(|&&s| !matches!(self.spans[s], Span::Straight { .. })).count();
-            track.engaged.resize_with(guides, Vec::new);
-            for (g, &s) in p.spans.iter().filter(|&&s| !matches!(self.spans[s], Span::Straight { .. })).enumerate() {
-                track.engaged[g].clone_from(&work.spans[s].on);
-            }
-        }
+        sum_paths(&self.paths, |s| matches!(self.spans[s], Span::Straight { .. }), n, work);
         Ok(())
     }
 
@@ -406,6 +385,123 @@ impl ThreadPath {
     }
 }
 
+/// Each path's ξ from its pieces' lengths in `work`: the sum of the constant
+/// pieces and of the varying ones, four varying pieces per pass over ξ; and
+/// the contacts of its guides (`straight(s)` tells a piece without one).
+#[inline(always)]
+fn sum_paths<T: Real>(paths: &[ThreadPath], straight: impl Fn(usize) -> bool, n: usize, work: &mut ThreadWork<T>) {
+    work.tracks.resize_with(paths.len(), || PathTrack { xi: Vec::new(), engaged: Vec::new() });
+    for (p, track) in paths.iter().zip(&mut work.tracks) {
+        let bufs = p.spans.iter().map(|&s| &work.spans[s]);
+        let constant = bufs.clone().filter_map(|b| b.constant).fold(T::zero(), |x, l| x + l);
+        track.xi.clear();
+        track.xi.resize(n, constant);
+        let mut parts: [&[T]; 4] = [&[]; 4];
+        let mut m = 0;
+        for b in bufs.filter(|b| b.constant.is_none()) {
+            parts[m] = &b.len;
+            m += 1;
+            if m == 4 {
+                add_parts(&mut track.xi, &parts);
+                m = 0;
+            }
+        }
+        add_parts(&mut track.xi, &parts[..m]);
+        let guides = p.spans.iter().filter(|&&s| !straight(s)).count();
+        track.engaged.resize_with(guides, Vec::new);
+        for (g, &s) in p.spans.iter().filter(|&&s| !straight(s)).enumerate() {
+            track.engaged[g].clone_from(&work.spans[s].on);
+        }
+    }
+}
+
+impl Threads<f64> {
+    crate::scalar::widest! {
+        /// [`Threads::evaluate_into`] with exact first and second analogs
+        /// of ξ (in `Dual2_64`: value, d/dφ, d²/dφ²), from a pose in `f64`
+        /// and its analogs in closed form ([`Mechanism::analogs`]), without
+        /// a pose of dual numbers. A straight piece of length L = |d|,
+        /// d = q − p, has L′ = d·d′/L and L″ = (|d′|² + d·d″ − L′²)/L; a
+        /// guide or a cam is evaluated in dual numbers built at each φ from
+        /// the same parts. The result equals the dual-number evaluation
+        /// (test `analogs_in_closed_form_equal_the_dual_solve`).
+        ///
+        /// [`Mechanism::analogs`]: crate::mechanism::Mechanism::analogs
+        pub fn evaluate_analogs(&self, pose: &Pose<f64>, an: &PoseAnalogs, work: &mut ThreadWork<Dual2_64>) -> Result<(), PathError>
+            => evaluate_analogs_in for Threads<f64>
+    }
+
+    #[inline(always)]
+    fn evaluate_analogs_in(&self, pose: &Pose<f64>, an: &PoseAnalogs, work: &mut ThreadWork<Dual2_64>) -> Result<(), PathError> {
+        let n = pose.len();
+        assert_eq!(an.len(), n, "analogs of the same cycle");
+        // A point as a dual vector at the k-th φ.
+        let jet = |slot: usize, k: usize| -> V3<Dual2_64> {
+            let (p, v, a) = (pose.point(slot, k), an.vel(slot, k), an.acc(slot, k));
+            V3::new(Dual2_64::new(p.x, v.x, a.x), Dual2_64::new(p.y, v.y, a.y), Dual2_64::new(p.z, v.z, a.z))
+        };
+        let dual = |v: V3<f64>| v.map(Dual2_64::from_re);
+        // A point's positions and analogs over the cycle, cut to its length.
+        let tracks = |slot: usize| [&pose.track(slot)[..n], &an.vel_track(slot)[..n], &an.acc_track(slot)[..n]];
+        work.spans.resize_with(self.spans.len(), SpanBuf::default);
+        for (i, span) in self.spans.iter().enumerate() {
+            let buf = &mut work.spans[i];
+            buf.constant = None;
+            buf.len.clear();
+            buf.on.clear();
+            match span {
+                Span::Straight { a, b, constant: true, .. } if n > 0 => {
+                    buf.constant = Some(Dual2_64::from_re((pose.point(*b, 0) - pose.point(*a, 0)).norm_squared().sqrt()))
+                }
+                Span::Straight { a, b, .. } => {
+                    let [pa, va, aa] = tracks(*a);
+                    let [pb, vb, ab] = tracks(*b);
+                    buf.len.resize(n, Dual2_64::from_re(0.0));
+                    for (k, l) in buf.len.iter_mut().enumerate() {
+                        *l = wrap::straight_jet([pb[k] - pa[k], vb[k] - va[k], ab[k] - aa[k]]);
+                    }
+                }
+                Span::Pin { a, b, c, axis, r, sense, .. } if *r == 0.0 => {
+                    let (ta, tb, tc) = (tracks(*a), tracks(*b), tracks(*c));
+                    let at = |t: [&[V3<f64>]; 3], k: usize| [t[0][k], t[1][k], t[2][k]];
+                    buf.len.resize(n, Dual2_64::from_re(0.0));
+                    buf.on.resize(n, false);
+                    let mut inside = false;
+                    for (k, (l, on)) in buf.len.iter_mut().zip(buf.on.iter_mut()).enumerate() {
+                        let (len, engaged, bad) = wrap::thin_pin_jet(at(ta, k), at(tb, k), at(tc, k), *axis, *sense);
+                        (*l, *on) = (len, engaged);
+                        inside |= bad;
+                    }
+                    if inside {
+                        let k = (0..n).find(|&k| wrap::thin_pin_jets(at(ta, k), at(tb, k), at(tc, k), *axis, *sense).is_none()).unwrap_or(0);
+                        return Err(self.inside(i, k));
+                    }
+                }
+                Span::Pin { a, b, c, axis, r, sense, .. } => {
+                    for k in 0..n {
+                        let (l, e) = wrap::pin_length(jet(*a, k), jet(*b, k), jet(*c, k), dual(*axis), Dual2_64::from_re(*r), *sense)
+                            .ok_or_else(|| self.inside(i, k))?;
+                        buf.len.push(l);
+                        buf.on.push(e);
+                    }
+                }
+                Span::Cam { a, b, cam, contact } => {
+                    let c = &self.cams[*cam];
+                    let cd = Cam { name: String::new(), center: c.center, marker: c.marker, axis: dual(c.axis), profile: c.profile.clone() };
+                    for k in 0..n {
+                        let (l, e) = cam_length(&cd, *contact, cd.axis, jet(*a, k), jet(*b, k), jet(c.center, k), jet(c.marker, k))
+                            .ok_or_else(|| self.inside(i, k))?;
+                        buf.len.push(l);
+                        buf.on.push(e);
+                    }
+                }
+            }
+        }
+        sum_paths(&self.paths, |s| matches!(self.spans[s], Span::Straight { .. }), n, work);
+        Ok(())
+    }
+}
+
 /// `xi[k] += Σ_j parts[j][k]` for up to four parts in one pass.
 #[inline]
 fn add_parts<T: Real>(xi: &mut [T], parts: &[&[T]]) {
@@ -491,6 +587,54 @@ mod tests {
         assert_eq!((iv[1].from_deg, iv[1].to_deg), (300.0, 390.0));
         assert_eq!(intervals(&[true; 4], &phis[..4])[0].to_deg, 360.0);
         assert!(intervals(&[false; 4], &phis[..4]).is_empty());
+    }
+
+    /// ξ with analogs from the `f64` pose and its closed-form analogs
+    /// equals the dual-number solve's, for every preset with thread paths
+    /// whose groups all have a closed form, at every φ of a cycle; and the
+    /// same guides bear at the same φ.
+    #[test]
+    fn analogs_in_closed_form_equal_the_dual_solve() {
+        use crate::mechanism::Phi;
+        use crate::model::Model;
+        let mut covered = 0;
+        for preset in crate::presets::ALL {
+            let model = Model::preset(preset.name).unwrap();
+            let params = model.defaults();
+            let mech = model.mechanism::<f64>(&params).unwrap();
+            let Some(threads) = &mech.threads else { continue };
+            if !mech.has_closed_form_analogs() {
+                continue;
+            }
+            covered += 1;
+            let phis_deg: Vec<f64> = (0..120).map(|k| model.phi_start_deg() + 3.0 * k as f64 + 0.37).collect();
+            let phis = Phi::<f64>::table(&phis_deg);
+            let mut pose = mech.new_pose(phis.len());
+            mech.solve(&phis, &mut pose).unwrap();
+            let mut an = PoseAnalogs::new(mech.n_points(), phis.len());
+            mech.analogs(&phis, &pose, &mut an).unwrap();
+            let mut work = ThreadWork::default();
+            threads.evaluate_analogs(&pose, &an, &mut work).unwrap();
+
+            let dual = model.mechanism::<Dual2_64>(&params).unwrap();
+            let mut dpose = dual.new_pose(phis.len());
+            dual.solve(&Phi::table(&phis_deg), &mut dpose).unwrap();
+            let reference = dual.threads.as_ref().unwrap().evaluate(&dpose, None).unwrap();
+            for (p, (got, want)) in threads.paths.iter().zip(work.tracks.iter().zip(&reference)) {
+                assert_eq!(got.engaged, want.engaged, "{} {}", preset.name, p.name);
+                for (k, (x, y)) in got.xi.iter().zip(&want.xi).enumerate() {
+                    let close = |a: f64, b: f64, tol: f64| (a - b).abs() <= tol * (1.0 + b.abs());
+                    assert!(
+                        close(x.re, y.re, 1e-12) && close(x.v1, y.v1, 1e-9) && close(x.v2, y.v2, 1e-8),
+                        "{} {} at φ {}: {x:?} vs {y:?}",
+                        preset.name,
+                        p.name,
+                        phis_deg[k]
+                    );
+                }
+            }
+        }
+        assert!(covered >= 2, "only {covered} presets with threads have closed-form analogs");
     }
 
     #[test]

@@ -11,6 +11,8 @@
 //! is `|q − p|`; both agree at the switch, so the length is continuous
 //! (seed 000 eq. 1: guide G4 engages only part of the cycle).
 
+use num_dual::Dual2_64;
+
 use crate::geometry::V3;
 use crate::scalar::Real;
 
@@ -118,6 +120,64 @@ pub fn thin_pin_lengths<T: Real>(
             .unwrap_or(0));
     }
     Ok(())
+}
+
+/// [`pin_length`] of a thin pin (`r = 0`) with its first and second
+/// φ-analogs, from the ends' and the pin's positions and analogs
+/// (`[x, x′, x″]`) and the fixed axis `a`. In closed form: with
+/// P = ρp² = |wp|² − hp², ρp′ = P′/(2ρp), ρp″ = (P″/2 − ρp′²)/ρp (likewise
+/// for q), ρ = ρp + ρq and F = Δh² + ρ², the length is L = √F with
+/// L′ = F′/(2L), L″ = (F″/2 − L′²)/L; a free thread is a straight piece.
+/// The value is bit for bit [`pin_length`]'s.
+#[inline(always)]
+pub fn thin_pin_jets(p: [V3<f64>; 3], q: [V3<f64>; 3], c: [V3<f64>; 3], a: V3<f64>, s: f64) -> Option<(Dual2_64, bool)> {
+    let (l, engaged, inside) = thin_pin_jet(p, q, c, a, s);
+    if inside { None } else { Some((l, engaged)) }
+}
+
+/// [`thin_pin_jets`] without branches (both lengths computed, one kept),
+/// so a cycle's loop of it runs on the vector unit: the length, whether the
+/// thread bears, and whether an end lies on the pin's axis (no path).
+#[inline(always)]
+pub fn thin_pin_jet(p: [V3<f64>; 3], q: [V3<f64>; 3], c: [V3<f64>; 3], a: V3<f64>, s: f64) -> (Dual2_64, bool, bool) {
+    let t = ThinPin::at(p[0], q[0], c[0], a, s);
+    let free = straight_jet([q[0] - p[0], q[1] - p[1], q[2] - p[2]]);
+    // ρ of one end and its analogs, from w = end − c and h = w·a.
+    let rho = |e: [V3<f64>; 3]| {
+        let w = [e[0] - c[0], e[1] - c[1], e[2] - c[2]];
+        let h = [w[0].dot(&a), w[1].dot(&a), w[2].dot(&a)];
+        let big_p = w[0].norm_squared() - h[0] * h[0];
+        let p1 = 2.0 * (w[0].dot(&w[1]) - h[0] * h[1]);
+        let p2 = 2.0 * (w[1].norm_squared() + w[0].dot(&w[2]) - h[1] * h[1] - h[0] * h[2]);
+        let r = big_p.sqrt();
+        let r1 = p1 / (2.0 * r);
+        ([r, r1, (0.5 * p2 - r1 * r1) / r], h)
+    };
+    let (rp, hp) = rho(p);
+    let (rq, hq) = rho(q);
+    let r = [rp[0] + rq[0], rp[1] + rq[1], rp[2] + rq[2]];
+    let dh = [hq[0] - hp[0], hq[1] - hp[1], hq[2] - hp[2]];
+    let f = dh[0] * dh[0] + r[0] * r[0];
+    let f1 = 2.0 * (dh[0] * dh[1] + r[0] * r[1]);
+    let f2 = 2.0 * (dh[1] * dh[1] + dh[0] * dh[2] + r[1] * r[1] + r[0] * r[2]);
+    let l = f.sqrt();
+    let l1 = f1 / (2.0 * l);
+    let l2 = (0.5 * f2 - l1 * l1) / l;
+    let e = t.engaged;
+    let pick = |x: f64, y: f64| if e { x } else { y };
+    let len = Dual2_64::new(pick(l, free.re), pick(l1, free.v1), pick(l2, free.v2));
+    (len, e, e & ((t.rho_p2 <= 0.0) | (t.rho_q2 <= 0.0)))
+}
+
+/// The length L = |d| of a straight piece with its analogs, from
+/// `[d, d′, d″]`: L′ = d·d′/L, L″ = (|d′|² + d·d″ − L′²)/L. The value is
+/// `√(d·d)`, as the thread paths compute it without analogs.
+#[inline(always)]
+pub fn straight_jet([d, d1, d2]: [V3<f64>; 3]) -> Dual2_64 {
+    let l = d.norm_squared().sqrt();
+    let inv = 1.0 / l;
+    let l1 = d.dot(&d1) * inv;
+    Dual2_64::new(l, l1, (d1.norm_squared() + d.dot(&d2) - l1 * l1) * inv)
 }
 
 /// Thread from `p` to `q` on a guide (axis through `c` along unit `a`,
