@@ -935,7 +935,7 @@ fn check(args: CheckArgs) -> Result<(), Error> {
     }
     if let Some(threads) = &model.mechanism::<f64>(&params)?.threads {
         out += &format!("thread paths ({}), {} distinct pieces:\n", threads.paths.len(), threads.spans.len());
-        for p in &threads.paths {
+        for p in threads.paths.iter() {
             let nodes: Vec<String> = p
                 .node_names
                 .iter()

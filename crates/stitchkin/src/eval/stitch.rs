@@ -64,7 +64,7 @@ pub struct StitchSummary {
 }
 
 /// Is model-φ `phi` inside the window [from, to] (which may wrap past 360°)?
-fn in_window(phi: f64, w: [f64; 2]) -> bool {
+pub(crate) fn in_window(phi: f64, w: [f64; 2]) -> bool {
     let (a, len) = (w[0].rem_euclid(360.0), (w[1] - w[0]).rem_euclid(360.0));
     (phi - a).rem_euclid(360.0) <= len
 }

@@ -224,6 +224,27 @@ impl<T: Real> Mechanism<T> {
         Pose { n, tracks, newton }
     }
 
+    /// Makes `pose` ready for [`Self::solve`] over `n` positions as
+    /// [`Self::new_pose`] would, reusing its buffers: fixed points are
+    /// rewritten only where they moved (a study's settings rarely move
+    /// them) and numerical groups start afresh, so a result never depends
+    /// on the setting solved before.
+    pub fn reset_pose(&self, pose: &mut Pose<T>, n: usize) {
+        if pose.n != n || pose.tracks.len() != self.n_points || pose.tracks.iter().any(|t| t.len() != n) {
+            *pose = self.new_pose(n);
+            return;
+        }
+        for (slot, p) in &self.fixed {
+            let t = &mut pose.tracks[*slot];
+            if t.first() != Some(p) || t.last() != Some(p) {
+                t.iter_mut().for_each(|q| *q = *p);
+            }
+        }
+        if !pose.newton.is_empty() {
+            pose.newton = self.steps.iter().filter_map(|s| if let Step::Newton(g) = s { Some(g.new_state()) } else { None }).collect();
+        }
+    }
+
     /// Solves every group at each φ of `phis` (as many as the pose holds),
     /// group by group, writing into `pose`. Numerical groups continue from
     /// the previous φ (and from the previous call).

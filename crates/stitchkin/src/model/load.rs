@@ -1005,7 +1005,8 @@ impl<'a> Loader<'a> {
             }
             paths.push(PathDef { name: tp.name.clone(), label: tp.thread.clone(), nodes, node_names: names, friction, spans });
         }
-        Ok(Some(ThreadsDef { convention, elongation, phi0_deg: t.phi0_deg, tension_n: t.tension_n, paths, cams }))
+        let layout = std::sync::Arc::new(super::ThreadLayout::new(&paths));
+        Ok(Some(ThreadsDef { convention, elongation, phi0_deg: t.phi0_deg, tension_n: t.tension_n, paths, cams, layout }))
     }
 
     fn cams(&mut self, f: &ModelFile) -> R<Vec<CamDef>> {

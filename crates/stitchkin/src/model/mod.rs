@@ -231,6 +231,7 @@ pub(crate) struct ThreadsDef {
     pub tension_n: Option<f64>,
     pub paths: Vec<PathDef>,
     pub cams: Vec<CamDef>,
+    pub layout: Arc<ThreadLayout>,
 }
 
 #[derive(Debug, Clone)]
@@ -256,6 +257,75 @@ pub(crate) enum ProfileDef {
 pub(crate) enum CamContactDef {
     Exact { sense: f64 },
     Offset { gamma: Q },
+}
+
+/// The thread paths' structure, which no parameter changes: each path's
+/// pieces as indices into one list of distinct pieces (two contours of one
+/// needle share their first guides), built once when the model is loaded.
+#[derive(Debug)]
+pub(crate) struct ThreadLayout {
+    pub paths: Arc<[ThreadPath]>,
+    /// Each distinct piece, as (path, piece of that path) with its definition.
+    pub pieces: Vec<(usize, usize)>,
+}
+
+impl ThreadLayout {
+    pub(crate) fn new(paths: &[PathDef]) -> ThreadLayout {
+        let mut pieces: Vec<(usize, usize)> = Vec::new();
+        let mut out = Vec::with_capacity(paths.len());
+        for (pi, p) in paths.iter().enumerate() {
+            let mut ids = Vec::with_capacity(p.spans.len());
+            let mut pin_span = vec![None; p.nodes.len()];
+            for (si, sp) in p.spans.iter().enumerate() {
+                let id = match pieces.iter().position(|&(pj, sj)| same_piece(&paths[pj].spans[sj], sp)) {
+                    Some(id) => id,
+                    None => {
+                        pieces.push((pi, si));
+                        pieces.len() - 1
+                    }
+                };
+                if let SpanDef::Pin { node, .. } | SpanDef::Cam { node, .. } = sp {
+                    pin_span[*node] = Some(id);
+                }
+                ids.push(id);
+            }
+            out.push(ThreadPath {
+                name: p.name.clone(),
+                label: p.label.clone(),
+                nodes: p.nodes.clone(),
+                node_names: p.node_names.clone(),
+                friction: p.friction.clone(),
+                spans: ids,
+                pin_span,
+            });
+        }
+        ThreadLayout { paths: out.into(), pieces }
+    }
+}
+
+/// Whether two pieces are one: the same ends, guide and parameters (where
+/// in its path a guide stands does not matter).
+fn same_piece(x: &SpanDef, y: &SpanDef) -> bool {
+    let same_axis = |p: &AxisDef, q: &AxisDef| match (p, q) {
+        (AxisDef::Named(f, s), AxisDef::Named(g, t)) => f == g && s == t,
+        (AxisDef::Vector(v, _), AxisDef::Vector(w, _)) => v == w,
+        _ => false,
+    };
+    match (x, y) {
+        (SpanDef::Straight { a, b, constant }, SpanDef::Straight { a: a2, b: b2, constant: c2 }) => (a, b, constant) == (a2, b2, c2),
+        (SpanDef::Pin { a, b, c, axis, frame, r, sense, .. }, SpanDef::Pin { a: a2, b: b2, c: c2, axis: x2, frame: f2, r: r2, sense: s2, .. }) => {
+            (a, b, c, frame, r) == (a2, b2, c2, f2, r2) && sense == s2 && same_axis(axis, x2)
+        }
+        (SpanDef::Cam { a, b, cam, contact, .. }, SpanDef::Cam { a: a2, b: b2, cam: m2, contact: k2, .. }) => {
+            (a, b, cam) == (a2, b2, m2)
+                && match (contact, k2) {
+                    (CamContactDef::Exact { sense }, CamContactDef::Exact { sense: s2 }) => sense == s2,
+                    (CamContactDef::Offset { gamma }, CamContactDef::Offset { gamma: g2 }) => gamma == g2,
+                    _ => false,
+                }
+        }
+        _ => false,
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -785,57 +855,35 @@ impl Model {
                     };
                     cams.push(crate::thread::Cam { name: c.name.clone(), center: c.center, marker: c.marker, axis: dir(&c.axis, c.frame)?, profile });
                 }
-                let mut paths = Vec::with_capacity(t.paths.len());
-                let mut spans: Vec<Span<T>> = Vec::new();
-                for p in &t.paths {
-                    let mut ids = Vec::with_capacity(p.spans.len());
-                    let mut pin_span = vec![None; p.nodes.len()];
-                    for sp in &p.spans {
-                        let span = match sp {
-                            SpanDef::Straight { a, b, constant } => {
-                                let still = |slot: &usize| fixed.iter().any(|(s, _)| s == slot);
-                                Span::Straight { a: *a, b: *b, constant: *constant, fixed: [still(a), still(b)] }
-                            }
-                            SpanDef::Pin { a, b, c, axis, frame, r, sense, node } => {
-                                if q[*r].re() < 0.0 {
-                                    return Err(self.error_at(&self.expr_paths[*r], "a pin radius cannot be negative", Some("give the radius in mm, 0 for a thin pin".into())));
-                                }
-                                let name = p.node_names[*node].clone();
-                                Span::Pin { a: *a, b: *b, c: *c, axis: dir(axis, *frame)?, r: q[*r], sense: *sense, name }
-                            }
-                            SpanDef::Cam { a, b, cam, contact, .. } => Span::Cam {
-                                a: *a,
-                                b: *b,
-                                cam: *cam,
-                                contact: match contact {
-                                    CamContactDef::Exact { sense } => crate::thread::CamModel::Exact { sense: *sense },
-                                    CamContactDef::Offset { gamma } => crate::thread::CamModel::Offset { gamma_rad: q[*gamma].re().to_radians() },
-                                },
-                            },
-                        };
-                        // Paths share pieces: keep each distinct one once.
-                        let id = match spans.iter().position(|s| *s == span) {
-                            Some(id) => id,
-                            None => {
-                                spans.push(span);
-                                spans.len() - 1
-                            }
-                        };
-                        if let SpanDef::Pin { node, .. } | SpanDef::Cam { node, .. } = sp {
-                            pin_span[*node] = Some(id);
+                // The paths' structure is the model's (ThreadsDef::layout);
+                // only the distinct pieces take this setting's values.
+                let mut spans: Vec<Span<T>> = Vec::with_capacity(t.layout.pieces.len());
+                for &(pi, si) in &t.layout.pieces {
+                    let p = &t.paths[pi];
+                    spans.push(match &p.spans[si] {
+                        SpanDef::Straight { a, b, constant } => {
+                            let still = |slot: &usize| fixed.iter().any(|(s, _)| s == slot);
+                            Span::Straight { a: *a, b: *b, constant: *constant, fixed: [still(a), still(b)] }
                         }
-                        ids.push(id);
-                    }
-                    paths.push(ThreadPath {
-                        name: p.name.clone(),
-                        label: p.label.clone(),
-                        nodes: p.nodes.clone(),
-                        node_names: p.node_names.clone(),
-                        friction: p.friction.clone(),
-                        spans: ids,
-                        pin_span,
+                        SpanDef::Pin { a, b, c, axis, frame, r, sense, node } => {
+                            if q[*r].re() < 0.0 {
+                                return Err(self.error_at(&self.expr_paths[*r], "a pin radius cannot be negative", Some("give the radius in mm, 0 for a thin pin".into())));
+                            }
+                            let name = p.node_names[*node].clone();
+                            Span::Pin { a: *a, b: *b, c: *c, axis: dir(axis, *frame)?, r: q[*r], sense: *sense, name }
+                        }
+                        SpanDef::Cam { a, b, cam, contact, .. } => Span::Cam {
+                            a: *a,
+                            b: *b,
+                            cam: *cam,
+                            contact: match contact {
+                                CamContactDef::Exact { sense } => crate::thread::CamModel::Exact { sense: *sense },
+                                CamContactDef::Offset { gamma } => crate::thread::CamModel::Offset { gamma_rad: q[*gamma].re().to_radians() },
+                            },
+                        },
                     });
                 }
+                let paths = t.layout.paths.clone();
                 let convention = match t.convention {
                     file::TakeUpConvention::Release => Convention::Release,
                     file::TakeUpConvention::Feed => Convention::Feed { elongation_mm: t.elongation.map_or(0.0, |e| q[e].re()) },

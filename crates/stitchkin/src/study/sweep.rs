@@ -13,8 +13,10 @@ use rayon::prelude::*;
 
 use crate::error::{Error, ParamError};
 use crate::eval::stitch::{Prepared, prepare};
-use crate::eval::{CycleOptions, CycleTable, glob_match, run_cycle_with};
+use crate::eval::{CycleOptions, CycleTable, glob_match, path_error, run_cycle_with};
+use crate::mechanism::{Phi, Pose};
 use crate::model::{Model, Params};
+use crate::thread::ThreadWork;
 
 /// One swept parameter: `NAME=LO:HI:N` (N values from LO to HI, both
 /// included; for sampled designs only LO and HI matter).
@@ -307,6 +309,346 @@ pub fn evaluate(model: &Model, base: &Params, sweep: &Sweep, names: &[String], o
     }
 }
 
+/// Evaluates settings one after another, computing only the figures asked
+/// for and keeping the cycle's buffers (pose, thread pieces, take-up) from
+/// one setting to the next: one per worker. It gives exactly the figures
+/// [`evaluate`] gives (test `the_fast_figures_are_the_cycle_tables`), with
+/// no cycle table, no columns and no heap allocation for the cycle itself.
+/// A model whose stitch process changes with the swept parameters (no
+/// shared P') is evaluated through the full cycle instead.
+pub struct Evaluator<'a> {
+    model: &'a Model,
+    base: &'a Params,
+    sweep: &'a Sweep,
+    names: &'a [String],
+    opts: &'a CycleOptions,
+    shared: Option<&'a Prepared>,
+    /// `None` when the fast path cannot give every requested figure.
+    fast: Option<Fast>,
+}
+
+/// The fast path's plan and buffers.
+struct Fast {
+    phis: Vec<f64>,
+    table: Vec<Phi<f64>>,
+    phi0: [Phi<f64>; 1],
+    params: Params,
+    pose: Pose<f64>,
+    pose0: Pose<f64>,
+    work: ThreadWork<f64>,
+    work0: ThreadWork<f64>,
+    /// Take-up of every path over the cycle, mm.
+    p: Vec<Vec<f64>>,
+    /// Which kinds of figures are asked for.
+    mu: bool,
+    measures: bool,
+    strokes: bool,
+    stitch: Vec<StitchPlan>,
+    buf: Vec<f64>,
+    /// Per-φ values of the transmission angles or measures, one column each.
+    cols: Vec<Vec<f64>>,
+    /// Figure values of the last setting, and for each requested figure
+    /// its place among them (known after the first setting that evaluates).
+    figures: Figures,
+    pick: Option<Vec<Option<usize>>>,
+}
+
+/// One stitch thread's fixed part of its figures: what only P' decides.
+struct StitchPlan {
+    name: String,
+    /// The path its P comes from (index into the thread paths).
+    path: Option<usize>,
+    /// P' over the cycle grid, mm.
+    pprime: Vec<f64>,
+    /// The compared positions (outside a regulator window).
+    ks: Vec<usize>,
+    /// Range of P' over them; the score's scale.
+    range: f64,
+    max_pprime_mm: f64,
+}
+
+impl<'a> Evaluator<'a> {
+    /// An evaluator of `sweep`'s settings for the figures `names` (as
+    /// [`select_figures`] gives them), with P' from `shared` when given.
+    pub fn new(model: &'a Model, base: &'a Params, sweep: &'a Sweep, names: &'a [String], opts: &'a CycleOptions, shared: Option<&'a Prepared>) -> Self {
+        let fast = Fast::plan(model, base, names, opts, shared);
+        Evaluator { model, base, sweep, names, opts, shared, fast }
+    }
+
+    /// Whether settings go through the fast path (else the full cycle).
+    pub fn is_fast(&self) -> bool {
+        self.fast.is_some()
+    }
+
+    /// The row of setting `index`: the same as [`evaluate`]'s.
+    pub fn evaluate(&mut self, index: usize) -> Row {
+        let Some(fast) = &mut self.fast else {
+            return evaluate(self.model, self.base, self.sweep, self.names, self.opts, self.shared, index);
+        };
+        let values = self.sweep.setting(index);
+        fast.params.values.clone_from(&self.base.values);
+        let mut result = Ok(());
+        for (v, x) in self.sweep.vary.iter().zip(&values) {
+            if let Err(e) = self.model.set(&mut fast.params, &v.name, *x) {
+                result = Err(Error::Param(e));
+                break;
+            }
+        }
+        let mut out = std::mem::replace(&mut fast.figures, Figures { vals: Vec::new(), names: None });
+        out.vals.clear();
+        out.names = fast.pick.is_none().then(Vec::new);
+        let all = result.and_then(|_| fast.figures(self.model, self.opts, self.shared, &mut out));
+        let row = match all {
+            Ok(()) => {
+                if let Some(names) = out.names.take() {
+                    fast.pick = Some(self.names.iter().map(|n| names.iter().position(|m| m == n)).collect());
+                }
+                let pick = fast.pick.as_ref().expect("set by the first setting that evaluates");
+                let figures = pick.iter().map(|i| i.map(|i| out.vals[i]).filter(|v| v.is_finite())).collect();
+                Row { index, values, figures, error: None }
+            }
+            Err(e) => Row { index, values, figures: vec![None; self.names.len()], error: Some(e.to_string().replace('\n', " ")) },
+        };
+        fast.figures = out;
+        row
+    }
+}
+
+impl Fast {
+    /// The plan, or `None` when a figure needs the full cycle (a shared P'
+    /// is missing for a stitch figure, or a figure of another kind).
+    fn plan(model: &Model, base: &Params, names: &[String], opts: &CycleOptions, shared: Option<&Prepared>) -> Option<Fast> {
+        if opts.analogs || opts.rpm.is_some() || crate::eval::check_options(opts).is_err() {
+            return None;
+        }
+        let mech = model.mechanism::<f64>(base).ok()?;
+        let threads = mech.threads.as_ref();
+        let path_names: Vec<&str> = threads.map_or(Vec::new(), |t| t.paths.iter().map(|p| p.name.as_str()).collect());
+        let (mut mu, mut measures, mut strokes, mut stitch) = (false, false, false, false);
+        for n in names {
+            let path_fig = path_names.iter().any(|p| n == &format!("{p}.max_P_mm") || n == &format!("{p}.min_P_mm"));
+            if path_fig {
+            } else if n.starts_with("mu.") || n.starts_with("mu_") {
+                mu = true;
+            } else if n.ends_with("_stroke_mm") {
+                strokes = true;
+            } else if model.measure_names.iter().any(|m| [".range_mm", ".min_mm", ".max_mm"].iter().any(|s| n == &format!("{m}{s}"))) {
+                measures = true;
+            } else if n.starts_with("score.") || [".score", ".rms_D_mm", ".max_abs_D_mm", ".max_Pprime_mm"].iter().any(|s| n.ends_with(s)) {
+                stitch = true;
+            } else {
+                return None;
+            }
+        }
+        let phis = crate::eval::cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
+        let mut plans = Vec::new();
+        if stitch {
+            let prepared = shared?;
+            if prepared.phis != phis {
+                return None;
+            }
+            let n = phis.len();
+            let setup = &prepared.setup;
+            let compared: Vec<bool> = phis.iter().map(|&p| !setup.regulator_window_deg.iter().any(|w| crate::eval::stitch::in_window(crate::eval::wrap_deg(p), *w))).collect();
+            for (th, path) in prepared.required.threads.iter().zip(&setup.paths) {
+                let pprime = th.pprime_mm[..n].to_vec();
+                let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
+                let (hi, lo) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| (hi.max(pprime[k]), lo.min(pprime[k])));
+                let kmax = (0..n).max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a))).unwrap_or(0);
+                let path = match path {
+                    Some(name) => Some(path_names.iter().position(|p| p == name)?),
+                    None => None,
+                };
+                plans.push(StitchPlan { name: th.name.clone(), path, max_pprime_mm: pprime[kmax], pprime, ks, range: hi - lo });
+            }
+        }
+        let phi0 = [Phi::at_deg(threads.map_or(0.0, |t| t.phi0_deg))];
+        Some(Fast {
+            table: Phi::table(&phis),
+            phis,
+            phi0,
+            params: base.clone(),
+            pose: mech.new_pose(0),
+            pose0: mech.new_pose(1),
+            work: ThreadWork::default(),
+            work0: ThreadWork::default(),
+            p: Vec::new(),
+            mu,
+            measures,
+            strokes,
+            stitch: plans,
+            buf: Vec::new(),
+            cols: Vec::new(),
+            figures: Figures { vals: Vec::new(), names: None },
+            pick: None,
+        })
+    }
+
+    /// Every figure of the kinds planned, by name, for `self.params`: what
+    /// [`figures`] of the cycle table gives.
+    fn figures(&mut self, model: &Model, opts: &CycleOptions, shared: Option<&Prepared>, out: &mut Figures) -> Result<(), Error> {
+        let mech = model.mechanism::<f64>(&self.params)?;
+        let n = self.phis.len();
+        mech.reset_pose(&mut self.pose, n);
+        mech.solve(&self.table, &mut self.pose)?;
+        if let Some(threads) = &mech.threads {
+            // ξ(φ0) as `run_cycle` takes it (a pose of its own at φ0).
+            mech.reset_pose(&mut self.pose0, 1);
+            mech.solve(&self.phi0, &mut self.pose0)?;
+            threads.evaluate_into(&self.pose0, None, &mut self.work0).map_err(|e| path_error(e, threads.phi0_deg))?;
+            threads.evaluate_into(&self.pose, None, &mut self.work).map_err(|e| {
+                let phi = self.phis[e.k];
+                path_error(e, phi)
+            })?;
+            self.p.resize_with(threads.paths.len(), Vec::new);
+            for ((path, track), (p, t0)) in threads.paths.iter().zip(&self.work.tracks).zip(self.p.iter_mut().zip(&self.work0.tracks)) {
+                p.clear();
+                p.extend(track.xi.iter().map(|x| threads.convention.take_up(*x, t0.xi[0])));
+                let (lo, hi) = finite_extremes(p).map_err(|k| not_finite(&format!("{}.P_mm", path.name), p[k], self.phis[k]))?;
+                out.push(|| format!("{}.max_P_mm", path.name), hi);
+                out.push(|| format!("{}.min_P_mm", path.name), lo);
+            }
+        }
+        if self.mu && !model.dyads.is_empty() {
+            self.cols.resize_with(model.dyads.len(), Vec::new);
+            self.cols.iter_mut().for_each(Vec::clear);
+            for k in 0..n {
+                mech.transmission_angles(&self.pose, k, &mut self.buf);
+                for (c, m) in self.cols.iter_mut().zip(&self.buf) {
+                    c.push(m.to_degrees());
+                }
+            }
+            let mut all_ok = true;
+            let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+            let first = out.vals.len();
+            out.push(|| "mu.min_deg".into(), 0.0);
+            out.push(|| "mu.max_deg".into(), 0.0);
+            out.push(|| "mu.ok".into(), 0.0);
+            for (d, v) in model.dyads.iter().zip(&self.cols) {
+                if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+                    return Err(not_finite(&format!("mu_{}_deg", d.key), v[k], self.phis[k]));
+                }
+                let (i0, i1) = crate::eval::extremes(v);
+                all_ok &= v[i0] >= crate::eval::MU_MIN_DEG && v[i1] <= crate::eval::MU_MAX_DEG;
+                lo = lo.min(v[i0]);
+                hi = hi.max(v[i1]);
+                out.push(|| format!("mu_{}.min_deg", d.key), v[i0]);
+                out.push(|| format!("mu_{}.max_deg", d.key), v[i1]);
+            }
+            out.vals[first..first + 3].copy_from_slice(&[lo, hi, if all_ok { 1.0 } else { 0.0 }]);
+        }
+        if self.measures && !model.measure_names.is_empty() {
+            self.cols.resize_with(model.measure_names.len(), Vec::new);
+            self.cols.iter_mut().for_each(Vec::clear);
+            for k in 0..n {
+                mech.measures(&self.pose, k, &mut self.buf);
+                for (c, m) in self.cols.iter_mut().zip(&self.buf) {
+                    c.push(*m);
+                }
+            }
+            for (name, v) in model.measure_names.iter().zip(&self.cols) {
+                if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+                    return Err(not_finite(&format!("{name}_mm"), v[k], self.phis[k]));
+                }
+                let (i0, i1) = crate::eval::extremes(v);
+                out.push(|| format!("{name}.range_mm"), v[i1] - v[i0]);
+                out.push(|| format!("{name}.min_mm"), v[i0]);
+                out.push(|| format!("{name}.max_mm"), v[i1]);
+            }
+        }
+        if self.strokes {
+            let points = opts.points.clone().unwrap_or_else(|| model.output_points.clone());
+            let axes = if model.planar { 2 } else { 3 };
+            for &pt in &points {
+                for (c, axis) in ["x", "y", "z"].iter().enumerate().take(axes) {
+                    let (lo, hi) = self.pose.track(pt).iter().fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v[c]), b.max(v[c])));
+                    if !(lo.is_finite() && hi.is_finite()) {
+                        return Err(not_finite(&format!("{}.{axis}_mm", model.point_names[pt]), f64::NAN, self.phis[0]));
+                    }
+                    out.push(|| format!("{}.{axis}_stroke_mm", model.point_names[pt]), hi - lo);
+                }
+            }
+        }
+        if !self.stitch.is_empty() && shared.is_some() {
+            let mut scores = Vec::new();
+            for plan in &self.stitch {
+                out.push(|| format!("{}.max_Pprime_mm", plan.name), plan.max_pprime_mm);
+                let Some(pi) = plan.path else { continue };
+                if plan.ks.is_empty() {
+                    continue;
+                }
+                // As `stitch::mismatch::mismatch`: D = P − P' over the
+                // compared positions, in order.
+                let p = &self.p[pi];
+                let count = plan.ks.len() as f64;
+                let (mut s2, mut max_abs) = (0.0, 0.0f64);
+                for &k in &plan.ks {
+                    let d = p[k] - plan.pprime[k];
+                    s2 += d * d;
+                    max_abs = max_abs.max(d.abs());
+                }
+                let rms = (s2 / count).sqrt();
+                if plan.range > 1e-12 {
+                    let score = 100.0 * (1.0 - rms / plan.range).max(0.0);
+                    out.push(|| format!("{}.score", plan.name), score);
+                    scores.push(score);
+                }
+                out.push(|| format!("{}.rms_D_mm", plan.name), rms);
+                out.push(|| format!("{}.max_abs_D_mm", plan.name), max_abs);
+            }
+            if !scores.is_empty() {
+                out.push(|| "score.mean".into(), scores.iter().sum::<f64>() / scores.len() as f64);
+                out.push(|| "score.min".into(), scores.iter().cloned().fold(f64::MAX, f64::min));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A setting's figures in a fixed order: values every time, their names
+/// only until they are known (the order depends on the model and the plan
+/// alone, never on the values).
+struct Figures {
+    vals: Vec<f64>,
+    names: Option<Vec<String>>,
+}
+
+impl Figures {
+    #[inline]
+    fn push(&mut self, name: impl FnOnce() -> String, value: f64) {
+        self.vals.push(value);
+        if let Some(n) = &mut self.names {
+            n.push(name());
+        }
+    }
+}
+
+/// The smallest and largest of `v` (the values `eval::extremes` points
+/// at), or the index of the first value that is not a finite number. One
+/// pass without branches.
+fn finite_extremes(v: &[f64]) -> Result<(f64, f64), usize> {
+    let (mut lo, mut hi, mut poison) = (f64::MAX, f64::MIN, 0.0);
+    for &x in v {
+        lo = if x < lo { x } else { lo };
+        hi = if x > hi { x } else { hi };
+        // NaN or ±∞ times 0 is NaN: it marks a value that is not finite.
+        poison += x * 0.0;
+    }
+    if poison.is_nan() {
+        return Err(v.iter().position(|x| !x.is_finite()).unwrap_or(0));
+    }
+    Ok((lo, hi))
+}
+
+/// A value that is not a finite number, as `run_cycle` reports it.
+fn not_finite(column: &str, value: f64, phi_deg: f64) -> Error {
+    Error::NotFinite(format!(
+        "`{column}` is {value} at φ = {:.3}°: the mechanism passes a dead point there, where analogs are infinite; \
+         change the geometry or the step so no position lands on the dead point",
+        crate::eval::wrap_deg(phi_deg)
+    ))
+}
+
 /// Settings evaluated together before their rows go to the sink.
 pub const CHUNK: usize = 4096;
 
@@ -329,11 +671,14 @@ pub fn run<E>(
         let end = (start + CHUNK).min(range.end);
         let rows: Vec<Row> = (start..end)
             .into_par_iter()
-            .map(|i| {
-                let r = evaluate(model, base, sweep, names, opts, shared, i);
-                progress(1);
-                r
-            })
+            .map_init(
+                || Evaluator::new(model, base, sweep, names, opts, shared),
+                |ev, i| {
+                    let r = ev.evaluate(i);
+                    progress(1);
+                    r
+                },
+            )
             .collect();
         for r in &rows {
             sink(r)?;

@@ -97,7 +97,8 @@ impl Convention {
 /// The thread part of a resolved model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Threads<T: Real> {
-    pub paths: Vec<ThreadPath>,
+    /// The paths (shared by every mechanism resolved from one model).
+    pub paths: std::sync::Arc<[ThreadPath]>,
     /// Every distinct piece of every path.
     pub spans: Vec<Span<T>>,
     pub cams: Vec<Cam<T>>,

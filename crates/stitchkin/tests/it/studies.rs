@@ -90,3 +90,54 @@ fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
     let e = tune(&n, &n.defaults(), &TuneOptions { adjust: vec!["alpha".into()], ..opts }).unwrap_err().to_string();
     assert!(e.contains("no [stitch]"), "{e}");
 }
+
+/// The sweep's fast path (`sweep::Evaluator`: no cycle table, buffers kept
+/// between settings) gives exactly the rows of the full cycle, for every
+/// figure a preset offers, over settings across each ranged parameter,
+/// including settings without assembly.
+#[test]
+fn the_fast_figures_are_the_cycle_tables() {
+    use stitchkin::study::sweep::Evaluator;
+    let (mut fast_presets, mut failing) = (0, 0);
+    for preset in stitchkin::presets::ALL {
+        let m = Model::preset(preset.name).unwrap();
+        let p = m.defaults();
+        let o = opts(false, true);
+        let nominal = run_cycle(&m, &p, &o).unwrap();
+        let names: Vec<String> = sweep::figures(&nominal).into_iter().map(|(n, _)| n).collect();
+        // Every ranged parameter in turn, the last ones together.
+        let ranged: Vec<&str> = m.params.iter().filter(|q| q.range.is_some_and(|[a, b]| a < b) && !q.is_derived()).map(|q| q.name.as_str()).collect();
+        for name in ranged.iter().take(3) {
+            let [lo, hi] = m.params[m.param_index(name).unwrap()].range.unwrap();
+            let sw = Sweep::new(vec![Vary::parse(&m, &format!("{name}={lo}:{hi}:6")).unwrap()], Design::Grid).unwrap();
+            let shared = sweep::shared_stitch(&m, &p, &sw, o.step_deg).unwrap();
+            let mut ev = Evaluator::new(&m, &p, &sw, &names, &o, shared.as_ref());
+            fast_presets += usize::from(ev.is_fast());
+            for i in 0..sw.len() {
+                let full = sweep::evaluate(&m, &p, &sw, &names, &o, shared.as_ref(), i);
+                failing += usize::from(full.error.is_some());
+                assert_eq!(ev.evaluate(i), full, "{} {name} setting {i}", preset.name);
+            }
+            // Again in reverse: nothing carries over from one setting to the next.
+            for i in (0..sw.len()).rev() {
+                assert_eq!(ev.evaluate(i), sweep::evaluate(&m, &p, &sw, &names, &o, shared.as_ref(), i), "{} {name} setting {i} again", preset.name);
+            }
+        }
+    }
+    // A four-bar whose longer cranks do not assemble: the same errors.
+    let m = Model::from_toml_str(include_str!("../data/four-bar.toml"), "four-bar.toml").unwrap();
+    let mut p = m.defaults();
+    m.set(&mut p, "c", 26.0).unwrap();
+    let o = opts(false, true);
+    let names: Vec<String> = sweep::figures(&run_cycle(&m, &p, &o).unwrap()).into_iter().map(|(n, _)| n).collect();
+    let sw = Sweep::new(vec![Vary::parse(&m, "r=10:20:11").unwrap()], Design::Grid).unwrap();
+    let mut ev = Evaluator::new(&m, &p, &sw, &names, &o, None);
+    assert!(ev.is_fast());
+    for i in 0..sw.len() {
+        let full = sweep::evaluate(&m, &p, &sw, &names, &o, None, i);
+        failing += usize::from(full.error.is_some());
+        assert_eq!(ev.evaluate(i), full, "four-bar setting {i}");
+    }
+    assert!(fast_presets >= 6, "the fast path served only {fast_presets} sweeps");
+    assert!(failing >= 3, "only {failing} settings without assembly were compared");
+}

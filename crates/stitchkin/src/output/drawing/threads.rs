@@ -67,7 +67,7 @@ fn cam_arc(profile: &cam::Profile, at: &cam::CamPlacement<f64>, s: f64, t0: V3<f
 /// Every path of `threads` at one φ (`p`: the slots' positions).
 pub(super) fn thread_frame(threads: &Threads<f64>, p: &[V3<f64>], phi_deg: f64) -> Result<Vec<PathFrame>, Error> {
     let mut out = Vec::with_capacity(threads.paths.len());
-    for path in &threads.paths {
+    for path in threads.paths.iter() {
         let m = path.nodes.len();
         let mut pieces = Vec::with_capacity(m);
         let mut guides = Vec::with_capacity(m);
