@@ -236,21 +236,21 @@ macro_rules! widest {
 }
 pub(crate) use widest;
 
-/// [`widest!`] for a free function returning nothing: `$name` runs
+/// [`widest!`] for a free function: `$name` runs
 /// `$inner` (`#[inline(always)]`, same arguments) compiled for the widest
 /// vector unit.
 macro_rules! widest_fn {
-    ($(#[$meta:meta])* $vis:vis fn $name:ident<$($g:ident: $bound:path),*>($($arg:ident: $ty:ty),* $(,)?) => $inner:ident) => {
+    ($(#[$meta:meta])* $vis:vis fn $name:ident<$($g:ident: $bound:path),*>($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)? => $inner:ident) => {
         $(#[$meta])*
-        $vis fn $name<$($g: $bound),*>($($arg: $ty),*) {
+        $vis fn $name<$($g: $bound),*>($($arg: $ty),*) $(-> $ret)? {
             #[cfg(target_arch = "x86_64")]
             {
                 #[target_feature(enable = "avx512f")]
-                fn avx512<$($g: $bound),*>($($arg: $ty),*) {
+                fn avx512<$($g: $bound),*>($($arg: $ty),*) $(-> $ret)? {
                     $inner($($arg),*)
                 }
                 #[target_feature(enable = "avx2")]
-                fn avx2<$($g: $bound),*>($($arg: $ty),*) {
+                fn avx2<$($g: $bound),*>($($arg: $ty),*) $(-> $ret)? {
                     $inner($($arg),*)
                 }
                 match $crate::scalar::vector_unit() {

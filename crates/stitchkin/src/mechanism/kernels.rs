@@ -5,7 +5,7 @@
 //! instruction. The groups that can fail (dyads, guides) keep their checked
 //! loops in [`super::Mechanism::solve`].
 
-use super::{Phi, rigid};
+use super::{Phi, line, rigid, rssr};
 use crate::geometry::{PlaneMap, V3};
 use crate::scalar::{Real, widest_fn};
 
@@ -59,4 +59,40 @@ fn crank_in<T: Real>(o: &mut [V3<T>], phis: &[Phi<T>], c0: V3<T>, [ru, rv]: [V3<
         let (c, s) = (phi.cos * cos_ph - phi.sin * sin_ph, phi.sin * cos_ph + phi.cos * sin_ph);
         *o = c0 + ru.map(|x| c.times_k(x)) + rv.map(|x| s.times_k(x));
     }
+}
+
+widest_fn! {
+    /// RSSR ball ends for every position of the driving point `a`
+    /// ([`rssr::rssr_unchecked`]); `false` when some position has none
+    /// (the caller then finds which, with its message).
+    pub(super) fn rssr<T: Real>(o: &mut [V3<T>], a: &[V3<T>], rod: &rssr::RockerRod<T>, sign: f64) -> bool => rssr_in
+}
+
+#[inline(always)]
+fn rssr_in<T: Real>(o: &mut [V3<T>], a: &[V3<T>], rod: &rssr::RockerRod<T>, sign: f64) -> bool {
+    let mut ok = true;
+    for (o, a) in o.iter_mut().zip(a) {
+        let (b, fine) = rssr::rssr_unchecked(rod, *a, sign);
+        *o = b;
+        ok &= fine;
+    }
+    ok
+}
+
+widest_fn! {
+    /// Points on a guide of fixed direction `u` through `h[k]` at `l` from
+    /// `a[k]` ([`line::point_on_line_unchecked`]); `false` when some
+    /// position has none.
+    pub(super) fn point_on_line<T: Real>(o: &mut [V3<T>], h: &[V3<T>], a: &[V3<T>], u: V3<T>, l_sq: T, sign: f64) -> bool => point_on_line_in
+}
+
+#[inline(always)]
+fn point_on_line_in<T: Real>(o: &mut [V3<T>], h: &[V3<T>], a: &[V3<T>], u: V3<T>, l_sq: T, sign: f64) -> bool {
+    let mut ok = true;
+    for ((o, h), a) in o.iter_mut().zip(h).zip(a) {
+        let (p, fine) = line::point_on_line_unchecked(*h, u, *a, l_sq, sign);
+        *o = p;
+        ok &= fine;
+    }
+    ok
 }

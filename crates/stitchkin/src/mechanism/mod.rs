@@ -345,7 +345,14 @@ impl<T: Real> Mechanism<T> {
                 Step::Rssr { from, rocker, l, sign, .. } => {
                     let a = tr(*from);
                     let rod = rssr::RockerRod::new(*rocker, *l);
-                    each(&mut o, |k| rssr::rssr(&rod, a[k], *sign))
+                    // All positions at once; if one has no assembly, the
+                    // checked loop finds it and says why.
+                    if kernels::rssr(&mut o[..n], a, &rod, *sign) { Ok(()) } else { each(&mut o, |k| rssr::rssr(&rod, a[k], *sign)) }
+                }
+                Step::PointOnLine { from, through, toward: None, dir, l, sign, .. }
+                    if kernels::point_on_line(&mut o[..n], tr(*through), tr(*from), *dir, *l * *l, *sign) =>
+                {
+                    Ok(())
                 }
                 Step::PointOnLine { from, through, toward, dir, l, sign, .. } => {
                     let (a, h) = (tr(*from), tr(*through));

@@ -44,27 +44,39 @@ impl<T: Real> RockerRod<T> {
 /// `sign = +1` turns counter-clockwise about `w` from `a`'s direction.
 #[inline(always)]
 pub fn rssr<T: Real>(rod: &RockerRod<T>, a: V3<T>, sign: f64) -> Result<V3<T>, NoAssembly> {
+    let (b, ok) = rssr_unchecked(rod, a, sign);
+    if ok {
+        return Ok(b);
+    }
     let (k, l) = (&rod.rocker, rod.l);
+    let q = a - k.c;
+    let (au, av) = (q.dot(&k.u).re(), q.dot(&k.v).re());
+    let (rho, aw, r, l) = ((au * au + av * av).sqrt(), q.dot(&k.w).re(), k.r.re(), l.re());
+    let near = ((rho - r).powi(2) + aw * aw).sqrt();
+    let far = ((rho + r).powi(2) + aw * aw).sqrt();
+    Err(if l > far {
+        NoAssembly::new(l - far, format!("the rod ({l:.4} mm) is longer than the farthest reach of the rocker circle ({far:.4} mm)"))
+    } else {
+        NoAssembly::new(near - l, format!("the rod ({l:.4} mm) is shorter than the nearest reach of the rocker circle ({near:.4} mm)"))
+    })
+}
+
+/// [`rssr`] without a branch: the ball end and whether it exists (when it
+/// does not, the point is not a number). A cycle's loop of it vectorises.
+#[inline(always)]
+pub fn rssr_unchecked<T: Real>(rod: &RockerRod<T>, a: V3<T>, sign: f64) -> (V3<T>, bool) {
+    let k = &rod.rocker;
     let q = a - k.c;
     let (au, av) = (q.dot(&k.u), q.dot(&k.v));
     let rho2 = au * au + av * av;
     let kk = (q.norm_squared() + rod.c0).times_k(rod.inv_2r);
     let disc = rho2 - kk * kk;
-    if disc.re() < 0.0 || rho2.re() <= 0.0 {
-        let (rho, aw, r, l) = (rho2.re().sqrt(), q.dot(&k.w).re(), k.r.re(), l.re());
-        let near = ((rho - r).powi(2) + aw * aw).sqrt();
-        let far = ((rho + r).powi(2) + aw * aw).sqrt();
-        return Err(if l > far {
-            NoAssembly::new(l - far, format!("the rod ({l:.4} mm) is longer than the farthest reach of the rocker circle ({far:.4} mm)"))
-        } else {
-            NoAssembly::new(near - l, format!("the rod ({l:.4} mm) is shorter than the nearest reach of the rocker circle ({near:.4} mm)"))
-        });
-    }
+    let ok = !((disc.re() < 0.0) | (rho2.re() <= 0.0));
     let s = disc.sqrt().signed(sign);
     let f = rho2.recip().times_k(k.r);
     let bu = f * (kk * au - s * av);
     let bv = f * (kk * av + s * au);
-    Ok(k.c + k.u * bu + k.v * bv)
+    (k.c + k.u * bu + k.v * bv, ok)
 }
 
 /// Transmission angle at the ball end: like the planar interior angle

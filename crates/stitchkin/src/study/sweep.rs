@@ -492,18 +492,34 @@ impl Fast {
         mech.reset_pose(&mut self.pose, n);
         mech.solve(&self.table, &mut self.pose)?;
         if let Some(threads) = &mech.threads {
-            // ξ(φ0) as `run_cycle` takes it (a pose of its own at φ0).
-            mech.reset_pose(&mut self.pose0, 1);
-            mech.solve(&self.phi0, &mut self.pose0)?;
-            threads.evaluate_into(&self.pose0, None, &mut self.work0).map_err(|e| path_error(e, threads.phi0_deg))?;
-            threads.evaluate_into(&self.pose, None, &mut self.work).map_err(|e| {
+            // ξ(φ0) as `run_cycle` takes it (a pose of its own at φ0),
+            // unless φ0 is on the grid: the same arithmetic there gives
+            // the same bits.
+            let k0 = self.phis.iter().position(|&p| p == threads.phi0_deg);
+            if k0.is_none() {
+                mech.reset_pose(&mut self.pose0, 1);
+                mech.solve(&self.phi0, &mut self.pose0)?;
+                threads.evaluate_into(&self.pose0, None, &mut self.work0).map_err(|e| path_error(e, threads.phi0_deg))?;
+            }
+            if let Err(e) = threads.evaluate_into(&self.pose, None, &mut self.work) {
+                // `run_cycle` reports a path that fails at φ0 first.
+                if k0.is_some() {
+                    mech.reset_pose(&mut self.pose0, 1);
+                    mech.solve(&self.phi0, &mut self.pose0)?;
+                    threads.evaluate_into(&self.pose0, None, &mut self.work0).map_err(|e| path_error(e, threads.phi0_deg))?;
+                }
                 let phi = self.phis[e.k];
-                path_error(e, phi)
-            })?;
+                return Err(path_error(e, phi));
+            }
             self.p.resize_with(threads.paths.len(), Vec::new);
-            for ((path, track), (p, t0)) in threads.paths.iter().zip(&self.work.tracks).zip(self.p.iter_mut().zip(&self.work0.tracks)) {
+            for (i, (path, track)) in threads.paths.iter().zip(&self.work.tracks).enumerate() {
+                let xi0 = match k0 {
+                    Some(k) => track.xi[k],
+                    None => self.work0.tracks[i].xi[0],
+                };
+                let p = &mut self.p[i];
                 p.clear();
-                p.extend(track.xi.iter().map(|x| threads.convention.take_up(*x, t0.xi[0])));
+                p.extend(track.xi.iter().map(|x| threads.convention.take_up(*x, xi0)));
                 let (lo, hi) = finite_extremes(p).map_err(|k| not_finite(&format!("{}.P_mm", path.name), p[k], self.phis[k]))?;
                 out.push(|| format!("{}.max_P_mm", path.name), hi);
                 out.push(|| format!("{}.min_P_mm", path.name), lo);
