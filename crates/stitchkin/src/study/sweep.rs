@@ -670,8 +670,10 @@ pub const CHUNK: usize = 4096;
 
 /// Evaluates the settings `range` on all cores, handing rows to `sink` in
 /// setting order, `CHUNK` at a time; `progress` is told how many settings
-/// are done. Stops at the first error the sink returns.
-pub fn run<E>(
+/// are done. Stops at the first error the sink returns. The sink takes one
+/// chunk while the workers compute the next, and each worker keeps one
+/// [`Evaluator`] for its share of a chunk.
+pub fn run<E: Send>(
     model: &Model,
     base: &Params,
     sweep: &Sweep,
@@ -679,29 +681,23 @@ pub fn run<E>(
     opts: &CycleOptions,
     shared: Option<&Prepared>,
     range: std::ops::Range<usize>,
-    mut sink: impl FnMut(&Row) -> Result<(), E>,
+    mut sink: impl FnMut(&Row) -> Result<(), E> + Send,
     progress: impl Fn(usize) + Sync,
 ) -> Result<(), E> {
+    let compute = |chunk: std::ops::Range<usize>| -> Vec<Row> {
+        chunk.into_par_iter().map_init(|| Evaluator::new(model, base, sweep, names, opts, shared), |ev, i| ev.evaluate(i)).collect()
+    };
+    let mut pending: Vec<Row> = Vec::new();
     let mut start = range.start;
     while start < range.end {
         let end = (start + CHUNK).min(range.end);
-        let rows: Vec<Row> = (start..end)
-            .into_par_iter()
-            .map_init(
-                || Evaluator::new(model, base, sweep, names, opts, shared),
-                |ev, i| {
-                    let r = ev.evaluate(i);
-                    progress(1);
-                    r
-                },
-            )
-            .collect();
-        for r in &rows {
-            sink(r)?;
-        }
+        let (rows, sunk) = rayon::join(|| compute(start..end), || pending.iter().try_for_each(&mut sink));
+        sunk?;
+        progress(rows.len());
+        pending = rows;
         start = end;
     }
-    Ok(())
+    pending.iter().try_for_each(&mut sink)
 }
 
 #[cfg(test)]
