@@ -685,7 +685,9 @@ pub fn run<E: Send>(
     progress: impl Fn(usize) + Sync,
 ) -> Result<(), E> {
     let compute = |chunk: std::ops::Range<usize>| -> Vec<Row> {
-        chunk.into_par_iter().map_init(|| Evaluator::new(model, base, sweep, names, opts, shared), |ev, i| ev.evaluate(i)).collect()
+        // At least 64 settings per piece of work: each piece sets up one
+        // evaluator (its buffers grow on the first setting).
+        chunk.into_par_iter().with_min_len(64).map_init(|| Evaluator::new(model, base, sweep, names, opts, shared), |ev, i| ev.evaluate(i)).collect()
     };
     let mut pending: Vec<Row> = Vec::new();
     let mut start = range.start;
