@@ -51,6 +51,30 @@ fn wrap180(x: f64) -> f64 {
     if w == -180.0 { 180.0 } else { w }
 }
 
+/// Σ_k w[k]·(p[k] − p'[k])² with w the 0/1 weight of the compared
+/// positions: the sum of squares of the mismatch D over them, in four
+/// partial sums (so a cycle's loop runs on the vector unit). The match
+/// score's RMS; sweeps compute it with this same function, so their score
+/// is bit for bit the cycle table's.
+#[inline]
+pub fn sum_sq_diff(p: &[f64], pprime: &[f64], w: &[f64]) -> f64 {
+    let n = p.len().min(pprime.len()).min(w.len());
+    let (p, pprime, w) = (&p[..n], &pprime[..n], &w[..n]);
+    let mut s = [0.0f64; 4];
+    let full = n / 4 * 4;
+    for k in (0..full).step_by(4) {
+        for j in 0..4 {
+            let d = (p[k + j] - pprime[k + j]) * w[k + j];
+            s[j] += d * d;
+        }
+    }
+    for k in full..n {
+        let d = (p[k] - pprime[k]) * w[k];
+        s[k - full] += d * d;
+    }
+    (s[0] + s[1]) + (s[2] + s[3])
+}
+
 /// The mismatch of `p` against `pprime` on the uniform grid `phi_deg` (one
 /// cycle, step `phi_deg[1] − phi_deg[0]`). `compared[k]` is false inside a
 /// regulator window; `eps_mm` is the tolerance ε of the intervals; `lag`
@@ -66,7 +90,8 @@ pub fn mismatch(phi_deg: &[f64], p: &[f64], pprime: &[f64], compared: &[bool], e
     let d: Vec<f64> = (0..n).map(|k| p[k] - pprime[k]).collect();
     let count = ks.len() as f64;
     let mean = ks.iter().map(|&k| d[k]).sum::<f64>() / count;
-    let rms = (ks.iter().map(|&k| d[k] * d[k]).sum::<f64>() / count).sqrt();
+    let weight: Vec<f64> = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
+    let rms = (sum_sq_diff(p, pprime, &weight) / count).sqrt();
     let std = (ks.iter().map(|&k| (d[k] - mean).powi(2)).sum::<f64>() / count).sqrt();
     let k_abs = *ks.iter().max_by(|&&a, &&b| d[a].abs().total_cmp(&d[b].abs()).then(b.cmp(&a))).unwrap();
     let argmax = |v: &[f64]| *ks.iter().max_by(|&&a, &&b| v[a].total_cmp(&v[b]).then(b.cmp(&a))).unwrap();

@@ -360,8 +360,10 @@ struct StitchPlan {
     path: Option<usize>,
     /// P' over the cycle grid, mm.
     pprime: Vec<f64>,
-    /// The compared positions (outside a regulator window).
+    /// The compared positions (outside a regulator window), and each
+    /// position's weight in the mismatch (1 compared, 0 not).
     ks: Vec<usize>,
+    weight: Vec<f64>,
     /// Range of P' over them; the score's scale.
     range: f64,
     max_pprime_mm: f64,
@@ -459,7 +461,8 @@ impl Fast {
                     Some(name) => Some(path_names.iter().position(|p| p == name)?),
                     None => None,
                 };
-                plans.push(StitchPlan { name: th.name.clone(), path, max_pprime_mm: pprime[kmax], pprime, ks, range: hi - lo });
+                let weight = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
+                plans.push(StitchPlan { name: th.name.clone(), path, max_pprime_mm: pprime[kmax], pprime, ks, weight, range: hi - lo });
             }
         }
         let phi0 = [Phi::at_deg(threads.map_or(0.0, |t| t.phi0_deg))];
@@ -597,13 +600,11 @@ impl Fast {
                 // compared positions, in order.
                 let p = &self.p[pi];
                 let count = plan.ks.len() as f64;
-                let (mut s2, mut max_abs) = (0.0, 0.0f64);
-                for &k in &plan.ks {
-                    let d = p[k] - plan.pprime[k];
-                    s2 += d * d;
-                    max_abs = max_abs.max(d.abs());
+                let rms = (crate::stitch::mismatch::sum_sq_diff(p, &plan.pprime, &plan.weight) / count).sqrt();
+                let mut max_abs = 0.0f64;
+                for ((a, b), w) in p.iter().zip(&plan.pprime).zip(&plan.weight) {
+                    max_abs = max_abs.max((a - b).abs() * w);
                 }
-                let rms = (s2 / count).sqrt();
                 if plan.range > 1e-12 {
                     let score = 100.0 * (1.0 - rms / plan.range).max(0.0);
                     out.push(|| format!("{}.score", plan.name), score);
@@ -643,14 +644,14 @@ impl Figures {
 /// at), or the index of the first value that is not a finite number. One
 /// pass without branches.
 fn finite_extremes(v: &[f64]) -> Result<(f64, f64), usize> {
-    let (mut lo, mut hi, mut poison) = (f64::MAX, f64::MIN, 0.0);
+    let (mut lo, mut hi, mut nan) = (f64::MAX, f64::MIN, false);
     for &x in v {
         lo = if x < lo { x } else { lo };
         hi = if x > hi { x } else { hi };
-        // NaN or ±∞ times 0 is NaN: it marks a value that is not finite.
-        poison += x * 0.0;
+        // NaN never wins a comparison: it is marked apart; ±∞ shows in lo, hi.
+        nan |= x.is_nan();
     }
-    if poison.is_nan() {
+    if nan || !lo.is_finite() || !hi.is_finite() {
         return Err(v.iter().position(|x| !x.is_finite()).unwrap_or(0));
     }
     Ok((lo, hi))
