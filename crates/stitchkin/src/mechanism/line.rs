@@ -47,10 +47,17 @@ pub fn point_on_line_unchecked<T: Real, const D: usize>(h: SVector<T, D>, u: SVe
 /// 90° minus the angle between rod and guide (seed 002 eq. 11, μ3), rad.
 #[inline]
 pub fn transmission<T: Real, const D: usize>(u: SVector<T, D>, a: SVector<T, D>, p: SVector<T, D>) -> T {
+    let (y, x) = transmission_parts(u, a, p);
+    y.angle_of(x)
+}
+
+/// [`transmission`] as the vector `(y ≥ 0, x)` whose angle it is.
+#[inline]
+pub fn transmission_parts<T: Real, const D: usize>(u: SVector<T, D>, a: SVector<T, D>, p: SVector<T, D>) -> (T, T) {
     let rod = p - a;
     let along = rod.dot(&u).abs();
     let across = (rod.norm_squared() - along * along).max(T::zero()).sqrt();
-    along.angle_of(across)
+    (along, across)
 }
 
 #[cfg(test)]

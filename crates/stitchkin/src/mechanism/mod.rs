@@ -413,27 +413,37 @@ impl<T: Real> Mechanism<T> {
     /// Transmission angle (rad) of every dyad, in [`Self::dyads`] order.
     pub fn transmission_angles(&self, pose: &Pose<T>, k: usize, out: &mut Vec<T>) {
         out.clear();
+        self.each_transmission(pose, k, |y, x| out.push(y.angle_of(x)));
+    }
+
+    /// The transmission angles as the vectors `(y ≥ 0, x)` whose angles
+    /// they are (μ = atan2(y, x) falls as x/|(x, y)| rises): a study finds
+    /// the extremes over a cycle from these and takes atan2 there only.
+    pub fn transmission_parts(&self, pose: &Pose<T>, k: usize, out: &mut Vec<(T, T)>) {
+        out.clear();
+        self.each_transmission(pose, k, |y, x| out.push((y, x)));
+    }
+
+    #[inline]
+    fn each_transmission(&self, pose: &Pose<T>, k: usize, mut f: impl FnMut(T, T)) {
         let p = pose.at(k);
         for step in &self.steps {
-            match step {
-                Step::Rrr { p1, p2, plane, out: b, .. } => {
-                    out.push(rrr::transmission(plane.project(&p[*p1]), plane.project(&p[*p2]), plane.project(&p[*b])));
-                }
+            let (y, x) = match step {
+                Step::Rrr { p1, p2, plane, out: b, .. } => rrr::transmission_parts(plane.project(&p[*p1]), plane.project(&p[*p2]), plane.project(&p[*b])),
                 Step::Rrp { from, through, toward, dir, plane, out: g, .. } => {
                     let h = plane.project(&p[*through]);
                     let u = toward.map_or(*dir, |t| unit(plane.project(&p[t]) - h).unwrap_or(*dir));
-                    out.push(line::transmission(u, plane.project(&p[*from]), plane.project(&p[*g])));
+                    line::transmission_parts(u, plane.project(&p[*from]), plane.project(&p[*g]))
                 }
-                Step::Rpr { from, pivot, e, plane, .. } => {
-                    out.push(rpr::transmission(plane.project(&p[*from]), plane.project(&p[*pivot]), *e));
-                }
-                Step::Rssr { from, rocker, out: b, .. } => out.push(rssr::transmission(rocker, p[*from], p[*b])),
+                Step::Rpr { from, pivot, e, plane, .. } => rpr::transmission_parts(plane.project(&p[*from]), plane.project(&p[*pivot]), *e),
+                Step::Rssr { from, rocker, out: b, .. } => rssr::transmission_parts(rocker, p[*from], p[*b]),
                 Step::PointOnLine { from, through, toward, dir, out: q, .. } => {
                     let u = toward.map_or(*dir, |t| unit(p[t] - p[*through]).unwrap_or(*dir));
-                    out.push(line::transmission(u, p[*from], p[*q]));
+                    line::transmission_parts(u, p[*from], p[*q])
                 }
-                _ => {}
-            }
+                _ => continue,
+            };
+            f(y, x);
         }
     }
 

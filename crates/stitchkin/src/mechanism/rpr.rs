@@ -29,8 +29,15 @@ pub fn rpr<T: Real>(a: V2<T>, c: V2<T>, e: T) -> Result<(V2<T>, T), NoAssembly> 
 /// μ = 90° − their angle = `acos(|e| / |a − c|)`, rad (90° for `e = 0`).
 #[inline]
 pub fn transmission<T: Real>(a: V2<T>, c: V2<T>, e: T) -> T {
+    let (y, x) = transmission_parts(a, c, e);
+    y.angle_of(x)
+}
+
+/// [`transmission`] as the vector `(y ≥ 0, x)` whose angle it is.
+#[inline]
+pub fn transmission_parts<T: Real>(a: V2<T>, c: V2<T>, e: T) -> (T, T) {
     let d = (a - c).norm();
-    (d * d - e * e).max(T::zero()).sqrt().angle_of(e.abs())
+    ((d * d - e * e).max(T::zero()).sqrt(), e.abs())
 }
 
 #[cfg(test)]

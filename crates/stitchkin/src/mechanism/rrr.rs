@@ -40,8 +40,15 @@ pub fn rrr<T: Real>(p1: V2<T>, p2: V2<T>, l1sq: T, l2sq: T, sign: f64) -> Result
 /// links `B→p1` and `B→p2`, rad, in [0, π].
 #[inline]
 pub fn transmission<T: Real>(p1: V2<T>, p2: V2<T>, b: V2<T>) -> T {
+    let (y, x) = transmission_parts(p1, p2, b);
+    y.angle_of(x)
+}
+
+/// [`transmission`] as the vector `(y ≥ 0, x)` whose angle it is.
+#[inline]
+pub fn transmission_parts<T: Real>(p1: V2<T>, p2: V2<T>, b: V2<T>) -> (T, T) {
     let (u, v) = (p1 - b, p2 - b);
-    crate::geometry::cross2(u, v).abs().angle_of(u.dot(&v))
+    (crate::geometry::cross2(u, v).abs(), u.dot(&v))
 }
 
 #[cfg(test)]

@@ -84,10 +84,17 @@ pub fn rssr_unchecked<T: Real>(rod: &RockerRod<T>, a: V3<T>, sign: f64) -> (V3<T
 /// along the ball's path: `μ = atan2(|rod·t|, rod·n)`, rad.
 #[inline]
 pub fn transmission<T: Real>(k: &Rocker<T>, a: V3<T>, b: V3<T>) -> T {
+    let (y, x) = transmission_parts(k, a, b);
+    y.angle_of(x)
+}
+
+/// [`transmission`] as the vector `(y ≥ 0, x)` whose angle it is.
+#[inline]
+pub fn transmission_parts<T: Real>(k: &Rocker<T>, a: V3<T>, b: V3<T>) -> (T, T) {
     let rod = (a - b).normalize();
     let n = (k.c - b) / k.r;
     let t = k.w.cross(&(b - k.c)) / k.r;
-    rod.dot(&t).abs().angle_of(rod.dot(&n))
+    (rod.dot(&t).abs(), rod.dot(&n))
 }
 
 #[cfg(test)]

@@ -16,6 +16,7 @@ use crate::eval::stitch::{Prepared, prepare};
 use crate::eval::{CycleOptions, CycleTable, glob_match, path_error, run_cycle_with};
 use crate::mechanism::{Phi, Pose};
 use crate::model::{Model, Params};
+use crate::scalar::Real;
 use crate::thread::ThreadWork;
 
 /// One swept parameter: `NAME=LO:HI:N` (N values from LO to HI, both
@@ -345,8 +346,11 @@ struct Fast {
     strokes: bool,
     stitch: Vec<StitchPlan>,
     buf: Vec<f64>,
-    /// Per-φ values of the transmission angles or measures, one column each.
+    /// Per-φ values of the measures, one column each.
     cols: Vec<Vec<f64>>,
+    /// Per-φ transmission angles as `(y, x)`, one column per dyad.
+    parts: Vec<Vec<(f64, f64)>>,
+    part_buf: Vec<(f64, f64)>,
     /// Figure values of the last setting, and for each requested figure
     /// its place among them (known after the first setting that evaluates).
     figures: Figures,
@@ -482,6 +486,8 @@ impl Fast {
             stitch: plans,
             buf: Vec::new(),
             cols: Vec::new(),
+            parts: Vec::new(),
+            part_buf: Vec::new(),
             figures: Figures { vals: Vec::new(), names: None },
             pick: None,
         })
@@ -529,12 +535,22 @@ impl Fast {
             }
         }
         if self.mu && !model.dyads.is_empty() {
-            self.cols.resize_with(model.dyads.len(), Vec::new);
-            self.cols.iter_mut().for_each(Vec::clear);
+            // μ = atan2(y, x) at every φ would cost an atan2 each. It falls
+            // as cos μ = x/|(x, y)| rises, so the extremes are found on that
+            // key, and atan2 is taken only at the positions whose key is
+            // within rounding of the extreme: the same values as the cycle
+            // table's.
+            let mu_deg = |(y, x): (f64, f64)| y.angle_of(x).to_degrees();
+            let key = |(y, x): (f64, f64)| {
+                let r = (x * x + y * y).sqrt();
+                if r > 0.0 { x / r } else { 1.0 }
+            };
+            self.parts.resize_with(model.dyads.len(), Vec::new);
+            self.parts.iter_mut().for_each(Vec::clear);
             for k in 0..n {
-                mech.transmission_angles(&self.pose, k, &mut self.buf);
-                for (c, m) in self.cols.iter_mut().zip(&self.buf) {
-                    c.push(m.to_degrees());
+                mech.transmission_parts(&self.pose, k, &mut self.part_buf);
+                for (c, yx) in self.parts.iter_mut().zip(&self.part_buf) {
+                    c.push(*yx);
                 }
             }
             let mut all_ok = true;
@@ -543,16 +559,38 @@ impl Fast {
             out.push(|| "mu.min_deg".into(), 0.0);
             out.push(|| "mu.max_deg".into(), 0.0);
             out.push(|| "mu.ok".into(), 0.0);
-            for (d, v) in model.dyads.iter().zip(&self.cols) {
-                if let Some(k) = v.iter().position(|x| !x.is_finite()) {
-                    return Err(not_finite(&format!("mu_{}_deg", d.key), v[k], self.phis[k]));
-                }
-                let (i0, i1) = crate::eval::extremes(v);
-                all_ok &= v[i0] >= crate::eval::MU_MIN_DEG && v[i1] <= crate::eval::MU_MAX_DEG;
-                lo = lo.min(v[i0]);
-                hi = hi.max(v[i1]);
-                out.push(|| format!("mu_{}.min_deg", d.key), v[i0]);
-                out.push(|| format!("mu_{}.max_deg", d.key), v[i1]);
+            for (d, v) in model.dyads.iter().zip(&self.parts) {
+                let (mu_min, mu_max) = if v.iter().all(|(y, x)| y.is_finite() && x.is_finite()) {
+                    let (key_hi, key_lo) = v.iter().fold((f64::MIN, f64::MAX), |(h, l), yx| {
+                        let c = key(*yx);
+                        (h.max(c), l.min(c))
+                    });
+                    const WITHIN: f64 = 1e-12;
+                    let (mut mu_min, mut mu_max) = (f64::MAX, f64::MIN);
+                    for yx in v {
+                        let c = key(*yx);
+                        if c >= key_hi - WITHIN {
+                            mu_min = mu_min.min(mu_deg(*yx));
+                        }
+                        if c <= key_lo + WITHIN {
+                            mu_max = mu_max.max(mu_deg(*yx));
+                        }
+                    }
+                    (mu_min, mu_max)
+                } else {
+                    // A part that is not finite: every angle, as the table does.
+                    let all: Vec<f64> = v.iter().map(|yx| mu_deg(*yx)).collect();
+                    if let Some(k) = all.iter().position(|x| !x.is_finite()) {
+                        return Err(not_finite(&format!("mu_{}_deg", d.key), all[k], self.phis[k]));
+                    }
+                    let (i0, i1) = crate::eval::extremes(&all);
+                    (all[i0], all[i1])
+                };
+                all_ok &= mu_min >= crate::eval::MU_MIN_DEG && mu_max <= crate::eval::MU_MAX_DEG;
+                lo = lo.min(mu_min);
+                hi = hi.max(mu_max);
+                out.push(|| format!("mu_{}.min_deg", d.key), mu_min);
+                out.push(|| format!("mu_{}.max_deg", d.key), mu_max);
             }
             out.vals[first..first + 3].copy_from_slice(&[lo, hi, if all_ok { 1.0 } else { 0.0 }]);
         }
