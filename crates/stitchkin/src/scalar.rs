@@ -48,7 +48,7 @@ pub trait Real: RealField + Copy + std::fmt::Debug + Send + Sync + 'static {
     /// exactly 0.) Written as θ0 + atan(y'/x') with (x', y') the vector turned
     /// back by its own angle θ0, so x' = |(x, y)| > 0.
     /// Replaces every element by its square root (a loop the compiler
-    /// vectorises inside a [`widest`] function); the thread paths take a
+    /// vectorises inside a `widest!` function); the thread paths take a
     /// cycle's square roots this way.
     #[inline(always)]
     fn sqrt_slice(x: &mut [Self]) {
@@ -165,7 +165,7 @@ impl Real for Dual64 {
 }
 
 /// The vector unit the engine's cycle loops are compiled for (see
-/// [`widest`]).
+/// `widest!`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum VectorUnit {
     Baseline,

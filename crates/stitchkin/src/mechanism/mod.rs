@@ -410,7 +410,7 @@ impl<T: Real> Mechanism<T> {
         Ok(())
     }
 
-    /// Transmission angle (rad) of every dyad, in [`Self::dyads`] order.
+    /// Transmission angle (rad) of every dyad, in the order of the model's dyads.
     pub fn transmission_angles(&self, pose: &Pose<T>, k: usize, out: &mut Vec<T>) {
         out.clear();
         self.each_transmission(pose, k, |y, x| out.push(y.angle_of(x)));

@@ -51,7 +51,7 @@ fn wrap180(x: f64) -> f64 {
     if w == -180.0 { 180.0 } else { w }
 }
 
-/// Σ_k w[k]·(p[k] − p'[k])² with w the 0/1 weight of the compared
+/// `Σ_k w_k·(p_k − p'_k)²` with w the 0/1 weight of the compared
 /// positions: the sum of squares of the mismatch D over them, in four
 /// partial sums (so a cycle's loop runs on the vector unit). The match
 /// score's RMS; sweeps compute it with this same function, so their score
