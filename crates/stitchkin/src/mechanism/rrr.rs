@@ -4,6 +4,10 @@ use super::NoAssembly;
 use crate::geometry::{V2, perp};
 use crate::scalar::Real;
 
+/// How far below zero rounding can leave h² = (h/|d|)² where the links are
+/// stretched straight or folded flat (dimensionless: h = 10⁻⁶·|d|).
+const ROUNDING: f64 = 1e-12;
+
 /// Joint `B` at distance `l1` from `p1` and `l2` from `p2` (seed 002 eq. 3–5,
 /// written without angles): with `d = p2 − p1`,
 /// `B = p1 + k·d ± h·perp(d)`, `k = (l1² − l2² + |d|²) / (2|d|²)`,
@@ -18,10 +22,17 @@ pub fn rrr<T: Real>(p1: V2<T>, p2: V2<T>, l1sq: T, l2sq: T, sign: f64) -> Result
     }
     let inv_d2 = d2.recip();
     let k = ((l1sq - l2sq + d2) * inv_d2).times(0.5);
-    let h2 = inv_d2.times_k(l1sq) - k * k;
+    let mut h2 = inv_d2.times_k(l1sq) - k * k;
+    // Links stretched straight or folded flat (|d| = l1 + l2 or |l1 − l2|)
+    // assemble with h = 0; rounding can leave h² a hair below zero there.
+    if h2.re() < 0.0 && h2.re() >= -ROUNDING {
+        h2 = T::zero();
+    }
     if h2.re() < 0.0 {
         let (dist, l1, l2) = (d2.re().sqrt(), l1sq.re().sqrt(), l2sq.re().sqrt());
-        return Err(if dist > l1 + l2 {
+        // Too far apart (beyond l1 + l2) or too close (within |l1 − l2|):
+        // the two gaps lie either side of the longer link.
+        return Err(if dist > l1.max(l2) {
             NoAssembly::new(
                 dist - (l1 + l2),
                 format!("the joints are {dist:.4} mm apart but the two links reach only {:.4} mm", l1 + l2),
@@ -84,5 +95,25 @@ mod tests {
         let e = rrr(V2::new(0.0, 0.0), V2::new(1.0, 0.0), 9.0, 25.0, 1.0).unwrap_err();
         assert_relative_eq!(e.defect_mm, 1.0, epsilon = 1e-12);
         assert!(rrr(V2::new(1.0, 1.0), V2::new(1.0, 1.0), 9.0, 25.0, 1.0).is_err());
+    }
+
+    #[test]
+    fn links_stretched_straight_or_folded_flat_assemble_and_failures_say_which_gap() {
+        // |d| = l1 + l2 = 75 and |d| = l1 − l2 = 25: B on the line, h = 0.
+        let b = rrr(V2::new(0.0, 0.0), V2::new(75.0, 0.0), 2500.0, 625.0, 1.0).unwrap();
+        assert_relative_eq!(b, V2::new(50.0, 0.0), epsilon = 1e-9);
+        let b = rrr(V2::new(0.0, 0.0), V2::new(25.0, 0.0), 2500.0, 625.0, 1.0).unwrap();
+        assert_relative_eq!(b, V2::new(50.0, 0.0), epsilon = 1e-9);
+        // Along a slanted base, where rounding does not cancel.
+        let (p1, dir) = (V2::new(0.3, -1.7), V2::new(0.6, 0.8));
+        let b = rrr(p1, p1 + dir * 75.0, 2500.0, 625.0, -1.0).unwrap();
+        assert_relative_eq!(b, p1 + dir * 50.0, epsilon = 1e-9);
+        // Just beyond either: the right message and a positive defect.
+        let e = rrr(V2::new(0.0, 0.0), V2::new(75.001, 0.0), 2500.0, 625.0, 1.0).unwrap_err();
+        assert!(e.message.contains("reach only"), "{}", e.message);
+        assert_relative_eq!(e.defect_mm, 0.001, epsilon = 1e-9);
+        let e = rrr(V2::new(0.0, 0.0), V2::new(24.999, 0.0), 2500.0, 625.0, 1.0).unwrap_err();
+        assert!(e.message.contains("closer than the links' difference"), "{}", e.message);
+        assert_relative_eq!(e.defect_mm, 0.001, epsilon = 1e-9);
     }
 }
