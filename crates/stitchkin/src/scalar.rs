@@ -198,49 +198,11 @@ pub fn vector_unit() -> VectorUnit {
     })
 }
 
-/// Defines `$name`, which runs `$inner` (an `#[inline(always)]` method or
-/// function with the same arguments) compiled for the widest vector unit the
-/// CPU has: AVX-512 or AVX2 when present (checked once, [`vector_unit`]),
-/// else the baseline. The engine's cycle loops (a group over every φ, a
-/// thread piece over every φ) run this way, so loops without branches
-/// (offsets, straight thread pieces, square roots) process 4 or 8 positions
-/// per instruction. Plain IEEE arithmetic gives the same bits at any width
-/// (no fused multiply-add is formed), so results do not depend on the
-/// machine.
-macro_rules! widest {
-    ($(#[$meta:meta])* $vis:vis fn $name:ident(&self $(, $arg:ident: $ty:ty)*) -> $ret:ty
-        => $inner:ident for $this:ty $(, <$g:ident: $bound:path>)?) => {
-        $(#[$meta])*
-        $vis fn $name(&self $(, $arg: $ty)*) -> $ret {
-            #[cfg(target_arch = "x86_64")]
-            {
-                #[target_feature(enable = "avx512f")]
-                fn avx512$(<$g: $bound>)?(this: &$this $(, $arg: $ty)*) -> $ret {
-                    this.$inner($($arg),*)
-                }
-                #[target_feature(enable = "avx2")]
-                fn avx2$(<$g: $bound>)?(this: &$this $(, $arg: $ty)*) -> $ret {
-                    this.$inner($($arg),*)
-                }
-                match $crate::scalar::vector_unit() {
-                    // SAFETY: `vector_unit` names a unit only when the CPU has it.
-                    $crate::scalar::VectorUnit::Avx512 => return unsafe { avx512(self $(, $arg)*) },
-                    // SAFETY: as above.
-                    $crate::scalar::VectorUnit::Avx2 => return unsafe { avx2(self $(, $arg)*) },
-                    $crate::scalar::VectorUnit::Baseline => {}
-                }
-            }
-            self.$inner($($arg),*)
-        }
-    };
-}
-pub(crate) use widest;
-
-/// [`widest!`] for a free function: `$name` runs
-/// `$inner` (`#[inline(always)]`, same arguments) compiled for the widest
-/// vector unit.
+/// [`widest!`] for a free function: `$name` runs `$inner` (an
+/// `#[inline(always)]` function, or a path to one, with the same
+/// arguments) compiled for the widest vector unit.
 macro_rules! widest_fn {
-    ($(#[$meta:meta])* $vis:vis fn $name:ident<$($g:ident: $bound:path),*>($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)? => $inner:ident) => {
+    ($(#[$meta:meta])* $vis:vis fn $name:ident<$($g:ident: $bound:path),*>($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)? => $inner:expr) => {
         $(#[$meta])*
         $vis fn $name<$($g: $bound),*>($($arg: $ty),*) $(-> $ret)? {
             #[cfg(target_arch = "x86_64")]
@@ -266,6 +228,31 @@ macro_rules! widest_fn {
     };
 }
 pub(crate) use widest_fn;
+
+/// Defines `$name`, which runs `$inner` (an `#[inline(always)]` method or
+/// function with the same arguments) compiled for the widest vector unit the
+/// CPU has: AVX-512 or AVX2 when present (checked once, [`vector_unit`]),
+/// else the baseline. The engine's cycle loops (a group over every φ, a
+/// thread piece over every φ) run this way, so loops without branches
+/// (offsets, straight thread pieces, square roots) process 4 or 8 positions
+/// per instruction. Plain IEEE arithmetic gives the same bits at any width
+/// (no fused multiply-add is formed), so results do not depend on the
+/// machine.
+macro_rules! widest {
+    ($(#[$meta:meta])* $vis:vis fn $name:ident(&self $(, $arg:ident: $ty:ty)*) -> $ret:ty
+        => $inner:ident for $this:ty $(, <$g:ident: $bound:path>)?) => {
+        $(#[$meta])*
+        $vis fn $name(&self $(, $arg: $ty)*) -> $ret {
+            $crate::scalar::widest_fn! {
+                fn run<$($g: $bound)?>(this: &$this $(, $arg: $ty)*) -> $ret => <$this>::$inner
+            }
+            run(self $(, $arg)*)
+        }
+    };
+}
+pub(crate) use widest;
+
+
 
 #[cfg(test)]
 mod tests {
