@@ -145,6 +145,15 @@ impl<T: Real> Default for SpanBuf<T> {
     }
 }
 
+impl<T: Real> SpanBuf<T> {
+    /// Empty, keeping its buffers.
+    fn reset(&mut self) {
+        self.constant = None;
+        self.len.clear();
+        self.on.clear();
+    }
+}
+
 /// The buffers of [`Threads::evaluate_into`], kept from one cycle to the
 /// next so a study's inner loop allocates nothing once they have grown.
 #[derive(Debug, Clone)]
@@ -196,9 +205,7 @@ impl<T: Real> Threads<T> {
         work.spans.resize_with(self.spans.len(), SpanBuf::default);
         for (i, span) in self.spans.iter().enumerate() {
             let buf = &mut work.spans[i];
-            buf.constant = None;
-            buf.len.clear();
-            buf.on.clear();
+            buf.reset();
             match span {
                 Span::Straight { a, b, constant: true, .. } if n > 0 => buf.constant = Some((pose.point(*b, 0) - pose.point(*a, 0)).norm_squared().sqrt()),
                 Span::Straight { a, b, fixed, .. } => {
@@ -232,7 +239,7 @@ impl<T: Real> Threads<T> {
                     let axis = axis_override.unwrap_or(c.axis);
                     let (ta, tb, tc, tm) = (pose.track(*a), pose.track(*b), pose.track(c.center), pose.track(c.marker));
                     for k in 0..n {
-                        let (l, e) = cam_length(c, *contact, axis, ta[k], tb[k], tc[k], tm[k]).ok_or_else(|| self.inside(i, k))?;
+                        let (l, e) = cam_length(&c.profile, *contact, axis, ta[k], tb[k], tc[k], tm[k]).ok_or_else(|| self.inside(i, k))?;
                         buf.len.push(l);
                         buf.on.push(e);
                     }
@@ -258,7 +265,7 @@ impl<T: Real> Threads<T> {
                 }
                 Span::Cam { a, b, cam, contact } => {
                     let c = &self.cams[*cam];
-                    cam_length(c, *contact, c.axis, pose.point(*a, k), pose.point(*b, k), pose.point(c.center, k), pose.point(c.marker, k))
+                    cam_length(&c.profile, *contact, c.axis, pose.point(*a, k), pose.point(*b, k), pose.point(c.center, k), pose.point(c.marker, k))
                         .map(|(l, _)| l)
                         .ok_or_else(|| self.inside(i, k))
                 }
@@ -447,9 +454,7 @@ impl Threads<f64> {
         work.spans.resize_with(self.spans.len(), SpanBuf::default);
         for (i, span) in self.spans.iter().enumerate() {
             let buf = &mut work.spans[i];
-            buf.constant = None;
-            buf.len.clear();
-            buf.on.clear();
+            buf.reset();
             match span {
                 Span::Straight { a, b, constant: true, .. } if n > 0 => {
                     buf.constant = Some(Dual2_64::from_re((pose.point(*b, 0) - pose.point(*a, 0)).norm_squared().sqrt()))
@@ -488,9 +493,8 @@ impl Threads<f64> {
                 }
                 Span::Cam { a, b, cam, contact } => {
                     let c = &self.cams[*cam];
-                    let cd = Cam { name: String::new(), center: c.center, marker: c.marker, axis: dual(c.axis), profile: c.profile.clone() };
                     for k in 0..n {
-                        let (l, e) = cam_length(&cd, *contact, cd.axis, jet(*a, k), jet(*b, k), jet(c.center, k), jet(c.marker, k))
+                        let (l, e) = cam_length(&c.profile, *contact, dual(c.axis), jet(*a, k), jet(*b, k), jet(c.center, k), jet(c.marker, k))
                             .ok_or_else(|| self.inside(i, k))?;
                         buf.len.push(l);
                         buf.on.push(e);
@@ -516,11 +520,11 @@ fn add_parts<T: Real>(xi: &mut [T], parts: &[&[T]]) {
 }
 
 /// Length of the thread `p → q` on a cam placed by its centre and marker.
-fn cam_length<T: Real>(c: &Cam<T>, model: CamModel, axis: V3<T>, p: V3<T>, q: V3<T>, center: V3<T>, marker: V3<T>) -> Option<(T, bool)> {
+fn cam_length<T: Real>(profile: &cam::Profile, model: CamModel, axis: V3<T>, p: V3<T>, q: V3<T>, center: V3<T>, marker: V3<T>) -> Option<(T, bool)> {
     let pl = cam::CamPlacement::new(center, marker, axis)?;
     let contact = match model {
-        CamModel::Exact { sense } => cam::exact_contact(&c.profile, &pl, p, q, sense),
-        CamModel::Offset { gamma_rad } => cam::offset_contact(&c.profile, &pl, p, q, gamma_rad),
+        CamModel::Exact { sense } => cam::exact_contact(profile, &pl, p, q, sense),
+        CamModel::Offset { gamma_rad } => cam::offset_contact(profile, &pl, p, q, gamma_rad),
     }?;
     Some((contact.length, contact.engaged))
 }
