@@ -326,6 +326,10 @@ pub struct Evaluator<'a> {
     shared: Option<&'a Prepared>,
     /// `None` when the fast path cannot give every requested figure.
     fast: Option<Fast>,
+    /// Figure values of the last setting, and for each requested figure
+    /// its place among them (known after the first setting that evaluates).
+    out: Figures,
+    pick: Option<Vec<Option<usize>>>,
 }
 
 /// The fast path's plan and buffers.
@@ -351,10 +355,6 @@ struct Fast {
     /// Per-φ transmission angles as `(y, x)`, one column per dyad.
     parts: Vec<Vec<(f64, f64)>>,
     part_buf: Vec<(f64, f64)>,
-    /// Figure values of the last setting, and for each requested figure
-    /// its place among them (known after the first setting that evaluates).
-    figures: Figures,
-    pick: Option<Vec<Option<usize>>>,
 }
 
 /// One stitch thread's fixed part of its figures: what only P' decides.
@@ -378,7 +378,7 @@ impl<'a> Evaluator<'a> {
     /// [`select_figures`] gives them), with P' from `shared` when given.
     pub fn new(model: &'a Model, base: &'a Params, sweep: &'a Sweep, names: &'a [String], opts: &'a CycleOptions, shared: Option<&'a Prepared>) -> Self {
         let fast = Fast::plan(model, base, names, opts, shared);
-        Evaluator { model, base, sweep, names, opts, shared, fast }
+        Evaluator { model, base, sweep, names, opts, shared, fast, out: Figures { vals: Vec::new(), names: None }, pick: None }
     }
 
     /// Whether settings go through the fast path (else the full cycle).
@@ -400,23 +400,20 @@ impl<'a> Evaluator<'a> {
                 break;
             }
         }
-        let mut out = std::mem::replace(&mut fast.figures, Figures { vals: Vec::new(), names: None });
+        let out = &mut self.out;
         out.vals.clear();
-        out.names = fast.pick.is_none().then(Vec::new);
-        let all = result.and_then(|_| fast.figures(self.model, self.opts, self.shared, &mut out));
-        let row = match all {
+        out.names = self.pick.is_none().then(Vec::new);
+        match result.and_then(|_| fast.figures(self.model, self.opts, self.shared, out)) {
             Ok(()) => {
                 if let Some(names) = out.names.take() {
-                    fast.pick = Some(self.names.iter().map(|n| names.iter().position(|m| m == n)).collect());
+                    self.pick = Some(self.names.iter().map(|n| names.iter().position(|m| m == n)).collect());
                 }
-                let pick = fast.pick.as_ref().expect("set by the first setting that evaluates");
+                let pick = self.pick.as_ref().expect("set by the first setting that evaluates");
                 let figures = pick.iter().map(|i| i.map(|i| out.vals[i]).filter(|v| v.is_finite())).collect();
                 Row { index, values, figures, error: None }
             }
             Err(e) => Row { index, values, figures: vec![None; self.names.len()], error: Some(e.to_string().replace('\n', " ")) },
-        };
-        fast.figures = out;
-        row
+        }
     }
 }
 
@@ -488,8 +485,6 @@ impl Fast {
             cols: Vec::new(),
             parts: Vec::new(),
             part_buf: Vec::new(),
-            figures: Figures { vals: Vec::new(), names: None },
-            pick: None,
         })
     }
 
@@ -535,24 +530,9 @@ impl Fast {
             }
         }
         if self.mu && !model.dyads.is_empty() {
-            // μ = atan2(y, x) at every φ would cost an atan2 each. It falls
-            // as cos μ = x/|(x, y)| rises, so the extremes are found on that
-            // key, and atan2 is taken only at the positions whose key is
-            // within rounding of the extreme: the same values as the cycle
-            // table's.
-            let mu_deg = |(y, x): (f64, f64)| y.angle_of(x).to_degrees();
-            let key = |(y, x): (f64, f64)| {
-                let r = (x * x + y * y).sqrt();
-                if r > 0.0 { x / r } else { 1.0 }
-            };
-            self.parts.resize_with(model.dyads.len(), Vec::new);
-            self.parts.iter_mut().for_each(Vec::clear);
-            for k in 0..n {
-                mech.transmission_parts(&self.pose, k, &mut self.part_buf);
-                for (c, yx) in self.parts.iter_mut().zip(&self.part_buf) {
-                    c.push(*yx);
-                }
-            }
+            // The angles' parts (y, x) only; atan2 at the extremes alone.
+            let pose = &self.pose;
+            per_phi_columns(&mut self.parts, &mut self.part_buf, model.dyads.len(), n, |k, b| mech.transmission_parts(pose, k, b));
             let mut all_ok = true;
             let (mut lo, mut hi) = (f64::MAX, f64::MIN);
             let first = out.vals.len();
@@ -560,32 +540,8 @@ impl Fast {
             out.push(|| "mu.max_deg".into(), 0.0);
             out.push(|| "mu.ok".into(), 0.0);
             for (d, v) in model.dyads.iter().zip(&self.parts) {
-                let (mu_min, mu_max) = if v.iter().all(|(y, x)| y.is_finite() && x.is_finite()) {
-                    let (key_hi, key_lo) = v.iter().fold((f64::MIN, f64::MAX), |(h, l), yx| {
-                        let c = key(*yx);
-                        (h.max(c), l.min(c))
-                    });
-                    const WITHIN: f64 = 1e-12;
-                    let (mut mu_min, mut mu_max) = (f64::MAX, f64::MIN);
-                    for yx in v {
-                        let c = key(*yx);
-                        if c >= key_hi - WITHIN {
-                            mu_min = mu_min.min(mu_deg(*yx));
-                        }
-                        if c <= key_lo + WITHIN {
-                            mu_max = mu_max.max(mu_deg(*yx));
-                        }
-                    }
-                    (mu_min, mu_max)
-                } else {
-                    // A part that is not finite: every angle, as the table does.
-                    let all: Vec<f64> = v.iter().map(|yx| mu_deg(*yx)).collect();
-                    if let Some(k) = all.iter().position(|x| !x.is_finite()) {
-                        return Err(not_finite(&format!("mu_{}_deg", d.key), all[k], self.phis[k]));
-                    }
-                    let (i0, i1) = crate::eval::extremes(&all);
-                    (all[i0], all[i1])
-                };
+                let (mu_min, mu_max) =
+                    transmission_extremes_deg(v).map_err(|(k, mu)| not_finite(&format!("mu_{}_deg", d.key), mu, self.phis[k]))?;
                 all_ok &= mu_min >= crate::eval::MU_MIN_DEG && mu_max <= crate::eval::MU_MAX_DEG;
                 lo = lo.min(mu_min);
                 hi = hi.max(mu_max);
@@ -595,14 +551,8 @@ impl Fast {
             out.vals[first..first + 3].copy_from_slice(&[lo, hi, if all_ok { 1.0 } else { 0.0 }]);
         }
         if self.measures && !model.measure_names.is_empty() {
-            self.cols.resize_with(model.measure_names.len(), Vec::new);
-            self.cols.iter_mut().for_each(Vec::clear);
-            for k in 0..n {
-                mech.measures(&self.pose, k, &mut self.buf);
-                for (c, m) in self.cols.iter_mut().zip(&self.buf) {
-                    c.push(*m);
-                }
-            }
+            let pose = &self.pose;
+            per_phi_columns(&mut self.cols, &mut self.buf, model.measure_names.len(), n, |k, b| mech.measures(pose, k, b));
             for (name, v) in model.measure_names.iter().zip(&self.cols) {
                 if let Some(k) = v.iter().position(|x| !x.is_finite()) {
                     return Err(not_finite(&format!("{name}_mm"), v[k], self.phis[k]));
@@ -658,6 +608,55 @@ impl Fast {
         }
         Ok(())
     }
+}
+
+/// `cols[j][k]` = the j-th of `width` values `fill(k, buf)` gives at the
+/// k-th φ, for k < n (the columns keep their buffers).
+fn per_phi_columns<X: Copy>(cols: &mut Vec<Vec<X>>, buf: &mut Vec<X>, width: usize, n: usize, mut fill: impl FnMut(usize, &mut Vec<X>)) {
+    cols.resize_with(width, Vec::new);
+    cols.iter_mut().for_each(Vec::clear);
+    for k in 0..n {
+        fill(k, buf);
+        for (c, x) in cols.iter_mut().zip(buf.iter()) {
+            c.push(*x);
+        }
+    }
+}
+
+/// Smallest and largest transmission angle over a cycle, degrees, from
+/// its parts `(y, x)` (μ = atan2(y, x), [`crate::mechanism::Mechanism::transmission_parts`]).
+/// μ falls as cos μ = x/|(x, y)| rises, so the extremes are found on that
+/// key and atan2 is taken only where the key is within rounding of its
+/// extreme: the values the cycle table gives. On an angle that is not a
+/// finite number, its position and value.
+fn transmission_extremes_deg(v: &[(f64, f64)]) -> Result<(f64, f64), (usize, f64)> {
+    let mu_deg = |(y, x): (f64, f64)| y.angle_of(x).to_degrees();
+    if !v.iter().all(|(y, x)| y.is_finite() && x.is_finite()) {
+        // A part that is not finite: every angle, as the table does.
+        let all: Vec<f64> = v.iter().map(|yx| mu_deg(*yx)).collect();
+        if let Some(k) = all.iter().position(|x| !x.is_finite()) {
+            return Err((k, all[k]));
+        }
+        let (i0, i1) = crate::eval::extremes(&all);
+        return Ok((all[i0], all[i1]));
+    }
+    let key = |(y, x): (f64, f64)| {
+        let r = (x * x + y * y).sqrt();
+        if r > 0.0 { x / r } else { 1.0 }
+    };
+    let (key_hi, key_lo) = v.iter().fold((f64::MIN, f64::MAX), |(h, l), yx| (h.max(key(*yx)), l.min(key(*yx))));
+    const WITHIN: f64 = 1e-12;
+    let (mut mu_min, mut mu_max) = (f64::MAX, f64::MIN);
+    for yx in v {
+        let c = key(*yx);
+        if c >= key_hi - WITHIN {
+            mu_min = mu_min.min(mu_deg(*yx));
+        }
+        if c <= key_lo + WITHIN {
+            mu_max = mu_max.max(mu_deg(*yx));
+        }
+    }
+    Ok((mu_min, mu_max))
 }
 
 /// A setting's figures in a fixed order: values every time, their names
