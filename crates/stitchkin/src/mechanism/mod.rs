@@ -349,22 +349,23 @@ impl<T: Real> Mechanism<T> {
                     // checked loop finds it and says why.
                     if kernels::rssr(&mut o[..n], a, &rod, *sign) { Ok(()) } else { each(&mut o, |k| rssr::rssr(&rod, a[k], *sign)) }
                 }
-                Step::PointOnLine { from, through, toward: None, dir, l, sign, .. }
-                    if kernels::point_on_line(&mut o[..n], tr(*through), tr(*from), *dir, *l * *l, *sign) =>
-                {
-                    Ok(())
-                }
                 Step::PointOnLine { from, through, toward, dir, l, sign, .. } => {
                     let (a, h) = (tr(*from), tr(*through));
                     let t = toward.map(tr);
                     let l_sq = *l * *l;
-                    each(&mut o, |k| {
-                        let u = match t {
-                            Some(t) => unit(t[k] - h[k])?,
-                            None => *dir,
-                        };
-                        line::point_on_line(h[k], u, a[k], l_sq, *sign)
-                    })
+                    // A guide of fixed direction: all positions at once, as
+                    // for RSSR; the checked loop only where one fails.
+                    if t.is_none() && kernels::point_on_line(&mut o[..n], h, a, *dir, l_sq, *sign) {
+                        Ok(())
+                    } else {
+                        each(&mut o, |k| {
+                            let u = match t {
+                                Some(t) => unit(t[k] - h[k])?,
+                                None => *dir,
+                            };
+                            line::point_on_line(h[k], u, a[k], l_sq, *sign)
+                        })
+                    }
                 }
                 Step::Rigid { base, dc, ds, base_len, lift, plane, .. } => {
                     let (a, b) = (tr(base[0]), tr(base[1]));
