@@ -5,7 +5,8 @@ use std::sync::Arc;
 
 pub use crate::mechanism::AssemblyError;
 
-/// A problem in a model file, pointing at the place in the text.
+/// A problem in a model file, pointing at the place in the text; also in
+/// the other files a user writes (facts to fit, measured curves).
 ///
 /// Happens when a file does not parse, names something that does not exist,
 /// mixes units, or describes an impossible geometry. `help` says what to

@@ -11,6 +11,7 @@
 //! eyelets on the needle bar) is computed once per pose, not per φ.
 
 pub mod cam;
+pub mod measured;
 pub mod wrap;
 
 use crate::geometry::{Plane, V3};
