@@ -6,7 +6,8 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use stitchkin::error::{Error, ParamError};
-use stitchkin::study::cam_synthesis::{CamOptions, CamSynthesis, Target, parse_target_csv, synthesise};
+use stitchkin::study::cam_synthesis::{CamOptions, CamSynthesis, Target, synthesise};
+use stitchkin::thread::measured::parse_curve_csv;
 
 #[derive(Args)]
 pub struct CamArgs {
@@ -74,7 +75,7 @@ pub fn run(args: CamArgs) -> Result<(), Error> {
                 help: Some("give --target required (P' of the stitch) or a CSV file with columns phi_deg,P_mm".into()),
             })
         })?;
-        parse_target_csv(&text, &args.target)?
+        Target::from_curve(&parse_curve_csv(&text, &args.target)?)?
     };
     let format = args.format.unwrap_or(if args.output.is_some() { CamFormat::All } else { CamFormat::Csv });
     if format == CamFormat::All && args.output.is_none() {

@@ -69,6 +69,7 @@ use crate::model::{Model, Params};
 use crate::output::fmt_num;
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::thread::cam::{CamPlacement, Profile};
+use crate::thread::measured::{MeasuredCurve, SplitPoint, periodic_segment};
 use crate::thread::{CamModel, Convention, Span, Threads};
 
 const TAU: f64 = std::f64::consts::TAU;
@@ -78,9 +79,32 @@ const TAU: f64 = std::f64::consts::TAU;
 pub enum Target {
     /// P'(φ) of the `[stitch]` thread compared with the path.
     Required,
-    /// A periodic curve P(φ) through points (φ in degrees within one turn,
-    /// sorted), the periodic cubic spline between them.
+    /// A periodic curve P(φ) through points (φ in degrees, strictly
+    /// increasing within one turn: last − first < 360°), the periodic cubic
+    /// spline between them. [`Target::from_curve`] makes one from a curve
+    /// file.
     Curve { phi_deg: Vec<f64>, p_mm: Vec<f64>, source: String },
+}
+
+impl Target {
+    /// The target a measured or wanted curve sets: its samples, as they
+    /// are (a take-up P or a required P′ alike: what P should be). A curve
+    /// split at B is refused: a path's P is taken at its last node, the
+    /// eye, and P_B differs from it by the needle's travel S(φ) − S(φ0)
+    /// (docs/stitch-formation.md §3.2).
+    pub fn from_curve(curve: &MeasuredCurve) -> Result<Target, Error> {
+        if curve.split() == Some(SplitPoint::B) {
+            return Err(bad(
+                format!(
+                    "the target curve `{}` from {} is taken at B, the needle eye's top position; the path's take-up P is taken at its last node, the eye",
+                    curve.column(),
+                    curve.source()
+                ),
+                "give the curve at the eye (a column `P_mm`, `P_eye_mm`, `Pprime_mm` or `Pprime_eye_mm`): P_eye = P_B − (S(φ) − S(φ0)), docs/stitch-formation.md §3.2",
+            ));
+        }
+        Ok(Target::Curve { phi_deg: curve.phi_deg().to_vec(), p_mm: curve.values_mm().to_vec(), source: curve.source().to_string() })
+    }
 }
 
 /// How to synthesise.
@@ -381,7 +405,8 @@ struct PeriodicSpline {
 }
 
 impl PeriodicSpline {
-    /// Through (x_i, y_i), x sorted within [0, 360), at least 3 points.
+    /// Through (x_i, y_i), x strictly increasing within one turn
+    /// (x_{n−1} − x_0 < 360), at least 3 points.
     fn new(x: &[f64], y: &[f64]) -> PeriodicSpline {
         let n = x.len();
         let h: Vec<f64> = (0..n).map(|i| if i + 1 < n { x[i + 1] - x[i] } else { x[0] + 360.0 - x[n - 1] }).collect();
@@ -406,58 +431,15 @@ impl PeriodicSpline {
     }
 
     fn at(&self, phi_deg: f64) -> f64 {
-        let (xs, n) = (&self.x, self.x.len());
-        let x = phi_deg.rem_euclid(360.0);
-        // The segment [x_i, x_{i+1}] holding x, the last one wrapping to the
+        // The segment [x_i, x_{i+1}] holding φ, the last one wrapping to the
         // first point a turn later.
-        let (i, x0, x1) = match xs.partition_point(|&v| v <= x) {
-            0 => (n - 1, xs[n - 1] - 360.0, xs[0]),
-            p if p == n => (n - 1, xs[n - 1], xs[0] + 360.0),
-            p => (p - 1, xs[p - 1], xs[p]),
-        };
-        let j = (i + 1) % n;
+        let Some(seg) = periodic_segment(&self.x, phi_deg) else { return f64::NAN };
+        let (i, j, x0, x1, x) = (seg.i, seg.j, seg.from_deg, seg.to_deg, seg.at_deg);
         let h = x1 - x0;
         let (a, b) = (x1 - x, x - x0);
         let (m0, m1) = (self.m[i], self.m[j]);
         m0 * a * a * a / (6.0 * h) + m1 * b * b * b / (6.0 * h) + (self.y[i] - m0 * h * h / 6.0) * a / h + (self.y[j] - m1 * h * h / 6.0) * b / h
     }
-}
-
-/// Reads a target curve from CSV text: a header naming `phi_deg` and `P_mm`
-/// (or `phi_deg` and one other column, as `stitchkin run --columns` writes
-/// it), then rows; `#` lines are skipped. Periodic: φ is taken modulo 360.
-pub fn parse_target_csv(text: &str, source: &str) -> Result<Target, Error> {
-    let help = "write a header `phi_deg,P_mm` and one row per φ, e.g. `0,0.0` (at least 4 rows within one turn)";
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-    let Some((_, header)) = lines.next() else {
-        return Err(bad(format!("{source}: the target CSV is empty"), help));
-    };
-    let cols: Vec<&str> = header.split(',').map(|c| c.trim().trim_matches('"')).collect();
-    let iphi = cols.iter().position(|c| *c == "phi_deg").ok_or_else(|| bad(format!("{source}: the header has no `phi_deg` column (got `{header}`)"), help))?;
-    let ip = match cols.iter().position(|c| *c == "P_mm") {
-        Some(i) => i,
-        None if cols.len() == 2 => 1 - iphi,
-        None => return Err(bad(format!("{source}: the header has no `P_mm` column (got `{header}`)"), help)),
-    };
-    let mut pts: Vec<(f64, f64)> = Vec::new();
-    for (i, line) in lines {
-        let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let num = |j: usize| f.get(j).and_then(|s| s.parse::<f64>().ok()).filter(|v| v.is_finite());
-        match (num(iphi), num(ip)) {
-            (Some(x), Some(y)) => pts.push((turn_deg(x), y)),
-            _ => return Err(bad(format!("{source}:{}: not two finite numbers for phi_deg and the take-up: `{line}`", i + 1), help)),
-        }
-    }
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    for w in pts.windows(2) {
-        if w[1].0 - w[0].0 < 1e-9 {
-            return Err(bad(format!("{source}: φ = {}° is given twice (modulo 360°)", fmt_num(w[0].0)), "give each φ once within one turn"));
-        }
-    }
-    if pts.len() < 4 {
-        return Err(bad(format!("{source}: the target needs at least 4 points, got {}", pts.len()), help));
-    }
-    Ok(Target::Curve { phi_deg: pts.iter().map(|p| p.0).collect(), p_mm: pts.iter().map(|p| p.1).collect(), source: source.to_string() })
 }
 
 /// An angle reduced to [0, 360) degrees (`rem_euclid` may round up to 360).
@@ -692,12 +674,11 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
                 && phi_deg.len() == p_mm.len()
                 && phi_deg.iter().chain(p_mm).all(|v| v.is_finite())
                 && phi_deg.windows(2).all(|w| w[1] > w[0])
-                && phi_deg.first().is_some_and(|&a| a >= 0.0)
-                && phi_deg.last().is_some_and(|&b| b < 360.0);
+                && phi_deg[phi_deg.len() - 1] - phi_deg[0] < 360.0;
             if !ok {
                 return Err(bad(
-                    format!("the target curve from {source} is not at least 4 finite points with φ increasing within [0, 360)"),
-                    "read it with parse_target_csv",
+                    format!("the target curve from {source} is not at least 4 finite points with φ increasing within one turn"),
+                    "read it with thread::measured::read_curve and make the target with Target::from_curve",
                 ));
             }
             let sp = PeriodicSpline::new(phi_deg, p_mm);
@@ -1192,29 +1173,59 @@ mod tests {
         PeriodicSpline::new(phi_deg, p_mm)
     }
 
+    /// The target of a curve file's text.
+    fn target_csv(text: &str) -> Result<Target, Error> {
+        Target::from_curve(&crate::thread::measured::parse_curve_csv(text, "t.csv")?)
+    }
+
     #[test]
     fn csv_targets_are_periodic_splines_and_checked() {
-        let t = parse_target_csv("# a comment\nphi_deg,P_mm\n0,0\n90,1\n180,2\n270,1\n", "t.csv").unwrap();
+        // Four points a quarter turn apart (given directly: a curve file
+        // needs a row at least every 45°).
+        let t = Target::Curve { phi_deg: vec![0.0, 90.0, 180.0, 270.0], p_mm: vec![0.0, 1.0, 2.0, 1.0], source: "t".into() };
         let s = spline(&t);
         for (x, y) in [(0.0, 0.0), (90.0, 1.0), (180.0, 2.0), (270.0 + 360.0, 1.0), (-90.0, 1.0)] {
             assert!((s.at(x) - y).abs() < 1e-12, "{x}");
         }
         // Symmetric about 180°, periodic.
         assert!((s.at(45.0) - s.at(315.0)).abs() < 1e-12 && (s.at(45.0) - s.at(405.0)).abs() < 1e-12);
-        // Unsorted, off-grid, a column named as `stitchkin run` writes it:
-        // a sinusoid through 10 points comes back to 1e-3 between them.
-        let mut text = String::from("lower.P_mm,phi_deg\n");
-        for k in [3, 1, 4, 0, 5, 9, 2, 6, 8, 7] {
-            let x = 5.0 + 36.0 * k as f64;
-            text += &format!("{},{x}\n", 2.0 * x.to_radians().sin());
-        }
-        let s = spline(&parse_target_csv(&text, "t.csv").unwrap());
+        // Off-grid, the columns swapped, a column named as `stitchkin run`
+        // writes it: a sinusoid through 10 points comes back to 1e-2
+        // between them.
+        let sine = |x: f64| 2.0 * x.to_radians().sin();
+        let file = |from: f64| {
+            let mut text = String::from("# comment\nlower.P_mm,phi_deg\n");
+            for k in 0..10 {
+                let x = from + 36.0 * k as f64;
+                text += &format!("{},{x}\n", sine(x));
+            }
+            text
+        };
+        let s = spline(&target_csv(&file(5.0)).unwrap());
         for x in [0.0, 17.0, 100.0, 359.0] {
-            assert!((s.at(x) - 2.0 * f64::to_radians(x).sin()).abs() < 1e-2, "{x}: {}", s.at(x));
+            assert!((s.at(x) - sine(x)).abs() < 1e-2, "{x}: {}", s.at(x));
         }
-        for bad in ["", "phi,P_mm\n0,1\n", "phi_deg,P_mm\n0,1\n90,x\n", "phi_deg,P_mm\n0,1\n360,2\n90,1\n180,1\n", "phi_deg,P_mm\n0,1\n90,2\n"] {
-            assert!(parse_target_csv(bad, "t.csv").is_err(), "{bad:?}");
+        // The same points written from 185° on (a turn may start anywhere,
+        // as `stitchkin run` writes a cycle from φ0): the same spline.
+        let late = spline(&target_csv(&file(185.0)).unwrap());
+        for x in [0.0, 17.0, 100.0, 359.0] {
+            assert!((late.at(x) - s.at(x)).abs() < 1e-12, "{x}");
         }
+        for bad in [
+            "",
+            "phi,P_mm\n0,1\n",
+            "phi_deg,P_mm\n0,1\n90,x\n",
+            "phi_deg,P_mm\n0,1\n360,2\n90,1\n180,1\n",
+            "phi_deg,P_mm\n0,1\n90,2\n",
+            // Rows out of φ order.
+            "phi_deg,P_mm\n0,0\n80,1\n40,1\n120,1\n160,1\n200,1\n240,1\n280,1\n320,1\n",
+        ] {
+            assert!(target_csv(bad).is_err(), "{bad:?}");
+        }
+        // A curve at B is not the path's take-up.
+        let e = target_csv(&file(5.0).replace("lower.P_mm", "n1.Pprime_B_mm")).unwrap_err();
+        assert!(e.to_string().contains("`n1.Pprime_B_mm` from t.csv is taken at B") && e.help().unwrap().contains("P_eye = P_B − (S(φ) − S(φ0))"), "{e}");
+        assert!(target_csv(&file(5.0).replace("lower.P_mm", "n1.Pprime_eye_mm")).is_ok());
     }
 
     #[test]

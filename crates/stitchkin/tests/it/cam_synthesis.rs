@@ -5,7 +5,8 @@
 
 use stitchkin::eval::{CycleOptions, run_cycle};
 use stitchkin::model::{Model, Params};
-use stitchkin::study::cam_synthesis::{CamOptions, CamSynthesis, Target, parse_target_csv, synthesise, take_up_with_profile};
+use stitchkin::study::cam_synthesis::{CamOptions, CamSynthesis, Target, synthesise, take_up_with_profile};
+use stitchkin::thread::measured::parse_curve_csv;
 use stitchkin::thread::cam::Profile;
 
 fn altin504() -> (Model, Params) {
@@ -217,7 +218,7 @@ fn a_shifted_target_and_an_anchor_radius() {
     for k in (0..360).step_by(5) {
         csv += &format!("{k},{}\n", 1.0 + 1.5 * f64::from(k).to_radians().sin());
     }
-    let target = parse_target_csv(&csv, "small.csv").unwrap();
+    let target = Target::from_curve(&parse_curve_csv(&csv, "small.csv").unwrap()).unwrap();
     // The model's disc reaches only 0.09 mm beyond the straight thread along
     // φ0's contact radius, so it cannot give out 1.5 mm more: a clear error.
     let e = err(&m, &CamOptions::new("seed", target.clone()));
