@@ -358,23 +358,24 @@ pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error>
             };
             return Err(err(Some(line.span()), message, &help));
         }
-        let number = |k: usize, what: &str, unit: &str| -> Result<f64, Error> {
+        // Field k, the column `name`, holding `what` in `unit`.
+        let number = |k: usize, name: &str, what: &str, unit: &str| -> Result<f64, Error> {
             let f = &fields[k];
             if f.text.is_empty() {
-                return Err(err(Some(line.span()), format!("the {what} value is missing"), &format!("write the {what} in {unit}; {ROW_HELP}")));
+                return Err(err(Some(line.span()), format!("the {name} value is missing"), &format!("write {what} in {unit}; {ROW_HELP}")));
             }
             match f.text.parse::<f64>() {
                 Ok(v) if v.is_finite() => Ok(v),
                 Ok(_) => Err(err(
                     Some(f.span.clone()),
-                    format!("`{}` ({what}) is not a finite number", f.text),
-                    &format!("write the {what} as a finite number in {unit}; leave out a row that was not measured (the curve is linear between rows, at most {}° apart)", fmt_num(MAX_GAP_DEG)),
+                    format!("`{}` ({name}) is not a finite number", f.text),
+                    &format!("write {what} as a finite number in {unit}; leave out a row that was not measured (the curve is linear between rows, at most {}° apart)", fmt_num(MAX_GAP_DEG)),
                 )),
-                Err(_) => Err(err(Some(f.span.clone()), format!("`{}` ({what}) is not a number", f.text), &format!("write the {what} as a number in {unit}; {ROW_HELP}"))),
+                Err(_) => Err(err(Some(f.span.clone()), format!("`{}` ({name}) is not a number", f.text), &format!("write {what} as a number in {unit}; {ROW_HELP}"))),
             }
         };
-        let phi = number(iphi, "phi_deg", "deg")?;
-        let y = number(1 - iphi, &column, "mm")?;
+        let phi = number(iphi, "phi_deg", "φ", "deg")?;
+        let y = number(1 - iphi, &column, if kind == CurveKind::TakeUp { "the take-up P" } else { "the required take-up P′" }, "mm")?;
         let phi_span = fields[iphi].span.clone();
         if let (Some(&prev), Some((prev_line, _))) = (phi_deg.last(), rows.last())
             && phi <= prev
@@ -547,13 +548,13 @@ mod tests {
         let e = fails(&with("90"));
         assert!(e.starts_with("t.csv:4:1: the row has one field") && e.contains("help: add the missing value"), "{e}");
         let e = fails(&with("90,"));
-        assert!(e.starts_with("t.csv:4:1: the P_mm value is missing") && e.contains("help: write the P_mm in mm"), "{e}");
+        assert!(e.starts_with("t.csv:4:1: the P_mm value is missing") && e.contains("help: write the take-up P in mm"), "{e}");
         let e = fails(&with(",2"));
-        assert!(e.starts_with("t.csv:4:1: the phi_deg value is missing") && e.contains("in deg"), "{e}");
+        assert!(e.starts_with("t.csv:4:1: the phi_deg value is missing") && e.contains("help: write φ in deg"), "{e}");
         let e = fails(&with("90, two"));
-        assert!(e.starts_with("t.csv:4:5: `two` (P_mm) is not a number") && e.contains("help: write the P_mm as a number in mm"), "{e}");
+        assert!(e.starts_with("t.csv:4:5: `two` (P_mm) is not a number") && e.contains("help: write the take-up P as a number in mm"), "{e}");
         let e = fails(&with("9O,2"));
-        assert!(e.starts_with("t.csv:4:1: `9O` (phi_deg) is not a number") && e.contains("as a number in deg"), "{e}");
+        assert!(e.starts_with("t.csv:4:1: `9O` (phi_deg) is not a number") && e.contains("help: write φ as a number in deg"), "{e}");
         let e = fails(&with("90,inf"));
         assert!(e.starts_with("t.csv:4:4: `inf` (P_mm) is not a finite number") && e.contains("leave out a row that was not measured"), "{e}");
         let e = fails(&with("NaN,2"));
