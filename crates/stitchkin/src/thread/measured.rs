@@ -589,6 +589,26 @@ mod tests {
         assert!(e.contains("no row for 70° of φ, from φ = 100°"), "{e}");
     }
 
+    /// docs/studies.md, "Measured curves (CSV)": its example file reads as
+    /// the text says, and its error is the one the reader gives.
+    #[test]
+    fn the_documented_example_and_error_are_true() {
+        let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/studies.md")).unwrap();
+        let section = &doc[doc.find("## Measured curves (CSV)").expect("the section")..];
+        let example = section.split("```csv\n").nth(1).and_then(|b| b.split("```").next()).expect("a csv block");
+        let c = parse(example);
+        assert_eq!((c.kind(), c.split(), c.thread(), c.column()), (CurveKind::TakeUp, None, Some("lower"), "lower.P_mm"));
+        assert_eq!(c.phi_deg(), (0..12).map(|k| 30.0 * f64::from(k)).collect::<Vec<_>>().as_slice());
+        for (x, y) in c.phi_deg().iter().zip(c.values_mm()) {
+            assert!((y - 3.0 * (1.0 - x.to_radians().cos())).abs() < 5e-4, "{x}: {y}");
+        }
+        // Halfway from 330° to 360° = 0°: 0.201 mm.
+        assert!((c.value_at(345.0) - 0.201).abs() < 1e-12);
+        let e = fails("phi_deg,P_mm\n0,0\n40,1\n80,1\n140,2\n180,2\n220,1\n260,1\n300,1\n330,0\n");
+        let first = e.lines().next().unwrap();
+        assert!(section.contains(&format!("× {first}\n")), "the doc does not show `{first}`");
+    }
+
     #[test]
     fn a_file_that_cannot_be_read_is_named() {
         let e = read_curve(Path::new("/nonexistent/altin.csv")).unwrap_err();
