@@ -501,76 +501,66 @@ mod tests {
         assert!(e.starts_with("t.csv:10:5: `x` (P_mm) is not a number"), "{e}");
     }
 
+    /// `text` is refused with an error shown as `start…`, containing `has`.
+    fn refused(text: &str, start: &str, has: &str) {
+        let e = fails(text);
+        assert!(e.starts_with(start) && e.contains(has), "{text:?}:\n{e}");
+    }
+
     #[test]
     fn header_errors_name_the_line_and_the_fix() {
+        refused("", "t.csv: the curve file has no header", "help: write a header `phi_deg,P_mm`");
+        refused("# only a comment\n\n", "t.csv: the curve file has no header", "help: write a header");
         let body = rows(0.0, 30.0, |_| 1.0);
-        let e = fails("");
-        assert!(e.starts_with("t.csv: the curve file has no header") && e.contains("help: write a header `phi_deg,P_mm`"), "{e}");
-        let e = fails("# only a comment\n\n");
-        assert!(e.contains("no header"), "{e}");
-        let e = fails(&format!("# x\nphi_deg;P_mm\n{body}"));
-        assert!(e.starts_with("t.csv:2:1: the header `phi_deg;P_mm` is one column") && e.contains("separate the columns with `,`"), "{e}");
-        let e = fails(&format!("phi_deg,P_mm,Pprime_mm\n{body}"));
-        assert!(e.starts_with("t.csv:1:1: the header names 3 column(s), `phi_deg`, `P_mm`, `Pprime_mm`; a curve has two") && e.contains("help: write a header"), "{e}");
-        let e = fails(&format!("phi_deg\n{body}"));
-        assert!(e.contains("names 1 column(s)"), "{e}");
-        let e = fails(&format!("phi,P_mm\n{body}"));
-        assert!(e.starts_with("t.csv:1:1: the header has no column `phi_deg` (got `phi`, `P_mm`)") && e.contains("help: name the main-shaft angle column `phi_deg` (deg)"), "{e}");
-        let e = fails(&format!("P_mm,phi_dg\n{body}"));
-        assert!(e.starts_with("t.csv:1:6: ") && e.contains("did you mean `phi_deg` for `phi_dg`?"), "{e}");
-        let e = fails(&format!("phi_deg,phi_deg\n{body}"));
-        assert!(e.starts_with("t.csv:1:1: the header names `phi_deg` twice"), "{e}");
-        let e = fails(&format!("phi_deg,xi_mm\n{body}"));
-        assert!(e.starts_with("t.csv:1:9: `xi_mm` is not a take-up column; it must say what it is: P_mm, P_B_mm") && e.contains("help: write a header"), "{e}");
-        let e = fails(&format!("phi_deg,n1.P'_mm\n{body}"));
-        assert!(e.contains("`n1.P'_mm` is not a take-up column: did you mean `n1.Pprime_mm`?"), "{e}");
-        let e = fails(&format!("phi_deg,p_mm\n{body}"));
-        assert!(e.contains("did you mean `P_mm`?"), "{e}");
-        let e = fails(&format!("phi_deg,P\n{body}"));
-        assert!(e.contains("`P` is not a take-up column"), "{e}");
-        let e = fails(&format!("phi_deg,n-1.P_mm\n{body}"));
-        assert!(e.starts_with("t.csv:1:9: `n-1` before the dot in `n-1.P_mm` is not a thread or path name"), "{e}");
-        assert!(fails(&format!("phi_deg,.P_mm\n{body}")).contains("`` before the dot"));
+        for (header, start, has) in [
+            ("# x\nphi_deg;P_mm", "t.csv:2:1: the header `phi_deg;P_mm` is one column", "help: separate the columns with `,`"),
+            ("phi_deg,P_mm,Pprime_mm", "t.csv:1:1: the header names 3 column(s), `phi_deg`, `P_mm`, `Pprime_mm`; a curve has two", "help: write a header"),
+            ("phi_deg", "t.csv:1:1: the header names 1 column(s)", "help: write a header"),
+            ("phi,P_mm", "t.csv:1:1: the header has no column `phi_deg` (got `phi`, `P_mm`)", "help: name the main-shaft angle column `phi_deg` (deg)"),
+            ("P_mm,phi_dg", "t.csv:1:6: the header has no column `phi_deg` (got `P_mm`, `phi_dg`): did you mean `phi_deg` for `phi_dg`?", "help: name"),
+            ("phi_deg,phi_deg", "t.csv:1:1: the header names `phi_deg` twice", "help: write a header"),
+            ("phi_deg,xi_mm", "t.csv:1:9: `xi_mm` is not a take-up column; it must say what it is: P_mm, P_B_mm", "help: write a header"),
+            ("phi_deg,n1.P'_mm", "t.csv:1:9: `n1.P'_mm` is not a take-up column: did you mean `n1.Pprime_mm`?", "help: write a header"),
+            ("phi_deg,p_mm", "t.csv:1:9: `p_mm` is not a take-up column: did you mean `P_mm`?", "help: write a header"),
+            ("phi_deg,P", "t.csv:1:9: `P` is not a take-up column; it must say what it is", "help: write a header"),
+            ("phi_deg,n-1.P_mm", "t.csv:1:9: `n-1` before the dot in `n-1.P_mm` is not a thread or path name", "help: write a header"),
+            ("phi_deg,.P_mm", "t.csv:1:9: `` before the dot in `.P_mm` is not a thread or path name", "help: write a header"),
+        ] {
+            refused(&format!("{header}\n{body}"), start, has);
+        }
     }
 
     #[test]
     fn row_errors_name_the_line_and_the_fix() {
         let head = "phi_deg,P_mm\n0,0\n45,1\n";
         let tail = "180,4\n225,3\n270,2\n315,1\n";
-        let with = |row: &str| format!("{head}{row}\n{tail}");
-        let e = fails(&with("90,2,7"));
-        assert!(e.starts_with("t.csv:4:1: the row has 3 fields, the header two (`phi_deg`, `P_mm`)") && e.contains("help: remove the extra fields; one row per φ"), "{e}");
-        // A decimal comma makes an extra field; the help says to use a point.
-        let e = fails(&with("90,2,5"));
-        assert!(e.contains("3 fields") && e.contains("with a point for decimals"), "{e}");
-        let e = fails(&with("90,2,"));
-        assert!(e.contains("3 fields"), "{e}");
-        let e = fails(&with("90"));
-        assert!(e.starts_with("t.csv:4:1: the row has one field") && e.contains("help: add the missing value"), "{e}");
-        let e = fails(&with("90,"));
-        assert!(e.starts_with("t.csv:4:1: the P_mm value is missing") && e.contains("help: write the take-up P in mm"), "{e}");
-        let e = fails(&with(",2"));
-        assert!(e.starts_with("t.csv:4:1: the phi_deg value is missing") && e.contains("help: write φ in deg"), "{e}");
-        let e = fails(&with("90, two"));
-        assert!(e.starts_with("t.csv:4:5: `two` (P_mm) is not a number") && e.contains("help: write the take-up P as a number in mm"), "{e}");
-        let e = fails(&with("9O,2"));
-        assert!(e.starts_with("t.csv:4:1: `9O` (phi_deg) is not a number") && e.contains("help: write φ as a number in deg"), "{e}");
-        let e = fails(&with("90,inf"));
-        assert!(e.starts_with("t.csv:4:4: `inf` (P_mm) is not a finite number") && e.contains("leave out a row that was not measured"), "{e}");
-        let e = fails(&with("NaN,2"));
-        assert!(e.starts_with("t.csv:4:1: `NaN` (phi_deg) is not a finite number"), "{e}");
-        // Order: strictly increasing.
-        let e = fails(&with("30,2"));
-        assert!(e.starts_with("t.csv:4:1: φ = 30° does not come after φ = 45° on line 3") && e.contains("help: sort the rows by φ and give each φ once"), "{e}");
-        let e = fails(&with("45,2"));
-        assert!(e.contains("φ = 45° does not come after φ = 45° on line 3"), "{e}");
+        for (row, start, has) in [
+            ("90,2,7", "t.csv:4:1: the row has 3 fields, the header two (`phi_deg`, `P_mm`)", "help: remove the extra fields; one row per φ"),
+            // A decimal comma makes an extra field; the help says to use a point.
+            ("90,2,5", "t.csv:4:1: the row has 3 fields", "with a point for decimals"),
+            ("90,2,", "t.csv:4:1: the row has 3 fields", "help: remove the extra fields"),
+            ("90", "t.csv:4:1: the row has one field", "help: add the missing value"),
+            ("90,", "t.csv:4:1: the P_mm value is missing", "help: write the take-up P in mm"),
+            (",2", "t.csv:4:1: the phi_deg value is missing", "help: write φ in deg"),
+            ("90, two", "t.csv:4:5: `two` (P_mm) is not a number", "help: write the take-up P as a number in mm"),
+            ("9O,2", "t.csv:4:1: `9O` (phi_deg) is not a number", "help: write φ as a number in deg"),
+            ("90,inf", "t.csv:4:4: `inf` (P_mm) is not a finite number", "leave out a row that was not measured"),
+            ("NaN,2", "t.csv:4:1: `NaN` (phi_deg) is not a finite number", "help: write φ as a finite number in deg"),
+            // Order: strictly increasing.
+            ("30,2", "t.csv:4:1: φ = 30° does not come after φ = 45° on line 3", "help: sort the rows by φ and give each φ once"),
+            ("45,2", "t.csv:4:1: φ = 45° does not come after φ = 45° on line 3", "help: sort the rows"),
+        ] {
+            refused(&format!("{head}{row}\n{tail}"), start, has);
+        }
         // One turn: the first row again a turn later is refused.
-        let e = fails(&format!("{head}90,2\n{tail}360,0\n"));
-        assert!(e.starts_with("t.csv:9:1: φ = 360° is a whole turn or more after the first row's φ = 0° (line 2)") && e.contains("leave out the row that repeats the first"), "{e}");
+        refused(
+            &format!("{head}90,2\n{tail}360,0\n"),
+            "t.csv:9:1: φ = 360° is a whole turn or more after the first row's φ = 0° (line 2)",
+            "help: give one turn, last φ − first φ < 360°: leave out the row that repeats the first",
+        );
         // Too few rows: the header is pointed at.
-        let e = fails("# c\nphi_deg,P_mm\n0,0\n90,1\n180,0\n");
-        assert!(e.starts_with("t.csv:2:1: the curve has 3 row(s) after its header; it needs at least 4") && e.contains("at least every 45°"), "{e}");
-        assert!(fails("phi_deg,P_mm\n").contains("has 0 row(s)"));
+        refused("# c\nphi_deg,P_mm\n0,0\n90,1\n180,0\n", "t.csv:2:1: the curve has 3 row(s) after its header; it needs at least 4", "at least every 45°");
+        refused("phi_deg,P_mm\n", "t.csv:1:1: the curve has 0 row(s)", "help: give a row");
     }
 
     #[test]
