@@ -46,10 +46,10 @@ pub const MIN_ROWS: usize = 4;
 #[serde(rename_all = "snake_case")]
 pub enum CurveKind {
     /// An actual take-up P(φ), the thread the mechanism gives to or takes
-    /// from the stitch (a column `P_mm`).
+    /// from the stitch (columns `P_mm`, `P_B_mm`, `P_eye_mm`).
     TakeUp,
-    /// A required take-up P′(φ), the thread the stitch needs (a column
-    /// `Pprime_mm`).
+    /// A required take-up P′(φ), the thread the stitch needs (columns
+    /// `Pprime_mm`, `Pprime_B_mm`, `Pprime_eye_mm`).
     Required,
 }
 
