@@ -22,7 +22,7 @@ pub mod nomogram;
 
 pub use analogs::analogs;
 pub use delta::delta_2d3d;
-pub use family::{FamilyData, family, family_data, surface_heat, surface_wireframe};
+pub use family::{FamilyData, Quantity, VaryGrid, family, family_data, surface_heat, surface_wireframe};
 pub use heatmap::{figure_label, figure_names, heatmap};
 pub use nomogram::{default_thickness, nomogram_chart};
 
@@ -48,7 +48,7 @@ pub enum Plot {
     Family { vary: Vary, thread: Option<String> },
     /// The same data as [`Plot::Family`] as a heat map of P over (φ, the
     /// parameter) with a colour bar, or with `wireframe` as a projected
-    /// surface (seed 000 Fig. 6–7, the spatial charts).
+    /// surface (seed 000 Fig. 7 a, c, e, g, i, the spatial charts).
     Surface { vary: Vary, thread: Option<String>, wireframe: bool },
     /// One figure of merit of [`crate::study::sweep::figures`] (a pattern
     /// matching exactly one) over the grid of two varied parameters, as a
@@ -97,7 +97,7 @@ pub fn render(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Res
         Plot::Family { vary, thread } => family(model, &family_data(model, params, vary, thread.as_deref(), step_deg)?).map(|c| c.render()),
         Plot::Surface { vary, thread, wireframe } => {
             let data = family_data(model, params, vary, thread.as_deref(), step_deg)?;
-            if *wireframe { Ok(surface_wireframe(model, &data).render()) } else { Ok(surface_heat(model, &data).render()) }
+            Ok(surface(model, &data.grid, &data.quantity(), &data.p, *wireframe))
         }
         Plot::Heatmap { vary, figure } => heatmap(model, params, vary, figure, step_deg).map(|c| c.render()),
         Plot::Nomogram(opts) => {
@@ -107,6 +107,12 @@ pub fn render(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Res
         }
         Plot::Delta2d3d { plane, threads } => delta_2d3d(model, params, plane, threads, step_deg).map(|f| f.render()),
     }
+}
+
+/// The heat map or, with `wireframe`, the projected surface of a quantity
+/// over φ and a varied parameter, as SVG.
+fn surface(model: &Model, grid: &VaryGrid, q: &Quantity, rows: &[Option<Vec<f64>>], wireframe: bool) -> String {
+    if wireframe { surface_wireframe(model, grid, q, rows).render() } else { surface_heat(model, grid, q, rows).render() }
 }
 
 /// The charts of one cycle: take-up, transmission angles, trajectories.
