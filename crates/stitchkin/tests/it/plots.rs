@@ -251,8 +251,8 @@ fn column_of(model: &Model, set: &[(&str, f64)], step: f64, name: &str) -> Vec<f
     for (k, v) in set {
         model.set(&mut p, k, *v).unwrap();
     }
-    let t = run_cycle(model, &p, &CycleOptions { step_deg: step, points: Some(Vec::new()), ..Default::default() }).unwrap();
-    t.column(name).unwrap().to_vec()
+    let t = run_cycle(model, &p, &CycleOptions { step_deg: step, ..Default::default() }).unwrap();
+    t.column(name).unwrap_or_else(|| panic!("no column {name}")).to_vec()
 }
 
 #[test]
@@ -514,4 +514,177 @@ fn delta_2d3d_shows_both_take_ups_and_their_difference() {
     assert!(t.last().unwrap() - t[0] < 1.0 && t[0] <= -dp + 1e-9, "{t:?}");
     let e = full(render(&model, &model.defaults(), &Plot::Delta2d3d { plane: "nope".into(), threads: vec![] }, 5.0).unwrap_err());
     assert!(e.contains("no frame `nope`") && e.contains("--plane"), "{e}");
+}
+
+// ---- Motion laws: any column of the cycle over φ ----
+
+/// Maps a panel's pixel y back to data with its y ticks (each tick label
+/// sits 4 px below its grid line).
+fn y_of_pixel(panel: &str) -> impl Fn(f64) -> f64 {
+    let at: Vec<f64> = attrs(panel, "<text class=\"tick y\"", "y").iter().map(|v| v.parse::<f64>().unwrap() - 4.0).collect();
+    let values = y_ticks(panel);
+    let (p0, p1, v0, v1) = (at[0], *at.last().unwrap(), values[0], *values.last().unwrap());
+    move |py| v0 + (py - p0) / (p1 - p0) * (v1 - v0)
+}
+
+/// The data each polyline of a panel draws (y only, back from pixels).
+fn drawn(panel: &str) -> Vec<Vec<f64>> {
+    let to_data = y_of_pixel(panel);
+    polylines(panel).iter().map(|l| l.iter().map(|p| to_data(p.1)).collect()).collect()
+}
+
+fn span(v: &[f64]) -> (f64, f64) {
+    min_max(std::iter::once(v))
+}
+
+fn motion(series: &[&str], vary: Option<Vary>) -> Plot {
+    Plot::Motion { series: series.iter().map(|s| s.to_string()).collect(), vary }
+}
+
+#[test]
+fn the_needles_motion_law_has_the_stroke_the_model_gives() {
+    // needle876 at α = 0: the needle bar G strokes 18.08 mm (seed 002).
+    let model = Model::preset("needle876").unwrap();
+    let svg = render(&model, &model.defaults(), &motion(&["G.y_mm"], None), 1.0).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    assert_eq!(panels(&svg).len(), 1);
+    assert_eq!(texts(&svg, "legend"), ["G.y"]);
+    assert_eq!(texts(&svg, "axis-label y"), ["G.y, mm"]);
+    assert_eq!(texts(&svg, "axis-label x"), ["φ, deg"]);
+    assert!(texts(&svg, "title")[0].contains("needle876: motion law G.y"));
+    let lines = drawn(&svg);
+    assert_eq!(lines.len(), 1);
+    assert_eq!(lines[0].len(), 361, "360 steps and the first again");
+    // φ runs forward to the cycle's end, where the line closes.
+    let xs: Vec<f64> = polylines(&svg)[0].iter().map(|p| p.0).collect();
+    assert!(xs.windows(2).all(|w| w[1] > w[0]), "φ goes back somewhere");
+    assert_eq!(lines[0][0], lines[0][360]);
+    let g = column_of(&model, &[], 1.0, "G.y_mm");
+    let ((lo, hi), (glo, ghi)) = (span(&lines[0]), span(&g));
+    assert!((ghi - glo - 18.08).abs() < 0.01, "{}", ghi - glo);
+    // Two decimals of a pixel: well inside 0.01 mm here.
+    assert!((hi - lo - (ghi - glo)).abs() < 0.01 && (lo - glo).abs() < 0.01, "drawn {lo}…{hi}, model {glo}…{ghi}");
+    // The short form names the same column.
+    assert_eq!(render(&model, &model.defaults(), &motion(&["G.y"], None), 1.0).unwrap(), svg);
+}
+
+#[test]
+fn millimetres_and_degrees_get_their_own_panels() {
+    let model = Model::preset("needle876").unwrap();
+    let svg = render(&model, &model.defaults(), &motion(&["G.y", "angle_C_B", "needle_y_mm", "mu_23"], None), 2.0).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    let p = panels(&svg);
+    assert_eq!(p.len(), 2);
+    assert_eq!(texts(p[0], "legend"), ["G.y", "needle_y"]);
+    assert_eq!(texts(p[1], "legend"), ["angle_C_B", "mu_23"]);
+    assert_eq!(texts(&svg, "axis-label y"), ["G.y, needle_y, mm", "angle_C_B, mu_23, deg"]);
+    // Four colours, one per series.
+    let mut colours = attrs(&svg, "<polyline", "stroke");
+    colours.dedup();
+    assert_eq!(colours.len(), 4);
+    // The rocker C-B swings about 180°, where atan2 wraps: the chart draws
+    // it continuously (no jump of 360°), over the same swing as the table.
+    let angle = &drawn(p[1])[0];
+    assert!(angle.windows(2).all(|w| (w[1] - w[0]).abs() < 5.0), "a jump in angle_C_B");
+    let table = column_of(&model, &[], 2.0, "angle_C_B_deg");
+    assert!(table.windows(2).any(|w| (w[1] - w[0]).abs() > 300.0), "the table wraps");
+    let unwrapped: Vec<f64> = table.iter().map(|&a| if a < 0.0 { a + 360.0 } else { a }).collect();
+    let ((lo, hi), (tlo, thi)) = (span(angle), span(&unwrapped));
+    assert!((lo - tlo).abs() < 0.05 && (hi - thi).abs() < 0.05, "drawn {lo}…{hi}, table {tlo}…{thi}");
+    assert!(texts(&svg, "subtitle")[0].contains("angle_C_B drawn continuously past ±180°"));
+    // μ23 as the transmission-angle chart gives it: 52.28°…126.47°.
+    let (mlo, mhi) = span(&drawn(p[1])[1]);
+    assert!((mlo - 52.28).abs() < 0.2 && (mhi - 126.47).abs() < 0.2, "{mlo}…{mhi}");
+}
+
+#[test]
+fn a_motion_family_over_alpha_raises_the_stroke_and_keeps_the_lowest_position() {
+    // Seed 002 Fig. 3: as α (the hinge F) grows the needle's stroke grows,
+    // its lowest position stays, and the velocity analog grows with it.
+    let model = Model::preset("needle876").unwrap();
+    let svg = render(&model, &model.defaults(), &motion(&["G.y", "G.dy_dphi"], Some(vary("alpha", 0.0, 35.0, 6))), 5.0).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    let p = panels(&svg);
+    assert_eq!(texts(&svg, "panel-title"), ["G.y", "G.dy_dphi"]);
+    assert_eq!(texts(&svg, "axis-label y"), ["G.y, mm", "G.dy_dphi, mm/rad"]);
+    let legend = ["alpha = 0 deg", "alpha = 7 deg", "alpha = 14 deg", "alpha = 21 deg", "alpha = 28 deg", "alpha = 35 deg"];
+    for panel in &p {
+        assert_eq!(texts(panel, "legend"), legend);
+        let mut colours = attrs(panel, "<polyline", "stroke");
+        colours.dedup();
+        assert_eq!(colours.len(), 6, "a ramp of six colours");
+    }
+    assert_eq!(svg.matches("<polyline").count(), 12);
+    let (positions, speeds) = (drawn(p[0]), drawn(p[1]));
+    for (k, alpha) in [0.0, 7.0, 14.0, 21.0, 28.0, 35.0].into_iter().enumerate() {
+        let (glo, ghi) = span(&column_of(&model, &[("alpha", alpha)], 5.0, "G.y_mm"));
+        let (lo, hi) = span(&positions[k]);
+        assert!((hi - lo - (ghi - glo)).abs() < 0.02 && (lo - glo).abs() < 0.02, "α = {alpha}: drawn {lo}…{hi}, model {glo}…{ghi}");
+        assert!((lo - 107.475).abs() < 0.02, "the lowest position moved: {lo}");
+    }
+    let strokes: Vec<f64> = positions.iter().map(|l| span(l).1 - span(l).0).collect();
+    assert!(strokes.windows(2).all(|w| w[1] > w[0]) && strokes[5] > 22.5, "{strokes:?}");
+    let peak: Vec<f64> = speeds.iter().map(|l| span(l).1).collect();
+    assert!(peak.windows(2).all(|w| w[1] > w[0]), "{peak:?}");
+}
+
+#[test]
+fn a_motion_law_as_a_surface_over_a_parameter() {
+    // Seed 000 Fig. 6 a: the eccentric r1 4 → 6 mm widens the swing of
+    // the take-up shaft's arm O2B (±10.7° → ±16.2° in this model).
+    let model = Model::preset("mf7923d").unwrap();
+    let plot = Plot::MotionSurface { series: "angle_O2_B".into(), vary: vary("r1", 4.0, 6.0, 3), wireframe: false };
+    let svg = render(&model, &model.defaults(), &plot, 10.0).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    assert_eq!(svg.matches("<rect class=\"cell\"").count(), 3 * 37);
+    assert_eq!((texts(&svg, "axis-label x"), texts(&svg, "axis-label y")), (vec!["φ, deg"], vec!["r1, mm"]));
+    assert_eq!(texts(&svg, "colorbar-label"), ["angle_O2_B, deg"]);
+    assert!(texts(&svg, "title")[0].contains("motion law angle_O2_B over φ and r1"));
+    // Each row's swing, read from the tooltips, is the model's.
+    let mut swings = Vec::new();
+    for r1 in [4.0, 5.0, 6.0] {
+        let row: Vec<f64> = svg
+            .lines()
+            .filter(|l| l.contains(&format!("r1 = {r1:.0} mm: angle_O2_B = ")))
+            .map(|l| l.split("angle_O2_B = ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap())
+            .collect();
+        assert_eq!(row.len(), 37);
+        let (lo, hi) = span(&column_of(&model, &[("r1", r1)], 10.0, "angle_O2_B_deg"));
+        assert!((span(&row).0 - lo).abs() < 0.006 && (span(&row).1 - hi).abs() < 0.006, "r1 = {r1}");
+        swings.push(hi - lo);
+    }
+    assert!(swings[2] > swings[0] + 9.0 && swings[1] > swings[0], "{swings:?}");
+    let plot = Plot::MotionSurface { series: "G.y".into(), vary: vary("alpha", 0.0, 35.0, 4), wireframe: true };
+    let needle = Model::preset("needle876").unwrap();
+    let svg = render(&needle, &needle.defaults(), &plot, 10.0).unwrap();
+    assert_well_formed(&svg);
+    assert_eq!(svg.matches("<polyline class=\"mesh\"").count(), 4);
+    assert_eq!(texts(&svg, "axis-label z"), ["G.y, mm"]);
+    assert_eq!(texts(&svg, "axis-label y"), ["alpha, deg"]);
+}
+
+#[test]
+fn motion_input_is_checked_and_the_error_lists_what_there_is() {
+    let model = Model::preset("needle876").unwrap();
+    let p = model.defaults();
+    let e = full(render(&model, &p, &motion(&["G.y", "Q.y"], None), 5.0).unwrap_err());
+    assert!(e.contains("no series `Q.y` (in --series)"), "{e}");
+    assert!(e.contains("moving points A, B, D, E, G") && e.contains("angle_C_B_deg") && e.contains("mu_67_deg") && e.contains("needle_y_mm"), "{e}");
+    let e = full(render(&model, &p, &motion(&["G.yy"], None), 5.0).unwrap_err());
+    assert!(e.contains("did you mean `G.y"), "{e}");
+    // A fixed point has no motion law.
+    let e = full(render(&model, &p, &motion(&["C.y"], None), 5.0).unwrap_err());
+    assert!(e.contains("no series `C.y`"), "{e}");
+    let e = full(render(&model, &p, &motion(&[], None), 5.0).unwrap_err());
+    assert!(e.contains("no series to draw") && e.contains("--series"), "{e}");
+    let e = full(render(&model, &p, &motion(&["G.y"], Some(vary("alpha", 0.0, 50.0, 3))), 5.0).unwrap_err());
+    assert!(e.contains("outside its adjustable range") && e.contains("--vary alpha=0:50:3"), "{e}");
+    let e = full(render(&model, &p, &motion(&["G.y"], Some(vary("alpha", 0.0, 35.0, 1))), 5.0).unwrap_err());
+    assert!(e.contains("at least 2"), "{e}");
+    let e = full(render(&model, &p, &Plot::MotionSurface { series: "nope".into(), vary: vary("alpha", 0.0, 35.0, 3), wireframe: false }, 5.0).unwrap_err());
+    assert!(e.contains("no series `nope`"), "{e}");
 }

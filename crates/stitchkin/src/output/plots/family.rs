@@ -1,7 +1,8 @@
 //! P(φ) of one thread path as a parameter varies (seed 000 Fig. 7): a
 //! family of lines with the required P'(φ) for comparison, a heat map of P
 //! over (φ, parameter), or a projected surface. The heat map and the
-//! surface draw any quantity over φ and a parameter ([`Quantity`]).
+//! surface draw any quantity over φ and a parameter ([`Quantity`]): a
+//! motion law's too (seed 000 Fig. 6, [`super::motion`]).
 
 use rayon::prelude::*;
 

@@ -2,9 +2,10 @@
 //! [`super::svg`]: of one cycle, the take-up P(φ) of every thread path with
 //! the stitch's P'(φ), every transmission angle against the 30°…150° band,
 //! the trajectories of chosen points and the velocity and acceleration
-//! analogs; over a varied parameter, P(φ) as a family of lines, a heat map
-//! or a projected surface; a figure of merit over two parameters as a heat
-//! map; a nomogram; and the 2D-vs-3D take-up difference.
+//! analogs; the motion law of any point coordinate, angle or measure; over
+//! a varied parameter, P(φ) or a motion law as a family of lines, a heat
+//! map or a projected surface; a figure of merit over two parameters as a
+//! heat map; a nomogram; and the 2D-vs-3D take-up difference.
 
 use super::svg::{Axis, Chart, Series, XShade, YBand, color};
 use crate::error::{Error, ParamError};
@@ -18,12 +19,14 @@ pub mod analogs;
 pub mod delta;
 pub mod family;
 pub mod heatmap;
+pub mod motion;
 pub mod nomogram;
 
 pub use analogs::analogs;
 pub use delta::delta_2d3d;
 pub use family::{FamilyData, Quantity, VaryGrid, family, family_data, surface_heat, surface_wireframe};
 pub use heatmap::{figure_label, figure_names, heatmap};
+pub use motion::{MotionSeries, motion_chart, motion_cycle, motion_family, motion_family_chart};
 pub use nomogram::{default_thickness, nomogram_chart};
 
 /// What to plot.
@@ -50,6 +53,15 @@ pub enum Plot {
     /// parameter) with a colour bar, or with `wireframe` as a projected
     /// surface (seed 000 Fig. 7 a, c, e, g, i, the spatial charts).
     Surface { vary: Vary, thread: Option<String>, wireframe: bool },
+    /// The motion law of each series over φ: a column of the cycle table
+    /// (`G.y_mm`, `angle_O2_B_deg`, `needle_y_mm`, `mu_23_deg`,
+    /// `G.dy_dphi_mm_per_rad`; the unit ending may be left off), one panel
+    /// per unit; with `vary`, one panel per series with a line per value
+    /// of the parameter (seed 002 Fig. 3, seed 003 Fig. 8).
+    Motion { series: Vec<String>, vary: Option<Vary> },
+    /// One motion-law series over (φ, a varied parameter) as a heat map
+    /// or, with `wireframe`, a projected surface (seed 000 Fig. 6).
+    MotionSurface { series: String, vary: Vary, wireframe: bool },
     /// One figure of merit of [`crate::study::sweep::figures`] (a pattern
     /// matching exactly one) over the grid of two varied parameters, as a
     /// heat map with a colour bar.
@@ -73,7 +85,8 @@ impl Plot {
             Plot::Trajectory { .. } => "trajectory",
             Plot::Analogs { .. } => "analogs",
             Plot::Family { .. } => "family",
-            Plot::Surface { .. } => "surface",
+            Plot::Surface { .. } | Plot::MotionSurface { .. } => "surface",
+            Plot::Motion { .. } => "motion",
             Plot::Heatmap { .. } => "heatmap",
             Plot::Nomogram(_) => "nomogram",
             Plot::Delta2d3d { .. } => "delta2d3d",
@@ -98,6 +111,19 @@ pub fn render(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Res
         Plot::Surface { vary, thread, wireframe } => {
             let data = family_data(model, params, vary, thread.as_deref(), step_deg)?;
             Ok(surface(model, &data.grid, &data.quantity(), &data.p, *wireframe))
+        }
+        Plot::Motion { series, vary: None } => {
+            let (phis, series) = motion_cycle(model, params, series, step_deg)?;
+            Ok(motion_chart(model, &phis, &series).render())
+        }
+        Plot::Motion { series, vary: Some(vary) } => {
+            let (grid, series) = motion_family(model, params, series, vary, step_deg)?;
+            Ok(motion_family_chart(model, &grid, &series).render())
+        }
+        Plot::MotionSurface { series: name, vary, wireframe } => {
+            let (grid, series) = motion_family(model, params, std::slice::from_ref(name), vary, step_deg)?;
+            let s = series.first().ok_or_else(|| Error::Io(format!("no rows for series `{name}` (a bug: please report it)")))?;
+            Ok(surface(model, &grid, &s.quantity(), &s.rows, *wireframe))
         }
         Plot::Heatmap { vary, figure } => heatmap(model, params, vary, figure, step_deg).map(|c| c.render()),
         Plot::Nomogram(opts) => {
