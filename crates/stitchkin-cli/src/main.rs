@@ -199,16 +199,21 @@ enum Command {
         Target CSV: columns phi_deg,P_mm. The summary goes to stderr.")]
     Cam(cam::CamArgs),
     /// Plot a cycle as SVG: the take-up P(φ) with the required P'(φ), the
-    /// transmission angles, or the trajectories of points.
+    /// transmission angles, the trajectories of points, the motion law of
+    /// any coordinate, angle or measure, and charts over varied parameters.
     #[command(after_help = "Examples:\n  stitchkin plot takeup -o mf7923d-takeup.svg\n  \
         stitchkin plot takeup --preset altin504 --set m=2 --step 2 -o altin504.svg\n  \
         stitchkin plot mu --preset needle876 --set alpha=38 -o mu.svg\n  \
         stitchkin plot trajectory --preset needle876 --points G,E -o paths.svg\n  \
-        stitchkin plot trajectory --preset altin-needle --points E --plane guide -o altin-guide.svg\n\n\
+        stitchkin plot trajectory --preset altin-needle --points E --plane guide -o altin-guide.svg\n  \
+        stitchkin plot motion --preset needle876 --series G.y,angle_C_B --vary alpha=0:35:6 -o motion.svg\n  \
+        stitchkin plot surface --series angle_O2_B --vary r1=4:6:9 --wireframe -o psi-r1.svg\n\n\
         takeup: P of every thread path (solid) and P' of every stitch thread (dashed, its path's colour),\n\
         where a one-sided guide bears on the thread shaded lightly. mu: every transmission angle, the band\n\
         30°…150° marked and the outside shaded. trajectory: each point's path in the world xy-plane (or --plane\n\
-        FRAME's), equal scales, a dot at the cycle's start. φ runs over one cycle from the model's start (docs/plots.md).")]
+        FRAME's), equal scales, a dot at the cycle's start. motion: each --series (a column of `stitchkin run`,\n\
+        the unit ending optional) against φ, one panel per unit; with --vary one panel per series, a line per\n\
+        value. φ runs over one cycle from the model's start (docs/plots.md).")]
     Plot(plot::PlotArgs),
     /// Draw the mechanism as SVG at a main-shaft angle, or animated over the cycle (docs/drawing.md).
     Draw(draw::DrawArgs),

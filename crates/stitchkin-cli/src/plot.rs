@@ -1,5 +1,5 @@
-//! `stitchkin plot`: SVG charts of a cycle, of a varied parameter, of a
-//! sweep, of a nomogram (stitchkin::output::plots).
+//! `stitchkin plot`: SVG charts of a cycle, of motion laws, of a varied
+//! parameter, of a sweep, of a nomogram (stitchkin::output::plots).
 
 use std::path::PathBuf;
 
@@ -22,9 +22,13 @@ pub enum What {
     /// Velocity and acceleration analogs over φ of --points, or dP/dφ and
     /// d²P/dφ² of the thread paths.
     Analogs,
+    /// The motion law of each --series (a point coordinate, angle or
+    /// measure) over φ; with --vary, a family of lines per series.
+    Motion,
     /// P(φ) of one thread path for N values of a --vary parameter, with P'(φ).
     Family,
-    /// P over φ and a --vary parameter as a heat map (--wireframe: a surface).
+    /// P (or one --series) over φ and a --vary parameter as a heat map
+    /// (--wireframe: a surface).
     Surface,
     /// A --figure of merit over two --vary parameters as a heat map.
     Heatmap,
@@ -41,6 +45,7 @@ impl What {
             What::Mu => "mu",
             What::Trajectory => "trajectory",
             What::Analogs => "analogs",
+            What::Motion => "motion",
             What::Family => "family",
             What::Surface => "surface",
             What::Heatmap => "heatmap",
@@ -65,13 +70,20 @@ pub struct PlotArgs {
     /// (default: world).
     #[arg(long, value_name = "FRAME")]
     plane: Option<String>,
+    /// Motion: what to draw over φ, comma-separated columns as `stitchkin
+    /// run` names them (G.y_mm, angle_O2_B_deg, needle_y_mm, mu_23_deg;
+    /// the unit ending may be left off: G.y). Surface: the one series to
+    /// draw instead of a thread path's take-up.
+    #[arg(long, value_delimiter = ',', value_name = "NAME,…")]
+    series: Vec<String>,
     /// Analogs, delta2d3d: thread paths to draw, comma-separated (default:
     /// all). Family, surface: the one path (default: the model's first).
     #[arg(long, value_delimiter = ',', value_name = "PATH,…")]
     thread: Vec<String>,
-    /// Family, surface: the varied parameter, NAME=LO:HI:N (N values, ends
-    /// included; N default 5 for family, 11 for surface). Heatmap: give it
-    /// twice (N default 11), the first across, the second up.
+    /// Family, surface, motion: the varied parameter, NAME=LO:HI:N (N
+    /// values, ends included; N default 5 for family and motion, 11 for
+    /// surface). Heatmap: give it twice (N default 11), the first across,
+    /// the second up.
     #[arg(long = "vary", value_name = "NAME=LO:HI:N")]
     vary: Vec<String>,
     /// Surface: draw a projected wireframe surface instead of the heat map.
@@ -100,7 +112,8 @@ pub struct PlotArgs {
     #[arg(long, value_name = "N")]
     seed: Option<u64>,
     /// Step of the main-shaft angle φ, degrees (default 1; 2 for family,
-    /// surface, heatmap and nomogram, which evaluate many cycles).
+    /// surface, heatmap, nomogram and motion with --vary, which evaluate
+    /// many cycles).
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     step: Option<f64>,
     /// Write the chart to FILE instead of stdout: FILE.svg, or FILE.png for
@@ -128,11 +141,12 @@ fn list(kinds: &[What]) -> String {
 fn check_options(args: &PlotArgs) -> Result<(), Error> {
     use What::*;
     let nomogram_example = "stitchkin plot nomogram --set t1_phase=180 --thickness 3:5:3 --adjust z";
-    let owners: [(&str, bool, &[What], &str); 11] = [
+    let owners: [(&str, bool, &[What], &str); 12] = [
         ("--points", !args.points.is_empty(), &[Trajectory, Analogs], "stitchkin plot trajectory --points A,B"),
         ("--plane", args.plane.is_some(), &[Trajectory, Delta2d3d], "stitchkin plot delta2d3d --plane uvw"),
         ("--thread", !args.thread.is_empty(), &[Analogs, Family, Surface, Delta2d3d], "stitchkin plot family --vary z=-10:10:5 --thread n3_A"),
-        ("--vary", !args.vary.is_empty(), &[Family, Surface, Heatmap], "stitchkin plot family --vary r1=4:6:5"),
+        ("--series", !args.series.is_empty(), &[Motion, Surface], "stitchkin plot motion --preset needle876 --series G.y,angle_C_B"),
+        ("--vary", !args.vary.is_empty(), &[Family, Surface, Heatmap, Motion], "stitchkin plot family --vary r1=4:6:5"),
         ("--wireframe", args.wireframe, &[Surface], "stitchkin plot surface --vary r1=4:6:9 --wireframe"),
         ("--figure", args.figure.is_some(), &[Heatmap], "stitchkin plot heatmap --vary z=-10:10:11 --vary dphi=-20:20:11 --figure n1_A.max_P_mm"),
         ("--thickness", args.thickness.is_some(), &[Nomogram], nomogram_example),
@@ -175,6 +189,19 @@ fn one_thread(args: &PlotArgs) -> Result<Option<String>, Error> {
     }
 }
 
+/// The one series of a surface (`None`: the take-up of a thread path).
+fn one_series(args: &PlotArgs) -> Result<Option<String>, Error> {
+    match args.series.as_slice() {
+        [] => Ok(None),
+        [_] if !args.thread.is_empty() => Err(bad(
+            "`plot surface` draws a thread path's take-up (--thread) or a motion law (--series), not both".into(),
+            "leave out one of them".into(),
+        )),
+        [one] => Ok(Some(one.clone())),
+        many => Err(bad(format!("`plot surface` draws one series; --series names {}", many.len()), format!("give one, e.g. --series {}", many[0]))),
+    }
+}
+
 /// The one --vary of a family or surface, N defaulting to `default_n`.
 fn one_vary(args: &PlotArgs, model: &Model, default_n: usize) -> Result<stitchkin::study::sweep::Vary, Error> {
     match args.vary.as_slice() {
@@ -194,7 +221,7 @@ pub fn run(args: PlotArgs) -> Result<(), Error> {
     check_options(&args)?;
     crate::image::check_output(args.output.as_ref(), false)?;
     let (model, params) = crate::load(&args.model)?;
-    let many_cycles = matches!(args.what, What::Family | What::Surface | What::Heatmap | What::Nomogram);
+    let many_cycles = matches!(args.what, What::Family | What::Surface | What::Heatmap | What::Nomogram) || (args.what == What::Motion && !args.vary.is_empty());
     let step = args.step.unwrap_or(if many_cycles { 2.0 } else { 1.0 });
     let plot = match args.what {
         What::Takeup => Plot::TakeUp,
@@ -202,7 +229,14 @@ pub fn run(args: PlotArgs) -> Result<(), Error> {
         What::Trajectory => Plot::Trajectory { points: args.points.clone(), plane: args.plane.clone() },
         What::Analogs => Plot::Analogs { points: args.points.clone(), threads: args.thread.clone() },
         What::Family => Plot::Family { vary: one_vary(&args, &model, 5)?, thread: one_thread(&args)? },
-        What::Surface => Plot::Surface { vary: one_vary(&args, &model, 11)?, thread: one_thread(&args)?, wireframe: args.wireframe },
+        What::Motion => {
+            let vary = if args.vary.is_empty() { None } else { Some(one_vary(&args, &model, 5)?) };
+            Plot::Motion { series: args.series.clone(), vary }
+        }
+        What::Surface => match one_series(&args)? {
+            Some(series) => Plot::MotionSurface { series, vary: one_vary(&args, &model, 11)?, wireframe: args.wireframe },
+            None => Plot::Surface { vary: one_vary(&args, &model, 11)?, thread: one_thread(&args)?, wireframe: args.wireframe },
+        },
         What::Heatmap => {
             let vary = args.vary.iter().map(|v| plots::parse_vary(&model, v, 11)).collect::<Result<Vec<_>, _>>()?;
             if vary.len() != 2 {

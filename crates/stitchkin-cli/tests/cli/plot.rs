@@ -89,7 +89,7 @@ fn plot_rejects_bad_chart_options_with_the_fix() {
     let e = fails(&["plot", "heatmap", "--vary", "z=-10:10:3", "--vary", "dphi=-20:20:3", "--figure", "bogus", "--step", "30"]);
     assert!(e.contains("no figure of merit matches `bogus`") && e.contains("--figure"), "{e}");
     let e = fails(&["plot", "takeup", "--vary", "r1=4:6"]);
-    assert!(e.contains("--vary is for `plot family`, `plot surface` and `plot heatmap`, not `plot takeup`"), "{e}");
+    assert!(e.contains("--vary is for `plot family`, `plot surface`, `plot heatmap` and `plot motion`, not `plot takeup`"), "{e}");
     let e = fails(&["plot", "family", "--vary", "r1=4:6", "--figure", "score.mean"]);
     assert!(e.contains("--figure is for `plot heatmap`"), "{e}");
     let e = fails(&["plot", "mu", "--thickness", "3:5:3"]);
@@ -108,6 +108,81 @@ fn plot_rejects_bad_chart_options_with_the_fix() {
     assert!(e.contains("no thread path `n9`") && e.contains("n3_B"), "{e}");
     let e = fails(&["plot", "surface", "--vary", "r1=4:6", "--step", "0"]);
     assert!(e.contains("step"), "{e}");
+}
+
+/// The y values a chart's polylines draw, back from pixels through the
+/// y ticks (each label sits 4 px below its grid line).
+fn drawn_y(svg: &str) -> Vec<Vec<f64>> {
+    let attr = |l: &str, name: &str| -> String {
+        let at = l.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+        l[at..].split('"').next().unwrap().to_string()
+    };
+    let ticks: Vec<(f64, f64)> = svg
+        .lines()
+        .filter(|l| l.starts_with("<text class=\"tick y\""))
+        .map(|l| (attr(l, "y").parse::<f64>().unwrap() - 4.0, l[l.find('>').unwrap() + 1..l.rfind("</text>").unwrap()].parse().unwrap()))
+        .collect();
+    let ((p0, v0), (p1, v1)) = (ticks[0], ticks[ticks.len() - 1]);
+    svg.lines()
+        .filter(|l| l.starts_with("<polyline class=\"series\""))
+        .map(|l| attr(l, "points").split_whitespace().map(|q| v0 + (q.split_once(',').unwrap().1.parse::<f64>().unwrap() - p0) / (p1 - p0) * (v1 - v0)).collect())
+        .collect()
+}
+
+#[test]
+fn plot_draws_motion_laws_and_their_families() {
+    // The needle's height over one cycle: its stroke is needle876's 18.08 mm.
+    let (svg, _) = ok(&["plot", "motion", "--preset", "needle876", "--series", "needle_y"]);
+    assert!(svg.contains(">needle876: motion law needle_y</text>") && svg.contains(">needle_y, mm</text>"));
+    let lines = drawn_y(&svg);
+    assert_eq!(lines.len(), 1);
+    let (lo, hi) = lines[0].iter().fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+    assert!((hi - lo - 18.08).abs() < 0.01 && (lo - 107.475).abs() < 0.01, "{lo}…{hi}");
+    // mm and deg in two panels; short and full names alike.
+    let (svg, _) = ok(&["plot", "motion", "--preset", "needle876", "--series", "G.y_mm,angle_C_B,mu_23_deg", "--step", "10"]);
+    assert_eq!(svg.matches("class=\"panel-title\"").count(), 2);
+    assert!(svg.contains(">G.y, mm</text>") && svg.contains(">angle_C_B, mu_23, deg</text>"));
+    assert_eq!(svg.matches("<polyline class=\"series\"").count(), 3);
+    // A family: N lines per series, legend as `plot family` writes it.
+    let (svg, _) = ok(&["plot", "motion", "--preset", "needle876", "--series", "G.y", "--vary", "alpha=0:35:3", "--step", "10"]);
+    assert_eq!(svg.matches("<polyline class=\"series\"").count(), 3);
+    for v in ["alpha = 0.0 deg", "alpha = 17.5 deg", "alpha = 35.0 deg"] {
+        assert!(svg.contains(&format!(">{v}</text>")), "no legend {v}");
+    }
+    let strokes: Vec<f64> = drawn_y(&svg).iter().map(|l| l.iter().fold(f64::MIN, |a, &b| a.max(b)) - l.iter().fold(f64::MAX, |a, &b| a.min(b))).collect();
+    assert!(strokes.windows(2).all(|w| w[1] > w[0] + 1.0) && (strokes[0] - 18.08).abs() < 0.05, "{strokes:?}");
+    // One series over φ and a parameter as a surface.
+    let (svg, _) = ok(&["plot", "surface", "--preset", "needle876", "--series", "G.y", "--vary", "alpha=0:35:4", "--wireframe", "--step", "10"]);
+    assert_eq!(svg.matches("<polyline class=\"mesh\"").count(), 4);
+    assert!(svg.contains(">G.y, mm</text>") && svg.contains(">alpha, deg</text>"));
+    let (svg, _) = ok(&["plot", "surface", "--preset", "needle876", "--series", "angle_E_G", "--vary", "alpha=0:35:3", "--step", "30"]);
+    assert_eq!(svg.matches("<rect class=\"cell\"").count(), 3 * 13);
+    assert!(svg.contains("class=\"colorbar-label\"") && svg.contains(">angle_E_G, deg</text>"));
+}
+
+#[test]
+fn plot_motion_rejects_bad_input_with_the_fix() {
+    let e = fails(&["plot", "motion", "--preset", "needle876", "--series", "G.y,Q.y"]);
+    assert!(e.contains("no series `Q.y` (in --series)") && e.contains("moving points A, B, D, E, G") && e.contains("angle_C_B_deg"), "{e}");
+    let e = fails(&["plot", "motion", "--preset", "needle876"]);
+    assert!(e.contains("no series to draw") && e.contains("--series"), "{e}");
+    let e = fails(&["plot", "mu", "--series", "G.y"]);
+    assert!(e.contains("--series is for `plot motion` and `plot surface`, not `plot mu`"), "{e}");
+    let e = fails(&["plot", "motion", "--preset", "needle876", "--series", "G.y", "--thread", "n1_A"]);
+    assert!(e.contains("--thread is for") && e.contains("not `plot motion`"), "{e}");
+    let e = fails(&["plot", "motion", "--preset", "needle876", "--series", "G.y", "--vary", "alpha=0:50"]);
+    assert!(e.contains("outside its adjustable range") && e.contains("--vary alpha=0:50"), "{e}");
+    let e = fails(&["plot", "motion", "--preset", "needle876", "--series", "G.y", "--vary", "alpha=0:35:1"]);
+    assert!(e.contains("at least 2"), "{e}");
+    let e = fails(&["plot", "motion", "--preset", "needle876", "--series", "G.y", "--vary", "alpha=0:35", "--vary", "alpha=0:20"]);
+    assert!(e.contains("varies one parameter"), "{e}");
+    let e = fails(&["plot", "surface", "--preset", "needle876", "--series", "G.y,E.y", "--vary", "alpha=0:35"]);
+    assert!(e.contains("draws one series; --series names 2"), "{e}");
+    let e = fails(&["plot", "surface", "--series", "angle_O2_B", "--thread", "n1_A", "--vary", "r1=4:6"]);
+    assert!(e.contains("(--thread) or a motion law (--series), not both"), "{e}");
+    let e = fails(&["plot", "surface", "--preset", "needle876", "--series", "G.y"]);
+    assert!(e.contains("needs the parameter to vary"), "{e}");
+    assert!(!e.contains("panicked"));
 }
 
 // docs/plots.md's examples run in `picture_docs_examples_run` (cli.rs).
