@@ -162,27 +162,27 @@ fn plot_draws_motion_laws_and_their_families() {
 
 #[test]
 fn plot_motion_rejects_bad_input_with_the_fix() {
-    let e = fails(&["plot", "motion", "--preset", "needle876", "--series", "G.y,Q.y"]);
-    assert!(e.contains("no series `Q.y` (in --series)") && e.contains("moving points A, B, D, E, G") && e.contains("angle_C_B_deg"), "{e}");
-    let e = fails(&["plot", "motion", "--preset", "needle876"]);
-    assert!(e.contains("no series to draw") && e.contains("--series"), "{e}");
-    let e = fails(&["plot", "mu", "--series", "G.y"]);
-    assert!(e.contains("--series is for `plot motion` and `plot surface`, not `plot mu`"), "{e}");
-    let e = fails(&["plot", "motion", "--preset", "needle876", "--series", "G.y", "--thread", "n1_A"]);
-    assert!(e.contains("--thread is for") && e.contains("not `plot motion`"), "{e}");
-    let e = fails(&["plot", "motion", "--preset", "needle876", "--series", "G.y", "--vary", "alpha=0:50"]);
-    assert!(e.contains("outside its adjustable range") && e.contains("--vary alpha=0:50"), "{e}");
-    let e = fails(&["plot", "motion", "--preset", "needle876", "--series", "G.y", "--vary", "alpha=0:35:1"]);
-    assert!(e.contains("at least 2"), "{e}");
-    let e = fails(&["plot", "motion", "--preset", "needle876", "--series", "G.y", "--vary", "alpha=0:35", "--vary", "alpha=0:20"]);
-    assert!(e.contains("varies one parameter"), "{e}");
-    let e = fails(&["plot", "surface", "--preset", "needle876", "--series", "G.y,E.y", "--vary", "alpha=0:35"]);
-    assert!(e.contains("draws one series; --series names 2"), "{e}");
-    let e = fails(&["plot", "surface", "--series", "angle_O2_B", "--thread", "n1_A", "--vary", "r1=4:6"]);
-    assert!(e.contains("(--thread) or a motion law (--series), not both"), "{e}");
-    let e = fails(&["plot", "surface", "--preset", "needle876", "--series", "G.y"]);
-    assert!(e.contains("needs the parameter to vary"), "{e}");
-    assert!(!e.contains("panicked"));
+    let needle = ["plot", "motion", "--preset", "needle876", "--series", "G.y"];
+    let with = |more: &[&'static str]| -> Vec<&'static str> { needle.iter().chain(more).copied().collect() };
+    let cases: Vec<(Vec<&str>, &[&str])> = vec![
+        (vec!["plot", "motion", "--preset", "needle876", "--series", "G.y,Q.y"], &["no series `Q.y` (in --series)", "moving points A, B, D, E, G", "angle_C_B_deg"]),
+        (vec!["plot", "motion", "--preset", "needle876"], &["no series to draw", "--series"]),
+        (vec!["plot", "mu", "--series", "G.y"], &["--series is for `plot motion` and `plot surface`, not `plot mu`"]),
+        (with(&["--thread", "n1_A"]), &["--thread is for", "not `plot motion`"]),
+        (with(&["--vary", "alpha=0:50"]), &["outside its adjustable range", "--vary alpha=0:50"]),
+        (with(&["--vary", "alpha=0:35:1"]), &["at least 2"]),
+        (with(&["--vary", "alpha=0:35", "--vary", "alpha=0:20"]), &["varies one parameter"]),
+        (vec!["plot", "surface", "--preset", "needle876", "--series", "G.y,E.y", "--vary", "alpha=0:35"], &["draws one series; --series names 2"]),
+        (vec!["plot", "surface", "--series", "angle_O2_B", "--thread", "n1_A", "--vary", "r1=4:6"], &["(--thread) or a motion law (--series), not both"]),
+        (vec!["plot", "surface", "--preset", "needle876", "--series", "G.y"], &["needs the parameter to vary"]),
+    ];
+    for (args, needles) in cases {
+        let e = fails(&args);
+        for n in needles {
+            assert!(e.contains(n), "{args:?}: no `{n}` in\n{e}");
+        }
+        assert!(!e.contains("panicked"), "{args:?}");
+    }
 }
 
 // docs/plots.md's examples run in `picture_docs_examples_run` (cli.rs).

@@ -537,6 +537,14 @@ fn span(v: &[f64]) -> (f64, f64) {
     min_max(std::iter::once(v))
 }
 
+/// The chart at the model's defaults, checked well-formed and free of NaN.
+fn checked(model: &Model, plot: &Plot, step: f64) -> String {
+    let svg = render(model, &model.defaults(), plot, step).unwrap();
+    assert_well_formed(&svg);
+    assert_no_nan(&svg);
+    svg
+}
+
 fn motion(series: &[&str], vary: Option<Vary>) -> Plot {
     Plot::Motion { series: series.iter().map(|s| s.to_string()).collect(), vary }
 }
@@ -545,9 +553,7 @@ fn motion(series: &[&str], vary: Option<Vary>) -> Plot {
 fn the_needles_motion_law_has_the_stroke_the_model_gives() {
     // needle876 at α = 0: the needle bar G strokes 18.08 mm (seed 002).
     let model = Model::preset("needle876").unwrap();
-    let svg = render(&model, &model.defaults(), &motion(&["G.y_mm"], None), 1.0).unwrap();
-    assert_well_formed(&svg);
-    assert_no_nan(&svg);
+    let svg = checked(&model, &motion(&["G.y_mm"], None), 1.0);
     assert_eq!(panels(&svg).len(), 1);
     assert_eq!(texts(&svg, "legend"), ["G.y"]);
     assert_eq!(texts(&svg, "axis-label y"), ["G.y, mm"]);
@@ -572,9 +578,7 @@ fn the_needles_motion_law_has_the_stroke_the_model_gives() {
 #[test]
 fn millimetres_and_degrees_get_their_own_panels() {
     let model = Model::preset("needle876").unwrap();
-    let svg = render(&model, &model.defaults(), &motion(&["G.y", "angle_C_B", "needle_y_mm", "mu_23"], None), 2.0).unwrap();
-    assert_well_formed(&svg);
-    assert_no_nan(&svg);
+    let svg = checked(&model, &motion(&["G.y", "angle_C_B", "needle_y_mm", "mu_23"], None), 2.0);
     let p = panels(&svg);
     assert_eq!(p.len(), 2);
     assert_eq!(texts(p[0], "legend"), ["G.y", "needle_y"]);
@@ -604,9 +608,7 @@ fn a_motion_family_over_alpha_raises_the_stroke_and_keeps_the_lowest_position() 
     // Seed 002 Fig. 3: as α (the hinge F) grows the needle's stroke grows,
     // its lowest position stays, and the velocity analog grows with it.
     let model = Model::preset("needle876").unwrap();
-    let svg = render(&model, &model.defaults(), &motion(&["G.y", "G.dy_dphi"], Some(vary("alpha", 0.0, 35.0, 6))), 5.0).unwrap();
-    assert_well_formed(&svg);
-    assert_no_nan(&svg);
+    let svg = checked(&model, &motion(&["G.y", "G.dy_dphi"], Some(vary("alpha", 0.0, 35.0, 6))), 5.0);
     let p = panels(&svg);
     assert_eq!(texts(&svg, "panel-title"), ["G.y", "G.dy_dphi"]);
     assert_eq!(texts(&svg, "axis-label y"), ["G.y, mm", "G.dy_dphi, mm/rad"]);
@@ -637,9 +639,7 @@ fn a_motion_law_as_a_surface_over_a_parameter() {
     // the take-up shaft's arm O2B (±10.7° → ±16.2° in this model).
     let model = Model::preset("mf7923d").unwrap();
     let plot = Plot::MotionSurface { series: "angle_O2_B".into(), vary: vary("r1", 4.0, 6.0, 3), wireframe: false };
-    let svg = render(&model, &model.defaults(), &plot, 10.0).unwrap();
-    assert_well_formed(&svg);
-    assert_no_nan(&svg);
+    let svg = checked(&model, &plot, 10.0);
     assert_eq!(svg.matches("<rect class=\"cell\"").count(), 3 * 37);
     assert_eq!((texts(&svg, "axis-label x"), texts(&svg, "axis-label y")), (vec!["φ, deg"], vec!["r1, mm"]));
     assert_eq!(texts(&svg, "colorbar-label"), ["angle_O2_B, deg"]);
@@ -660,8 +660,7 @@ fn a_motion_law_as_a_surface_over_a_parameter() {
     assert!(swings[2] > swings[0] + 9.0 && swings[1] > swings[0], "{swings:?}");
     let plot = Plot::MotionSurface { series: "G.y".into(), vary: vary("alpha", 0.0, 35.0, 4), wireframe: true };
     let needle = Model::preset("needle876").unwrap();
-    let svg = render(&needle, &needle.defaults(), &plot, 10.0).unwrap();
-    assert_well_formed(&svg);
+    let svg = checked(&needle, &plot, 10.0);
     assert_eq!(svg.matches("<polyline class=\"mesh\"").count(), 4);
     assert_eq!(texts(&svg, "axis-label z"), ["G.y, mm"]);
     assert_eq!(texts(&svg, "axis-label y"), ["alpha, deg"]);
