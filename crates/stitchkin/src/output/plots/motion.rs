@@ -4,7 +4,7 @@
 //! Fig. 3 and seed 003 Fig. 8 draw positions against the crank angle; over
 //! a varied parameter one panel per series with a line per value, or one
 //! series as a heat map or a projected surface (seed 000 Fig. 6, drawn by
-//! [`super::family`]'s surfaces).
+//! the surfaces of [`mod@super::family`]).
 
 use super::family::{Quantity, VaryGrid, run_grid};
 use super::{check_vary, closed, column, param_error, phi_axis, title, unit_label};
@@ -37,9 +37,8 @@ pub struct MotionSeries {
     /// row for one cycle, or one per value of a varied parameter (`None`
     /// where that cycle failed).
     pub rows: Vec<Option<Vec<f64>>>,
-    /// An angle shifted by whole turns to run continuously past ±180°
-    /// (see [`unwrap_rows`]): its values differ from the table's by
-    /// multiples of 360°.
+    /// An angle shifted by whole turns to run continuously past ±180°:
+    /// its values differ from the table's by multiples of 360°.
     pub unwrapped: bool,
 }
 
