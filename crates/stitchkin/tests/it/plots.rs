@@ -678,6 +678,10 @@ fn motion_input_is_checked_and_the_error_lists_what_there_is() {
     // A fixed point has no motion law.
     let e = full(render(&model, &p, &motion(&["C.y"], None), 5.0).unwrap_err());
     assert!(e.contains("no series `C.y`"), "{e}");
+    let e = full(render(&model, &p, &motion(&["G.y", ""], None), 5.0).unwrap_err());
+    assert!(e.contains("an empty name in --series"), "{e}");
+    let e = full(render(&model, &p, &motion(&["phi"], None), 5.0).unwrap_err());
+    assert!(e.contains("`phi` is φ itself"), "{e}");
     let e = full(render(&model, &p, &motion(&[], None), 5.0).unwrap_err());
     assert!(e.contains("no series to draw") && e.contains("--series"), "{e}");
     let e = full(render(&model, &p, &motion(&["G.y"], Some(vary("alpha", 0.0, 50.0, 3))), 5.0).unwrap_err());

@@ -267,7 +267,7 @@ fn resolve(model: &Model, params: &Params, wanted: &[String], step_deg: f64) -> 
         }
         (found, None) => Ok((found, full, table)),
         (_, Some(missing)) => {
-            let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).collect();
+            let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).filter(|n| *n != "phi_deg").collect();
             let shorts: Vec<&str> = names.iter().map(|n| split_unit(n).0).collect();
             let hint = did_you_mean(missing, names.iter().chain(&shorts).copied()).map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
             Err(param_error(format!("the model has no series `{missing}` (in --series){hint}"), offered(model, &table)))
@@ -281,6 +281,12 @@ fn find_all<'w>(table: &CycleTable, wanted: &'w [String]) -> Result<(Vec<String>
     let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).filter(|n| *n != "phi_deg").collect();
     let mut found: Vec<String> = Vec::new();
     for w in wanted {
+        if w.trim().is_empty() {
+            return Err(param_error("an empty name in --series".into(), "separate the names by single commas, e.g. --series G.y,E.y".into()));
+        }
+        if find_column(&["phi_deg"], w)?.is_some() {
+            return Err(param_error(format!("`{w}` is φ itself, the x axis of every motion chart (in --series)"), "name what to draw against φ, e.g. a point coordinate, an angle or a measure".into()));
+        }
         match find_column(&names, w)? {
             Some(c) if found.iter().any(|f| f == c) => {}
             Some(c) => found.push(c.to_string()),
