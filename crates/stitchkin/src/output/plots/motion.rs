@@ -111,8 +111,7 @@ pub fn motion_chart(model: &Model, phis: &[f64], series: &[MotionSeries]) -> Fig
             chart
         })
         .collect();
-    let names: Vec<&str> = series.iter().map(|s| s.name.as_str()).collect();
-    let mut fig = figure(model, &format!("motion {} {}", if names.len() == 1 { "law" } else { "laws of" }, names.join(", ")), panels);
+    let mut fig = figure(model, &laws_of(series), panels);
     fig.subtitle = Some(format!("over one cycle at the parameters as set, one panel per unit{}", unwrap_note(series)));
     fig
 }
@@ -133,11 +132,15 @@ pub fn motion_family_chart(model: &Model, grid: &VaryGrid, series: &[MotionSerie
             chart
         })
         .collect();
-    let names: Vec<&str> = series.iter().map(|s| s.name.as_str()).collect();
-    let what = format!("motion {} {} as {} varies", if names.len() == 1 { "law" } else { "laws of" }, names.join(", "), grid.name);
-    let mut fig = figure(model, &what, panels);
+    let mut fig = figure(model, &format!("{} as {} varies", laws_of(series), grid.name), panels);
     fig.subtitle = Some(format!("{n} values of {}, the rest as set; one panel per series{}{}", grid.range_text(), unwrap_note(series), grid.failure_note()));
     fig
+}
+
+/// `motion law G.y`, `motion laws of G.y, E.y`: the title's words.
+fn laws_of(series: &[MotionSeries]) -> String {
+    let names: Vec<&str> = series.iter().map(|s| s.name.as_str()).collect();
+    format!("motion {} {}", if names.len() == 1 { "law" } else { "laws of" }, names.join(", "))
 }
 
 /// The figure of `panels` under the model's title.
