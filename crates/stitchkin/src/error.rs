@@ -84,6 +84,11 @@ pub enum Error {
     /// message names the organ, φ and the fix.
     #[error("{0}")]
     Stitch(String),
+    /// A setting that evaluates but that no real machine can realise: a
+    /// physical check of the stitch fails (`stitch::checks`). The message
+    /// names the checks; each check's own message says what to change.
+    #[error("{0}")]
+    Physical(String),
     #[error("{0}")]
     Io(String),
 }
@@ -103,7 +108,7 @@ impl Error {
             Error::Stitch(_) => {
                 Some("check the [stitch] table: organ motions, moments and the stitch frame (docs/model-format.md §13.11)")
             }
-            Error::NotFinite(_) | Error::Io(_) => None,
+            Error::NotFinite(_) | Error::Physical(_) | Error::Io(_) => None,
         }
     }
 }

@@ -10,7 +10,7 @@ use serde::Serialize;
 use crate::error::Error;
 use crate::mechanism::{Mechanism, Phi, Pose};
 use crate::scalar::Real;
-use crate::thread::{Convention, PathError, Threads};
+use crate::thread::{Convention, PathError, PathTrack, Threads};
 use crate::model::{Model, Params};
 
 
@@ -82,12 +82,20 @@ pub struct PathSummary {
     pub path: String,
     /// Which thread this is, in words.
     pub thread: Option<String>,
-    /// Largest take-up and where.
+    /// Where the take-up is measured: `B` for a needle thread split at the
+    /// eye's top position (seed 004 §2.3), `end` at the path's last node.
+    pub split: &'static str,
+    /// The column of P: `PATH.P_B_mm` or `PATH.P_mm`.
+    pub p_column: String,
+    /// Largest take-up and where (at the split).
     pub max_p_mm: f64,
     pub phi_at_max_deg: f64,
     pub min_p_mm: f64,
     pub phi_at_min_deg: f64,
-    /// Contour length at φ0.
+    /// A path split at B: its largest take-up measured at the moving eye,
+    /// P_eye = P_B − S(φ) + S(φ0), mm.
+    pub max_p_eye_mm: Option<f64>,
+    /// Contour length at φ0 (to the last node).
     pub xi0_mm: f64,
     /// For each one-sided guide, the φ intervals where the thread bears on it.
     pub engaged: Vec<(String, Vec<crate::thread::Interval>)>,
@@ -99,6 +107,14 @@ pub struct PathSummary {
     /// Largest tension after each node over the cycle, N (empty without a
     /// regulator tension).
     pub max_tension_n: Vec<(String, f64)>,
+}
+
+impl PathSummary {
+    /// The name of its take-up columns: `P_B` split at B, else `P`
+    /// ([`take_up_name`]).
+    pub fn take_up_name(&self) -> &'static str {
+        take_up_name(self.split == "B")
+    }
 }
 
 /// A dwell of the take-up is a stretch where |dP/dφ| stays under this…
@@ -416,12 +432,20 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
     Ok(CycleTable { step_deg: opts.step_deg, rpm: opts.rpm, columns, transmission, ranges, paths, take_up, stitch, warnings })
 }
 
-/// ξ of every path at φ0, with φ0 a constant: P = ξ(φ0) − ξ(φ) must carry
-/// no derivative of ξ(φ0) with respect to φ.
-pub fn xi_at_phi0<T: Real>(mech: &Mechanism<T>, threads: &Threads<T>) -> Result<Vec<T>, Error> {
+/// Every path at φ0 (ξ, and u·N for a path split at B), with φ0 a
+/// constant: P = ξ(φ0) − ξ(φ) must carry no derivative of ξ(φ0) with
+/// respect to φ.
+pub fn tracks_at_phi0<T: Real>(mech: &Mechanism<T>, threads: &Threads<T>) -> Result<Vec<PathTrack<T>>, Error> {
     let mut p0 = mech.new_pose(1);
     mech.solve(&[Phi::new(T::cst(threads.phi0_deg.to_radians()))], &mut p0)?;
     threads.evaluate_at(&p0, 0).map_err(|e| path_error(e, threads.phi0_deg))
+}
+
+/// The name of a path's take-up columns: `P_B` for a path split at B (a
+/// needle thread measured past the eye's top position, seed 004 §2.3), `P`
+/// for one split at its last node.
+pub fn take_up_name(split_at_b: bool) -> &'static str {
+    if split_at_b { "P_B" } else { "P" }
 }
 
 /// A thread path that cannot be formed, as an error naming path and φ.
@@ -440,24 +464,32 @@ fn thread_columns<T: Real>(
     omega: Option<f64>,
     columns: &mut Vec<Column>,
 ) -> Result<(Vec<PathSummary>, Option<String>), Error> {
-    let xi0 = xi_at_phi0(mech, threads)?;
+    let at0 = tracks_at_phi0(mech, threads)?;
     let tracks = threads.evaluate(pose, None).map_err(|e| {
         let phi = phis[e.k];
         path_error(e, phi)
     })?;
     let mut summaries = Vec::new();
-    for ((path, track), xi0) in threads.paths.iter().zip(tracks).zip(xi0) {
+    for ((path, track), at0) in threads.paths.iter().zip(tracks).zip(at0) {
         let name = &path.name;
-        let p: Vec<T> = track.xi.iter().map(|x| threads.convention.take_up(*x, xi0)).collect();
+        let split = !track.eye_up.is_empty();
+        let pn = take_up_name(split);
+        let p: Vec<T> = (0..track.xi.len()).map(|k| threads.convention.take_up(track.xi_at_split(k), at0.xi_at_split(0))).collect();
         let mut col = |n: String, v: Vec<f64>| columns.push(Column { name: format!("{name}.{n}"), values: v });
         col("xi_mm".into(), track.xi.iter().map(|x| x.re()).collect());
-        col("P_mm".into(), p.iter().map(|x| x.re()).collect());
+        col(format!("{pn}_mm"), p.iter().map(|x| x.re()).collect());
         if opts.analogs {
-            col("dP_dphi_mm_per_rad".into(), p.iter().map(|x| x.d1()).collect());
-            col("d2P_dphi2_mm_per_rad2".into(), p.iter().map(|x| x.d2()).collect());
+            col(format!("d{pn}_dphi_mm_per_rad"), p.iter().map(|x| x.d1()).collect());
+            col(format!("d2{pn}_dphi2_mm_per_rad2"), p.iter().map(|x| x.d2()).collect());
             if let Some(w) = omega {
-                col("vP_mm_per_s".into(), p.iter().map(|x| x.d1() * w).collect());
+                col(format!("v{pn}_mm_per_s"), p.iter().map(|x| x.d1() * w).collect());
             }
+        }
+        // The same thread measured at the moving eye (P_eye = P_B − S + S(φ0)).
+        let p_eye: Option<Vec<f64>> =
+            split.then(|| track.xi.iter().map(|x| threads.convention.take_up(*x, at0.xi[0]).re()).collect());
+        if let Some(v) = &p_eye {
+            col("P_eye_mm".into(), v.clone());
         }
         // The angle the thread turns through at every node, per φ: a column
         // per guide between the ends, and the capstan tension from them.
@@ -509,11 +541,14 @@ fn thread_columns<T: Real>(
         summaries.push(PathSummary {
             path: name.clone(),
             thread: path.label.clone(),
+            split: if split { "B" } else { "end" },
+            p_column: format!("{name}.{pn}_mm"),
+            max_p_eye_mm: p_eye.as_ref().map(|v| v.iter().cloned().fold(f64::MIN, f64::max)),
             max_p_mm: p_re[imax],
             phi_at_max_deg: wrap_deg(phis[imax]),
             min_p_mm: p_re[imin],
             phi_at_min_deg: wrap_deg(phis[imin]),
-            xi0_mm: xi0.re(),
+            xi0_mm: at0.xi[0].re(),
             engaged: pins
                 .iter()
                 .enumerate()
@@ -524,12 +559,16 @@ fn thread_columns<T: Real>(
             eye_tension_n: eye_tension.map(|t| [t.iter().cloned().fold(f64::MAX, f64::min), t.iter().cloned().fold(f64::MIN, f64::max)]),
         });
     }
-    let words = match threads.convention {
+    let mut words = match threads.convention {
         Convention::Release => format!("P = xi(phi0) - xi(phi), phi0 = {} deg (seed 000 eq. 2)", threads.phi0_deg),
         Convention::Feed { elongation_mm } => {
             format!("P = xi(phi) - xi(phi0) + dP, dP = {elongation_mm} mm, phi0 = {} deg (seed 001 eq. 22-23)", threads.phi0_deg)
         }
     };
+    if threads.split_up.iter().any(Option::is_some) {
+        words += "; needle-eye paths split at B, the eye's top position: P_B = P_eye + S(phi) - S(phi0), S the needle's travel below B \
+                  (seed 004 sec. 2.3)";
+    }
     Ok((summaries, Some(words)))
 }
 

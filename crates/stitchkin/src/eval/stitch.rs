@@ -10,7 +10,8 @@ use crate::model::stitch::StitchSetup;
 use crate::model::{Model, Params};
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::stitch::pprime::required_take_up;
-use crate::stitch::spec::{EventKind, ThreadRole};
+use crate::stitch::checks::{Check, bound_curve, catch_and_stab, thread_bound};
+use crate::stitch::spec::{DEFAULT_REGULATOR_WIDTH_DEG, EventKind, Regulator, RequiredThread, StitchType, ThreadRole};
 
 /// A moment of a thread's cyclogram, at the model's φ.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -18,7 +19,8 @@ pub struct StitchEvent {
     pub name: String,
     pub phi_deg: f64,
     pub kind: EventKind,
-    /// η after minus η before, mm.
+    /// P' after minus P' before, mm (at a lock, with a regulator window:
+    /// −ρ + σ_snap, the stitch's own thread being drawn in the window).
     pub jump_mm: f64,
 }
 
@@ -29,6 +31,10 @@ pub struct StitchThreadSummary {
     pub role: ThreadRole,
     /// The thread path P is taken from.
     pub path: Option<String>,
+    /// Where P and P' are measured: `B` (a needle thread: the fixed point
+    /// at the eye's top position, seed 004 §2.3) or `eye` (the moving eye
+    /// of a looper thread).
+    pub split: &'static str,
     /// Contour of seed 004 §2.6.
     pub contour: u8,
     /// Thread per stitch by the contour formula, and as cut from the P'
@@ -37,11 +43,17 @@ pub struct StitchThreadSummary {
     pub locked_mm: f64,
     /// The lock, model φ.
     pub lock_phi_deg: f64,
+    /// ρ: thread released at the lock (the needle loop leaving the looper), mm.
+    pub released_mm: f64,
+    /// Where its per-stitch thread passes the regulator, model φ [from, to]
+    /// deg (from in [0, 360), `to` may pass 360): left out of its metrics.
+    /// `None` when the regulator passes it at the lock.
+    pub regulator_window_deg: Option<[f64; 2]>,
+    /// The largest P' at the split and where, mm and deg.
     pub max_pprime_mm: f64,
     pub phi_at_max_pprime_deg: f64,
-    /// Needle threads: the largest P' split at B (the eye at TDC), as the
-    /// seeds plot it, mm.
-    pub max_pprime_b_mm: Option<f64>,
+    /// Needle threads: the largest P' measured at the moving eye, mm.
+    pub max_pprime_eye_mm: Option<f64>,
     pub events: Vec<StitchEvent>,
     /// P − P' metrics (with a path).
     pub mismatch: Option<Mismatch>,
@@ -57,10 +69,35 @@ pub struct StitchSummary {
     pub cyclogram_zero_deg: f64,
     /// P' = 0 here, model φ.
     pub phi0_deg: f64,
+    /// Where each thread's per-stitch length passes its tension regulator,
+    /// in words, with how it was chosen (each thread's window:
+    /// [`StitchThreadSummary::regulator_window_deg`]).
+    pub regulator: String,
+    /// ε of the slack and strain intervals, mm.
+    pub tolerance_mm: f64,
     pub threads: Vec<StitchThreadSummary>,
+    /// The physical checks of every needle thread (`stitch::checks`).
+    pub checks: Vec<Check>,
+    /// Where the stitch model carries rules over from another stitch type.
+    pub transfers: Vec<String>,
     /// Derived moments, model φ.
     pub moments: Vec<(String, f64)>,
     pub warnings: Vec<String>,
+}
+
+impl StitchThreadSummary {
+    /// The column of its P′ at its split: `THR.Pprime_B_mm` for a needle
+    /// thread, `THR.Pprime_mm` for a looper thread.
+    pub fn pprime_column(&self) -> String {
+        format!("{}.{}", self.thread, if self.split == "B" { "Pprime_B_mm" } else { "Pprime_mm" })
+    }
+}
+
+impl StitchSummary {
+    /// Whether every physical check passes.
+    pub fn checks_ok(&self) -> bool {
+        self.checks.iter().all(|c| c.ok)
+    }
 }
 
 /// Is model-φ `phi` inside the window [from, to] (which may wrap past 360°)?
@@ -80,6 +117,53 @@ pub struct Prepared {
     /// The model φ grid it was computed on, and φ0 (where P' = 0).
     pub phis: Vec<f64>,
     pub phi0_deg: f64,
+    /// Each thread's regulator window, model φ [from, to] deg; `None` at
+    /// the lock.
+    pub windows_deg: Vec<Option<[f64; 2]>>,
+    /// For each thread, whether each φ of the grid is compared (outside its
+    /// regulator window).
+    pub compared: Vec<Vec<bool>>,
+}
+
+impl Prepared {
+    /// The catch clearance and stab checks of every needle thread: they
+    /// depend on the stitch alone.
+    pub fn needle_checks(&self) -> Vec<Check> {
+        let from_c = |phi_c: f64| wrap_deg(phi_c + self.setup.cyclogram_zero_deg);
+        self.required.threads.iter().filter_map(|th| th.needle_moments.map(|m| catch_and_stab(&th.name, &m, from_c))).flatten().collect()
+    }
+
+    /// The regulator in words.
+    pub fn regulator_words(&self) -> String {
+        let windows: Vec<String> = self
+            .required
+            .threads
+            .iter()
+            .zip(&self.windows_deg)
+            .filter_map(|(th, w)| {
+                let [a, b] = (*w)?;
+                // The window's end as the turn reads it: 360° rather than 0°.
+                let to = if b > 360.0 + 1e-9 { wrap_deg(b) } else { b };
+                Some(format!("{} φ = {a:.1}°…{to:.1}°", th.name))
+            })
+            .collect();
+        if windows.is_empty() {
+            return "each thread's stitch passes the regulator at its lock (nothing left out of the metrics)".into();
+        }
+        let how = match self.setup.spec.regulator {
+            Regulator::BeforeTightening { width_deg } => format!(
+                "the last {width_deg}° before the stitch is pulled tight (needle threads: the needle's TDC; looper threads: their \
+                 draw-in){}",
+                if width_deg == DEFAULT_REGULATOR_WIDTH_DEG { ", the default" } else { "" }
+            ),
+            _ => "declared".into(),
+        };
+        let mut merged: Vec<String> = Vec::new();
+        for w in windows {
+            merged.push(w);
+        }
+        format!("{} ({how}): each thread's stitch is drawn through its regulator there, and that window is left out of the metrics", merged.join(", "))
+    }
 }
 
 /// P' of the model's stitch process with `params` on the cycle grid of
@@ -94,13 +178,68 @@ pub fn prepare(model: &Model, params: &Params, step_deg: f64) -> Result<Option<P
     let mut grid: Vec<f64> = phis.iter().map(|&p| to_c(p)).collect();
     grid.push(to_c(phi0_deg));
     let required = required_take_up(&setup.spec, &grid, to_c(phi0_deg))?;
-    Ok(Some(Prepared { setup, required, phis, phi0_deg }))
+    let windows_deg: Vec<Option<[f64; 2]>> = required.threads.iter().map(|th| window_in_model_phi(th, setup.cyclogram_zero_deg)).collect();
+    let compared = windows_deg.iter().map(|w| phis.iter().map(|&p| !w.is_some_and(|w| in_window(wrap_deg(p), w))).collect()).collect();
+    Ok(Some(Prepared { setup, required, phis, phi0_deg, windows_deg, compared }))
 }
 
-/// Adds the stitch columns (`THR.eta_mm`, `THR.Pprime_mm`, needle threads'
-/// `THR.Pprime_B_mm` and `THR.gamma_deg`, and `THR.D_mm` = P − P' where the
-/// thread has a path) and returns the summary. `phis` are the cycle's model
-/// φ (uniform), the grid `prepared` was computed on.
+/// [`mismatch`] of `p` against `pprime` over a cycle of model φ `phis`,
+/// with every angle it reports wrapped into [0°, 360°).
+pub fn mismatch_on_cycle(phis: &[f64], p: &[f64], pprime: &[f64], compared: &[bool], eps_mm: f64, lag: bool) -> Option<Mismatch> {
+    mismatch(phis, p, pprime, compared, eps_mm, lag).map(|mut m| {
+        m.max_abs_d_at_deg = wrap_deg(m.max_abs_d_at_deg);
+        for ivs in [&mut m.excess_intervals_deg, &mut m.deficit_intervals_deg] {
+            for iv in ivs.iter_mut() {
+                *iv = [wrap_deg(iv[0]), wrap_deg(iv[1])];
+            }
+            ivs.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        }
+        m
+    })
+}
+
+/// P' of a thread at its split on the first `n` positions of its grid:
+/// for a needle thread at B, P'_B = P'_eye + S − S(φ0) (S(φ0) rides at
+/// position `n`, as [`prepare`] lays the grid out); for a looper thread at
+/// its eye.
+pub fn pprime_at_split(th: &RequiredThread, n: usize) -> Vec<f64> {
+    match &th.travel_mm {
+        Some(s) => (0..n).map(|k| th.pprime_mm[k] + s[k] - s[n]).collect(),
+        None => th.pprime_mm[..n].to_vec(),
+    }
+}
+
+/// A thread's regulator window in the model's φ: [from, to] deg with from
+/// in [0, 360).
+pub fn window_in_model_phi(thread: &RequiredThread, cyclogram_zero_deg: f64) -> Option<[f64; 2]> {
+    thread.regulator_window_deg.map(|[a, b]| {
+        let from = wrap_deg(a + cyclogram_zero_deg);
+        [from, from + (b - a)]
+    })
+}
+
+/// Where the stitch model carries rules over from another stitch type.
+fn transfers(ty: StitchType) -> Vec<String> {
+    let source = "the moments and period rules of seed 004 §2.1 and Table 2 describe the 401 two-thread chain stitch";
+    match ty {
+        StitchType::S401 => Vec::new(),
+        StitchType::S406 | StitchType::S407 => vec![format!(
+            "{source}; they are applied to each needle of the {} (its catch and drop derived from the looper)",
+            ty.number()
+        )],
+        StitchType::S503 | StitchType::S504 => vec![format!(
+            "{source}; they are carried over to the {} overedge stitch (the 401 looper-thread events φ3 and φ5 become its \
+             looper threads' stab and draw-in)",
+            ty.number()
+        )],
+    }
+}
+
+/// Adds the stitch columns and returns the summary. Per needle thread THR
+/// (split at B): `THR.eta_B_mm`, `THR.Pprime_B_mm`, `THR.Pprime_eye_mm`,
+/// `THR.gamma_deg`; per looper thread: `THR.eta_mm`, `THR.Pprime_mm`; and
+/// `THR.D_mm` = P − P' where the thread has a path. `phis` are the cycle's
+/// model φ (uniform), the grid `prepared` was computed on.
 pub(crate) fn stitch_columns(prepared: &Prepared, phis: &[f64], lean: bool, columns: &mut Vec<Column>) -> Result<StitchSummary, Error> {
     if prepared.phis.len() != phis.len() || prepared.phis.first() != phis.first() {
         return Err(Error::Stitch("the stitch process was prepared for another φ grid; prepare it with the same step".into()));
@@ -108,63 +247,84 @@ pub(crate) fn stitch_columns(prepared: &Prepared, phis: &[f64], lean: bool, colu
     let (setup, req, phi0_deg) = (&prepared.setup, &prepared.required, prepared.phi0_deg);
     let from_c = |phi_c: f64| wrap_deg(phi_c + setup.cyclogram_zero_deg);
     let n = phis.len();
-    let compared: Vec<bool> = phis.iter().map(|&p| !setup.regulator_window_deg.iter().any(|w| in_window(wrap_deg(p), *w))).collect();
     let mut threads = Vec::new();
-    for (th, path) in req.threads.iter().zip(&setup.paths) {
+    let mut checks = Vec::new();
+    let needle_checks = prepared.needle_checks();
+    for (i, (th, path)) in req.threads.iter().zip(&setup.paths).enumerate() {
         let name = &th.name;
-        let pprime = &th.pprime_mm[..n];
+        let compared = &prepared.compared[i];
         let push = |columns: &mut Vec<Column>, col: &str, values: Vec<f64>| {
             columns.push(Column { name: format!("{name}.{col}"), values });
         };
-        push(columns, "eta_mm", th.eta_mm[..n].to_vec());
-        push(columns, "Pprime_mm", pprime.to_vec());
-        let mut max_pprime_b_mm = None;
-        if let Some(s) = &th.travel_mm {
-            let s0 = s[n];
-            let pb: Vec<f64> = (0..n).map(|k| pprime[k] + s[k] - s0).collect();
-            max_pprime_b_mm = pb.iter().cloned().reduce(f64::max);
-            push(columns, "Pprime_B_mm", pb);
+        // A needle thread is measured at B: P'_B = P'_eye + S − S(φ0).
+        let at_b = th.travel_mm.is_some();
+        let pprime = pprime_at_split(th, n);
+        let split = if at_b { "B" } else { "eye" };
+        match &th.travel_mm {
+            Some(s) => {
+                push(columns, "eta_B_mm", (0..n).map(|k| th.eta_mm[k] + s[k]).collect());
+                push(columns, "Pprime_B_mm", pprime.clone());
+                push(columns, "Pprime_eye_mm", th.pprime_mm[..n].to_vec());
+            }
+            None => {
+                push(columns, "eta_mm", th.eta_mm[..n].to_vec());
+                push(columns, "Pprime_mm", pprime.clone());
+            }
         }
         if let Some(g) = &th.gamma_deg {
             push(columns, "gamma_deg", g[..n].to_vec());
         }
         let mut m = None;
         if let Some(path) = path {
-            let p_name = format!("{path}.P_mm");
-            let p = columns
-                .iter()
-                .find(|c| c.name == p_name)
-                .map(|c| c.values.clone())
-                .ok_or_else(|| Error::Stitch(format!("thread `{name}`: the take-up column `{p_name}` of its path is missing")))?;
+            // The path's take-up at its split: B for a path that ends at
+            // this needle's eye; a path split elsewhere is compared with P'
+            // at the moving eye.
+            let (p, pprime, p_at_b) = match columns.iter().find(|c| c.name == format!("{path}.P_B_mm")) {
+                Some(c) if at_b => (c.values.clone(), pprime.clone(), true),
+                _ => {
+                    let p_name = format!("{path}.P_mm");
+                    let c = columns.iter().find(|c| c.name == p_name).ok_or_else(|| {
+                        Error::Stitch(format!("thread `{name}`: the take-up column `{p_name}` of its path is missing"))
+                    })?;
+                    (c.values.clone(), th.pprime_mm[..n].to_vec(), false)
+                }
+            };
             let d: Vec<f64> = (0..n).map(|k| p[k] - pprime[k]).collect();
             push(columns, "D_mm", d);
-            m = mismatch(phis, &p, pprime, &compared, setup.tolerance_mm, !lean).map(|mut m| {
-                m.max_abs_d_at_deg = wrap_deg(m.max_abs_d_at_deg);
-                for ivs in [&mut m.excess_intervals_deg, &mut m.deficit_intervals_deg] {
-                    for iv in ivs.iter_mut() {
-                        *iv = [wrap_deg(iv[0]), wrap_deg(iv[1])];
-                    }
-                    ivs.sort_by(|a, b| a[0].total_cmp(&b[0]));
-                }
-                m
-            });
+            m = mismatch_on_cycle(phis, &p, &pprime, compared, setup.tolerance_mm, !lean);
+            if let (true, Some(s), Some(lp)) = (p_at_b, &th.travel_mm, &th.loop_mm) {
+                let bound = bound_curve(phis, &s[..n], &lp[..n], phi0_deg);
+                checks.push(thread_bound(name, phis, &p, &bound, &lp[..n]));
+            }
         }
+        checks.extend(needle_checks.iter().filter(|c| &c.thread == name).cloned());
         let kmax = (0..n).max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a))).unwrap_or(0);
+        // At the lock P' gives back the stitch's thread when the regulator
+        // draws it in its own window.
+        let lock_back = if th.regulator_window_deg.is_some() { th.per_stitch_mm } else { 0.0 };
         threads.push(StitchThreadSummary {
             thread: name.clone(),
             role: th.role,
             path: path.clone(),
+            split,
             contour: th.contour,
             per_stitch_mm: th.per_stitch_mm,
             locked_mm: th.cut_mm,
             lock_phi_deg: from_c(th.lock_deg),
+            released_mm: th.released_mm,
+            regulator_window_deg: prepared.windows_deg[i],
             max_pprime_mm: pprime[kmax],
             phi_at_max_pprime_deg: wrap_deg(phis[kmax]),
-            max_pprime_b_mm,
+            max_pprime_eye_mm: at_b.then(|| th.pprime_mm[..n].iter().cloned().fold(f64::MIN, f64::max)),
             events: th
                 .events
                 .iter()
-                .map(|e| StitchEvent { name: e.name.clone(), phi_deg: from_c(e.phi_c_deg), kind: e.kind, jump_mm: e.eta_right_mm - e.eta_left_mm })
+                .map(|e| StitchEvent {
+                    name: e.name.clone(),
+                    phi_deg: from_c(e.phi_c_deg),
+                    kind: e.kind,
+                    jump_mm: e.eta_right_mm - e.eta_left_mm + if e.kind == EventKind::Lock { lock_back } else { 0.0 },
+                })
                 .collect(),
             mismatch: m,
         });
@@ -175,7 +335,11 @@ pub(crate) fn stitch_columns(prepared: &Prepared, phis: &[f64], lean: bool, colu
         t_mm: setup.spec.t_mm,
         cyclogram_zero_deg: setup.cyclogram_zero_deg,
         phi0_deg: wrap_deg(phi0_deg),
+        regulator: prepared.regulator_words(),
+        tolerance_mm: setup.tolerance_mm,
         threads,
+        checks,
+        transfers: transfers(setup.spec.stitch_type),
         moments: req.moments.iter().map(|(s, p)| (s.clone(), from_c(*p))).collect(),
         warnings: req.warnings.clone(),
     })

@@ -135,6 +135,12 @@ pub struct ModelInfo {
     /// Free text: reconstruction notes, assumptions.
     #[serde(default)]
     pub notes: Option<String>,
+    /// One sentence each that every result of this model carries (the
+    /// `match`, `run` and `check` summaries, the report, the web page):
+    /// where it stands on a reconstruction the seeds leave open, or on a
+    /// result carried over from another machine or stitch type.
+    #[serde(default)]
+    pub caveats: Vec<String>,
 }
 
 /// Physical dimension of a parameter. Angles in files are degrees.
@@ -634,7 +640,7 @@ pub enum Wrap {
 
 /// The `[stitch]` table (`docs/stitch-formation.md` §9): the stitch the
 /// machine makes and the organs that make it. Angles of the cyclogram
-/// (`*_deg` inside `[stitch]`, except `regulator_window_deg`) are cyclogram
+/// (`*_deg` inside `[stitch]`, except `regulator.window_deg`) are cyclogram
 /// angles φ_c: 0 = the needle's bottom dead centre, φ_c = φ −
 /// `cyclogram_zero_deg`. Positions are in the stitch frame: x across the
 /// seam toward the material edge, y along the seam in the feed direction,
@@ -669,10 +675,12 @@ pub struct StitchFile {
     /// Tolerance ε of the excess and deficit intervals, mm (default 0.5).
     #[serde(default)]
     pub tolerance_mm: Option<f64>,
-    /// Intervals of the model's φ, `[[from, to], …]` degrees, where thread
-    /// passes the tension regulator: left out of the mismatch metrics.
+    /// Where the thread of one stitch passes the tension regulator (drawn
+    /// from the bobbin): P' draws it there and the mismatch metrics leave
+    /// that window out. Default: the last 60° before each thread's stitch is
+    /// pulled tight (the needle's TDC; a looper thread's draw-in).
     #[serde(default)]
-    pub regulator_window_deg: Vec<[f64; 2]>,
+    pub regulator: Option<StitchRegulator>,
     /// How the material is fed.
     pub feed: StitchFeed,
     /// The needles, in the order the looper catches their loops.
@@ -689,6 +697,27 @@ pub struct StitchFile {
     /// Cyclogram moments (503, 504), φ_c degrees.
     #[serde(default)]
     pub moments: Option<StitchMoments>,
+}
+
+/// Where the stitch's thread passes the tension regulator: give one of the
+/// three (`docs/stitch-formation.md` §3.3).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StitchRegulator {
+    /// One window `[from, to]` for every thread, in the model's φ, degrees
+    /// (not the cyclogram angle), e.g. `[300, 360]`; it may not contain the
+    /// take-up's φ0 inside it.
+    #[serde(default)]
+    pub window_deg: Option<[f64; 2]>,
+    /// Each thread's window is the last this many degrees before its
+    /// stitch is pulled tight: the needle's top dead centre for a needle
+    /// thread, the draw-in (its lock) for a looper thread (default 60).
+    #[serde(default)]
+    pub width_deg: Option<Value>,
+    /// `true`: the whole stitch passes at each thread's lock, nothing is
+    /// left out of the metrics (the accounting of the reference tables).
+    #[serde(default)]
+    pub at_lock: Option<bool>,
 }
 
 /// The material transport T(φ_c).

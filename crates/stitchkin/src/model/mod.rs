@@ -888,7 +888,30 @@ impl Model {
                     file::TakeUpConvention::Release => Convention::Release,
                     file::TakeUpConvention::Feed => Convention::Feed { elongation_mm: t.elongation.map_or(0.0, |e| q[e].re()) },
                 };
-                Some(Threads { paths, spans, cams, convention, phi0_deg: t.phi0_deg.unwrap_or(self.phi_start_deg()), tension_n: t.tension_n })
+                // A path that ends at the eye of a [[stitch.needles]] entry is
+                // split at B (seed 004 §2.3): its take-up is measured past the
+                // eye's top position, along the needle u_n = (0, −sin β, cos β)
+                // of the stitch frame.
+                let split_up = paths
+                    .iter()
+                    .map(|p| {
+                        let st = self.stitch.as_ref()?;
+                        let eye = *p.nodes.last()?;
+                        st.needles.iter().any(|n| matches!(n.eye, stitch::OrganDef::Point(s) if s == eye)).then(|| {
+                            let beta = st.tilt.map_or(T::zero(), |i| q[i] * deg);
+                            frames[st.frame].dir_to_world(V3::new(T::zero(), -beta.sin(), beta.cos())).normalize()
+                        })
+                    })
+                    .collect();
+                Some(Threads {
+                    paths,
+                    spans,
+                    cams,
+                    convention,
+                    phi0_deg: t.phi0_deg.unwrap_or(self.phi_start_deg()),
+                    tension_n: t.tension_n,
+                    split_up,
+                })
             }
         };
         Ok(Mechanism { fixed, steps, measures, n_points: self.point_names.len(), labels: self.labels.clone(), threads, frames })

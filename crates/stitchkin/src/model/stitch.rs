@@ -12,7 +12,8 @@ use crate::error::{Error, ModelError};
 use crate::geometry::V3;
 use crate::mechanism::Phi;
 use crate::stitch::spec::{
-    FeedLaw, LooperSpec, Moments, Motion, NeedleSpec, SpreaderSpec, StitchSpec, StitchType, UpperLooperSpec,
+    DEFAULT_REGULATOR_WIDTH_DEG, FeedLaw, LooperSpec, Moments, Motion, NeedleSpec, Regulator, SpreaderSpec, StitchSpec, StitchType,
+    UpperLooperSpec,
 };
 
 type R<T> = Result<T, Box<ModelError>>;
@@ -43,6 +44,16 @@ pub(crate) struct NeedleDef {
     pub drop_deg: Option<f64>,
 }
 
+/// Where the stitch's thread passes the regulator: a model-φ window, the
+/// last degrees (a quantity) before each thread is pulled tight, or at the
+/// lock.
+#[derive(Debug, Clone)]
+pub(crate) enum RegulatorDef {
+    Window([f64; 2]),
+    BeforeTightening(Option<Q>),
+    AtLock,
+}
+
 /// The material feed: harmonic (start, duration) or a feed-dog tooth point.
 #[derive(Debug, Clone)]
 pub(crate) enum FeedDef {
@@ -62,7 +73,7 @@ pub(crate) struct StitchDef {
     pub frame: usize,
     pub cyclogram_zero_deg: f64,
     pub tolerance_mm: f64,
-    pub regulator_window_deg: Vec<[f64; 2]>,
+    pub regulator: RegulatorDef,
     pub feed: FeedDef,
     pub needles: Vec<NeedleDef>,
     pub looper: (OrganDef, [Q; 4], Option<String>),
@@ -81,8 +92,6 @@ pub struct StitchSetup {
     pub cyclogram_zero_deg: f64,
     /// ε of the excess/deficit intervals, mm.
     pub tolerance_mm: f64,
-    /// Model-φ intervals left out of the metrics.
-    pub regulator_window_deg: Vec<[f64; 2]>,
     /// For each thread of the spec (needles in order, then the looper
     /// threads: `lower`, `upper` for 504, `looper` for 503), the thread path
     /// it is compared with.
@@ -171,11 +180,24 @@ impl Loader<'_> {
         if !(tolerance_mm.is_finite() && tolerance_mm > 0.0) {
             return Err(self.err(&path.key("tolerance_mm"), "the tolerance must be a positive number of mm", None));
         }
-        for (k, w) in s.regulator_window_deg.iter().enumerate() {
-            if !(w[0].is_finite() && w[1].is_finite()) {
-                return Err(self.err(&path.key("regulator_window_deg").index(k), "window ends must be finite degrees", None));
-            }
-        }
+        let rp = path.key("regulator");
+        let regulator = match &s.regulator {
+            None => RegulatorDef::BeforeTightening(None),
+            Some(r) => match (r.window_deg, &r.width_deg, r.at_lock) {
+                (Some(w), None, None | Some(false)) => {
+                    let width = w[1] - w[0];
+                    if !(w[0].is_finite() && w[1].is_finite() && width > 0.0 && width < 360.0) {
+                        return Err(self.err(&rp.key("window_deg"), format!("the window [{}, {}] must run forward by less than a turn", w[0], w[1]), Some("give [from, to] in the model's φ, degrees, with from < to < from + 360, e.g. [300, 360]".into())));
+                    }
+                    RegulatorDef::Window(w)
+                }
+                (None, Some(v), None | Some(false)) => RegulatorDef::BeforeTightening(Some(self.angle(v, rp.key("width_deg"))?)),
+                (None, None, Some(true)) => RegulatorDef::AtLock,
+                _ => {
+                    return Err(self.err(&rp, "give exactly one of `window_deg`, `width_deg` or `at_lock = true`", Some("e.g. regulator = { width_deg = 60 } (the default), or regulator = { window_deg = [300, 360] }".into())));
+                }
+            },
+        };
         let fp = path.key("feed");
         let feed = match (s.feed.law.as_str(), &s.feed.start_deg, &s.feed.duration_deg, &s.feed.point) {
             ("harmonic", Some(a), Some(d), None) => FeedDef::Harmonic(self.angle(a, fp.key("start_deg"))?, self.angle(d, fp.key("duration_deg"))?),
@@ -356,7 +378,7 @@ impl Loader<'_> {
             frame,
             cyclogram_zero_deg,
             tolerance_mm,
-            regulator_window_deg: s.regulator_window_deg.clone(),
+            regulator,
             feed,
             needles,
             looper,
@@ -480,6 +502,11 @@ impl Model {
             spreader,
             // Chain stitches have no looper-thread moments.
             moments: d.moments.unwrap_or(Moments { stab_deg: 0.0, upper_release_deg: 0.0, draw_in_deg: 0.0 }),
+            regulator: match d.regulator {
+                RegulatorDef::Window([from, to]) => Regulator::Window { from_deg: from - d.cyclogram_zero_deg, to_deg: to - d.cyclogram_zero_deg },
+                RegulatorDef::BeforeTightening(w) => Regulator::BeforeTightening { width_deg: w.map_or(DEFAULT_REGULATOR_WIDTH_DEG, |i| q[i]) },
+                RegulatorDef::AtLock => Regulator::AtLock,
+            },
         };
         let mut paths: Vec<Option<String>> = d.needles.iter().map(|n| n.path.clone()).collect();
         if matches!(d.stitch_type, StitchType::S503 | StitchType::S504) {
@@ -492,7 +519,6 @@ impl Model {
             spec,
             cyclogram_zero_deg: d.cyclogram_zero_deg,
             tolerance_mm: d.tolerance_mm,
-            regulator_window_deg: d.regulator_window_deg.clone(),
             paths,
         }))
     }

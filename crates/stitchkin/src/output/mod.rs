@@ -5,6 +5,7 @@ pub mod svg;
 pub mod plots;
 pub mod drawing;
 pub mod report;
+pub mod text;
 
 use std::io::Write;
 use std::path::Path;

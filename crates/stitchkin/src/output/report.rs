@@ -16,7 +16,9 @@ use super::svg::escape;
 use crate::error::Error;
 use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle};
 use crate::model::{Model, ParamDef, Params};
+use crate::study::measured::{MeasuredMatch, measured_match};
 use crate::study::nomogram::NomogramOptions;
+use crate::thread::measured::{CurveKind, MeasuredCurve};
 use crate::study::tune::{self, TuneOptions, TuneResult};
 
 /// What the report holds beyond its fixed sections.
@@ -35,11 +37,14 @@ pub struct ReportOptions {
     pub tune: Option<TuneOptions>,
     /// Compute and draw a nomogram.
     pub nomogram: Option<NomogramOptions>,
+    /// Measured curves to set beside the model, each with the thread it
+    /// belongs to when the file does not say.
+    pub measured: Vec<(Option<String>, MeasuredCurve)>,
 }
 
 impl Default for ReportOptions {
     fn default() -> Self {
-        ReportOptions { step_deg: 1.0, phi_deg: None, view: None, animate: true, tune: None, nomogram: None }
+        ReportOptions { step_deg: 1.0, phi_deg: None, view: None, animate: true, tune: None, nomogram: None, measured: Vec::new() }
     }
 }
 
@@ -100,14 +105,25 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
     let phi = opts.phi_deg.unwrap_or_else(|| model.phi_start_deg());
     let view = opts.view.clone().unwrap_or_else(|| View::default_for(model));
 
+    let measured = opts.measured.iter().map(|(t, c)| measured_match(&table_, c, t.as_deref())).collect::<Result<Vec<_>, _>>()?;
+
     let mut sections: Vec<(&str, &str, String)> = Vec::new();
     sections.push(("parameters", "Parameters", parameters(model, params)?));
     sections.push(("mechanism", "Mechanism", mechanism(model, params, phi, &view, opts.animate)?));
     if !table_.paths.is_empty() {
-        sections.push(("takeup", "Take-up P(φ) and required P′(φ)", take_up(model, &table_)?));
+        sections.push(("takeup", "Take-up P(φ) and required P′(φ)", take_up(model, &table_, &measured)?));
     }
     if table_.stitch.is_some() {
         sections.push(("mismatch", "Mismatch P − P′", mismatch(&table_)));
+        sections.push(("checks", "Physical checks", checks(&table_)));
+    }
+    if !measured.is_empty() {
+        sections.push(("measured", "Measured curves", measured_section(&measured)));
+    }
+    let caveats: Vec<&String> = model.file.model.caveats.iter().chain(table_.stitch.iter().flat_map(|s| s.transfers.iter())).collect();
+    if !caveats.is_empty() {
+        let items: String = caveats.iter().map(|c| format!("<li>{}</li>", escape(c))).collect();
+        sections.push(("caveats", "What this model reconstructs or carries over", format!("<ul>{items}</ul>")));
     }
     if !table_.transmission.is_empty() {
         sections.push(("transmission", "Transmission angles", transmission(model, &table_)?));
@@ -117,8 +133,15 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
         sections.push(("tuning", "Tuning", tuning(model, params, &r, opts.step_deg)?));
     }
     if let Some(n) = &opts.nomogram {
-        let chart = plots::nomogram::nomogram_chart(model, params, n)?;
-        sections.push(("nomogram", "Nomogram", figure("nomogram-chart", &chart.render(), "The tuned setting against the material thickness, one line per stitch length.")));
+        let computed = crate::study::nomogram::nomogram(model, params, n, || {})?;
+        let chart = plots::nomogram::nomogram_figure(&computed);
+        let mut body = figure("nomogram-chart", &chart.render(), "The tuned setting against the material thickness, one line per stitch length.");
+        let notes = computed.notes();
+        if !notes.is_empty() {
+            let items: String = notes.iter().map(|n| format!("<li class=\"warn\">{}</li>", escape(n))).collect();
+            let _ = write!(body, "<ul>{items}</ul>");
+        }
+        sections.push(("nomogram", "Nomogram", body));
     }
     let mut warnings = table_.warnings.clone();
     if let Some(s) = &table_.stitch {
@@ -204,8 +227,8 @@ fn mechanism(model: &Model, params: &Params, phi: f64, view: &View, animate: boo
     Ok(s)
 }
 
-fn take_up(model: &Model, t: &CycleTable) -> Result<String, Error> {
-    let chart = plots::take_up(model, t)?.render();
+fn take_up(model: &Model, t: &CycleTable, measured: &[MeasuredMatch]) -> Result<String, Error> {
+    let chart = plots::take_up_with_measured(model, t, measured)?.render();
     let rows: Vec<Vec<String>> = t
         .paths
         .iter()
@@ -213,6 +236,7 @@ fn take_up(model: &Model, t: &CycleTable) -> Result<String, Error> {
             vec![
                 escape(&p.path),
                 format!("<span class=\"text\">{}</span>", escape(p.thread.as_deref().unwrap_or(""))),
+                if p.split == "B" { "B".into() } else { "last node".into() },
                 num(Some(p.max_p_mm), 2),
                 num(Some(p.phi_at_max_deg), 1),
                 num(Some(p.min_p_mm), 2),
@@ -220,8 +244,12 @@ fn take_up(model: &Model, t: &CycleTable) -> Result<String, Error> {
             ]
         })
         .collect();
-    let mut s = figure("takeup-chart", &chart, "P(φ) of every thread path (solid) and the required P′(φ) of every stitch thread (dashed); shaded: a one-sided guide engaged.");
-    s += &table("paths", &["thread path", "thread", "max P, mm", "at φ, deg", "min P, mm", "length at φ0, mm"], &rows);
+    let mut s = figure(
+        "takeup-chart",
+        &chart,
+        "P(φ) of every thread path (solid) and the required P′(φ) of every stitch thread (dashed), needle threads measured at B, the eye's top position; shaded: a one-sided guide engaged.",
+    );
+    s += &table("paths", &["thread path", "thread", "measured at", "max P, mm", "at φ, deg", "min P, mm", "length at φ0, mm"], &rows);
     if let Some(words) = &t.take_up {
         let _ = write!(s, "<p class=\"meta\">{}</p>", escape(words));
     }
@@ -249,7 +277,7 @@ fn mismatch(t: &CycleTable) -> String {
                 escape(th.path.as_deref().unwrap_or("–")),
                 num(Some(th.per_stitch_mm), 2),
                 num(Some(th.max_pprime_mm), 2),
-                num(th.max_pprime_b_mm, 2),
+                num(th.max_pprime_eye_mm, 2),
                 num(m.map(|m| m.rms_d_mm), 2),
                 num(m.map(|m| m.max_abs_d_mm), 2),
                 num(m.map(|m| m.max_abs_d_at_deg), 1),
@@ -261,18 +289,86 @@ fn mismatch(t: &CycleTable) -> String {
         })
         .collect();
     let mut s = format!(
-        "<p>Stitch {}, material thickness m = {} mm, stitch length t = {} mm. D = P − P′: D &gt; 0 is thread given but not needed (slack), \
-         D &lt; 0 thread needed but not given (strain). Score s = 100·max(0, 1 − RMS(D)/range(P′)).</p>",
+        "<p>Stitch {}, material thickness m = {} mm, stitch length t = {} mm; needle threads are measured at B, the eye's top \
+         position (seed 004 §2.3). D = P − P′: D &gt; 0 is thread given but not needed (slack), D &lt; 0 thread needed but not \
+         given (strain). Score s = 100·max(0, 1 − RMS(D)/range(P′)).</p><p>Regulator: {}.</p>",
         st.stitch_type,
         num(Some(st.m_mm), 2),
-        num(Some(st.t_mm), 2)
+        num(Some(st.t_mm), 2),
+        escape(&st.regulator)
     );
     s += &table(
         "mismatch",
-        &["thread", "path", "per stitch, mm", "max P′, mm", "max P′ at B, mm", "RMS(D), mm", "max |D|, mm", "at φ, deg", "slack, mm·deg", "strain, mm·deg", "Δφ of maxima, deg", "score"],
+        &["thread", "path", "per stitch, mm", "max P′, mm", "max P′ at the eye, mm", "RMS(D), mm", "max |D|, mm", "at φ, deg", "slack, mm·deg", "strain, mm·deg", "Δφ of maxima, deg", "score"],
         &rows,
     );
     s
+}
+
+/// The physical checks of the needle threads, failures first in red.
+fn checks(t: &CycleTable) -> String {
+    let Some(st) = &t.stitch else { return String::new() };
+    if st.checks.is_empty() {
+        return "<p>This stitch has no needle thread to check.</p>".into();
+    }
+    let rows: Vec<Vec<String>> = st
+        .checks
+        .iter()
+        .map(|c| {
+            vec![
+                escape(&c.thread),
+                escape(c.name),
+                if c.ok { "<span class=\"good\">ok</span>".into() } else { "<span class=\"bad\">FAIL</span>".into() },
+                num(Some(c.value), 2),
+                match c.limit {
+                    [Some(a), Some(b)] => format!("{}…{}", num(Some(a), 2), num(Some(b), 2)),
+                    [None, Some(b)] => format!("≤ {}", num(Some(b), 2)),
+                    [Some(a), None] => format!("≥ {}", num(Some(a), 2)),
+                    [None, None] => "–".into(),
+                },
+                num(Some(c.at_deg), 1),
+                format!("<span class=\"text\">{}</span>", escape(&c.message)),
+            ]
+        })
+        .collect();
+    let mut s = String::from(
+        "<p>What no real machine can do: more thread through B than the needle can take (twice its deepest travel below B plus the \
+         loop on the looper), a looper point that does not pass 1–3 mm above the eye at the catch, a loop that drops before the \
+         needle has entered the looper thread's triangle.</p>",
+    );
+    s += &table("checks", &["thread", "check", "result", "value, mm", "allowed, mm", "at φ, deg", "what it means"], &rows);
+    s
+}
+
+/// Each measured curve against the thread's other curve and the model's.
+fn measured_section(measured: &[MeasuredMatch]) -> String {
+    let rows: Vec<Vec<String>> = measured
+        .iter()
+        .map(|m| {
+            let (what, other) = match m.kind {
+                CurveKind::TakeUp => ("measured P", "the model's P′"),
+                CurveKind::Required => ("measured P′", "the model's P"),
+            };
+            let a = m.against_other.as_ref();
+            let b = m.against_model.as_ref();
+            vec![
+                escape(&m.source),
+                escape(&m.thread),
+                escape(what),
+                escape(m.split),
+                escape(other),
+                num(a.map(|a| a.rms_d_mm), 2),
+                score_cell(a.and_then(|a| a.score)),
+                num(b.map(|b| b.rms_d_mm), 2),
+                num(b.map(|b| b.max_abs_d_mm), 2),
+            ]
+        })
+        .collect();
+    table(
+        "measured",
+        &["file", "thread", "curve", "at", "against", "RMS(D), mm", "score", "RMS vs the model, mm", "max |difference| vs the model, mm"],
+        &rows,
+    )
 }
 
 fn transmission(model: &Model, t: &CycleTable) -> Result<String, Error> {
@@ -306,7 +402,10 @@ fn tuning(model: &Model, params: &Params, r: &TuneResult, step: f64) -> Result<S
             vec![escape(name), (*unit).into(), num(Some(*b), 3), format!("<b>{}</b>", num(Some(*a), 3)), num(Some(a - b), 3), flat]
         })
         .collect();
-    let mut s = String::from("<p>The adjustable settings that make P match P′ best for every thread together, transmission angles kept inside their band.</p>");
+    let mut s = String::from(
+        "<p>The adjustable settings that make P match P′ best for every thread together, with the transmission angles inside their \
+         band and every physical check passing (constraints of the search).</p>",
+    );
     s += &table("tuning", &["setting", "unit", "before", "recommended", "change", "within one score point"], &rows);
     let threads: Vec<Vec<String>> = r
         .before_figures
@@ -316,7 +415,20 @@ fn tuning(model: &Model, params: &Params, r: &TuneResult, step: f64) -> Result<S
         .map(|(b, a)| vec![escape(&b.0), score_cell(b.1), score_cell(a.1), num(Some(b.2), 2), num(Some(a.2), 2)])
         .collect();
     s += &table("tuning-scores", &["thread", "score before", "score after", "RMS(D) before, mm", "RMS(D) after, mm"], &threads);
-    let _ = write!(s, "<p class=\"meta\">mean score {} → {}; {} cycles evaluated.</p>", num(Some(r.before_figures.score_mean), 1), num(Some(r.after_figures.score_mean), 1), r.evaluations);
+    let failed = |f: &tune::MatchFigures| if f.failed_checks.is_empty() { "all pass".to_string() } else { format!("{} fail", f.failed_checks.join(", ")) };
+    let _ = write!(
+        s,
+        "<p class=\"meta\">mean score {} → {}; physical checks before: {}, after: {}; {} cycles evaluated.</p>",
+        num(Some(r.before_figures.score_mean), 1),
+        num(Some(r.after_figures.score_mean), 1),
+        escape(&failed(&r.before_figures)),
+        escape(&failed(&r.after_figures)),
+        r.evaluations
+    );
+    if !r.notes.is_empty() {
+        let items: String = r.notes.iter().map(|n| format!("<li class=\"warn\">{}</li>", escape(n))).collect();
+        let _ = write!(s, "<ul>{items}</ul>");
+    }
     let mut tuned = params.clone();
     for ((name, _), v) in r.names.iter().zip(&r.after) {
         model.set(&mut tuned, name, *v)?;

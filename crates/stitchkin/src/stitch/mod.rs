@@ -8,8 +8,11 @@
 //! - [`pprime`]: [`pprime::required_take_up`], P' of every thread;
 //! - [`consumption`]: thread per finished stitch (§6);
 //! - [`mismatch`]: P against P' (§8);
+//! - [`checks`]: what no real machine can do (the thread bound at B, the
+//!   catch clearance, the stab before the drop);
 //! - [`reference`]: the stand-in cases of the independent numpy reference.
 
+pub mod checks;
 pub mod consumption;
 pub mod feed;
 pub mod material;

@@ -391,6 +391,8 @@ pub struct NeedleThread {
     /// φ_out, φ_in: the eye leaves / reaches the material top, deg.
     pub phi_out: f64,
     pub phi_in: f64,
+    /// The needle point below the eye, along the needle, mm.
+    pub point_below_eye_mm: f64,
     /// Validity warnings found while building.
     pub warnings: Vec<String>,
     looper_eye: Motion,
@@ -559,9 +561,33 @@ impl NeedleThread {
             phi_drop_derived,
             phi_out,
             phi_in,
+            point_below_eye_mm: d_p,
             warnings,
             looper_eye: looper.eye.clone(),
         })
+    }
+
+    /// The needle loop on the looper body at φ_c (§4.4): Λ with both roots
+    /// at the bottom of hole c from the catch to the drop, 0 otherwise, mm.
+    pub fn loop_on_looper(&self, phi_c: f64) -> f64 {
+        if phi_c < self.phi_catch || phi_c >= self.phi_drop {
+            return 0.0;
+        }
+        let (_, h_b) = self.hole_c(phi_c);
+        self.lam(phi_c, &h_b, &h_b)
+    }
+
+    /// The catch and drop geometry the physical checks judge
+    /// ([`super::checks`]).
+    pub fn moments_for_checks(&self) -> super::checks::NeedleMoments {
+        let eye_at_catch = self.line.eye_at_travel(self.travel(self.phi_catch));
+        super::checks::NeedleMoments {
+            catch_deg: self.phi_catch,
+            looper_above_eye_mm: self.looper_eye.at(self.phi_catch).z - eye_at_catch.z,
+            drop_deg: self.phi_drop,
+            point_z_at_drop_mm: self.line.point_z(self.phi_drop, self.point_below_eye_mm),
+            looper_top_z_mm: -self.section.k,
+        }
     }
 
     /// S(φ_c), mm.

@@ -14,7 +14,7 @@ use super::feed::Feed;
 use super::needle_thread::{NeedleThread, Side};
 use super::overedge::Overedge;
 use super::overedge503::Overedge503;
-use super::spec::{Event, EventKind, Motion, RequiredTakeUp, RequiredThread, StitchSpec, StitchType, ThreadRole};
+use super::spec::{Event, EventKind, Motion, Regulator, RequiredTakeUp, RequiredThread, StitchSpec, StitchType, ThreadRole};
 
 /// One thread's contour, for the common bookkeeping.
 enum Contour<'a> {
@@ -204,7 +204,13 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
         .ok_or_else(|| Error::Stitch(format!("thread {name}: no per-stitch formula for contour {contour}")))?;
         let eta_mm = phis.iter().map(|&p| c.eta(p, Side::Right)).collect::<Result<Vec<_>, _>>()?;
         let eta0 = c.eta(phi0, Side::Right)?;
-        let pprime_mm: Vec<f64> = eta_mm.iter().map(|e| e - eta0).collect();
+        let lock = c.lock();
+        // A needle thread's stitch is pulled tight as the needle reaches
+        // TDC, a looper thread's at its draw-in (its lock).
+        let tight = if *role == ThreadRole::Needle { needles[0].line.phi_tdc } else { lock };
+        let window = regulator_window(spec.regulator, tight, phi0).map_err(|e| Error::Stitch(format!("thread {name}: {e}")))?;
+        let pprime_mm: Vec<f64> =
+            eta_mm.iter().zip(&phis).map(|(e, &p)| e - eta0 + regulator_shift(window, per_stitch_mm, lock, phi0, p)).collect();
         let events = c
             .events()
             .into_iter()
@@ -218,16 +224,17 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
                 })
             })
             .collect::<Result<Vec<_>, Error>>()?;
-        let lock = c.lock();
         let (cut_mm, released_mm) = (c.cut(), c.released());
         // σ_snap: J_L = −L_s − ρ + σ_snap (§3.3).
         let snap_mm = c.eta(lock, Side::Right)? - c.eta(lock, Side::Left)? + cut_mm + released_mm;
-        let (travel_mm, gamma_deg) = match c.needle() {
+        let (travel_mm, gamma_deg, loop_mm, needle_moments) = match c.needle() {
             Some(n) => (
                 Some(phis.iter().map(|&p| n.travel(p)).collect()),
                 Some(phis.iter().map(|&p| n.carry.gamma(p).to_degrees()).collect()),
+                Some(phis.iter().map(|&p| n.loop_on_looper(p)).collect()),
+                Some(n.moments_for_checks()),
             ),
-            None => (None, None),
+            None => (None, None, None, None),
         };
         let thread = RequiredThread {
             name: name.clone(),
@@ -243,6 +250,9 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
             pprime_mm,
             travel_mm,
             gamma_deg,
+            loop_mm,
+            needle_moments,
+            regulator_window_deg: window,
             events,
         };
         check_finite(&thread, &phis)?;
@@ -263,6 +273,57 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
         warnings.extend(o.warnings.iter().cloned());
     }
     Ok(RequiredTakeUp { threads, moments, warnings })
+}
+
+/// A thread's regulator window, φ_c [from, to] deg with from in [0, 360)
+/// and to − from in (0, 360), for the moment its stitch is pulled tight
+/// `tight` and φ0 (both φ_c); `None` at the lock. A window with φ0 strictly
+/// inside is an error: P' is 0 at φ0 and the draw must not straddle it.
+fn regulator_window(reg: Regulator, tight: f64, phi0: f64) -> Result<Option<[f64; 2]>, String> {
+    let (from, width) = match reg {
+        Regulator::AtLock => return Ok(None),
+        Regulator::BeforeTightening { width_deg } => (tight - width_deg, width_deg),
+        Regulator::Window { from_deg, to_deg } => (from_deg, to_deg - from_deg),
+    };
+    if !(from.is_finite() && width.is_finite() && width > 0.0 && width < 360.0) {
+        return Err(format!(
+            "the regulator window must span between 0° and 360° (it spans {width}°); e.g. the last 60° before the stitch is pulled tight"
+        ));
+    }
+    let from = wrap(from);
+    if since_phi0(from, phi0) + width > 360.0 + 1e-9 {
+        return Err(format!(
+            "the regulator window φ_c {from:.2}°…{:.2}° contains φ0 = {phi0:.2}°, where P' = 0; end the window at φ0 or before \
+             it, or move φ0 (`[thread] phi0_deg`) out of it",
+            wrap(from + width)
+        ));
+    }
+    Ok(Some([from, from + width]))
+}
+
+/// L_s·(H_L(φ) − w(φ)) (§3.3): the stitch's thread `l_s` given back at the
+/// lock φ_L (H_L = 1 from the lock on) and drawn through the regulator over
+/// `window` (w rising 0 → 1 across it), both counted from φ0 in the cycle's
+/// order, so P' stays 0 at φ0 and periodic. 0 without a window (the
+/// regulator passes L_s at the lock, where η already drops by it).
+fn regulator_shift(window: Option<[f64; 2]>, l_s: f64, lock: f64, phi0: f64, phi: f64) -> f64 {
+    let Some([from, to]) = window else { return 0.0 };
+    let t = since_phi0(phi, phi0);
+    // A lock at φ0 itself comes at the end of the cycle.
+    let t_lock = match since_phi0(lock, phi0) {
+        0.0 => 360.0,
+        x => x,
+    };
+    let given_back = if t >= t_lock { 1.0 } else { 0.0 };
+    let drawn = ((t - since_phi0(from, phi0)) / (to - from)).clamp(0.0, 1.0);
+    l_s * (given_back - drawn)
+}
+
+/// φ − φ0 in [0, 360), deg: where φ comes in a cycle that starts at φ0 (an
+/// angle within 1e-9° short of a whole turn counts as φ0 itself).
+fn since_phi0(phi: f64, phi0: f64) -> f64 {
+    let t = (phi - phi0).rem_euclid(360.0);
+    if t > 360.0 - 1e-9 { 0.0 } else { t }
 }
 
 /// A motion that can be evaluated over the whole cycle without a NaN or a
@@ -324,7 +385,7 @@ fn check_motion(organ: &str, motion: &Motion) -> Result<(), Error> {
 
 /// No NaN or infinity leaves: name the thread and φ instead.
 fn check_finite(th: &RequiredThread, phis: &[f64]) -> Result<(), Error> {
-    let series = [Some(&th.eta_mm), Some(&th.pprime_mm), th.travel_mm.as_ref(), th.gamma_deg.as_ref()];
+    let series = [Some(&th.eta_mm), Some(&th.pprime_mm), th.travel_mm.as_ref(), th.gamma_deg.as_ref(), th.loop_mm.as_ref()];
     for s in series.into_iter().flatten() {
         if let Some(k) = s.iter().position(|v| !v.is_finite()) {
             return Err(Error::Stitch(format!("thread {}: η is not finite at φ_c = {:.2}°", th.name, phis[k])));

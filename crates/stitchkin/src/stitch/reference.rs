@@ -57,6 +57,7 @@ pub fn altin504(m: f64, t: f64) -> StitchSpec {
         }),
         spreader: None,
         moments: Moments { stab_deg: 270.0, upper_release_deg: 290.0, draw_in_deg: 330.0 },
+        regulator: Regulator::AtLock,
     }
 }
 
@@ -128,6 +129,7 @@ pub fn mf7923d_407(m: f64, t: f64) -> StitchSpec {
         upper_looper: None,
         spreader: None,
         moments: Moments { stab_deg: 270.0, upper_release_deg: 290.0, draw_in_deg: 330.0 },
+        regulator: Regulator::AtLock,
     }
 }
 

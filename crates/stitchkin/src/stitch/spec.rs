@@ -252,6 +252,38 @@ pub struct Moments {
     pub draw_in_deg: f64,
 }
 
+/// Where the thread of one stitch, L_s, passes a thread's tension
+/// regulator (`docs/stitch-formation.md` §3.3): P' gives back L_s at the
+/// thread's lock and draws it over a window, which the mismatch metrics
+/// leave out.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Regulator {
+    /// Every thread over the window [from, to] of φ_c, deg (uniformly); it
+    /// must not contain φ0, where P' = 0, inside it.
+    Window { from_deg: f64, to_deg: f64 },
+    /// Each thread over the last `width_deg` before its stitch is pulled
+    /// tight: a needle thread before the needle's top dead centre (the
+    /// take-up draws the next stitch's thread from the bobbin as the needle
+    /// reaches TDC, seed 004 §2.1 period 2-3), a looper thread before its
+    /// lock, the draw-in (period 7-8, the final tightening). The default,
+    /// 60°.
+    BeforeTightening { width_deg: f64 },
+    /// All at once at the thread's lock, with nothing left out of the
+    /// metrics: the accounting of the independent reference tables.
+    AtLock,
+}
+
+impl Default for Regulator {
+    fn default() -> Self {
+        Regulator::BeforeTightening { width_deg: DEFAULT_REGULATOR_WIDTH_DEG }
+    }
+}
+
+/// The default regulator window: the last 60° before a thread's stitch is
+/// pulled tight, a choice (no seed gives its width; seed 004 §2.1 places
+/// the needle thread's draw "at TDC").
+pub const DEFAULT_REGULATOR_WIDTH_DEG: f64 = 60.0;
+
 /// Everything P'(φ) needs, resolved to numbers.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StitchSpec {
@@ -274,6 +306,8 @@ pub struct StitchSpec {
     /// 503 only.
     pub spreader: Option<SpreaderSpec>,
     pub moments: Moments,
+    /// Where each thread's per-stitch length passes the tension regulator.
+    pub regulator: Regulator,
 }
 
 /// Where η changes at a moment (§5.6).
@@ -331,13 +365,24 @@ pub struct RequiredThread {
     pub snap_mm: f64,
     /// η(φ_c) at each requested φ_c (right limits at events), mm.
     pub eta_mm: Vec<f64>,
-    /// P'(φ_c) = η(φ_c) − η(φ0), mm.
+    /// P'(φ_c) = η(φ_c) − η(φ0) + L_s·(H_L(φ_c) − w(φ_c)), mm: the change
+    /// of the consumption contour, with the stitch's thread L_s given back at
+    /// the lock (H_L: 0 before it, 1 after, counted from φ0) and drawn
+    /// through the regulator over its window (w: 0 → 1 across it); §3.3.
     pub pprime_mm: Vec<f64>,
     /// Needle threads: S(φ_c), the needle's travel below TDC, mm (so that
     /// P'_B = P' + S − S(φ0), seed 004's split at B).
     pub travel_mm: Option<Vec<f64>>,
     /// Needle threads: γ(φ_c), the loop angle on the looper, deg.
     pub gamma_deg: Option<Vec<f64>>,
+    /// Needle threads: the loop on the looper body at φ_c (0 outside the
+    /// carry), mm.
+    pub loop_mm: Option<Vec<f64>>,
+    /// Needle threads: the catch and drop geometry of the physical checks.
+    pub needle_moments: Option<super::checks::NeedleMoments>,
+    /// Where its per-stitch thread passes the regulator, φ_c [from, to] deg
+    /// (`to` may exceed 360); `None` with [`Regulator::AtLock`].
+    pub regulator_window_deg: Option<[f64; 2]>,
     /// Piece id at each φ_c (`N1`, `N2a`, …, `L3`, `U2`, `S3a`).
     pub piece: Vec<&'static str>,
     /// Every moment of this thread in φ_c order.

@@ -448,20 +448,14 @@ fn turn_deg(x: f64) -> f64 {
     if w >= 360.0 { 0.0 } else { w }
 }
 
-/// Is model-φ `phi` inside the window [from, to] (which may wrap past 360°)?
-fn in_window(phi: f64, w: [f64; 2]) -> bool {
-    let (a, len) = (w[0].rem_euclid(360.0), (w[1] - w[0]).rem_euclid(360.0));
-    (phi.rem_euclid(360.0) - a).rem_euclid(360.0) <= len
-}
-
 /// P of path `pi` at every φ of `pose` with the mechanism's current cams.
 fn take_up(mech: &Mechanism<f64>, threads: &Threads<f64>, pose: &crate::mechanism::Pose<f64>, phis: &[f64], pi: usize) -> Result<Vec<f64>, Error> {
     let tracks = threads.evaluate(pose, None).map_err(|e| {
         let phi = phis[e.k];
         eval::path_error(e, phi)
     })?;
-    let xi0 = eval::xi_at_phi0(mech, threads)?[pi];
-    Ok(tracks[pi].xi.iter().map(|x| threads.convention.take_up(*x, xi0)).collect())
+    let xi0 = eval::tracks_at_phi0(mech, threads)?[pi].xi_at_split(0);
+    Ok((0..tracks[pi].xi.len()).map(|k| threads.convention.take_up(tracks[pi].xi_at_split(k), xi0)).collect())
 }
 
 /// The take-up of path `path` over `phis` (deg) with the profile of cam
@@ -610,10 +604,10 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
         let phi = phis[e.k];
         eval::path_error(e, phi)
     })?;
-    let xi_ref = &tracks[pi].xi;
+    let xi_ref: Vec<f64> = (0..tracks[pi].xi.len()).map(|k| tracks[pi].xi_at_split(k)).collect();
     let l_ref: Vec<f64> = rays.iter().map(|r| r.length(cam.profile.rho(r.beta))).collect();
     let xi_rest: Vec<f64> = xi_ref.iter().zip(&l_ref).map(|(x, l)| x - l).collect();
-    let xi0_ref = eval::xi_at_phi0(&mech, threads)?[pi];
+    let xi0_ref = eval::tracks_at_phi0(&mech, threads)?[pi].xi_at_split(0);
     let anchor_rho = opts.anchor_radius_mm.unwrap_or_else(|| cam.profile.rho(rays[0].beta));
     // ξ(φ0): the model's, or with the anchor radius at φ0's contact (j = 0 is φ0).
     let xi0 = match opts.anchor_radius_mm {
@@ -640,8 +634,9 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
             match crate::stitch::pprime::required_take_up(&s.spec, &grid, to_c(phi0)) {
                 Ok(req) => {
                     let th = &req.threads[t];
-                    let compared = phis.iter().map(|&p| !s.regulator_window_deg.iter().any(|w| in_window(p, *w))).collect();
-                    Some((th.name.clone(), th.pprime_mm[..phis.len()].to_vec(), compared, s.tolerance_mm))
+                    let window = eval::stitch::window_in_model_phi(th, s.cyclogram_zero_deg);
+                    let compared = phis.iter().map(|&p| !window.is_some_and(|w| eval::stitch::in_window(p, w))).collect();
+                    Some((th.name.clone(), eval::stitch::pprime_at_split(th, phis.len()), compared, s.tolerance_mm))
                 }
                 Err(e) if required => return Err(e),
                 Err(_) => None,

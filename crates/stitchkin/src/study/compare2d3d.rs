@@ -21,7 +21,8 @@ pub struct PathComparison {
     /// Largest |ΔP| and where.
     pub max_abs_dp_mm: f64,
     pub phi_at_max_deg: f64,
-    /// Largest |ΔP| relative to the largest |P3D|, %.
+    /// Largest |ΔP| relative to the largest |P3D|, % (P at the path's
+    /// split: B for a needle thread).
     pub max_rel_percent: f64,
 }
 
@@ -63,7 +64,12 @@ pub fn compare_2d3d(model: &Model, params: &Params, plane: &str, step_deg: f64) 
             path_error(e, phi)
         })?;
         let xi0 = threads.evaluate(&pose0, proj).map_err(|e| path_error(e, threads.phi0_deg))?;
-        Ok((xi.into_iter().map(|t| t.xi).collect(), xi0.into_iter().map(|t| t.xi[0]).collect()))
+        // P at the path's split (B for a needle thread): ΔP is the same at
+        // either split, its size relative to P is not.
+        Ok((
+            xi.into_iter().map(|t| (0..t.xi.len()).map(|k| t.xi_at_split(k)).collect()).collect(),
+            xi0.into_iter().map(|t| t.xi_at_split(0)).collect(),
+        ))
     };
     let (xi3, xi3_0) = tracks(None)?;
     let (xi2, xi2_0) = tracks(Some(&plane))?;

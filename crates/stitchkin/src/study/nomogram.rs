@@ -220,6 +220,26 @@ pub fn nomogram(model: &Model, base: &Params, opts: &NomogramOptions, progress: 
     })
 }
 
+/// The default thickness axis: 5 values over the adjustable range of the
+/// parameter the model's `[stitch] m_mm` names.
+pub fn default_thickness(model: &Model) -> Result<Axis, Error> {
+    let no_range = || {
+        Error::Param(ParamError {
+            message: format!("model `{}` gives no thickness range to draw the nomogram over", model.file.model.name),
+            help: Some("give one with --thickness LO:HI:N in mm, e.g. --thickness 1:5:5".into()),
+        })
+    };
+    let stitch = model.file.stitch.as_ref().ok_or_else(|| {
+        Error::Stitch(format!("model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504", model.file.model.name))
+    })?;
+    let Value::Expr(name) = &stitch.m_mm else { return Err(no_range()) };
+    let i = model.param_index(name.trim()).ok_or_else(no_range)?;
+    match model.params[i].range {
+        Some([lo, hi]) if hi > lo => Ok(Axis { lo, hi, n: 5 }),
+        _ => Err(no_range()),
+    }
+}
+
 /// A thread's score at a point, before (`after` = false) or after tuning.
 fn thread_score(r: &TuneResult, thread: &str, after: bool) -> Option<f64> {
     let f = if after { &r.after_figures } else { &r.before_figures };
@@ -243,6 +263,47 @@ impl Nomogram {
             }
         }
         any
+    }
+
+    /// Where the nomogram stands, gathered over its grid from each tuning's
+    /// notes ([`TuneResult::notes`]): which settings sit on an end of their
+    /// range and where, where the match does not improve, where a
+    /// constraint is not met.
+    pub fn notes(&self) -> Vec<String> {
+        let r2 = |x: f64| fmt_num((x * 100.0).round() / 100.0);
+        let at = |p: &NomogramPoint| if self.stitch.n > 1 { format!("m = {} mm, t = {} mm", r2(p.m_mm), r2(p.t_mm)) } else { format!("m = {} mm", r2(p.m_mm)) };
+        let mut out = Vec::new();
+        let tuned: Vec<(&NomogramPoint, &TuneResult)> = self.tuned().collect();
+        for (name, unit) in &self.adjust {
+            for end in ["lower", "upper"] {
+                let key = format!("{name} = ");
+                let wanted = format!("on the {end} end");
+                let here: Vec<String> = tuned
+                    .iter()
+                    .filter(|(_, r)| r.notes.iter().any(|n| n.starts_with(&key) && n.contains(&wanted)))
+                    .map(|(p, _)| at(p))
+                    .collect();
+                if !here.is_empty() {
+                    out.push(format!(
+                        "{name} ({unit}) is recommended on the {end} end of its adjustable range at {} of {} grid points ({}): \
+                         the best match may lie beyond what the range allows",
+                        here.len(),
+                        tuned.len(),
+                        here.join("; ")
+                    ));
+                }
+            }
+        }
+        let flat: Vec<String> = tuned.iter().filter(|(_, r)| r.notes.iter().any(|n| n.starts_with("the match does not improve"))).map(|(p, _)| at(p)).collect();
+        if !flat.is_empty() {
+            out.push(format!("tuning does not raise the mean score at {} ({} of {} grid points)", flat.join("; "), flat.len(), tuned.len()));
+        }
+        for (p, r) in &tuned {
+            if !r.after_figures.failed_checks.is_empty() {
+                out.push(format!("at {} no setting in the ranges passes every physical check ({} fail)", at(p), r.after_figures.failed_checks.join(", ")));
+            }
+        }
+        out
     }
 
     /// The CSV: `m_mm,t_mm`, per adjusted setting its recommended value and
@@ -380,11 +441,18 @@ impl Nomogram {
                 }
             }
         }
+        let notes = self.notes();
+        if !notes.is_empty() {
+            s += "\n";
+        }
+        for n in notes {
+            s += &format!("note: {n}\n");
+        }
         if self.all_scores_zero() {
             s += "\nEvery match score is 0, before and after tuning, at every grid point: RMS(P − P') exceeds the\n\
                   swing of P' (J ≥ 1) whatever the settings, so no setting in the ranges fits this stitch. The\n\
-                  recommendation only minimises J and should not be used. (For mf7923d this is the default\n\
-                  reading t1_phase = 0; see docs/stitch-formation.md §10.1 and try --set t1_phase=180.)\n";
+                  recommendation only minimises J and should not be used. (For mf7923d this is the reading\n\
+                  t1_phase = 0, T1 down at the needle's TDC; see docs/stitch-formation.md §10.1.)\n";
         }
         s
     }

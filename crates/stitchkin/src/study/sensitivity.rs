@@ -38,7 +38,7 @@ use serde::Serialize;
 use super::sweep::{Design, Sweep, Vary, figures, select_figures, shared_stitch};
 use crate::eval::stitch::Prepared;
 use crate::error::{Error, ParamError};
-use crate::eval::{CycleOptions, check_options, cycle_phis_deg, path_error, run_cycle_with, xi_at_phi0};
+use crate::eval::{CycleOptions, check_options, cycle_phis_deg, path_error, run_cycle_with, take_up_name, tracks_at_phi0};
 use crate::mechanism::{Mechanism, Phi, Pose};
 use crate::model::{Model, Params};
 
@@ -48,7 +48,7 @@ pub const FD_REL_STEP: f64 = 1e-5;
 /// Figures shown by default (those the model has): the match score per
 /// stitch thread, max P per path, the transmission-angle extremes, the
 /// measures' ranges and the point strokes.
-pub const DEFAULT_FIGURES: &[&str] = &["*.max_P_mm", "*.score", "mu.min_deg", "mu.max_deg", "*.range_mm", "*_stroke_mm"];
+pub const DEFAULT_FIGURES: &[&str] = &["*.max_P_B_mm", "*.max_P_mm", "*.score", "mu.min_deg", "mu.max_deg", "*.range_mm", "*_stroke_mm"];
 
 /// How the parameters of one figure are ranked.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -226,16 +226,17 @@ pub fn figure_derivatives(model: &Model, base: &Params, param: usize, step_deg: 
     };
     // Take-up extremes: P = ξ(φ0) − ξ(φ) (or the feed convention).
     if let Some(th) = &mech.threads {
-        let xi0 = xi_at_phi0(&mech, th)?;
+        let at0 = tracks_at_phi0(&mech, th)?;
         let tracks = th.evaluate(&pose, None).map_err(|e| {
             let phi = phis[e.k];
             path_error(e, phi)
         })?;
-        for ((path, track), x0) in th.paths.iter().zip(tracks).zip(xi0) {
-            let p: Vec<Dual64> = track.xi.iter().map(|x| th.convention.take_up(*x, x0)).collect();
+        for ((path, track), at0) in th.paths.iter().zip(tracks).zip(at0) {
+            let p: Vec<Dual64> = (0..track.xi.len()).map(|k| th.convention.take_up(track.xi_at_split(k), at0.xi_at_split(0))).collect();
             let (lo, hi) = extremes(&p);
-            push(&mut out, format!("{}.max_P_mm", path.name), p[hi]);
-            push(&mut out, format!("{}.min_P_mm", path.name), p[lo]);
+            let pn = take_up_name(!track.eye_up.is_empty());
+            push(&mut out, format!("{}.max_{pn}_mm", path.name), p[hi]);
+            push(&mut out, format!("{}.min_{pn}_mm", path.name), p[lo]);
         }
     }
     // Transmission angles (rad → deg, value and derivative alike).
@@ -515,7 +516,7 @@ pub fn take_up_derivatives(model: &Model, base: &Params, param: usize, step_deg:
     let Some(th) = &mech.threads else {
         return Err(Error::Thread(format!("model `{}` has no thread paths", model.file.model.name)));
     };
-    let xi0 = xi_at_phi0(&mech, th)?;
+    let at0 = tracks_at_phi0(&mech, th)?;
     let tracks = th.evaluate(&pose, None).map_err(|e| {
         let phi = phis[e.k];
         path_error(e, phi)
@@ -524,9 +525,9 @@ pub fn take_up_derivatives(model: &Model, base: &Params, param: usize, step_deg:
         .paths
         .iter()
         .zip(tracks)
-        .zip(xi0)
-        .map(|((path, track), x0)| {
-            let p: Vec<Dual64> = track.xi.iter().map(|x| th.convention.take_up(*x, x0)).collect();
+        .zip(at0)
+        .map(|((path, track), at0)| {
+            let p: Vec<Dual64> = (0..track.xi.len()).map(|k| th.convention.take_up(track.xi_at_split(k), at0.xi_at_split(0))).collect();
             (path.name.clone(), p.iter().map(|x| x.re).collect(), p.iter().map(|x| x.eps).collect())
         })
         .collect();

@@ -188,8 +188,9 @@ impl Sweep {
 pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
     let mut out = Vec::new();
     for p in &table.paths {
-        out.push((format!("{}.max_P_mm", p.path), p.max_p_mm));
-        out.push((format!("{}.min_P_mm", p.path), p.min_p_mm));
+        let pn = crate::eval::take_up_name(p.split == "B");
+        out.push((format!("{}.max_{pn}_mm", p.path), p.max_p_mm));
+        out.push((format!("{}.min_{pn}_mm", p.path), p.min_p_mm));
     }
     if !table.transmission.is_empty() {
         out.push(("mu.min_deg".into(), table.transmission.iter().map(|t| t.min_deg).fold(f64::MAX, f64::min)));
@@ -217,7 +218,14 @@ pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
     if let Some(st) = &table.stitch {
         let mut scores = Vec::new();
         for t in &st.threads {
-            out.push((format!("{}.max_Pprime_mm", t.thread), t.max_pprime_mm));
+            out.push((format!("{}.{}", t.thread, max_pprime_figure(t.split == "B")), t.max_pprime_mm));
+            let checks: Vec<_> = st.checks.iter().filter(|c| c.thread == t.thread).collect();
+            if !checks.is_empty() {
+                out.push((format!("{}.checks_ok", t.thread), if checks.iter().all(|c| c.ok) { 1.0 } else { 0.0 }));
+            }
+            if let Some(c) = checks.iter().find(|c| c.name == "thread_bound") {
+                out.push((format!("{}.bound_margin_mm", t.thread), c.limit[1].unwrap_or(f64::INFINITY) - c.value));
+            }
             if let Some(m) = &t.mismatch {
                 if let Some(s) = m.score {
                     out.push((format!("{}.score", t.thread), s));
@@ -231,8 +239,17 @@ pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
             out.push(("score.mean".into(), scores.iter().sum::<f64>() / scores.len() as f64));
             out.push(("score.min".into(), scores.iter().cloned().fold(f64::MAX, f64::min)));
         }
+        if !st.checks.is_empty() {
+            out.push(("checks.ok".into(), if st.checks_ok() { 1.0 } else { 0.0 }));
+        }
     }
     out
+}
+
+/// The figure of a stitch thread's largest P': `max_Pprime_B_mm` for a
+/// needle thread (at B), `max_Pprime_mm` for a looper thread.
+fn max_pprime_figure(at_b: bool) -> &'static str {
+    if at_b { "max_Pprime_B_mm" } else { "max_Pprime_mm" }
 }
 
 /// The figure names matching `patterns` (`*` matches any run), in the order
@@ -370,7 +387,15 @@ struct StitchPlan {
     weight: Vec<f64>,
     /// Range of P' over them; the score's scale.
     range: f64,
+    max_pprime_figure: &'static str,
     max_pprime_mm: f64,
+    /// A needle thread with a path: the most thread the needle can take
+    /// through B at each φ (`stitch::checks::bound_curve`).
+    bound: Option<Vec<f64>>,
+    /// Whether the thread has physical checks, and whether those that do
+    /// not depend on the take-up (catch, stab) pass.
+    has_checks: bool,
+    fixed_checks_ok: bool,
 }
 
 impl<'a> Evaluator<'a> {
@@ -427,9 +452,13 @@ impl Fast {
         let mech = model.mechanism::<f64>(base).ok()?;
         let threads = mech.threads.as_ref();
         let path_names: Vec<&str> = threads.map_or(Vec::new(), |t| t.paths.iter().map(|p| p.name.as_str()).collect());
+        let path_figure = |p: &str, i: usize, n: &str| {
+            let pn = crate::eval::take_up_name(threads.is_some_and(|t| t.split_up[i].is_some()));
+            n == format!("{p}.max_{pn}_mm") || n == format!("{p}.min_{pn}_mm")
+        };
         let (mut mu, mut measures, mut strokes, mut stitch) = (false, false, false, false);
         for n in names {
-            let path_fig = path_names.iter().any(|p| n == &format!("{p}.max_P_mm") || n == &format!("{p}.min_P_mm"));
+            let path_fig = path_names.iter().enumerate().any(|(i, p)| path_figure(p, i, n));
             if path_fig {
             } else if n.starts_with("mu.") || n.starts_with("mu_") {
                 mu = true;
@@ -437,7 +466,12 @@ impl Fast {
                 strokes = true;
             } else if model.measure_names.iter().any(|m| [".range_mm", ".min_mm", ".max_mm"].iter().any(|s| n == &format!("{m}{s}"))) {
                 measures = true;
-            } else if n.starts_with("score.") || [".score", ".rms_D_mm", ".max_abs_D_mm", ".max_Pprime_mm"].iter().any(|s| n.ends_with(s)) {
+            } else if n.starts_with("score.")
+                || n == "checks.ok"
+                || [".score", ".rms_D_mm", ".max_abs_D_mm", ".max_Pprime_mm", ".max_Pprime_B_mm", ".checks_ok", ".bound_margin_mm"]
+                    .iter()
+                    .any(|s| n.ends_with(s))
+            {
                 stitch = true;
             } else {
                 return None;
@@ -452,9 +486,10 @@ impl Fast {
             }
             let n = phis.len();
             let setup = &prepared.setup;
-            let compared: Vec<bool> = phis.iter().map(|&p| !setup.regulator_window_deg.iter().any(|w| crate::eval::stitch::in_window(crate::eval::wrap_deg(p), *w))).collect();
-            for (th, path) in prepared.required.threads.iter().zip(&setup.paths) {
-                let pprime = th.pprime_mm[..n].to_vec();
+            let fixed_checks = prepared.needle_checks();
+            for (i, (th, path)) in prepared.required.threads.iter().zip(&setup.paths).enumerate() {
+                let compared = &prepared.compared[i];
+                let pprime = crate::eval::stitch::pprime_at_split(th, n);
                 let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
                 let (hi, lo) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| (hi.max(pprime[k]), lo.min(pprime[k])));
                 let kmax = (0..n).max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a))).unwrap_or(0);
@@ -462,8 +497,31 @@ impl Fast {
                     Some(name) => Some(path_names.iter().position(|p| p == name)?),
                     None => None,
                 };
+                // The full cycle compares a needle thread at B only when its
+                // path is split there; the fast path takes that case alone.
+                let at_b = th.travel_mm.is_some();
+                if at_b && path.is_some_and(|i| threads.is_none_or(|t| t.split_up[i].is_none())) {
+                    return None;
+                }
+                let bound = match (path, &th.travel_mm, &th.loop_mm) {
+                    (Some(_), Some(s), Some(lp)) => Some(crate::stitch::checks::bound_curve(&phis, &s[..n], &lp[..n], prepared.phi0_deg)),
+                    _ => None,
+                };
                 let weight = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
-                plans.push(StitchPlan { name: th.name.clone(), path, max_pprime_mm: pprime[kmax], pprime, ks, weight, range: hi - lo });
+                let mine: Vec<_> = fixed_checks.iter().filter(|c| c.thread == th.name).collect();
+                plans.push(StitchPlan {
+                    name: th.name.clone(),
+                    path,
+                    max_pprime_figure: max_pprime_figure(at_b),
+                    max_pprime_mm: pprime[kmax],
+                    pprime,
+                    ks,
+                    weight,
+                    range: hi - lo,
+                    bound,
+                    has_checks: !mine.is_empty(),
+                    fixed_checks_ok: mine.iter().all(|c| c.ok),
+                });
             }
         }
         let phi0 = [Phi::at_deg(threads.map_or(0.0, |t| t.phi0_deg))];
@@ -518,15 +576,16 @@ impl Fast {
             self.p.resize_with(threads.paths.len(), Vec::new);
             for (i, (path, track)) in threads.paths.iter().zip(&self.work.tracks).enumerate() {
                 let xi0 = match k0 {
-                    Some(k) => track.xi[k],
-                    None => self.work0.tracks[i].xi[0],
+                    Some(k) => track.xi_at_split(k),
+                    None => self.work0.tracks[i].xi_at_split(0),
                 };
                 let p = &mut self.p[i];
                 p.clear();
-                p.extend(track.xi.iter().map(|x| threads.convention.take_up(*x, xi0)));
-                let (lo, hi) = finite_extremes(p).map_err(|k| not_finite(&format!("{}.P_mm", path.name), p[k], self.phis[k]))?;
-                out.push(|| format!("{}.max_P_mm", path.name), hi);
-                out.push(|| format!("{}.min_P_mm", path.name), lo);
+                p.extend((0..n).map(|k| threads.convention.take_up(track.xi_at_split(k), xi0)));
+                let pn = crate::eval::take_up_name(!track.eye_up.is_empty());
+                let (lo, hi) = finite_extremes(p).map_err(|k| not_finite(&format!("{}.{pn}_mm", path.name), p[k], self.phis[k]))?;
+                out.push(|| format!("{}.max_{pn}_mm", path.name), hi);
+                out.push(|| format!("{}.min_{pn}_mm", path.name), lo);
             }
         }
         if self.mu && !model.dyads.is_empty() {
@@ -578,8 +637,27 @@ impl Fast {
         }
         if !self.stitch.is_empty() && shared.is_some() {
             let mut scores = Vec::new();
+            let mut all_ok = true;
+            let mut any_checks = false;
             for plan in &self.stitch {
-                out.push(|| format!("{}.max_Pprime_mm", plan.name), plan.max_pprime_mm);
+                out.push(|| format!("{}.{}", plan.name, plan.max_pprime_figure), plan.max_pprime_mm);
+                // As `eval::stitch`: the thread bound where P comes
+                // closest to it, and every check of the thread.
+                let margin = match (plan.path, &plan.bound) {
+                    (Some(pi), Some(bound)) => Some(
+                        self.p[pi].iter().zip(bound).map(|(p, b)| b - p).fold(f64::INFINITY, f64::min),
+                    ),
+                    _ => None,
+                };
+                if plan.has_checks || margin.is_some() {
+                    let ok = plan.fixed_checks_ok && margin.is_none_or(|m| m >= -1e-9);
+                    all_ok &= ok;
+                    any_checks = true;
+                    out.push(|| format!("{}.checks_ok", plan.name), if ok { 1.0 } else { 0.0 });
+                }
+                if let Some(m) = margin {
+                    out.push(|| format!("{}.bound_margin_mm", plan.name), m);
+                }
                 let Some(pi) = plan.path else { continue };
                 if plan.ks.is_empty() {
                     continue;
@@ -604,6 +682,9 @@ impl Fast {
             if !scores.is_empty() {
                 out.push(|| "score.mean".into(), scores.iter().sum::<f64>() / scores.len() as f64);
                 out.push(|| "score.min".into(), scores.iter().cloned().fold(f64::MAX, f64::min));
+            }
+            if any_checks {
+                out.push(|| "checks.ok".into(), if all_ok { 1.0 } else { 0.0 });
             }
         }
         Ok(())

@@ -43,6 +43,11 @@ pub struct MatchFigures {
     pub mu_min_deg: Option<f64>,
     pub mu_max_deg: Option<f64>,
     /// All transmission angles inside 30°…150°.
+    pub mu_ok: bool,
+    /// The physical checks of the stitch's needle threads
+    /// (`stitch::checks`) that fail here, as `thread check`.
+    pub failed_checks: Vec<String>,
+    /// Every constraint holds: the transmission angles and the checks.
     pub feasible: bool,
     /// The objective minimised (see the module docs).
     pub objective: f64,
@@ -68,12 +73,21 @@ pub struct TuneResult {
     pub before_figures: MatchFigures,
     pub after_figures: MatchFigures,
     pub flatness: Vec<Flatness>,
+    /// Where the result stands: a setting on the end of its range (the best
+    /// may lie beyond what the range allows), a score that does not rise, a
+    /// constraint no setting in the ranges meets.
+    pub notes: Vec<String>,
     /// Cycles evaluated.
     pub evaluations: usize,
 }
 
 /// Objective penalty per degree a transmission angle leaves the band.
 const MU_PENALTY_PER_DEG: f64 = 0.05;
+/// Objective penalty per physical check that fails (more than any match
+/// can gain: the objective of a match is at most 1 per thread on average)…
+const CHECK_PENALTY: f64 = 1.0;
+/// …and per mm of thread beyond the bound at B.
+const CHECK_PENALTY_PER_MM: f64 = 0.05;
 /// Objective of a setting that does not assemble or evaluate.
 const FAILED: f64 = 1.0e3;
 
@@ -120,13 +134,24 @@ impl Problem<'_> {
         let mu_min = t.transmission.iter().map(|m| m.min_deg).reduce(f64::min);
         let mu_max = t.transmission.iter().map(|m| m.max_deg).reduce(f64::max);
         let out_of_band = mu_min.map_or(0.0, |m| (MU_MIN_DEG - m).max(0.0)) + mu_max.map_or(0.0, |m| (m - MU_MAX_DEG).max(0.0));
+        // The physical checks are constraints: a fixed penalty for each
+        // that fails, plus the thread beyond the bound at B, so the search
+        // is led back inside it.
+        let failed: Vec<&crate::stitch::checks::Check> = st.checks.iter().filter(|c| !c.ok).collect();
+        let excess_mm: f64 =
+            failed.iter().filter(|c| c.name == "thread_bound").map(|c| c.value - c.limit[1].unwrap_or(c.value)).sum();
         Some(MatchFigures {
             score_mean: if scores.is_empty() { 0.0 } else { scores.iter().sum::<f64>() / scores.len() as f64 },
             threads,
             mu_min_deg: mu_min,
             mu_max_deg: mu_max,
-            feasible: out_of_band == 0.0,
-            objective: mean_rel + MU_PENALTY_PER_DEG * out_of_band,
+            mu_ok: out_of_band == 0.0,
+            failed_checks: failed.iter().map(|c| format!("{} {}", c.thread, c.name)).collect(),
+            feasible: out_of_band == 0.0 && failed.is_empty(),
+            objective: mean_rel
+                + MU_PENALTY_PER_DEG * out_of_band
+                + CHECK_PENALTY * failed.len() as f64
+                + CHECK_PENALTY_PER_MM * excess_mm,
         })
     }
 
@@ -280,13 +305,47 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
             Flatness { name: v.name.clone(), lo: xs[a].min(after[k]), hi: xs[b].max(after[k]) }
         })
         .collect();
-    Ok(TuneResult {
-        names: vary.iter().map(|v| (v.name.clone(), model.params[model.param_index(&v.name).unwrap_or(0)].unit_str())).collect(),
-        before,
-        after,
-        before_figures,
-        after_figures,
-        flatness,
-        evaluations: count.into_inner(),
-    })
+    let names: Vec<(String, &'static str)> =
+        vary.iter().map(|v| (v.name.clone(), model.params[model.param_index(&v.name).unwrap_or(0)].unit_str())).collect();
+    let notes = standing(&vary, &names, &after, &before_figures, &after_figures);
+    Ok(TuneResult { names, before, after, before_figures, after_figures, flatness, notes, evaluations: count.into_inner() })
+}
+
+/// Where a tuning's result stands (see [`TuneResult::notes`]).
+fn standing(vary: &[Vary], names: &[(String, &str)], after: &[f64], before: &MatchFigures, best: &MatchFigures) -> Vec<String> {
+    let mut notes = Vec::new();
+    for ((v, (name, unit)), &x) in vary.iter().zip(names).zip(after) {
+        let tol = 1e-3 * (v.hi - v.lo);
+        let end = if x <= v.lo + tol {
+            "lower"
+        } else if x >= v.hi - tol {
+            "upper"
+        } else {
+            continue;
+        };
+        notes.push(format!(
+            "{name} = {} {unit} lies on the {end} end of its adjustable range ({}…{} {unit}): the best match may lie beyond what \
+             the range allows",
+            crate::output::fmt_num((x * 1e6).round() / 1e6),
+            crate::output::fmt_num(v.lo),
+            crate::output::fmt_num(v.hi)
+        ));
+    }
+    if best.score_mean <= before.score_mean + 0.05 && best.failed_checks.len() >= before.failed_checks.len() {
+        notes.push(format!(
+            "the match does not improve (mean score {:.1} → {:.1}): within these ranges the starting setting is as good as any",
+            before.score_mean, best.score_mean
+        ));
+    }
+    if !best.failed_checks.is_empty() {
+        notes.push(format!(
+            "no setting found within the ranges passes every physical check ({} still fail): the machine cannot work this way; \
+             see `stitchkin match` for what each check needs",
+            best.failed_checks.join(", ")
+        ));
+    }
+    if !best.mu_ok {
+        notes.push("a transmission angle stays outside 30°…150° at the best setting found: the mechanism risks jamming".into());
+    }
+    notes
 }

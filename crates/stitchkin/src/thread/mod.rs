@@ -108,16 +108,38 @@ pub struct Threads<T: Real> {
     pub phi0_deg: f64,
     /// Regulator tension, N.
     pub tension_n: Option<f64>,
+    /// For each path (in path order): the unit vector u up its needle, in
+    /// world coordinates, when the path ends at a needle's eye and its
+    /// take-up is split at B, the eye's top position (seed 004 §2.3);
+    /// `None` for a path split at its last node.
+    pub split_up: Vec<Option<V3<T>>>,
 }
 
 /// A path evaluated over a pose.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PathTrack<T: Real> {
-    /// Contour length ξ at each φ, mm.
+    /// Contour length ξ at each φ, to the path's last node, mm.
     pub xi: Vec<T>,
+    /// For a path split at B: u·N, the height of its eye N along the
+    /// needle at each φ, mm; empty otherwise.
+    pub eye_up: Vec<T>,
     /// For each pin of the path (in node order): whether the thread bears
     /// on it at each φ.
     pub engaged: Vec<Vec<bool>>,
+}
+
+impl<T: Real> PathTrack<T> {
+    /// The length the take-up P is taken from at the `k`-th φ. For a path
+    /// split at B it is the feed contour to B, ξ_B = ξ − S with S = u·(B − N)
+    /// the needle's travel below B, plus the constant u·B (which cancels in
+    /// P = ξ_B(φ0) − ξ_B(φ)): ξ + u·N. Otherwise ξ itself.
+    #[inline]
+    pub fn xi_at_split(&self, k: usize) -> T {
+        match self.eye_up.get(k) {
+            Some(&up) => self.xi[k] + up,
+            None => self.xi[k],
+        }
+    }
 }
 
 /// A path whose contour cannot be formed at the `k`-th φ: a node inside a
@@ -248,11 +270,18 @@ impl<T: Real> Threads<T> {
             }
         }
         sum_paths(&self.paths, |s| matches!(self.spans[s], Span::Straight { .. }), n, work);
+        for ((path, track), up) in self.paths.iter().zip(&mut work.tracks).zip(&self.split_up) {
+            track.eye_up.clear();
+            if let (Some(up), Some(&eye)) = (up, path.nodes.last()) {
+                track.eye_up.extend(pose.track(eye).iter().map(|p| up.dot(p)));
+            }
+        }
         Ok(())
     }
 
-    /// ξ of every path at the `k`-th φ of `pose` alone.
-    pub fn evaluate_at(&self, pose: &Pose<T>, k: usize) -> Result<Vec<T>, PathError> {
+    /// Every path at the `k`-th φ of `pose` alone: ξ (and u·N for a path
+    /// split at B), one value each; no guide contacts.
+    pub fn evaluate_at(&self, pose: &Pose<T>, k: usize) -> Result<Vec<PathTrack<T>>, PathError> {
         let lengths = self
             .spans
             .iter()
@@ -277,16 +306,22 @@ impl<T: Real> Threads<T> {
         Ok(self
             .paths
             .iter()
-            .map(|p| {
+            .zip(&self.split_up)
+            .map(|(p, up)| {
                 let constant = p.spans.iter().filter(|&&s| self.is_constant(s)).fold(T::zero(), |x, &s| x + lengths[s]);
                 let varying: Vec<T> = p.spans.iter().filter(|&&s| !self.is_constant(s)).map(|&s| lengths[s]).collect();
-                varying.chunks(4).fold(constant, |x, c| match *c {
+                let xi = varying.chunks(4).fold(constant, |x, c| match *c {
                     [a] => x + a,
                     [a, b] => x + (a + b),
                     [a, b, c] => x + (a + b + c),
                     [a, b, c, d, ..] => x + ((a + b) + (c + d)),
                     [] => x,
-                })
+                });
+                let eye_up = match (up, p.nodes.last()) {
+                    (Some(up), Some(&eye)) => vec![up.dot(&pose.point(eye, k))],
+                    _ => Vec::new(),
+                };
+                PathTrack { xi: vec![xi], eye_up, engaged: Vec::new() }
             })
             .collect())
     }
@@ -399,7 +434,7 @@ impl ThreadPath {
 /// the contacts of its guides (`straight(s)` tells a piece without one).
 #[inline(always)]
 fn sum_paths<T: Real>(paths: &[ThreadPath], straight: impl Fn(usize) -> bool, n: usize, work: &mut ThreadWork<T>) {
-    work.tracks.resize_with(paths.len(), || PathTrack { xi: Vec::new(), engaged: Vec::new() });
+    work.tracks.resize_with(paths.len(), || PathTrack { xi: Vec::new(), eye_up: Vec::new(), engaged: Vec::new() });
     for (p, track) in paths.iter().zip(&mut work.tracks) {
         let bufs = p.spans.iter().map(|&s| &work.spans[s]);
         let constant = bufs.clone().filter_map(|b| b.constant).fold(T::zero(), |x, l| x + l);
@@ -504,6 +539,13 @@ impl Threads<f64> {
             }
         }
         sum_paths(&self.paths, |s| matches!(self.spans[s], Span::Straight { .. }), n, work);
+        for ((path, track), up) in self.paths.iter().zip(&mut work.tracks).zip(&self.split_up) {
+            track.eye_up.clear();
+            if let (Some(up), Some(&eye)) = (up, path.nodes.last()) {
+                let [p, v, a] = tracks(eye);
+                track.eye_up.extend((0..n).map(|k| Dual2_64::new(up.dot(&p[k]), up.dot(&v[k]), up.dot(&a[k]))));
+            }
+        }
         Ok(())
     }
 }

@@ -42,7 +42,8 @@ pub fn analogs(model: &Model, params: &Params, points: &[String], threads: &[Str
         }
     }
     for p in &paths {
-        lines.push((p.clone(), p.clone(), format!("{p}.dP_dphi_mm_per_rad"), format!("{p}.d2P_dphi2_mm_per_rad2")));
+        let pn = table.paths.iter().find(|q| &q.path == p).map_or("P", |q| q.take_up_name());
+        lines.push((p.clone(), p.clone(), format!("{p}.d{pn}_dphi_mm_per_rad"), format!("{p}.d2{pn}_dphi2_mm_per_rad2")));
     }
     let (what, y1, y2) = if points.is_empty() {
         (format!("take-up analogs of {}", paths.join(", ")), "dP/dφ, mm/rad", "d²P/dφ², mm/rad²")

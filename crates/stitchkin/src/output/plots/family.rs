@@ -149,10 +149,12 @@ pub fn family_data(model: &Model, params: &Params, vary: &Vary, path: Option<&st
         match run {
             Some(t) => {
                 let ph = column(t, "phi_deg")?;
-                let pts = closed(ph, column(t, &format!("{path}.P_mm"))?);
+                let p_column = t.paths.iter().find(|q| q.path == path).map_or(format!("{path}.P_mm"), |q| q.p_column.clone());
+                let pts = closed(ph, column(t, &p_column)?);
                 p.push(Some(pts.iter().map(|q| q.1).collect()));
-                pprime.push(match &thread {
-                    Some(th) => t.column(&format!("{th}.Pprime_mm")).map(|c| closed(ph, c).iter().map(|q| q.1).collect()),
+                let pprime_column = t.stitch.as_ref().and_then(|s| s.threads.iter().find(|x| Some(&x.thread) == thread.as_ref())).map(|x| x.pprime_column());
+                pprime.push(match pprime_column {
+                    Some(c) => t.column(&c).map(|c| closed(ph, c).iter().map(|q| q.1).collect()),
                     None => None,
                 });
             }

@@ -12,8 +12,10 @@ use crate::error::{Error, ParamError};
 use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle, wrap_deg};
 use crate::geometry::{Plane, V3};
 use crate::model::{Model, Params};
+use crate::study::measured::MeasuredMatch;
 use crate::study::nomogram::NomogramOptions;
 use crate::study::sweep::Vary;
+use crate::thread::measured::CurveKind;
 
 pub mod analogs;
 pub mod delta;
@@ -27,7 +29,8 @@ pub use delta::delta_2d3d;
 pub use family::{FamilyData, Quantity, VaryGrid, family, family_data, surface_heat, surface_wireframe};
 pub use heatmap::{figure_label, figure_names, heatmap};
 pub use motion::{MotionSeries, motion_chart, motion_cycle, motion_family, motion_family_chart};
-pub use nomogram::{default_thickness, nomogram_chart};
+pub use crate::study::nomogram::default_thickness;
+pub use nomogram::nomogram_chart;
 
 /// What to plot.
 #[derive(Debug, Clone, PartialEq)]
@@ -327,15 +330,27 @@ fn title(model: &Model, what: &str) -> String {
 /// dashed in its path's colour, engaged intervals shaded in the path's
 /// colour.
 pub fn take_up(model: &Model, table: &CycleTable) -> Result<Chart, Error> {
+    take_up_with_measured(model, table, &[])
+}
+
+/// [`take_up`] with measured curves drawn over it (a solid dark line each,
+/// legend `THREAD P measured` or `THREAD P′ measured`).
+pub fn take_up_with_measured(model: &Model, table: &CycleTable, measured: &[MeasuredMatch]) -> Result<Chart, Error> {
     if table.paths.is_empty() {
         return Err(no_threads(model));
     }
     let phis = column(table, "phi_deg")?;
     let start = model.phi_start_deg();
-    let mut chart = Chart::new(title(model, "thread take-up P(φ)"), phi_axis(model), Axis::new("P, mm"));
+    let at_b = table.paths.iter().any(|p| p.split == "B");
+    let y = if at_b { "P, mm (needle threads at B, the eye's top position)" } else { "P, mm" };
+    let mut chart = Chart::new(title(model, "thread take-up P(φ)"), phi_axis(model), Axis::new(y));
     let mut sub = table.take_up.clone().unwrap_or_default();
     if let Some(st) = &table.stitch {
         sub = format!("solid: P (take-up), dashed: P′ (required, stitch {}, m = {} mm, t = {} mm); shaded: one-sided guide engaged", st.stitch_type, st.m_mm, st.t_mm);
+        if let Some([a, b]) = st.threads.iter().find_map(|t| t.regulator_window_deg) {
+            let end = if b > 360.0 + 1e-9 { wrap_deg(b) } else { b };
+            sub += &format!("; regulator window {a:.0}°…{end:.0}° of {} left out of the match", st.threads.iter().find(|t| t.regulator_window_deg.is_some()).map_or("", |t| t.thread.as_str()));
+        }
     } else if table.paths.iter().any(|p| !p.engaged.is_empty()) {
         sub += "; shaded: one-sided guide engaged";
     }
@@ -343,7 +358,7 @@ pub fn take_up(model: &Model, table: &CycleTable) -> Result<Chart, Error> {
     let mut engaged = Vec::new();
     for (i, p) in table.paths.iter().enumerate() {
         let c = color(i).to_string();
-        chart.series.push(Series { name: p.path.clone(), points: closed(phis, column(table, &format!("{}.P_mm", p.path))?), color: c, dashed: false, mark_start: false });
+        chart.series.push(Series { name: p.path.clone(), points: closed(phis, column(table, &p.p_column)?), color: c, dashed: false, mark_start: false });
         for (guide, ivs) in &p.engaged {
             for iv in ivs {
                 engaged.push((iv.from_deg, iv.to_deg, format!("{} {guide}", p.path), i));
@@ -379,12 +394,25 @@ pub fn take_up(model: &Model, table: &CycleTable) -> Result<Chart, Error> {
                 // "n1 P′": a stitch thread may share its path's name
                 // (altin504's `needle`, `lower`, `upper`).
                 name: format!("{} P′", th.thread),
-                points: closed(phis, column(table, &format!("{}.Pprime_mm", th.thread))?),
+                points: closed(phis, column(table, &th.pprime_column())?),
                 color: color(c).to_string(),
                 dashed: true,
                 mark_start: false,
             });
         }
+    }
+    for m in measured {
+        let what = match m.kind {
+            CurveKind::TakeUp => "P",
+            CurveKind::Required => "P′",
+        };
+        chart.series.push(Series {
+            name: format!("{} {what} measured", m.thread),
+            points: closed(phis, &m.values_mm),
+            color: "#222222".into(),
+            dashed: false,
+            mark_start: false,
+        });
     }
     Ok(chart)
 }

@@ -2,35 +2,14 @@
 //! one line per stitch length, the range within one score point shaded —
 //! the chart a technician reads "for 4 mm material set z = −4.7 mm" off.
 
-use super::{number_text, param_error, title, unit_label};
+use super::{number_text, param_error, unit_label};
 use crate::error::Error;
-use crate::model::file::Value;
 use crate::model::{Model, Params};
 use crate::output::svg::{Area, Axis, Chart, Figure, Marker, Series, color, family_color};
-use crate::study::nomogram::{Axis as GridAxis, NomogramOptions, nomogram};
+use crate::study::nomogram::{Nomogram, NomogramOptions, nomogram};
 
 /// Height of each panel (one per adjusted parameter).
 const PANEL_H: f64 = 380.0;
-
-/// The default thickness axis: 5 values over the adjustable range of the
-/// parameter the model's `[stitch] m_mm` names.
-pub fn default_thickness(model: &Model) -> Result<GridAxis, Error> {
-    let no_range = || {
-        param_error(
-            format!("model `{}` gives no thickness range to draw the nomogram over", model.file.model.name),
-            "give one with --thickness LO:HI:N in mm, e.g. --thickness 1:5:5".into(),
-        )
-    };
-    let stitch = model.file.stitch.as_ref().ok_or_else(|| {
-        Error::Stitch(format!("model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504", model.file.model.name))
-    })?;
-    let Value::Expr(name) = &stitch.m_mm else { return Err(no_range()) };
-    let i = model.param_index(name.trim()).ok_or_else(no_range)?;
-    match model.params[i].range {
-        Some([lo, hi]) if hi > lo => Ok(GridAxis { lo, hi, n: 5 }),
-        _ => Err(no_range()),
-    }
-}
 
 /// Tunes the model over the grid of `opts` and draws, per adjusted
 /// parameter, its recommended value against m, one line per t, with the
@@ -43,7 +22,11 @@ pub fn nomogram_chart(model: &Model, params: &Params, opts: &NomogramOptions) ->
             "give a range, e.g. --thickness 1:5:5 (or `stitchkin tune --thickness M` for one thickness)".into(),
         ));
     }
-    let n = nomogram(model, params, opts, || {})?;
+    Ok(nomogram_figure(&nomogram(model, params, opts, || {})?))
+}
+
+/// The chart of a nomogram already computed ([`nomogram_chart`]).
+pub fn nomogram_figure(n: &Nomogram) -> Figure {
     let dm = (n.thickness.hi - n.thickness.lo) / (n.thickness.n - 1).max(1) as f64;
     let dt = if n.stitch.n > 1 { (n.stitch.hi - n.stitch.lo) / (n.stitch.n - 1) as f64 } else { 0.1 };
     let mut panels = Vec::new();
@@ -91,7 +74,7 @@ pub fn nomogram_chart(model: &Model, params: &Params, opts: &NomogramOptions) ->
         panels.push(chart);
     }
     let names: Vec<&str> = n.adjust.iter().map(|a| a.0.as_str()).collect();
-    let mut fig = Figure::new(title(model, &format!("nomogram, the tuned {} for the material", names.join(", "))));
+    let mut fig = Figure::new(format!("{}: nomogram, the tuned {} for the material", n.model, names.join(", ")));
     let scores: Vec<f64> = n.tuned().map(|(_, r)| r.after_figures.score_mean).collect();
     let failed = n.points.iter().filter(|p| p.tuned.is_none()).count();
     let mut sub = if n.all_scores_zero() {
@@ -105,5 +88,5 @@ pub fn nomogram_chart(model: &Model, params: &Params, opts: &NomogramOptions) ->
     }
     fig.subtitle = Some(sub);
     fig.panels = panels;
-    Ok(fig)
+    fig
 }

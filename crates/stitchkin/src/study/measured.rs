@@ -1,0 +1,116 @@
+//! A measured take-up curve against the model (seed 004 §3 measured P(φ)
+//! on a Textima Altin): the match metrics of `docs/stitch-formation.md` §8
+//! of the curve against the thread's other curve (a measured P against the
+//! model's P′, a measured P′ against the model's P), and against the
+//! model's own curve of the same kind (how well the model reproduces the
+//! measurement).
+
+use serde::Serialize;
+
+use crate::error::{Error, ParamError};
+use crate::eval::CycleTable;
+use crate::eval::stitch::{in_window, mismatch_on_cycle};
+use crate::stitch::mismatch::Mismatch;
+use crate::thread::measured::{CurveKind, MeasuredCurve, SplitPoint};
+
+/// A measured curve set beside one thread of the model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeasuredMatch {
+    /// The file it came from.
+    pub source: String,
+    /// The stitch thread it belongs to.
+    pub thread: String,
+    pub kind: CurveKind,
+    /// Where it is measured: `B` or `eye`, the thread's own split (a curve
+    /// measured at the moving eye of a needle thread is moved to B with the
+    /// needle's travel: P_B = P_eye + S − S(φ0)).
+    pub split: &'static str,
+    /// Whether the file's column named the split (`P_B_mm`, `P_eye_mm`) or
+    /// it was taken to be the thread's.
+    pub split_declared: bool,
+    /// The curve on the cycle's φ grid at the thread's split, mm.
+    pub values_mm: Vec<f64>,
+    /// A measured P against the model's P′, or the model's P against a
+    /// measured P′: D = P − P′ as the stitch sees it.
+    pub against_other: Option<Mismatch>,
+    /// The model's curve of the same kind against the measured one:
+    /// D = model − measured, the score scaled by the measured curve's swing.
+    pub against_model: Option<Mismatch>,
+}
+
+fn bad(message: String, help: String) -> Error {
+    Error::Param(ParamError { message, help: Some(help) })
+}
+
+/// Sets `curve` beside the stitch thread `thread` of the cycle `table`
+/// (default: the thread the curve's column names, as a thread `n1` or its
+/// path `n1_A`, or the only thread compared with a path).
+pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<&str>) -> Result<MeasuredMatch, Error> {
+    let source = curve.source();
+    let Some(st) = &table.stitch else {
+        return Err(bad(
+            format!("{source}: the model has no [stitch], so a measured curve has nothing to be compared with"),
+            "use a model with a stitch process (e.g. --preset mf7923d)".into(),
+        ));
+    };
+    let compared: Vec<&str> = st.threads.iter().filter(|t| t.path.is_some()).map(|t| t.thread.as_str()).collect();
+    let wanted = thread.or(curve.thread());
+    let th = match wanted {
+        Some(w) => st.threads.iter().find(|t| t.thread == w || t.path.as_deref() == Some(w)).ok_or_else(|| {
+            bad(format!("{source}: the model has no stitch thread or thread path `{w}`"), format!("its compared threads are: {}", compared.join(", ")))
+        })?,
+        None => match compared.as_slice() {
+            [one] => st.threads.iter().find(|t| t.thread == *one).expect("listed above"),
+            _ => {
+                return Err(bad(
+                    format!("{source}: the curve does not say which thread it is, and the model compares {}", compared.join(", ")),
+                    format!("name the column after the thread (e.g. `{}.P_B_mm`) or write --measured THREAD=FILE", compared.first().unwrap_or(&"n1")),
+                ));
+            }
+        },
+    };
+    let Some(path) = &th.path else {
+        return Err(bad(format!("{source}: thread `{}` has no take-up path to compare", th.thread), "give it a `path` in [stitch]".into()));
+    };
+    let column = |name: String| -> Result<&[f64], Error> {
+        table.column(&name).ok_or_else(|| bad(format!("{source}: the cycle has no column `{name}`"), "run the full cycle (not a lean one)".into()))
+    };
+    let phis = column("phi_deg".into())?;
+    let p = column(table.paths.iter().find(|q| &q.path == path).map_or(format!("{path}.P_mm"), |q| q.p_column.clone()))?;
+    let at_b = th.split == "B";
+    let pprime = column(th.pprime_column())?;
+    let mut values = curve.resample(phis);
+    match (curve.split(), at_b) {
+        (Some(SplitPoint::Eye), true) => {
+            // S − S(φ0) = P'_B − P'_eye.
+            let eye = column(format!("{}.Pprime_eye_mm", th.thread))?;
+            for (k, v) in values.iter_mut().enumerate() {
+                *v += pprime[k] - eye[k];
+            }
+        }
+        (Some(SplitPoint::B), false) => {
+            return Err(bad(
+                format!("{source}: `{}` is measured at B, but thread `{}` is a looper thread measured at its eye", curve.column(), th.thread),
+                "give the curve at the looper eye (a column `P_mm` or `Pprime_mm`)".into(),
+            ));
+        }
+        _ => {}
+    }
+    let window = th.regulator_window_deg;
+    let compared_at: Vec<bool> = phis.iter().map(|&q| !window.is_some_and(|w| in_window(crate::eval::wrap_deg(q), w))).collect();
+    let eps = st.tolerance_mm;
+    let (against_other, against_model) = match curve.kind() {
+        CurveKind::TakeUp => (mismatch_on_cycle(phis, &values, pprime, &compared_at, eps, true), mismatch_on_cycle(phis, p, &values, &compared_at, eps, true)),
+        CurveKind::Required => (mismatch_on_cycle(phis, p, &values, &compared_at, eps, true), mismatch_on_cycle(phis, pprime, &values, &compared_at, eps, true)),
+    };
+    Ok(MeasuredMatch {
+        source: source.to_string(),
+        thread: th.thread.clone(),
+        kind: curve.kind(),
+        split: if at_b { "B" } else { "eye" },
+        split_declared: curve.split().is_some(),
+        values_mm: values,
+        against_other,
+        against_model,
+    })
+}
