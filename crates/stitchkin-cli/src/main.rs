@@ -14,6 +14,7 @@ mod cam;
 mod draw;
 mod fit;
 mod image;
+mod matching;
 mod sensitivity;
 mod straightness;
 mod stroke;
@@ -86,7 +87,7 @@ enum Command {
         Score s = 100·max(0, 1 − RMS(D)/range(P')): 100 is a perfect match (docs/stitch-formation.md §8).\n\
         The P' columns themselves come with `stitchkin run` (THR.Pprime_mm, THR.D_mm, ...)."
     )]
-    Match(MatchArgs),
+    Match(matching::MatchArgs),
     /// Sweep adjustable parameters over a grid or random / Latin-hypercube
     /// samples, in parallel, and write figures of merit per setting (CSV,
     /// streamed).
@@ -271,9 +272,10 @@ struct RunArgs {
     /// Positions only, without analogs.
     #[arg(long)]
     no_analogs: bool,
-    /// Output format.
-    #[arg(long, value_enum, default_value_t = Format::Csv)]
-    format: Format,
+    /// Output format of the table (default CSV). On a terminal, without
+    /// --format or -o, `run` shows its summary instead of the table.
+    #[arg(long, value_enum)]
+    format: Option<Format>,
     /// Write to FILE instead of stdout (written completely or not at all).
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
@@ -389,21 +391,6 @@ struct SweepArgs {
 enum Method {
     Lhs,
     Random,
-}
-
-#[derive(Args)]
-struct MatchArgs {
-    #[command(flatten)]
-    model: ModelArgs,
-    /// Step of the main-shaft angle φ, degrees.
-    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
-    step: f64,
-    /// Output format: a readable table or JSON.
-    #[arg(long, value_enum, default_value_t = MatchFormat::Table)]
-    format: MatchFormat,
-    /// Write to FILE instead of stdout (written completely or not at all).
-    #[arg(short, long, value_name = "FILE")]
-    output: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -558,14 +545,26 @@ fn run(args: RunArgs) -> Result<(), Error> {
     if let Some(patterns) = &args.columns {
         table.select(patterns)?;
     }
+    // A person at a terminal gets the summary: 360 rows of a few hundred
+    // columns read nowhere but in a file or a pipe.
+    if args.format.is_none() && args.output.is_none() && std::io::IsTerminal::is_terminal(&std::io::stdout()) {
+        let mut s = summary(&model, &table);
+        s += &format!(
+            "(the full table, {} rows × {} columns: `stitchkin run --format csv`, `-o FILE.csv`, or pipe it; how P matches P′: `stitchkin match`)\n",
+            table.rows(),
+            table.columns.len()
+        );
+        return emit(s.as_bytes(), None);
+    }
+    let format = args.format.unwrap_or(Format::Csv);
     let mut buf = Vec::new();
-    match args.format {
+    match format {
         Format::Csv => output::write_csv(&table, &mut buf),
         Format::Json => output::write_json(&model, &params, &table, &mut buf),
     }
     .map_err(|e| Error::Io(e.to_string()))?;
     emit(&buf, args.output.as_ref())?;
-    if matches!(args.format, Format::Csv) || args.output.is_some() {
+    if matches!(format, Format::Csv) || args.output.is_some() {
         eprint!("{}", summary(&model, &table));
     }
     Ok(())
@@ -612,10 +611,14 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
         s += &format!("# take-up: {conv}\n");
     }
     for p in &table.paths {
+        let pn = eval::take_up_name(p.split == "B");
         s += &format!(
-            "# {:<w$} max P {:.3} mm at φ = {:.1}°, min P {:.3} mm at φ = {:.1}°",
+            "# {:<w$} max {pn} {:.3} mm at φ = {:.1}°, min {pn} {:.3} mm at φ = {:.1}°",
             p.path, p.max_p_mm, p.phi_at_max_deg, p.min_p_mm, p.phi_at_min_deg
         );
+        if let Some(e) = p.max_p_eye_mm {
+            s += &format!(" (max P_eye {e:.3} mm)");
+        }
         for (pin, iv) in &p.engaged {
             s += &format!("; {pin} engaged {}", intervals(iv, "never"));
         }
@@ -635,9 +638,11 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
             "# stitch {}: m = {} mm, t = {} mm; P' = 0 at φ = {}°, needle BDC at φ = {}°\n",
             st.stitch_type, st.m_mm, st.t_mm, st.phi0_deg, st.cyclogram_zero_deg
         );
+        s += &format!("# regulator: {}\n", st.regulator);
         for t in &st.threads {
+            let pn = if t.split == "B" { "P'_B" } else { "P'" };
             s += &format!(
-                "# {:<w$} max P' {:.3} mm at φ = {:.1}°; {:.3} mm per stitch (locked at φ = {:.1}°: {:.3} mm)",
+                "# {:<w$} max {pn} {:.3} mm at φ = {:.1}°; {:.3} mm per stitch (cut at its lock, φ = {:.1}°: {:.3} mm)",
                 t.thread, t.max_pprime_mm, t.phi_at_max_pprime_deg, t.per_stitch_mm, t.lock_phi_deg, t.locked_mm
             );
             if let (Some(p), Some(m)) = (&t.path, &t.mismatch) {
@@ -645,6 +650,15 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
             }
             s += "\n";
         }
+        for c in &st.checks {
+            s += &format!("# check {:<4} {} {}: {}\n", if c.ok { "ok" } else { "FAIL" }, c.thread, c.name, c.message);
+        }
+        for t in &st.transfers {
+            s += &format!("# note: {t}\n");
+        }
+    }
+    for c in &model.file.model.caveats {
+        s += &format!("# note: {c}\n");
     }
     for w in &table.warnings {
         s += &format!("warning: {w}\n");
@@ -688,14 +702,21 @@ fn tune_cmd(args: TuneArgs) -> Result<(), Error> {
             }
             s += &format!("{:<12} {:>14.1} {:>14.1}\n", "mean", r.before_figures.score_mean, r.after_figures.score_mean);
             let mu = |f: &stitchkin::study::tune::MatchFigures| match (f.mu_min_deg, f.mu_max_deg) {
-                (Some(a), Some(b)) => format!("{a:.1}°…{b:.1}°{}", if f.feasible { "" } else { " (OUTSIDE 30°…150°)" }),
+                (Some(a), Some(b)) => format!("{a:.1}°…{b:.1}°{}", if f.mu_ok { "" } else { " (OUTSIDE 30°…150°)" }),
                 _ => "none".into(),
             };
             s += &format!("\ntransmission angles: before {}, after {}\n", mu(&r.before_figures), mu(&r.after_figures));
+            let checks = |f: &stitchkin::study::tune::MatchFigures| {
+                if f.failed_checks.is_empty() { "all pass".to_string() } else { format!("{} FAIL", f.failed_checks.join(", ")) }
+            };
+            s += &format!("physical checks: before {}, after {}\n", checks(&r.before_figures), checks(&r.after_figures));
             s += "within one score point of the optimum (each setting alone, the others held):\n";
             for f in &r.flatness {
                 let unit = r.names.iter().find(|n| n.0 == f.name).map_or("", |n| n.1);
                 s += &format!("  {} from {} to {} {unit}\n", f.name, fmt(f.lo), fmt(f.hi));
+            }
+            for n in &r.notes {
+                s += &format!("note: {n}\n");
             }
             s += &format!("({} cycles evaluated)\n", r.evaluations);
             s
@@ -832,78 +853,6 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
     Ok(())
 }
 
-fn match_cmd(args: MatchArgs) -> Result<(), Error> {
-    let (model, params) = load(&args.model)?;
-    let opts = CycleOptions { step_deg: args.step, rpm: None, analogs: false, points: Some(Vec::new()), lean: false };
-    let table = eval::run_cycle(&model, &params, &opts)?;
-    let Some(st) = &table.stitch else {
-        return Err(Error::Stitch(format!(
-            "model `{}` has no [stitch] table, so there is no required take-up to match",
-            model.file.model.name
-        ) + "; add one (docs/model-format.md, \"Stitch process\") or try --preset mf7923d"));
-    };
-    let out = match args.format {
-        MatchFormat::Json => serde_json::to_string_pretty(st).map_err(|e| Error::Io(e.to_string()))? + "\n",
-        MatchFormat::Table => {
-            let mut s = format!(
-                "stitch {}: m = {} mm, t = {} mm; P' = 0 at φ = {}°; needle BDC at φ = {}°\n",
-                st.stitch_type, st.m_mm, st.t_mm, st.phi0_deg, st.cyclogram_zero_deg
-            );
-            s += "D = P − P': D > 0 thread given but not needed (slack), D < 0 needed but not given (strain)\n\n";
-            let iv = |v: &[[f64; 2]]| {
-                if v.is_empty() { "none".to_string() } else { v.iter().map(|i| format!("{:.0}–{:.0}°", i[0], i[1])).collect::<Vec<_>>().join(", ") }
-            };
-            for t in &st.threads {
-                s += &format!("{} (contour {}){}\n", t.thread, t.contour, t.path.as_ref().map(|p| format!(", take-up path {p}")).unwrap_or_default());
-                s += &format!("  per stitch          {:>9.3} mm (locked by P' at φ = {:.1}°: {:.3} mm)\n", t.per_stitch_mm, t.lock_phi_deg, t.locked_mm);
-                s += &format!("  max P'              {:>9.3} mm at φ = {:.1}°\n", t.max_pprime_mm, t.phi_at_max_pprime_deg);
-                if let Some(b) = t.max_pprime_b_mm {
-                    s += &format!("  max P' split at B   {:>9.3} mm (the eye at TDC, as the seeds plot it)\n", b);
-                }
-                match &t.mismatch {
-                    Some(m) => {
-                        s += &format!("  RMS(D)              {:>9.3} mm   (std {:.3} mm)\n", m.rms_d_mm, m.std_d_mm);
-                        s += &format!("  max |D|             {:>9.3} mm at φ = {:.1}°   (max D {:.3}, min D {:.3} mm)\n", m.max_abs_d_mm, m.max_abs_d_at_deg, m.max_d_mm, m.min_d_mm);
-                        s += &format!("  excess / deficit    {:>9.1} / {:.1} mm·deg\n", m.excess_area_mm_deg, m.deficit_area_mm_deg);
-                        s += &format!("  slack  (D > ε)      {}\n", iv(&m.excess_intervals_deg));
-                        s += &format!("  strain (D < −ε)     {}\n", iv(&m.deficit_intervals_deg));
-                        let lag = m.best_lag_deg.map_or(String::new(), |l| format!("  (best lag {l:.1}°)"));
-                        s += &format!("  phase of maxima     {:>9.1}°{lag}\n", m.phase_shift_max_deg);
-                        s += &format!("  match score         {:>9}   (offset-free {})\n", score(m.score), score(m.score_offset_free));
-                        if m.score.is_some_and(|x| x < 20.0) && m.phase_shift_max_deg.abs() > 90.0 {
-                            s += &format!(
-                                "  note: P peaks {:.0}° away from P': the take-up works against the stitch; check the take-up's phase\n",
-                                m.phase_shift_max_deg.abs()
-                            );
-                        }
-                    }
-                    None => s += "  no take-up path to compare (give `path` in [stitch])\n",
-                }
-                let jumps: Vec<String> = t
-                    .events
-                    .iter()
-                    .filter(|e| e.kind != stitchkin::stitch::spec::EventKind::Cont)
-                    .map(|e| format!("{} at φ = {:.1}°: {:+.3} mm", e.name, e.phi_deg, e.jump_mm))
-                    .collect();
-                if !jumps.is_empty() {
-                    s += &format!("  jumps of P'         {}\n", jumps.join("; "));
-                }
-                s += "\n";
-            }
-            if !st.moments.is_empty() {
-                s += "moments (φ): ";
-                s += &st.moments.iter().map(|(n, p)| format!("{n} {p:.1}°")).collect::<Vec<_>>().join(", ");
-                s += "\n";
-            }
-            for w in &table.warnings {
-                s += &format!("warning: {w}\n");
-            }
-            s
-        }
-    };
-    emit(out.as_bytes(), args.output.as_ref())
-}
-
 /// φ intervals for a summary line, each end within 0…360°.
 fn intervals(iv: &[stitchkin::thread::Interval], none: &str) -> String {
     if iv.is_empty() {
@@ -964,7 +913,24 @@ fn check(args: CheckArgs) -> Result<(), Error> {
             c.positions, c.max_deviation_mm, c.at_point, eval::wrap_deg(c.at_phi_deg)
         );
     }
-    emit(out.as_bytes(), None)
+    emit(out.as_bytes(), None)?;
+    // A setting no machine can realise does not pass the check.
+    let failed: Vec<String> = table
+        .stitch
+        .iter()
+        .flat_map(|s| s.checks.iter().filter(|c| !c.ok))
+        .map(|c| format!("{} {}", c.thread, c.name))
+        .collect();
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::Physical(format!(
+            "{} physical check(s) fail ({}): the model loads and assembles, but this setting cannot work on a real machine; \
+             the `# check FAIL` lines above say why and what to change",
+            failed.len(),
+            failed.join(", ")
+        )))
+    }
 }
 
 fn compare(args: CompareArgs) -> Result<(), Error> {
@@ -1079,7 +1045,7 @@ fn main() -> miette::Result<()> {
         Command::Check(args) => check(args),
         Command::Compare2d3d(args) => compare(args),
         Command::Consumption(args) => consumption(args),
-        Command::Match(args) => match_cmd(args),
+        Command::Match(args) => matching::run(args),
         Command::Sweep(args) => sweep_cmd(args),
         Command::Tune(args) => tune_cmd(args),
         Command::Nomogram(args) => nomogram::run(args),

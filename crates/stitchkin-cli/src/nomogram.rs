@@ -12,9 +12,10 @@ pub struct NomogramArgs {
     #[command(flatten)]
     model: crate::ModelArgs,
     /// Material thickness m, mm: LO:HI:N (N values, ends included), LO:HI
-    /// (11 values) or one value. Sets the parameter [stitch] m_mm names.
+    /// (11 values) or one value (default: 5 values over the range of the
+    /// parameter [stitch] m_mm names). Sets that parameter.
     #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true)]
-    thickness: String,
+    thickness: Option<String>,
     /// Stitch length t, mm, as LO:HI:N (default: the model's stitch length).
     #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true)]
     stitch: Option<String>,
@@ -41,7 +42,10 @@ pub fn run(args: NomogramArgs) -> Result<(), Error> {
     if let Some(path) = &args.output {
         stitchkin::output::check_folder(path)?;
     }
-    let thickness = Axis::parse(&args.thickness, "--thickness")?;
+    let thickness = match &args.thickness {
+        Some(t) => Axis::parse(t, "--thickness")?,
+        None => stitchkin::study::nomogram::default_thickness(&model)?,
+    };
     let stitch = args.stitch.as_deref().map(|s| Axis::parse(s, "--stitch")).transpose()?;
     let opts = NomogramOptions {
         thickness,

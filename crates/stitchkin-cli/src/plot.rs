@@ -111,6 +111,11 @@ pub struct PlotArgs {
     /// Nomogram: seed of the search (the same seed, the same chart).
     #[arg(long, value_name = "N")]
     seed: Option<u64>,
+    /// Takeup: a measured take-up P or required P′ drawn over the model's
+    /// (CSV: phi_deg and P_mm, P_B_mm, Pprime_B_mm, …; [THREAD=]FILE, as
+    /// `stitchkin match --measured`). Repeatable.
+    #[arg(long, value_name = "[THREAD=]FILE")]
+    measured: Vec<String>,
     /// Step of the main-shaft angle φ, degrees (default 1; 2 for family,
     /// surface, heatmap, nomogram and motion with --vary, which evaluate
     /// many cycles).
@@ -141,7 +146,8 @@ fn list(kinds: &[What]) -> String {
 fn check_options(args: &PlotArgs) -> Result<(), Error> {
     use What::*;
     let nomogram_example = "stitchkin plot nomogram --set t1_phase=180 --thickness 3:5:3 --adjust z";
-    let owners: [(&str, bool, &[What], &str); 12] = [
+    let owners: [(&str, bool, &[What], &str); 13] = [
+        ("--measured", !args.measured.is_empty(), &[Takeup], "stitchkin plot takeup --measured n1=n1-measured.csv"),
         ("--points", !args.points.is_empty(), &[Trajectory, Analogs], "stitchkin plot trajectory --points A,B"),
         ("--plane", args.plane.is_some(), &[Trajectory, Delta2d3d], "stitchkin plot delta2d3d --plane uvw"),
         ("--thread", !args.thread.is_empty(), &[Analogs, Family, Surface, Delta2d3d], "stitchkin plot family --vary z=-10:10:5 --thread n3_A"),
@@ -262,6 +268,13 @@ pub fn run(args: PlotArgs) -> Result<(), Error> {
         }
         What::Delta2d3d => Plot::Delta2d3d { plane: args.plane.clone().unwrap_or_else(|| "world".into()), threads: args.thread.clone() },
     };
-    let svg = plots::render(&model, &params, &plot, step)?;
+    let svg = if args.measured.is_empty() {
+        plots::render(&model, &params, &plot, step)?
+    } else {
+        let opts = stitchkin::eval::CycleOptions { step_deg: step, analogs: false, points: Some(Vec::new()), ..Default::default() };
+        let table = stitchkin::eval::run_cycle(&model, &params, &opts)?;
+        let measured = crate::matching::measured(&args.measured, &table)?;
+        plots::take_up_with_measured(&model, &table, &measured)?.render()
+    };
     crate::image::emit_picture(&svg, args.output.as_ref(), false)
 }

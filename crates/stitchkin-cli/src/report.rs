@@ -35,6 +35,11 @@ pub struct ReportArgs {
     /// The nomogram's stitch lengths, mm, LO:HI:N (default: the model's).
     #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true, requires = "nomogram_thickness")]
     nomogram_stitch: Option<String>,
+    /// A measured take-up P or required P′ to set beside the model (CSV:
+    /// phi_deg and P_mm, P_B_mm, Pprime_B_mm, …; [THREAD=]FILE, as
+    /// `stitchkin match --measured`). Repeatable.
+    #[arg(long, value_name = "[THREAD=]FILE")]
+    measured: Vec<String>,
     /// Tuning settings (--tune and the nomogram), and the φ step of every
     /// cycle in the report.
     #[command(flatten)]
@@ -83,6 +88,7 @@ pub fn run(args: ReportArgs) -> Result<(), Error> {
         animate: !args.no_animation,
         tune,
         nomogram,
+        measured: crate::matching::read_measured(&args.measured)?,
     };
     if opts.tune.is_some() || opts.nomogram.is_some() {
         eprintln!("# report: tuning (this takes a few seconds per tuning)…");

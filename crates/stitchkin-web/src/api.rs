@@ -66,7 +66,7 @@ impl Reply {
 fn library_error(e: &Error) -> Reply {
     let status = match e {
         Error::Param(_) => 400,
-        Error::Assembly(_) | Error::Thread(_) | Error::Stitch(_) | Error::NotFinite(_) | Error::Model(_) => 422,
+        Error::Assembly(_) | Error::Thread(_) | Error::Stitch(_) | Error::Physical(_) | Error::NotFinite(_) | Error::Model(_) => 422,
         Error::Io(_) => 500,
     };
     let message = match e {
@@ -202,7 +202,7 @@ impl App {
         let paths: Vec<Value> = table
             .paths
             .iter()
-            .map(|p| json!({ "path": p.path, "thread": p.thread, "max_p_mm": p.max_p_mm, "phi_at_max_deg": p.phi_at_max_deg, "min_p_mm": p.min_p_mm }))
+            .map(|p| json!({ "path": p.path, "thread": p.thread, "split": p.split, "max_p_mm": p.max_p_mm, "phi_at_max_deg": p.phi_at_max_deg, "min_p_mm": p.min_p_mm }))
             .collect();
         let threads: Vec<Value> = table
             .stitch
@@ -215,7 +215,9 @@ impl App {
                     "path": t.path,
                     "per_stitch_mm": t.per_stitch_mm,
                     "max_pprime_mm": t.max_pprime_mm,
-                    "max_pprime_b_mm": t.max_pprime_b_mm,
+                    "split": t.split,
+                    "max_pprime_eye_mm": t.max_pprime_eye_mm,
+                    "regulator_window_deg": t.regulator_window_deg,
                     "rms_d_mm": m.map(|m| m.rms_d_mm),
                     "max_abs_d_mm": m.map(|m| m.max_abs_d_mm),
                     "max_abs_d_at_deg": m.map(|m| m.max_abs_d_at_deg),
@@ -224,7 +226,17 @@ impl App {
                 })
             })
             .collect();
-        let stitch = table.stitch.as_ref().map(|s| json!({ "type": s.stitch_type, "m_mm": s.m_mm, "t_mm": s.t_mm, "threads": threads }));
+        let stitch = table.stitch.as_ref().map(|s| {
+            json!({
+                "type": s.stitch_type,
+                "m_mm": s.m_mm,
+                "t_mm": s.t_mm,
+                "threads": threads,
+                "checks": s.checks,
+                "regulator": s.regulator,
+                "transfers": s.transfers,
+            })
+        });
         let mut warnings = table.warnings.clone();
         if let Some(s) = &table.stitch {
             warnings.extend(s.warnings.iter().cloned());
@@ -237,6 +249,7 @@ impl App {
                 "chart_svg": chart,
                 "paths": paths,
                 "stitch": stitch,
+                "caveats": self.model.file.model.caveats,
                 "transmission": table.transmission,
                 "warnings": warnings,
             }),

@@ -243,7 +243,7 @@ fn mf7923d_match_golden() {
             let m = t.mismatch.as_ref().unwrap();
             close(m.rms_d_mm, rms[j], &format!("t1_phase {phase} n{} RMS(D)", j + 1));
             close(m.score.unwrap(), score[j], &format!("t1_phase {phase} n{} score", j + 1));
-            close(t.max_pprime_b_mm.unwrap(), golden_b[j], &format!("n{} max P'_B", j + 1));
+            close(t.max_pprime_mm, golden_b[j], &format!("n{} max P'_B", j + 1));
             close(t.lock_phi_deg, golden_lock[j], &format!("n{} lock", j + 1));
         }
     }

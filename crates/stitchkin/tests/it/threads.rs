@@ -240,7 +240,7 @@ fn thread_invariants_on_presets() {
                 let xi_at = |phi_deg: f64| {
                     let mut ps = plain.new_pose(1);
                     plain.solve(&[Phi::at_deg(phi_deg)], &mut ps).unwrap();
-                    plain.threads.as_ref().unwrap().evaluate_at(&ps, 0).unwrap()[pi]
+                    plain.threads.as_ref().unwrap().evaluate_at(&ps, 0).unwrap()[pi].xi[0]
                 };
                 let d = (xi_at(phis[k] + h.to_degrees()) - xi_at(phis[k] - h.to_degrees())) / (2.0 * h);
                 let scale = 1.0 + d.abs();

@@ -1,0 +1,328 @@
+//! `stitchkin match`: the take-up P against the thread the stitch needs,
+//! P′, per thread, with the match scores and the physical checks, in one
+//! screen (`--details` for every metric, `--format json` for all of it).
+
+use std::path::PathBuf;
+
+use clap::Args;
+use stitchkin::error::Error;
+use stitchkin::eval::stitch::{StitchSummary, StitchThreadSummary};
+use stitchkin::eval::{self, CycleOptions, CycleTable};
+use stitchkin::model::Model;
+use stitchkin::output::text::{sparkline, window_marks};
+use stitchkin::stitch::checks::Check;
+use stitchkin::stitch::spec::EventKind;
+use stitchkin::study::measured::{MeasuredMatch, measured_match};
+use stitchkin::thread::measured::{CurveKind, MeasuredCurve, read_curve};
+
+use crate::{MatchFormat, score};
+
+#[derive(Args)]
+pub struct MatchArgs {
+    #[command(flatten)]
+    model: crate::ModelArgs,
+    /// Step of the main-shaft angle φ, degrees.
+    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
+    step: f64,
+    /// A measured take-up P or required P′ to set beside the model: a CSV
+    /// file with columns phi_deg and one of P_mm, P_B_mm, P_eye_mm,
+    /// Pprime_mm, Pprime_B_mm, Pprime_eye_mm (optionally THREAD.P_B_mm), any
+    /// φ step (docs/studies.md, "Measured curves"). THREAD=FILE names the
+    /// thread. Repeatable.
+    #[arg(long, value_name = "[THREAD=]FILE")]
+    measured: Vec<String>,
+    /// Every metric of every thread: areas, intervals, phase, best lag, the
+    /// jumps of P′, the moments, each check in full.
+    #[arg(long)]
+    details: bool,
+    /// Output format: a readable table or JSON.
+    #[arg(long, value_enum, default_value_t = MatchFormat::Table)]
+    format: MatchFormat,
+    /// Write to FILE instead of stdout (written completely or not at all).
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<PathBuf>,
+}
+
+/// Reads the `--measured` curves, `[THREAD=]FILE` each: the thread (when
+/// given) and the curve.
+pub(crate) fn read_measured(specs: &[String]) -> Result<Vec<(Option<String>, MeasuredCurve)>, Error> {
+    specs
+        .iter()
+        .map(|spec| {
+            let (thread, file) = match spec.split_once('=') {
+                Some((t, f)) if !t.is_empty() && !t.contains(['/', '\\', '.']) => (Some(t.to_string()), f),
+                _ => (None, spec.as_str()),
+            };
+            Ok((thread, read_curve(std::path::Path::new(file))?))
+        })
+        .collect()
+}
+
+/// Reads the `--measured` curves and sets each beside its thread.
+pub(crate) fn measured(specs: &[String], table: &CycleTable) -> Result<Vec<MeasuredMatch>, Error> {
+    read_measured(specs)?.iter().map(|(thread, curve)| measured_match(table, curve, thread.as_deref())).collect()
+}
+
+pub fn run(args: MatchArgs) -> Result<(), Error> {
+    let (model, params) = crate::load(&args.model)?;
+    let opts = CycleOptions { step_deg: args.step, rpm: None, analogs: false, points: Some(Vec::new()), lean: false };
+    let table = eval::run_cycle(&model, &params, &opts)?;
+    let Some(st) = &table.stitch else {
+        return Err(Error::Stitch(format!(
+            "model `{}` has no [stitch] table, so there is no required take-up to match",
+            model.file.model.name
+        ) + "; add one (docs/model-format.md, \"Stitch process\") or try --preset mf7923d"));
+    };
+    let measured = measured(&args.measured, &table)?;
+    let out = match args.format {
+        MatchFormat::Json => {
+            // The stitch summary, with the model's name and caveats and the
+            // measured curves beside it.
+            let json_err = |e: serde_json::Error| Error::Io(e.to_string());
+            let mut json = serde_json::to_value(st).map_err(json_err)?;
+            json["model"] = serde_json::json!(model.file.model.name);
+            json["caveats"] = serde_json::json!(model.file.model.caveats);
+            json["measured"] = serde_json::to_value(&measured).map_err(json_err)?;
+            serde_json::to_string_pretty(&json).map_err(json_err)? + "\n"
+        }
+        MatchFormat::Table => screen(&model, &table, st, &measured, args.details),
+    };
+    crate::emit(out.as_bytes(), args.output.as_ref())
+}
+
+/// Columns of the sparklines: 6° each over a turn.
+const SPARK_COLS: usize = 60;
+
+/// The match on one screen: the setting, one row per thread, P against P′
+/// as sparklines, the checks, the caveats; with `details` every metric.
+pub(crate) fn screen(model: &Model, table: &CycleTable, st: &StitchSummary, measured: &[MeasuredMatch], details: bool) -> String {
+    let m = &model.file.model;
+    let mut s = format!(
+        "{} — stitch {}, material m = {} mm, stitch length t = {} mm\n",
+        m.title.as_deref().unwrap_or(&m.name),
+        st.stitch_type,
+        st.m_mm,
+        st.t_mm
+    );
+    if st.threads.iter().any(|t| t.split == "B") {
+        s += "needle threads measured at B, the eye's top position (seed 004 §2.3); ";
+    }
+    s += &format!("P = P′ = 0 at φ = {}°; needle BDC at φ = {}°\n", st.phi0_deg, st.cyclogram_zero_deg);
+    s += &format!("regulator: {}\n", st.regulator);
+    s += "D = P − P′: D > 0 thread given but not needed (slack), D < 0 needed but not given (strain)\n\n";
+
+    s += &format!(
+        "{:<8} {:<8} {:>6} {:>10} {:>10} {:>10} {:>11}  {}\n",
+        "thread", "path", "score", "RMS(D)", "max P", "max P′", "per stitch", "checks"
+    );
+    for t in &st.threads {
+        let mm = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.2} mm"));
+        let max_p = t.path.as_ref().and_then(|p| table.paths.iter().find(|q| &q.path == p)).map(|q| q.max_p_mm);
+        let checks: Vec<&Check> = st.checks.iter().filter(|c| c.thread == t.thread).collect();
+        let passed = checks.iter().filter(|c| c.ok).count();
+        let verdict = match checks.len() {
+            0 => "—".to_string(),
+            n if passed == n => format!("{n} of {n} pass"),
+            n => format!("{} of {n} FAIL", n - passed),
+        };
+        s += &format!(
+            "{:<8} {:<8} {:>6} {:>10} {:>10} {:>10} {:>11}  {verdict}\n",
+            t.thread,
+            t.path.as_deref().unwrap_or("—"),
+            score(t.mismatch.as_ref().and_then(|m| m.score)),
+            mm(t.mismatch.as_ref().map(|m| m.rms_d_mm)),
+            mm(max_p),
+            mm(Some(t.max_pprime_mm)),
+            mm(Some(t.per_stitch_mm)),
+        );
+    }
+    s += &sparklines(table, st, measured);
+    s += &checks_block(st, details);
+    for mm in measured {
+        s += &measured_line(mm);
+    }
+    s += &notes(st);
+    if details {
+        for t in &st.threads {
+            s += &thread_details(t);
+        }
+        if !st.moments.is_empty() {
+            s += "\nmoments (φ): ";
+            s += &st.moments.iter().map(|(n, p)| format!("{n} {p:.1}°")).collect::<Vec<_>>().join(", ");
+            s += "\n";
+        }
+    } else {
+        s += "\n(every metric, the jumps of P′ and the moments: stitchkin match --details; all of it: --format json)\n";
+    }
+    for c in m.caveats.iter().chain(&st.transfers) {
+        s += &format!("note: {c}\n");
+    }
+    for w in &table.warnings {
+        s += &format!("warning: {w}\n");
+    }
+    s
+}
+
+/// P against P′ of each thread as two sparklines on one scale, the
+/// regulator window marked below.
+fn sparklines(table: &CycleTable, st: &StitchSummary, measured: &[MeasuredMatch]) -> String {
+    let Some(phis) = table.column("phi_deg") else { return String::new() };
+    let start = phis.first().copied().unwrap_or(0.0);
+    let mut s = format!(
+        "\nP (upper line) against P′ (lower line) over one turn from φ = {start}°, {}° a character, each thread on its own scale\n",
+        360 / SPARK_COLS
+    );
+    let axis: String = (0..SPARK_COLS).map(|c| if c % (SPARK_COLS / 4) == 0 { '|' } else { ' ' }).collect();
+    s += &format!("{:<12}{axis}  ({}°, {}°, {}°, {}°)\n", "", start, start + 90.0, start + 180.0, start + 270.0);
+    for t in &st.threads {
+        let p = t.path.as_ref().and_then(|p| table.paths.iter().find(|q| &q.path == p)).and_then(|q| table.column(&q.p_column));
+        let pprime = table.column(&t.pprime_column());
+        let Some(pprime) = pprime else { continue };
+        let extra: Vec<&MeasuredMatch> = measured.iter().filter(|m| m.thread == t.thread).collect();
+        let all = pprime.iter().chain(p.into_iter().flatten()).chain(extra.iter().flat_map(|m| m.values_mm.iter()));
+        let (lo, hi) = all.fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+        if let Some(p) = p {
+            s += &format!("{:<6}{:<6}{}  {lo:.1}…{hi:.1} mm\n", t.thread, "P", sparkline(p, lo, hi, SPARK_COLS));
+        }
+        s += &format!("{:<6}{:<6}{}\n", if p.is_some() { "" } else { t.thread.as_str() }, "P′", sparkline(pprime, lo, hi, SPARK_COLS));
+        for m in extra {
+            let what = match m.kind {
+                CurveKind::TakeUp => "P meas",
+                CurveKind::Required => "P′ meas",
+            };
+            s += &format!("{:<6}{:<6}{}\n", "", what, sparkline(&m.values_mm, lo, hi, SPARK_COLS));
+        }
+    }
+    // The regulator windows, one line per distinct window.
+    let mut windows: Vec<([f64; 2], Vec<&str>)> = Vec::new();
+    for t in &st.threads {
+        if let Some(w) = t.regulator_window_deg {
+            match windows.iter_mut().find(|(v, _)| (v[0] - w[0]).abs() < 1e-9 && (v[1] - w[1]).abs() < 1e-9) {
+                Some((_, names)) => names.push(&t.thread),
+                None => windows.push((w, vec![&t.thread])),
+            }
+        }
+    }
+    for (w, names) in &windows {
+        let whose = if windows.len() > 1 { format!(" of {}", names.join(", ")) } else { String::new() };
+        s += &format!("{:<12}{}  regulator window{whose} (left out of the metrics)\n", "", window_marks(start, SPARK_COLS, *w, '~'));
+    }
+    s
+}
+
+/// The physical checks: one line each, in full when one fails (or with
+/// `details`).
+fn checks_block(st: &StitchSummary, details: bool) -> String {
+    if st.checks.is_empty() {
+        return String::new();
+    }
+    let mut s = "\nchecks (what no machine can do):\n".to_string();
+    for c in &st.checks {
+        let limit = match c.limit {
+            [Some(a), Some(b)] => format!("{a}…{b} mm"),
+            [None, Some(b)] => format!("≤ {b:.2} mm"),
+            [Some(a), None] => format!("≥ {a:.2} mm"),
+            [None, None] => "—".into(),
+        };
+        s += &format!(
+            "  {:<5} {:<6} {:<17} {:>8.2} mm  (allowed {limit}; φ = {:.1}°)\n",
+            if c.ok { "ok" } else { "FAIL" },
+            c.thread,
+            c.name,
+            c.value,
+            c.at_deg
+        );
+        if !c.ok || details {
+            s += &format!("        {}\n", c.message);
+        }
+    }
+    s
+}
+
+fn measured_line(m: &MeasuredMatch) -> String {
+    let (what, other) = match m.kind {
+        CurveKind::TakeUp => ("measured P", "P′"),
+        CurveKind::Required => ("measured P′", "the model's P"),
+    };
+    let split = if m.split_declared { format!("at {}", m.split) } else { format!("taken at {}", m.split) };
+    let mut s = format!("\n{what} of {} ({}, {split}):\n", m.thread, m.source);
+    if let Some(a) = &m.against_other {
+        s += &format!("  against {other}: RMS(D) {:.2} mm, max |D| {:.2} mm at φ = {:.1}°, score {}\n", a.rms_d_mm, a.max_abs_d_mm, a.max_abs_d_at_deg, score(a.score));
+    }
+    if let Some(b) = &m.against_model {
+        s += &format!(
+            "  the model's {} against it: RMS {:.2} mm, max |difference| {:.2} mm at φ = {:.1}°, score {}\n",
+            if m.kind == CurveKind::TakeUp { "P" } else { "P′" },
+            b.rms_d_mm,
+            b.max_abs_d_mm,
+            b.max_abs_d_at_deg,
+            score(b.score)
+        );
+    }
+    s
+}
+
+/// Notes that read the numbers for the user.
+fn notes(st: &StitchSummary) -> String {
+    let mut s = String::new();
+    let failed: Vec<&Check> = st.checks.iter().filter(|c| !c.ok).collect();
+    if !failed.is_empty() {
+        s += &format!(
+            "\nnote: {} physical check(s) fail: this setting cannot work on a real machine, whatever its score\n",
+            failed.len()
+        );
+    }
+    for t in &st.threads {
+        if let Some(m) = &t.mismatch
+            && m.score.is_some_and(|x| x < 20.0)
+            && m.phase_shift_max_deg.abs() > 90.0
+        {
+            s += &format!(
+                "note: {}: P peaks {:.0}° away from P′: the take-up works against the stitch; check the take-up's phase\n",
+                t.thread,
+                m.phase_shift_max_deg.abs()
+            );
+        }
+    }
+    s
+}
+
+/// Every metric of one thread.
+fn thread_details(t: &StitchThreadSummary) -> String {
+    let iv = |v: &[[f64; 2]]| {
+        if v.is_empty() { "none".to_string() } else { v.iter().map(|i| format!("{:.0}–{:.0}°", i[0], i[1])).collect::<Vec<_>>().join(", ") }
+    };
+    let mut s = format!("\n{} (contour {}){}, measured at {}\n", t.thread, t.contour, t.path.as_ref().map(|p| format!(", take-up path {p}")).unwrap_or_default(), t.split);
+    s += &format!("  per stitch          {:>9.3} mm (cut from P′ at its lock, φ = {:.1}°: {:.3} mm)\n", t.per_stitch_mm, t.lock_phi_deg, t.locked_mm);
+    if t.released_mm > 0.0 {
+        s += &format!("  loop released       {:>9.3} mm when it drops off the looper\n", t.released_mm);
+    }
+    s += &format!("  max P′              {:>9.3} mm at φ = {:.1}°\n", t.max_pprime_mm, t.phi_at_max_pprime_deg);
+    if let Some(b) = t.max_pprime_eye_mm {
+        s += &format!("  max P′ at the eye   {b:>9.3} mm (the same thread measured at the moving eye)\n");
+    }
+    match &t.mismatch {
+        Some(m) => {
+            s += &format!("  RMS(D)              {:>9.3} mm   (std {:.3} mm)\n", m.rms_d_mm, m.std_d_mm);
+            s += &format!("  max |D|             {:>9.3} mm at φ = {:.1}°   (max D {:.3}, min D {:.3} mm)\n", m.max_abs_d_mm, m.max_abs_d_at_deg, m.max_d_mm, m.min_d_mm);
+            s += &format!("  excess / deficit    {:>9.1} / {:.1} mm·deg\n", m.excess_area_mm_deg, m.deficit_area_mm_deg);
+            s += &format!("  slack  (D > ε)      {}\n", iv(&m.excess_intervals_deg));
+            s += &format!("  strain (D < −ε)     {}\n", iv(&m.deficit_intervals_deg));
+            let lag = m.best_lag_deg.map_or(String::new(), |l| format!("  (best lag {l:.1}°)"));
+            s += &format!("  phase of maxima     {:>9.1}°{lag}\n", m.phase_shift_max_deg);
+            s += &format!("  match score         {:>9}   (offset-free {}; scale: P′ swings {:.3} mm)\n", score(m.score), score(m.score_offset_free), m.range_pprime_mm);
+        }
+        None => s += "  no take-up path to compare (give `path` in [stitch])\n",
+    }
+    let jumps: Vec<String> = t
+        .events
+        .iter()
+        .filter(|e| e.kind != EventKind::Cont)
+        .map(|e| format!("{} at φ = {:.1}°: {:+.3} mm", e.name, e.phi_deg, e.jump_mm))
+        .collect();
+    if !jumps.is_empty() {
+        s += &format!("  jumps of P′         {}\n", jumps.join("; "));
+    }
+    s
+}
+
