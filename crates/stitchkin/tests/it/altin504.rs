@@ -95,18 +95,19 @@ fn needle_stroke_is_altin_needles() {
     assert!((zhi - zlo - 25.438 * 20f64.to_radians().cos()).abs() < 2e-3, "eye z travel {}", zhi - zlo);
 }
 
-/// The eye stands s_B = 11.5 mm above the plate at TDC, along the needle
-/// (seed S0), on the needle line x = 0 of the stitch frame; the needle's up
-/// direction has a negative y there, (0, −sin β, cos β).
+/// The eye stands 11.5 mm (seed S0) above 2.5 mm of material at TDC,
+/// vertically: s_B = 14/cos 20° = 14.8985 mm along the needle, on the needle
+/// line x = 0 of the stitch frame; the needle's up direction has a negative
+/// y there, (0, −sin β, cos β).
 #[test]
-fn eye_is_11_5_mm_above_the_plate_at_tdc_in_the_stitch_frame() {
+fn eye_stands_s0_above_the_material_at_tdc_in_the_stitch_frame() {
     let model = Model::preset("altin504").unwrap();
     let params = model.defaults();
     let t = run_cycle(&model, &params, &CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: None, lean: false }).unwrap();
     // Row 0 is φ = 174.85, the needle's TDC (phi_start_deg).
     let eye_z = col(&t, "eye_z_mm");
     let cos_b = 20f64.to_radians().cos();
-    assert!((eye_z[0] / cos_b - 11.5).abs() < 2e-3, "s_B = {}", eye_z[0] / cos_b);
+    assert!((eye_z[0] - 2.5 - 11.5).abs() < 2e-3, "eye {} mm above the plate", eye_z[0]);
     assert!(col(&t, "eye_x_mm").iter().all(|x| x.abs() < 1e-9));
     // World positions of the eye: the stitch frame's y is −world x, so the
     // eye's TDC is at a larger world x than its BDC (it leans toward −y).
@@ -118,7 +119,9 @@ fn eye_is_11_5_mm_above_the_plate_at_tdc_in_the_stitch_frame() {
     let (tdc, bdc) = (n.eye.at(174.85 - 0.0008), n.eye.at(0.0));
     let up = (tdc - bdc).normalize();
     assert!(up.y < 0.0 && (up.y + 20f64.to_radians().sin()).abs() < 1e-3, "{up:?}");
-    assert!((tdc.z - 11.5 * cos_b).abs() < 1e-6, "{tdc:?}");
+    assert!((tdc.z - 14.0).abs() < 1e-6, "{tdc:?}");
+    let s_b = tdc.z / cos_b;
+    assert!((s_b - 14.8985).abs() < 1e-4, "s_B = {s_b}");
 }
 
 /// Lower looper: stroke 17.3 mm across the seam, near extreme at the needle's
@@ -203,9 +206,11 @@ fn pprime_is_finite_and_zero_at_phi0() {
     let s = stitch(&t);
     assert_eq!(s.phi0_deg, 174.85);
     assert_eq!(col(&t, "phi_deg")[0], 174.85);
-    for name in ["needle", "lower", "upper"] {
-        let pp = col(&t, &format!("{name}.Pprime_mm"));
-        let p = col(&t, &format!("{name}.P_mm"));
+    // The needle thread at B (its path ends at the needle's eye), the
+    // looper threads at their eyes.
+    for (name, at) in [("needle", "_B"), ("lower", ""), ("upper", "")] {
+        let pp = col(&t, &format!("{name}.Pprime{at}_mm"));
+        let p = col(&t, &format!("{name}.P{at}_mm"));
         let d = col(&t, &format!("{name}.D_mm"));
         assert!(pp[0].abs() < 1e-12 && p[0].abs() < 1e-12, "{name}: P'(φ0) = {}, P(φ0) = {}", pp[0], p[0]);
         for k in 0..pp.len() {
@@ -213,40 +218,53 @@ fn pprime_is_finite_and_zero_at_phi0() {
             assert!((d[k] - (p[k] - pp[k])).abs() < 1e-12);
         }
     }
-    assert!(col(&t, "needle.Pprime_B_mm")[0].abs() < 1e-9);
+    assert!(col(&t, "needle.Pprime_eye_mm")[0].abs() < 1e-9 && col(&t, "needle.P_eye_mm")[0].abs() < 1e-12);
 }
 
-/// Golden numbers of the preset (m = 2.5, t = 2.8, step 1°).
+/// Golden numbers of the preset (m = 2.5, t = 2.8, step 1°): the needle
+/// thread at B, the looper threads at their eyes; each thread's stitch drawn
+/// through its regulator in the 60° before it is pulled tight.
 #[test]
 fn golden_take_up_and_match() {
     let t = run();
     let s = stitch(&t);
-    // (thread, max P', min P, max P, match score)
-    for (name, max_pp, min_p, max_p, score) in
-        [("needle", 3.079, -18.235, 0.0, 83.3), ("lower", 7.327, -9.499, 6.285, 90.2), ("upper", 3.491, -11.573, 2.600, 89.2)]
-    {
+    // (thread, its P column, max P', min P, max P, match score)
+    for (name, p_col, max_pp, min_p, max_p, score) in [
+        ("needle", "needle.P_B_mm", 15.156, 0.0, 8.227, 81.9),
+        ("lower", "lower.P_mm", 7.327, -9.499, 6.285, 90.3),
+        ("upper", "upper.P_mm", 3.491, -11.573, 2.600, 89.9),
+    ] {
         let th = thread(s, name);
         assert!((th.max_pprime_mm - max_pp).abs() < 0.02, "{name}: max P' {}", th.max_pprime_mm);
-        let p = col(&t, &format!("{name}.P_mm"));
+        let p = col(&t, p_col);
         let (lo, hi) = p.iter().fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
         assert!((lo - min_p).abs() < 0.02 && (hi - max_p).abs() < 0.02, "{name}: P {lo} … {hi}");
         let mm = th.mismatch.as_ref().expect("compared with its path");
         let sc = mm.score.expect("P' varies");
         assert!((sc - score).abs() < 0.5, "{name}: score {sc}");
     }
-    // Seed 004's split at B: the needle thread past the eye's TDC position.
-    let pb = col(&t, "needle.Pprime_B_mm");
-    let max_pb = pb.iter().fold(f64::MIN, |a, &v| a.max(v));
-    assert!((max_pb - 21.97).abs() < 0.05, "max P'_B {max_pb}");
-    // The lock jumps: needle −(t + 2 l_m) − released loop, looper threads
-    // −(stitch) + snap.
+    // The needle thread measured at the moving eye.
+    let pe = col(&t, "needle.Pprime_eye_mm");
+    let max_pe = pe.iter().fold(f64::MIN, |a, &v| a.max(v));
+    assert!((max_pe - 2.776).abs() < 0.02, "max P'_eye {max_pe}");
+    // The regulator windows: the needle thread's the 60° before the needle's
+    // TDC (174.85°), the looper threads' the 60° before their draw-in (330°).
+    let w = |name: &str| thread(s, name).regulator_window_deg.expect("a window");
+    assert!((w("needle")[0] - 114.84).abs() < 0.02 && (w("needle")[1] - 174.84).abs() < 0.02, "{:?}", w("needle"));
+    assert!((w("lower")[0] - 270.0008).abs() < 1e-6 && (w("upper")[1] - 330.0008).abs() < 1e-6);
+    // The lock jumps of P': the stitch's own thread is drawn in the window,
+    // so the needle's lock gives back only the loop −ρ, the looper threads'
+    // the snap.
     let jump = |name: &str, kind: stitchkin::stitch::spec::EventKind| {
         thread(s, name).events.iter().find(|e| e.kind == kind).map(|e| e.jump_mm).unwrap()
     };
     use stitchkin::stitch::spec::EventKind::Lock;
-    assert!((jump("needle", Lock) + 25.600).abs() < 0.01, "{}", jump("needle", Lock));
-    assert!((jump("lower", Lock) + 11.381).abs() < 0.01, "{}", jump("lower", Lock));
-    assert!((jump("upper", Lock) + 11.200).abs() < 0.01, "{}", jump("upper", Lock));
+    assert!((jump("needle", Lock) + 17.479).abs() < 0.01, "{}", jump("needle", Lock));
+    assert!((jump("needle", Lock) + thread(s, "needle").released_mm).abs() < 1e-9);
+    assert!((jump("lower", Lock) - 0.002).abs() < 0.01, "{}", jump("lower", Lock));
+    assert!((jump("upper", Lock) - 0.183).abs() < 0.01, "{}", jump("upper", Lock));
+    // Every physical check of the needle thread passes.
+    assert!(s.checks_ok() && s.checks.len() == 3, "{:?}", s.checks);
 }
 
 /// Seed 000/004: max P' grows with the thickness and the stitch length (the

@@ -20,3 +20,4 @@ mod cam_synthesis;
 mod plots;
 mod drawing;
 mod report;
+mod measured;

@@ -63,13 +63,14 @@ fn bad_input_is_refused_before_anything_runs() {
     assert!(e.contains("nothing to adjust"), "{e}");
 }
 
-/// Seed 000: "z = −2…−5 mm suits 3–5 mm material". With the take-up phase
-/// read as T1 up at TDC (t1_phase = 180) and z tuned alone, the model's
-/// optimum is z ≈ −3.3…−5.4 mm for m = 3…5 mm (−3.85, −4.68, −5.39 at a
-/// 1° step; docs/studies.md "Nomograms"), moving down as the material gets
-/// thicker. The gain over z = 0 is small: the optimum is flat.
+/// Seed 000: "z = −2…−5 mm suits 3–5 mm material". At the default setting
+/// (T1 up at the needle's TDC, each stitch drawn through the regulator in the
+/// 60° before TDC) z tuned alone sits near +2.4 mm for m = 3, 4 and 5 mm:
+/// not seed 000's finding, which this model gives only with the whole stitch
+/// passing the regulator at the lock (docs/published-facts.md). The gain
+/// over z = 0 is about a point, and the optimum is flat.
 #[test]
-fn seed000_z_finding_with_the_take_up_phase_at_180() {
+fn seed000_z_finding_at_the_default_setting() {
     let (m, p) = mf7923d(180.0);
     let calls = std::sync::atomic::AtomicUsize::new(0);
     let o = opts("3:5:3", None, &["z"], 5.0);
@@ -86,15 +87,17 @@ fn seed000_z_finding_with_the_take_up_phase_at_180() {
     assert_never_worse(&n);
     let z: Vec<f64> = n.tuned().map(|(_, r)| r.after[0]).collect();
     for (k, z) in z.iter().enumerate() {
-        assert!((-5.6..=-3.0).contains(z), "m = {}: z = {z}", 3 + k);
+        assert!((2.0..=3.0).contains(z), "m = {}: z = {z}", 3 + k);
     }
-    assert!(z[0] > z[1] && z[1] > z[2], "thicker material wants z further down: {z:?}");
     for (_, r) in n.tuned() {
         let (b, a) = (r.before_figures.score_mean, r.after_figures.score_mean);
-        assert!(a > b && a - b < 1.0 && a > 70.0, "a real but small gain: {b} -> {a}");
+        assert!(a > b && a - b < 2.0 && a > 70.0, "a real but small gain: {b} -> {a}");
+        assert!(r.after_figures.failed_checks.is_empty(), "{:?}", r.after_figures.failed_checks);
         let f = &r.flatness[0];
-        assert!(f.lo <= -9.0 && f.hi >= 3.0, "flat optimum: {f:?}");
+        assert!(f.lo <= 0.5 && f.hi >= 4.5, "flat optimum: {f:?}");
     }
+    // No setting sits on a range end, so the nomogram has nothing to warn of.
+    assert!(n.notes().is_empty(), "{:?}", n.notes());
     // The same seed gives the same nomogram, however the grid points are
     // scheduled (here: all on one thread).
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
@@ -107,10 +110,11 @@ fn seed000_z_finding_with_the_take_up_phase_at_180() {
     assert!(n.table().contains("z within 1 pt"), "{}", n.table());
 }
 
-/// A grid over m and t, with the preset's own reading of the take-up phase
-/// (t1_phase = 0). P then peaks near the needle's BDC while P' is near its
-/// smallest: RMS(P − P') is about 1.6 times the swing of P' at every z, so
-/// every score is 0 before and after, and the nomogram says so.
+/// A grid over m and t, with the other reading of the take-up phase
+/// (t1_phase = 0, T1 down at the needle's TDC). P then peaks near the
+/// needle's BDC, far beyond what the needle can take: every score is 0
+/// before and after, the thread bound fails everywhere, and the nomogram
+/// says so.
 #[test]
 fn a_grid_over_thickness_and_stitch_runs_stitch_fastest() {
     let (m, p) = mf7923d(0.0);
@@ -125,6 +129,7 @@ fn a_grid_over_thickness_and_stitch_runs_stitch_fastest() {
         }
     }
     assert!(n.all_scores_zero());
+    assert!(n.notes().iter().any(|t| t.contains("passes every physical check")), "{:?}", n.notes());
     // Each point's stitch really has that m and t: the per-stitch thread
     // of stitch 407 is t + 2m, so P' differs between the points.
     let before: Vec<f64> = n.tuned().map(|(_, r)| r.before_figures.threads[0].2).collect();

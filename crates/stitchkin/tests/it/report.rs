@@ -44,7 +44,7 @@ fn mf7923d_report_has_every_section_and_is_self_contained() {
     self_contained(&html);
     let doc = parse(&html);
     let ids = section_ids(&doc);
-    assert_eq!(ids[..5], ["parameters", "mechanism", "takeup", "mismatch", "transmission"]);
+    assert_eq!(ids[..7], ["parameters", "mechanism", "takeup", "mismatch", "checks", "caveats", "transmission"]);
     // Pictures: still and animated mechanism, P/P′, μ — all inline SVG.
     let svgs = doc.descendants().filter(|n| n.tag_name().name() == "svg").count();
     assert_eq!(svgs, 4);
@@ -64,7 +64,32 @@ fn mf7923d_report_has_every_section_and_is_self_contained() {
         assert!((0.0..=100.0).contains(&score));
     }
     assert_eq!(rows(&doc, "paths").len(), 6);
+    assert!(rows(&doc, "paths").iter().all(|r| r[2] == "B"), "needle-eye paths are measured at B");
     assert_eq!(rows(&doc, "transmission").len(), 2);
+    // The physical checks, three per needle thread, with what each means;
+    // at r1 = 5 mm every one passes.
+    let c = rows(&doc, "checks");
+    assert_eq!(c.len(), 9);
+    assert!(c.iter().all(|r| r[2] == "ok" && !r[6].is_empty()), "{c:?}");
+    assert!(html.contains("Regulator: n1 φ = 300.0°…360.0°"), "the regulator window is stated");
+    // Every caveat of the model and every rule carried over from another
+    // stitch type is listed.
+    for c in model.file.model.caveats.iter() {
+        assert!(html.contains(&stitchkin::output::svg::escape(c)), "{c}");
+    }
+    assert!(html.contains("401 two-thread chain stitch"));
+}
+
+#[test]
+fn the_alternative_take_up_phase_fails_the_thread_bound_in_the_report() {
+    let model = Model::preset("mf7923d").unwrap();
+    let mut params = model.defaults();
+    model.set(&mut params, "t1_phase", 0.0).unwrap();
+    let html = render(&model, &params, &ReportOptions { step_deg: 5.0, animate: false, ..Default::default() }).unwrap();
+    let doc = parse(&html);
+    let bound: Vec<Vec<String>> = rows(&doc, "checks").into_iter().filter(|r| r[1] == "thread_bound").collect();
+    assert_eq!(bound.len(), 3);
+    assert!(bound.iter().all(|r| r[2] == "FAIL" && r[6].contains("hangs slack")), "{bound:?}");
 }
 
 #[test]

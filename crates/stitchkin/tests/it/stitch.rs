@@ -57,14 +57,16 @@ fn mf7923d_locks_one_stitch_of_thread_per_needle() {
         assert_eq!(t.thread, format!("n{}", j + 1));
         assert_eq!(t.path.as_deref(), Some(format!("n{}_A", j + 1).as_str()));
         // Contour 1: t + 2·l_m = 3 + 2·3 = 9 mm (β = 0), and the P' model
-        // locks exactly that at the drop.
+        // cuts exactly that at the drop.
         assert!((t.per_stitch_mm - 9.0).abs() < 1e-12, "{t:?}");
         assert!((t.locked_mm - t.per_stitch_mm).abs() < 1e-9, "{}: locked {} vs {}", t.thread, t.locked_mm, t.per_stitch_mm);
         assert!(t.events.iter().any(|e| e.kind == stitchkin::stitch::spec::EventKind::Lock));
         let m = t.mismatch.as_ref().expect("compared with its path");
         assert!(m.rms_d_mm.is_finite() && m.rms_d_mm > 0.0);
-        let pp = table.column(&format!("n{}.Pprime_mm", j + 1)).unwrap();
-        let p = table.column(&format!("n{}_A.P_mm", j + 1)).unwrap();
+        // Measured at B: the P' and P columns of the split, and D = P − P'.
+        assert_eq!(t.split, "B");
+        let pp = table.column(&format!("n{}.Pprime_B_mm", j + 1)).unwrap();
+        let p = table.column(&format!("n{}_A.P_B_mm", j + 1)).unwrap();
         let d = table.column(&format!("n{}.D_mm", j + 1)).unwrap();
         // φ0 = 0 is the first row: P' = 0 there, and D = P − P'.
         assert!(pp[0].abs() < 1e-12, "P'(φ0) = {}", pp[0]);
@@ -72,9 +74,44 @@ fn mf7923d_locks_one_stitch_of_thread_per_needle() {
             assert!(pp[k].is_finite());
             assert!((d[k] - (p[k] - pp[k])).abs() < 1e-12);
         }
-        assert!(table.column(&format!("n{}.Pprime_B_mm", j + 1)).is_some());
+        // The same thread at the moving eye differs by the needle's travel:
+        // P_B − P_eye = P'_B − P'_eye = S(φ) − S(φ0), D the same at either.
+        let (pe, ppe) = (table.column(&format!("n{}_A.P_eye_mm", j + 1)).unwrap(), table.column(&format!("n{}.Pprime_eye_mm", j + 1)).unwrap());
+        for k in 0..pp.len() {
+            assert!(((p[k] - pe[k]) - (pp[k] - ppe[k])).abs() < 1e-5, "φ = {k}: {} vs {}", p[k] - pe[k], pp[k] - ppe[k]);
+        }
         assert!(table.column(&format!("n{}.gamma_deg", j + 1)).is_some());
+        // The regulator window: the last 60° before the needle's TDC (φ = 0).
+        let w = t.regulator_window_deg.unwrap();
+        assert!((w[0] - 300.0).abs() < 1e-6 && (w[1] - 360.0).abs() < 1e-6, "{w:?}");
+        // At the lock P' drops by the loop it releases only; the stitch's
+        // own 9 mm is drawn through the regulator over 300…360°.
+        let lock = t.events.iter().find(|e| e.kind == stitchkin::stitch::spec::EventKind::Lock).unwrap();
+        assert!((lock.jump_mm + t.released_mm).abs() < 1e-6, "{lock:?} vs ρ = {}", t.released_mm);
     }
+    // P' differs from the reference accounting (the whole stitch at the
+    // lock) by L_s·(H_L − w): 0 before the lock, L_s from the lock to the
+    // window, falling linearly to 0 across 300…360°.
+    let model = Model::preset("mf7923d").unwrap();
+    let spec = model.stitch_setup(&model.defaults()).unwrap().unwrap().spec;
+    let grid: Vec<f64> = (0..360).map(|k| (k as f64 + 180.0).rem_euclid(360.0)).collect();
+    let ours = stitchkin::stitch::pprime::required_take_up(&spec, &grid, 180.0).unwrap();
+    let at_lock = stitchkin::stitch::pprime::required_take_up(
+        &stitchkin::stitch::spec::StitchSpec { regulator: stitchkin::stitch::spec::Regulator::AtLock, ..spec },
+        &grid,
+        180.0,
+    )
+    .unwrap();
+    for (a, b) in ours.threads.iter().zip(&at_lock.threads) {
+        let lock = (a.lock_deg + 180.0).rem_euclid(360.0);
+        for (k, (x, y)) in a.pprime_mm.iter().zip(&b.pprime_mm).enumerate() {
+            let phi = k as f64;
+            let want = if phi < lock { 0.0 } else if phi < 300.0 { 9.0 } else { 9.0 * (360.0 - phi) / 60.0 };
+            assert!((x - y - want).abs() < 1e-9, "{} at φ = {phi}: {} vs {want}", a.name, x - y);
+        }
+    }
+    // Every physical check passes at the default setting.
+    assert!(st.checks_ok() && st.checks.len() == 9, "{:?}", st.checks);
 }
 
 #[test]
@@ -215,7 +252,7 @@ phase_deg = -4
     let dogged = Model::from_toml_str(&point, "d.toml").unwrap();
     let opts = CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()), lean: false };
     let (a, b) = (run_cycle(&harmonic, &harmonic.defaults(), &opts).unwrap(), run_cycle(&dogged, &dogged.defaults(), &opts).unwrap());
-    let (pa, pb) = (a.column("thr.Pprime_mm").unwrap(), b.column("thr.Pprime_mm").unwrap());
+    let (pa, pb) = (a.column("thr.Pprime_B_mm").unwrap(), b.column("thr.Pprime_B_mm").unwrap());
     let worst = pa.iter().zip(pb).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
     assert!(worst < 1e-6, "point-law P' differs from the harmonic law's by {worst} mm");
     assert!(b.warnings.iter().any(|w| w.contains("travels 3.064 mm") && w.contains("t = 2.5 mm")), "{:?}", b.warnings);
@@ -231,22 +268,58 @@ phase_deg = -4
 }
 
 /// Golden numbers of the mf7923d stitch 407 (m = t = 3, step 1°), for both
-/// readings of the take-up phase (docs/stitch-formation.md §10.1, Q4).
+/// readings of the take-up phase (docs/stitch-formation.md §10.1, Q4): at
+/// the default, T1 up at the needle's TDC, scores of 80–82 and every check
+/// passing; with T1 down at TDC (`t1_phase = 0`) scores of 0 and the thread
+/// bound failing for needles 1–3.
 #[test]
 fn mf7923d_match_golden() {
     let close = |a: f64, b: f64, what: &str| assert!((a - b).abs() < 2e-3, "{what}: {a} vs golden {b}");
-    let golden_b = [20.4045, 14.0644, 8.1137];
-    let golden_lock = [137.22, 124.56, 113.62];
-    for (phase, rms, score) in [(0.0, [55.0393, 58.4166, 61.2172], [0.0, 0.0, 0.0]), (180.0, [9.5131, 8.5094, 7.8654], [71.2849, 76.5329, 79.9449])] {
+    let golden_b = [24.2577, 20.4501, 18.8073];
+    let golden_lock = [113.62, 124.56, 137.22];
+    for (phase, rms, score, bound_ok) in
+        [(0.0, [48.2470, 54.0508, 59.7335], [0.0, 0.0, 0.0], false), (180.0, [4.7060, 3.6411, 3.4837], [80.5852, 82.1801, 81.4607], true)]
+    {
         let table = mf_run(&[("t1_phase", phase)]);
-        for (j, t) in table.stitch.as_ref().unwrap().threads.iter().enumerate() {
+        let st = table.stitch.as_ref().unwrap();
+        for (j, t) in st.threads.iter().enumerate() {
             let m = t.mismatch.as_ref().unwrap();
             close(m.rms_d_mm, rms[j], &format!("t1_phase {phase} n{} RMS(D)", j + 1));
             close(m.score.unwrap(), score[j], &format!("t1_phase {phase} n{} score", j + 1));
             close(t.max_pprime_mm, golden_b[j], &format!("n{} max P'_B", j + 1));
             close(t.lock_phi_deg, golden_lock[j], &format!("n{} lock", j + 1));
+            let bound = st.checks.iter().find(|c| c.thread == t.thread && c.name == "thread_bound").unwrap();
+            assert_eq!(bound.ok, bound_ok, "t1_phase {phase} {}: {}", t.thread, bound.message);
         }
     }
+}
+
+/// The default match of the MF-7923D: a score of at least 60 for every
+/// needle, every physical check passing, the largest P_B of each contour-A
+/// needle thread between 8 and 25 mm and never below −0.5 mm, contour B
+/// feeding more than A.
+#[test]
+fn mf7923d_default_setting_is_physically_possible() {
+    let table = mf_run(&[]);
+    let st = table.stitch.as_ref().unwrap();
+    for t in &st.threads {
+        let score = t.mismatch.as_ref().unwrap().score.unwrap();
+        assert!(score >= 60.0, "{}: score {score}", t.thread);
+    }
+    assert!(st.checks.len() == 9 && st.checks_ok(), "{:?}", st.checks);
+    for j in 1..=3 {
+        let a = table.paths.iter().find(|p| p.path == format!("n{j}_A")).unwrap();
+        let b = table.paths.iter().find(|p| p.path == format!("n{j}_B")).unwrap();
+        assert!((8.0..=25.0).contains(&a.max_p_mm), "n{j}_A max P_B {}", a.max_p_mm);
+        assert!(a.min_p_mm >= -0.5, "n{j}_A min P_B {}", a.min_p_mm);
+        assert!(b.max_p_mm > a.max_p_mm, "n{j}: B {} vs A {}", b.max_p_mm, a.max_p_mm);
+    }
+    // The reading with T1 down at TDC fails the bound, and says what that
+    // means for the machine.
+    let table = mf_run(&[("t1_phase", 0.0)]);
+    let st = table.stitch.as_ref().unwrap();
+    let bound: Vec<_> = st.checks.iter().filter(|c| c.name == "thread_bound").collect();
+    assert!(bound.iter().all(|c| !c.ok && c.message.contains("hangs slack") && c.value > c.limit[1].unwrap() + 25.0), "{bound:?}");
 }
 
 /// Stitch 503 with the stand-in laws of the reference's altin503 case
@@ -287,6 +360,7 @@ t_mm = 2.8
 tilt_deg = 20
 overedge_width_mm = 4
 cyclogram_zero_deg = 0
+regulator = { at_lock = true }
 feed = { law = "harmonic", start_deg = 134, duration_deg = 100 }
 [[stitch.needles]]
 name = "needle"
@@ -332,7 +406,7 @@ fn a_503_model_with_stand_in_laws_runs_and_gives_the_reference_pprime() {
     let head: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
     let (c_phi, c_n, c_l) = (col("phi_c_deg"), col("needle_Pprime_N_mm"), col("looper_Pprime_mm"));
-    let (phi, pn, pl) = (table.column("phi_deg").unwrap(), table.column("needle.Pprime_mm").unwrap(), table.column("looper.Pprime_mm").unwrap());
+    let (phi, pn, pl) = (table.column("phi_deg").unwrap(), table.column("needle.Pprime_eye_mm").unwrap(), table.column("looper.Pprime_mm").unwrap());
     let mut checked = 0;
     for line in lines {
         let f: Vec<&str> = line.split(',').collect();
@@ -345,6 +419,9 @@ fn a_503_model_with_stand_in_laws_runs_and_gives_the_reference_pprime() {
     assert_eq!(checked, 360);
     assert!(table.column("needle.Pprime_B_mm").is_some() && table.column("looper.D_mm").is_some());
     assert!(table.column("looper.Pprime_B_mm").is_none());
+    // With the reference's accounting (the regulator passes each stitch at
+    // the lock) nothing is left out of the metrics.
+    assert!(st.threads.iter().all(|t| t.regulator_window_deg.is_none()), "{:?}", st.regulator);
 }
 
 fn stitch503_err(from: &str, to: &str) -> String {

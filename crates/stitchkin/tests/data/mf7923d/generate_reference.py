@@ -12,7 +12,10 @@ import numpy as np
 D2R = np.pi / 180.0
 
 NOMINAL = dict(r1=4.0, AB=32.0, O2B=21.5, z=0.0, t=120.0, e=21.0, h=32.0,
-               r2=15.5, DE=54.5, P=127.0, R=85.0, psi=169.3, dphi=0.0)
+               r2=15.5, DE=54.5, P=127.0, R=85.0, psi=169.3, dphi=0.0, t1_phase=180.0)
+# The other reading of the take-up phase (the eccentric's throw up at the
+# needle's TDC): the geometry files are computed in it.
+PHASE0 = dict(NOMINAL, t1_phase=0.0)
 
 # Table 2 (UVW, mm), typos fixed: needle 2 G2 w -65 -> 65, needle 3 G2 u 8 -> -8,
 # needle 3 G5 v 90 -> 55; (u, v) of the T1 and T2 columns exchanged.
@@ -49,8 +52,9 @@ def mechanism(phi_deg, p=NOMINAL):
     O2 = np.array([-30.0, -35.0, 0.0])             # Q = O2 + (30, 35, 0)
     O1 = O2 + np.array([p['e'], p['h'], 0.0])     # main shaft (along u) through O1
     O3 = O2 + np.array([-p['t'], p['h'], 0.0])    # needle crank on the main shaft
-    # eccentric O1A: turns right-handed about +u; throw up (+v) at phi = -dphi, like the needle crank (paper: dphi = phi_M1-0 - phi_M2-0)
-    th = phi + p['dphi'] * D2R
+    # eccentric O1A: turns right-handed about +u; throw up (+v) at phi = -(dphi + t1_phase), like the needle crank at
+    # phi = 0 (paper: dphi = phi_M1-0 - phi_M2-0); t1_phase = 180: throw down, T1 up, at the needle's TDC
+    th = phi + (p['dphi'] + p['t1_phase']) * D2R
     A = O1[None, :] + p['r1'] * np.stack([np.zeros_like(th), np.cos(th), np.sin(th)], 1)
     # RSSR: B = O2 + O2B (cos b, sin b, 0) + (0, 0, z); |B - A| = AB
     c = np.array([O2[0], O2[1], p['z']])
@@ -138,10 +142,15 @@ def contour(j, kind, pts, flat=False):
     return xi, eng, wc, cross
 
 
-def take_up(j, kind, phis, p=NOMINAL, flat=False):
+def take_up(j, kind, phis, p=NOMINAL, flat=False, at_b=False):
+    """P = xi(0) - xi(phi) at the moving eye, or at_b: past B, the eye's top
+    position (phi0 = 0 is the needle's TDC), P_B = P + S(phi), S = E_v(0) - E_v(phi)."""
     pts = mechanism(np.concatenate([[0.0], phis]), p)
     xi, eng, wc, cross = contour(j, kind, pts, flat)
-    return xi[0] - xi[1:], eng[1:], wc[1:], xi[1:]
+    P = xi[0] - xi[1:]
+    if at_b:
+        P = P + pts['E'][0, 1] - pts['E'][1:, 1]
+    return P, eng[1:], wc[1:], xi[1:]
 
 
 # ---------------------------------------------------------------------------
@@ -154,8 +163,8 @@ def main():
     ph = np.arange(0, 360.0, 1.0)
     f = lambda x: '%.15g' % x
 
-    # ---------- points ----------
-    m = mechanism(ph)
+    # ---------- points (the reading t1_phase = 0, at the moving eye) ----------
+    m = mechanism(ph, PHASE0)
     names = ['A', 'B', 'D', 'E'] + [f'{k}_{j}' for k in ('T1', 'T2') for j in (1, 2, 3)] \
           + [f'T3_{j}' for j in (1, 2, 3)] + [f'G8_{j}' for j in (1, 2, 3)] + [f'N_{j}' for j in (1, 2, 3)]
     src = {n: n for n in names}
@@ -175,8 +184,8 @@ def main():
     res = {}
     for j in (1, 2, 3):
         for k in 'AB':
-            P, eng, wc, xi = take_up(j, k, ph)
-            P2, eng2, _, _ = take_up(j, k, ph, flat=True)
+            P, eng, wc, xi = take_up(j, k, ph, PHASE0)
+            P2, eng2, _, _ = take_up(j, k, ph, PHASE0, flat=True)
             res[(j, k)] = (P, eng, xi, P2, eng2)
     with open(f'{OUT}/reference_P.csv', 'w') as fh:
         cols = ['phi_deg'] + [f'P_n{j}_{k}_mm' for j in (1, 2, 3) for k in 'AB'] \
@@ -197,12 +206,12 @@ def main():
         assert (res[(j, 'A')][1] == res[(j, 'B')][1]).all()
 
     # ---------- G4 switch angles by bisection ----------
-    def cross_at(phi, j=1, p=NOMINAL):
+    def cross_at(phi, j=1, p=PHASE0):
         mm = mechanism(np.array([phi]), p)
         T1 = mm[f'T1_{j}'][0, :2]; T2 = mm[f'T2_{j}'][0, :2]; G4 = np.array(TABLE2[j]['G4'][:2], float)
         d = T2 - T1; q = G4 - T1
         return d[0] * q[1] - d[1] * q[0]
-    def bisect(a, b, p=NOMINAL):
+    def bisect(a, b, p=PHASE0):
         fa = cross_at(a, p=p)
         for _ in range(60):
             c = 0.5 * (a + b); fc = cross_at(c, p=p)
@@ -229,8 +238,8 @@ def main():
         fh.write('needle,contour,xi0_mm,maxP_mm,phi_maxP_deg,minP_mm,g4_engaged_deg,flat_deg_dP_lt_0.05,within_0.5mm_of_max_deg,maxP_2D_mm,max_abs_dP_3D_2D_mm,phi_max_abs_dP_deg\n')
         for j in (1, 2, 3):
             for k in 'AB':
-                P, eng, wc, xi = take_up(j, k, fine)
-                P2 = take_up(j, k, fine, flat=True)[0]
+                P, eng, wc, xi = take_up(j, k, fine, PHASE0)
+                P2 = take_up(j, k, fine, PHASE0, flat=True)[0]
                 dP = np.gradient(P, 0.01)
                 d = P - P2
                 fh.write(','.join([str(j), k, f'{xi[0]:.6f}', f'{P.max():.6f}', f'{fine[P.argmax()]:.2f}', f'{P.min():.6f}',
@@ -238,19 +247,19 @@ def main():
                                    intervals(P > P.max() - 0.5, fine), f'{P2.max():.6f}', f'{np.abs(d).max():.6f}',
                                    f'{fine[np.abs(d).argmax()]:.2f}']) + '\n')
 
-    # ---------- sensitivities ----------
+    # ---------- sensitivities (the default reading, t1_phase = 180, P past B) ----------
     g = np.arange(0, 360.0, 0.1)
     cases = [('r1', 4, 6), ('r1', 4, 5), ('r2', 15.5, 16.5), ('O2B', 20, 23), ('O2B', 21.5, 20), ('O2B', 21.5, 23),
              ('z', 0, -10), ('z', 0, 10), ('z', 0, -5), ('z', 0, -2), ('dphi', 0, -20), ('dphi', 0, 20)]
     pname = {'r1': 'r1', 'r2': 'r2', 'O2B': 'l_o2b', 'z': 'z', 'dphi': 'dphi'}
     with open(f'{OUT}/reference_sensitivity.csv', 'w') as fh:
-        fh.write('parameter,from,to,needle,contour,maxP_from_mm,phi_maxP_from_deg,maxP_to_mm,phi_maxP_to_deg,d_maxP_mm,max_abs_dP_mm,phi_max_abs_dP_deg,g4_engaged_to_deg\n')
+        fh.write('parameter,from,to,needle,contour,maxP_B_from_mm,phi_maxP_B_from_deg,maxP_B_to_mm,phi_maxP_B_to_deg,d_maxP_B_mm,max_abs_dP_B_mm,phi_max_abs_dP_B_deg,g4_engaged_to_deg\n')
         for name, a, b in cases:
             for j in (1, 2, 3):
                 for k in 'AB':
                     pa = dict(NOMINAL); pa[name] = a
                     pb = dict(NOMINAL); pb[name] = b
-                    Pa = take_up(j, k, g, pa)[0]; Pb, eb, _, _ = take_up(j, k, g, pb)
+                    Pa = take_up(j, k, g, pa, at_b=True)[0]; Pb, eb, _, _ = take_up(j, k, g, pb, at_b=True)
                     d = Pb - Pa
                     fh.write(','.join([pname[name], f(a), f(b), str(j), k, f'{Pa.max():.4f}', f'{g[Pa.argmax()]:.1f}',
                                        f'{Pb.max():.4f}', f'{g[Pb.argmax()]:.1f}', f'{Pb.max() - Pa.max():.4f}',
