@@ -68,7 +68,7 @@ fn run_without_arguments_uses_the_default_preset() {
     let (csv, summary) = ok(&["run"]);
     let mut lines = csv.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    for col in ["phi_deg", "T1_1.y_mm", "T1_1.dy_dphi_mm_per_rad", "E.d2y_dphi2_mm_per_rad2", "n1_A.P_mm", "n2_B.dP_dphi_mm_per_rad", "n3_A.G4_3_engaged", "mu_rod_AB_arm_O2B_deg"] {
+    for col in ["phi_deg", "T1_1.y_mm", "T1_1.dy_dphi_mm_per_rad", "E.d2y_dphi2_mm_per_rad2", "n1_A.P_B_mm", "n1_A.P_eye_mm", "n2_B.dP_B_dphi_mm_per_rad", "n3_A.G4_3_engaged", "mu_rod_AB_arm_O2B_deg", "n1.Pprime_B_mm", "n1.Pprime_eye_mm"] {
         assert!(header.contains(&col), "no column {col} in {header:?}");
     }
     let rows: Vec<&str> = lines.collect();
@@ -78,16 +78,36 @@ fn run_without_arguments_uses_the_default_preset() {
     for p in ["n1_A", "n2_A", "n3_A", "n1_B", "n2_B", "n3_B"] {
         assert!(summary.contains(&format!("# {p}")), "{summary}");
     }
-    assert!(summary.contains("take-up: P = xi(phi0) - xi(phi)"));
+    assert!(summary.contains("take-up: P = xi(phi0) - xi(phi)") && summary.contains("split at B"), "{summary}");
+    assert!(summary.contains("# check ok   n1 thread_bound") && !summary.contains("FAIL"), "{summary}");
+}
+
+/// On a terminal `run` shows its summary, not hundreds of columns; the
+/// table is one flag away (`--format csv`), and is what a pipe gets.
+#[test]
+fn run_on_a_terminal_shows_the_summary() {
+    let exe = env!("CARGO_BIN_EXE_stitchkin");
+    // `script` runs the command on a pseudo-terminal (util-linux, part of
+    // every Debian system).
+    let tty = |args: &str| {
+        let out = Command::new("script").args(["-qec", &format!("{exe} {args}"), "/dev/null"]).env("NO_COLOR", "1").output().expect("script runs");
+        assert!(out.status.success(), "{args}: {}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).replace('\r', "")
+    };
+    let screen = tty("run");
+    assert!(screen.lines().count() < 40 && !screen.contains("phi_deg,"), "{screen}");
+    assert!(screen.contains("# n1_A") && screen.contains("max P_B") && screen.contains("# check ok"), "{screen}");
+    assert!(screen.contains("the full table, 360 rows") && screen.contains("stitchkin run --format csv"), "{screen}");
+    assert!(tty("run --format csv --step 30").contains("phi_deg,"));
 }
 
 #[test]
 fn columns_can_be_selected_by_pattern() {
-    let (csv, _) = ok(&["run", "--step", "30", "--columns", "*.P_mm,mu_*"]);
+    let (csv, _) = ok(&["run", "--step", "30", "--columns", "*.P_B_mm,mu_*"]);
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     assert_eq!(header[0], "phi_deg");
-    assert_eq!(header.iter().filter(|h| h.ends_with(".P_mm")).count(), 6);
-    assert!(header.iter().all(|h| *h == "phi_deg" || h.ends_with(".P_mm") || h.starts_with("mu_")), "{header:?}");
+    assert_eq!(header.iter().filter(|h| h.ends_with(".P_B_mm")).count(), 6);
+    assert!(header.iter().all(|h| *h == "phi_deg" || h.ends_with(".P_B_mm") || h.starts_with("mu_")), "{header:?}");
     let e = fails(&["run", "--columns", "*.Q_mm"]);
     assert!(e.contains("no column matches `*.Q_mm`"), "{e}");
 }
@@ -112,34 +132,94 @@ fn consumption_prints_the_thread_per_stitch() {
 #[test]
 fn match_prints_the_mismatch_per_thread() {
     let (out, _) = ok(&["match"]);
-    assert!(out.starts_with("stitch 407: m = 3 mm, t = 3 mm"), "{out}");
-    for thread in ["n1 (contour 1), take-up path n1_A", "n2 (contour 1)", "n3 (contour 1)"] {
-        assert!(out.contains(thread), "{thread} missing:\n{out}");
+    assert!(out.lines().count() < 50, "one screen:\n{out}");
+    assert!(out.starts_with("Juki MF-7923D") && out.contains("stitch 407, material m = 3 mm, stitch length t = 3 mm"), "{out}");
+    assert!(out.contains("needle threads measured at B, the eye's top position"), "{out}");
+    assert!(out.contains("regulator: n1 φ = 300.0°…360.0°"), "{out}");
+    // One row per needle thread: its score (at least 60), and every check passes.
+    for j in 1..=3 {
+        let row = out.lines().find(|l| l.starts_with(&format!("n{j} "))).unwrap_or_else(|| panic!("no row n{j}:\n{out}"));
+        let score: f64 = row.split_whitespace().nth(2).unwrap().parse().unwrap();
+        assert!(score >= 60.0 && row.ends_with("3 of 3 pass"), "{row}");
     }
-    for line in ["per stitch", "max P'", "RMS(D)", "max |D|", "slack  (D > ε)", "strain (D < −ε)", "match score", "jumps of P'"] {
-        assert!(out.contains(line), "`{line}` missing:\n{out}");
+    // P against P′ as sparklines, the regulator window marked below them.
+    assert_eq!(out.lines().filter(|l| l.contains("P′    ") && l.contains('▁')).count(), 3, "{out}");
+    assert!(out.contains("~~~~~~~~~~  regulator window"), "{out}");
+    for check in ["thread_bound", "catch_clearance", "stab_before_drop"] {
+        assert_eq!(out.matches(&format!(" {check} ")).count(), 3, "{check}:\n{out}");
     }
-    assert!(out.contains("9.000 mm (locked by P'"), "{out}");
-    // The default reading of the MF-7923D take-up phase is half a cycle off
-    // what the stitch needs: the match says so (docs/stitch-formation.md §10.1).
-    assert!(out.contains("note: P peaks 175° away from P'"), "{out}");
-    let (other, _) = ok(&["match", "--set", "t1_phase=180"]);
-    assert!(!other.contains("note: P peaks"), "{other}");
+    assert!(!out.contains("FAIL") && !out.contains("note: P peaks"), "{out}");
+    // The model's caveats and what the stitch model carries over.
+    assert!(out.contains("note: Reconstruction:") && out.contains("401 two-thread chain stitch"), "{out}");
+    // Every metric with --details.
+    let (details, _) = ok(&["match", "--details"]);
+    for line in ["per stitch", "max P′", "max P′ at the eye", "RMS(D)", "max |D|", "slack  (D > ε)", "strain (D < −ε)", "match score", "jumps of P′", "moments (φ)"] {
+        assert!(details.contains(line), "`{line}` missing:\n{details}");
+    }
+    assert!(details.contains("9.000 mm (cut from P′ at its lock"), "{details}");
+    // T1 down at TDC: the thread bound fails for every needle, and the
+    // match says what that means.
+    let (other, _) = ok(&["match", "--set", "t1_phase=0"]);
+    assert_eq!(other.matches("FAIL  n").count(), 3, "{other}");
+    assert!(other.contains("hangs slack") && other.contains("note: 3 physical check(s) fail"), "{other}");
     let (json, _) = ok(&["match", "--preset", "mf7923d", "--set", "m=4", "--format", "json"]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["m_mm"], 4.0);
+    assert_eq!(v["model"], "mf7923d");
     assert_eq!(v["threads"].as_array().unwrap().len(), 3);
-    assert!(v["threads"][0]["mismatch"]["score"].is_number() || v["threads"][0]["mismatch"]["score"].is_null());
+    assert_eq!(v["threads"][0]["split"], "B");
+    assert!(v["threads"][0]["mismatch"]["score"].is_number());
     // per stitch with m = 4: t + 2m = 11 mm.
     assert!((v["threads"][0]["per_stitch_mm"].as_f64().unwrap() - 11.0).abs() < 1e-9);
+    // The checks: name, ok, value, limit, message.
+    let checks = v["checks"].as_array().unwrap();
+    assert_eq!(checks.len(), 9);
+    for c in checks {
+        assert!(c["name"].is_string() && c["ok"].is_boolean() && c["value"].is_number() && c["limit"].is_array() && c["message"].is_string(), "{c}");
+    }
+    assert!(v["caveats"].as_array().unwrap().len() >= 2 && v["transfers"].as_array().unwrap().len() == 1);
     // The P' columns come with `run`.
-    let (csv, _) = ok(&["run", "--columns", "*.Pprime_mm,*.D_mm"]);
-    assert!(csv.lines().next().unwrap().contains("n1.Pprime_mm"), "{csv}");
+    let (csv, _) = ok(&["run", "--columns", "*.Pprime_B_mm,*.D_mm"]);
+    assert!(csv.lines().next().unwrap().contains("n1.Pprime_B_mm"), "{csv}");
     // A model without [stitch] says so and fails cleanly.
     let e = fails(&["match", "--preset", "needle876"]);
     assert!(e.contains("has no [stitch] table"), "{e}");
     let e = fails(&["match", "--set", "m=9"]);
     assert!(e.contains("outside its adjustable range"), "{e}");
+}
+
+/// A measured curve (here the model's own P of needle 2, every 5°, as
+/// `run` writes it) set beside the model by `match`, `plot takeup` and
+/// `report`; a malformed file is refused with its line and the fix.
+#[test]
+fn match_plot_and_report_take_a_measured_curve() {
+    let d = scratch("measured");
+    let (csv, _) = ok(&["run", "--step", "5", "--columns", "n2_A.P_B_mm"]);
+    std::fs::write(d.join("n2.csv"), &csv).unwrap();
+    let file = d.join("n2.csv");
+    let file = file.to_str().unwrap();
+    let (out, _) = ok(&["match", "--measured", file]);
+    assert!(out.contains("measured P of n2") && out.contains("at B"), "{out}");
+    assert!(out.contains("the model's P against it: RMS 0.0"), "the model against itself, interpolated:\n{out}");
+    assert!(out.contains("P meas"), "a sparkline of the measured curve:\n{out}");
+    let (json, _) = ok(&["match", "--measured", &format!("n2={file}"), "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["measured"][0]["thread"], "n2");
+    assert!(v["measured"][0]["against_other"]["score"].as_f64().unwrap() > 60.0);
+    let svg = d.join("m.svg");
+    ok(&["plot", "takeup", "--measured", file, "-o", svg.to_str().unwrap()]);
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("data-name=\"n2 P measured\""));
+    let html = d.join("m.html");
+    ok(&["report", "--measured", file, "--no-animation", "--step", "5", "-o", html.to_str().unwrap()]);
+    assert!(std::fs::read_to_string(&html).unwrap().contains("id=\"measured\""));
+    // A malformed curve: the line and the fix.
+    std::fs::write(d.join("bad.csv"), "phi_deg,n2.P_B_mm\n0,0\n90,x\n").unwrap();
+    let e = fails(&["match", "--measured", d.join("bad.csv").to_str().unwrap()]);
+    assert!(e.contains("bad.csv:3"), "{e}");
+    let e = fails(&["match", "--measured", d.join("missing.csv").to_str().unwrap()]);
+    assert!(e.contains("missing.csv"), "{e}");
+    let e = fails(&["plot", "mu", "--measured", file]);
+    assert!(e.contains("--measured is for `plot takeup`"), "{e}");
 }
 
 #[test]

@@ -36,7 +36,7 @@ fn cam_writes_csv_svg_dxf_and_a_toml_snippet() {
     let prefix = d.join("lower");
     let (out, summary) = ok(&["cam", "--preset", "altin504", "--path", "lower", "--target", "required", "-o", prefix.to_str().unwrap()]);
     assert!(out.is_empty(), "files only with -o: {out}");
-    for want in ["thread path `lower`, cam `cam_l`", "score 90.2 → 100.0", "at the knots", "TOO STEEP", "convex         NO", "written:"] {
+    for want in ["thread path `lower`, cam `cam_l`", "score 90.3 → 100.0", "at the knots", "TOO STEEP", "convex         NO", "written:"] {
         assert!(summary.contains(want), "no `{want}` in\n{summary}");
     }
     let read = |ext: &str| std::fs::read_to_string(d.join(format!("lower.{ext}"))).unwrap_or_else(|e| panic!("lower.{ext}: {e}"));

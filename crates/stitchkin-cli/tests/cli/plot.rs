@@ -47,7 +47,7 @@ fn plot_draws_the_charts_over_parameters_sweeps_and_2d_3d() {
         (&["family", "--vary", "r1=4:6", "--step", "10"], ">r1 = 6.0 mm</text>", 6),
         (&["surface", "--vary", "z=-10:10:3", "--step", "10"], "class=\"colorbar-label\"", 0),
         (&["surface", "--vary", "dphi=-20:20:3", "--wireframe", "--step", "10"], "<polyline class=\"mesh\"", 0),
-        (&["heatmap", "--vary", "z=-10:10:3", "--vary", "dphi=-20:20:3", "--figure", "n1_A.max_P_mm", "--step", "10"], ">n1_A.max_P, mm</text>", 0),
+        (&["heatmap", "--vary", "z=-10:10:3", "--vary", "dphi=-20:20:3", "--figure", "n1_A.max_P_B_mm", "--step", "10"], ">n1_A.max_P_B, mm</text>", 0),
         (&["delta2d3d", "--plane", "uvw", "--thread", "n1_A,n1_B", "--step", "10"], ">ΔP, mm</text>", 6),
     ];
     for (args, needle, polylines) in runs {
@@ -82,10 +82,10 @@ fn plot_rejects_bad_chart_options_with_the_fix() {
     assert!(e.contains("varies one parameter") && e.contains("plot heatmap"), "{e}");
     let e = fails(&["plot", "family", "--vary", "r1=4:6", "--thread", "n1_A,n1_B"]);
     assert!(e.contains("draws one thread path"), "{e}");
-    let e = fails(&["plot", "heatmap", "--vary", "z=-10:10:3", "--figure", "n1_A.max_P_mm"]);
+    let e = fails(&["plot", "heatmap", "--vary", "z=-10:10:3", "--figure", "n1_A.max_P_B_mm"]);
     assert!(e.contains("exactly 2 --vary, got 1"), "{e}");
     let e = fails(&["plot", "heatmap", "--vary", "z=-10:10:3", "--vary", "dphi=-20:20:3", "--step", "30"]);
-    assert!(e.contains("needs the figure of merit") && e.contains("n1_A.max_P_mm"), "{e}");
+    assert!(e.contains("needs the figure of merit") && e.contains("n1_A.max_P_B_mm"), "{e}");
     let e = fails(&["plot", "heatmap", "--vary", "z=-10:10:3", "--vary", "dphi=-20:20:3", "--figure", "bogus", "--step", "30"]);
     assert!(e.contains("no figure of merit matches `bogus`") && e.contains("--figure"), "{e}");
     let e = fails(&["plot", "takeup", "--vary", "r1=4:6"]);

@@ -342,11 +342,13 @@ pub fn take_up_with_measured(model: &Model, table: &CycleTable, measured: &[Meas
     let phis = column(table, "phi_deg")?;
     let start = model.phi_start_deg();
     let at_b = table.paths.iter().any(|p| p.split == "B");
-    let y = if at_b { "P, mm (needle threads at B, the eye's top position)" } else { "P, mm" };
-    let mut chart = Chart::new(title(model, "thread take-up P(φ)"), phi_axis(model), Axis::new(y));
+    let mut chart = Chart::new(title(model, "thread take-up P(φ)"), phi_axis(model), Axis::new("P, mm"));
     let mut sub = table.take_up.clone().unwrap_or_default();
     if let Some(st) = &table.stitch {
         sub = format!("solid: P (take-up), dashed: P′ (required, stitch {}, m = {} mm, t = {} mm); shaded: one-sided guide engaged", st.stitch_type, st.m_mm, st.t_mm);
+        if at_b {
+            sub += "; needle threads at B, the eye's top position";
+        }
         if let Some([a, b]) = st.threads.iter().find_map(|t| t.regulator_window_deg) {
             let end = if b > 360.0 + 1e-9 { wrap_deg(b) } else { b };
             sub += &format!("; regulator window {a:.0}°…{end:.0}° of {} left out of the match", st.threads.iter().find(|t| t.regulator_window_deg.is_some()).map_or("", |t| t.thread.as_str()));
