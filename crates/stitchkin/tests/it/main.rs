@@ -2,6 +2,7 @@
 //! step instead of one per file).
 
 mod cross_check;
+mod facts;
 mod mechgen;
 mod docs;
 mod fuzz_regressions;
