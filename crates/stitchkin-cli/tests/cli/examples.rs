@@ -13,19 +13,28 @@ const SCRIPTS: &[(&str, &[(&str, &str)])] = &[
     (
         "seed000_z_sweep.sh",
         &[
-            ("seed000_z_max_P.csv", "n3_B.max_P_mm"),
+            // Needle-eye paths are split at B: their take-up figure is
+            // max_P_B_mm.
+            ("seed000_z_max_P.csv", "n3_B.max_P_B_mm"),
             ("seed000_r1_max_P.csv", "r1_mm"),
             ("seed000_dphi_max_P.csv", "dphi_deg"),
+            // The other reading of the take-up phase, with its checks.
+            ("seed000_z_max_P_t1phase0.csv", "checks.ok"),
+            ("seed000_r1_max_P_t1phase0.csv", "n1_A.max_P_B_mm"),
+            ("seed000_dphi_max_P_t1phase0.csv", "dphi_deg"),
             ("seed000_z_match.csv", "score.mean"),
             ("seed000_r1_match.csv", "n1.score"),
-            ("seed000_dphi_match.csv", "mu.min_deg"),
+            ("seed000_dphi_match.csv", "checks.ok"),
         ],
     ),
     (
         "seed000_nomogram.sh",
         &[
-            ("seed000_nomogram_z_t1phase0.txt", "Every match score is 0"),
             ("seed000_nomogram_z.txt", "z within 1 pt"),
+            // The preset with the whole stitch at the lock, and its nomogram.
+            ("mf7923d_at_lock.toml", "regulator = { at_lock = true }"),
+            ("seed000_nomogram_z_at_lock.txt", "z within 1 pt"),
+            ("seed000_nomogram_z_t1phase0.txt", "Every match score is 0"),
             ("seed000_nomogram_z_dphi.csv", "dphi_lo_deg"),
         ],
     ),
@@ -35,7 +44,8 @@ const SCRIPTS: &[(&str, &[(&str, &str)])] = &[
         &[
             ("seed004_altin504_match.txt", "upper (contour 10)"),
             ("seed004_consumption_504.csv", "11.3826"),
-            ("seed004_altin504_m_t.csv", "lower.max_Pprime_mm"),
+            // The needle thread's P' at B, the looper threads' at their eyes.
+            ("seed004_altin504_m_t.csv", "needle.max_Pprime_B_mm"),
         ],
     ),
 ];
