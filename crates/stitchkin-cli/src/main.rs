@@ -52,13 +52,17 @@ enum Command {
     #[command(after_help = "Examples:\n  stitchkin run\n  \
         stitchkin run --preset needle876 --set alpha=35 --step 0.5 --rpm 3000\n  \
         stitchkin run my-machine.toml --points G,E --format json -o out.json\n  \
-        stitchkin run --columns '*.P_mm,*.G4_*_engaged'\n\n\
+        stitchkin run --columns '*.P_B_mm,*.G4_*_engaged'\n\n\
         Columns carry their units: phi_deg, G.y_mm, G.dy_dphi_mm_per_rad, G.d2y_dphi2_mm_per_rad2,\n\
-        G.vy_mm_per_s (with --rpm), angle_A_B_deg, mu_23_deg, needle_y_mm, ...\n\
-        A summary (transmission angles, measure ranges, warnings) goes to stderr.")]
+        G.vy_mm_per_s (with --rpm), angle_A_B_deg, mu_23_deg, needle_y_mm, ...; a thread path's take-up\n\
+        PATH.P_mm, or PATH.P_B_mm and PATH.P_eye_mm for a needle thread split at B (the eye's top position);\n\
+        a stitch thread's THR.Pprime_B_mm (needle) or THR.Pprime_mm (looper) and THR.D_mm.\n\
+        A summary (transmission angles, measure ranges, take-up, match, physical checks, notes, warnings)\n\
+        goes to stderr; on a terminal without --format or -o, run shows the summary alone.")]
     Run(RunArgs),
     /// Check a model file: load, validate, solve a full cycle, and report
-    /// its parameters, solve order and transmission angles.
+    /// its parameters, solve order, transmission angles and the stitch's
+    /// physical checks (a failed one makes the command fail).
     #[command(after_help = "Examples:\n  stitchkin check my-machine.toml\n  stitchkin check --preset needle876 --set alpha=30 --cross-check")]
     Check(CheckArgs),
     /// Compare each thread path with its planar model: project every node
@@ -81,11 +85,15 @@ enum Command {
     /// mismatch D = P − P' and the match score.
     #[command(
         name = "match",
-        after_help = "Examples:\n  stitchkin match\n  stitchkin match --preset mf7923d --set m=4 --set t=2.5\n  \
+        after_help = "Examples:\n  stitchkin match\n  stitchkin match --preset mf7923d --set m=4 --set stitch=2.5\n  \
+        stitchkin match --details\n  stitchkin match --measured n1=n1-measured.csv\n  \
         stitchkin match my-machine.toml --format json -o match.json\n\n\
+        One screen: per thread the score, RMS(D), max P, max P', the thread per stitch and the physical checks\n\
+        passed; P against P' as sparklines; the checks; the model's caveats. Needle threads are measured at B,\n\
+        the eye's top position; each thread's regulator window is left out of the metrics.\n\
         D > 0 is thread given but not needed (slack), D < 0 thread needed but not given (strain).\n\
         Score s = 100·max(0, 1 − RMS(D)/range(P')): 100 is a perfect match (docs/stitch-formation.md §8).\n\
-        The P' columns themselves come with `stitchkin run` (THR.Pprime_mm, THR.D_mm, ...)."
+        The P' columns themselves come with `stitchkin run` (THR.Pprime_B_mm, THR.Pprime_mm, THR.D_mm, ...)."
     )]
     Match(matching::MatchArgs),
     /// Sweep adjustable parameters over a grid or random / Latin-hypercube
@@ -95,8 +103,10 @@ enum Command {
         stitchkin sweep --preset mf7923d --vary r1=4:6 --vary z=-10:10 --samples 1000 --method lhs --seed 7 -o lhs.csv\n  \
         stitchkin sweep --preset needle876 --vary alpha=0:35:36 --figures 'needle_y.range_mm,mu.*'\n  \
         stitchkin sweep --vary z=-10:10:101 --vary dphi=-20:20:101 --shard 2/4 -o part2.csv\n\n\
-        Figures of merit (--figures, patterns with *): PATH.max_P_mm, PATH.min_P_mm, THREAD.score,\n\
-        THREAD.rms_D_mm, THREAD.max_abs_D_mm, THREAD.max_Pprime_mm, score.mean, score.min, mu.min_deg,\n\
+        Figures of merit (--figures, patterns with *): PATH.max_P_mm, PATH.min_P_mm (PATH.max_P_B_mm,\n\
+        PATH.min_P_B_mm for a needle thread split at B), THREAD.score, THREAD.rms_D_mm, THREAD.max_abs_D_mm,\n\
+        THREAD.max_Pprime_B_mm (needle) or THREAD.max_Pprime_mm (looper), THREAD.checks_ok,\n\
+        THREAD.bound_margin_mm, checks.ok, score.mean, score.min, mu.min_deg,\n\
         mu.max_deg, mu.ok, mu_KEY.min_deg, MEASURE.range_mm, POINT.y_stroke_mm, ... (the first setting's\n\
         list is printed when a pattern matches nothing). Columns: index, the varied parameters, the\n\
         figures, status (ok, or why the setting did not evaluate; its figures are then empty).\n\
@@ -104,34 +114,41 @@ enum Command {
     Sweep(SweepArgs),
     /// Find the adjustable settings that make the take-up P match the
     /// stitch's required P' best, for every thread together, with every
-    /// transmission angle inside 30°…150°.
+    /// transmission angle inside 30°…150° and every physical check passing.
     #[command(after_help = "Examples:\n  stitchkin tune\n  stitchkin tune --thickness 4 --stitch 2.5\n  \
-        stitchkin tune --preset mf7923d --set t1_phase=180 --adjust z,dphi --seed 3\n  \
-        stitchkin tune --preset altin504 --format json -o tuned.json\n\n\
+        stitchkin tune --preset mf7923d --adjust z,dphi --seed 3\n  \
+        stitchkin tune --preset mf7923d --format json -o tuned.json\n\n\
         Default settings to adjust: every parameter with an adjustable range that leaves the stitch\n\
-        alone. The search: a seeded Latin-hypercube sample (global) and Nelder-Mead (local); the same\n\
-        seed gives the same answer. Prints the recommended setting, the match before and after, and how\n\
-        far each setting may move with the match within one score point of the optimum.")]
+        alone. Constraints: the transmission angles inside 30°…150° and every physical check passing.\n\
+        The search: a seeded Latin-hypercube sample (global) and Nelder-Mead (local); the same\n\
+        seed gives the same answer. Prints the recommended setting, the match and the checks before and\n\
+        after, how far each setting may move with the match within one score point of the optimum, and\n\
+        notes: a setting on an end of its range, a match that does not improve, no setting that passes\n\
+        the checks.")]
     Tune(TuneArgs),
     /// Tune at every point of a grid of material thickness (and stitch
     /// length): the recommended settings, their tolerance and the match
     /// before and after, as the nomogram a technician reads.
-    #[command(after_help = "Examples:\n  stitchkin nomogram --set t1_phase=180 --thickness 0.5:5:10 --adjust z\n  \
-        stitchkin nomogram --set t1_phase=180 --thickness 1:5:5 --stitch 1:4.5:8 --adjust z,dphi --format csv -o nomogram.csv\n  \
+    #[command(after_help = "Examples:\n  stitchkin nomogram\n  \
+        stitchkin nomogram --thickness 0.5:5:10 --adjust z\n  \
+        stitchkin nomogram --thickness 1:5:5 --stitch 1:4.5:8 --adjust z,dphi --format csv -o nomogram.csv\n  \
         stitchkin nomogram --preset mf7923d --thickness 3:5:3 --adjust z --step 5 --format json\n\n\
+        Without --thickness: 5 values over the range of the thickness parameter ([stitch] m_mm).\n\
         Each grid point is `stitchkin tune --thickness M --stitch T` with the same --seed, so the nomogram\n\
         is the same on every run. Table columns: m mm, t mm, each setting with its range within one score\n\
         point, the mean score before and after, each thread's score after, and the objective J after.\n\
         CSV columns: m_mm, t_mm, NAME_UNIT, NAME_lo_UNIT, NAME_hi_UNIT, score_mean_before, score_mean_after,\n\
-        J_before, J_after, THREAD.score_before, THREAD.score_after, THREAD.rms_D_before_mm, ..., status.")]
+        J_before, J_after, THREAD.score_before, THREAD.score_after, THREAD.rms_D_before_mm, ..., status.\n\
+        Notes follow the table: a setting on an end of its range, a match that does not improve, a grid\n\
+        point where no setting passes the physical checks.")]
     Nomogram(nomogram::NomogramArgs),
     /// Rank the adjustable parameters by their effect on each figure of
     /// merit: the exact derivative (dual numbers) times the range width, and
     /// the change over the whole range.
     #[command(after_help = "Examples:\n  stitchkin sensitivity\n  \
-        stitchkin sensitivity --preset mf7923d --output 'n1_A.max_P_mm,mu.*' --params r1,z\n  \
+        stitchkin sensitivity --preset mf7923d --output 'n1_A.max_P_B_mm,mu.*' --params r1,z\n  \
         stitchkin sensitivity --preset needle876 --step 0.5 --format csv -o needle876-sensitivity.csv\n  \
-        stitchkin sensitivity --set t1_phase=180 --output '*.score' --rank range --format json\n\n\
+        stitchkin sensitivity --output '*.score' --rank range --format json\n\n\
         Per figure (names as in `stitchkin sweep --figures`) and parameter: d/dp at the setting, exact by\n\
         dual numbers for smooth figures (take-up, measure, coordinate and transmission-angle extremes) and a\n\
         central difference (c) for the match figures; effect = d/dp × range width (figure unit); at lo, at hi\n\
@@ -203,6 +220,7 @@ enum Command {
     /// transmission angles, the trajectories of points, the motion law of
     /// any coordinate, angle or measure, and charts over varied parameters.
     #[command(after_help = "Examples:\n  stitchkin plot takeup -o mf7923d-takeup.svg\n  \
+        stitchkin plot takeup --measured n1=n1-measured.csv -o measured.svg\n  \
         stitchkin plot takeup --preset altin504 --set m=2 --step 2 -o altin504.svg\n  \
         stitchkin plot mu --preset needle876 --set alpha=38 -o mu.svg\n  \
         stitchkin plot trajectory --preset needle876 --points G,E -o paths.svg\n  \
@@ -210,11 +228,12 @@ enum Command {
         stitchkin plot motion --preset needle876 --series G.y,angle_C_B --vary alpha=0:35:6 -o motion.svg\n  \
         stitchkin plot surface --series angle_O2_B --vary r1=4:6:9 --wireframe -o psi-r1.svg\n\n\
         takeup: P of every thread path (solid) and P' of every stitch thread (dashed, its path's colour),\n\
-        where a one-sided guide bears on the thread shaded lightly. mu: every transmission angle, the band\n\
-        30°…150° marked and the outside shaded. trajectory: each point's path in the world xy-plane (or --plane\n\
-        FRAME's), equal scales, a dot at the cycle's start. motion: each --series (a column of `stitchkin run`,\n\
-        the unit ending optional) against φ, one panel per unit; with --vary one panel per series, a line per\n\
-        value. φ runs over one cycle from the model's start (docs/plots.md).")]
+        needle threads at B, where a one-sided guide bears on the thread shaded lightly; --measured adds a\n\
+        measured curve. mu: every transmission angle, the band 30°…150° marked and the outside shaded.\n\
+        trajectory: each point's path in the world xy-plane (or --plane FRAME's), equal scales, a dot at the\n\
+        cycle's start. motion: each --series (a column of `stitchkin run`, the unit ending optional) against φ,\n\
+        one panel per unit; with --vary one panel per series, a line per value. φ runs over one cycle from the\n\
+        model's start (docs/plots.md).")]
     Plot(plot::PlotArgs),
     /// Draw the mechanism as SVG at a main-shaft angle, or animated over the cycle (docs/drawing.md).
     Draw(draw::DrawArgs),
@@ -230,7 +249,8 @@ enum Command {
     /// asked, the tuning result and a nomogram.
     #[command(after_help = "Examples:\n  stitchkin report -o report.html\n  \
         stitchkin report --preset altin504 --set m=2 -o altin504.html\n  \
-        stitchkin report --tune --nomogram-thickness 1:5:3 -o tuned.html\n\n\
+        stitchkin report --tune --nomogram-thickness 1:5:3 -o tuned.html\n  \
+        stitchkin report --measured n1=n1-measured.csv -o measured.html\n\n\
         The file holds everything (styles, every picture as inline SVG, no script) and opens in any browser (docs/report.md).")]
     Report(report::ReportArgs),
     /// Print the JSON Schema of the model file format.
@@ -266,7 +286,7 @@ struct RunArgs {
     #[arg(long, value_delimiter = ',', value_name = "A,B,…")]
     points: Option<Vec<String>>,
     /// Columns to print, comma-separated patterns where `*` matches anything
-    /// (e.g. `*.P_mm,mu_*`); phi_deg is always printed.
+    /// (e.g. `*.P_B_mm,mu_*`); phi_deg is always printed.
     #[arg(long, value_delimiter = ',', value_name = "PATTERN,…")]
     columns: Option<Vec<String>>,
     /// Positions only, without analogs.
