@@ -181,8 +181,11 @@ fn sparklines(table: &CycleTable, st: &StitchSummary, measured: &[MeasuredMatch]
         let extra: Vec<&MeasuredMatch> = measured.iter().filter(|m| m.thread == t.thread).collect();
         let all = pprime.iter().chain(p.into_iter().flatten()).chain(extra.iter().flat_map(|m| m.values_mm.iter()));
         let (lo, hi) = all.fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+        // No "-0.0" in the scale.
+        let (lo, hi) = (lo + 0.0, hi + 0.0);
         if let Some(p) = p {
-            s += &format!("{:<6}{:<6}{}  {lo:.1}…{hi:.1} mm\n", t.thread, "P", sparkline(p, lo, hi, SPARK_COLS));
+            let scale = |x: f64| if x.abs() < 0.05 { "0.0".to_string() } else { format!("{x:.1}") };
+            s += &format!("{:<6}{:<6}{}  {}…{} mm\n", t.thread, "P", sparkline(p, lo, hi, SPARK_COLS), scale(lo), scale(hi));
         }
         s += &format!("{:<6}{:<6}{}\n", if p.is_some() { "" } else { t.thread.as_str() }, "P′", sparkline(pprime, lo, hi, SPARK_COLS));
         for m in extra {

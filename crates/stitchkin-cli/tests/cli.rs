@@ -135,7 +135,7 @@ fn match_prints_the_mismatch_per_thread() {
     assert!(out.lines().count() < 50, "one screen:\n{out}");
     assert!(out.starts_with("Juki MF-7923D") && out.contains("stitch 407, material m = 3 mm, stitch length t = 3 mm"), "{out}");
     assert!(out.contains("needle threads measured at B, the eye's top position"), "{out}");
-    assert!(out.contains("regulator: n1 φ = 300.0°…360.0°"), "{out}");
+    assert!(out.contains("regulator: n1, n2, n3 φ = 300.0°…360.0°, the last 60° before the needle's TDC"), "{out}");
     // One row per needle thread: its score (at least 60), and every check passes.
     for j in 1..=3 {
         let row = out.lines().find(|l| l.starts_with(&format!("n{j} "))).unwrap_or_else(|| panic!("no row n{j}:\n{out}"));

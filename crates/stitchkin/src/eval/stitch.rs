@@ -133,36 +133,35 @@ impl Prepared {
         self.required.threads.iter().filter_map(|th| th.needle_moments.map(|m| catch_and_stab(&th.name, &m, from_c))).flatten().collect()
     }
 
-    /// The regulator in words.
+    /// The regulator in words: each distinct window with its threads.
     pub fn regulator_words(&self) -> String {
-        let windows: Vec<String> = self
-            .required
-            .threads
-            .iter()
-            .zip(&self.windows_deg)
-            .filter_map(|(th, w)| {
-                let [a, b] = (*w)?;
-                // The window's end as the turn reads it: 360° rather than 0°.
-                let to = if b > 360.0 + 1e-9 { wrap_deg(b) } else { b };
-                Some(format!("{} φ = {a:.1}°…{to:.1}°", th.name))
-            })
-            .collect();
+        let mut windows: Vec<([f64; 2], Vec<&str>, ThreadRole)> = Vec::new();
+        for (th, w) in self.required.threads.iter().zip(&self.windows_deg) {
+            let Some(w) = *w else { continue };
+            match windows.iter_mut().find(|(v, ..)| (v[0] - w[0]).abs() < 1e-9 && (v[1] - w[1]).abs() < 1e-9) {
+                Some((_, names, _)) => names.push(&th.name),
+                None => windows.push((w, vec![&th.name], th.role)),
+            }
+        }
         if windows.is_empty() {
             return "each thread's stitch passes the regulator at its lock (nothing left out of the metrics)".into();
         }
-        let how = match self.setup.spec.regulator {
-            Regulator::BeforeTightening { width_deg } => format!(
-                "the last {width_deg}° before the stitch is pulled tight (needle threads: the needle's TDC; looper threads: their \
-                 draw-in){}",
-                if width_deg == DEFAULT_REGULATOR_WIDTH_DEG { ", the default" } else { "" }
-            ),
-            _ => "declared".into(),
-        };
-        let mut merged: Vec<String> = Vec::new();
-        for w in windows {
-            merged.push(w);
-        }
-        format!("{} ({how}): each thread's stitch is drawn through its regulator there, and that window is left out of the metrics", merged.join(", "))
+        let parts: Vec<String> = windows
+            .iter()
+            .map(|([a, b], names, role)| {
+                // The window's end as the turn reads it: 360° rather than 0°.
+                let to = if *b > 360.0 + 1e-9 { wrap_deg(*b) } else { *b };
+                let why = match self.setup.spec.regulator {
+                    Regulator::BeforeTightening { width_deg } => {
+                        let before = if *role == ThreadRole::Needle { "the needle's TDC" } else { "the draw-in" };
+                        format!(", the last {width_deg}° before {before}{}", if width_deg == DEFAULT_REGULATOR_WIDTH_DEG { " (default)" } else { "" })
+                    }
+                    _ => " (declared)".into(),
+                };
+                format!("{} φ = {a:.1}°…{to:.1}°{why}", names.join(", "))
+            })
+            .collect();
+        format!("{}: each stitch's thread is drawn through the regulator there, left out of the metrics", parts.join("; "))
     }
 }
 

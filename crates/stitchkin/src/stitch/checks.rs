@@ -75,25 +75,41 @@ pub fn bound_curve(phis_deg: &[f64], travel: &[f64], loop_mm: &[f64], phi0_deg: 
 }
 
 /// `thread_bound` over a cycle: the take-up at B `p_b` against `bound`
-/// ([`bound_curve`]) at each φ of `phis_deg`, judged where it comes
-/// closest (or goes furthest beyond); `loop_mm` as for the bound.
+/// ([`bound_curve`]) at each φ of `phis_deg`; `loop_mm` as for the bound.
+/// Judged where P_B comes closest to the bound (or goes furthest beyond it),
+/// so `limit − value` is the sweep figure `THR.bound_margin_mm`; the
+/// message also names P_B's peak, the thread given at its most.
 pub fn thread_bound(thread: &str, phis_deg: &[f64], p_b: &[f64], bound: &[f64], loop_mm: &[f64]) -> Check {
     let n = phis_deg.len().min(p_b.len()).min(bound.len()).min(loop_mm.len());
-    let Some(k) = (0..n).max_by(|&a, &b| (p_b[a] - bound[a]).total_cmp(&(p_b[b] - bound[b])).then(b.cmp(&a))) else {
+    let bound_at = bound;
+    let first_max = |key: &dyn Fn(usize) -> f64| (0..n).max_by(|&a, &b| key(a).total_cmp(&key(b)).then(b.cmp(&a)));
+    let Some(worst) = first_max(&|k| p_b[k] - bound[k]) else {
         return Check { name: "thread_bound", thread: thread.into(), ok: true, value: 0.0, limit: [None, None], at_deg: 0.0, message: "no positions to check".into() };
     };
+    let peak = first_max(&|k| p_b[k]).unwrap_or(worst);
+    let (peak_mm, peak_at) = (p_b[peak], phis_deg[peak].rem_euclid(360.0));
+    let k = worst;
     let (value, bound, lp) = (p_b[k], bound[k], loop_mm[k]);
     let at = phis_deg[k].rem_euclid(360.0);
     let ok = value <= bound + 1e-9;
-    let parts = format!("twice the needle's {:.1} mm deepest travel below B so far plus {lp:.1} mm of loop on the looper", 0.5 * (bound - lp));
+    let parts = |bound: f64, lp: f64| {
+        format!("twice the needle's {:.1} mm deepest travel below B so far plus {lp:.1} mm of loop on the looper", 0.5 * (bound - lp))
+    };
     let message = if ok {
-        format!("P_B {value:.2} mm at φ = {at:.1}° stays within the {bound:.2} mm the needle can take through B ({parts}): {:.2} mm to spare", bound - value)
+        format!(
+            "P_B peaks at {peak_mm:.2} mm at φ = {peak_at:.1}°, within the {:.2} mm the needle can take through B there ({}); \
+             the least to spare over the cycle is {:.2} mm, at φ = {at:.1}°",
+            bound_at[peak],
+            parts(bound_at[peak], loop_mm[peak]),
+            bound - value
+        )
     } else {
         format!(
-            "P_B reaches {value:.2} mm at φ = {at:.1}°, {:.2} mm more than the needle can take through B ({bound:.2} mm: {parts}): \
+            "P_B reaches {value:.2} mm at φ = {at:.1}°, {:.2} mm more than the needle can take through B ({bound:.2} mm: {}): \
              the take-up gives thread the stitch can never use, and it hangs slack; the take-up releases while it should draw back \
              (check its phase against the needle)",
-            value - bound
+            value - bound,
+            parts(bound, lp)
         )
     };
     Check { name: "thread_bound", thread: thread.into(), ok, value, limit: [None, Some(bound)], at_deg: at, message }
@@ -158,7 +174,9 @@ mod tests {
         let bound = bound_curve(&phis, &s, &lp, 0.0);
         let c = thread_bound("n1", &phis, &p, &bound, &lp);
         assert!(c.ok, "{c:?}");
-        assert!(c.limit[1].unwrap() - c.value < 1e-12);
+        // Nothing to spare; the peak, 2·10 + 3 mm while the loop is carried.
+        assert!(c.limit[1].unwrap() - c.value < 1e-12, "{c:?}");
+        assert!(c.message.starts_with("P_B peaks at 23.00 mm at φ = 210.0°, within the 23.00 mm") && c.message.contains("least to spare over the cycle is 0.00 mm"), "{}", c.message);
         // 1 mm too much while the needle descends: fails there, by 1 mm.
         let mut q = p.clone();
         q[90] += 1.0;

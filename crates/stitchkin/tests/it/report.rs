@@ -71,7 +71,7 @@ fn mf7923d_report_has_every_section_and_is_self_contained() {
     let c = rows(&doc, "checks");
     assert_eq!(c.len(), 9);
     assert!(c.iter().all(|r| r[2] == "ok" && !r[6].is_empty()), "{c:?}");
-    assert!(html.contains("Regulator: n1 φ = 300.0°…360.0°"), "the regulator window is stated");
+    assert!(html.contains("Regulator: n1, n2, n3 φ = 300.0°…360.0°"), "the regulator window is stated");
     // Every caveat of the model and every rule carried over from another
     // stitch type is listed.
     for c in model.file.model.caveats.iter() {
