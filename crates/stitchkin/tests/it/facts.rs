@@ -194,26 +194,24 @@ fn mf7923d() -> Vec<Fact> {
     let (mut out, best) = tuned;
     let (zd, pd) = (best[0], best[1]);
     let (zl, pl) = (out.at_lock_z, out.at_lock_dphi);
-    let in_z = |v: &[f64; 3]| v.iter().all(|z| within(*z, -5.5, -1.5));
-    out.facts.push(fact(
-        "MF11",
-        Verdict::grade(in_z(&zd), in_z(&zl)),
-        format!(
-            "best z at m = 3 / 4 / 5 mm: {} / {} / {} mm (default regulator window, tune); {} / {} / {} mm (whole stitch at the lock, sweep)",
-            sf(zd[0], 1), sf(zd[1], 1), sf(zd[2], 1), sf(zl[0], 2), sf(zl[1], 2), sf(zl[2], 2)
-        ),
-        [ms.to_vec(), zd.to_vec(), zl.to_vec()].concat(),
-    ));
-    let in_p = |v: &[f64; 3]| v.iter().all(|x| within(*x, -20.5, 0.5));
-    out.facts.push(fact(
-        "MF13",
-        Verdict::grade(in_p(&pd), in_p(&pl)),
-        format!(
-            "best Δφ at m = 3 / 4 / 5 mm: {}° / {}° / {}° (default regulator window, tune); {}° / {}° / {}° (whole stitch at the lock, sweep)",
-            sf(pd[0], 1), sf(pd[1], 1), sf(pd[2], 1), sf(pl[0], 1), sf(pl[1], 1), sf(pl[2], 1)
-        ),
-        [ms.to_vec(), pd.to_vec(), pl.to_vec()].concat(),
-    ));
+    // The best setting at m = 3 / 4 / 5 mm under both accountings, graded
+    // against the seed's range [lo, hi].
+    let by_thickness = |id, what: &str, unit: &str, [lo, hi]: [f64; 2], tuned: [f64; 3], at_lock: [f64; 3], lock_digits| {
+        let within_range = |v: &[f64; 3]| v.iter().all(|x| within(*x, lo, hi));
+        let [a, b, c] = tuned.map(|x| sf(x, 1));
+        let [d, e, f] = at_lock.map(|x| sf(x, lock_digits));
+        fact(
+            id,
+            Verdict::grade(within_range(&tuned), within_range(&at_lock)),
+            format!(
+                "best {what} at m = 3 / 4 / 5 mm: {a}{unit} / {b}{unit} / {c}{unit} (default regulator window, tune); \
+                 {d}{unit} / {e}{unit} / {f}{unit} (whole stitch at the lock, sweep)"
+            ),
+            [ms.to_vec(), tuned.to_vec(), at_lock.to_vec()].concat(),
+        )
+    };
+    out.facts.push(by_thickness("MF11", "z", " mm", [-5.5, -1.5], zd, zl, 2));
+    out.facts.push(by_thickness("MF13", "Δφ", "°", [-20.5, 0.5], pd, pl, 1));
     out.facts.sort_by_key(|f| f.id);
     out.facts
 }
