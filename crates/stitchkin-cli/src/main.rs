@@ -108,7 +108,8 @@ enum Command {
         THREAD.max_Pprime_B_mm (needle) or THREAD.max_Pprime_mm (looper), THREAD.checks_ok,\n\
         THREAD.bound_margin_mm, checks.ok, score.mean, score.min, mu.min_deg,\n\
         mu.max_deg, mu.ok, mu_KEY.min_deg, MEASURE.range_mm, POINT.y_stroke_mm, ... (the first setting's\n\
-        list is printed when a pattern matches nothing). Columns: index, the varied parameters, the\n\
+        list is printed when a pattern matches nothing). By default: *.score, score.*, *.max_P_B_mm,\n\
+        *.max_P_mm, checks.ok, mu.min_deg, mu.max_deg, *.range_mm, *_stroke_mm. Columns: index, the varied parameters, the\n\
         figures, status (ok, or why the setting did not evaluate; its figures are then empty).\n\
         Shards are contiguous blocks and only shard 1 writes the header: `cat part*.csv` is the sweep.")]
     Sweep(SweepArgs),
@@ -759,10 +760,7 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
     // The nominal setting says which figures this model has.
     let nominal = eval::run_cycle(&model, &params, &opts)?;
     let available = sweep::figures(&nominal);
-    let patterns = args.figures.clone().unwrap_or_else(|| {
-        let defaults = ["*.score", "score.*", "*.max_P_mm", "mu.min_deg", "mu.max_deg", "*.range_mm", "*_stroke_mm"];
-        defaults.iter().filter(|p| available.iter().any(|(n, _)| eval::glob_match(p, n))).map(|p| p.to_string()).collect()
-    });
+    let patterns = args.figures.clone().unwrap_or_else(|| sweep::default_figures(&available));
     let names = sweep::select_figures(&available, &patterns)?;
     let (k, n) = match &args.shard {
         None => (1, 1),

@@ -90,7 +90,7 @@ pub struct PlotArgs {
     #[arg(long)]
     wireframe: bool,
     /// Heatmap: the figure of merit to draw (a name as in `stitchkin sweep
-    /// --figures`, e.g. score.mean, n1_A.max_P_mm, mu.min_deg).
+    /// --figures`, e.g. score.mean, n1_A.max_P_B_mm, mu.min_deg).
     #[arg(long, value_name = "NAME")]
     figure: Option<String>,
     /// Nomogram: material thickness m, mm, LO:HI:N (default: the range of
@@ -154,7 +154,7 @@ fn check_options(args: &PlotArgs) -> Result<(), Error> {
         ("--series", !args.series.is_empty(), &[Motion, Surface], "stitchkin plot motion --preset needle876 --series G.y,angle_C_B"),
         ("--vary", !args.vary.is_empty(), &[Family, Surface, Heatmap, Motion], "stitchkin plot family --vary r1=4:6:5"),
         ("--wireframe", args.wireframe, &[Surface], "stitchkin plot surface --vary r1=4:6:9 --wireframe"),
-        ("--figure", args.figure.is_some(), &[Heatmap], "stitchkin plot heatmap --vary z=-10:10:11 --vary dphi=-20:20:11 --figure n1_A.max_P_mm"),
+        ("--figure", args.figure.is_some(), &[Heatmap], "stitchkin plot heatmap --vary z=-10:10:11 --vary dphi=-20:20:11 --figure n1_A.max_P_B_mm"),
         ("--thickness", args.thickness.is_some(), &[Nomogram], nomogram_example),
         ("--stitch", args.stitch.is_some(), &[Nomogram], nomogram_example),
         ("--adjust", !args.adjust.is_empty(), &[Nomogram], nomogram_example),

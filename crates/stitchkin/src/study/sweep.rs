@@ -252,6 +252,18 @@ fn max_pprime_figure(at_b: bool) -> &'static str {
     if at_b { "max_Pprime_B_mm" } else { "max_Pprime_mm" }
 }
 
+/// Figures a sweep writes by default (those the model has): every match
+/// score and their mean and worst, the take-up maximum of every path (at B
+/// for a needle-eye path), whether every physical check passes, the
+/// transmission-angle extremes, the measures' ranges and the point strokes.
+pub const DEFAULT_FIGURES: &[&str] =
+    &["*.score", "score.*", "*.max_P_B_mm", "*.max_P_mm", "checks.ok", "mu.min_deg", "mu.max_deg", "*.range_mm", "*_stroke_mm"];
+
+/// The [`DEFAULT_FIGURES`] patterns that match a figure of `available`.
+pub fn default_figures(available: &[(String, f64)]) -> Vec<String> {
+    DEFAULT_FIGURES.iter().filter(|p| available.iter().any(|(n, _)| crate::eval::glob_match(p, n))).map(|p| p.to_string()).collect()
+}
+
 /// The figure names matching `patterns` (`*` matches any run), in the order
 /// [`figures`] gives them; an error lists what there is when a pattern
 /// matches nothing.

@@ -100,8 +100,15 @@ fn the_regulator_is_declared_and_checked() {
     let s = st(run(&with("regulator = { at_lock = true }")).unwrap());
     assert!(s.threads.iter().all(|t| t.regulator_window_deg.is_none()) && s.regulator.contains("at its lock"));
     // A window around φ0 (where P' = 0) cannot be.
+    // Said in the model's φ, as the file gives it, with a window that fits.
     let e = run(&with("regulator = { window_deg = [340, 400] }")).unwrap_err().to_string();
-    assert!(e.contains("contains φ0") && e.contains("end the window at φ0"), "{e}");
+    assert!(e.contains("window_deg = [340, 400] contains φ0 = 0°") && e.contains("e.g. window_deg = [300, 360]"), "{e}");
+    let e = run(&with("regulator = { window_deg = [-30, 30] }")).unwrap_err().to_string();
+    assert!(e.contains("window_deg = [-30, 30] contains φ0 = 0°") && e.contains("e.g. window_deg = [300, 360]"), "{e}");
+    // The needle threads are pulled tight at φ0: any width short of a turn
+    // ends there.
+    let s = st(run(&with("regulator = { width_deg = 300 }")).unwrap());
+    assert!(s.threads.iter().all(|t| t.regulator_window_deg == Some([60.0, 360.0])), "{:?}", s.regulator);
     for (line, says) in [
         ("regulator = { window_deg = [300, 200] }", "must run forward by less than a turn"),
         ("regulator = { width_deg = 30, at_lock = true }", "exactly one of"),
