@@ -1,6 +1,6 @@
 //! Engine speed, one core, one full cycle (360 positions) per iteration.
 //! `cargo bench -p stitchkin --bench engine` prints time and heap
-//! allocations per cycle. Goals (issue 2): four-bar ≤ 2 µs positions,
+//! allocations per cycle. Goals: four-bar ≤ 2 µs positions,
 //! ≤ 6 µs with first and second analogs; needle876 with analogs ≤ 10 µs;
 //! no heap allocation per φ step.
 
@@ -16,7 +16,7 @@ use stitchkin::thread::ThreadWork;
 #[global_allocator]
 static ALLOC: divan::AllocProfiler = divan::AllocProfiler::system();
 
-/// The benchmark four-bar of issue 2: O1 = (0,0), O2 = (60,0), crank 15,
+/// The benchmark four-bar: O1 = (0,0), O2 = (60,0), crank 15,
 /// coupler 50, rocker 40, coupler point 20 mm from A at 30° to AB.
 const FOUR_BAR: &str = r#"
 [model]
@@ -149,7 +149,7 @@ fn load_needle876(bencher: Bencher) {
     bencher.bench_local(|| Model::from_toml_str(black_box(text), "needle876").unwrap());
 }
 
-/// Issue 3 goals: mf7923d, 3 needles × contours A and B, 360 steps: the
+/// Goals: mf7923d, 3 needles × contours A and B, 360 steps: the
 /// mechanism solve plus every path's ξ(φ) (P = ξ(φ0) − ξ(φ) is one
 /// subtraction more) ≤ 15 µs per cycle, ≤ 40 µs with P's analogs.
 fn bench_takeup<T: Real>(bencher: Bencher) {
@@ -194,7 +194,7 @@ fn mf7923d_take_up_with_analogs_dual(bencher: Bencher) {
     bench_takeup::<Dual2_64>(bencher);
 }
 
-/// Issue 5: one sweep setting of mf7923d (3 needles × contours A and B, 360
+/// One sweep setting of mf7923d (3 needles × contours A and B, 360
 /// steps, the three match scores), P' shared as the sweep shares it. Goal:
 /// ≥ 100 000 settings per second on 2 cores, i.e. ≤ 20 µs per setting per core.
 #[divan::bench]
@@ -217,7 +217,7 @@ fn sweep_setting_mf7923d(bencher: Bencher) {
     });
 }
 
-/// Issue 5: `stitchkin tune` of mf7923d over z and dphi (goal: under a second).
+/// `stitchkin tune` of mf7923d over z and dphi (goal: under a second).
 #[divan::bench(sample_count = 5)]
 fn tune_mf7923d(bencher: Bencher) {
     use stitchkin::study::tune::{TuneOptions, tune};

@@ -1,4 +1,4 @@
-//! Cam synthesis (issue 5, item 7): the inverse of the thread feed cam. Find
+//! Cam synthesis: the inverse of the thread feed cam. Find
 //! the polar profile ρ(θ) of a `[[cams]]` cam that makes a thread path's
 //! take-up P(φ) equal a target: the required take-up P'(φ) of the stitch
 //! thread compared with the path, or a given curve.

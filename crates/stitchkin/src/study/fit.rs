@@ -1,5 +1,5 @@
 //! Calibration: fit model dimensions (figure-only, reconstructed ones) to
-//! stated results (issue 5, item 8).
+//! stated results.
 //!
 //! A facts file lists results a source states, each a figure of merit (named
 //! as [`super::sweep::figures`] names them) at a setting, with a tolerance

@@ -1,5 +1,5 @@
 //! Nomograms: the tuned setting as a function of the technological
-//! parameters (issue 5, item 4).
+//! parameters.
 //!
 //! A technician reads a nomogram as "for 4 mm material set z = −4.7 mm".
 //! [`nomogram`] runs [`tune`](super::tune::tune) at every point of a grid of

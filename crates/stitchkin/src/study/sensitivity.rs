@@ -1,5 +1,4 @@
-//! Sensitivity of the figures of merit to each adjustable parameter (issue 5,
-//! item 2).
+//! Sensitivity of the figures of merit to each adjustable parameter.
 //!
 //! Two numbers per (figure F, parameter p):
 //!

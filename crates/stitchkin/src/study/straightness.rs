@@ -1,5 +1,4 @@
-//! Straightness of a point's path, and the tolerances that keep it straight
-//! (issue 5, item 6).
+//! Straightness of a point's path, and the tolerances that keep it straight.
 //!
 //! Seed 004 (section 2.2.1) studies the Textima Altin needle mechanism, a
 //! linkage whose needle point E should run on a straight line inclined at

@@ -1,5 +1,5 @@
 //! Stroke and dead centres of a point, with the transmission angles, over
-//! one or more settings (issue 5, item 5).
+//! one or more settings.
 //!
 //! Seed 002 eq. 14 defines the needle stroke as S = y_G(φ0') − y_G(φ0), the
 //! difference of the needle's positions at the two extreme positions of the

@@ -1,5 +1,5 @@
 //! Parameter sweeps: evaluate a model over many settings of its adjustable
-//! parameters and report figures of merit for each (issue 5, item 1).
+//! parameters and report figures of merit for each.
 //!
 //! A sweep is a [`Design`] over one or more [`Vary`] ranges: a full grid, or
 //! `n` random or Latin-hypercube samples drawn from a seed. Settings are

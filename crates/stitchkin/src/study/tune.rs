@@ -1,5 +1,5 @@
 //! Tuning: the adjustable settings that make the take-up P(φ) match the
-//! required P'(φ) of every thread together (issue 5, item 3).
+//! required P'(φ) of every thread together.
 //!
 //! The objective is the mean over the compared threads of RMS(D)/range(P'),
 //! D = P − P' (docs/stitch-formation.md §8; the match score is

@@ -1,4 +1,4 @@
-//! Cam synthesis (`stitchkin cam`, issue 5 item 7): the inverse of seed 004
+//! Cam synthesis (`stitchkin cam`): the inverse of seed 004
 //! §2.5's cam feed, on the altin504 preset's lower-looper thread (a disc cam
 //! with `contact = "offset"`) and on the looper cam of model-format
 //! Example 11.
