@@ -137,7 +137,7 @@ pub(crate) fn screen(model: &Model, table: &CycleTable, st: &StitchSummary, meas
         );
     }
     s += &sparklines(table, st, measured);
-    s += &checks_block(st, details);
+    s += &checks_block(table, st, details);
     for mm in measured {
         s += &measured_line(mm);
     }
@@ -214,8 +214,9 @@ fn sparklines(table: &CycleTable, st: &StitchSummary, measured: &[MeasuredMatch]
 }
 
 /// The physical checks: one line each, in full when one fails (or with
-/// `details`).
-fn checks_block(st: &StitchSummary, details: bool) -> String {
+/// `details`). `thread_bound` is shown as the least to spare over the cycle
+/// (the sweep figure `THR.bound_margin_mm`) beside P_B's peak.
+fn checks_block(table: &CycleTable, st: &StitchSummary, details: bool) -> String {
     if st.checks.is_empty() {
         return String::new();
     }
@@ -227,14 +228,24 @@ fn checks_block(st: &StitchSummary, details: bool) -> String {
             [Some(a), None] => format!("≥ {a:.2} mm"),
             [None, None] => "—".into(),
         };
-        s += &format!(
-            "  {:<5} {:<6} {:<17} {:>8.2} mm  (allowed {limit}; φ = {:.1}°)\n",
-            if c.ok { "ok" } else { "FAIL" },
-            c.thread,
-            c.name,
-            c.value,
-            c.at_deg
-        );
+        let figure = match (c.name, c.limit[1]) {
+            ("thread_bound", Some(bound)) => {
+                let peak = st
+                    .threads
+                    .iter()
+                    .find(|t| t.thread == c.thread)
+                    .and_then(|t| t.path.as_ref())
+                    .and_then(|p| table.paths.iter().find(|s| &s.path == p))
+                    .map_or(String::new(), |s| format!("; P_B peaks at {:.2} mm", s.max_p_mm));
+                if c.ok {
+                    format!("{:>8.2} mm  to spare at the least (φ = {:.1}°{peak})", bound - c.value, c.at_deg)
+                } else {
+                    format!("{:>8.2} mm  more than the needle can take through B (φ = {:.1}°{peak})", c.value - bound, c.at_deg)
+                }
+            }
+            _ => format!("{:>8.2} mm  (allowed {limit}; φ = {:.1}°)", c.value, c.at_deg),
+        };
+        s += &format!("  {:<5} {:<6} {:<17} {figure}\n", if c.ok { "ok" } else { "FAIL" }, c.thread, c.name);
         if !c.ok || details {
             s += &format!("        {}\n", c.message);
         }

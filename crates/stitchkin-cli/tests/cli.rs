@@ -149,6 +149,8 @@ fn match_prints_the_mismatch_per_thread() {
         assert_eq!(out.matches(&format!(" {check} ")).count(), 3, "{check}:\n{out}");
     }
     assert!(!out.contains("FAIL") && !out.contains("note: P peaks"), "{out}");
+    // The thread bound as the least to spare (the loop on the looper at TDC), beside P_B's peak.
+    assert!(out.contains("thread_bound         18.04 mm  to spare at the least (φ = 0.0°; P_B peaks at 17.48 mm)"), "{out}");
     // The model's caveats and what the stitch model carries over.
     assert!(out.contains("note: Reconstruction:") && out.contains("401 two-thread chain stitch"), "{out}");
     // Every metric with --details.
@@ -161,6 +163,7 @@ fn match_prints_the_mismatch_per_thread() {
     // match says what that means.
     let (other, _) = ok(&["match", "--set", "t1_phase=0"]);
     assert_eq!(other.matches("FAIL  n").count(), 3, "{other}");
+    assert!(other.contains("thread_bound         30.82 mm  more than the needle can take through B (φ = 152.0°"), "{other}");
     assert!(other.contains("hangs slack") && other.contains("note: 3 physical check(s) fail"), "{other}");
     let (json, _) = ok(&["match", "--preset", "mf7923d", "--set", "m=4", "--format", "json"]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
