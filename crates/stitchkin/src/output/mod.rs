@@ -8,7 +8,7 @@ pub mod report;
 pub mod text;
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
@@ -101,18 +101,51 @@ pub fn check_folder(path: &Path) -> Result<(), Error> {
     }
 }
 
+/// Where an output file goes.
+enum Destination {
+    /// A regular file, new or replaced: written to a temporary file in
+    /// `real`'s folder, then renamed onto `real` (the file a symbolic link
+    /// names, so the link stays a link).
+    Replace { real: PathBuf, tmp: PathBuf },
+    /// A device or a pipe (`-o /dev/null`, `-o /dev/stdout`, a FIFO):
+    /// written in place, since a rename would put a file where it was.
+    InPlace,
+}
+
+fn destination(path: &Path) -> Result<Destination, Error> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => Err(Error::Io(format!("cannot write `{}`: it is a folder; name a file in it", path.display()))),
+        Ok(m) if !m.is_file() => Ok(Destination::InPlace),
+        found => {
+            // An existing file through any links to it; a new one as named.
+            let real = match found {
+                Ok(_) => std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()),
+                Err(_) => path.to_path_buf(),
+            };
+            let name = real.file_name().ok_or_else(|| Error::Io(format!("`{}` is not a file path", path.display())))?;
+            let tmp = folder_of(&real).join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+            Ok(Destination::Replace { real, tmp })
+        }
+    }
+}
+
 /// Writes `bytes` to `path` through a temporary file in the same folder and
-/// a rename, so the file is either complete or untouched.
+/// a rename, so the file is either complete or untouched; a device or a pipe
+/// is written in place.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    let dir = folder_of(path);
-    let name = path.file_name().ok_or_else(|| Error::Io(format!("`{}` is not a file path", path.display())))?;
-    let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
     let io = |e: std::io::Error, what: &str| Error::Io(format!("cannot {what} `{}`: {e}", path.display()));
+    let (real, tmp) = match destination(path)? {
+        Destination::InPlace => {
+            let mut f = std::fs::OpenOptions::new().write(true).open(path).map_err(|e| io(e, "open"))?;
+            return f.write_all(bytes).and_then(|_| f.flush()).map_err(|e| io(e, "write"));
+        }
+        Destination::Replace { real, tmp } => (real, tmp),
+    };
     let result = (|| {
         let mut f = std::fs::File::create(&tmp).map_err(|e| io(e, "create a temporary file for"))?;
         f.write_all(bytes).map_err(|e| io(e, "write"))?;
         f.sync_all().map_err(|e| io(e, "write"))?;
-        std::fs::rename(&tmp, path).map_err(|e| io(e, "write"))
+        std::fs::rename(&tmp, &real).map_err(|e| io(e, "write"))
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
@@ -130,21 +163,30 @@ pub struct Sink {
 
 enum SinkTarget {
     Stdout(std::io::BufWriter<std::io::Stdout>),
-    File { tmp: std::path::PathBuf, path: std::path::PathBuf, file: Option<std::io::BufWriter<std::fs::File>> },
+    /// A regular file: `tmp` renamed onto `real` when finished.
+    File { tmp: PathBuf, real: PathBuf, path: PathBuf, file: Option<std::io::BufWriter<std::fs::File>> },
+    /// A device or a pipe, written in place.
+    InPlace { path: PathBuf, file: std::io::BufWriter<std::fs::File> },
 }
 
 impl Sink {
     pub fn new(path: Option<&Path>) -> Result<Sink, Error> {
         let target = match path {
             None => SinkTarget::Stdout(std::io::BufWriter::new(std::io::stdout())),
-            Some(path) => {
-                let dir = folder_of(path);
-                let name = path.file_name().ok_or_else(|| Error::Io(format!("`{}` is not a file path", path.display())))?;
-                let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
-                let f = std::fs::File::create(&tmp)
-                    .map_err(|e| Error::Io(format!("cannot create a temporary file for `{}`: {e}", path.display())))?;
-                SinkTarget::File { tmp, path: path.to_path_buf(), file: Some(std::io::BufWriter::new(f)) }
-            }
+            Some(path) => match destination(path)? {
+                Destination::Replace { real, tmp } => {
+                    let f = std::fs::File::create(&tmp)
+                        .map_err(|e| Error::Io(format!("cannot create a temporary file for `{}`: {e}", path.display())))?;
+                    SinkTarget::File { tmp, real, path: path.to_path_buf(), file: Some(std::io::BufWriter::new(f)) }
+                }
+                Destination::InPlace => {
+                    let f = std::fs::OpenOptions::new()
+                        .write(true)
+                        .open(path)
+                        .map_err(|e| Error::Io(format!("cannot open `{}`: {e}", path.display())))?;
+                    SinkTarget::InPlace { path: path.to_path_buf(), file: std::io::BufWriter::new(f) }
+                }
+            },
         };
         Ok(Sink { target })
     }
@@ -161,6 +203,7 @@ impl Sink {
                 .expect("open until finished")
                 .write_all(bytes)
                 .map_err(|e| Error::Io(format!("cannot write `{}`: {e}", path.display()))),
+            SinkTarget::InPlace { path, file } => file.write_all(bytes).map_err(|e| Error::Io(format!("cannot write `{}`: {e}", path.display()))),
         }
     }
 
@@ -171,14 +214,15 @@ impl Sink {
                 Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Error::Io(format!("cannot write to stdout: {e}"))),
                 _ => Ok(()),
             },
-            SinkTarget::File { tmp, path, file } => {
+            SinkTarget::InPlace { path, file } => file.flush().map_err(|e| Error::Io(format!("cannot write `{}`: {e}", path.display()))),
+            SinkTarget::File { tmp, real, path, file } => {
                 let w = file.take().expect("open until finished");
                 let io = |e: std::io::Error| Error::Io(format!("cannot write `{}`: {e}", path.display()));
                 let result = w
                     .into_inner()
                     .map_err(|e| io(e.into_error()))
                     .and_then(|f| f.sync_all().map_err(io))
-                    .and_then(|_| std::fs::rename(&*tmp, &*path).map_err(io));
+                    .and_then(|_| std::fs::rename(&*tmp, &*real).map_err(io));
                 if result.is_err() {
                     let _ = std::fs::remove_file(&*tmp);
                 }
@@ -208,5 +252,67 @@ mod tests {
         assert_eq!(fmt_num(9.18e-16), "9.18e-16");
         assert_eq!(fmt_num(0.000123), "0.000123");
         assert_eq!(fmt_num(std::f64::consts::PI), "3.14159265359");
+    }
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("stitchkin-output-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// A file is replaced whole; through a symbolic link the file it names
+    /// is, and the link stays; a folder is refused.
+    #[cfg(unix)]
+    #[test]
+    fn files_are_replaced_whole_and_links_kept() {
+        let dir = scratch("links");
+        let (file, link) = (dir.join("p.csv"), dir.join("latest.csv"));
+        write_atomic(&file, b"old").unwrap();
+        std::os::unix::fs::symlink(&file, &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read(&file).unwrap(), b"new");
+        let mut sink = Sink::new(Some(&link)).unwrap();
+        sink.write(b"streamed").unwrap();
+        sink.finish().unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read(&file).unwrap(), b"streamed");
+        let e = write_atomic(&dir, b"x").unwrap_err().to_string();
+        assert!(e.contains("it is a folder"), "{e}");
+        // Nothing but the two names is left in the folder.
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A pipe (as a device such as /dev/null) is written in place: a rename
+    /// would put a regular file where it was.
+    #[cfg(unix)]
+    #[test]
+    fn pipes_and_devices_are_written_in_place() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = scratch("fifo");
+        let fifo = dir.join("out.fifo");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if !made.is_ok_and(|s| s.success()) {
+            panic!("mkfifo could not make a pipe to test with");
+        }
+        for streamed in [false, true] {
+            let reader = {
+                let fifo = fifo.clone();
+                std::thread::spawn(move || std::fs::read(fifo).unwrap())
+            };
+            if streamed {
+                let mut sink = Sink::new(Some(&fifo)).unwrap();
+                sink.write(b"through the pipe").unwrap();
+                sink.finish().unwrap();
+            } else {
+                write_atomic(&fifo, b"through the pipe").unwrap();
+            }
+            assert_eq!(reader.join().unwrap(), b"through the pipe");
+            assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo(), "the pipe stays a pipe");
+        }
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary file left");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
