@@ -173,7 +173,6 @@ pub fn prepare(model: &Model, params: &Params, step_deg: f64) -> Result<Option<P
     let phis = super::cycle_phis_deg(model.phi_start_deg(), step_deg);
     let phi0_deg = model.file.thread.as_ref().and_then(|t| t.phi0_deg).unwrap_or(model.phi_start_deg());
     let to_c = |phi: f64| (phi - setup.cyclogram_zero_deg).rem_euclid(360.0);
-    check_window_phi0(setup.spec.regulator, setup.cyclogram_zero_deg, phi0_deg)?;
     // φ0 rides at the end of the grid, for S(φ0) of P'_B.
     let mut grid: Vec<f64> = phis.iter().map(|&p| to_c(p)).collect();
     grid.push(to_c(phi0_deg));
@@ -181,28 +180,6 @@ pub fn prepare(model: &Model, params: &Params, step_deg: f64) -> Result<Option<P
     let windows_deg: Vec<Option<[f64; 2]>> = required.threads.iter().map(|th| window_in_model_phi(th, setup.cyclogram_zero_deg)).collect();
     let compared = windows_deg.iter().map(|w| phis.iter().map(|&p| !w.is_some_and(|w| in_window(wrap_deg(p), w))).collect()).collect();
     Ok(Some(Prepared { setup, required, phis, phi0_deg, windows_deg, compared }))
-}
-
-/// A declared regulator window (`[stitch] regulator = { window_deg }`, in
-/// model φ) must not contain φ0, where P' = 0: said here in the angles the
-/// model file gives (the stitch layer checks again in cyclogram angles).
-fn check_window_phi0(regulator: Regulator, cyclogram_zero_deg: f64, phi0_deg: f64) -> Result<(), Error> {
-    let Regulator::Window { from_deg, to_deg } = regulator else { return Ok(()) };
-    let (from, to) = (from_deg + cyclogram_zero_deg, to_deg + cyclogram_zero_deg);
-    let inside = (phi0_deg - from).rem_euclid(360.0);
-    let width = to - from;
-    if width > 0.0 && width < 360.0 && inside > 1e-9 && inside < width - 1e-9 {
-        // The same width ending at φ0.
-        let end = wrap_deg(phi0_deg) + if wrap_deg(phi0_deg) < width { 360.0 } else { 0.0 };
-        return Err(Error::Stitch(format!(
-            "[stitch] regulator window_deg = [{from}, {to}] contains φ0 = {}°, where P' = 0 (the taut state): the thread must be \
-             drawn through the regulator within one stitch, between one φ0 and the next; end the window at φ0 or start it there, \
-             e.g. window_deg = [{}, {end}]",
-            wrap_deg(phi0_deg),
-            end - width,
-        )));
-    }
-    Ok(())
 }
 
 /// [`mismatch`] of `p` against `pprime` over a cycle of model φ `phis`,

@@ -189,6 +189,25 @@ impl Loader<'_> {
                     if !(w[0].is_finite() && w[1].is_finite() && width > 0.0 && width < 360.0) {
                         return Err(self.err(&rp.key("window_deg"), format!("the window [{}, {}] must run forward by less than a turn", w[0], w[1]), Some("give [from, to] in the model's φ, degrees, with from < to < from + 360, e.g. [300, 360]".into())));
                     }
+                    // P' = 0 at φ0 (the taut state): each stitch's thread
+                    // is drawn between one φ0 and the next.
+                    let phi0 = f.thread.as_ref().and_then(|t| t.phi0_deg).unwrap_or(f.model.phi_start_deg.unwrap_or(0.0));
+                    let inside = (phi0 - w[0]).rem_euclid(360.0);
+                    if inside > 1e-9 && inside < width - 1e-9 {
+                        // The same width ending at φ0.
+                        let end = phi0.rem_euclid(360.0) + if phi0.rem_euclid(360.0) < width { 360.0 } else { 0.0 };
+                        return Err(self.err(
+                            &rp.key("window_deg"),
+                            format!(
+                                "the window [{}, {}] contains φ0 = {}°, where P' = 0 (the taut state): the thread must be drawn through the \
+                                 regulator within one stitch, between one φ0 and the next",
+                                w[0],
+                                w[1],
+                                phi0.rem_euclid(360.0)
+                            ),
+                            Some(format!("end the window at φ0 or start it there, e.g. window_deg = [{}, {end}]", end - width)),
+                        ));
+                    }
                     RegulatorDef::Window(w)
                 }
                 (None, Some(v), None | Some(false)) => RegulatorDef::BeforeTightening(Some(self.angle(v, rp.key("width_deg"))?)),

@@ -100,11 +100,15 @@ fn the_regulator_is_declared_and_checked() {
     let s = st(run(&with("regulator = { at_lock = true }")).unwrap());
     assert!(s.threads.iter().all(|t| t.regulator_window_deg.is_none()) && s.regulator.contains("at its lock"));
     // A window around φ0 (where P' = 0) cannot be.
-    // Said in the model's φ, as the file gives it, with a window that fits.
-    let e = run(&with("regulator = { window_deg = [340, 400] }")).unwrap_err().to_string();
-    assert!(e.contains("window_deg = [340, 400] contains φ0 = 0°") && e.contains("e.g. window_deg = [300, 360]"), "{e}");
-    let e = run(&with("regulator = { window_deg = [-30, 30] }")).unwrap_err().to_string();
-    assert!(e.contains("window_deg = [-30, 30] contains φ0 = 0°") && e.contains("e.g. window_deg = [300, 360]"), "{e}");
+    // Said in the model's φ, as the file gives it, where it stands in the
+    // file, with a window that fits.
+    for line in ["regulator = { window_deg = [340, 400] }", "regulator = { window_deg = [-30, 30] }"] {
+        let e = Model::from_toml_str(&with(line), "r.toml").unwrap_err();
+        let w = &line[line.find('[').unwrap()..line.find(']').unwrap() + 1];
+        let (text, help) = (e.to_string(), e.help.clone().unwrap_or_default());
+        assert!(e.line_col().is_some() && text.contains(&format!("the window {w} contains φ0 = 0°")), "{text}");
+        assert!(help.contains("e.g. window_deg = [300, 360]"), "{help}");
+    }
     // The needle threads are pulled tight at φ0: any width short of a turn
     // ends there.
     let s = st(run(&with("regulator = { width_deg = 300 }")).unwrap());
