@@ -632,7 +632,7 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
         s += &format!("# take-up: {conv}\n");
     }
     for p in &table.paths {
-        let pn = eval::take_up_name(p.split == "B");
+        let pn = eval::take_up_name(p.split == stitchkin::thread::SplitPoint::B);
         s += &format!(
             "# {:<w$} max {pn} {:.3} mm at φ = {:.1}°, min {pn} {:.3} mm at φ = {:.1}°",
             p.path, p.max_p_mm, p.phi_at_max_deg, p.min_p_mm, p.phi_at_min_deg
@@ -661,7 +661,7 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
         );
         s += &format!("# regulator: {}\n", st.regulator);
         for t in &st.threads {
-            let pn = if t.split == "B" { "P'_B" } else { "P'" };
+            let pn = if t.split == stitchkin::thread::SplitPoint::B { "P'_B" } else { "P'" };
             s += &format!(
                 "# {:<w$} max {pn} {:.3} mm at φ = {:.1}°; {:.3} mm per stitch (cut at its lock, φ = {:.1}°: {:.3} mm)",
                 t.thread, t.max_pprime_mm, t.phi_at_max_pprime_deg, t.per_stitch_mm, t.lock_phi_deg, t.locked_mm

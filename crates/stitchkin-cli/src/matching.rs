@@ -13,6 +13,7 @@ use stitchkin::output::text::{sparkline, window_marks};
 use stitchkin::stitch::checks::Check;
 use stitchkin::stitch::spec::EventKind;
 use stitchkin::study::measured::{MeasuredMatch, measured_match};
+use stitchkin::thread::SplitPoint;
 use stitchkin::thread::measured::{CurveKind, MeasuredCurve, read_curve};
 
 use crate::{MatchFormat, score};
@@ -104,7 +105,7 @@ pub(crate) fn screen(model: &Model, table: &CycleTable, st: &StitchSummary, meas
         st.m_mm,
         st.t_mm
     );
-    if st.threads.iter().any(|t| t.split == "B") {
+    if st.threads.iter().any(|t| t.split == SplitPoint::B) {
         s += "needle threads measured at B, the eye's top position (seed 004 §2.3); ";
     }
     s += &format!("P = P′ = 0 at φ = {}°; needle BDC at φ = {}°\n", st.phi0_deg, st.cyclogram_zero_deg);

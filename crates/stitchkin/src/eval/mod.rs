@@ -10,7 +10,7 @@ use serde::Serialize;
 use crate::error::Error;
 use crate::mechanism::{Mechanism, Phi, Pose};
 use crate::scalar::Real;
-use crate::thread::{Convention, PathError, PathTrack, Threads};
+use crate::thread::{Convention, PathError, PathTrack, SplitPoint, Threads};
 use crate::model::{Model, Params};
 
 
@@ -82,9 +82,9 @@ pub struct PathSummary {
     pub path: String,
     /// Which thread this is, in words.
     pub thread: Option<String>,
-    /// Where the take-up is measured: `B` for a needle thread split at the
-    /// eye's top position (seed 004 §2.3), `end` at the path's last node.
-    pub split: &'static str,
+    /// Where the take-up is measured: B for a needle thread split at the
+    /// eye's top position (seed 004 §2.3), else the path's last node.
+    pub split: SplitPoint,
     /// The column of P: `PATH.P_B_mm` or `PATH.P_mm`.
     pub p_column: String,
     /// Largest take-up and where (at the split).
@@ -113,7 +113,7 @@ impl PathSummary {
     /// The name of its take-up columns: `P_B` split at B, else `P`
     /// ([`take_up_name`]).
     pub fn take_up_name(&self) -> &'static str {
-        take_up_name(self.split == "B")
+        take_up_name(self.split == SplitPoint::B)
     }
 }
 
@@ -541,7 +541,7 @@ fn thread_columns<T: Real>(
         summaries.push(PathSummary {
             path: name.clone(),
             thread: path.label.clone(),
-            split: if split { "B" } else { "end" },
+            split: if split { SplitPoint::B } else { SplitPoint::End },
             p_column: format!("{name}.{pn}_mm"),
             max_p_eye_mm: p_eye.as_ref().map(|v| v.iter().cloned().fold(f64::MIN, f64::max)),
             max_p_mm: p_re[imax],

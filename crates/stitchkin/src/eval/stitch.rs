@@ -11,6 +11,7 @@ use crate::model::{Model, Params};
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::stitch::pprime::required_take_up;
 use crate::stitch::checks::{Check, bound_curve, catch_and_stab, thread_bound};
+use crate::thread::SplitPoint;
 use crate::stitch::spec::{DEFAULT_REGULATOR_WIDTH_DEG, EventKind, Regulator, RequiredThread, StitchType, ThreadRole};
 
 /// A moment of a thread's cyclogram, at the model's φ.
@@ -31,10 +32,10 @@ pub struct StitchThreadSummary {
     pub role: ThreadRole,
     /// The thread path P is taken from.
     pub path: Option<String>,
-    /// Where P and P' are measured: `B` (a needle thread: the fixed point
-    /// at the eye's top position, seed 004 §2.3) or `eye` (the moving eye
-    /// of a looper thread).
-    pub split: &'static str,
+    /// Where P and P' are measured: B (a needle thread: the fixed point
+    /// at the eye's top position, seed 004 §2.3) or the moving eye of a
+    /// looper thread.
+    pub split: SplitPoint,
     /// Contour of seed 004 §2.6.
     pub contour: u8,
     /// Thread per stitch by the contour formula, and as cut from the P'
@@ -89,7 +90,7 @@ impl StitchThreadSummary {
     /// The column of its P′ at its split: `THR.Pprime_B_mm` for a needle
     /// thread, `THR.Pprime_mm` for a looper thread.
     pub fn pprime_column(&self) -> String {
-        format!("{}.{}", self.thread, if self.split == "B" { "Pprime_B_mm" } else { "Pprime_mm" })
+        format!("{}.{}", self.thread, if self.split == SplitPoint::B { "Pprime_B_mm" } else { "Pprime_mm" })
     }
 }
 
@@ -165,12 +166,22 @@ impl Prepared {
     }
 }
 
+/// Whether each φ of `phis` (model φ) is compared: outside the regulator
+/// `window`, if any.
+pub(crate) fn compared_outside(phis: &[f64], window: Option<[f64; 2]>) -> Vec<bool> {
+    phis.iter().map(|&p| !window.is_some_and(|w| in_window(p, w))).collect()
+}
+
 /// P' of the model's stitch process with `params` on the cycle grid of
 /// `step_deg`; `None` when the model has no `[stitch]`.
 pub fn prepare(model: &Model, params: &Params, step_deg: f64) -> Result<Option<Prepared>, Error> {
     super::check_options(&super::CycleOptions { step_deg, ..Default::default() })?;
+    prepare_on(model, params, super::cycle_phis_deg(model.phi_start_deg(), step_deg))
+}
+
+/// [`prepare`] on any grid of model φ `phis` (a study's own sampling).
+pub fn prepare_on(model: &Model, params: &Params, phis: Vec<f64>) -> Result<Option<Prepared>, Error> {
     let Some(setup) = model.stitch_setup(params)? else { return Ok(None) };
-    let phis = super::cycle_phis_deg(model.phi_start_deg(), step_deg);
     let phi0_deg = model.file.thread.as_ref().and_then(|t| t.phi0_deg).unwrap_or(model.phi_start_deg());
     let to_c = |phi: f64| (phi - setup.cyclogram_zero_deg).rem_euclid(360.0);
     // φ0 rides at the end of the grid, for S(φ0) of P'_B.
@@ -178,7 +189,7 @@ pub fn prepare(model: &Model, params: &Params, step_deg: f64) -> Result<Option<P
     grid.push(to_c(phi0_deg));
     let required = required_take_up(&setup.spec, &grid, to_c(phi0_deg))?;
     let windows_deg: Vec<Option<[f64; 2]>> = required.threads.iter().map(|th| window_in_model_phi(th, setup.cyclogram_zero_deg)).collect();
-    let compared = windows_deg.iter().map(|w| phis.iter().map(|&p| !w.is_some_and(|w| in_window(wrap_deg(p), w))).collect()).collect();
+    let compared = windows_deg.iter().map(|&w| compared_outside(&phis, w)).collect();
     Ok(Some(Prepared { setup, required, phis, phi0_deg, windows_deg, compared }))
 }
 
@@ -258,7 +269,7 @@ pub(crate) fn stitch_columns(prepared: &Prepared, phis: &[f64], lean: bool, colu
         // A needle thread is measured at B: P'_B = P'_eye + S − S(φ0).
         let at_b = th.travel_mm.is_some();
         let pprime = pprime_at_split(th, n);
-        let split = if at_b { "B" } else { "eye" };
+        let split = if at_b { SplitPoint::B } else { SplitPoint::Eye };
         match &th.travel_mm {
             Some(s) => {
                 push(columns, "eta_B_mm", (0..n).map(|k| th.eta_mm[k] + s[k]).collect());

@@ -236,7 +236,7 @@ fn take_up(model: &Model, t: &CycleTable, measured: &[MeasuredMatch]) -> Result<
             vec![
                 escape(&p.path),
                 format!("<span class=\"text\">{}</span>", escape(p.thread.as_deref().unwrap_or(""))),
-                if p.split == "B" { "B".into() } else { "last node".into() },
+                if p.split == crate::thread::SplitPoint::B { "B".into() } else { "last node".into() },
                 num(Some(p.max_p_mm), 2),
                 num(Some(p.phi_at_max_deg), 1),
                 num(Some(p.min_p_mm), 2),
@@ -355,7 +355,7 @@ fn measured_section(measured: &[MeasuredMatch]) -> String {
                 escape(&m.source),
                 escape(&m.thread),
                 escape(what),
-                escape(m.split),
+                escape(m.split.as_str()),
                 escape(other),
                 num(a.map(|a| a.rms_d_mm), 2),
                 score_cell(a.and_then(|a| a.score)),

@@ -619,31 +619,21 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
     // The stitch process: needed for `required`; for a curve only for the
     // match report, so a stitch that does not evaluate just leaves it out.
     let required = matches!(opts.target, Target::Required);
-    let setup = match model.stitch_setup(params) {
-        Ok(s) => s,
+    let prepared = match eval::stitch::prepare_on(model, params, phis.clone()) {
+        Ok(p) => p,
         Err(e) if required => return Err(e),
         Err(_) => None,
     };
-    let stitch_thread = setup.as_ref().and_then(|s| s.paths.iter().position(|p| p.as_deref() == Some(opts.path.as_str())));
+    let stitch_thread = prepared.as_ref().and_then(|s| s.setup.paths.iter().position(|p| p.as_deref() == Some(opts.path.as_str())));
     // P' of the thread on this path over the grid, and the compared mask.
-    let pprime: Option<(String, Vec<f64>, Vec<bool>, f64)> = match (&setup, stitch_thread) {
+    let pprime: Option<(String, Vec<f64>, Vec<bool>, f64)> = match (&prepared, stitch_thread) {
         (Some(s), Some(t)) => {
-            let to_c = |phi: f64| (phi - s.cyclogram_zero_deg).rem_euclid(360.0);
-            let mut grid: Vec<f64> = phis.iter().map(|&p| to_c(p)).collect();
-            grid.push(to_c(phi0));
-            match crate::stitch::pprime::required_take_up(&s.spec, &grid, to_c(phi0)) {
-                Ok(req) => {
-                    let th = &req.threads[t];
-                    let window = eval::stitch::window_in_model_phi(th, s.cyclogram_zero_deg);
-                    let compared = phis.iter().map(|&p| !window.is_some_and(|w| eval::stitch::in_window(p, w))).collect();
-                    Some((th.name.clone(), eval::stitch::pprime_at_split(th, phis.len()), compared, s.tolerance_mm))
-                }
-                Err(e) if required => return Err(e),
-                Err(_) => None,
-            }
+            let th = &s.required.threads[t];
+            Some((th.name.clone(), eval::stitch::pprime_at_split(th, phis.len()), s.compared[t].clone(), s.setup.tolerance_mm))
         }
         _ => None,
     };
+    let setup = prepared.as_ref().map(|p| &p.setup);
     let (label, raw): (String, Vec<f64>) = match &opts.target {
         Target::Required => match &pprime {
             Some((t, pp, ..)) => (format!("required take-up P' of thread `{t}`"), pp.clone()),

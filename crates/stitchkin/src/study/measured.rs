@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use crate::error::{Error, ParamError};
 use crate::eval::CycleTable;
-use crate::eval::stitch::{in_window, mismatch_on_cycle};
+use crate::eval::stitch::{compared_outside, mismatch_on_cycle};
 use crate::stitch::mismatch::Mismatch;
 use crate::thread::measured::{CurveKind, MeasuredCurve, SplitPoint};
 
@@ -21,10 +21,10 @@ pub struct MeasuredMatch {
     /// The stitch thread it belongs to.
     pub thread: String,
     pub kind: CurveKind,
-    /// Where it is measured: `B` or `eye`, the thread's own split (a curve
+    /// Where it is measured: the thread's own split (a curve
     /// measured at the moving eye of a needle thread is moved to B with the
     /// needle's travel: P_B = P_eye + S − S(φ0)).
-    pub split: &'static str,
+    pub split: SplitPoint,
     /// Whether the file's column named the split (`P_B_mm`, `P_eye_mm`) or
     /// it was taken to be the thread's.
     pub split_declared: bool,
@@ -77,7 +77,7 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
     };
     let phis = column("phi_deg".into())?;
     let p = column(table.paths.iter().find(|q| &q.path == path).map_or(format!("{path}.P_mm"), |q| q.p_column.clone()))?;
-    let at_b = th.split == "B";
+    let at_b = th.split == SplitPoint::B;
     let pprime = column(th.pprime_column())?;
     let mut values = curve.resample(phis);
     match (curve.split(), at_b) {
@@ -96,8 +96,7 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
         }
         _ => {}
     }
-    let window = th.regulator_window_deg;
-    let compared_at: Vec<bool> = phis.iter().map(|&q| !window.is_some_and(|w| in_window(crate::eval::wrap_deg(q), w))).collect();
+    let compared_at = compared_outside(phis, th.regulator_window_deg);
     let eps = st.tolerance_mm;
     let (against_other, against_model) = match curve.kind() {
         CurveKind::TakeUp => (mismatch_on_cycle(phis, &values, pprime, &compared_at, eps, true), mismatch_on_cycle(phis, p, &values, &compared_at, eps, true)),
@@ -107,7 +106,7 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
         source: source.to_string(),
         thread: th.thread.clone(),
         kind: curve.kind(),
-        split: if at_b { "B" } else { "eye" },
+        split: th.split,
         split_declared: curve.split().is_some(),
         values_mm: values,
         against_other,

@@ -188,7 +188,7 @@ impl Sweep {
 pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
     let mut out = Vec::new();
     for p in &table.paths {
-        let pn = crate::eval::take_up_name(p.split == "B");
+        let pn = crate::eval::take_up_name(p.split == crate::thread::SplitPoint::B);
         out.push((format!("{}.max_{pn}_mm", p.path), p.max_p_mm));
         out.push((format!("{}.min_{pn}_mm", p.path), p.min_p_mm));
     }
@@ -218,7 +218,7 @@ pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
     if let Some(st) = &table.stitch {
         let mut scores = Vec::new();
         for t in &st.threads {
-            out.push((format!("{}.{}", t.thread, max_pprime_figure(t.split == "B")), t.max_pprime_mm));
+            out.push((format!("{}.{}", t.thread, max_pprime_figure(t.split == crate::thread::SplitPoint::B)), t.max_pprime_mm));
             let checks: Vec<_> = st.checks.iter().filter(|c| c.thread == t.thread).collect();
             if !checks.is_empty() {
                 out.push((format!("{}.checks_ok", t.thread), if checks.iter().all(|c| c.ok) { 1.0 } else { 0.0 }));

@@ -53,19 +53,7 @@ pub enum CurveKind {
     Required,
 }
 
-/// Where the thread is split between the feed contour and the consumption
-/// contour (docs/stitch-formation.md §3.2): P_B − P_eye = S(φ) − S(φ0), S
-/// the needle's travel, for P and P′ alike.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SplitPoint {
-    /// B, the fixed point at the needle eye's top position (a column
-    /// `P_B_mm` or `Pprime_B_mm`), as seeds 000 and 004 plot it.
-    B,
-    /// The moving eye (a column `P_eye_mm` or `Pprime_eye_mm`), where a
-    /// thread path of the model ends.
-    Eye,
-}
+pub use super::SplitPoint;
 
 /// A periodic curve over one main-shaft turn read from a CSV file: samples
 /// (φ_i, y_i), φ strictly increasing within one turn, no gap wider than

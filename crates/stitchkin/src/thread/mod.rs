@@ -14,6 +14,8 @@ pub mod cam;
 pub mod measured;
 pub mod wrap;
 
+use serde::Serialize;
+
 use crate::geometry::{Plane, V3};
 use num_dual::Dual2_64;
 
@@ -113,6 +115,43 @@ pub struct Threads<T: Real> {
     /// take-up is split at B, the eye's top position (seed 004 §2.3);
     /// `None` for a path split at its last node.
     pub split_up: Vec<Option<V3<T>>>,
+}
+
+/// Where a thread's take-up P (and the stitch's P′) is measured: where the
+/// thread is split between the feed contour and the consumption contour
+/// (docs/stitch-formation.md §3.2). P_B − P_eye = S(φ) − S(φ0), S the
+/// needle's travel, for P and P′ alike.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum SplitPoint {
+    /// B, the fixed point at the needle eye's top position (columns
+    /// `P_B_mm`, `Pprime_B_mm`), as seeds 000 and 004 plot it.
+    #[serde(rename = "B")]
+    B,
+    /// The moving eye (columns `P_eye_mm`, `Pprime_eye_mm`; a looper
+    /// thread's `Pprime_mm`).
+    #[serde(rename = "eye")]
+    Eye,
+    /// The last node of a thread path that does not end at a needle's eye
+    /// (column `P_mm`).
+    #[serde(rename = "end")]
+    End,
+}
+
+impl SplitPoint {
+    /// As JSON gives it: `B`, `eye` or `end`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SplitPoint::B => "B",
+            SplitPoint::Eye => "eye",
+            SplitPoint::End => "end",
+        }
+    }
+}
+
+impl std::fmt::Display for SplitPoint {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
 }
 
 /// A path evaluated over a pose.

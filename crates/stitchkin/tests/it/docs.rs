@@ -568,7 +568,7 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     let t = cycle(&m).unwrap();
     let (a, b) = (path(&t, "n1_A"), path(&t, "n1_B"));
     for s in [a, b] {
-        assert_eq!(s.split, "B", "mf7923d {} split at B", s.path);
+        assert_eq!(s.split, stitchkin::thread::SplitPoint::B, "mf7923d {} split at B", s.path);
         close(s.max_p_eye_mm.unwrap(), 0.0, 0.0, "mf7923d max P_eye");
         close(s.min_p_mm, 0.0, 0.0, "mf7923d min P_B");
         assert_eq!(

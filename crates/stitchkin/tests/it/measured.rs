@@ -29,7 +29,7 @@ fn a_measured_take_up_equal_to_the_model_matches_it_exactly() {
     // "Measured" P of needle 2 at B, every 2°: the model's own.
     let curve = parse_curve_csv(&csv_of(&t, "n2_A.P_B_mm", "n2.P_B_mm", 1), "n2.csv").unwrap();
     let m = measured_match(&t, &curve, None).unwrap();
-    assert_eq!((m.thread.as_str(), m.kind, m.split, m.split_declared), ("n2", CurveKind::TakeUp, "B", true));
+    assert_eq!((m.thread.as_str(), m.kind, m.split, m.split_declared), ("n2", CurveKind::TakeUp, stitchkin::thread::SplitPoint::B, true));
     let model = m.against_model.as_ref().unwrap();
     assert!(model.rms_d_mm < 1e-12 && model.max_abs_d_mm < 1e-12, "{model:?}");
     // Against P′ it is the model's own match.
@@ -48,7 +48,7 @@ fn a_curve_measured_at_the_moving_eye_is_moved_to_b() {
     let (_, t) = mf7923d(2.0);
     let eye = parse_curve_csv(&csv_of(&t, "n1_A.P_eye_mm", "n1.P_eye_mm", 1), "eye.csv").unwrap();
     let m = measured_match(&t, &eye, None).unwrap();
-    assert_eq!(m.split, "B");
+    assert_eq!(m.split, stitchkin::thread::SplitPoint::B);
     let at_b = t.column("n1_A.P_B_mm").unwrap();
     let worst = m.values_mm.iter().zip(at_b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(worst < 1e-5, "P_eye + S − S(φ0) = P_B: {worst}");

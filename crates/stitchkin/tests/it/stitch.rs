@@ -64,7 +64,7 @@ fn mf7923d_locks_one_stitch_of_thread_per_needle() {
         let m = t.mismatch.as_ref().expect("compared with its path");
         assert!(m.rms_d_mm.is_finite() && m.rms_d_mm > 0.0);
         // Measured at B: the P' and P columns of the split, and D = P − P'.
-        assert_eq!(t.split, "B");
+        assert_eq!(t.split, stitchkin::thread::SplitPoint::B);
         let pp = table.column(&format!("n{}.Pprime_B_mm", j + 1)).unwrap();
         let p = table.column(&format!("n{}_A.P_B_mm", j + 1)).unwrap();
         let d = table.column(&format!("n{}.D_mm", j + 1)).unwrap();

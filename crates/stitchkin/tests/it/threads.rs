@@ -306,7 +306,7 @@ fn mf7923d_published_results() {
     for j in 1..=3 {
         let a = t.paths.iter().find(|p| p.path == format!("n{j}_A")).unwrap();
         let b = t.paths.iter().find(|p| p.path == format!("n{j}_B")).unwrap();
-        assert_eq!((a.split, b.split), ("B", "B"));
+        assert_eq!((a.split, b.split), (stitchkin::thread::SplitPoint::B, stitchkin::thread::SplitPoint::B));
         assert!(b.max_p_mm > a.max_p_mm + 3.0, "needle {j}: B {} vs A {}", b.max_p_mm, a.max_p_mm);
         assert_eq!(a.engaged[0].1.len(), 1);
         assert!(top_dwell(a) > top_dwell(b) + 30.0, "needle {j}: {:?} {:?}", a.flat, b.flat);

@@ -341,7 +341,7 @@ pub fn take_up_with_measured(model: &Model, table: &CycleTable, measured: &[Meas
     }
     let phis = column(table, "phi_deg")?;
     let start = model.phi_start_deg();
-    let at_b = table.paths.iter().any(|p| p.split == "B");
+    let at_b = table.paths.iter().any(|p| p.split == crate::thread::SplitPoint::B);
     let mut chart = Chart::new(title(model, "thread take-up P(φ)"), phi_axis(model), Axis::new("P, mm"));
     let mut sub = table.take_up.clone().unwrap_or_default();
     if let Some(st) = &table.stitch {
