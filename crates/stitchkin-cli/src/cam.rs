@@ -29,11 +29,21 @@ pub struct CamArgs {
     #[arg(long, default_value_t = 0.0, value_name = "DEG", allow_negative_numbers = true)]
     smooth: f64,
     /// Smallest acceptable profile radius, mm (checked and reported).
-    #[arg(long = "min-radius", default_value_t = 3.0, value_name = "MM", allow_negative_numbers = true)]
+    #[arg(
+        long = "min-radius",
+        default_value_t = 3.0,
+        value_name = "MM",
+        allow_negative_numbers = true
+    )]
     min_radius: f64,
     /// Largest acceptable thread contact angle (profile normal against the
     /// thread's pull on the cam), degrees (checked and reported).
-    #[arg(long = "max-pressure-angle", default_value_t = 45.0, value_name = "DEG", allow_negative_numbers = true)]
+    #[arg(
+        long = "max-pressure-angle",
+        default_value_t = 45.0,
+        value_name = "DEG",
+        allow_negative_numbers = true
+    )]
     max_pressure_angle: f64,
     /// Profile points per turn: the contact angles of N positions of φ,
     /// every 360/N degrees from φ0.
@@ -77,7 +87,11 @@ pub fn run(args: CamArgs) -> Result<(), Error> {
         })?;
         Target::from_curve(&parse_curve_csv(&text, &args.target)?)?
     };
-    let format = args.format.unwrap_or(if args.output.is_some() { CamFormat::All } else { CamFormat::Csv });
+    let format = args.format.unwrap_or(if args.output.is_some() {
+        CamFormat::All
+    } else {
+        CamFormat::Csv
+    });
     if format == CamFormat::All && args.output.is_none() {
         return Err(Error::Param(ParamError {
             message: "--format all writes four files".into(),
@@ -108,7 +122,11 @@ pub fn run(args: CamArgs) -> Result<(), Error> {
     match &args.output {
         None => crate::emit(render(format).as_bytes(), None)?,
         Some(prefix) => {
-            let formats = if format == CamFormat::All { vec![CamFormat::Csv, CamFormat::Svg, CamFormat::Dxf, CamFormat::Toml] } else { vec![format] };
+            let formats = if format == CamFormat::All {
+                vec![CamFormat::Csv, CamFormat::Svg, CamFormat::Dxf, CamFormat::Toml]
+            } else {
+                vec![format]
+            };
             for f in formats {
                 // `-o cam.svg --format svg` writes cam.svg, not cam.svg.svg.
                 let path = if format != CamFormat::All && prefix.extension().is_some_and(|e| e == ext(f)) {
@@ -129,7 +147,11 @@ pub fn run(args: CamArgs) -> Result<(), Error> {
 
 /// A length for the summary: fixed point, or scientific when tiny.
 fn mm(x: f64) -> String {
-    if x != 0.0 && x.abs() < 1e-3 { format!("{x:.1e}") } else { format!("{x:.4}") }
+    if x != 0.0 && x.abs() < 1e-3 {
+        format!("{x:.1e}")
+    } else {
+        format!("{x:.4}")
+    }
 }
 
 /// The summary on stderr.
@@ -150,9 +172,17 @@ fn report(s: &CamSynthesis, written: &[String]) -> String {
         s.reference_radius_mm[0],
         s.reference_radius_mm[1]
     );
-    r += &format!("# anchor: ρ = {:.4} mm at θ = {:.2}°, the contact at φ0 = {}° where P is fixed by its convention\n", s.anchor_radius_mm, s.anchor_theta_deg, stitchkin::output::fmt_num(s.phi0_deg));
+    r += &format!(
+        "# anchor: ρ = {:.4} mm at θ = {:.2}°, the contact at φ0 = {}° where P is fixed by its convention\n",
+        s.anchor_radius_mm,
+        s.anchor_theta_deg,
+        stitchkin::output::fmt_num(s.phi0_deg)
+    );
     r += &if s.smooth_deg > 0.0 {
-        format!("# smoothing: moving average over {}° of profile angle, applied twice\n", stitchkin::output::fmt_num(s.smooth_deg))
+        format!(
+            "# smoothing: moving average over {}° of profile angle, applied twice\n",
+            stitchkin::output::fmt_num(s.smooth_deg)
+        )
     } else {
         "# smoothing: none\n".to_string()
     };
@@ -189,7 +219,12 @@ fn report(s: &CamSynthesis, written: &[String]) -> String {
         r += "#   convex         yes (what contact = \"exact\" would need)\n";
     } else {
         let total: f64 = c.not_convex_deg.iter().map(|i| i[1] - i[0]).sum();
-        let list: Vec<String> = c.not_convex_deg.iter().take(4).map(|i| format!("{:.1}°…{:.1}°", i[0], i[1].rem_euclid(360.0))).collect();
+        let list: Vec<String> = c
+            .not_convex_deg
+            .iter()
+            .take(4)
+            .map(|i| format!("{:.1}°…{:.1}°", i[0], i[1].rem_euclid(360.0)))
+            .collect();
         r += &format!(
             "#   convex         NO: {} stretch(es) of θ, {:.1}° in all ({}{}); the offset contact does not need it, a taut thread (contact = \"exact\") would bridge them\n",
             c.not_convex_deg.len(),

@@ -42,23 +42,39 @@ pub struct DrawArgs {
 }
 
 fn bad(message: String, help: &str) -> Error {
-    Error::Param(ParamError { message, help: Some(help.into()) })
+    Error::Param(ParamError {
+        message,
+        help: Some(help.into()),
+    })
 }
 
 pub fn run(args: DrawArgs) -> Result<(), Error> {
     let defaults = DrawOptions::default();
     crate::image::check_output(args.output.as_ref(), args.animate)?;
     if !args.animate && (args.frames.is_some() || args.duration.is_some()) {
-        return Err(bad("--frames and --duration are for an animation".into(), "add --animate, or leave them out for a drawing at one φ"));
+        return Err(bad(
+            "--frames and --duration are for an animation".into(),
+            "add --animate, or leave them out for a drawing at one φ",
+        ));
     }
     let frames = match args.frames {
         None => defaults.frames,
         Some(f) if f >= 2 => usize::try_from(f).unwrap_or(usize::MAX),
-        Some(f) => return Err(bad(format!("an animation needs at least 2 frames per turn, got {f} (in --frames)"), "give --frames 72 (5° per frame) or 120 (3°)")),
+        Some(f) => {
+            return Err(bad(
+                format!("an animation needs at least 2 frames per turn, got {f} (in --frames)"),
+                "give --frames 72 (5° per frame) or 120 (3°)",
+            ));
+        }
     };
     let opts = DrawOptions {
         phi_deg: args.phi,
-        view: args.view.as_deref().map(View::parse).transpose()?.unwrap_or(View::Plane(drawing::Plane::Xy)),
+        view: args
+            .view
+            .as_deref()
+            .map(View::parse)
+            .transpose()?
+            .unwrap_or(View::Plane(drawing::Plane::Xy)),
         animate: args.animate,
         frames,
         duration_s: args.duration.unwrap_or(defaults.duration_s),
@@ -67,7 +83,14 @@ pub fn run(args: DrawArgs) -> Result<(), Error> {
         ..defaults
     };
     let (model, params) = crate::load(&args.model)?;
-    let opts = DrawOptions { view: if args.view.is_none() { View::default_for(&model) } else { opts.view }, ..opts };
+    let opts = DrawOptions {
+        view: if args.view.is_none() {
+            View::default_for(&model)
+        } else {
+            opts.view
+        },
+        ..opts
+    };
     let svg = drawing::render(&model, &params, &opts)?;
     crate::image::emit_picture(&svg, args.output.as_ref(), args.animate)
 }

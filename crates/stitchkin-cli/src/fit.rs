@@ -45,7 +45,11 @@ enum Format {
 pub fn run(args: FitArgs) -> Result<(), Error> {
     let (model, params) = crate::load(&args.model)?;
     let facts = Facts::from_path(&args.target)?;
-    let opts = FitOptions { adjust: args.adjust.clone().unwrap_or_default(), step_deg: args.step, max_iterations: args.max_iterations };
+    let opts = FitOptions {
+        adjust: args.adjust.clone().unwrap_or_default(),
+        step_deg: args.step,
+        max_iterations: args.max_iterations,
+    };
     let r = fit(&model, &params, &facts, &opts)?;
     let out = match args.format {
         Format::Json => serde_json::to_string_pretty(&r).map_err(|e| Error::Io(e.to_string()))? + "\n",
@@ -57,7 +61,11 @@ pub fn run(args: FitArgs) -> Result<(), Error> {
 /// `x` to `d` decimals, without a negative zero.
 fn dec(x: f64, d: usize) -> String {
     let s = format!("{x:.d$}");
-    if s.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') { s.trim_start_matches('-').to_string() } else { s }
+    if s.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+        s.trim_start_matches('-').to_string()
+    } else {
+        s
+    }
 }
 
 /// `n` significant digits, without an exponent.
@@ -82,9 +90,14 @@ fn table(model: &str, facts: &Facts, r: &FitResult) -> String {
         r.stop
     );
     let w = r.params.iter().map(|p| p.name.len()).max().unwrap_or(4).max(9);
-    s += &format!("{:<w$}  {:>14}  {:>14}  {:>16}  {}\n", "parameter", "start", "fitted", "± std error", "bounds");
+    s += &format!(
+        "{:<w$}  {:>14}  {:>14}  {:>16}  {}\n",
+        "parameter", "start", "fitted", "± std error", "bounds"
+    );
     for p in &r.params {
-        let se = p.std_error.map_or("undetermined".into(), |e| format!("± {} {}", sig(e, 2), p.unit));
+        let se = p
+            .std_error
+            .map_or("undetermined".into(), |e| format!("± {} {}", sig(e, 2), p.unit));
         s += &format!(
             "{:<w$}  {:>14}  {:>14}  {:>16}  {} … {} {}{}\n",
             p.name,
@@ -120,8 +133,16 @@ fn table(model: &str, facts: &Facts, r: &FitResult) -> String {
             scaled
         );
     }
-    let weighted = if r.facts.iter().any(|f| f.tolerance.is_none()) { " (weight × residual where a fact has a weight)" } else { "" };
-    s += &format!("\ncost Σ (residual/tolerance)²{weighted}: {} at the start, {} fitted\n", sig(r.cost_start, 4), sig(r.cost, 4));
+    let weighted = if r.facts.iter().any(|f| f.tolerance.is_none()) {
+        " (weight × residual where a fact has a weight)"
+    } else {
+        ""
+    };
+    s += &format!(
+        "\ncost Σ (residual/tolerance)²{weighted}: {} at the start, {} fitted\n",
+        sig(r.cost_start, 4),
+        sig(r.cost, 4)
+    );
     for w in &r.warnings {
         s += &format!("warning: {w}\n");
     }

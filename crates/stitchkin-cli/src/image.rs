@@ -21,7 +21,12 @@ pub enum Format {
 /// stdout.
 pub fn format_of(out: Option<&PathBuf>) -> Result<Format, Error> {
     let Some(path) = out else { return Ok(Format::Svg) };
-    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
         Some("svg") => Ok(Format::Svg),
         Some("png") => Ok(Format::Png),
         _ => Err(Error::Param(ParamError {
@@ -86,17 +91,27 @@ fn rasterize(svg: &str) -> Result<resvg::tiny_skia::Pixmap, String> {
     fonts.set_sans_serif_family("DejaVu Sans");
     let tree = usvg::Tree::from_str(svg, &opt).map_err(|e| format!("the SVG does not parse ({e})"))?;
     let size = tree.size();
-    let (w, h) = ((size.width() * PNG_SCALE).ceil() as u32, (size.height() * PNG_SCALE).ceil() as u32);
+    let (w, h) = (
+        (size.width() * PNG_SCALE).ceil() as u32,
+        (size.height() * PNG_SCALE).ceil() as u32,
+    );
     let mut pixmap = tiny_skia::Pixmap::new(w, h).ok_or_else(|| format!("{w}×{h} px is not a picture size"))?;
     pixmap.fill(tiny_skia::Color::WHITE);
-    resvg::render(&tree, tiny_skia::Transform::from_scale(PNG_SCALE, PNG_SCALE), &mut pixmap.as_mut());
+    resvg::render(
+        &tree,
+        tiny_skia::Transform::from_scale(PNG_SCALE, PNG_SCALE),
+        &mut pixmap.as_mut(),
+    );
     Ok(pixmap)
 }
 
 #[cfg(not(feature = "png"))]
 fn svg_to_png(_svg: &str, path: &Path) -> Result<Vec<u8>, Error> {
     Err(Error::Param(ParamError {
-        message: format!("this stitchkin was built without PNG output, so it cannot write `{}`", path.display()),
+        message: format!(
+            "this stitchkin was built without PNG output, so it cannot write `{}`",
+            path.display()
+        ),
         help: Some("write .svg instead, or rebuild with the default features (feature `png`)".into()),
     }))
 }
@@ -118,13 +133,24 @@ mod tests {
     #[cfg(feature = "png")]
     #[test]
     fn png_has_the_svg_size_times_the_scale_and_draws_text() {
-        let svg = |body: &str| format!(r#"<svg xmlns="http://www.w3.org/2000/svg" width="120" height="40" viewBox="0 0 120 40">{body}</svg>"#);
+        let svg = |body: &str| {
+            format!(
+                r#"<svg xmlns="http://www.w3.org/2000/svg" width="120" height="40" viewBox="0 0 120 40">{body}</svg>"#
+            )
+        };
         let png = svg_to_png(&svg(""), Path::new("t.png")).unwrap();
         assert_eq!(&png[1..4], b"PNG");
         // IHDR width and height, big-endian, at bytes 16..24.
         assert_eq!(u32::from_be_bytes(png[16..20].try_into().unwrap()), 240);
         assert_eq!(u32::from_be_bytes(png[20..24].try_into().unwrap()), 80);
-        let dark = |body: &str| rasterize(&svg(body)).unwrap().pixels().iter().filter(|p| p.red() < 128).count();
+        let dark = |body: &str| {
+            rasterize(&svg(body))
+                .unwrap()
+                .pixels()
+                .iter()
+                .filter(|p| p.red() < 128)
+                .count()
+        };
         assert_eq!(dark(""), 0, "the background is white");
         // The embedded font draws the glyphs (a missing font draws nothing).
         let text = dark(r#"<text x="5" y="30" font-family="sans-serif" font-size="24">P, mm</text>"#);

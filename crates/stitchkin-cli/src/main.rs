@@ -63,7 +63,9 @@ enum Command {
     /// Check a model file: load, validate, solve a full cycle, and report
     /// its parameters, solve order, transmission angles and the stitch's
     /// physical checks (a failed one makes the command fail).
-    #[command(after_help = "Examples:\n  stitchkin check my-machine.toml\n  stitchkin check --preset needle876 --set alpha=30 --cross-check")]
+    #[command(
+        after_help = "Examples:\n  stitchkin check my-machine.toml\n  stitchkin check --preset needle876 --set alpha=30 --cross-check"
+    )]
     Check(CheckArgs),
     /// Compare each thread path with its planar model: project every node
     /// onto a plane, recompute P and report ΔP = P3D − P2D (seed 000 §4.6).
@@ -75,10 +77,12 @@ enum Command {
     Compare2d3d(CompareArgs),
     /// Thread consumed by one finished stitch, per thread, from the stitch's
     /// geometry (seed 004 §2.6; docs/stitch-formation.md §6).
-    #[command(after_help = "Examples:\n  stitchkin consumption --type 504 --thickness 2.5 --stitch 2.8 --width 4 --incline 20\n  \
+    #[command(
+        after_help = "Examples:\n  stitchkin consumption --type 504 --thickness 2.5 --stitch 2.8 --width 4 --incline 20\n  \
         stitchkin consumption --type 407 --thickness 3 --stitch 3 --format json\n\n\
         Types: 401, 406, 407 and 501–512, 514, 521. Contours whose drawings are lost in the thesis\n\
-        are reported as not derivable, never guessed.")]
+        are reported as not derivable, never guessed."
+    )]
     Consumption(ConsumptionArgs),
     /// Compare the take-up P(φ) with the thread the stitch needs, P'(φ), for
     /// every thread of the model's `[stitch]`: per-stitch consumption, the
@@ -99,7 +103,8 @@ enum Command {
     /// Sweep adjustable parameters over a grid or random / Latin-hypercube
     /// samples, in parallel, and write figures of merit per setting (CSV,
     /// streamed).
-    #[command(after_help = "Examples:\n  stitchkin sweep --vary z=-10:10:21 --vary dphi=-20:20:21\n  \
+    #[command(
+        after_help = "Examples:\n  stitchkin sweep --vary z=-10:10:21 --vary dphi=-20:20:21\n  \
         stitchkin sweep --preset mf7923d --vary r1=4:6 --vary z=-10:10 --samples 1000 --method lhs --seed 7 -o lhs.csv\n  \
         stitchkin sweep --preset needle876 --vary alpha=0:35:36 --figures 'needle_y.range_mm,mu.*'\n  \
         stitchkin sweep --vary z=-10:10:101 --vary dphi=-20:20:101 --shard 2/4 -o part2.csv\n\n\
@@ -111,12 +116,14 @@ enum Command {
         list is printed when a pattern matches nothing). By default: *.score, score.*, *.max_P_B_mm,\n\
         *.max_P_mm, checks.ok, mu.min_deg, mu.max_deg, *.range_mm, *_stroke_mm. Columns: index, the varied parameters, the\n\
         figures, status (ok, or why the setting did not evaluate; its figures are then empty).\n\
-        Shards are contiguous blocks and only shard 1 writes the header: `cat part*.csv` is the sweep.")]
+        Shards are contiguous blocks and only shard 1 writes the header: `cat part*.csv` is the sweep."
+    )]
     Sweep(SweepArgs),
     /// Find the adjustable settings that make the take-up P match the
     /// stitch's required P' best, for every thread together, with every
     /// transmission angle inside 30°…150° and every physical check passing.
-    #[command(after_help = "Examples:\n  stitchkin tune\n  stitchkin tune --thickness 4 --stitch 2.5\n  \
+    #[command(
+        after_help = "Examples:\n  stitchkin tune\n  stitchkin tune --thickness 4 --stitch 2.5\n  \
         stitchkin tune --preset mf7923d --adjust z,dphi --seed 3\n  \
         stitchkin tune --preset mf7923d --format json -o tuned.json\n\n\
         Default settings to adjust: every parameter with an adjustable range that leaves the stitch\n\
@@ -125,7 +132,8 @@ enum Command {
         seed gives the same answer. Prints the recommended setting, the match and the checks before and\n\
         after, how far each setting may move with the match within one score point of the optimum, and\n\
         notes: a setting on an end of its range, a match that does not improve, no setting that passes\n\
-        the checks.")]
+        the checks."
+    )]
     Tune(TuneArgs),
     /// Tune at every point of a grid of material thickness (and stitch
     /// length): the recommended settings, their tolerance and the match
@@ -161,19 +169,22 @@ enum Command {
     /// Fit model dimensions (figure-only, reconstructed ones) to stated
     /// results by weighted least squares within bounds, and report the
     /// fitted values, the residual per fact and the cost.
-    #[command(after_help = "Examples:\n  stitchkin fit --preset needle876 --target examples/facts/needle876.toml --set y_c=170\n  \
+    #[command(
+        after_help = "Examples:\n  stitchkin fit --preset needle876 --target examples/facts/needle876.toml --set y_c=170\n  \
         stitchkin fit --preset needle876 --target examples/facts/needle876.toml --set l_cf=41 --adjust l_cf=30:45\n  \
         stitchkin fit my-machine.toml --target facts.toml --adjust y_c=160:190,l_cf=30:45 --format json -o fit.json\n\n\
         facts.toml: [[fact]] figure = \"needle_y.range_mm\", value = 18, set = { alpha = 0 }, tolerance = 0.25\n\
         (or weight = W; relative_to = { alpha = 0 } fits the difference to that setting; top-level\n\
         adjust = [\"l_cf=30:45\"] names the default parameters). --adjust NAME uses the parameter's range,\n\
         NAME=LO:HI gives bounds. Levenberg-Marquardt with exact Jacobians (dual numbers) where the figure is\n\
-        smooth; the start is the model with --set.")]
+        smooth; the start is the model with --set."
+    )]
     Fit(fit::FitArgs),
     /// A point's stroke along an axis, both dead centres (refined below the
     /// φ step) and the range of every transmission angle, per setting, with
     /// where an angle leaves 30°…150° (seed 002 eq. 14, 15).
-    #[command(after_help = "Examples:\n  stitchkin stroke --preset needle876 --point G --axis y\n  \
+    #[command(
+        after_help = "Examples:\n  stitchkin stroke --preset needle876 --point G --axis y\n  \
         stitchkin stroke --preset needle876 --point G --axis y --vary alpha=0:40:41\n  \
         stitchkin stroke --preset altin-needle --point E --axis guide.y --format json -o stroke.json\n  \
         stitchkin stroke my-machine.toml --point P --axis 0.34,0.94 --vary l_ef=20:30:11 --format csv\n\n\
@@ -181,41 +192,48 @@ enum Command {
         Dead centres: the zeros of the exact analog ds/dφ (dual numbers; Newton safeguarded by bisection).\n\
         Where an angle leaves the band between two settings, the setting is bisected to the crossing.\n\
         CSV columns: the varied parameters, P.AX_stroke_mm, P.AX_min_mm, P.AX_min_phi_deg, P.AX_max_mm,\n\
-        P.AX_max_phi_deg, P.AX_min_to_max_deg, P_at_min.x_mm, ..., mu_KEY.min_deg, ..., mu_KEY.ok, status.")]
+        P.AX_max_phi_deg, P.AX_min_to_max_deg, P_at_min.x_mm, ..., mu_KEY.min_deg, ..., mu_KEY.ok, status."
+    )]
     Stroke(stroke::StrokeArgs),
     /// How far a point's path strays from a straight line (two model points,
     /// or the least-squares line): max and RMS deviation, minimum zone, over
     /// the cycle or the working stroke.
-    #[command(after_help = "Examples:\n  stitchkin straightness --preset altin-needle --point E --line N1,N2\n  \
+    #[command(
+        after_help = "Examples:\n  stitchkin straightness --preset altin-needle --point E --line N1,N2\n  \
         stitchkin straightness --preset altin-needle --point E --fit --over down\n  \
         stitchkin straightness --preset altin-needle --point E --over 300:60 --step 0.25 --format csv -o dev.csv\n\n\
         Paths in the world xy-plane: the deviation is signed, + to the left of the line's direction (as\n\
         the line_deviation measure); spatial ones: the distance. --over down is the working stroke from the\n\
-        far dead centre along the line to the near one. CSV: phi_deg, P.along_mm, P.dev_mm per sample.")]
+        far dead centre along the line to the near one. CSV: phi_deg, P.along_mm, P.dev_mm per sample."
+    )]
     Straightness(straightness::StraightnessArgs),
     /// Which dimensional tolerances keep a path straight: each parameter
     /// alone at ± its tolerance, the largest tolerance each may have alone
     /// (bisection), and a seeded Monte Carlo over all at once.
-    #[command(after_help = "Examples:\n  stitchkin tolerance --preset altin-needle --point E --limit 0.05\n  \
+    #[command(
+        after_help = "Examples:\n  stitchkin tolerance --preset altin-needle --point E --limit 0.05\n  \
         stitchkin tolerance --preset altin-needle --point E --line N1,N2 --tol beta=0.1 --tol l_lm=0 --samples 200\n  \
         stitchkin tolerance --preset altin-needle --point E --length-tol 0 --tol l_ab=0.05 --tol l_be=0.05 --format json\n\n\
         Every length parameter without a --tol gets ±0.05 mm (--length-tol; seed 004); angles need an\n\
         explicit --tol NAME=±T in degrees, and T = 0 holds a parameter exact. The deviation is max |d| from\n\
         the line (--line H,T or the least-squares line, over --over). Monte Carlo: uniform in ±T, or\n\
-        normal with σ = T/3 truncated at ±T; percentiles 50/90/99 %; the same --seed gives the same result.")]
+        normal with σ = T/3 truncated at ±T; percentiles 50/90/99 %; the same --seed gives the same result."
+    )]
     Tolerance(straightness::ToleranceArgs),
     /// Synthesise a thread feed cam: the polar profile ρ(θ) that makes a
     /// path's take-up P(φ) equal the stitch's required P'(φ) or a given
     /// curve (the inverse of seed 004 §2.5's cam feed, offset contact), with
     /// checks, and CSV, SVG, DXF and a [[cams]] snippet to paste.
-    #[command(after_help = "Examples:\n  stitchkin cam --preset altin504 --path lower --target required -o lower-cam\n  \
+    #[command(
+        after_help = "Examples:\n  stitchkin cam --preset altin504 --path lower --target required -o lower-cam\n  \
         stitchkin cam --preset altin504 --path upper --target required --anchor-radius 21 --smooth 20 --format svg -o upper-cam.svg\n  \
         stitchkin cam my-machine.toml --path looper --target wanted.csv --points 72 --min-radius 5 --format toml\n\n\
         The profile: one radius per position φ = φ0 + k·360/N, solved from the target by seed 004 §2.5's\n\
         offset contact (a quadratic in ρ); the rest of the path from the solved mechanism. Checks (reported,\n\
         not fixed): minimum radius, convexity, profile slope and the thread's contact angle. Files: PREFIX.csv\n\
         (theta_deg,radius_mm), PREFIX.svg (to scale, mm), PREFIX.dxf (R12, mm), PREFIX.toml ([[cams]] entry).\n\
-        Target CSV: columns phi_deg,P_mm. The summary goes to stderr.")]
+        Target CSV: columns phi_deg,P_mm. The summary goes to stderr."
+    )]
     Cam(cam::CamArgs),
     /// Plot a cycle as SVG: the take-up P(φ) with the required P'(φ), the
     /// transmission angles, the trajectories of points, the motion law of
@@ -240,10 +258,12 @@ enum Command {
     Draw(draw::DrawArgs),
     /// A local web page: a slider per adjustable parameter, thickness and
     /// stitch length inputs, and live P/P′, mismatch and mechanism drawing.
-    #[command(after_help = "Examples:\n  stitchkin serve\n  stitchkin serve --preset altin504 --port 8081\n  \
+    #[command(
+        after_help = "Examples:\n  stitchkin serve\n  stitchkin serve --preset altin504 --port 8081\n  \
         stitchkin serve my-machine.toml --set r1=5 --port 0\n\n\
         Open the address it prints in a browser; Ctrl-C stops it. It listens on 127.0.0.1 only, unless\n\
-        --bind says otherwise, and answers requests for this machine's host names only (docs/web.md).")]
+        --bind says otherwise, and answers requests for this machine's host names only (docs/web.md)."
+    )]
     Serve(serve::ServeArgs),
     /// One self-contained HTML report: parameters, mechanism drawing (still
     /// and animated), P/P′ chart, mismatch, transmission angles and, when
@@ -353,7 +373,12 @@ pub(crate) struct SearchArgs {
 
 impl SearchArgs {
     pub fn options(&self, adjust: Vec<String>) -> stitchkin::study::tune::TuneOptions {
-        stitchkin::study::tune::TuneOptions { adjust, samples: self.samples, seed: self.seed, step_deg: self.step }
+        stitchkin::study::tune::TuneOptions {
+            adjust,
+            samples: self.samples,
+            seed: self.seed,
+            step_deg: self.step,
+        }
     }
 }
 
@@ -482,7 +507,10 @@ impl std::error::Error for FileDiagnostic {}
 
 impl Diagnostic for FileDiagnostic {
     fn help<'a>(&'a self) -> Option<Box<dyn std::fmt::Display + 'a>> {
-        self.err.help.as_ref().map(|h| Box::new(h) as Box<dyn std::fmt::Display>)
+        self.err
+            .help
+            .as_ref()
+            .map(|h| Box::new(h) as Box<dyn std::fmt::Display>)
     }
     fn source_code(&self) -> Option<&dyn SourceCode> {
         self.err.span.as_ref().map(|_| &self.src as &dyn SourceCode)
@@ -490,7 +518,11 @@ impl Diagnostic for FileDiagnostic {
     fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
         let span = self.err.span.clone()?;
         let len = span.len().max(1);
-        Some(Box::new(std::iter::once(LabeledSpan::new(Some("here".into()), span.start, len))))
+        Some(Box::new(std::iter::once(LabeledSpan::new(
+            Some("here".into()),
+            span.start,
+            len,
+        ))))
     }
 }
 
@@ -661,7 +693,11 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
         );
         s += &format!("# regulator: {}\n", st.regulator);
         for t in &st.threads {
-            let pn = if t.split == stitchkin::thread::SplitPoint::B { "P'_B" } else { "P'" };
+            let pn = if t.split == stitchkin::thread::SplitPoint::B {
+                "P'_B"
+            } else {
+                "P'"
+            };
             s += &format!(
                 "# {:<w$} max {pn} {:.3} mm at φ = {:.1}°; {:.3} mm per stitch (cut at its lock, φ = {:.1}°: {:.3} mm)",
                 t.thread, t.max_pprime_mm, t.phi_at_max_pprime_deg, t.per_stitch_mm, t.lock_phi_deg, t.locked_mm
@@ -672,7 +708,13 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
             s += "\n";
         }
         for c in &st.checks {
-            s += &format!("# check {:<4} {} {}: {}\n", if c.ok { "ok" } else { "FAIL" }, c.thread, c.name, c.message);
+            s += &format!(
+                "# check {:<4} {} {}: {}\n",
+                if c.ok { "ok" } else { "FAIL" },
+                c.thread,
+                c.name,
+                c.message
+            );
         }
         for t in &st.transfers {
             s += &format!("# note: {t}\n");
@@ -713,24 +755,54 @@ fn tune_cmd(args: TuneArgs) -> Result<(), Error> {
                 if r == 0.0 { "0".to_string() } else { format!("{r}") }
             };
             let setting = |xs: &[f64]| -> String {
-                r.names.iter().zip(xs).map(|((n, u), x)| format!("{n} = {} {u}", fmt(*x))).collect::<Vec<_>>().join(", ")
+                r.names
+                    .iter()
+                    .zip(xs)
+                    .map(|((n, u), x)| format!("{n} = {} {u}", fmt(*x)))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             };
             let mut s = format!("Recommended setting: {}\n", setting(&r.after));
             s += &format!("(from {})\n\n", setting(&r.before));
-            s += &format!("{:<12} {:>14} {:>14} {:>16} {:>16}\n", "thread", "score before", "score after", "RMS(D) before", "RMS(D) after");
+            s += &format!(
+                "{:<12} {:>14} {:>14} {:>16} {:>16}\n",
+                "thread", "score before", "score after", "RMS(D) before", "RMS(D) after"
+            );
             for (b, a) in r.before_figures.threads.iter().zip(&r.after_figures.threads) {
-                s += &format!("{:<12} {:>14} {:>14} {:>13.3} mm {:>13.3} mm\n", b.0, score(b.1), score(a.1), b.2, a.2);
+                s += &format!(
+                    "{:<12} {:>14} {:>14} {:>13.3} mm {:>13.3} mm\n",
+                    b.0,
+                    score(b.1),
+                    score(a.1),
+                    b.2,
+                    a.2
+                );
             }
-            s += &format!("{:<12} {:>14.1} {:>14.1}\n", "mean", r.before_figures.score_mean, r.after_figures.score_mean);
+            s += &format!(
+                "{:<12} {:>14.1} {:>14.1}\n",
+                "mean", r.before_figures.score_mean, r.after_figures.score_mean
+            );
             let mu = |f: &stitchkin::study::tune::MatchFigures| match (f.mu_min_deg, f.mu_max_deg) {
                 (Some(a), Some(b)) => format!("{a:.1}°…{b:.1}°{}", if f.mu_ok { "" } else { " (OUTSIDE 30°…150°)" }),
                 _ => "none".into(),
             };
-            s += &format!("\ntransmission angles: before {}, after {}\n", mu(&r.before_figures), mu(&r.after_figures));
+            s += &format!(
+                "\ntransmission angles: before {}, after {}\n",
+                mu(&r.before_figures),
+                mu(&r.after_figures)
+            );
             let checks = |f: &stitchkin::study::tune::MatchFigures| {
-                if f.failed_checks.is_empty() { "all pass".to_string() } else { format!("{} FAIL", f.failed_checks.join(", ")) }
+                if f.failed_checks.is_empty() {
+                    "all pass".to_string()
+                } else {
+                    format!("{} FAIL", f.failed_checks.join(", "))
+                }
             };
-            s += &format!("physical checks: before {}, after {}\n", checks(&r.before_figures), checks(&r.after_figures));
+            s += &format!(
+                "physical checks: before {}, after {}\n",
+                checks(&r.before_figures),
+                checks(&r.after_figures)
+            );
             s += "within one score point of the optimum (each setting alone, the others held):\n";
             for f in &r.flatness {
                 let unit = r.names.iter().find(|n| n.0 == f.name).map_or("", |n| n.1);
@@ -749,23 +821,44 @@ fn tune_cmd(args: TuneArgs) -> Result<(), Error> {
 fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
     use stitchkin::study::sweep::{self, Design, Sweep, Vary};
     let (model, params) = load(&args.model)?;
-    let vary = args.vary.iter().map(|v| Vary::parse(&model, v)).collect::<Result<Vec<_>, _>>()?;
+    let vary = args
+        .vary
+        .iter()
+        .map(|v| Vary::parse(&model, v))
+        .collect::<Result<Vec<_>, _>>()?;
     let design = match (args.samples, args.method) {
         (None, _) => Design::Grid,
-        (Some(samples), Method::Lhs) => Design::Lhs { samples, seed: args.seed },
-        (Some(samples), Method::Random) => Design::Random { samples, seed: args.seed },
+        (Some(samples), Method::Lhs) => Design::Lhs {
+            samples,
+            seed: args.seed,
+        },
+        (Some(samples), Method::Random) => Design::Random {
+            samples,
+            seed: args.seed,
+        },
     };
     let sw = Sweep::new(vary, design)?;
-    let opts = CycleOptions { step_deg: args.step, rpm: None, analogs: false, points: None, lean: true };
+    let opts = CycleOptions {
+        step_deg: args.step,
+        rpm: None,
+        analogs: false,
+        points: None,
+        lean: true,
+    };
     // The nominal setting says which figures this model has.
     let nominal = eval::run_cycle(&model, &params, &opts)?;
     let available = sweep::figures(&nominal);
-    let patterns = args.figures.clone().unwrap_or_else(|| sweep::default_figures(&available));
+    let patterns = args
+        .figures
+        .clone()
+        .unwrap_or_else(|| sweep::default_figures(&available));
     let names = sweep::select_figures(&available, &patterns)?;
     let (k, n) = match &args.shard {
         None => (1, 1),
         Some(s) => {
-            let parsed = s.split_once('/').and_then(|(k, n)| Some((k.trim().parse::<usize>().ok()?, n.trim().parse::<usize>().ok()?)));
+            let parsed = s
+                .split_once('/')
+                .and_then(|(k, n)| Some((k.trim().parse::<usize>().ok()?, n.trim().parse::<usize>().ok()?)));
             match parsed {
                 Some((k, n)) if n >= 1 && (1..=n).contains(&k) => (k, n),
                 _ => {
@@ -783,7 +876,8 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         let b = indicatif::ProgressBar::new(total as u64);
         b.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} settings, {per_sec}, ETA {eta}").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} settings, {per_sec}, ETA {eta}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
         b
     } else {
@@ -796,7 +890,11 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
     if k == 1 {
         header += "index";
         for v in &sw.vary {
-            header += &format!(",{}_{}", v.name, model.params[model.param_index(&v.name).unwrap_or(0)].unit_str());
+            header += &format!(
+                ",{}_{}",
+                v.name,
+                model.params[model.param_index(&v.name).unwrap_or(0)].unit_str()
+            );
         }
         for f in &names {
             header += &format!(",{f}");
@@ -863,7 +961,12 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
     s += "\n";
     for (word, ext) in [("largest", &highest), ("smallest", &lowest)] {
         if let (Some((x, values)), Some(f)) = (ext, names.get(key)) {
-            let setting: Vec<String> = sw.vary.iter().zip(values).map(|(v, x)| format!("{} = {}", v.name, output::fmt_num(*x))).collect();
+            let setting: Vec<String> = sw
+                .vary
+                .iter()
+                .zip(values)
+                .map(|(v, x)| format!("{} = {}", v.name, output::fmt_num(*x)))
+                .collect();
             s += &format!("# {word} {f} = {} at {}\n", output::fmt_num(*x), setting.join(", "));
         }
     }
@@ -890,15 +993,32 @@ fn intervals(iv: &[stitchkin::thread::Interval], none: &str) -> String {
 
 fn check(args: CheckArgs) -> Result<(), Error> {
     let (model, params) = load(&args.model)?;
-    let table = eval::run_cycle(&model, &params, &CycleOptions { step_deg: args.step, ..Default::default() })?;
+    let table = eval::run_cycle(
+        &model,
+        &params,
+        &CycleOptions {
+            step_deg: args.step,
+            ..Default::default()
+        },
+    )?;
     let m = &model.file.model;
     let mut out = String::new();
     out += &format!("{}: ok — {}\n", model.file_name, m.title.as_deref().unwrap_or(&m.name));
     out += &format!("parameters ({}):\n", model.params.len());
     for (p, v) in model.params.iter().zip(&params.values) {
-        let value = if p.is_derived() { "derived".to_string() } else { format!("{v} {}", p.unit_str()) };
-        let range = p.range.map(|[a, b]| format!("  range {a}…{b} {}", p.unit_str())).unwrap_or_default();
-        let prov = p.provenance.map(|p| format!("  [{p:?}]").to_lowercase()).unwrap_or_default();
+        let value = if p.is_derived() {
+            "derived".to_string()
+        } else {
+            format!("{v} {}", p.unit_str())
+        };
+        let range = p
+            .range
+            .map(|[a, b]| format!("  range {a}…{b} {}", p.unit_str()))
+            .unwrap_or_default();
+        let prov = p
+            .provenance
+            .map(|p| format!("  [{p:?}]").to_lowercase())
+            .unwrap_or_default();
         out += &format!("  {:<10} {value}{range}{prov}\n", p.name);
     }
     out += &format!("solve order ({} steps):\n", model.step_labels().len());
@@ -906,7 +1026,11 @@ fn check(args: CheckArgs) -> Result<(), Error> {
         out += &format!("  {:>2}. {l}\n", k + 1);
     }
     if let Some(threads) = &model.mechanism::<f64>(&params)?.threads {
-        out += &format!("thread paths ({}), {} distinct pieces:\n", threads.paths.len(), threads.spans.len());
+        out += &format!(
+            "thread paths ({}), {} distinct pieces:\n",
+            threads.paths.len(),
+            threads.spans.len()
+        );
         for p in threads.paths.iter() {
             let nodes: Vec<String> = p
                 .node_names
@@ -917,18 +1041,35 @@ fn check(args: CheckArgs) -> Result<(), Error> {
             let constant = p
                 .spans
                 .iter()
-                .filter(|&&s| matches!(threads.spans[s], stitchkin::thread::Span::Straight { constant: true, .. }))
+                .filter(|&&s| {
+                    matches!(
+                        threads.spans[s],
+                        stitchkin::thread::Span::Straight { constant: true, .. }
+                    )
+                })
                 .count();
-            out += &format!("  {:<10} {}  ({} pieces, {constant} of constant length)\n", p.name, nodes.join(" "), p.spans.len());
+            out += &format!(
+                "  {:<10} {}  ({} pieces, {constant} of constant length)\n",
+                p.name,
+                nodes.join(" "),
+                p.spans.len()
+            );
         }
     }
-    out += &format!("assembles at every φ from {}° in steps of {}°\n", model.phi_start_deg(), args.step);
+    out += &format!(
+        "assembles at every φ from {}° in steps of {}°\n",
+        model.phi_start_deg(),
+        args.step
+    );
     out += &summary(&model, &table);
     if args.cross_check {
         let c = stitchkin::verify::cross_check(&model, &params, args.step)?;
         out += &format!(
             "cross-check: {} positions, closed-form groups and whole-system Newton agree to {:.2e} mm (largest at {} φ = {:.1}°)\n",
-            c.positions, c.max_deviation_mm, c.at_point, eval::wrap_deg(c.at_phi_deg)
+            c.positions,
+            c.max_deviation_mm,
+            c.at_point,
+            eval::wrap_deg(c.at_phi_deg)
         );
     }
     emit(out.as_bytes(), None)?;
@@ -960,7 +1101,10 @@ fn compare(args: CompareArgs) -> Result<(), Error> {
             let mut table = stitchkin::eval::CycleTable {
                 step_deg: args.step,
                 rpm: None,
-                columns: vec![stitchkin::eval::Column { name: "phi_deg".into(), values: c.phi_deg.clone() }],
+                columns: vec![stitchkin::eval::Column {
+                    name: "phi_deg".into(),
+                    values: c.phi_deg.clone(),
+                }],
                 transmission: Vec::new(),
                 ranges: Vec::new(),
                 paths: Vec::new(),
@@ -970,7 +1114,10 @@ fn compare(args: CompareArgs) -> Result<(), Error> {
             };
             for p in &c.paths {
                 for (suffix, v) in [("P3D_mm", &p.p3d_mm), ("P2D_mm", &p.p2d_mm), ("dP_mm", &p.dp_mm)] {
-                    table.columns.push(stitchkin::eval::Column { name: format!("{}.{suffix}", p.path), values: v.clone() });
+                    table.columns.push(stitchkin::eval::Column {
+                        name: format!("{}.{suffix}", p.path),
+                        values: v.clone(),
+                    });
                 }
             }
             let mut buf = Vec::new();
@@ -980,7 +1127,10 @@ fn compare(args: CompareArgs) -> Result<(), Error> {
     };
     emit(&bytes, args.output.as_ref())?;
     let w = c.paths.iter().map(|p| p.path.len()).max().unwrap_or(4);
-    let mut s = format!("# 2D model: every node projected onto the xy-plane of `{}`; ΔP = P3D − P2D\n", c.plane);
+    let mut s = format!(
+        "# 2D model: every node projected onto the xy-plane of `{}`; ΔP = P3D − P2D\n",
+        c.plane
+    );
     for p in &c.paths {
         s += &format!(
             "# {:<w$} max |ΔP| {:.4} mm at φ = {:.1}° ({:.2} % of max P)\n",
@@ -1003,7 +1153,13 @@ fn consumption(args: ConsumptionArgs) -> Result<(), Error> {
         }
         (None, _) => 0.0,
     };
-    let g = StitchGeometry { thickness_mm: args.thickness, stitch_mm: args.stitch, width_mm: width, incline_deg: args.incline, edge_fraction: args.edge };
+    let g = StitchGeometry {
+        thickness_mm: args.thickness,
+        stitch_mm: args.stitch,
+        width_mm: width,
+        incline_deg: args.incline,
+        edge_fraction: args.edge,
+    };
     let c = consumption(args.stitch_type, &g)?;
     let len = |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{x:.4}"));
     let out = match args.format {
@@ -1022,11 +1178,20 @@ fn consumption(args: ConsumptionArgs) -> Result<(), Error> {
                 "stitch {}: m = {} mm, t = {} mm, a = {} mm, β = {}°, e = {}\n",
                 c.stitch_type, g.thickness_mm, g.stitch_mm, g.width_mm, g.incline_deg, g.edge_fraction
             );
-            s += &format!("l_m = m/cos β = {:.4} mm, l = √(a² + t²) = {:.4} mm\n\n", c.l_m_mm, c.l_mm);
+            s += &format!(
+                "l_m = m/cos β = {:.4} mm, l = √(a² + t²) = {:.4} mm\n\n",
+                c.l_m_mm, c.l_mm
+            );
             s += &format!("{:<14} {:>7}  {:>12}  formula\n", "thread", "contour", "mm/stitch");
             for t in &c.threads {
                 let contour = t.contour.map_or("—".to_string(), |n| n.to_string());
-                s += &format!("{:<14} {:>7}  {:>12}  {}\n", t.thread, contour, len(t.length_mm), t.formula);
+                s += &format!(
+                    "{:<14} {:>7}  {:>12}  {}\n",
+                    t.thread,
+                    contour,
+                    len(t.length_mm),
+                    t.formula
+                );
             }
             s += &format!("{:<14} {:>7}  {:>12}\n", "total", "", len(c.total_mm));
             if c.total_mm.is_none() {
@@ -1043,7 +1208,9 @@ fn main() -> miette::Result<()> {
     // wrapping at an assumed 80 columns splits messages at places that
     // depend on the file's path, which makes logs hard to search.
     if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-        let _ = miette::set_hook(Box::new(|_| Box::new(miette::MietteHandlerOpts::new().width(100_000).build())));
+        let _ = miette::set_hook(Box::new(|_| {
+            Box::new(miette::MietteHandlerOpts::new().width(100_000).build())
+        }));
     }
     let cli = Cli::parse();
     let result = match cli.command {
@@ -1051,7 +1218,10 @@ fn main() -> miette::Result<()> {
             let mut out = String::from("name          seed  machine\n");
             for p in presets::ALL {
                 let (title, seed) = match Model::preset(p.name) {
-                    Ok(m) => (m.file.model.title.clone().unwrap_or_default(), m.file.model.seed.clone().unwrap_or_default()),
+                    Ok(m) => (
+                        m.file.model.title.clone().unwrap_or_default(),
+                        m.file.model.seed.clone().unwrap_or_default(),
+                    ),
                     Err(e) => (format!("(does not load: {e})"), String::new()),
                 };
                 let default = if p.name == presets::DEFAULT { "  (default)" } else { "" };

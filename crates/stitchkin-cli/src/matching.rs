@@ -61,18 +61,29 @@ pub(crate) fn read_measured(specs: &[String]) -> Result<Vec<(Option<String>, Mea
 
 /// Reads the `--measured` curves and sets each beside its thread.
 pub(crate) fn measured(specs: &[String], table: &CycleTable) -> Result<Vec<MeasuredMatch>, Error> {
-    read_measured(specs)?.iter().map(|(thread, curve)| measured_match(table, curve, thread.as_deref())).collect()
+    read_measured(specs)?
+        .iter()
+        .map(|(thread, curve)| measured_match(table, curve, thread.as_deref()))
+        .collect()
 }
 
 pub fn run(args: MatchArgs) -> Result<(), Error> {
     let (model, params) = crate::load(&args.model)?;
-    let opts = CycleOptions { step_deg: args.step, rpm: None, analogs: false, points: Some(Vec::new()), lean: false };
+    let opts = CycleOptions {
+        step_deg: args.step,
+        rpm: None,
+        analogs: false,
+        points: Some(Vec::new()),
+        lean: false,
+    };
     let table = eval::run_cycle(&model, &params, &opts)?;
     let Some(st) = &table.stitch else {
-        return Err(Error::Stitch(format!(
-            "model `{}` has no [stitch] table, so there is no required take-up to match",
-            model.file.model.name
-        ) + "; add one (docs/model-format.md, \"Stitch process\") or try --preset mf7923d"));
+        return Err(Error::Stitch(
+            format!(
+                "model `{}` has no [stitch] table, so there is no required take-up to match",
+                model.file.model.name
+            ) + "; add one (docs/model-format.md, \"Stitch process\") or try --preset mf7923d",
+        ));
     };
     let measured = measured(&args.measured, &table)?;
     let out = match args.format {
@@ -96,7 +107,13 @@ const SPARK_COLS: usize = 60;
 
 /// The match on one screen: the setting, one row per thread, P against P′
 /// as sparklines, the checks, the caveats; with `details` every metric.
-pub(crate) fn screen(model: &Model, table: &CycleTable, st: &StitchSummary, measured: &[MeasuredMatch], details: bool) -> String {
+pub(crate) fn screen(
+    model: &Model,
+    table: &CycleTable,
+    st: &StitchSummary,
+    measured: &[MeasuredMatch],
+    details: bool,
+) -> String {
     let m = &model.file.model;
     let mut s = format!(
         "{} — stitch {}, material m = {} mm, stitch length t = {} mm\n",
@@ -108,7 +125,10 @@ pub(crate) fn screen(model: &Model, table: &CycleTable, st: &StitchSummary, meas
     if st.threads.iter().any(|t| t.split == SplitPoint::B) {
         s += "needle threads measured at B, the eye's top position (seed 004 §2.3); ";
     }
-    s += &format!("P = P′ = 0 at φ = {}°; needle BDC at φ = {}°\n", st.phi0_deg, st.cyclogram_zero_deg);
+    s += &format!(
+        "P = P′ = 0 at φ = {}°; needle BDC at φ = {}°\n",
+        st.phi0_deg, st.cyclogram_zero_deg
+    );
     s += &format!("regulator: {}\n", st.regulator);
     s += "D = P − P′: D > 0 thread given but not needed (slack), D < 0 needed but not given (strain)\n\n";
 
@@ -118,7 +138,11 @@ pub(crate) fn screen(model: &Model, table: &CycleTable, st: &StitchSummary, meas
     );
     for t in &st.threads {
         let mm = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.2} mm"));
-        let max_p = t.path.as_ref().and_then(|p| table.paths.iter().find(|q| &q.path == p)).map(|q| q.max_p_mm);
+        let max_p = t
+            .path
+            .as_ref()
+            .and_then(|p| table.paths.iter().find(|q| &q.path == p))
+            .map(|q| q.max_p_mm);
         let checks: Vec<&Check> = st.checks.iter().filter(|c| c.thread == t.thread).collect();
         let passed = checks.iter().filter(|c| c.ok).count();
         let verdict = match checks.len() {
@@ -149,7 +173,12 @@ pub(crate) fn screen(model: &Model, table: &CycleTable, st: &StitchSummary, meas
         }
         if !st.moments.is_empty() {
             s += "\nmoments (φ): ";
-            s += &st.moments.iter().map(|(n, p)| format!("{n} {p:.1}°")).collect::<Vec<_>>().join(", ");
+            s += &st
+                .moments
+                .iter()
+                .map(|(n, p)| format!("{n} {p:.1}°"))
+                .collect::<Vec<_>>()
+                .join(", ");
             s += "\n";
         }
     } else {
@@ -167,28 +196,64 @@ pub(crate) fn screen(model: &Model, table: &CycleTable, st: &StitchSummary, meas
 /// P against P′ of each thread as two sparklines on one scale, the
 /// regulator window marked below.
 fn sparklines(table: &CycleTable, st: &StitchSummary, measured: &[MeasuredMatch]) -> String {
-    let Some(phis) = table.column("phi_deg") else { return String::new() };
+    let Some(phis) = table.column("phi_deg") else {
+        return String::new();
+    };
     let start = phis.first().copied().unwrap_or(0.0);
     let mut s = format!(
         "\nP (upper line) against P′ (lower line) over one turn from φ = {start}°, {}° a character, each thread on its own scale\n",
         360 / SPARK_COLS
     );
-    let axis: String = (0..SPARK_COLS).map(|c| if c % (SPARK_COLS / 4) == 0 { '|' } else { ' ' }).collect();
-    s += &format!("{:<12}{axis}  ({}°, {}°, {}°, {}°)\n", "", start, start + 90.0, start + 180.0, start + 270.0);
+    let axis: String = (0..SPARK_COLS)
+        .map(|c| if c % (SPARK_COLS / 4) == 0 { '|' } else { ' ' })
+        .collect();
+    s += &format!(
+        "{:<12}{axis}  ({}°, {}°, {}°, {}°)\n",
+        "",
+        start,
+        start + 90.0,
+        start + 180.0,
+        start + 270.0
+    );
     for t in &st.threads {
-        let p = t.path.as_ref().and_then(|p| table.paths.iter().find(|q| &q.path == p)).and_then(|q| table.column(&q.p_column));
+        let p = t
+            .path
+            .as_ref()
+            .and_then(|p| table.paths.iter().find(|q| &q.path == p))
+            .and_then(|q| table.column(&q.p_column));
         let pprime = table.column(&t.pprime_column());
         let Some(pprime) = pprime else { continue };
         let extra: Vec<&MeasuredMatch> = measured.iter().filter(|m| m.thread == t.thread).collect();
-        let all = pprime.iter().chain(p.into_iter().flatten()).chain(extra.iter().flat_map(|m| m.values_mm.iter()));
+        let all = pprime
+            .iter()
+            .chain(p.into_iter().flatten())
+            .chain(extra.iter().flat_map(|m| m.values_mm.iter()));
         let (lo, hi) = all.fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
         // No "-0.0" in the scale.
         let (lo, hi) = (lo + 0.0, hi + 0.0);
         if let Some(p) = p {
-            let scale = |x: f64| if x.abs() < 0.05 { "0.0".to_string() } else { format!("{x:.1}") };
-            s += &format!("{:<6}{:<6}{}  {}…{} mm\n", t.thread, "P", sparkline(p, lo, hi, SPARK_COLS), scale(lo), scale(hi));
+            let scale = |x: f64| {
+                if x.abs() < 0.05 {
+                    "0.0".to_string()
+                } else {
+                    format!("{x:.1}")
+                }
+            };
+            s += &format!(
+                "{:<6}{:<6}{}  {}…{} mm\n",
+                t.thread,
+                "P",
+                sparkline(p, lo, hi, SPARK_COLS),
+                scale(lo),
+                scale(hi)
+            );
         }
-        s += &format!("{:<6}{:<6}{}\n", if p.is_some() { "" } else { t.thread.as_str() }, "P′", sparkline(pprime, lo, hi, SPARK_COLS));
+        s += &format!(
+            "{:<6}{:<6}{}\n",
+            if p.is_some() { "" } else { t.thread.as_str() },
+            "P′",
+            sparkline(pprime, lo, hi, SPARK_COLS)
+        );
         for m in extra {
             let what = match m.kind {
                 CurveKind::TakeUp => "P meas",
@@ -201,15 +266,26 @@ fn sparklines(table: &CycleTable, st: &StitchSummary, measured: &[MeasuredMatch]
     let mut windows: Vec<([f64; 2], Vec<&str>)> = Vec::new();
     for t in &st.threads {
         if let Some(w) = t.regulator_window_deg {
-            match windows.iter_mut().find(|(v, _)| (v[0] - w[0]).abs() < 1e-9 && (v[1] - w[1]).abs() < 1e-9) {
+            match windows
+                .iter_mut()
+                .find(|(v, _)| (v[0] - w[0]).abs() < 1e-9 && (v[1] - w[1]).abs() < 1e-9)
+            {
                 Some((_, names)) => names.push(&t.thread),
                 None => windows.push((w, vec![&t.thread])),
             }
         }
     }
     for (w, names) in &windows {
-        let whose = if windows.len() > 1 { format!(" of {}", names.join(", ")) } else { String::new() };
-        s += &format!("{:<12}{}  regulator window{whose} (left out of the metrics)\n", "", window_marks(start, SPARK_COLS, *w, '~'));
+        let whose = if windows.len() > 1 {
+            format!(" of {}", names.join(", "))
+        } else {
+            String::new()
+        };
+        s += &format!(
+            "{:<12}{}  regulator window{whose} (left out of the metrics)\n",
+            "",
+            window_marks(start, SPARK_COLS, *w, '~')
+        );
     }
     s
 }
@@ -239,14 +315,27 @@ fn checks_block(table: &CycleTable, st: &StitchSummary, details: bool) -> String
                     .and_then(|p| table.paths.iter().find(|s| &s.path == p))
                     .map_or(String::new(), |s| format!("; P_B peaks at {:.2} mm", s.max_p_mm));
                 if c.ok {
-                    format!("{:>8.2} mm  to spare at the least (φ = {:.1}°{peak})", bound - c.value, c.at_deg)
+                    format!(
+                        "{:>8.2} mm  to spare at the least (φ = {:.1}°{peak})",
+                        bound - c.value,
+                        c.at_deg
+                    )
                 } else {
-                    format!("{:>8.2} mm  more than the needle can take through B (φ = {:.1}°{peak})", c.value - bound, c.at_deg)
+                    format!(
+                        "{:>8.2} mm  more than the needle can take through B (φ = {:.1}°{peak})",
+                        c.value - bound,
+                        c.at_deg
+                    )
                 }
             }
             _ => format!("{:>8.2} mm  (allowed {limit}; φ = {:.1}°)", c.value, c.at_deg),
         };
-        s += &format!("  {:<5} {:<6} {:<17} {figure}\n", if c.ok { "ok" } else { "FAIL" }, c.thread, c.name);
+        s += &format!(
+            "  {:<5} {:<6} {:<17} {figure}\n",
+            if c.ok { "ok" } else { "FAIL" },
+            c.thread,
+            c.name
+        );
         if !c.ok || details {
             s += &format!("        {}\n", c.message);
         }
@@ -259,10 +348,20 @@ fn measured_line(m: &MeasuredMatch) -> String {
         CurveKind::TakeUp => ("measured P", "P′"),
         CurveKind::Required => ("measured P′", "the model's P"),
     };
-    let split = if m.split_declared { format!("at {}", m.split) } else { format!("taken at {}", m.split) };
+    let split = if m.split_declared {
+        format!("at {}", m.split)
+    } else {
+        format!("taken at {}", m.split)
+    };
     let mut s = format!("\n{what} of {} ({}, {split}):\n", m.thread, m.source);
     if let Some(a) = &m.against_other {
-        s += &format!("  against {other}: RMS(D) {:.2} mm, max |D| {:.2} mm at φ = {:.1}°, score {}\n", a.rms_d_mm, a.max_abs_d_mm, a.max_abs_d_at_deg, score(a.score));
+        s += &format!(
+            "  against {other}: RMS(D) {:.2} mm, max |D| {:.2} mm at φ = {:.1}°, score {}\n",
+            a.rms_d_mm,
+            a.max_abs_d_mm,
+            a.max_abs_d_at_deg,
+            score(a.score)
+        );
     }
     if let Some(b) = &m.against_model {
         s += &format!(
@@ -305,27 +404,68 @@ fn notes(st: &StitchSummary) -> String {
 /// Every metric of one thread.
 fn thread_details(t: &StitchThreadSummary) -> String {
     let iv = |v: &[[f64; 2]]| {
-        if v.is_empty() { "none".to_string() } else { v.iter().map(|i| format!("{:.0}–{:.0}°", i[0], i[1])).collect::<Vec<_>>().join(", ") }
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.iter()
+                .map(|i| format!("{:.0}–{:.0}°", i[0], i[1]))
+                .collect::<Vec<_>>()
+                .join(", ")
+        }
     };
-    let mut s = format!("\n{} (contour {}){}, measured at {}\n", t.thread, t.contour, t.path.as_ref().map(|p| format!(", take-up path {p}")).unwrap_or_default(), t.split);
-    s += &format!("  per stitch          {:>9.3} mm (cut from P′ at its lock, φ = {:.1}°: {:.3} mm)\n", t.per_stitch_mm, t.lock_phi_deg, t.locked_mm);
+    let mut s = format!(
+        "\n{} (contour {}){}, measured at {}\n",
+        t.thread,
+        t.contour,
+        t.path
+            .as_ref()
+            .map(|p| format!(", take-up path {p}"))
+            .unwrap_or_default(),
+        t.split
+    );
+    s += &format!(
+        "  per stitch          {:>9.3} mm (cut from P′ at its lock, φ = {:.1}°: {:.3} mm)\n",
+        t.per_stitch_mm, t.lock_phi_deg, t.locked_mm
+    );
     if t.released_mm > 0.0 {
-        s += &format!("  loop released       {:>9.3} mm when it drops off the looper\n", t.released_mm);
+        s += &format!(
+            "  loop released       {:>9.3} mm when it drops off the looper\n",
+            t.released_mm
+        );
     }
-    s += &format!("  max P′              {:>9.3} mm at φ = {:.1}°\n", t.max_pprime_mm, t.phi_at_max_pprime_deg);
+    s += &format!(
+        "  max P′              {:>9.3} mm at φ = {:.1}°\n",
+        t.max_pprime_mm, t.phi_at_max_pprime_deg
+    );
     if let Some(b) = t.max_pprime_eye_mm {
         s += &format!("  max P′ at the eye   {b:>9.3} mm (the same thread measured at the moving eye)\n");
     }
     match &t.mismatch {
         Some(m) => {
-            s += &format!("  RMS(D)              {:>9.3} mm   (std {:.3} mm)\n", m.rms_d_mm, m.std_d_mm);
-            s += &format!("  max |D|             {:>9.3} mm at φ = {:.1}°   (max D {:.3}, min D {:.3} mm)\n", m.max_abs_d_mm, m.max_abs_d_at_deg, m.max_d_mm, m.min_d_mm);
-            s += &format!("  excess / deficit    {:>9.1} / {:.1} mm·deg\n", m.excess_area_mm_deg, m.deficit_area_mm_deg);
+            s += &format!(
+                "  RMS(D)              {:>9.3} mm   (std {:.3} mm)\n",
+                m.rms_d_mm, m.std_d_mm
+            );
+            s += &format!(
+                "  max |D|             {:>9.3} mm at φ = {:.1}°   (max D {:.3}, min D {:.3} mm)\n",
+                m.max_abs_d_mm, m.max_abs_d_at_deg, m.max_d_mm, m.min_d_mm
+            );
+            s += &format!(
+                "  excess / deficit    {:>9.1} / {:.1} mm·deg\n",
+                m.excess_area_mm_deg, m.deficit_area_mm_deg
+            );
             s += &format!("  slack  (D > ε)      {}\n", iv(&m.excess_intervals_deg));
             s += &format!("  strain (D < −ε)     {}\n", iv(&m.deficit_intervals_deg));
-            let lag = m.best_lag_deg.map_or(String::new(), |l| format!("  (best lag {l:.1}°)"));
+            let lag = m
+                .best_lag_deg
+                .map_or(String::new(), |l| format!("  (best lag {l:.1}°)"));
             s += &format!("  phase of maxima     {:>9.1}°{lag}\n", m.phase_shift_max_deg);
-            s += &format!("  match score         {:>9}   (offset-free {}; scale: P′ swings {:.3} mm)\n", score(m.score), score(m.score_offset_free), m.range_pprime_mm);
+            s += &format!(
+                "  match score         {:>9}   (offset-free {}; scale: P′ swings {:.3} mm)\n",
+                score(m.score),
+                score(m.score_offset_free),
+                m.range_pprime_mm
+            );
         }
         None => s += "  no take-up path to compare (give `path` in [stitch])\n",
     }
@@ -340,4 +480,3 @@ fn thread_details(t: &StitchThreadSummary) -> String {
     }
     s
 }
-

@@ -81,7 +81,9 @@ pub fn run(args: NomogramArgs) -> Result<(), Error> {
         started.elapsed().as_secs_f64()
     );
     if n.all_scores_zero() && !matches!(args.format, NomogramFormat::Table) {
-        eprintln!("warning: every match score is 0 at every grid point: no setting in the ranges fits this stitch (the recommendations only minimise J)");
+        eprintln!(
+            "warning: every match score is 0 at every grid point: no setting in the ranges fits this stitch (the recommendations only minimise J)"
+        );
     }
     Ok(())
 }

@@ -129,7 +129,10 @@ pub struct PlotArgs {
 }
 
 fn bad(message: String, help: String) -> Error {
-    Error::Param(ParamError { message, help: Some(help) })
+    Error::Param(ParamError {
+        message,
+        help: Some(help),
+    })
 }
 
 /// `plot family`, `plot surface` and `plot heatmap` (`a`, `a` and `b`).
@@ -147,14 +150,54 @@ fn check_options(args: &PlotArgs) -> Result<(), Error> {
     use What::*;
     let nomogram_example = "stitchkin plot nomogram --set t1_phase=180 --thickness 3:5:3 --adjust z";
     let owners: [(&str, bool, &[What], &str); 13] = [
-        ("--measured", !args.measured.is_empty(), &[Takeup], "stitchkin plot takeup --measured n1=n1-measured.csv"),
-        ("--points", !args.points.is_empty(), &[Trajectory, Analogs], "stitchkin plot trajectory --points A,B"),
-        ("--plane", args.plane.is_some(), &[Trajectory, Delta2d3d], "stitchkin plot delta2d3d --plane uvw"),
-        ("--thread", !args.thread.is_empty(), &[Analogs, Family, Surface, Delta2d3d], "stitchkin plot family --vary z=-10:10:5 --thread n3_A"),
-        ("--series", !args.series.is_empty(), &[Motion, Surface], "stitchkin plot motion --preset needle876 --series G.y,angle_C_B"),
-        ("--vary", !args.vary.is_empty(), &[Family, Surface, Heatmap, Motion], "stitchkin plot family --vary r1=4:6:5"),
-        ("--wireframe", args.wireframe, &[Surface], "stitchkin plot surface --vary r1=4:6:9 --wireframe"),
-        ("--figure", args.figure.is_some(), &[Heatmap], "stitchkin plot heatmap --vary z=-10:10:11 --vary dphi=-20:20:11 --figure n1_A.max_P_B_mm"),
+        (
+            "--measured",
+            !args.measured.is_empty(),
+            &[Takeup],
+            "stitchkin plot takeup --measured n1=n1-measured.csv",
+        ),
+        (
+            "--points",
+            !args.points.is_empty(),
+            &[Trajectory, Analogs],
+            "stitchkin plot trajectory --points A,B",
+        ),
+        (
+            "--plane",
+            args.plane.is_some(),
+            &[Trajectory, Delta2d3d],
+            "stitchkin plot delta2d3d --plane uvw",
+        ),
+        (
+            "--thread",
+            !args.thread.is_empty(),
+            &[Analogs, Family, Surface, Delta2d3d],
+            "stitchkin plot family --vary z=-10:10:5 --thread n3_A",
+        ),
+        (
+            "--series",
+            !args.series.is_empty(),
+            &[Motion, Surface],
+            "stitchkin plot motion --preset needle876 --series G.y,angle_C_B",
+        ),
+        (
+            "--vary",
+            !args.vary.is_empty(),
+            &[Family, Surface, Heatmap, Motion],
+            "stitchkin plot family --vary r1=4:6:5",
+        ),
+        (
+            "--wireframe",
+            args.wireframe,
+            &[Surface],
+            "stitchkin plot surface --vary r1=4:6:9 --wireframe",
+        ),
+        (
+            "--figure",
+            args.figure.is_some(),
+            &[Heatmap],
+            "stitchkin plot heatmap --vary z=-10:10:11 --vary dphi=-20:20:11 --figure n1_A.max_P_B_mm",
+        ),
         ("--thickness", args.thickness.is_some(), &[Nomogram], nomogram_example),
         ("--stitch", args.stitch.is_some(), &[Nomogram], nomogram_example),
         ("--adjust", !args.adjust.is_empty(), &[Nomogram], nomogram_example),
@@ -178,9 +221,17 @@ fn ranged(model: &Model) -> String {
         .params
         .iter()
         .filter(|p| !p.is_derived())
-        .filter_map(|p| p.range.filter(|r| r[1] > r[0]).map(|r| format!("{} ({}…{} {})", p.name, r[0], r[1], p.unit_str())))
+        .filter_map(|p| {
+            p.range
+                .filter(|r| r[1] > r[0])
+                .map(|r| format!("{} ({}…{} {})", p.name, r[0], r[1], p.unit_str()))
+        })
         .collect();
-    if v.is_empty() { "the model has no parameter with an adjustable range".into() } else { format!("the ranged parameters are: {}", v.join(", ")) }
+    if v.is_empty() {
+        "the model has no parameter with an adjustable range".into()
+    } else {
+        format!("the ranged parameters are: {}", v.join(", "))
+    }
 }
 
 /// The one path of a family or surface.
@@ -189,7 +240,11 @@ fn one_thread(args: &PlotArgs) -> Result<Option<String>, Error> {
         [] => Ok(None),
         [one] => Ok(Some(one.clone())),
         many => Err(bad(
-            format!("`plot {}` draws one thread path; --thread names {}", args.what.name(), many.len()),
+            format!(
+                "`plot {}` draws one thread path; --thread names {}",
+                args.what.name(),
+                many.len()
+            ),
             format!("give one, e.g. --thread {}", many[0]),
         )),
     }
@@ -204,7 +259,10 @@ fn one_series(args: &PlotArgs) -> Result<Option<String>, Error> {
             "leave out one of them".into(),
         )),
         [one] => Ok(Some(one.clone())),
-        many => Err(bad(format!("`plot surface` draws one series; --series names {}", many.len()), format!("give one, e.g. --series {}", many[0]))),
+        many => Err(bad(
+            format!("`plot surface` draws one series; --series names {}", many.len()),
+            format!("give one, e.g. --series {}", many[0]),
+        )),
     }
 }
 
@@ -212,12 +270,19 @@ fn one_series(args: &PlotArgs) -> Result<Option<String>, Error> {
 fn one_vary(args: &PlotArgs, model: &Model, default_n: usize) -> Result<stitchkin::study::sweep::Vary, Error> {
     match args.vary.as_slice() {
         [] => Err(bad(
-            format!("`plot {}` needs the parameter to vary: --vary NAME=LO:HI:N", args.what.name()),
+            format!(
+                "`plot {}` needs the parameter to vary: --vary NAME=LO:HI:N",
+                args.what.name()
+            ),
             format!("e.g. --vary r1=4:6:{default_n}; {}", ranged(model)),
         )),
         [one] => plots::parse_vary(model, one, default_n),
         many => Err(bad(
-            format!("`plot {}` varies one parameter; --vary is given {} times", args.what.name(), many.len()),
+            format!(
+                "`plot {}` varies one parameter; --vary is given {} times",
+                args.what.name(),
+                many.len()
+            ),
             "keep one, or draw two parameters with `plot heatmap --vary A=… --vary B=… --figure NAME`".into(),
         )),
     }
@@ -227,33 +292,68 @@ pub fn run(args: PlotArgs) -> Result<(), Error> {
     check_options(&args)?;
     crate::image::check_output(args.output.as_ref(), false)?;
     let (model, params) = crate::load(&args.model)?;
-    let many_cycles = matches!(args.what, What::Family | What::Surface | What::Heatmap | What::Nomogram) || (args.what == What::Motion && !args.vary.is_empty());
+    let many_cycles = matches!(args.what, What::Family | What::Surface | What::Heatmap | What::Nomogram)
+        || (args.what == What::Motion && !args.vary.is_empty());
     let step = args.step.unwrap_or(if many_cycles { 2.0 } else { 1.0 });
     let plot = match args.what {
         What::Takeup => Plot::TakeUp,
         What::Mu => Plot::Mu,
-        What::Trajectory => Plot::Trajectory { points: args.points.clone(), plane: args.plane.clone() },
-        What::Analogs => Plot::Analogs { points: args.points.clone(), threads: args.thread.clone() },
-        What::Family => Plot::Family { vary: one_vary(&args, &model, 5)?, thread: one_thread(&args)? },
+        What::Trajectory => Plot::Trajectory {
+            points: args.points.clone(),
+            plane: args.plane.clone(),
+        },
+        What::Analogs => Plot::Analogs {
+            points: args.points.clone(),
+            threads: args.thread.clone(),
+        },
+        What::Family => Plot::Family {
+            vary: one_vary(&args, &model, 5)?,
+            thread: one_thread(&args)?,
+        },
         What::Motion => {
-            let vary = if args.vary.is_empty() { None } else { Some(one_vary(&args, &model, 5)?) };
-            Plot::Motion { series: args.series.clone(), vary }
+            let vary = if args.vary.is_empty() {
+                None
+            } else {
+                Some(one_vary(&args, &model, 5)?)
+            };
+            Plot::Motion {
+                series: args.series.clone(),
+                vary,
+            }
         }
         What::Surface => match one_series(&args)? {
-            Some(series) => Plot::MotionSurface { series, vary: one_vary(&args, &model, 11)?, wireframe: args.wireframe },
-            None => Plot::Surface { vary: one_vary(&args, &model, 11)?, thread: one_thread(&args)?, wireframe: args.wireframe },
+            Some(series) => Plot::MotionSurface {
+                series,
+                vary: one_vary(&args, &model, 11)?,
+                wireframe: args.wireframe,
+            },
+            None => Plot::Surface {
+                vary: one_vary(&args, &model, 11)?,
+                thread: one_thread(&args)?,
+                wireframe: args.wireframe,
+            },
         },
         What::Heatmap => {
-            let vary = args.vary.iter().map(|v| plots::parse_vary(&model, v, 11)).collect::<Result<Vec<_>, _>>()?;
+            let vary = args
+                .vary
+                .iter()
+                .map(|v| plots::parse_vary(&model, v, 11))
+                .collect::<Result<Vec<_>, _>>()?;
             if vary.len() != 2 {
                 return Err(bad(
                     format!("`plot heatmap` needs exactly 2 --vary, got {}", vary.len()),
-                    format!("e.g. --vary z=-10:10:11 --vary dphi=-20:20:11 (the first across, the second up); {}", ranged(&model)),
+                    format!(
+                        "e.g. --vary z=-10:10:11 --vary dphi=-20:20:11 (the first across, the second up); {}",
+                        ranged(&model)
+                    ),
                 ));
             }
             let Some(figure) = args.figure.clone() else {
                 let names = plots::figure_names(&model, &params, step)?;
-                return Err(bad("`plot heatmap` needs the figure of merit to draw: --figure NAME".into(), format!("this model offers: {}", names.join(", "))));
+                return Err(bad(
+                    "`plot heatmap` needs the figure of merit to draw: --figure NAME".into(),
+                    format!("this model offers: {}", names.join(", ")),
+                ));
             };
             Plot::Heatmap { vary, figure }
         }
@@ -263,15 +363,32 @@ pub fn run(args: PlotArgs) -> Result<(), Error> {
                 None => plots::default_thickness(&model)?,
             };
             let stitch = args.stitch.as_deref().map(|s| Axis::parse(s, "--stitch")).transpose()?;
-            let tune = TuneOptions { adjust: args.adjust.clone(), samples: args.samples.unwrap_or(0), seed: args.seed.unwrap_or(1), step_deg: step };
-            Plot::Nomogram(NomogramOptions { thickness, stitch, tune })
+            let tune = TuneOptions {
+                adjust: args.adjust.clone(),
+                samples: args.samples.unwrap_or(0),
+                seed: args.seed.unwrap_or(1),
+                step_deg: step,
+            };
+            Plot::Nomogram(NomogramOptions {
+                thickness,
+                stitch,
+                tune,
+            })
         }
-        What::Delta2d3d => Plot::Delta2d3d { plane: args.plane.clone().unwrap_or_else(|| "world".into()), threads: args.thread.clone() },
+        What::Delta2d3d => Plot::Delta2d3d {
+            plane: args.plane.clone().unwrap_or_else(|| "world".into()),
+            threads: args.thread.clone(),
+        },
     };
     let svg = if args.measured.is_empty() {
         plots::render(&model, &params, &plot, step)?
     } else {
-        let opts = stitchkin::eval::CycleOptions { step_deg: step, analogs: false, points: Some(Vec::new()), ..Default::default() };
+        let opts = stitchkin::eval::CycleOptions {
+            step_deg: step,
+            analogs: false,
+            points: Some(Vec::new()),
+            ..Default::default()
+        };
         let table = stitchkin::eval::run_cycle(&model, &params, &opts)?;
         let measured = crate::matching::measured(&args.measured, &table)?;
         plots::take_up_with_measured(&model, &table, &measured)?.render()

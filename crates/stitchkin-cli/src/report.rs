@@ -33,7 +33,12 @@ pub struct ReportArgs {
     #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true)]
     nomogram_thickness: Option<String>,
     /// The nomogram's stitch lengths, mm, LO:HI:N (default: the model's).
-    #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true, requires = "nomogram_thickness")]
+    #[arg(
+        long,
+        value_name = "LO:HI:N",
+        allow_hyphen_values = true,
+        requires = "nomogram_thickness"
+    )]
     nomogram_stitch: Option<String>,
     /// A measured take-up P or required P′ to set beside the model (CSV:
     /// phi_deg and P_mm, P_B_mm, Pprime_B_mm, …; [THREAD=]FILE, as
@@ -56,7 +61,10 @@ pub fn run(args: ReportArgs) -> Result<(), Error> {
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         if !matches!(ext.as_deref(), Some("html" | "htm")) {
             return Err(Error::Param(ParamError {
-                message: format!("the report is HTML, but `{}` does not end in .html (in -o)", path.display()),
+                message: format!(
+                    "the report is HTML, but `{}` does not end in .html (in -o)",
+                    path.display()
+                ),
                 help: Some("name it e.g. report.html".into()),
             }));
         }
@@ -77,7 +85,11 @@ pub fn run(args: ReportArgs) -> Result<(), Error> {
         None => None,
         Some(th) => Some(NomogramOptions {
             thickness: Axis::parse(th, "--nomogram-thickness")?,
-            stitch: args.nomogram_stitch.as_deref().map(|s| Axis::parse(s, "--nomogram-stitch")).transpose()?,
+            stitch: args
+                .nomogram_stitch
+                .as_deref()
+                .map(|s| Axis::parse(s, "--nomogram-stitch"))
+                .transpose()?,
             tune: tune_opts,
         }),
     };

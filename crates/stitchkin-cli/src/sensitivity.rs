@@ -15,7 +15,12 @@ pub struct SensitivityArgs {
     /// Figures of merit, comma-separated patterns with `*` (names as in
     /// `stitchkin sweep --figures`; default: max P per path, match score per
     /// thread, transmission-angle extremes, measure ranges, point strokes).
-    #[arg(long = "output", visible_alias = "figures", value_delimiter = ',', value_name = "FIGURE,…")]
+    #[arg(
+        long = "output",
+        visible_alias = "figures",
+        value_delimiter = ',',
+        value_name = "FIGURE,…"
+    )]
     outputs: Option<Vec<String>>,
     /// Parameters to study, comma-separated (default: every parameter with
     /// an adjustable range).
@@ -86,7 +91,9 @@ fn sig(x: f64, sig: usize) -> String {
 }
 
 fn signed(x: Option<f64>, unit: &str) -> String {
-    x.map_or("—".into(), |x| format!("{}{} {unit}", if x > 0.0 { "+" } else { "" }, sig(x, 5)))
+    x.map_or("—".into(), |x| {
+        format!("{}{} {unit}", if x > 0.0 { "+" } else { "" }, sig(x, 5))
+    })
 }
 
 /// The unit of a derivative: figure unit per parameter unit.
@@ -95,15 +102,28 @@ fn per(fig: &str, param: &str) -> String {
 }
 
 fn table(r: &SensitivityResult) -> String {
-    let setting: Vec<String> = r.params.iter().map(|p| format!("{} = {} {}", p.name, fmt_num(p.nominal), p.unit)).collect();
-    let mut s = format!("Sensitivity of `{}` at {} (φ step {}°)\n", r.model, setting.join(", "), r.step_deg);
+    let setting: Vec<String> = r
+        .params
+        .iter()
+        .map(|p| format!("{} = {} {}", p.name, fmt_num(p.nominal), p.unit))
+        .collect();
+    let mut s = format!(
+        "Sensitivity of `{}` at {} (φ step {}°)\n",
+        r.model,
+        setting.join(", "),
+        r.step_deg
+    );
     s += "d/dp: exact (dual numbers) unless marked (c), a central difference; effect = d/dp × the range width;\n";
     s += "at lo, at hi: the figure at the range's ends, the others nominal; span: its max − min over the range.\n";
     let w = r.params.iter().map(|p| p.name.len()).max().unwrap_or(4).max(9);
     let plain = |x: Option<f64>| x.map_or("—".into(), |x| sig(x, 6));
     for f in &r.figures {
         let unit = f.unit;
-        let by = if f.ranked_by == "effect" { "ranked by |effect|" } else { "ranked by span" };
+        let by = if f.ranked_by == "effect" {
+            "ranked by |effect|"
+        } else {
+            "ranked by span"
+        };
         s += &format!("\n{} = {} {unit}   ({by})\n", f.figure, sig(f.nominal, 6));
         s += &format!(
             "  {:>4}  {:<w$}  {:<18}  {:>22}  {:>14}  {:>12}  {:>12}  {:>12}\n",
@@ -117,7 +137,12 @@ fn table(r: &SensitivityResult) -> String {
             }
             let range = format!("{} … {} {}", fmt_num(e.lo), fmt_num(e.hi), e.param_unit);
             let d = e.derivative.map_or("—".into(), |d| {
-                format!("{} {}{}", sig(d, 5), per(f.unit, e.param_unit), if e.method == Method::Central { " (c)" } else { "" })
+                format!(
+                    "{} {}{}",
+                    sig(d, 5),
+                    per(f.unit, e.param_unit),
+                    if e.method == Method::Central { " (c)" } else { "" }
+                )
             });
             s += &format!(
                 "  {:>4}  {:<w$}  {:<18}  {:>22}  {:>14}  {:>12}  {:>12}  {:>12}\n",

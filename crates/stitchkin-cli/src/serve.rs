@@ -35,12 +35,18 @@ pub fn run(args: ServeArgs) -> Result<(), Error> {
     let server = Server::start(App::new(model, params), &addr.to_string(), args.threads).map_err(|e| match e {
         Error::Io(m) => Error::Param(ParamError {
             message: m,
-            help: Some(format!("another program may be using port {}: choose another with --port, or --port 0 for any free one", args.port)),
+            help: Some(format!(
+                "another program may be using port {}: choose another with --port, or --port 0 for any free one",
+                args.port
+            )),
         }),
         other => other,
     })?;
     if !args.bind.is_loopback() {
-        eprintln!("warning: listening on {} — anyone who can reach this machine can use the page", args.bind);
+        eprintln!(
+            "warning: listening on {} — anyone who can reach this machine can use the page",
+            args.bind
+        );
     }
     // The address on stdout (a script can read it), flushed at once.
     let mut out = std::io::stdout().lock();

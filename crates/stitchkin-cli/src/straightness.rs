@@ -9,7 +9,8 @@ use stitchkin::error::Error;
 use stitchkin::model::Model;
 use stitchkin::output::fmt_num;
 use stitchkin::study::straightness::{
-    Distribution, Reference, StraightnessOptions, ToleranceOptions, ToleranceStudy, Window, straightness, tolerance_study, tolerances,
+    Distribution, Reference, StraightnessOptions, ToleranceOptions, ToleranceStudy, Window, straightness,
+    tolerance_study, tolerances,
 };
 use stitchkin::study::stroke::point_slot;
 
@@ -108,32 +109,69 @@ pub struct ToleranceArgs {
 
 /// A deviation in mm, with its sign when it has one.
 fn mm(x: f64, signed: bool) -> String {
-    if signed { format!("{x:+.5} mm") } else { format!("{x:.5} mm") }
+    if signed {
+        format!("{x:+.5} mm")
+    } else {
+        format!("{x:.5} mm")
+    }
 }
 
 pub fn run(args: StraightnessArgs) -> Result<(), Error> {
     let (model, params) = crate::load(&args.model)?;
     let opts = args.path.options(&model)?;
     let s = straightness(&model, &params, &opts)?;
-    let mut summary = format!("{}: straightness of {} from {}, {} (φ step {}°)\n", model.file.model.name, s.point, s.reference, s.window, fmt_num(opts.step_deg));
+    let mut summary = format!(
+        "{}: straightness of {} from {}, {} (φ step {}°)\n",
+        model.file.model.name,
+        s.point,
+        s.reference,
+        s.window,
+        fmt_num(opts.step_deg)
+    );
     let [px, py, pz] = s.line_point_mm;
     let [ux, uy, uz] = s.line_direction;
     let (point, dir) = if s.signed {
         (format!("({px:.4}, {py:.4}) mm"), format!("({ux:.6}, {uy:.6})"))
     } else {
-        (format!("({px:.4}, {py:.4}, {pz:.4}) mm"), format!("({ux:.6}, {uy:.6}, {uz:.6})"))
+        (
+            format!("({px:.4}, {py:.4}, {pz:.4}) mm"),
+            format!("({ux:.6}, {uy:.6}, {uz:.6})"),
+        )
     };
-    summary += &format!("line: through {point}, direction {dir}, {:.3}° from +y\n\n", s.line_from_y_deg);
+    summary += &format!(
+        "line: through {point}, direction {dir}, {:.3}° from +y\n\n",
+        s.line_from_y_deg
+    );
     let d = if s.signed { "deviation" } else { "distance" };
     let mut rows = vec![
-        vec!["travel along the line".to_string(), format!("{:.4} mm", s.travel_mm), String::new()],
-        vec![format!("largest {d}"), mm(s.max_dev_mm, s.signed), format!("at φ = {:.2}°", s.phi_at_max_deg)],
-        vec![format!("smallest {d}"), mm(s.min_dev_mm, s.signed), format!("at φ = {:.2}°", s.phi_at_min_deg)],
+        vec![
+            "travel along the line".to_string(),
+            format!("{:.4} mm", s.travel_mm),
+            String::new(),
+        ],
+        vec![
+            format!("largest {d}"),
+            mm(s.max_dev_mm, s.signed),
+            format!("at φ = {:.2}°", s.phi_at_max_deg),
+        ],
+        vec![
+            format!("smallest {d}"),
+            mm(s.min_dev_mm, s.signed),
+            format!("at φ = {:.2}°", s.phi_at_min_deg),
+        ],
         vec![format!("max |{d}|"), mm(s.max_abs_dev_mm, false), String::new()],
-        vec![format!("RMS {d}"), mm(s.rms_dev_mm, false), format!("over {} φ samples", s.phi_deg.len())],
+        vec![
+            format!("RMS {d}"),
+            mm(s.rms_dev_mm, false),
+            format!("over {} φ samples", s.phi_deg.len()),
+        ],
     ];
     if let Some(z) = s.zone_mm {
-        rows.push(vec!["minimum zone (ISO 1101)".into(), mm(z, false), "width of the narrowest band holding the path".into()]);
+        rows.push(vec![
+            "minimum zone (ISO 1101)".into(),
+            mm(z, false),
+            "width of the narrowest band holding the path".into(),
+        ]);
     }
     for r in &rows {
         summary += format!("{:<24} {:>13}  {}", r[0], r[1], r[2]).trim_end();
@@ -148,14 +186,29 @@ pub fn run(args: StraightnessArgs) -> Result<(), Error> {
         TableFormat::Csv => {
             let mut c = format!("phi_deg,{p}.along_mm,{p}.dev_mm\n", p = s.point);
             for k in 0..s.phi_deg.len() {
-                c += &format!("{},{},{}\n", fmt_num(s.phi_deg[k]), fmt_num(s.along_mm[k]), fmt_num(s.dev_mm[k]));
+                c += &format!(
+                    "{},{},{}\n",
+                    fmt_num(s.phi_deg[k]),
+                    fmt_num(s.along_mm[k]),
+                    fmt_num(s.dev_mm[k])
+                );
             }
             c
         }
     };
     crate::emit(out.as_bytes(), args.output.as_ref())?;
     if matches!(args.format, TableFormat::Csv) {
-        eprint!("{}", summary.lines().map(|l| if l.is_empty() { "#\n".to_string() } else { format!("# {l}\n") }).collect::<String>());
+        eprint!(
+            "{}",
+            summary
+                .lines()
+                .map(|l| if l.is_empty() {
+                    "#\n".to_string()
+                } else {
+                    format!("# {l}\n")
+                })
+                .collect::<String>()
+        );
     }
     Ok(())
 }
@@ -210,7 +263,10 @@ fn monte_carlo_lines(t: &ToleranceStudy, prefix: &str) -> String {
         Distribution::Normal => "normal, σ = tol/3, truncated at ±tol",
     };
     let v = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.4}"));
-    let mut s = format!("{prefix}Monte Carlo, every tolerance at once: {} samples, {how}, seed {}\n", mc.samples, mc.seed);
+    let mut s = format!(
+        "{prefix}Monte Carlo, every tolerance at once: {} samples, {how}, seed {}\n",
+        mc.samples, mc.seed
+    );
     s += &format!(
         "{prefix}  max |deviation|  50 %: {} mm   90 %: {} mm   99 %: {} mm   (mean {} mm, largest {} mm)\n",
         v(mc.p50_mm),
@@ -219,7 +275,12 @@ fn monte_carlo_lines(t: &ToleranceStudy, prefix: &str) -> String {
         v(mc.mean_mm),
         v(mc.max_mm)
     );
-    s += &format!("{prefix}  over the {} mm limit: {:.1} % of the samples ({} did not assemble)\n", fmt_num(t.limit_mm), 100.0 * mc.over_limit, mc.failed);
+    s += &format!(
+        "{prefix}  over the {} mm limit: {:.1} % of the samples ({} did not assemble)\n",
+        fmt_num(t.limit_mm),
+        100.0 * mc.over_limit,
+        mc.failed
+    );
     s
 }
 
@@ -233,13 +294,26 @@ fn tolerance_table(model: &Model, t: &ToleranceStudy, step: f64) -> String {
         fmt_num(step)
     );
     s += &format!("nominal {:.5} mm; limit {} mm\n\n", t.nominal_mm, fmt_num(t.limit_mm));
-    let head: Vec<String> = ["parameter", "tolerance", "at −tol", "at +tol", "change", "largest alone"].map(String::from).to_vec();
+    let head: Vec<String> = [
+        "parameter",
+        "tolerance",
+        "at −tol",
+        "at +tol",
+        "change",
+        "largest alone",
+    ]
+    .map(String::from)
+    .to_vec();
     let dev = |x: Option<f64>| x.map_or("no assembly".to_string(), |x| format!("{x:.5} mm"));
     let rows: Vec<Vec<String>> = t
         .one_at_a_time
         .iter()
         .map(|r| {
-            let largest = if r.bounded { format!("±{:.4} {}", r.largest_tol, r.unit) } else { format!("> ±{} {} (no limit found)", fmt_num(r.largest_tol), r.unit) };
+            let largest = if r.bounded {
+                format!("±{:.4} {}", r.largest_tol, r.unit)
+            } else {
+                format!("> ±{} {} (no limit found)", fmt_num(r.largest_tol), r.unit)
+            };
             let over = |x: Option<f64>| if x.is_some_and(|x| x > t.limit_mm) { " *" } else { "" };
             vec![
                 r.name.clone(),

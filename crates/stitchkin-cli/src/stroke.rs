@@ -42,7 +42,13 @@ pub struct StrokeArgs {
 /// Columns under a header, widths in characters: the first left-aligned
 /// when `names_first` (parameter names), the others right-aligned.
 pub(crate) fn render_table(header: &[String], rows: &[Vec<String>], names_first: bool) -> String {
-    let width = |c: usize| rows.iter().map(|r| r[c].chars().count()).chain([header[c].chars().count()]).max().unwrap_or(0);
+    let width = |c: usize| {
+        rows.iter()
+            .map(|r| r[c].chars().count())
+            .chain([header[c].chars().count()])
+            .max()
+            .unwrap_or(0)
+    };
     let widths: Vec<usize> = (0..header.len()).map(width).collect();
     let line = |cells: &[String]| {
         let s: Vec<String> = cells
@@ -51,7 +57,11 @@ pub(crate) fn render_table(header: &[String], rows: &[Vec<String>], names_first:
             .enumerate()
             .map(|(i, (c, w))| {
                 let pad = " ".repeat(w - c.chars().count());
-                if i == 0 && names_first { format!("{c}{pad}") } else { format!("{pad}{c}") }
+                if i == 0 && names_first {
+                    format!("{c}{pad}")
+                } else {
+                    format!("{pad}{c}")
+                }
             })
             .collect();
         s.join("  ").trim_end().to_string() + "\n"
@@ -70,10 +80,23 @@ pub fn run(args: StrokeArgs) -> Result<(), Error> {
     let sweep = if args.vary.is_empty() {
         None
     } else {
-        let vary = args.vary.iter().map(|v| Vary::parse(&model, v)).collect::<Result<Vec<_>, _>>()?;
+        let vary = args
+            .vary
+            .iter()
+            .map(|v| Vary::parse(&model, v))
+            .collect::<Result<Vec<_>, _>>()?;
         Some(Sweep::new(vary, Design::Grid)?)
     };
-    let s = study(&model, &params, sweep.as_ref(), &StrokeOptions { point, axis, step_deg: args.step })?;
+    let s = study(
+        &model,
+        &params,
+        sweep.as_ref(),
+        &StrokeOptions {
+            point,
+            axis,
+            step_deg: args.step,
+        },
+    )?;
     let planar = model.planar;
     let out = match args.format {
         TableFormat::Json => serde_json::to_string_pretty(&s).map_err(|e| Error::Io(e.to_string()))? + "\n",
@@ -96,7 +119,14 @@ fn csv(s: &StrokeStudy, planar: bool) -> String {
     let (p, a) = (&s.point, &s.axis);
     let axes: &[&str] = if planar { &["x", "y"] } else { &["x", "y", "z"] };
     let mut head: Vec<String> = s.vary.iter().map(|v| format!("{}_{}", v.name, v.unit)).collect();
-    for c in ["stroke_mm", "min_mm", "min_phi_deg", "max_mm", "max_phi_deg", "min_to_max_deg"] {
+    for c in [
+        "stroke_mm",
+        "min_mm",
+        "min_phi_deg",
+        "max_mm",
+        "max_phi_deg",
+        "min_to_max_deg",
+    ] {
         head.push(format!("{p}.{a}_{c}"));
     }
     for end in ["min", "max"] {
@@ -104,7 +134,11 @@ fn csv(s: &StrokeStudy, planar: bool) -> String {
             head.push(format!("{p}_at_{end}.{x}_mm"));
         }
     }
-    let keys: Vec<&str> = s.rows.iter().find_map(|r| r.stroke.as_ref()).map_or(Vec::new(), |st| st.mu.iter().map(|m| m.key.as_str()).collect());
+    let keys: Vec<&str> = s
+        .rows
+        .iter()
+        .find_map(|r| r.stroke.as_ref())
+        .map_or(Vec::new(), |st| st.mu.iter().map(|m| m.key.as_str()).collect());
     for k in &keys {
         for c in ["min_deg", "phi_min_deg", "max_deg", "phi_max_deg", "ok"] {
             head.push(format!("mu_{k}.{c}"));
@@ -126,7 +160,13 @@ fn csv(s: &StrokeStudy, planar: bool) -> String {
                     cells.extend(d.point_mm[..axes.len()].iter().map(|x| fmt_num(*x)));
                 }
                 for m in &st.mu {
-                    cells.extend([fmt_num(m.min_deg), fmt_num(m.phi_at_min_deg), fmt_num(m.max_deg), fmt_num(m.phi_at_max_deg), (m.ok as u8).to_string()]);
+                    cells.extend([
+                        fmt_num(m.min_deg),
+                        fmt_num(m.phi_at_min_deg),
+                        fmt_num(m.max_deg),
+                        fmt_num(m.phi_at_max_deg),
+                        (m.ok as u8).to_string(),
+                    ]);
                 }
                 cells.push("ok".into());
             }
@@ -145,21 +185,35 @@ fn footer(s: &StrokeStudy, prefix: &str) -> String {
     let mut out = String::new();
     for c in &s.crossings {
         let held: Vec<String> = c.held.iter().map(|(n, x)| format!("{n} = {}", fmt_num(*x))).collect();
-        let held = if held.is_empty() { String::new() } else { format!(" (with {})", held.join(", ")) };
+        let held = if held.is_empty() {
+            String::new()
+        } else {
+            format!(" (with {})", held.join(", "))
+        };
         let (verb, why) = match (c.leaves, c.bound_deg < 90.0) {
             (true, true) => ("leaves", "its minimum falls below 30°"),
             (true, false) => ("leaves", "its maximum rises above 150°"),
             (false, true) => ("comes back into", "its minimum rises above 30°"),
             (false, false) => ("comes back into", "its maximum falls below 150°"),
         };
-        out += &format!("{prefix}mu_{} ({}) {verb} 30°…150° at {} = {:.3} {}{held}: {why}\n", c.key, c.group, c.parameter, c.value, c.unit);
+        out += &format!(
+            "{prefix}mu_{} ({}) {verb} 30°…150° at {} = {:.3} {}{held}: {why}\n",
+            c.key, c.group, c.parameter, c.value, c.unit
+        );
     }
     let failed: Vec<String> = s
         .rows
         .iter()
         .filter_map(|r| {
-            let setting: Vec<String> = s.vary.iter().zip(&r.setting).map(|(v, x)| format!("{} = {}", v.name, fmt_num(*x))).collect();
-            r.error.as_ref().map(|e| format!("{prefix}{}: {e}\n", setting.join(", ")))
+            let setting: Vec<String> = s
+                .vary
+                .iter()
+                .zip(&r.setting)
+                .map(|(v, x)| format!("{} = {}", v.name, fmt_num(*x)))
+                .collect();
+            r.error
+                .as_ref()
+                .map(|e| format!("{prefix}{}: {e}\n", setting.join(", ")))
         })
         .collect();
     out + &failed.concat()
@@ -167,11 +221,25 @@ fn footer(s: &StrokeStudy, prefix: &str) -> String {
 
 fn table(s: &StrokeStudy) -> String {
     let (p, a) = (&s.point, &s.axis);
-    let mut out = format!("{}: stroke of {p} along {}, φ step {}°\n", s.model, s.axis_words, fmt_num(s.step_deg));
-    out += "dead centres and angle extremes: zeros of the exact first analog (dual numbers), refined below the step\n\n";
+    let mut out = format!(
+        "{}: stroke of {p} along {}, φ step {}°\n",
+        s.model,
+        s.axis_words,
+        fmt_num(s.step_deg)
+    );
+    out +=
+        "dead centres and angle extremes: zeros of the exact first analog (dual numbers), refined below the step\n\n";
     let mut head: Vec<String> = s.vary.iter().map(|v| format!("{}_{}", v.name, v.unit)).collect();
-    head.extend([format!("{a}_stroke_mm"), format!("{a}_min_mm"), "at φ_deg".into(), format!("{a}_max_mm"), "at φ_deg".into()]);
-    let keys: Vec<String> = s.rows.iter().find_map(|r| r.stroke.as_ref()).map_or(Vec::new(), |st| st.mu.iter().map(|m| format!("mu_{}_deg", m.key)).collect());
+    head.extend([
+        format!("{a}_stroke_mm"),
+        format!("{a}_min_mm"),
+        "at φ_deg".into(),
+        format!("{a}_max_mm"),
+        "at φ_deg".into(),
+    ]);
+    let keys: Vec<String> = s.rows.iter().find_map(|r| r.stroke.as_ref()).map_or(Vec::new(), |st| {
+        st.mu.iter().map(|m| format!("mu_{}_deg", m.key)).collect()
+    });
     head.extend(keys.iter().cloned());
     let phi = |x: Option<f64>| x.map_or("—".to_string(), |v| format!("{v:.2}"));
     let rows: Vec<Vec<String>> = s
@@ -188,7 +256,11 @@ fn table(s: &StrokeStudy) -> String {
                         format!("{:.4}", st.max.position_mm),
                         phi(st.max.phi_deg),
                     ]);
-                    cells.extend(st.mu.iter().map(|m| format!("{:.2}…{:.2}{}", m.min_deg, m.max_deg, if m.ok { "  " } else { " *" })));
+                    cells.extend(
+                        st.mu
+                            .iter()
+                            .map(|m| format!("{:.2}…{:.2}{}", m.min_deg, m.max_deg, if m.ok { "  " } else { " *" })),
+                    );
                 }
                 None => cells.extend(std::iter::repeat_n("—".to_string(), head.len() - cells.len())),
             }
@@ -197,7 +269,11 @@ fn table(s: &StrokeStudy) -> String {
         .collect();
     out += &render_table(&head, &rows, false);
     out += "\n";
-    let any_out = s.rows.iter().filter_map(|r| r.stroke.as_ref()).any(|st| st.mu.iter().any(|m| !m.ok));
+    let any_out = s
+        .rows
+        .iter()
+        .filter_map(|r| r.stroke.as_ref())
+        .any(|st| st.mu.iter().any(|m| !m.ok));
     if any_out {
         out += "* outside 30°…150° somewhere in the cycle (seed 002 eq. 15): risk of jamming\n";
     } else if !keys.is_empty() {

@@ -12,7 +12,12 @@ fn run(args: &[&str]) -> Output {
 }
 
 fn run_in(args: &[&str], dir: &Path) -> Output {
-    let out = bin().args(args).current_dir(dir).env("NO_COLOR", "1").output().expect("the binary runs");
+    let out = bin()
+        .args(args)
+        .current_dir(dir)
+        .env("NO_COLOR", "1")
+        .output()
+        .expect("the binary runs");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "panic for {args:?}:\n{stderr}");
     out
@@ -20,7 +25,10 @@ fn run_in(args: &[&str], dir: &Path) -> Output {
 
 fn ok(args: &[&str]) -> (String, String) {
     let out = run(args);
-    let (o, e) = (String::from_utf8(out.stdout).unwrap(), String::from_utf8(out.stderr).unwrap());
+    let (o, e) = (
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    );
     assert!(out.status.success(), "{args:?} failed:\n{e}");
     (o, e)
 }
@@ -40,27 +48,34 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
-#[path = "cli/strokes.rs"]
-mod strokes;
-#[path = "cli/nomogram.rs"]
-mod nomogram;
 #[path = "cli/examples.rs"]
 mod examples;
+#[path = "cli/nomogram.rs"]
+mod nomogram;
 #[path = "cli/sensitivity.rs"]
 mod sensitivity;
+#[path = "cli/strokes.rs"]
+mod strokes;
 
 #[path = "cli/cam.rs"]
 mod cam;
-#[path = "cli/plot.rs"]
-mod plot;
 #[path = "cli/draw.rs"]
 mod draw;
+#[path = "cli/plot.rs"]
+mod plot;
 #[path = "cli/report.rs"]
 mod report;
 #[path = "cli/serve.rs"]
 mod serve;
 
-const PRESETS: &[&str] = &["needle876", "overlock500", "altin-needle", "altin504", "mf7923d", "takeup-lever"];
+const PRESETS: &[&str] = &[
+    "needle876",
+    "overlock500",
+    "altin-needle",
+    "altin504",
+    "mf7923d",
+    "takeup-lever",
+];
 
 #[test]
 fn run_without_arguments_uses_the_default_preset() {
@@ -68,7 +83,19 @@ fn run_without_arguments_uses_the_default_preset() {
     let (csv, summary) = ok(&["run"]);
     let mut lines = csv.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    for col in ["phi_deg", "T1_1.y_mm", "T1_1.dy_dphi_mm_per_rad", "E.d2y_dphi2_mm_per_rad2", "n1_A.P_B_mm", "n1_A.P_eye_mm", "n2_B.dP_B_dphi_mm_per_rad", "n3_A.G4_3_engaged", "mu_rod_AB_arm_O2B_deg", "n1.Pprime_B_mm", "n1.Pprime_eye_mm"] {
+    for col in [
+        "phi_deg",
+        "T1_1.y_mm",
+        "T1_1.dy_dphi_mm_per_rad",
+        "E.d2y_dphi2_mm_per_rad2",
+        "n1_A.P_B_mm",
+        "n1_A.P_eye_mm",
+        "n2_B.dP_B_dphi_mm_per_rad",
+        "n3_A.G4_3_engaged",
+        "mu_rod_AB_arm_O2B_deg",
+        "n1.Pprime_B_mm",
+        "n1.Pprime_eye_mm",
+    ] {
         assert!(header.contains(&col), "no column {col} in {header:?}");
     }
     let rows: Vec<&str> = lines.collect();
@@ -78,8 +105,14 @@ fn run_without_arguments_uses_the_default_preset() {
     for p in ["n1_A", "n2_A", "n3_A", "n1_B", "n2_B", "n3_B"] {
         assert!(summary.contains(&format!("# {p}")), "{summary}");
     }
-    assert!(summary.contains("take-up: P = xi(phi0) - xi(phi)") && summary.contains("split at B"), "{summary}");
-    assert!(summary.contains("# check ok   n1 thread_bound") && !summary.contains("FAIL"), "{summary}");
+    assert!(
+        summary.contains("take-up: P = xi(phi0) - xi(phi)") && summary.contains("split at B"),
+        "{summary}"
+    );
+    assert!(
+        summary.contains("# check ok   n1 thread_bound") && !summary.contains("FAIL"),
+        "{summary}"
+    );
 }
 
 /// On a terminal `run` shows its summary, not hundreds of columns; the
@@ -90,14 +123,24 @@ fn run_on_a_terminal_shows_the_summary() {
     // `script` runs the command on a pseudo-terminal (util-linux, part of
     // every Debian system).
     let tty = |args: &str| {
-        let out = Command::new("script").args(["-qec", &format!("{exe} {args}"), "/dev/null"]).env("NO_COLOR", "1").output().expect("script runs");
+        let out = Command::new("script")
+            .args(["-qec", &format!("{exe} {args}"), "/dev/null"])
+            .env("NO_COLOR", "1")
+            .output()
+            .expect("script runs");
         assert!(out.status.success(), "{args}: {}", String::from_utf8_lossy(&out.stderr));
         String::from_utf8_lossy(&out.stdout).replace('\r', "")
     };
     let screen = tty("run");
     assert!(screen.lines().count() < 40 && !screen.contains("phi_deg,"), "{screen}");
-    assert!(screen.contains("# n1_A") && screen.contains("max P_B") && screen.contains("# check ok"), "{screen}");
-    assert!(screen.contains("the full table, 360 rows") && screen.contains("stitchkin run --format csv"), "{screen}");
+    assert!(
+        screen.contains("# n1_A") && screen.contains("max P_B") && screen.contains("# check ok"),
+        "{screen}"
+    );
+    assert!(
+        screen.contains("the full table, 360 rows") && screen.contains("stitchkin run --format csv"),
+        "{screen}"
+    );
     assert!(tty("run --format csv --step 30").contains("phi_deg,"));
 }
 
@@ -107,25 +150,89 @@ fn columns_can_be_selected_by_pattern() {
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     assert_eq!(header[0], "phi_deg");
     assert_eq!(header.iter().filter(|h| h.ends_with(".P_B_mm")).count(), 6);
-    assert!(header.iter().all(|h| *h == "phi_deg" || h.ends_with(".P_B_mm") || h.starts_with("mu_")), "{header:?}");
+    assert!(
+        header
+            .iter()
+            .all(|h| *h == "phi_deg" || h.ends_with(".P_B_mm") || h.starts_with("mu_")),
+        "{header:?}"
+    );
     let e = fails(&["run", "--columns", "*.Q_mm"]);
     assert!(e.contains("no column matches `*.Q_mm`"), "{e}");
 }
 
 #[test]
 fn consumption_prints_the_thread_per_stitch() {
-    let (out, _) = ok(&["consumption", "--type", "504", "--thickness", "2.5", "--stitch", "2.8", "--width", "4", "--incline", "20"]);
+    let (out, _) = ok(&[
+        "consumption",
+        "--type",
+        "504",
+        "--thickness",
+        "2.5",
+        "--stitch",
+        "2.8",
+        "--width",
+        "4",
+        "--incline",
+        "20",
+    ]);
     assert!(out.contains("upper looper") && out.contains("30.8861"), "{out}");
-    let (csv, _) = ok(&["consumption", "--type", "407", "--thickness", "3", "--stitch", "3", "--format", "csv"]);
-    assert!(csv.starts_with("thread,contour,formula,length_mm") && csv.contains("needle 3,,\"t + 2·l_m\",9"), "{csv}");
-    let (json, _) = ok(&["consumption", "--type", "503", "--thickness", "2.5", "--stitch", "2.8", "--width", "4", "--incline", "20", "--format", "json"]);
+    let (csv, _) = ok(&[
+        "consumption",
+        "--type",
+        "407",
+        "--thickness",
+        "3",
+        "--stitch",
+        "3",
+        "--format",
+        "csv",
+    ]);
+    assert!(
+        csv.starts_with("thread,contour,formula,length_mm") && csv.contains("needle 3,,\"t + 2·l_m\",9"),
+        "{csv}"
+    );
+    let (json, _) = ok(&[
+        "consumption",
+        "--type",
+        "503",
+        "--thickness",
+        "2.5",
+        "--stitch",
+        "2.8",
+        "--width",
+        "4",
+        "--incline",
+        "20",
+        "--format",
+        "json",
+    ]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert!((v["total_mm"].as_f64().unwrap() - 30.0035111).abs() < 1e-6);
     let e = fails(&["consumption", "--type", "504", "--thickness", "2.5", "--stitch", "2.8"]);
     assert!(e.contains("needs the overedge width"), "{e}");
-    let e = fails(&["consumption", "--type", "999", "--thickness", "2.5", "--stitch", "2.8", "--width", "4"]);
+    let e = fails(&[
+        "consumption",
+        "--type",
+        "999",
+        "--thickness",
+        "2.5",
+        "--stitch",
+        "2.8",
+        "--width",
+        "4",
+    ]);
     assert!(e.contains("not covered") && e.contains("501"), "{e}");
-    let e = fails(&["consumption", "--type", "504", "--thickness", "2.5", "--stitch", "-1", "--width", "4"]);
+    let e = fails(&[
+        "consumption",
+        "--type",
+        "504",
+        "--thickness",
+        "2.5",
+        "--stitch",
+        "-1",
+        "--width",
+        "4",
+    ]);
     assert!(e.contains("stitch length"), "{e}");
 }
 
@@ -133,29 +240,62 @@ fn consumption_prints_the_thread_per_stitch() {
 fn match_prints_the_mismatch_per_thread() {
     let (out, _) = ok(&["match"]);
     assert!(out.lines().count() < 50, "one screen:\n{out}");
-    assert!(out.starts_with("Juki MF-7923D") && out.contains("stitch 407, material m = 3 mm, stitch length t = 3 mm"), "{out}");
-    assert!(out.contains("needle threads measured at B, the eye's top position"), "{out}");
-    assert!(out.contains("regulator: n1, n2, n3 φ = 300.0°…360.0°, the last 60° before the needle's TDC"), "{out}");
+    assert!(
+        out.starts_with("Juki MF-7923D") && out.contains("stitch 407, material m = 3 mm, stitch length t = 3 mm"),
+        "{out}"
+    );
+    assert!(
+        out.contains("needle threads measured at B, the eye's top position"),
+        "{out}"
+    );
+    assert!(
+        out.contains("regulator: n1, n2, n3 φ = 300.0°…360.0°, the last 60° before the needle's TDC"),
+        "{out}"
+    );
     // One row per needle thread: its score (at least 60), and every check passes.
     for j in 1..=3 {
-        let row = out.lines().find(|l| l.starts_with(&format!("n{j} "))).unwrap_or_else(|| panic!("no row n{j}:\n{out}"));
+        let row = out
+            .lines()
+            .find(|l| l.starts_with(&format!("n{j} ")))
+            .unwrap_or_else(|| panic!("no row n{j}:\n{out}"));
         let score: f64 = row.split_whitespace().nth(2).unwrap().parse().unwrap();
         assert!(score >= 60.0 && row.ends_with("3 of 3 pass"), "{row}");
     }
     // P against P′ as sparklines, the regulator window marked below them.
-    assert_eq!(out.lines().filter(|l| l.contains("P′    ") && l.contains('▁')).count(), 3, "{out}");
+    assert_eq!(
+        out.lines().filter(|l| l.contains("P′    ") && l.contains('▁')).count(),
+        3,
+        "{out}"
+    );
     assert!(out.contains("~~~~~~~~~~  regulator window"), "{out}");
     for check in ["thread_bound", "catch_clearance", "stab_before_drop"] {
         assert_eq!(out.matches(&format!(" {check} ")).count(), 3, "{check}:\n{out}");
     }
     assert!(!out.contains("FAIL") && !out.contains("note: P peaks"), "{out}");
     // The thread bound as the least to spare (the loop on the looper at TDC), beside P_B's peak.
-    assert!(out.contains("thread_bound         18.04 mm  to spare at the least (φ = 0.0°; P_B peaks at 17.48 mm)"), "{out}");
+    assert!(
+        out.contains("thread_bound         18.04 mm  to spare at the least (φ = 0.0°; P_B peaks at 17.48 mm)"),
+        "{out}"
+    );
     // The model's caveats and what the stitch model carries over.
-    assert!(out.contains("note: Reconstruction:") && out.contains("401 two-thread chain stitch"), "{out}");
+    assert!(
+        out.contains("note: Reconstruction:") && out.contains("401 two-thread chain stitch"),
+        "{out}"
+    );
     // Every metric with --details.
     let (details, _) = ok(&["match", "--details"]);
-    for line in ["per stitch", "max P′", "max P′ at the eye", "RMS(D)", "max |D|", "slack  (D > ε)", "strain (D < −ε)", "match score", "jumps of P′", "moments (φ)"] {
+    for line in [
+        "per stitch",
+        "max P′",
+        "max P′ at the eye",
+        "RMS(D)",
+        "max |D|",
+        "slack  (D > ε)",
+        "strain (D < −ε)",
+        "match score",
+        "jumps of P′",
+        "moments (φ)",
+    ] {
         assert!(details.contains(line), "`{line}` missing:\n{details}");
     }
     assert!(details.contains("9.000 mm (cut from P′ at its lock"), "{details}");
@@ -163,8 +303,14 @@ fn match_prints_the_mismatch_per_thread() {
     // match says what that means.
     let (other, _) = ok(&["match", "--set", "t1_phase=0"]);
     assert_eq!(other.matches("FAIL  n").count(), 3, "{other}");
-    assert!(other.contains("thread_bound         30.82 mm  more than the needle can take through B (φ = 152.0°"), "{other}");
-    assert!(other.contains("hangs slack") && other.contains("note: 3 physical check(s) fail"), "{other}");
+    assert!(
+        other.contains("thread_bound         30.82 mm  more than the needle can take through B (φ = 152.0°"),
+        "{other}"
+    );
+    assert!(
+        other.contains("hangs slack") && other.contains("note: 3 physical check(s) fail"),
+        "{other}"
+    );
     let (json, _) = ok(&["match", "--preset", "mf7923d", "--set", "m=4", "--format", "json"]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["m_mm"], 4.0);
@@ -178,7 +324,14 @@ fn match_prints_the_mismatch_per_thread() {
     let checks = v["checks"].as_array().unwrap();
     assert_eq!(checks.len(), 9);
     for c in checks {
-        assert!(c["name"].is_string() && c["ok"].is_boolean() && c["value"].is_number() && c["limit"].is_array() && c["message"].is_string(), "{c}");
+        assert!(
+            c["name"].is_string()
+                && c["ok"].is_boolean()
+                && c["value"].is_number()
+                && c["limit"].is_array()
+                && c["message"].is_string(),
+            "{c}"
+        );
     }
     assert!(v["caveats"].as_array().unwrap().len() >= 2 && v["transfers"].as_array().unwrap().len() == 1);
     // The P' columns come with `run`.
@@ -203,7 +356,10 @@ fn match_plot_and_report_take_a_measured_curve() {
     let file = file.to_str().unwrap();
     let (out, _) = ok(&["match", "--measured", file]);
     assert!(out.contains("measured P of n2") && out.contains("at B"), "{out}");
-    assert!(out.contains("the model's P against it: RMS 0.0"), "the model against itself, interpolated:\n{out}");
+    assert!(
+        out.contains("the model's P against it: RMS 0.0"),
+        "the model against itself, interpolated:\n{out}"
+    );
     assert!(out.contains("P meas"), "a sparkline of the measured curve:\n{out}");
     let (json, _) = ok(&["match", "--measured", &format!("n2={file}"), "--format", "json"]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
@@ -211,9 +367,22 @@ fn match_plot_and_report_take_a_measured_curve() {
     assert!(v["measured"][0]["against_other"]["score"].as_f64().unwrap() > 60.0);
     let svg = d.join("m.svg");
     ok(&["plot", "takeup", "--measured", file, "-o", svg.to_str().unwrap()]);
-    assert!(std::fs::read_to_string(&svg).unwrap().contains("data-name=\"n2 P measured\""));
+    assert!(
+        std::fs::read_to_string(&svg)
+            .unwrap()
+            .contains("data-name=\"n2 P measured\"")
+    );
     let html = d.join("m.html");
-    ok(&["report", "--measured", file, "--no-animation", "--step", "5", "-o", html.to_str().unwrap()]);
+    ok(&[
+        "report",
+        "--measured",
+        file,
+        "--no-animation",
+        "--step",
+        "5",
+        "-o",
+        html.to_str().unwrap(),
+    ]);
     assert!(std::fs::read_to_string(&html).unwrap().contains("id=\"measured\""));
     // A malformed curve: the line and the fix.
     std::fs::write(d.join("bad.csv"), "phi_deg,n2.P_B_mm\n0,0\n90,x\n").unwrap();
@@ -227,17 +396,31 @@ fn match_plot_and_report_take_a_measured_curve() {
 
 #[test]
 fn sweep_writes_one_row_per_setting_and_shards_concatenate() {
-    let args = ["sweep", "--preset", "needle876", "--vary", "alpha=0:35:8", "--figures", "needle_y.range_mm,mu.min_deg"];
+    let args = [
+        "sweep",
+        "--preset",
+        "needle876",
+        "--vary",
+        "alpha=0:35:8",
+        "--figures",
+        "needle_y.range_mm,mu.min_deg",
+    ];
     let (out, err) = ok(&args);
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(lines[0], "index,alpha_deg,mu.min_deg,needle_y.range_mm,status");
     assert_eq!(lines.len(), 9, "{out}");
     // Seed 002: stroke 18.08 mm at α = 0, 22.77 mm at 35°.
     let stroke = |l: &str| l.split(',').nth(3).unwrap().parse::<f64>().unwrap();
-    assert!((stroke(lines[1]) - 18.08).abs() < 0.01 && (stroke(lines[8]) - 22.77).abs() < 0.01, "{out}");
+    assert!(
+        (stroke(lines[1]) - 18.08).abs() < 0.01 && (stroke(lines[8]) - 22.77).abs() < 0.01,
+        "{out}"
+    );
     assert!(lines[1..].iter().all(|l| l.ends_with(",ok")));
     assert!(err.contains("# sweep: 8 settings (8 evaluated"), "{err}");
-    assert!(err.contains("largest mu.min_deg") && err.contains("at alpha = 0"), "{err}");
+    assert!(
+        err.contains("largest mu.min_deg") && err.contains("at alpha = 0"),
+        "{err}"
+    );
     // Three shards, concatenated, are the sweep.
     let mut cat = String::new();
     for k in 1..=3 {
@@ -249,7 +432,19 @@ fn sweep_writes_one_row_per_setting_and_shards_concatenate() {
     assert_eq!(cat, out);
     // Samples are reproducible from the seed, and a setting without assembly
     // is a row with its reason, not a failure.
-    let lhs = ["sweep", "--preset", "needle876", "--vary", "alpha=0:45", "--samples", "12", "--seed", "3", "--figures", "mu.min_deg"];
+    let lhs = [
+        "sweep",
+        "--preset",
+        "needle876",
+        "--vary",
+        "alpha=0:45",
+        "--samples",
+        "12",
+        "--seed",
+        "3",
+        "--figures",
+        "mu.min_deg",
+    ];
     let (a, _) = ok(&lhs);
     let (b, _) = ok(&lhs);
     assert_eq!(a, b);
@@ -257,29 +452,85 @@ fn sweep_writes_one_row_per_setting_and_shards_concatenate() {
     // Bad requests fail before any work, naming the fix.
     let e = fails(&["sweep", "--preset", "needle876", "--vary", "alpha=0:99:3"]);
     assert!(e.contains("outside its adjustable range"), "{e}");
-    let e = fails(&["sweep", "--preset", "needle876", "--vary", "alpha=0:10:3", "--figures", "nope"]);
-    assert!(e.contains("no figure of merit matches `nope`") && e.contains("mu.min_deg"), "{e}");
-    let e = fails(&["sweep", "--preset", "needle876", "--vary", "alpha=0:10:3", "--shard", "4/3"]);
+    let e = fails(&[
+        "sweep",
+        "--preset",
+        "needle876",
+        "--vary",
+        "alpha=0:10:3",
+        "--figures",
+        "nope",
+    ]);
+    assert!(
+        e.contains("no figure of merit matches `nope`") && e.contains("mu.min_deg"),
+        "{e}"
+    );
+    let e = fails(&[
+        "sweep",
+        "--preset",
+        "needle876",
+        "--vary",
+        "alpha=0:10:3",
+        "--shard",
+        "4/3",
+    ]);
     assert!(e.contains("not a shard"), "{e}");
     let e = fails(&["sweep", "--preset", "needle876", "--vary", "alpha"]);
     assert!(e.contains("NAME=LO:HI:N"), "{e}");
     // With -o the file appears whole, and nothing else is left behind.
     let d = scratch("sweep");
     let f = d.join("s.csv");
-    ok(&["sweep", "--preset", "needle876", "--vary", "alpha=0:35:8", "--figures", "needle_y.range_mm,mu.min_deg", "-o", f.to_str().unwrap()]);
+    ok(&[
+        "sweep",
+        "--preset",
+        "needle876",
+        "--vary",
+        "alpha=0:35:8",
+        "--figures",
+        "needle_y.range_mm,mu.min_deg",
+        "-o",
+        f.to_str().unwrap(),
+    ]);
     assert_eq!(std::fs::read_to_string(&f).unwrap(), out);
     assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
 }
 
 #[test]
 fn tune_recommends_a_setting_with_before_and_after() {
-    let (out, _) = ok(&["tune", "--set", "t1_phase=180", "--thickness", "4", "--adjust", "z,dphi", "--step", "2"]);
+    let (out, _) = ok(&[
+        "tune",
+        "--set",
+        "t1_phase=180",
+        "--thickness",
+        "4",
+        "--adjust",
+        "z,dphi",
+        "--step",
+        "2",
+    ]);
     assert!(out.starts_with("Recommended setting: z = "), "{out}");
     assert!(out.contains("(from z = 0 mm, dphi = 0 deg)"), "{out}");
-    for line in ["score before", "RMS(D) after", "mean", "transmission angles: before", "within one score point", "cycles evaluated"] {
+    for line in [
+        "score before",
+        "RMS(D) after",
+        "mean",
+        "transmission angles: before",
+        "within one score point",
+        "cycles evaluated",
+    ] {
         assert!(out.contains(line), "`{line}` missing:\n{out}");
     }
-    let (json, _) = ok(&["tune", "--set", "t1_phase=180", "--adjust", "z", "--step", "3", "--format", "json"]);
+    let (json, _) = ok(&[
+        "tune",
+        "--set",
+        "t1_phase=180",
+        "--adjust",
+        "z",
+        "--step",
+        "3",
+        "--format",
+        "json",
+    ]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert!(v["after_figures"]["score_mean"].as_f64().unwrap() >= v["before_figures"]["score_mean"].as_f64().unwrap());
     let e = fails(&["tune", "--preset", "needle876", "--adjust", "alpha"]);
@@ -294,7 +545,10 @@ fn tune_recommends_a_setting_with_before_and_after() {
 fn compare_2d3d_reports_the_planar_error() {
     let (csv, summary) = ok(&["compare-2d3d", "--plane", "uvw", "--step", "10"]);
     let header = csv.lines().next().unwrap();
-    assert!(header.starts_with("phi_deg,n1_A.P3D_mm,n1_A.P2D_mm,n1_A.dP_mm"), "{header}");
+    assert!(
+        header.starts_with("phi_deg,n1_A.P3D_mm,n1_A.P2D_mm,n1_A.dP_mm"),
+        "{header}"
+    );
     assert_eq!(csv.lines().count(), 37);
     assert!(summary.contains("n1_A max |ΔP|"), "{summary}");
     let (json, _) = ok(&["compare-2d3d", "--format", "json", "--step", "90"]);
@@ -311,16 +565,24 @@ fn every_preset_runs_as_csv_and_json_and_checks() {
     for p in PRESETS {
         let (csv, _) = ok(&["run", "--preset", p, "--step", "5"]);
         assert_eq!(csv.lines().count(), 1 + 72, "{p}");
-        let (json, _) = ok(&["run", "--preset", p, "--step", "30", "--format", "json", "--rpm", "1000"]);
+        let (json, _) = ok(&[
+            "run", "--preset", p, "--step", "30", "--format", "json", "--rpm", "1000",
+        ]);
         let v: serde_json::Value = serde_json::from_str(&json).unwrap();
         assert_eq!(v["model"], *p);
         assert_eq!(v["columns"][0]["name"], "phi_deg");
         assert_eq!(v["columns"][0]["values"].as_array().unwrap().len(), 12);
         assert!(v["transmission"].is_array() && v["parameters"].is_array());
         let (check, _) = ok(&["check", "--preset", p, "--cross-check", "--step", "10"]);
-        assert!(check.contains("ok —") && check.contains("cross-check: 36 positions"), "{check}");
+        assert!(
+            check.contains("ok —") && check.contains("cross-check: 36 positions"),
+            "{check}"
+        );
         if *p == "mf7923d" {
-            assert!(check.contains("thread paths (6)") && check.contains("[G4_1]"), "{check}");
+            assert!(
+                check.contains("thread paths (6)") && check.contains("[G4_1]"),
+                "{check}"
+            );
         }
     }
 }
@@ -328,8 +590,18 @@ fn every_preset_runs_as_csv_and_json_and_checks() {
 #[test]
 fn presets_lists_name_machine_and_seed() {
     let (out, _) = ok(&["presets"]);
-    for (p, seed) in [("needle876", "002"), ("overlock500", "003"), ("altin-needle", "004"), ("altin504", "004"), ("mf7923d", "000"), ("takeup-lever", "001")] {
-        let line = out.lines().find(|l| l.starts_with(p)).unwrap_or_else(|| panic!("{p} missing:\n{out}"));
+    for (p, seed) in [
+        ("needle876", "002"),
+        ("overlock500", "003"),
+        ("altin-needle", "004"),
+        ("altin504", "004"),
+        ("mf7923d", "000"),
+        ("takeup-lever", "001"),
+    ] {
+        let line = out
+            .lines()
+            .find(|l| l.starts_with(p))
+            .unwrap_or_else(|| panic!("{p} missing:\n{out}"));
         assert!(line.contains(seed), "{line}");
     }
     assert!(out.contains("(default)"));
@@ -344,13 +616,19 @@ fn overrides_are_applied_and_checked() {
     assert_ne!(a0, a30);
     assert!(!warn30.contains("warning"));
     let (_, warn40) = ok(&with(&["--step", "1", "--set", "alpha=40"]));
-    assert!(warn40.contains("warning: transmission angle") && warn40.contains("45"), "{warn40}");
+    assert!(
+        warn40.contains("warning: transmission angle") && warn40.contains("45"),
+        "{warn40}"
+    );
     let e = fails(&with(&["--set", "alpha=50"]));
     assert!(e.contains("outside its adjustable range") && e.contains("help"), "{e}");
     let (_, sz) = ok(&["run", "--set", "z=-5", "--set", "dphi=10", "--step", "10"]);
     assert!(sz.contains("n1_A"));
     let e = fails(&["run", "--set", "z=-15"]);
-    assert!(e.contains("z = -15 mm is outside its adjustable range -10…10 mm"), "{e}");
+    assert!(
+        e.contains("z = -15 mm is outside its adjustable range -10…10 mm"),
+        "{e}"
+    );
     let e = fails(&with(&["--set", "alpah=5"]));
     assert!(e.contains("did you mean `alpha`"), "{e}");
     let e = fails(&with(&["--set", "alpha"]));
@@ -369,9 +647,21 @@ fn overrides_are_applied_and_checked() {
 fn malformed_files_name_file_line_column_and_fix() {
     let d = scratch("malformed");
     let cases: &[(&str, &str, &str)] = &[
-        ("syntax.toml", "[model]\nname = \"x\"\n[points]\nO = [0, 0\n", "syntax.toml:4:"),
-        ("unknown.toml", "[model]\nname = \"x\"\n[points]\nO = [0, 0]\n[[drivers]]\ntype = \"crank\"\ncenter = \"Q\"\nout = \"A\"\nradius = 5\n", "syntax"),
-        ("units.toml", "[model]\nname = \"x\"\n[parameters]\na = { value = 5, unit = \"deg\" }\n[points]\nO = [0, 0]\n[[drivers]]\ntype = \"crank\"\ncenter = \"O\"\nout = \"A\"\nradius = \"a\"\n", "units.toml:11:"),
+        (
+            "syntax.toml",
+            "[model]\nname = \"x\"\n[points]\nO = [0, 0\n",
+            "syntax.toml:4:",
+        ),
+        (
+            "unknown.toml",
+            "[model]\nname = \"x\"\n[points]\nO = [0, 0]\n[[drivers]]\ntype = \"crank\"\ncenter = \"Q\"\nout = \"A\"\nradius = 5\n",
+            "syntax",
+        ),
+        (
+            "units.toml",
+            "[model]\nname = \"x\"\n[parameters]\na = { value = 5, unit = \"deg\" }\n[points]\nO = [0, 0]\n[[drivers]]\ntype = \"crank\"\ncenter = \"O\"\nout = \"A\"\nradius = \"a\"\n",
+            "units.toml:11:",
+        ),
     ];
     for (name, text, _) in cases {
         std::fs::write(d.join(name), text).unwrap();
@@ -379,9 +669,15 @@ fn malformed_files_name_file_line_column_and_fix() {
     let e = fails(&["check", d.join("syntax.toml").to_str().unwrap()]);
     assert!(e.contains("syntax.toml:4:"), "{e}");
     let e = fails(&["check", d.join("unknown.toml").to_str().unwrap()]);
-    assert!(e.contains("unknown.toml:7:") && e.contains("unknown point `Q`") && e.contains("help"), "{e}");
+    assert!(
+        e.contains("unknown.toml:7:") && e.contains("unknown point `Q`") && e.contains("help"),
+        "{e}"
+    );
     let e = fails(&["run", d.join("units.toml").to_str().unwrap()]);
-    assert!(e.contains("units.toml:11:") && e.contains("deg") && e.contains("mm"), "{e}");
+    assert!(
+        e.contains("units.toml:11:") && e.contains("deg") && e.contains("mm"),
+        "{e}"
+    );
     let e = fails(&["run", d.join("missing.toml").to_str().unwrap()]);
     assert!(e.contains("cannot read model file"), "{e}");
 }
@@ -394,23 +690,59 @@ fn a_failed_run_leaves_no_output_file() {
                  [[groups]]\ntype = \"rrr\"\nname = \"bc\"\njoints = [\"A\", \"O2\"]\nlengths = [50, 24]\nout = \"B\"\nbranch = \"left\"\n";
     std::fs::write(d.join("short.toml"), model).unwrap();
     let out = d.join("out.csv");
-    let e = fails(&["run", d.join("short.toml").to_str().unwrap(), "-o", out.to_str().unwrap()]);
-    assert!(e.contains("no assembly at φ =") && e.contains("rrr group \"bc\"") && e.contains("closure fails by"), "{e}");
+    let e = fails(&[
+        "run",
+        d.join("short.toml").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        e.contains("no assembly at φ =") && e.contains("rrr group \"bc\"") && e.contains("closure fails by"),
+        "{e}"
+    );
     assert!(!out.exists());
     // An existing file is left untouched by a failed run, replaced by a good one.
     std::fs::write(&out, "previous").unwrap();
-    fails(&["run", d.join("short.toml").to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    fails(&[
+        "run",
+        d.join("short.toml").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "previous");
     ok(&["run", "--step", "10", "-o", out.to_str().unwrap()]);
     assert!(std::fs::read_to_string(&out).unwrap().starts_with("phi_deg,"));
-    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 2, "no temporary files left behind");
+    assert_eq!(
+        std::fs::read_dir(&d).unwrap().count(),
+        2,
+        "no temporary files left behind"
+    );
     let e = fails(&["run", "-o", "/nonexistent-dir/out.csv"]);
     assert!(e.contains("cannot"), "{e}");
 }
 
 #[test]
 fn every_subcommand_has_help_with_an_example() {
-    for sub in [vec!["--help"], vec!["run", "--help"], vec!["check", "--help"], vec!["presets", "--help"], vec!["schema", "--help"], vec!["compare-2d3d", "--help"], vec!["consumption", "--help"], vec!["match", "--help"], vec!["sweep", "--help"], vec!["tune", "--help"], vec!["sensitivity", "--help"], vec!["fit", "--help"], vec!["cam", "--help"], vec!["nomogram", "--help"], vec!["stroke", "--help"], vec!["straightness", "--help"], vec!["tolerance", "--help"], vec!["plot", "--help"]] {
+    for sub in [
+        vec!["--help"],
+        vec!["run", "--help"],
+        vec!["check", "--help"],
+        vec!["presets", "--help"],
+        vec!["schema", "--help"],
+        vec!["compare-2d3d", "--help"],
+        vec!["consumption", "--help"],
+        vec!["match", "--help"],
+        vec!["sweep", "--help"],
+        vec!["tune", "--help"],
+        vec!["sensitivity", "--help"],
+        vec!["fit", "--help"],
+        vec!["cam", "--help"],
+        vec!["nomogram", "--help"],
+        vec!["stroke", "--help"],
+        vec!["straightness", "--help"],
+        vec!["tolerance", "--help"],
+        vec!["plot", "--help"],
+    ] {
         let (out, _) = ok(&sub);
         assert!(out.contains("Example"), "{sub:?}:\n{out}");
     }
@@ -431,18 +763,36 @@ fn schema_is_json_schema_of_the_format() {
 /// prints, checks that `/api/model` answers, and stops it.
 fn serve_answers(args: &[&str]) {
     use std::io::{BufRead, BufReader, Read, Write};
-    let mut child = bin().args(args).args(["--port", "0"]).stdout(std::process::Stdio::piped()).spawn().unwrap();
+    let mut child = bin()
+        .args(args)
+        .args(["--port", "0"])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
     let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
-    let url = line.split("open ").nth(1).and_then(|u| u.split_whitespace().next()).unwrap_or_else(|| panic!("no address in `{line}`"));
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let url = line
+        .split("open ")
+        .nth(1)
+        .and_then(|u| u.split_whitespace().next())
+        .unwrap_or_else(|| panic!("no address in `{line}`"));
     let addr = url.trim_start_matches("http://").trim_end_matches('/');
     let mut s = std::net::TcpStream::connect(addr).unwrap();
-    write!(s, "GET /api/model HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n").unwrap();
+    write!(
+        s,
+        "GET /api/model HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
+    )
+    .unwrap();
     let mut answer = String::new();
     s.read_to_string(&mut answer).unwrap();
     let _ = child.kill();
     let _ = child.wait();
-    assert!(answer.starts_with("HTTP/1.1 200") && answer.contains("\"parameters\""), "{answer}");
+    assert!(
+        answer.starts_with("HTTP/1.1 200") && answer.contains("\"parameters\""),
+        "{answer}"
+    );
 }
 
 /// The `stitchkin …` commands of the ```sh blocks of a file of the
@@ -458,7 +808,12 @@ fn doc_commands(file: &str) -> Vec<Vec<String>> {
         }
         let cmd = line.split('#').next().unwrap().trim();
         if in_sh && cmd.starts_with("stitchkin ") {
-            out.push(cmd.split_whitespace().skip(1).map(|a| a.trim_matches('\'').to_string()).collect());
+            out.push(
+                cmd.split_whitespace()
+                    .skip(1)
+                    .map(|a| a.trim_matches('\'').to_string())
+                    .collect(),
+            );
         }
     }
     out
@@ -475,7 +830,12 @@ fn run_doc_commands(file: &str, d: &Path) -> usize {
             continue;
         }
         let out = run_in(&args, d);
-        assert!(out.status.success(), "{file}: `stitchkin {}` failed\n{}", args.join(" "), String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{file}: `stitchkin {}` failed\n{}",
+            args.join(" "),
+            String::from_utf8_lossy(&out.stderr)
+        );
     }
     commands.len()
 }
@@ -506,9 +866,19 @@ fn picture_docs_examples_run() {
 #[test]
 fn results_do_not_depend_on_the_vector_unit() {
     let sweep = ["sweep", "--vary", "z=-10:10:5", "--vary", "r1=4:6:3"];
-    for args in [&["run"][..], &["run", "--preset", "takeup-lever"], &["run", "--preset", "needle876"], &sweep] {
+    for args in [
+        &["run"][..],
+        &["run", "--preset", "takeup-lever"],
+        &["run", "--preset", "needle876"],
+        &sweep,
+    ] {
         let with = |unit: &str| {
-            let out = bin().args(args).env("NO_COLOR", "1").env("STITCHKIN_SIMD", unit).output().expect("the binary runs");
+            let out = bin()
+                .args(args)
+                .env("NO_COLOR", "1")
+                .env("STITCHKIN_SIMD", unit)
+                .output()
+                .expect("the binary runs");
             assert!(out.status.success(), "{args:?} with {unit} failed");
             out.stdout
         };

@@ -45,10 +45,18 @@ pub struct Reply {
 
 impl Reply {
     fn json(status: u16, v: &Value) -> Reply {
-        Reply { status, content_type: "application/json; charset=utf-8", body: v.to_string().into_bytes() }
+        Reply {
+            status,
+            content_type: "application/json; charset=utf-8",
+            body: v.to_string().into_bytes(),
+        }
     }
     fn svg(svg: String) -> Reply {
-        Reply { status: 200, content_type: "image/svg+xml; charset=utf-8", body: svg.into_bytes() }
+        Reply {
+            status: 200,
+            content_type: "image/svg+xml; charset=utf-8",
+            body: svg.into_bytes(),
+        }
     }
     /// A client error: what is wrong and how to fix it.
     pub fn error(status: u16, error: impl Into<String>, help: Option<&str>) -> Reply {
@@ -66,7 +74,12 @@ impl Reply {
 fn library_error(e: &Error) -> Reply {
     let status = match e {
         Error::Param(_) => 400,
-        Error::Assembly(_) | Error::Thread(_) | Error::Stitch(_) | Error::Physical(_) | Error::NotFinite(_) | Error::Model(_) => 422,
+        Error::Assembly(_)
+        | Error::Thread(_)
+        | Error::Stitch(_)
+        | Error::Physical(_)
+        | Error::NotFinite(_)
+        | Error::Model(_) => 422,
         Error::Io(_) => 500,
     };
     let message = match e {
@@ -95,19 +108,45 @@ impl App {
     /// Answers one request. Only GET and HEAD are served (405 otherwise).
     pub fn handle(&self, method: &str, url: &str) -> Reply {
         if method != "GET" && method != "HEAD" {
-            return Reply::error(405, format!("{method} is not served here"), Some("the page only reads: use GET"));
+            return Reply::error(
+                405,
+                format!("{method} is not served here"),
+                Some("the page only reads: use GET"),
+            );
         }
         let (path, query) = url.split_once('?').unwrap_or((url, ""));
         if query.len() > MAX_QUERY_BYTES {
-            return Reply::error(414, format!("the query is {} bytes, more than {MAX_QUERY_BYTES}", query.len()), None);
+            return Reply::error(
+                414,
+                format!("the query is {} bytes, more than {MAX_QUERY_BYTES}", query.len()),
+                None,
+            );
         }
         let result = match path {
-            "/" | "/index.html" => return Reply { status: 200, content_type: "text/html; charset=utf-8", body: PAGE.as_bytes().to_vec() },
+            "/" | "/index.html" => {
+                return Reply {
+                    status: 200,
+                    content_type: "text/html; charset=utf-8",
+                    body: PAGE.as_bytes().to_vec(),
+                };
+            }
             "/api/model" => Query::parse(query, &[]).map(|_| Reply::json(200, &self.describe())),
             "/api/evaluate" => Query::parse(query, &["step"]).and_then(|q| self.evaluate(&q)),
-            "/api/drawing" => Query::parse(query, &["phi", "view", "animate", "trajectories"]).and_then(|q| self.drawing(&q)),
-            "/favicon.ico" => return Reply { status: 204, content_type: "image/x-icon", body: Vec::new() },
-            _ => Err(Reply::error(404, format!("there is nothing at {path}"), Some("the page is at /, its data under /api/model, /api/evaluate and /api/drawing"))),
+            "/api/drawing" => {
+                Query::parse(query, &["phi", "view", "animate", "trajectories"]).and_then(|q| self.drawing(&q))
+            }
+            "/favicon.ico" => {
+                return Reply {
+                    status: 204,
+                    content_type: "image/x-icon",
+                    body: Vec::new(),
+                };
+            }
+            _ => Err(Reply::error(
+                404,
+                format!("there is nothing at {path}"),
+                Some("the page is at /, its data under /api/model, /api/evaluate and /api/drawing"),
+            )),
         };
         result.unwrap_or_else(|reply| reply)
     }
@@ -148,7 +187,12 @@ impl App {
                 })
             })
             .collect();
-        let threads: Vec<&str> = model.file.thread.iter().flat_map(|t| t.paths.iter().map(|p| p.name.as_str())).collect();
+        let threads: Vec<&str> = model
+            .file
+            .thread
+            .iter()
+            .flat_map(|t| t.paths.iter().map(|p| p.name.as_str()))
+            .collect();
         json!({
             "name": model.file.model.name,
             "title": model.file.model.title,
@@ -170,9 +214,13 @@ impl App {
         let mut params = self.base.clone();
         for (name, value) in &q.params {
             let v = number(value, &format!("p.{name}"))?;
-            self.model.set(&mut params, name, v).map_err(|e| Reply::error(400, format!("p.{name}: {}", e.message), e.help.as_deref()))?;
+            self.model
+                .set(&mut params, name, v)
+                .map_err(|e| Reply::error(400, format!("p.{name}: {}", e.message), e.help.as_deref()))?;
         }
-        self.model.mechanism::<f64>(&params).map_err(|e| library_error(&Error::Model(e)))?;
+        self.model
+            .mechanism::<f64>(&params)
+            .map_err(|e| library_error(&Error::Model(e)))?;
         Ok(params)
     }
 
@@ -185,12 +233,21 @@ impl App {
                 let v = number(s, "step")?;
                 let [lo, hi] = STEP_RANGE_DEG;
                 if !(lo..=hi).contains(&v) {
-                    return Err(Reply::error(400, format!("step = {v} deg is outside {lo}…{hi} deg"), Some("a φ step of 1 deg draws smooth curves; 0.25 is finest")));
+                    return Err(Reply::error(
+                        400,
+                        format!("step = {v} deg is outside {lo}…{hi} deg"),
+                        Some("a φ step of 1 deg draws smooth curves; 0.25 is finest"),
+                    ));
                 }
                 v
             }
         };
-        let opts = CycleOptions { step_deg: step, analogs: false, points: Some(Vec::new()), ..Default::default() };
+        let opts = CycleOptions {
+            step_deg: step,
+            analogs: false,
+            points: Some(Vec::new()),
+            ..Default::default()
+        };
         let table = run_cycle(&self.model, &params, &opts).map_err(|e| library_error(&e))?;
         // The chart from the same cycle as the summary.
         let chart = match chart_kind(&self.model) {
@@ -266,12 +323,33 @@ impl App {
         let animate = match q.get("animate") {
             None | Some("0") | Some("false") => false,
             Some("1") | Some("true") => true,
-            Some(other) => return Err(Reply::error(400, format!("animate = `{other}` is not a switch"), Some("write animate=1 to animate over the cycle, animate=0 for a still"))),
+            Some(other) => {
+                return Err(Reply::error(
+                    400,
+                    format!("animate = `{other}` is not a switch"),
+                    Some("write animate=1 to animate over the cycle, animate=0 for a still"),
+                ));
+            }
         };
-        let trajectories: Vec<String> =
-            q.get("trajectories").map(|s| s.split(',').map(str::trim).filter(|s| !s.is_empty()).map(String::from).collect()).unwrap_or_default();
-        let request = DrawingRequest { phi_deg, view: q.get("view").unwrap_or("auto").to_string(), animate, trajectories };
-        view::render(&self.model, &params, &request).map(Reply::svg).map_err(|e| library_error(&e))
+        let trajectories: Vec<String> = q
+            .get("trajectories")
+            .map(|s| {
+                s.split(',')
+                    .map(str::trim)
+                    .filter(|s| !s.is_empty())
+                    .map(String::from)
+                    .collect()
+            })
+            .unwrap_or_default();
+        let request = DrawingRequest {
+            phi_deg,
+            view: q.get("view").unwrap_or("auto").to_string(),
+            animate,
+            trajectories,
+        };
+        view::render(&self.model, &params, &request)
+            .map(Reply::svg)
+            .map_err(|e| library_error(&e))
     }
 }
 
@@ -291,7 +369,11 @@ fn chart_kind(model: &Model) -> Option<Plot> {
 fn number(s: &str, key: &str) -> Result<f64, Reply> {
     match s.trim().parse::<f64>() {
         Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(Reply::error(400, format!("{key} = `{s}` is not a finite number"), Some("write a plain decimal number in the parameter's unit (mm or deg), e.g. 5.25"))),
+        _ => Err(Reply::error(
+            400,
+            format!("{key} = `{s}` is not a finite number"),
+            Some("write a plain decimal number in the parameter's unit (mm or deg), e.g. 5.25"),
+        )),
     }
 }
 
@@ -308,9 +390,14 @@ impl Query {
         let mut q = Query::default();
         for (key, value) in form_urlencoded::parse(query.as_bytes()) {
             let (key, value) = (key.into_owned(), value.into_owned());
-            let seen = q.params.iter().any(|(k, _)| key.strip_prefix("p.") == Some(k)) || q.other.iter().any(|(k, _)| *k == key);
+            let seen = q.params.iter().any(|(k, _)| key.strip_prefix("p.") == Some(k))
+                || q.other.iter().any(|(k, _)| *k == key);
             if seen {
-                return Err(Reply::error(400, format!("`{key}` is given twice"), Some("give each key once")));
+                return Err(Reply::error(
+                    400,
+                    format!("`{key}` is given twice"),
+                    Some("give each key once"),
+                ));
             }
             if let Some(name) = key.strip_prefix("p.") {
                 q.params.push((name.to_string(), value));
@@ -319,7 +406,11 @@ impl Query {
             } else {
                 let mut keys: Vec<String> = allowed.iter().map(|k| k.to_string()).collect();
                 keys.push("p.NAME (a parameter)".into());
-                return Err(Reply::error(400, format!("unknown query key `{key}`"), Some(&format!("this route takes: {}", keys.join(", ")))));
+                return Err(Reply::error(
+                    400,
+                    format!("unknown query key `{key}`"),
+                    Some(&format!("this route takes: {}", keys.join(", "))),
+                ));
             }
         }
         Ok(q)

@@ -26,7 +26,10 @@ impl Server {
     /// `threads` workers (at least one).
     pub fn start(app: App, addr: &str, threads: usize) -> Result<Server, Error> {
         let http = tiny_http::Server::http(addr).map_err(|e| Error::Io(format!("cannot listen on {addr}: {e}")))?;
-        let addr = http.server_addr().to_ip().ok_or_else(|| Error::Io(format!("{addr} is not an IP address")))?;
+        let addr = http
+            .server_addr()
+            .to_ip()
+            .ok_or_else(|| Error::Io(format!("{addr} is not an IP address")))?;
         let http = Arc::new(http);
         let app = Arc::new(app);
         let loopback = addr.ip().is_loopback();
@@ -83,7 +86,11 @@ fn is_local_host(host: &str) -> bool {
 }
 
 fn answer(app: &App, request: Request, loopback: bool) {
-    let host = request.headers().iter().find(|h| h.field.equiv("Host")).map(|h| h.value.as_str().to_string());
+    let host = request
+        .headers()
+        .iter()
+        .find(|h| h.field.equiv("Host"))
+        .map(|h| h.value.as_str().to_string());
     let method = request.method().clone();
     let reply = match &host {
         Some(h) if loopback && !is_local_host(h) => Reply::error(

@@ -47,6 +47,12 @@ pub fn render(model: &Model, params: &Params, r: &DrawingRequest) -> Result<Stri
             View::parse(name)?
         }
     };
-    let opts = DrawOptions { phi_deg: r.phi_deg, view, animate: r.animate, trajectories: r.trajectories.clone(), ..Default::default() };
+    let opts = DrawOptions {
+        phi_deg: r.phi_deg,
+        view,
+        animate: r.animate,
+        trajectories: r.trajectories.clone(),
+        ..Default::default()
+    };
     drawing::render(model, params, &opts)
 }

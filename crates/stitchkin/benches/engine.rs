@@ -121,7 +121,10 @@ fn overlock500_with_analogs(bencher: Bencher) {
 /// known, so the coupler point needs neither.
 #[divan::bench]
 fn four_bar_hand_written(bencher: Bencher) {
-    let (cs, sn): (Vec<f64>, Vec<f64>) = (0..360).map(|k| (k as f64).to_radians()).map(|p| (p.cos(), p.sin())).unzip();
+    let (cs, sn): (Vec<f64>, Vec<f64>) = (0..360)
+        .map(|k| (k as f64).to_radians())
+        .map(|p| (p.cos(), p.sin()))
+        .unzip();
     let (r, l, c, ox) = (15.0f64, 50.0f64, 40.0f64, 60.0f64);
     let (dc, ds) = (20.0 * 30f64.to_radians().cos() / l, 20.0 * 30f64.to_radians().sin() / l);
     let mut px = vec![0.0; 360];
@@ -206,7 +209,13 @@ fn sweep_setting_mf7923d(bencher: Bencher) {
     let sw = Sweep::new(vec![Vary::parse(&model, "z=-10:10:101").unwrap()], Design::Grid).unwrap();
     let shared = sweep::shared_stitch(&model, &base, &sw, 1.0).unwrap();
     let names = vec!["score.mean".to_string()];
-    let opts = CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()), lean: true };
+    let opts = CycleOptions {
+        step_deg: 1.0,
+        rpm: None,
+        analogs: false,
+        points: Some(Vec::new()),
+        lean: true,
+    };
     // One worker's evaluator, as `sweep::run` keeps one per worker.
     let mut ev = sweep::Evaluator::new(&model, &base, &sw, &names, &opts, shared.as_ref());
     assert!(ev.is_fast());
@@ -224,6 +233,11 @@ fn tune_mf7923d(bencher: Bencher) {
     let model = Model::preset("mf7923d").unwrap();
     let mut base = model.defaults();
     model.set(&mut base, "t1_phase", 180.0).unwrap();
-    let opts = TuneOptions { adjust: vec!["z".into(), "dphi".into()], samples: 0, seed: 1, step_deg: 1.0 };
+    let opts = TuneOptions {
+        adjust: vec!["z".into(), "dphi".into()],
+        samples: 0,
+        seed: 1,
+        step_deg: 1.0,
+    };
     bencher.bench_local(|| black_box(tune(&model, &base, &opts).unwrap()));
 }

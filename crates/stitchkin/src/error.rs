@@ -105,9 +105,9 @@ impl Error {
                 "check the dimensions and the branch of that group, or the φ range (`stitchkin check` shows where assembly is lost)",
             ),
             Error::Thread(_) => Some("check the path's node order and the guides' positions at that φ"),
-            Error::Stitch(_) => {
-                Some("check the [stitch] table: organ motions, moments and the stitch frame (docs/model-format.md §13.11)")
-            }
+            Error::Stitch(_) => Some(
+                "check the [stitch] table: organ motions, moments and the stitch frame (docs/model-format.md §13.11)",
+            ),
             Error::NotFinite(_) | Error::Physical(_) | Error::Io(_) => None,
         }
     }

@@ -129,7 +129,11 @@ impl Real for Dual2_64 {
     }
     #[inline(always)]
     fn times_k(self, k: Self) -> Self {
-        if k.v1 == 0.0 && k.v2 == 0.0 { self.times(k.re) } else { self * k }
+        if k.v1 == 0.0 && k.v2 == 0.0 {
+            self.times(k.re)
+        } else {
+            self * k
+        }
     }
 }
 
@@ -252,8 +256,6 @@ macro_rules! widest {
 }
 pub(crate) use widest;
 
-
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -267,7 +269,11 @@ mod tests {
             assert!(x.iter().zip(&y).all(|(a, b)| a.sqrt() == *b), "n = {n}");
             let mut d: Vec<Dual2_64> = x.iter().map(|&v| Dual2_64::new(v, 1.0, 0.0)).collect();
             Dual2_64::sqrt_slice(&mut d);
-            assert!(x.iter().zip(&d).all(|(a, b)| a.sqrt() == b.re && (b.v1 - 0.5 / a.sqrt()).abs() < 1e-12));
+            assert!(
+                x.iter()
+                    .zip(&d)
+                    .all(|(a, b)| a.sqrt() == b.re && (b.v1 - 0.5 / a.sqrt()).abs() < 1e-12)
+            );
         }
     }
     use nalgebra::ComplexField;

@@ -53,7 +53,12 @@ fn layout(mech: &Mechanism<f64>) -> Layout {
             n += 1;
         }
     }
-    Layout { moving, slot_of, aux, n }
+    Layout {
+        moving,
+        slot_of,
+        aux,
+        n,
+    }
 }
 
 fn in_plane(plane: &Plane<f64>, p: &V3<f64>) -> (V2<f64>, f64) {
@@ -78,18 +83,45 @@ fn residuals(mech: &Mechanism<f64>, lay: &Layout, phi: f64, x: &DVector<f64>, ou
     };
     for (i, step) in mech.steps.iter().enumerate() {
         match step {
-            Step::Crank { center, out: o, r, u, v, speed, phase, .. } => {
+            Step::Crank {
+                center,
+                out: o,
+                r,
+                u,
+                v,
+                speed,
+                phase,
+                ..
+            } => {
                 let th = speed * phi + phase;
                 let d = pt(*o) - (pt(*center) + (u * th.cos() + v * th.sin()) * *r);
                 out.extend([d.x, d.y, d.z]);
             }
-            Step::Rrr { p1, p2, l1, l2, plane, out: b, .. } => {
+            Step::Rrr {
+                p1,
+                p2,
+                l1,
+                l2,
+                plane,
+                out: b,
+                ..
+            } => {
                 let (q, h) = in_plane(plane, &pt(*b));
                 let (a, _) = in_plane(plane, &pt(*p1));
                 let (c, _) = in_plane(plane, &pt(*p2));
                 out.extend([(q - a).norm() - l1, (q - c).norm() - l2, h]);
             }
-            Step::Rrp { from, through, toward, dir, offset, l, plane, out: g, .. } => {
+            Step::Rrp {
+                from,
+                through,
+                toward,
+                dir,
+                offset,
+                l,
+                plane,
+                out: g,
+                ..
+            } => {
                 let (q, h) = in_plane(plane, &pt(*g));
                 let (a, _) = in_plane(plane, &pt(*from));
                 let (hh, _) = in_plane(plane, &pt(*through));
@@ -101,7 +133,15 @@ fn residuals(mech: &Mechanism<f64>, lay: &Layout, phi: f64, x: &DVector<f64>, ou
                 let side = u.x * (q - hh).y - u.y * (q - hh).x;
                 out.extend([side - offset, (q - a).norm() - l, h]);
             }
-            Step::Rpr { from, pivot, e, d, plane, out: o, .. } => {
+            Step::Rpr {
+                from,
+                pivot,
+                e,
+                d,
+                plane,
+                out: o,
+                ..
+            } => {
                 let th = x[lay.aux[i]];
                 let (u, n) = (V2::new(th.cos(), th.sin()), V2::new(-th.sin(), th.cos()));
                 let (a, _) = in_plane(plane, &pt(*from));
@@ -111,11 +151,29 @@ fn residuals(mech: &Mechanism<f64>, lay: &Layout, phi: f64, x: &DVector<f64>, ou
                 // The slot line (through c + e·n along u) holds the pin, ahead of the foot.
                 out.extend([n.dot(&(a - c)) - e, dq.x, dq.y, h]);
             }
-            Step::Rssr { from, rocker, l, out: b, .. } => {
+            Step::Rssr {
+                from,
+                rocker,
+                l,
+                out: b,
+                ..
+            } => {
                 let q = pt(*b);
-                out.extend([(q - pt(*from)).norm() - l, (q - rocker.c).norm() - rocker.r, (q - rocker.c).dot(&rocker.w)]);
+                out.extend([
+                    (q - pt(*from)).norm() - l,
+                    (q - rocker.c).norm() - rocker.r,
+                    (q - rocker.c).dot(&rocker.w),
+                ]);
             }
-            Step::PointOnLine { from, through, toward, dir, l, out: p, .. } => {
+            Step::PointOnLine {
+                from,
+                through,
+                toward,
+                dir,
+                l,
+                out: p,
+                ..
+            } => {
                 let h = pt(*through);
                 let u = match toward {
                     Some(t) => (pt(*t) - h).normalize(),
@@ -124,7 +182,15 @@ fn residuals(mech: &Mechanism<f64>, lay: &Layout, phi: f64, x: &DVector<f64>, ou
                 let [o1, o2] = off_line(u, pt(*p) - h);
                 out.extend([o1, o2, (pt(*p) - pt(*from)).norm() - l]);
             }
-            Step::Rigid { base, dc, ds, lift, plane, out: o, .. } => {
+            Step::Rigid {
+                base,
+                dc,
+                ds,
+                lift,
+                plane,
+                out: o,
+                ..
+            } => {
                 let (a, _) = in_plane(plane, &pt(base[0]));
                 let (b, _) = in_plane(plane, &pt(base[1]));
                 let (q, h) = in_plane(plane, &pt(*o));
@@ -224,7 +290,9 @@ fn newton(mech: &Mechanism<f64>, lay: &Layout, phi: f64, x: &mut DVector<f64>) -
                 j[(row, c)] = (rp[row] - rm[row]) / (2.0 * h);
             }
         }
-        let Some(dx) = j.lu().solve(&DVector::from_vec(r.clone())) else { break };
+        let Some(dx) = j.lu().solve(&DVector::from_vec(r.clone())) else {
+            break;
+        };
         *x -= dx;
         if x.iter().any(|v| !v.is_finite()) {
             return f64::INFINITY;
@@ -245,7 +313,12 @@ pub fn cross_check(model: &Model, params: &Params, step_deg: f64) -> Result<Cros
     let phis = cycle_phis_deg(model.phi_start_deg(), step_deg);
     let mut pose = mech.new_pose(1);
     let mut x = DVector::zeros(lay.n);
-    let mut worst = CrossCheck { max_deviation_mm: 0.0, at_phi_deg: phis[0], at_point: String::new(), positions: 0 };
+    let mut worst = CrossCheck {
+        max_deviation_mm: 0.0,
+        at_phi_deg: phis[0],
+        at_point: String::new(),
+        positions: 0,
+    };
     for (k, &phi_deg) in phis.iter().enumerate() {
         let phi = phi_deg.to_radians();
         mech.solve(&[Phi::new(phi)], &mut pose)?;
@@ -258,7 +331,15 @@ pub fn cross_check(model: &Model, params: &Params, step_deg: f64) -> Result<Cros
             }
             // Slot angles of slotted levers from the closed-form pose.
             for (i, s) in mech.steps.iter().enumerate() {
-                if let Step::Rpr { pivot, out, e, d, plane, .. } = s {
+                if let Step::Rpr {
+                    pivot,
+                    out,
+                    e,
+                    d,
+                    plane,
+                    ..
+                } = s
+                {
                     let (c, _) = in_plane(plane, &at[*pivot]);
                     let (q, _) = in_plane(plane, &at[*out]);
                     let w = q - c;

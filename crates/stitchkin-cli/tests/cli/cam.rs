@@ -34,39 +34,93 @@ fn xml_elements(text: &str) -> Vec<String> {
 fn cam_writes_csv_svg_dxf_and_a_toml_snippet() {
     let d = scratch("cam");
     let prefix = d.join("lower");
-    let (out, summary) = ok(&["cam", "--preset", "altin504", "--path", "lower", "--target", "required", "-o", prefix.to_str().unwrap()]);
+    let (out, summary) = ok(&[
+        "cam",
+        "--preset",
+        "altin504",
+        "--path",
+        "lower",
+        "--target",
+        "required",
+        "-o",
+        prefix.to_str().unwrap(),
+    ]);
     assert!(out.is_empty(), "files only with -o: {out}");
-    for want in ["thread path `lower`, cam `cam_l`", "score 90.3 → 100.0", "at the knots", "TOO STEEP", "convex         NO", "written:"] {
+    for want in [
+        "thread path `lower`, cam `cam_l`",
+        "score 90.3 → 100.0",
+        "at the knots",
+        "TOO STEEP",
+        "convex         NO",
+        "written:",
+    ] {
         assert!(summary.contains(want), "no `{want}` in\n{summary}");
     }
-    let read = |ext: &str| std::fs::read_to_string(d.join(format!("lower.{ext}"))).unwrap_or_else(|e| panic!("lower.{ext}: {e}"));
+    let read = |ext: &str| {
+        std::fs::read_to_string(d.join(format!("lower.{ext}"))).unwrap_or_else(|e| panic!("lower.{ext}: {e}"))
+    };
     let csv = read("csv");
     assert!(csv.starts_with("theta_deg,radius_mm\n"));
     assert_eq!(csv.lines().count(), 361);
     let svg = read("svg");
     let names = xml_elements(&svg);
     assert_eq!(names.first().map(String::as_str), Some("svg"));
-    assert!(names.iter().any(|n| n == "path") && names.iter().any(|n| n == "line") && names.iter().any(|n| n == "text"), "{names:?}");
+    assert!(
+        names.iter().any(|n| n == "path") && names.iter().any(|n| n == "line") && names.iter().any(|n| n == "text"),
+        "{names:?}"
+    );
     assert!(svg.contains("width=\"") && svg.contains("mm\""), "drawn in mm");
     let dxf = read("dxf");
     let values: Vec<&str> = dxf.lines().skip(1).step_by(2).collect();
-    for w in ["SECTION", "HEADER", "ENTITIES", "POLYLINE", "VERTEX", "SEQEND", "ENDSEC", "EOF"] {
+    for w in [
+        "SECTION", "HEADER", "ENTITIES", "POLYLINE", "VERTEX", "SEQEND", "ENDSEC", "EOF",
+    ] {
         assert!(values.contains(&w), "DXF without {w}");
     }
     assert_eq!(values.last(), Some(&"EOF"));
     let toml = read("toml");
-    assert!(toml.contains("[[cams]]\nname = \"cam_l\"\ncenter = \"LCO\"\nmarker = \"LCM\"\npolar = { angle_deg = ["), "{}", &toml[..300]);
-    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 4, "four files, no temporary ones");
+    assert!(
+        toml.contains("[[cams]]\nname = \"cam_l\"\ncenter = \"LCO\"\nmarker = \"LCM\"\npolar = { angle_deg = ["),
+        "{}",
+        &toml[..300]
+    );
+    assert_eq!(
+        std::fs::read_dir(&d).unwrap().count(),
+        4,
+        "four files, no temporary ones"
+    );
 }
 
 #[test]
 fn cam_writes_one_format_to_stdout_or_a_file() {
-    let (csv, summary) = ok(&["cam", "--preset", "altin504", "--path", "lower", "--target", "required", "--points", "72", "--smooth", "15"]);
-    assert!(csv.starts_with("theta_deg,radius_mm\n") && csv.lines().count() == 73, "{csv}");
-    assert!(summary.contains("moving average over 15°") && !summary.contains("written:"), "{summary}");
+    let (csv, summary) = ok(&[
+        "cam", "--preset", "altin504", "--path", "lower", "--target", "required", "--points", "72", "--smooth", "15",
+    ]);
+    assert!(
+        csv.starts_with("theta_deg,radius_mm\n") && csv.lines().count() == 73,
+        "{csv}"
+    );
+    assert!(
+        summary.contains("moving average over 15°") && !summary.contains("written:"),
+        "{summary}"
+    );
     let d = scratch("cam-svg");
     let f = d.join("upper.svg");
-    let (_, summary) = ok(&["cam", "--preset", "altin504", "--path", "upper", "--target", "required", "--anchor-radius", "21", "--format", "svg", "-o", f.to_str().unwrap()]);
+    let (_, summary) = ok(&[
+        "cam",
+        "--preset",
+        "altin504",
+        "--path",
+        "upper",
+        "--target",
+        "required",
+        "--anchor-radius",
+        "21",
+        "--format",
+        "svg",
+        "-o",
+        f.to_str().unwrap(),
+    ]);
     assert!(summary.contains("TOO SMALL"), "the spline dips below 3 mm: {summary}");
     xml_elements(&std::fs::read_to_string(&f).unwrap());
     assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
@@ -78,25 +132,61 @@ fn cam_takes_a_csv_target() {
     // the cam comes back as the preset's disc (radius 6.8…17.2 mm).
     let d = scratch("cam-csv");
     let target = d.join("p.csv");
-    ok(&["run", "--preset", "altin504", "--columns", "lower.P_mm", "--no-analogs", "-o", target.to_str().unwrap()]);
-    let (csv, summary) = ok(&["cam", "--preset", "altin504", "--path", "lower", "--target", target.to_str().unwrap(), "--format", "toml"]);
+    ok(&[
+        "run",
+        "--preset",
+        "altin504",
+        "--columns",
+        "lower.P_mm",
+        "--no-analogs",
+        "-o",
+        target.to_str().unwrap(),
+    ]);
+    let (csv, summary) = ok(&[
+        "cam",
+        "--preset",
+        "altin504",
+        "--path",
+        "lower",
+        "--target",
+        target.to_str().unwrap(),
+        "--format",
+        "toml",
+    ]);
     assert!(csv.starts_with("# Cam `cam_l`"), "{csv}");
-    assert!(summary.contains("radius 6.800…17.200 mm (the model's profile: 6.800…17.200 mm)"), "{summary}");
+    assert!(
+        summary.contains("radius 6.800…17.200 mm (the model's profile: 6.800…17.200 mm)"),
+        "{summary}"
+    );
     assert!(summary.contains("convex         yes"), "{summary}");
 }
 
 #[test]
 fn cam_errors_are_clear() {
-    let e = fails(&["cam", "--preset", "altin504", "--path", "needle", "--target", "required"]);
+    let e = fails(&[
+        "cam", "--preset", "altin504", "--path", "needle", "--target", "required",
+    ]);
     assert!(e.contains("runs over no cam") && e.contains("lower, upper"), "{e}");
     let e = fails(&["cam", "--preset", "altin504", "--path", "lowr", "--target", "required"]);
     assert!(e.contains("no thread path `lowr`"), "{e}");
     let e = fails(&["cam", "--preset", "altin504", "--path", "upper", "--target", "required"]);
     assert!(e.contains("cannot be reached") && e.contains("--anchor-radius"), "{e}");
-    let e = fails(&["cam", "--preset", "altin504", "--path", "lower", "--target", "required", "--format", "all"]);
+    let e = fails(&[
+        "cam", "--preset", "altin504", "--path", "lower", "--target", "required", "--format", "all",
+    ]);
     assert!(e.contains("-o PREFIX"), "{e}");
-    let e = fails(&["cam", "--preset", "altin504", "--path", "lower", "--target", "/nonexistent/target.csv"]);
+    let e = fails(&[
+        "cam",
+        "--preset",
+        "altin504",
+        "--path",
+        "lower",
+        "--target",
+        "/nonexistent/target.csv",
+    ]);
     assert!(e.contains("cannot read the target"), "{e}");
-    let e = fails(&["cam", "--preset", "altin504", "--path", "lower", "--target", "required", "--points", "4"]);
+    let e = fails(&[
+        "cam", "--preset", "altin504", "--path", "lower", "--target", "required", "--points", "4",
+    ]);
     assert!(e.contains("--points between 8 and 1440"), "{e}");
 }

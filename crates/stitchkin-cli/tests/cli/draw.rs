@@ -17,7 +17,17 @@ fn draw_writes_svg_to_stdout_or_a_file() {
     assert!(svg.contains("the xy-plane of frame `uvw`") && svg.contains("class=\"guide pin free\""));
     let d = scratch("draw");
     let file = d.join("n876.svg");
-    let (out, _) = ok(&["draw", "--preset", "needle876", "--set", "alpha=30", "--trajectories", "G,E", "-o", file.to_str().unwrap()]);
+    let (out, _) = ok(&[
+        "draw",
+        "--preset",
+        "needle876",
+        "--set",
+        "alpha=30",
+        "--trajectories",
+        "G,E",
+        "-o",
+        file.to_str().unwrap(),
+    ]);
     assert!(out.is_empty());
     let svg = std::fs::read_to_string(&file).unwrap();
     assert_eq!(svg.matches("class=\"trajectory\"").count(), 2);
@@ -27,12 +37,31 @@ fn draw_writes_svg_to_stdout_or_a_file() {
 
 #[test]
 fn draw_animates_one_turn() {
-    let (svg, _) = ok(&["draw", "--preset", "takeup-lever", "--animate", "--frames", "12", "--duration", "2.5", "--trajectories", "P5"]);
-    assert!(svg.contains("data-frames=\"12\"") && svg.contains("dur=\"2.5s\"") && svg.contains("repeatCount=\"indefinite\""));
+    let (svg, _) = ok(&[
+        "draw",
+        "--preset",
+        "takeup-lever",
+        "--animate",
+        "--frames",
+        "12",
+        "--duration",
+        "2.5",
+        "--trajectories",
+        "P5",
+    ]);
+    assert!(
+        svg.contains("data-frames=\"12\"")
+            && svg.contains("dur=\"2.5s\"")
+            && svg.contains("repeatCount=\"indefinite\"")
+    );
     let i = svg.find("class=\"thread\"").unwrap();
     let anim = &svg[i..][svg[i..].find("<animate ").unwrap()..];
     let values = &anim[anim.find("values=\"").unwrap() + 8..];
-    assert_eq!(values[..values.find('"').unwrap()].split(';').count(), 13, "12 frames and back to the first");
+    assert_eq!(
+        values[..values.find('"').unwrap()].split(';').count(),
+        13,
+        "12 frames and back to the first"
+    );
     let (svg, _) = ok(&["draw", "--preset", "altin504", "--animate"]);
     assert!(svg.contains("data-frames=\"72\"") && svg.contains("dur=\"4s\""));
 }
@@ -46,7 +75,10 @@ fn draw_rejects_bad_input_with_the_fix() {
     let e = fails(&["draw", "--frames", "24"]);
     assert!(e.contains("--animate"), "{e}");
     let e = fails(&["draw", "--view", "uwv"]);
-    assert!(e.contains("no frame `uwv`") && e.contains("uvw") && e.contains("iso"), "{e}");
+    assert!(
+        e.contains("no frame `uwv`") && e.contains("uvw") && e.contains("iso"),
+        "{e}"
+    );
     let e = fails(&["draw", "--preset", "needle876", "--trajectories", "G,Q"]);
     assert!(e.contains("no point `Q`") && e.contains("--trajectories"), "{e}");
     let e = fails(&["draw", "--phi", "nan"]);
@@ -64,7 +96,10 @@ fn draw_rejects_bad_input_with_the_fix() {
     .unwrap();
     ok(&["draw", model.to_str().unwrap(), "--phi", "10"]);
     let e = fails(&["draw", model.to_str().unwrap(), "--phi", "180"]);
-    assert!(e.contains("no assembly at φ = 180.000°") && e.contains("coupler_rocker") && e.contains("check the dimensions"), "{e}");
+    assert!(
+        e.contains("no assembly at φ = 180.000°") && e.contains("coupler_rocker") && e.contains("check the dimensions"),
+        "{e}"
+    );
     let e = fails(&["draw", model.to_str().unwrap(), "--animate"]);
     assert!(e.contains("no assembly") && e.contains("coupler_rocker"), "{e}");
 }
@@ -73,12 +108,31 @@ fn draw_rejects_bad_input_with_the_fix() {
 fn draw_writes_a_still_png_but_not_an_animated_one() {
     let dir = scratch("draw-png");
     let png = dir.join("needle876.png");
-    ok(&["draw", "--preset", "needle876", "--phi", "90", "-o", png.to_str().unwrap()]);
+    ok(&[
+        "draw",
+        "--preset",
+        "needle876",
+        "--phi",
+        "90",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
     let bytes = std::fs::read(&png).unwrap();
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
-    assert_eq!(u32::from_be_bytes(bytes[16..20].try_into().unwrap()), 1800, "900 px drawing at 2 px per unit");
+    assert_eq!(
+        u32::from_be_bytes(bytes[16..20].try_into().unwrap()),
+        1800,
+        "900 px drawing at 2 px per unit"
+    );
     let anim = dir.join("anim.png");
-    let err = fails(&["draw", "--preset", "needle876", "--animate", "-o", anim.to_str().unwrap()]);
+    let err = fails(&[
+        "draw",
+        "--preset",
+        "needle876",
+        "--animate",
+        "-o",
+        anim.to_str().unwrap(),
+    ]);
     assert!(err.contains("animation cannot be written as PNG"), "{err}");
     assert!(!anim.exists());
 }

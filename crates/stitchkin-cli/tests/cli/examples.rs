@@ -38,7 +38,10 @@ const SCRIPTS: &[(&str, &[(&str, &str)])] = &[
             ("seed000_nomogram_z_dphi.csv", "dphi_lo_deg"),
         ],
     ),
-    ("seed002_stroke_table.sh", &[("seed002_stroke.csv", "needle_y.range_mm")]),
+    (
+        "seed002_stroke_table.sh",
+        &[("seed002_stroke.csv", "needle_y.range_mm")],
+    ),
     (
         "seed004_altin.sh",
         &[
@@ -76,12 +79,16 @@ fn every_example_script_runs_and_writes_its_tables() {
         for run in runs {
             let (script, r) = run.join().unwrap();
             let stderr = String::from_utf8_lossy(&r.stderr);
-            assert!(r.status.success() && !stderr.contains("panicked"), "examples/{script} failed:\n{stderr}");
+            assert!(
+                r.status.success() && !stderr.contains("panicked"),
+                "examples/{script} failed:\n{stderr}"
+            );
         }
     });
     for (script, tables) in SCRIPTS {
         for (table, has) in *tables {
-            let text = std::fs::read_to_string(out.join(table)).unwrap_or_else(|e| panic!("examples/{script} did not write {table}: {e}"));
+            let text = std::fs::read_to_string(out.join(table))
+                .unwrap_or_else(|e| panic!("examples/{script} did not write {table}: {e}"));
             assert!(text.contains(has), "examples/{script}: {table} lacks `{has}`:\n{text}");
             assert!(!text.contains("NaN"), "examples/{script}: {table}:\n{text}");
             if table.ends_with(".csv") {
@@ -89,7 +96,10 @@ fn every_example_script_runs_and_writes_its_tables() {
                 let width = lines.next().unwrap().split(',').count();
                 let rows: Vec<&str> = lines.collect();
                 assert!(!rows.is_empty(), "{table} has no rows");
-                assert!(rows.iter().all(|l| l.split(',').count() == width), "{table}: ragged rows:\n{text}");
+                assert!(
+                    rows.iter().all(|l| l.split(',').count() == width),
+                    "{table}: ragged rows:\n{text}"
+                );
             }
         }
     }
@@ -104,8 +114,14 @@ fn example_scripts_document_themselves() {
     for (script, tables) in SCRIPTS {
         let text = std::fs::read_to_string(dir.join(script)).unwrap();
         assert!(text.starts_with("#!/usr/bin/env bash\n"), "{script}");
-        assert!(text.contains("set -euo pipefail") && text.contains("cargo run --release --quiet --"), "{script}");
-        assert!(readme.contains(&format!("## `{script}`")), "examples/README.md does not describe {script}");
+        assert!(
+            text.contains("set -euo pipefail") && text.contains("cargo run --release --quiet --"),
+            "{script}"
+        );
+        assert!(
+            readme.contains(&format!("## `{script}`")),
+            "examples/README.md does not describe {script}"
+        );
         for (table, _) in *tables {
             let stem = table.split('.').next().unwrap();
             assert!(text.contains(stem), "{script} does not name {table}");

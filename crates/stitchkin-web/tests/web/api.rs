@@ -11,7 +11,11 @@ fn app(preset: &str) -> App {
 }
 
 fn json(reply: &Reply) -> Value {
-    assert!(reply.content_type.starts_with("application/json"), "{}", reply.content_type);
+    assert!(
+        reply.content_type.starts_with("application/json"),
+        "{}",
+        reply.content_type
+    );
     serde_json::from_slice(&reply.body).unwrap()
 }
 
@@ -43,7 +47,12 @@ fn model_lists_parameters_with_units_ranges_and_roles() {
     let v = json(&get(&app("mf7923d"), "/api/model"));
     assert_eq!(v["name"], "mf7923d");
     let params = v["parameters"].as_array().unwrap();
-    let find = |n: &str| params.iter().find(|p| p["name"] == n).unwrap_or_else(|| panic!("no {n}"));
+    let find = |n: &str| {
+        params
+            .iter()
+            .find(|p| p["name"] == n)
+            .unwrap_or_else(|| panic!("no {n}"))
+    };
     assert_eq!(find("r1")["role"], "adjustable");
     assert_eq!(find("r1")["unit"], "mm");
     assert_eq!(find("r1")["range"], serde_json::json!([4.0, 6.0]));
@@ -57,7 +66,11 @@ fn model_lists_parameters_with_units_ranges_and_roles() {
     // Derived parameters cannot be set, so the page does not offer them.
     let model = Model::preset("mf7923d").unwrap();
     for p in model.params.iter().filter(|p| p.is_derived()) {
-        assert!(params.iter().all(|q| q["name"] != p.name.as_str()), "{} is derived", p.name);
+        assert!(
+            params.iter().all(|q| q["name"] != p.name.as_str()),
+            "{} is derived",
+            p.name
+        );
     }
 }
 
@@ -154,7 +167,9 @@ fn bad_requests_get_a_4xx_that_says_what_to_fix() {
 #[test]
 fn derived_parameters_cannot_be_set() {
     let model = Model::preset("mf7923d").unwrap();
-    let Some(derived) = model.params.iter().find(|p| p.is_derived()) else { return };
+    let Some(derived) = model.params.iter().find(|p| p.is_derived()) else {
+        return;
+    };
     let app = App::new(model.clone(), model.defaults());
     assert_client_error(&app, &format!("/api/evaluate?p.{}=1", derived.name), 400, "derived");
 }
@@ -163,12 +178,20 @@ fn derived_parameters_cannot_be_set() {
 fn a_setting_without_assembly_is_a_422_naming_the_group() {
     // r 15 mm, l 50 mm, c 40 mm, O1O2 60 mm: a crank-rocker (the library's
     // test four-bar).
-    let model = Model::from_toml_str(include_str!("../../../stitchkin/tests/data/four-bar.toml"), "four-bar.toml").unwrap();
+    let model = Model::from_toml_str(
+        include_str!("../../../stitchkin/tests/data/four-bar.toml"),
+        "four-bar.toml",
+    )
+    .unwrap();
     let app = App::new(model.clone(), model.defaults());
     assert_eq!(get(&app, "/api/evaluate").status, 200);
     // With l = 10 mm the coupler reaches O2 near φ = 0 but not at φ = 180°.
     assert_eq!(get(&app, "/api/drawing?p.l=10&phi=0").status, 200);
-    for url in ["/api/evaluate?p.l=10", "/api/drawing?p.l=10&phi=180", "/api/drawing?p.l=10&animate=1"] {
+    for url in [
+        "/api/evaluate?p.l=10",
+        "/api/drawing?p.l=10&phi=180",
+        "/api/drawing?p.l=10&animate=1",
+    ] {
         let r = get(&app, url);
         assert_eq!(r.status, 422, "{url}: {}", r.text());
         let v = json(&r);

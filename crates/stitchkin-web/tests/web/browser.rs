@@ -94,7 +94,13 @@ impl Browser {
         if let MaybeTlsStream::Plain(s) = ws.get_ref() {
             s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
         }
-        Browser { child, ws, next_id: 0, session: None, _profile: profile }
+        Browser {
+            child,
+            ws,
+            next_id: 0,
+            session: None,
+            _profile: profile,
+        }
     }
 
     /// One DevTools command, its result (events in between are skipped).
@@ -107,7 +113,10 @@ impl Browser {
         }
         self.ws.send(Message::text(msg.to_string())).unwrap();
         loop {
-            let m = self.ws.read().unwrap_or_else(|e| panic!("{method}: no answer from Chromium ({e})"));
+            let m = self
+                .ws
+                .read()
+                .unwrap_or_else(|e| panic!("{method}: no answer from Chromium ({e})"));
             let Message::Text(text) = m else { continue };
             let v: Value = serde_json::from_str(&text).unwrap();
             if v["id"] == id {
@@ -120,18 +129,27 @@ impl Browser {
     /// Opens a tab and sends the next commands to it.
     fn open_tab(&mut self) {
         let target = self.call("Target.createTarget", json!({ "url": "about:blank" }));
-        let attached = self.call("Target.attachToTarget", json!({ "targetId": target["targetId"], "flatten": true }));
+        let attached = self.call(
+            "Target.attachToTarget",
+            json!({ "targetId": target["targetId"], "flatten": true }),
+        );
         self.session = Some(attached["sessionId"].as_str().unwrap().to_string());
         self.call("Page.enable", json!({}));
         // Tall enough for the whole page: screenshots need not capture
         // beyond the viewport (which re-lays the page out and can move an
         // element between a mouse press and its release).
-        self.call("Emulation.setDeviceMetricsOverride", json!({ "width": 1400, "height": 2600, "deviceScaleFactor": 1, "mobile": false }));
+        self.call(
+            "Emulation.setDeviceMetricsOverride",
+            json!({ "width": 1400, "height": 2600, "deviceScaleFactor": 1, "mobile": false }),
+        );
     }
 
     /// Evaluates `js` in the page and returns its value.
     fn eval(&mut self, js: &str) -> Value {
-        let r = self.call("Runtime.evaluate", json!({ "expression": js, "returnByValue": true, "awaitPromise": true }));
+        let r = self.call(
+            "Runtime.evaluate",
+            json!({ "expression": js, "returnByValue": true, "awaitPromise": true }),
+        );
         assert!(r.get("exceptionDetails").is_none(), "{js}: {}", r["exceptionDetails"]);
         r["result"]["value"].clone()
     }
@@ -152,14 +170,19 @@ impl Browser {
     /// A left click at page coordinates (x, y) px.
     fn click(&mut self, x: f64, y: f64) {
         for kind in ["mouseMoved", "mousePressed", "mouseReleased"] {
-            self.call("Input.dispatchMouseEvent", json!({ "type": kind, "x": x, "y": y, "button": "left", "clickCount": 1 }));
+            self.call(
+                "Input.dispatchMouseEvent",
+                json!({ "type": kind, "x": x, "y": y, "button": "left", "clickCount": 1 }),
+            );
         }
     }
 
     /// Saves a PNG of the whole page under the test artifacts.
     fn screenshot(&mut self, name: &str) -> PathBuf {
         let shot = self.call("Page.captureScreenshot", json!({ "format": "png" }));
-        let png = base64::engine::general_purpose::STANDARD.decode(shot["data"].as_str().unwrap()).unwrap();
+        let png = base64::engine::general_purpose::STANDARD
+            .decode(shot["data"].as_str().unwrap())
+            .unwrap();
         assert_eq!(&png[1..4], b"PNG");
         let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("browser");
         std::fs::create_dir_all(&dir).unwrap();
@@ -172,7 +195,9 @@ impl Browser {
 impl Drop for Browser {
     fn drop(&mut self) {
         self.session = None;
-        let _ = self.ws.send(Message::text(json!({ "id": 0, "method": "Browser.close" }).to_string()));
+        let _ = self
+            .ws
+            .send(Message::text(json!({ "id": 0, "method": "Browser.close" }).to_string()));
         std::thread::sleep(Duration::from_millis(200));
         let _ = self.child.kill();
         let _ = self.child.wait();
@@ -186,9 +211,13 @@ const SETTLED: &str = "window.stitchkinReady === true && document.body.dataset.p
 fn moving_a_slider_redraws_the_take_up_summary_and_mechanism() {
     let Some(exe) = chromium() else {
         if std::env::var_os("STITCHKIN_REQUIRE_BROWSER").is_some() {
-            panic!("STITCHKIN_REQUIRE_BROWSER is set but no Chromium was found: install Debian's package `chromium` (or set STITCHKIN_CHROMIUM)");
+            panic!(
+                "STITCHKIN_REQUIRE_BROWSER is set but no Chromium was found: install Debian's package `chromium` (or set STITCHKIN_CHROMIUM)"
+            );
         }
-        eprintln!("\n\n!!!! SKIPPED the browser test: no Chromium on PATH. Install Debian's package `chromium` to run it (.ci/run does). !!!!\n");
+        eprintln!(
+            "\n\n!!!! SKIPPED the browser test: no Chromium on PATH. Install Debian's package `chromium` to run it (.ci/run does). !!!!\n"
+        );
         return;
     };
     let server = super::http::start("mf7923d");
@@ -203,8 +232,16 @@ fn moving_a_slider_redraws_the_take_up_summary_and_mechanism() {
     let (chart0, table0, drawing0) = (b.eval(chart), b.eval(table), b.eval(drawing));
     assert!(chart0.as_str().unwrap().contains("polyline"), "a chart with curves");
     assert_eq!(b.eval("document.getElementById('p-r1').value"), json!("4"));
-    assert_eq!(b.eval("document.querySelectorAll('#adjustable input[type=range]').length"), json!(5), "a slider per adjustable parameter");
-    assert_eq!(b.eval("document.querySelectorAll('#stitch input[type=number]').length"), json!(2), "thickness and stitch length inputs");
+    assert_eq!(
+        b.eval("document.querySelectorAll('#adjustable input[type=range]').length"),
+        json!(5),
+        "a slider per adjustable parameter"
+    );
+    assert_eq!(
+        b.eval("document.querySelectorAll('#stitch input[type=number]').length"),
+        json!(2),
+        "thickness and stitch length inputs"
+    );
     b.screenshot("serve-mf7923d-before.png");
 
     // Click the r1 slider at 85 % of its length: r1 jumps to about 5.7 mm.
@@ -215,12 +252,24 @@ fn moving_a_slider_redraws_the_take_up_summary_and_mechanism() {
         &format!("{SETTLED} && Number(document.getElementById('p-r1').value) > 5 && +document.getElementById('chart').dataset.revision >= 2 && +document.getElementById('drawing').dataset.revision >= 2"),
         "the redraw after moving r1",
     );
-    let r1: f64 = b.eval("document.getElementById('p-r1').value").as_str().unwrap().parse().unwrap();
+    let r1: f64 = b
+        .eval("document.getElementById('p-r1').value")
+        .as_str()
+        .unwrap()
+        .parse()
+        .unwrap();
     assert!((5.3..=6.0).contains(&r1), "r1 = {r1}");
     assert_ne!(b.eval(chart), chart0, "the take-up chart changed");
     assert_ne!(b.eval(table), table0, "max P in the summary changed");
-    assert_ne!(b.eval(drawing), drawing0, "the mechanism was redrawn with the new eccentric");
-    assert_eq!(b.eval("document.getElementById('error').classList.contains('shown')"), json!(false));
+    assert_ne!(
+        b.eval(drawing),
+        drawing0,
+        "the mechanism was redrawn with the new eccentric"
+    );
+    assert_eq!(
+        b.eval("document.getElementById('error').classList.contains('shown')"),
+        json!(false)
+    );
     let shot = b.screenshot("serve-mf7923d-after.png");
     eprintln!("browser test: screenshot saved to {}", shot.display());
 
@@ -228,22 +277,38 @@ fn moving_a_slider_redraws_the_take_up_summary_and_mechanism() {
     // server's 422 message in its error box; Reset brings the model back.
     b.eval("(() => { document.getElementById('settings-box').open = true; const e = document.getElementById('p-l_ab'); e.scrollIntoView(); e.focus(); e.select(); })()");
     b.call("Input.insertText", json!({ "text": "5" }));
-    b.wait_for(&format!("{SETTLED} && document.getElementById('error').classList.contains('shown')"), "the error box for l_ab = 5 mm");
+    b.wait_for(
+        &format!("{SETTLED} && document.getElementById('error').classList.contains('shown')"),
+        "the error box for l_ab = 5 mm",
+    );
     let message = b.eval("document.getElementById('error').textContent");
-    assert!(message.as_str().unwrap().contains("alpha0"), "the library's message: {message}");
+    assert!(
+        message.as_str().unwrap().contains("alpha0"),
+        "the library's message: {message}"
+    );
     for id in ["chart", "summary", "drawing"] {
-        assert_eq!(b.eval(&format!("document.getElementById('{id}').classList.contains('stale')")), json!(true), "the last good {id} is greyed");
+        assert_eq!(
+            b.eval(&format!("document.getElementById('{id}').classList.contains('stale')")),
+            json!(true),
+            "the last good {id} is greyed"
+        );
     }
     b.screenshot("serve-mf7923d-error.png");
     let reset = b.eval("(() => { const e = document.getElementById('reset'); e.scrollIntoView(); const r = e.getBoundingClientRect(); return [r.x + r.width / 2, r.y + r.height / 2]; })()");
     b.click(reset[0].as_f64().unwrap(), reset[1].as_f64().unwrap());
-    b.wait_for(&format!("{SETTLED} && !document.getElementById('error').classList.contains('shown')"), "the page to recover after Reset");
+    b.wait_for(
+        &format!("{SETTLED} && !document.getElementById('error').classList.contains('shown')"),
+        "the page to recover after Reset",
+    );
     assert_eq!(b.eval("document.getElementById('p-r1').value"), json!("4"));
 
     // Animation on request.
     let anim = b.eval("(() => { const e = document.getElementById('animate'); e.scrollIntoView(); const r = e.getBoundingClientRect(); return [r.x + r.width / 2, r.y + r.height / 2]; })()");
     b.click(anim[0].as_f64().unwrap(), anim[1].as_f64().unwrap());
-    b.wait_for(&format!("{SETTLED} && document.querySelector('#drawing svg animate') !== null"), "the animated mechanism");
+    b.wait_for(
+        &format!("{SETTLED} && document.querySelector('#drawing svg animate') !== null"),
+        "the animated mechanism",
+    );
     drop(b);
     server.stop();
 }

@@ -23,7 +23,10 @@ fn raw(server: &Server, request: &str) -> (u16, String) {
 }
 
 fn get(server: &Server, path: &str, host: &str) -> (u16, String) {
-    raw(server, &format!("GET {path} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"))
+    raw(
+        server,
+        &format!("GET {path} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"),
+    )
 }
 
 #[test]
@@ -46,7 +49,12 @@ fn serves_the_page_and_api_on_loopback() {
             let (addr, host) = (server.addr(), host.clone());
             std::thread::spawn(move || {
                 let mut s = TcpStream::connect(addr).unwrap();
-                write!(s, "GET /api/evaluate?step={} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n", 1 + k).unwrap();
+                write!(
+                    s,
+                    "GET /api/evaluate?step={} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n",
+                    1 + k
+                )
+                .unwrap();
                 let mut a = String::new();
                 s.read_to_string(&mut a).unwrap();
                 a
@@ -67,12 +75,18 @@ fn refuses_foreign_hosts_other_methods_and_bad_queries() {
     let (status, body) = get(&server, "/", "attacker.example");
     assert_eq!(status, 403, "{body}");
     assert!(body.contains("this machine only"));
-    let (status, body) = raw(&server, &format!("DELETE /api/model HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"));
+    let (status, body) = raw(
+        &server,
+        &format!("DELETE /api/model HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"),
+    );
     assert_eq!(status, 405);
     assert!(body.contains("Allow: GET, HEAD"), "{body}");
     let (status, body) = get(&server, "/api/evaluate?p.alpha=1e9", &host);
     assert_eq!(status, 400, "{body}");
-    let (status, body) = raw(&server, &format!("HEAD / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"));
+    let (status, body) = raw(
+        &server,
+        &format!("HEAD / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"),
+    );
     assert_eq!(status, 200);
     assert!(!body.contains("<html"), "HEAD has no body");
     server.stop();

@@ -9,10 +9,9 @@ use serde::Serialize;
 
 use crate::error::Error;
 use crate::mechanism::{Mechanism, Phi, Pose};
+use crate::model::{Model, Params};
 use crate::scalar::Real;
 use crate::thread::{Convention, PathError, PathTrack, SplitPoint, Threads};
-use crate::model::{Model, Params};
-
 
 /// The band a transmission angle must stay in (seed 002 eq. 15), degrees.
 pub const MU_MIN_DEG: f64 = 30.0;
@@ -38,7 +37,13 @@ pub struct CycleOptions {
 
 impl Default for CycleOptions {
     fn default() -> Self {
-        CycleOptions { step_deg: 1.0, rpm: None, analogs: true, points: None, lean: false }
+        CycleOptions {
+            step_deg: 1.0,
+            rpm: None,
+            analogs: true,
+            points: None,
+            lean: false,
+        }
     }
 }
 
@@ -150,11 +155,15 @@ impl CycleTable {
                 let names: Vec<&str> = self.columns.iter().map(|c| c.name.as_str()).take(12).collect();
                 return Err(Error::Param(crate::error::ParamError {
                     message: format!("no column matches `{p}`"),
-                    help: Some(format!("columns are named like {} …; `*` matches any run of characters", names.join(", "))),
+                    help: Some(format!(
+                        "columns are named like {} …; `*` matches any run of characters",
+                        names.join(", ")
+                    )),
                 }));
             }
         }
-        self.columns.retain(|c| c.name == "phi_deg" || patterns.iter().any(|p| glob_match(p, &c.name)));
+        self.columns
+            .retain(|c| c.name == "phi_deg" || patterns.iter().any(|p| glob_match(p, &c.name)));
         Ok(())
     }
 
@@ -162,7 +171,10 @@ impl CycleTable {
         self.columns.first().map_or(0, |c| c.values.len())
     }
     pub fn column(&self, name: &str) -> Option<&[f64]> {
-        self.columns.iter().find(|c| c.name == name).map(|c| c.values.as_slice())
+        self.columns
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| c.values.as_slice())
     }
 }
 
@@ -213,12 +225,13 @@ pub fn check_options(opts: &CycleOptions) -> Result<(), Error> {
         }));
     }
     if let Some(rpm) = opts.rpm
-        && !(rpm.is_finite() && rpm > 0.0 && rpm <= 1.0e5) {
-            return Err(Error::Param(crate::error::ParamError {
-                message: format!("the speed {rpm} rpm is out of range"),
-                help: Some("give a main-shaft speed between 0 and 100000 rev/min".into()),
-            }));
-        }
+        && !(rpm.is_finite() && rpm > 0.0 && rpm <= 1.0e5)
+    {
+        return Err(Error::Param(crate::error::ParamError {
+            message: format!("the speed {rpm} rpm is out of range"),
+            help: Some("give a main-shaft speed between 0 and 100000 rev/min".into()),
+        }));
+    }
     Ok(())
 }
 
@@ -228,7 +241,10 @@ struct Builder {
 
 impl Builder {
     fn col(&mut self, name: String, n: usize) -> usize {
-        self.columns.push(Column { name, values: Vec::with_capacity(n) });
+        self.columns.push(Column {
+            name,
+            values: Vec::with_capacity(n),
+        });
         self.columns.len() - 1
     }
 }
@@ -243,12 +259,26 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
 /// [`run_cycle`] with the stitch process's P' already computed for this
 /// model and φ grid (see [`stitch::prepare`]): studies reuse it across
 /// settings that do not change the stitch.
-pub fn run_cycle_with(model: &Model, params: &Params, opts: &CycleOptions, prepared: Option<&stitch::Prepared>) -> Result<CycleTable, Error> {
+pub fn run_cycle_with(
+    model: &Model,
+    params: &Params,
+    opts: &CycleOptions,
+    prepared: Option<&stitch::Prepared>,
+) -> Result<CycleTable, Error> {
     check_options(opts)?;
-    if opts.analogs { cycle::<Dual2_64>(model, params, opts, prepared) } else { cycle::<f64>(model, params, opts, prepared) }
+    if opts.analogs {
+        cycle::<Dual2_64>(model, params, opts, prepared)
+    } else {
+        cycle::<f64>(model, params, opts, prepared)
+    }
 }
 
-fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared: Option<&stitch::Prepared>) -> Result<CycleTable, Error> {
+fn cycle<T: Real>(
+    model: &Model,
+    params: &Params,
+    opts: &CycleOptions,
+    prepared: Option<&stitch::Prepared>,
+) -> Result<CycleTable, Error> {
     let mech = model.mechanism::<T>(params)?;
     let phis = cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
     let n = phis.len();
@@ -266,8 +296,12 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
         let pos: Vec<usize> = axes.iter().map(|a| b.col(format!("{name}.{a}_mm"), n)).collect();
         let (d1, d2) = if opts.analogs {
             (
-                axes.iter().map(|a| b.col(format!("{name}.d{a}_dphi_mm_per_rad"), n)).collect(),
-                axes.iter().map(|a| b.col(format!("{name}.d2{a}_dphi2_mm_per_rad2"), n)).collect(),
+                axes.iter()
+                    .map(|a| b.col(format!("{name}.d{a}_dphi_mm_per_rad"), n))
+                    .collect(),
+                axes.iter()
+                    .map(|a| b.col(format!("{name}.d2{a}_dphi2_mm_per_rad2"), n))
+                    .collect(),
             )
         } else {
             (Vec::new(), Vec::new())
@@ -275,7 +309,9 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
         let (v, acc) = if opts.analogs && omega.is_some() {
             (
                 axes.iter().map(|a| b.col(format!("{name}.v{a}_mm_per_s"), n)).collect(),
-                axes.iter().map(|a| b.col(format!("{name}.a{a}_mm_per_s2"), n)).collect(),
+                axes.iter()
+                    .map(|a| b.col(format!("{name}.a{a}_mm_per_s2"), n))
+                    .collect(),
             )
         } else {
             (Vec::new(), Vec::new())
@@ -290,7 +326,10 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
         let c1 = Some(b.col(format!("{base}.d_dphi_{d_unit}_per_rad"), n));
         let c2 = Some(b.col(format!("{base}.d2_dphi2_{d_unit}_per_rad2"), n));
         let (c3, c4) = if omega.is_some() {
-            (Some(b.col(format!("{base}.{}", v.0), n)), Some(b.col(format!("{base}.{}", v.1), n)))
+            (
+                Some(b.col(format!("{base}.{}", v.0), n)),
+                Some(b.col(format!("{base}.{}", v.1), n)),
+            )
         } else {
             (None, None)
         };
@@ -301,9 +340,17 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
     let angle_cols: Vec<[Option<usize>; 5]> = if opts.lean {
         Vec::new()
     } else {
-        model.link_angle_names.iter().map(|a| scalar_cols(&mut b, a, "deg", "rad", ("omega_rad_per_s", "eps_rad_per_s2"))).collect()
+        model
+            .link_angle_names
+            .iter()
+            .map(|a| scalar_cols(&mut b, a, "deg", "rad", ("omega_rad_per_s", "eps_rad_per_s2")))
+            .collect()
     };
-    let mu_cols: Vec<usize> = model.dyads.iter().map(|d| b.col(format!("mu_{}_deg", d.key), n)).collect();
+    let mu_cols: Vec<usize> = model
+        .dyads
+        .iter()
+        .map(|d| b.col(format!("mu_{}_deg", d.key), n))
+        .collect();
     let measure_cols: Vec<[Option<usize>; 5]> = model
         .measure_names
         .iter()
@@ -326,7 +373,11 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
     // it from the closed form costs more than it saves (mf7923d: about 10 %
     // slower per cycle, docs/benchmarks.md), so those stay dual.
     let closed_form = opts.analogs && mech.threads.is_none();
-    let plain = if closed_form { Some(model.mechanism::<f64>(params)?) } else { None };
+    let plain = if closed_form {
+        Some(model.mechanism::<f64>(params)?)
+    } else {
+        None
+    };
     let pose = crate::mechanism::analogs::solve_cycle(&mech, plain.as_ref(), &phis)?;
     for (k, &phi_deg) in phis.iter().enumerate() {
         cols[phi_col].values.push(phi_deg);
@@ -348,7 +399,10 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
             mech.link_angles(&pose, k, &mut angles);
         }
         for (a, c) in angles.iter().zip(&angle_cols) {
-            for (j, val) in [a.re().to_degrees(), a.d1(), a.d2(), a.d1() * w, a.d2() * w * w].into_iter().enumerate() {
+            for (j, val) in [a.re().to_degrees(), a.d1(), a.d2(), a.d1() * w, a.d2() * w * w]
+                .into_iter()
+                .enumerate()
+            {
                 push(cols, c[j], val);
             }
         }
@@ -358,7 +412,10 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
         }
         mech.measures(&pose, k, &mut measures);
         for (m, c) in measures.iter().zip(&measure_cols) {
-            for (j, val) in [m.re(), m.d1(), m.d2(), m.d1() * w, m.d2() * w * w].into_iter().enumerate() {
+            for (j, val) in [m.re(), m.d1(), m.d2(), m.d1() * w, m.d2() * w * w]
+                .into_iter()
+                .enumerate()
+            {
                 push(cols, c[j], val);
             }
         }
@@ -381,7 +438,9 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
             return Err(Error::NotFinite(format!(
                 "`{}` is {} at φ = {:.3}°: the mechanism passes a dead point there, where analogs are infinite; \
                  change the geometry or the step so no position lands on the dead point",
-                c.name, c.values[k], wrap_deg(phis[k])
+                c.name,
+                c.values[k],
+                wrap_deg(phis[k])
             )));
         }
     }
@@ -429,7 +488,17 @@ fn cycle<T: Real>(model: &Model, params: &Params, opts: &CycleOptions, prepared:
             }
         })
         .collect();
-    Ok(CycleTable { step_deg: opts.step_deg, rpm: opts.rpm, columns, transmission, ranges, paths, take_up, stitch, warnings })
+    Ok(CycleTable {
+        step_deg: opts.step_deg,
+        rpm: opts.rpm,
+        columns,
+        transmission,
+        ranges,
+        paths,
+        take_up,
+        stitch,
+        warnings,
+    })
 }
 
 /// Every path at φ0 (ξ, and u·N for a path split at B), with φ0 a
@@ -450,7 +519,12 @@ pub fn take_up_name(split_at_b: bool) -> &'static str {
 
 /// A thread path that cannot be formed, as an error naming path and φ.
 pub fn path_error(e: PathError, phi_deg: f64) -> Error {
-    Error::Thread(format!("thread path `{}` at φ = {:.3}°: {}", e.path, wrap_deg(phi_deg), e.message))
+    Error::Thread(format!(
+        "thread path `{}` at φ = {:.3}°: {}",
+        e.path,
+        wrap_deg(phi_deg),
+        e.message
+    ))
 }
 
 /// Adds each path's columns and returns its summary.
@@ -474,8 +548,15 @@ fn thread_columns<T: Real>(
         let name = &path.name;
         let split = !track.eye_up.is_empty();
         let pn = take_up_name(split);
-        let p: Vec<T> = (0..track.xi.len()).map(|k| threads.convention.take_up(track.xi_at_split(k), at0.xi_at_split(0))).collect();
-        let mut col = |n: String, v: Vec<f64>| columns.push(Column { name: format!("{name}.{n}"), values: v });
+        let p: Vec<T> = (0..track.xi.len())
+            .map(|k| threads.convention.take_up(track.xi_at_split(k), at0.xi_at_split(0)))
+            .collect();
+        let mut col = |n: String, v: Vec<f64>| {
+            columns.push(Column {
+                name: format!("{name}.{n}"),
+                values: v,
+            })
+        };
         col("xi_mm".into(), track.xi.iter().map(|x| x.re()).collect());
         col(format!("{pn}_mm"), p.iter().map(|x| x.re()).collect());
         if opts.analogs {
@@ -486,40 +567,63 @@ fn thread_columns<T: Real>(
             }
         }
         // The same thread measured at the moving eye (P_eye = P_B − S + S(φ0)).
-        let p_eye: Option<Vec<f64>> =
-            split.then(|| track.xi.iter().map(|x| threads.convention.take_up(*x, at0.xi[0]).re()).collect());
+        let p_eye: Option<Vec<f64>> = split.then(|| {
+            track
+                .xi
+                .iter()
+                .map(|x| threads.convention.take_up(*x, at0.xi[0]).re())
+                .collect()
+        });
         if let Some(v) = &p_eye {
             col("P_eye_mm".into(), v.clone());
         }
         // The angle the thread turns through at every node, per φ: a column
         // per guide between the ends, and the capstan tension from them.
         // (Left out of lean runs.)
-        let wraps: Vec<Vec<f64>> =
-            if opts.lean { Vec::new() } else { (0..phis.len()).map(|k| threads.wrap_angles(path, pose, k)).collect() };
+        let wraps: Vec<Vec<f64>> = if opts.lean {
+            Vec::new()
+        } else {
+            (0..phis.len()).map(|k| threads.wrap_angles(path, pose, k)).collect()
+        };
         let pins = path.pin_names();
         let mut pin = 0;
         for i in 1..path.nodes.len().saturating_sub(1) {
             let node = &path.node_names[i];
             if path.pin_span[i].is_some() {
-                col(format!("{node}_engaged"), track.engaged[pin].iter().map(|&e| if e { 1.0 } else { 0.0 }).collect());
+                col(
+                    format!("{node}_engaged"),
+                    track.engaged[pin].iter().map(|&e| if e { 1.0 } else { 0.0 }).collect(),
+                );
                 pin += 1;
             }
             if !opts.lean {
-                col(format!("{node}_wrap_deg"), wraps.iter().map(|w| w[i].to_degrees()).collect());
+                col(
+                    format!("{node}_wrap_deg"),
+                    wraps.iter().map(|w| w[i].to_degrees()).collect(),
+                );
             }
         }
         // Tension after each node at each φ; the eye's is the last.
-        let tensions: Option<Vec<Vec<f64>>> = threads
-            .tension_n
-            .filter(|_| !opts.lean)
-            .map(|t0| wraps.iter().map(|theta| crate::thread::capstan(theta, &path.friction, t0)).collect());
-        let eye_tension: Option<Vec<f64>> = tensions.as_ref().map(|t| t.iter().map(|row| *row.last().unwrap_or(&0.0)).collect());
+        let tensions: Option<Vec<Vec<f64>>> = threads.tension_n.filter(|_| !opts.lean).map(|t0| {
+            wraps
+                .iter()
+                .map(|theta| crate::thread::capstan(theta, &path.friction, t0))
+                .collect()
+        });
+        let eye_tension: Option<Vec<f64>> = tensions
+            .as_ref()
+            .map(|t| t.iter().map(|row| *row.last().unwrap_or(&0.0)).collect());
         if let Some(t) = &eye_tension {
             col("tension_eye_N".into(), t.clone());
         }
         let max_tension: Vec<(String, f64)> = match &tensions {
             Some(t) => (0..path.nodes.len())
-                .map(|i| (path.node_names[i].clone(), t.iter().map(|row| row[i]).fold(f64::MIN, f64::max)))
+                .map(|i| {
+                    (
+                        path.node_names[i].clone(),
+                        t.iter().map(|row| row[i]).fold(f64::MIN, f64::max),
+                    )
+                })
                 .collect(),
             None => Vec::new(),
         };
@@ -531,9 +635,14 @@ fn thread_columns<T: Real>(
             p.iter().map(|x| x.d1() * std::f64::consts::PI / 180.0).collect()
         } else {
             let n = p_re.len();
-            (0..n).map(|k| (p_re[(k + 1) % n] - p_re[(k + n - 1) % n]) / (2.0 * opts.step_deg)).collect()
+            (0..n)
+                .map(|k| (p_re[(k + 1) % n] - p_re[(k + n - 1) % n]) / (2.0 * opts.step_deg))
+                .collect()
         };
-        let flat_flags: Vec<bool> = slope_mm_per_deg.iter().map(|s| s.abs() < FLAT_SLOPE_MM_PER_DEG).collect();
+        let flat_flags: Vec<bool> = slope_mm_per_deg
+            .iter()
+            .map(|s| s.abs() < FLAT_SLOPE_MM_PER_DEG)
+            .collect();
         let flat = crate::thread::intervals(&flat_flags, phis)
             .into_iter()
             .filter(|iv| iv.to_deg - iv.from_deg >= FLAT_MIN_DEG)
@@ -556,13 +665,24 @@ fn thread_columns<T: Real>(
                 .collect(),
             flat,
             max_tension_n: max_tension,
-            eye_tension_n: eye_tension.map(|t| [t.iter().cloned().fold(f64::MAX, f64::min), t.iter().cloned().fold(f64::MIN, f64::max)]),
+            eye_tension_n: eye_tension.map(|t| {
+                [
+                    t.iter().cloned().fold(f64::MAX, f64::min),
+                    t.iter().cloned().fold(f64::MIN, f64::max),
+                ]
+            }),
         });
     }
     let mut words = match threads.convention {
-        Convention::Release => format!("P = xi(phi0) - xi(phi), phi0 = {} deg (seed 000 eq. 2)", threads.phi0_deg),
+        Convention::Release => format!(
+            "P = xi(phi0) - xi(phi), phi0 = {} deg (seed 000 eq. 2)",
+            threads.phi0_deg
+        ),
         Convention::Feed { elongation_mm } => {
-            format!("P = xi(phi) - xi(phi0) + dP, dP = {elongation_mm} mm, phi0 = {} deg (seed 001 eq. 22-23)", threads.phi0_deg)
+            format!(
+                "P = xi(phi) - xi(phi0) + dP, dP = {elongation_mm} mm, phi0 = {} deg (seed 001 eq. 22-23)",
+                threads.phi0_deg
+            )
         }
     };
     if threads.split_up.iter().any(Option::is_some) {

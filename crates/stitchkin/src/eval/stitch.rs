@@ -8,11 +8,11 @@ use super::{Column, wrap_deg};
 use crate::error::Error;
 use crate::model::stitch::StitchSetup;
 use crate::model::{Model, Params};
+use crate::stitch::checks::{Check, bound_curve, catch_and_stab, thread_bound};
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::stitch::pprime::required_take_up;
-use crate::stitch::checks::{Check, bound_curve, catch_and_stab, thread_bound};
-use crate::thread::SplitPoint;
 use crate::stitch::spec::{DEFAULT_REGULATOR_WIDTH_DEG, EventKind, Regulator, RequiredThread, StitchType, ThreadRole};
+use crate::thread::SplitPoint;
 
 /// A moment of a thread's cyclogram, at the model's φ.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -90,7 +90,15 @@ impl StitchThreadSummary {
     /// The column of its P′ at its split: `THR.Pprime_B_mm` for a needle
     /// thread, `THR.Pprime_mm` for a looper thread.
     pub fn pprime_column(&self) -> String {
-        format!("{}.{}", self.thread, if self.split == SplitPoint::B { "Pprime_B_mm" } else { "Pprime_mm" })
+        format!(
+            "{}.{}",
+            self.thread,
+            if self.split == SplitPoint::B {
+                "Pprime_B_mm"
+            } else {
+                "Pprime_mm"
+            }
+        )
     }
 }
 
@@ -131,7 +139,12 @@ impl Prepared {
     /// depend on the stitch alone.
     pub fn needle_checks(&self) -> Vec<Check> {
         let from_c = |phi_c: f64| wrap_deg(phi_c + self.setup.cyclogram_zero_deg);
-        self.required.threads.iter().filter_map(|th| th.needle_moments.map(|m| catch_and_stab(&th.name, &m, from_c))).flatten().collect()
+        self.required
+            .threads
+            .iter()
+            .filter_map(|th| th.needle_moments.map(|m| catch_and_stab(&th.name, &m, from_c)))
+            .flatten()
+            .collect()
     }
 
     /// The regulator in words: each distinct window with its threads.
@@ -139,7 +152,10 @@ impl Prepared {
         let mut windows: Vec<([f64; 2], Vec<&str>, ThreadRole)> = Vec::new();
         for (th, w) in self.required.threads.iter().zip(&self.windows_deg) {
             let Some(w) = *w else { continue };
-            match windows.iter_mut().find(|(v, ..)| (v[0] - w[0]).abs() < 1e-9 && (v[1] - w[1]).abs() < 1e-9) {
+            match windows
+                .iter_mut()
+                .find(|(v, ..)| (v[0] - w[0]).abs() < 1e-9 && (v[1] - w[1]).abs() < 1e-9)
+            {
                 Some((_, names, _)) => names.push(&th.name),
                 None => windows.push((w, vec![&th.name], th.role)),
             }
@@ -154,15 +170,29 @@ impl Prepared {
                 let to = if *b > 360.0 + 1e-9 { wrap_deg(*b) } else { *b };
                 let why = match self.setup.spec.regulator {
                     Regulator::BeforeTightening { width_deg } => {
-                        let before = if *role == ThreadRole::Needle { "the needle's TDC" } else { "the draw-in" };
-                        format!(", the last {width_deg}° before {before}{}", if width_deg == DEFAULT_REGULATOR_WIDTH_DEG { " (default)" } else { "" })
+                        let before = if *role == ThreadRole::Needle {
+                            "the needle's TDC"
+                        } else {
+                            "the draw-in"
+                        };
+                        format!(
+                            ", the last {width_deg}° before {before}{}",
+                            if width_deg == DEFAULT_REGULATOR_WIDTH_DEG {
+                                " (default)"
+                            } else {
+                                ""
+                            }
+                        )
                     }
                     _ => " (declared)".into(),
                 };
                 format!("{} φ = {a:.1}°…{to:.1}°{why}", names.join(", "))
             })
             .collect();
-        format!("{}: each stitch's thread is drawn through the regulator there, left out of the metrics", parts.join("; "))
+        format!(
+            "{}: each stitch's thread is drawn through the regulator there, left out of the metrics",
+            parts.join("; ")
+        )
     }
 }
 
@@ -175,27 +205,55 @@ pub(crate) fn compared_outside(phis: &[f64], window: Option<[f64; 2]>) -> Vec<bo
 /// P' of the model's stitch process with `params` on the cycle grid of
 /// `step_deg`; `None` when the model has no `[stitch]`.
 pub fn prepare(model: &Model, params: &Params, step_deg: f64) -> Result<Option<Prepared>, Error> {
-    super::check_options(&super::CycleOptions { step_deg, ..Default::default() })?;
+    super::check_options(&super::CycleOptions {
+        step_deg,
+        ..Default::default()
+    })?;
     prepare_on(model, params, super::cycle_phis_deg(model.phi_start_deg(), step_deg))
 }
 
 /// [`prepare`] on any grid of model φ `phis` (a study's own sampling).
 pub fn prepare_on(model: &Model, params: &Params, phis: Vec<f64>) -> Result<Option<Prepared>, Error> {
-    let Some(setup) = model.stitch_setup(params)? else { return Ok(None) };
-    let phi0_deg = model.file.thread.as_ref().and_then(|t| t.phi0_deg).unwrap_or(model.phi_start_deg());
+    let Some(setup) = model.stitch_setup(params)? else {
+        return Ok(None);
+    };
+    let phi0_deg = model
+        .file
+        .thread
+        .as_ref()
+        .and_then(|t| t.phi0_deg)
+        .unwrap_or(model.phi_start_deg());
     let to_c = |phi: f64| (phi - setup.cyclogram_zero_deg).rem_euclid(360.0);
     // φ0 rides at the end of the grid, for S(φ0) of P'_B.
     let mut grid: Vec<f64> = phis.iter().map(|&p| to_c(p)).collect();
     grid.push(to_c(phi0_deg));
     let required = required_take_up(&setup.spec, &grid, to_c(phi0_deg))?;
-    let windows_deg: Vec<Option<[f64; 2]>> = required.threads.iter().map(|th| window_in_model_phi(th, setup.cyclogram_zero_deg)).collect();
+    let windows_deg: Vec<Option<[f64; 2]>> = required
+        .threads
+        .iter()
+        .map(|th| window_in_model_phi(th, setup.cyclogram_zero_deg))
+        .collect();
     let compared = windows_deg.iter().map(|&w| compared_outside(&phis, w)).collect();
-    Ok(Some(Prepared { setup, required, phis, phi0_deg, windows_deg, compared }))
+    Ok(Some(Prepared {
+        setup,
+        required,
+        phis,
+        phi0_deg,
+        windows_deg,
+        compared,
+    }))
 }
 
 /// [`mismatch`] of `p` against `pprime` over a cycle of model φ `phis`,
 /// with every angle it reports wrapped into [0°, 360°).
-pub fn mismatch_on_cycle(phis: &[f64], p: &[f64], pprime: &[f64], compared: &[bool], eps_mm: f64, lag: bool) -> Option<Mismatch> {
+pub fn mismatch_on_cycle(
+    phis: &[f64],
+    p: &[f64],
+    pprime: &[f64],
+    compared: &[bool],
+    eps_mm: f64,
+    lag: bool,
+) -> Option<Mismatch> {
     mismatch(phis, p, pprime, compared, eps_mm, lag).map(|mut m| {
         m.max_abs_d_at_deg = wrap_deg(m.max_abs_d_at_deg);
         for ivs in [&mut m.excess_intervals_deg, &mut m.deficit_intervals_deg] {
@@ -250,9 +308,16 @@ fn transfers(ty: StitchType) -> Vec<String> {
 /// `THR.gamma_deg`; per looper thread: `THR.eta_mm`, `THR.Pprime_mm`; and
 /// `THR.D_mm` = P − P' where the thread has a path. `phis` are the cycle's
 /// model φ (uniform), the grid `prepared` was computed on.
-pub(crate) fn stitch_columns(prepared: &Prepared, phis: &[f64], lean: bool, columns: &mut Vec<Column>) -> Result<StitchSummary, Error> {
+pub(crate) fn stitch_columns(
+    prepared: &Prepared,
+    phis: &[f64],
+    lean: bool,
+    columns: &mut Vec<Column>,
+) -> Result<StitchSummary, Error> {
     if prepared.phis.len() != phis.len() || prepared.phis.first() != phis.first() {
-        return Err(Error::Stitch("the stitch process was prepared for another φ grid; prepare it with the same step".into()));
+        return Err(Error::Stitch(
+            "the stitch process was prepared for another φ grid; prepare it with the same step".into(),
+        ));
     }
     let (setup, req, phi0_deg) = (&prepared.setup, &prepared.required, prepared.phi0_deg);
     let from_c = |phi_c: f64| wrap_deg(phi_c + setup.cyclogram_zero_deg);
@@ -264,7 +329,10 @@ pub(crate) fn stitch_columns(prepared: &Prepared, phis: &[f64], lean: bool, colu
         let name = &th.name;
         let compared = &prepared.compared[i];
         let push = |columns: &mut Vec<Column>, col: &str, values: Vec<f64>| {
-            columns.push(Column { name: format!("{name}.{col}"), values });
+            columns.push(Column {
+                name: format!("{name}.{col}"),
+                values,
+            });
         };
         // A needle thread is measured at B: P'_B = P'_eye + S − S(φ0).
         let at_b = th.travel_mm.is_some();
@@ -294,7 +362,9 @@ pub(crate) fn stitch_columns(prepared: &Prepared, phis: &[f64], lean: bool, colu
                 _ => {
                     let p_name = format!("{path}.P_mm");
                     let c = columns.iter().find(|c| c.name == p_name).ok_or_else(|| {
-                        Error::Stitch(format!("thread `{name}`: the take-up column `{p_name}` of its path is missing"))
+                        Error::Stitch(format!(
+                            "thread `{name}`: the take-up column `{p_name}` of its path is missing"
+                        ))
                     })?;
                     (c.values.clone(), th.pprime_mm[..n].to_vec(), false)
                 }
@@ -308,10 +378,16 @@ pub(crate) fn stitch_columns(prepared: &Prepared, phis: &[f64], lean: bool, colu
             }
         }
         checks.extend(needle_checks.iter().filter(|c| &c.thread == name).cloned());
-        let kmax = (0..n).max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a))).unwrap_or(0);
+        let kmax = (0..n)
+            .max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a)))
+            .unwrap_or(0);
         // At the lock P' gives back the stitch's thread when the regulator
         // draws it in its own window.
-        let lock_back = if th.regulator_window_deg.is_some() { th.per_stitch_mm } else { 0.0 };
+        let lock_back = if th.regulator_window_deg.is_some() {
+            th.per_stitch_mm
+        } else {
+            0.0
+        };
         threads.push(StitchThreadSummary {
             thread: name.clone(),
             role: th.role,

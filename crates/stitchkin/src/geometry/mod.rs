@@ -36,7 +36,10 @@ pub struct Placement<T: Real> {
 
 impl<T: Real> Placement<T> {
     pub fn identity() -> Self {
-        Placement { rot: Matrix3::identity(), origin: V3::zeros() }
+        Placement {
+            rot: Matrix3::identity(),
+            origin: V3::zeros(),
+        }
     }
 
     /// Local coordinates → world.
@@ -59,7 +62,10 @@ impl<T: Real> Placement<T> {
 
     /// `self` placed inside `parent`: `parent ∘ self`.
     pub fn within(&self, parent: &Placement<T>) -> Self {
-        Placement { rot: parent.rot * self.rot, origin: parent.to_world(self.origin) }
+        Placement {
+            rot: parent.rot * self.rot,
+            origin: parent.to_world(self.origin),
+        }
     }
 
     /// The frame's xy-plane as a plane of motion, `None` for the world's own
@@ -210,7 +216,10 @@ mod tests {
 
     #[test]
     fn placement_round_trip() {
-        let f = Placement { rot: axis_rotation(0, 0.3) * axis_rotation(2, 1.1), origin: V3::new(1.0, -2.0, 3.0) };
+        let f = Placement {
+            rot: axis_rotation(0, 0.3) * axis_rotation(2, 1.1),
+            origin: V3::new(1.0, -2.0, 3.0),
+        };
         let p = V3::new(0.5, 7.0, -1.0);
         assert_relative_eq!(f.to_local(f.to_world(p)), p, epsilon = 1e-12);
         let plane = Plane(Some(f));

@@ -32,7 +32,11 @@ pub struct PoseAnalogs {
 impl PoseAnalogs {
     /// Zero analogs (fixed points keep them) for `n` positions of `points` points.
     pub fn new(points: usize, n: usize) -> PoseAnalogs {
-        PoseAnalogs { n, vel: vec![vec![V3::zeros(); n]; points], acc: vec![vec![V3::zeros(); n]; points] }
+        PoseAnalogs {
+            n,
+            vel: vec![vec![V3::zeros(); n]; points],
+            acc: vec![vec![V3::zeros(); n]; points],
+        }
     }
     /// First analog of point `slot` at the `k`-th φ, mm/rad.
     pub fn vel(&self, slot: usize, k: usize) -> V3<f64> {
@@ -64,7 +68,10 @@ impl PoseAnalogs {
 /// it does for the dual solve.
 #[inline(always)]
 fn solve2(r1: V2<f64>, r2: V2<f64>, inv_det: f64, rhs: V2<f64>) -> V2<f64> {
-    V2::new((rhs.x * r2.y - r1.y * rhs.y) * inv_det, (r1.x * rhs.y - rhs.x * r2.x) * inv_det)
+    V2::new(
+        (rhs.x * r2.y - r1.y * rhs.y) * inv_det,
+        (r1.x * rhs.y - rhs.x * r2.x) * inv_det,
+    )
 }
 
 impl Mechanism<f64> {
@@ -107,7 +114,9 @@ impl Mechanism<f64> {
             let (vo, ao) = (&mut v[..n], &mut a[..n]);
             let xo = xs(o);
             match step {
-                Step::Crank { center, speed, u, v: w, .. } => {
+                Step::Crank {
+                    center, speed, u, v: w, ..
+                } => {
                     // out = c + ρ(θ), ρ = r(cos θ·u + sin θ·w), θ = speed·φ + phase:
                     // ρ′ = speed·(ρ·u·w − ρ·w·u), ρ″ = −speed²·ρ.
                     let (c, cv, ca) = (xs(*center), vs(*center), as_(*center));
@@ -135,7 +144,13 @@ impl Mechanism<f64> {
                         ao[k] = pl.lift_dir(solve2(d1, d2, inv_det, rhs));
                     })
                 }
-                Step::Rrp { from, through, dir, plane, .. } => {
+                Step::Rrp {
+                    from,
+                    through,
+                    dir,
+                    plane,
+                    ..
+                } => {
                     // G = H + off + s·u on a guide of fixed direction u, |G − A| = l:
                     // w = G − A, s′ = −w·(H′ − A′)/(w·u), s″ = −(|G′ − A′|² + w·(H″ − A″))/(w·u).
                     let (xa, vh, va, ah, aa) = (xs(*from), vs(*through), vs(*from), as_(*through), as_(*from));
@@ -179,8 +194,22 @@ impl Mechanism<f64> {
                         ao[k] = b_psi * psi2 - q * (psi1 * psi1);
                     }
                 }
-                Step::Rigid { base, dc, ds, base_len, plane, .. } => {
-                    let (x0, x1, v0s, v1s, a0s, a1s) = (xs(base[0]), xs(base[1]), vs(base[0]), vs(base[1]), as_(base[0]), as_(base[1]));
+                Step::Rigid {
+                    base,
+                    dc,
+                    ds,
+                    base_len,
+                    plane,
+                    ..
+                } => {
+                    let (x0, x1, v0s, v1s, a0s, a1s) = (
+                        xs(base[0]),
+                        xs(base[1]),
+                        vs(base[0]),
+                        vs(base[1]),
+                        as_(base[0]),
+                        as_(base[1]),
+                    );
                     match base_len {
                         // P = A + (dc/l)·d + (ds/l)·perp(d), d = B − A: linear in A and B.
                         Some(l) => {
@@ -244,7 +273,11 @@ impl<T: Real> Pose<T> {
             let (p, v, a) = (&pose.tracks[slot], &an.vel[slot], &an.acc[slot]);
             for (k, q) in track.iter_mut().enumerate() {
                 let (p, v, a) = (p[k], v[k], a[k]);
-                *q = V3::new(T::from_parts(p.x, v.x, a.x), T::from_parts(p.y, v.y, a.y), T::from_parts(p.z, v.z, a.z));
+                *q = V3::new(
+                    T::from_parts(p.x, v.x, a.x),
+                    T::from_parts(p.y, v.y, a.y),
+                    T::from_parts(p.z, v.z, a.z),
+                );
             }
         }
     }
@@ -254,7 +287,11 @@ impl<T: Real> Pose<T> {
 /// whose mechanism has closed-form analogs, positions in `f64` (`plain`,
 /// the same model and parameters) and analogs in closed form; otherwise
 /// the solve in `T`.
-pub fn solve_cycle<T: Real>(mech: &Mechanism<T>, plain: Option<&Mechanism<f64>>, phis_deg: &[f64]) -> Result<Pose<T>, AssemblyError> {
+pub fn solve_cycle<T: Real>(
+    mech: &Mechanism<T>,
+    plain: Option<&Mechanism<f64>>,
+    phis_deg: &[f64],
+) -> Result<Pose<T>, AssemblyError> {
     if let Some(m) = plain.filter(|m| m.has_closed_form_analogs()) {
         let phis = Phi::<f64>::table(phis_deg);
         let mut pose = m.new_pose(phis.len());
@@ -304,8 +341,20 @@ mod tests {
                     for c in 0..3 {
                         let (v, a) = (an.vel(slot, k)[c], an.acc(slot, k)[c]);
                         let tol = |x: f64| 1e-9 * (1.0 + x.abs());
-                        assert!((v - q[c].v1).abs() <= tol(v), "{} point {slot} φ {} coord {c}: v {v} vs {}", preset.name, phis_deg[k], q[c].v1);
-                        assert!((a - q[c].v2).abs() <= tol(a) * 10.0, "{} point {slot} φ {} coord {c}: a {a} vs {}", preset.name, phis_deg[k], q[c].v2);
+                        assert!(
+                            (v - q[c].v1).abs() <= tol(v),
+                            "{} point {slot} φ {} coord {c}: v {v} vs {}",
+                            preset.name,
+                            phis_deg[k],
+                            q[c].v1
+                        );
+                        assert!(
+                            (a - q[c].v2).abs() <= tol(a) * 10.0,
+                            "{} point {slot} φ {} coord {c}: a {a} vs {}",
+                            preset.name,
+                            phis_deg[k],
+                            q[c].v2
+                        );
                     }
                 }
             }
@@ -328,7 +377,12 @@ mod tests {
             for k in 0..phis.len() {
                 let (a, b) = (closed.point(slot, k), reference.point(slot, k));
                 for c in 0..3 {
-                    assert!((a[c].re - b[c].re).abs() < 1e-9 && (a[c].v1 - b[c].v1).abs() < 1e-8 && (a[c].v2 - b[c].v2).abs() < 1e-7, "{slot} {k} {c}: {a:?} vs {b:?}");
+                    assert!(
+                        (a[c].re - b[c].re).abs() < 1e-9
+                            && (a[c].v1 - b[c].v1).abs() < 1e-8
+                            && (a[c].v2 - b[c].v2).abs() < 1e-7,
+                        "{slot} {k} {c}: {a:?} vs {b:?}"
+                    );
                 }
             }
         }

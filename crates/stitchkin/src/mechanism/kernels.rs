@@ -28,7 +28,15 @@ widest_fn! {
 }
 
 #[inline(always)]
-fn rigid_on_link_in<T: Real, P: PlaneMap<T>>(o: &mut [V3<T>], a: &[V3<T>], b: &[V3<T>], pl: P, dcl: T, dsl: T, lift: T) {
+fn rigid_on_link_in<T: Real, P: PlaneMap<T>>(
+    o: &mut [V3<T>],
+    a: &[V3<T>],
+    b: &[V3<T>],
+    pl: P,
+    dcl: T,
+    dsl: T,
+    lift: T,
+) {
     for ((o, a), b) in o.iter_mut().zip(a).zip(b) {
         *o = pl.lift(rigid::rigid_point_on_link(pl.project(a), pl.project(b), dcl, dsl), lift);
     }
@@ -43,7 +51,11 @@ widest_fn! {
 fn planar_crank_in<T: Real>(o: &mut [V3<T>], phis: &[Phi<T>], c0: V3<T>, [cx, cy, sx, sy]: [T; 4]) {
     for (o, phi) in o.iter_mut().zip(phis) {
         let (c, s) = (phi.cos, phi.sin);
-        *o = V3::new(c0.x + c.times_k(cx) + s.times_k(sx), c0.y + c.times_k(cy) + s.times_k(sy), c0.z);
+        *o = V3::new(
+            c0.x + c.times_k(cx) + s.times_k(sx),
+            c0.y + c.times_k(cy) + s.times_k(sy),
+            c0.z,
+        );
     }
 }
 

@@ -28,19 +28,31 @@ pub fn point_on_line<T: Real, const D: usize>(
     let along = w.dot(&u);
     let perp2 = w.norm_squared() - along * along;
     let (dist, l) = (perp2.re().max(0.0).sqrt(), l_sq.re().sqrt());
-    Err(NoAssembly::new(dist - l, format!("the moving joint is {dist:.4} mm from the guide line but the rod is only {l:.4} mm long")))
+    Err(NoAssembly::new(
+        dist - l,
+        format!("the moving joint is {dist:.4} mm from the guide line but the rod is only {l:.4} mm long"),
+    ))
 }
 
 /// [`point_on_line`] without a branch: the point and whether it exists
 /// (when it does not, the point is not a number). A cycle's loop of it
 /// vectorises.
 #[inline(always)]
-pub fn point_on_line_unchecked<T: Real, const D: usize>(h: SVector<T, D>, u: SVector<T, D>, a: SVector<T, D>, l_sq: T, sign: f64) -> (SVector<T, D>, bool) {
+pub fn point_on_line_unchecked<T: Real, const D: usize>(
+    h: SVector<T, D>,
+    u: SVector<T, D>,
+    a: SVector<T, D>,
+    l_sq: T,
+    sign: f64,
+) -> (SVector<T, D>, bool) {
     let w = a - h;
     let along = w.dot(&u);
     let perp2 = w.norm_squared() - along * along;
     let disc = l_sq - perp2;
-    (h + u * (along + disc.sqrt().signed(sign)), disc.re() >= 0.0 || disc.re().is_nan())
+    (
+        h + u * (along + disc.sqrt().signed(sign)),
+        disc.re() >= 0.0 || disc.re().is_nan(),
+    )
 }
 
 /// Transmission angle of a rod `a → p` driving a slider along `u`:

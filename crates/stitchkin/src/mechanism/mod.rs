@@ -16,9 +16,9 @@ pub mod rssr;
 
 use std::sync::Arc;
 
-use crate::geometry::{PlaneMap, Plane, V2, V3, perp};
-use crate::with_plane;
+use crate::geometry::{Plane, PlaneMap, V2, V3, perp};
 use crate::scalar::Real;
+use crate::with_plane;
 use newton::{NewtonGroup, NewtonState};
 use rssr::Rocker;
 
@@ -36,7 +36,10 @@ impl NoAssembly {
         NoAssembly { defect_mm, message }
     }
     pub fn coincident(what: &str) -> Self {
-        NoAssembly { defect_mm: 0.0, message: format!("{what} coincide, so the direction is undefined") }
+        NoAssembly {
+            defect_mm: 0.0,
+            message: format!("{what} coincide, so the direction is undefined"),
+        }
     }
 }
 
@@ -71,23 +74,89 @@ impl<T: Real> Phi<T> {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Step<T: Real> {
     /// Crank pin `out = center + r(cos θ·u + sin θ·v)`, θ = speed·φ + phase.
-    Crank { center: usize, out: usize, r: T, u: V3<T>, v: V3<T>, speed: f64, phase: T, cos_ph: T, sin_ph: T },
-    Rrr { p1: usize, p2: usize, l1: T, l2: T, sign: f64, plane: Plane<T>, out: usize },
+    Crank {
+        center: usize,
+        out: usize,
+        r: T,
+        u: V3<T>,
+        v: V3<T>,
+        speed: f64,
+        phase: T,
+        cos_ph: T,
+        sin_ph: T,
+    },
+    Rrr {
+        p1: usize,
+        p2: usize,
+        l1: T,
+        l2: T,
+        sign: f64,
+        plane: Plane<T>,
+        out: usize,
+    },
     /// Planar RRP: slider on the line through `through` (toward `toward`, or
     /// along the fixed in-plane unit direction `dir`), offset `offset` left.
-    Rrp { from: usize, through: usize, toward: Option<usize>, dir: V2<T>, offset: T, l: T, sign: f64, plane: Plane<T>, out: usize },
-    Rpr { from: usize, pivot: usize, e: T, d: T, plane: Plane<T>, out: usize },
-    Rssr { from: usize, rocker: Rocker<T>, zero: V3<T>, l: T, sign: f64, out: usize },
+    Rrp {
+        from: usize,
+        through: usize,
+        toward: Option<usize>,
+        dir: V2<T>,
+        offset: T,
+        l: T,
+        sign: f64,
+        plane: Plane<T>,
+        out: usize,
+    },
+    Rpr {
+        from: usize,
+        pivot: usize,
+        e: T,
+        d: T,
+        plane: Plane<T>,
+        out: usize,
+    },
+    Rssr {
+        from: usize,
+        rocker: Rocker<T>,
+        zero: V3<T>,
+        l: T,
+        sign: f64,
+        out: usize,
+    },
     /// Spatial point on the line through `through` (toward `toward`, or along
     /// the fixed unit direction `dir`).
-    PointOnLine { from: usize, through: usize, toward: Option<usize>, dir: V3<T>, l: T, sign: f64, out: usize },
+    PointOnLine {
+        from: usize,
+        through: usize,
+        toward: Option<usize>,
+        dir: V3<T>,
+        l: T,
+        sign: f64,
+        out: usize,
+    },
     /// Rigid point `dc`, `ds` along and left of `base[0] → base[1]`;
     /// `base_len` is that link's length when a group fixes it (the point
     /// then needs no square root).
-    Rigid { base: [usize; 2], dc: T, ds: T, base_len: Option<T>, lift: T, plane: Plane<T>, out: usize },
-    Rigid3 { frame: [usize; 3], at: V3<T>, out: usize },
+    Rigid {
+        base: [usize; 2],
+        dc: T,
+        ds: T,
+        base_len: Option<T>,
+        lift: T,
+        plane: Plane<T>,
+        out: usize,
+    },
+    Rigid3 {
+        frame: [usize; 3],
+        at: V3<T>,
+        out: usize,
+    },
     /// `out = from + by`: a point on the translating body of `from`.
-    Offset { from: usize, by: V3<T>, out: usize },
+    Offset {
+        from: usize,
+        by: V3<T>,
+        out: usize,
+    },
     Newton(Box<NewtonGroup<T>>),
 }
 
@@ -113,10 +182,23 @@ impl<T: Real> Step<T> {
 /// A derived quantity, evaluated from a solved pose.
 #[derive(Debug, Clone, PartialEq)]
 pub enum MeasureStep<T: Real> {
-    Distance { a: usize, b: usize },
+    Distance {
+        a: usize,
+        b: usize,
+    },
     /// Signed in-plane distance (`plane = Some`) or unsigned 3D distance.
-    LineDeviation { p: usize, h: usize, t: usize, plane: Option<Plane<T>> },
-    Coordinate { p: usize, from: Option<usize>, origin: V3<T>, axis: V3<T> },
+    LineDeviation {
+        p: usize,
+        h: usize,
+        t: usize,
+        plane: Option<Plane<T>>,
+    },
+    Coordinate {
+        p: usize,
+        from: Option<usize>,
+        origin: V3<T>,
+        axis: V3<T>,
+    },
 }
 
 /// Positions of every point at a batch of φ values (one φ, or a whole
@@ -148,13 +230,24 @@ impl<T: Real> Pose<T> {
     }
     /// A copy with every point projected onto `plane` (local z = 0).
     pub fn projected(&self, plane: &Plane<T>) -> Pose<T> {
-        let tracks = self.tracks.iter().map(|t| t.iter().map(|p| plane.lift(plane.project(p), T::zero())).collect()).collect();
-        Pose { n: self.n, tracks, newton: self.newton.clone() }
+        let tracks = self
+            .tracks
+            .iter()
+            .map(|t| t.iter().map(|p| plane.lift(plane.project(p), T::zero())).collect())
+            .collect();
+        Pose {
+            n: self.n,
+            tracks,
+            newton: self.newton.clone(),
+        }
     }
 
     /// All points at the `k`-th φ, indexable by slot.
     pub fn at(&self, k: usize) -> PoseAt<'_, T> {
-        PoseAt { tracks: &self.tracks, k }
+        PoseAt {
+            tracks: &self.tracks,
+            k,
+        }
     }
 }
 
@@ -176,7 +269,10 @@ impl<T: Real> std::ops::Index<usize> for PoseAt<'_, T> {
 /// Fills `out[k] = f(k)` for every k, stopping at the first position with
 /// no assembly.
 #[inline(always)]
-fn each<T: Real>(out: &mut [V3<T>], mut f: impl FnMut(usize) -> Result<V3<T>, NoAssembly>) -> Result<(), (usize, NoAssembly)> {
+fn each<T: Real>(
+    out: &mut [V3<T>],
+    mut f: impl FnMut(usize) -> Result<V3<T>, NoAssembly>,
+) -> Result<(), (usize, NoAssembly)> {
     for (k, o) in out.iter_mut().enumerate() {
         *o = f(k).map_err(|e| (k, e))?;
     }
@@ -219,7 +315,13 @@ impl<T: Real> Mechanism<T> {
         let newton = self
             .steps
             .iter()
-            .filter_map(|s| if let Step::Newton(g) = s { Some(g.new_state()) } else { None })
+            .filter_map(|s| {
+                if let Step::Newton(g) = s {
+                    Some(g.new_state())
+                } else {
+                    None
+                }
+            })
             .collect();
         Pose { n, tracks, newton }
     }
@@ -241,7 +343,17 @@ impl<T: Real> Mechanism<T> {
             }
         }
         if !pose.newton.is_empty() {
-            pose.newton = self.steps.iter().filter_map(|s| if let Step::Newton(g) = s { Some(g.new_state()) } else { None }).collect();
+            pose.newton = self
+                .steps
+                .iter()
+                .filter_map(|s| {
+                    if let Step::Newton(g) = s {
+                        Some(g.new_state())
+                    } else {
+                        None
+                    }
+                })
+                .collect();
         }
     }
 
@@ -260,11 +372,25 @@ impl<T: Real> Mechanism<T> {
         for (i, step) in self.steps.iter().enumerate() {
             let out_slot = step.out().unwrap_or(usize::MAX);
             // The output track is taken out while the inputs are read.
-            let mut o = if out_slot == usize::MAX { Vec::new() } else { std::mem::take(&mut tracks[out_slot]) };
+            let mut o = if out_slot == usize::MAX {
+                Vec::new()
+            } else {
+                std::mem::take(&mut tracks[out_slot])
+            };
             let t = &*tracks;
             let tr = |s: usize| &t[s][..n];
             let r = match step {
-                Step::Crank { center, r, u, v, speed, phase, cos_ph, sin_ph, .. } => {
+                Step::Crank {
+                    center,
+                    r,
+                    u,
+                    v,
+                    speed,
+                    phase,
+                    cos_ph,
+                    sin_ph,
+                    ..
+                } => {
                     let c0 = tr(*center);
                     let (ru, rv) = (*u * *r, *v * *r);
                     if *speed != 1.0 {
@@ -286,7 +412,11 @@ impl<T: Real> Mechanism<T> {
                             }
                             None => each(&mut o, |k| {
                                 let (c, s) = (phis[k].cos, phis[k].sin);
-                                Ok(V3::new(c0[k].x + c.times_k(cx) + s.times_k(sx), c0[k].y + c.times_k(cy) + s.times_k(sy), c0[k].z))
+                                Ok(V3::new(
+                                    c0[k].x + c.times_k(cx) + s.times_k(sx),
+                                    c0[k].y + c.times_k(cy) + s.times_k(sy),
+                                    c0[k].z,
+                                ))
                             }),
                         }
                     } else if let Some(c0) = self.fixed_point(*center) {
@@ -295,12 +425,23 @@ impl<T: Real> Mechanism<T> {
                     } else {
                         each(&mut o, |k| {
                             let phi = &phis[k];
-                            let (c, s) = (phi.cos * *cos_ph - phi.sin * *sin_ph, phi.sin * *cos_ph + phi.cos * *sin_ph);
+                            let (c, s) = (
+                                phi.cos * *cos_ph - phi.sin * *sin_ph,
+                                phi.sin * *cos_ph + phi.cos * *sin_ph,
+                            );
                             Ok(c0[k] + ru.map(|x| c.times_k(x)) + rv.map(|x| s.times_k(x)))
                         })
                     }
                 }
-                Step::Rrr { p1, p2, l1, l2, sign, plane, .. } => {
+                Step::Rrr {
+                    p1,
+                    p2,
+                    l1,
+                    l2,
+                    sign,
+                    plane,
+                    ..
+                } => {
                     let (a, b) = (tr(*p1), tr(*p2));
                     let (l1sq, l2sq) = (*l1 * *l1, *l2 * *l2);
                     match self.fixed_point(*p2) {
@@ -315,7 +456,17 @@ impl<T: Real> Mechanism<T> {
                         })),
                     }
                 }
-                Step::Rrp { from, through, toward, dir, offset, l, sign, plane, .. } => {
+                Step::Rrp {
+                    from,
+                    through,
+                    toward,
+                    dir,
+                    offset,
+                    l,
+                    sign,
+                    plane,
+                    ..
+                } => {
                     let (a, h) = (tr(*from), tr(*through));
                     let l_sq = *l * *l;
                     match toward.map(tr) {
@@ -335,21 +486,42 @@ impl<T: Real> Mechanism<T> {
                         }
                     }
                 }
-                Step::Rpr { from, pivot, e, d, plane, .. } => {
+                Step::Rpr {
+                    from,
+                    pivot,
+                    e,
+                    d,
+                    plane,
+                    ..
+                } => {
                     let (a, c) = (tr(*from), tr(*pivot));
                     with_plane!(plane, pl => each(&mut o, |k| {
                         let ck = pl.project(&c[k]);
                         rpr::rpr(pl.project(&a[k]), ck, *e).map(|(u, _)| pl.lift(ck + perp(u) * *e + u * *d, T::zero()))
                     }))
                 }
-                Step::Rssr { from, rocker, l, sign, .. } => {
+                Step::Rssr {
+                    from, rocker, l, sign, ..
+                } => {
                     let a = tr(*from);
                     let rod = rssr::RockerRod::new(*rocker, *l);
                     // All positions at once; if one has no assembly, the
                     // checked loop finds it and says why.
-                    if kernels::rssr(&mut o[..n], a, &rod, *sign) { Ok(()) } else { each(&mut o, |k| rssr::rssr(&rod, a[k], *sign)) }
+                    if kernels::rssr(&mut o[..n], a, &rod, *sign) {
+                        Ok(())
+                    } else {
+                        each(&mut o, |k| rssr::rssr(&rod, a[k], *sign))
+                    }
                 }
-                Step::PointOnLine { from, through, toward, dir, l, sign, .. } => {
+                Step::PointOnLine {
+                    from,
+                    through,
+                    toward,
+                    dir,
+                    l,
+                    sign,
+                    ..
+                } => {
                     let (a, h) = (tr(*from), tr(*through));
                     let t = toward.map(tr);
                     let l_sq = *l * *l;
@@ -367,7 +539,15 @@ impl<T: Real> Mechanism<T> {
                         })
                     }
                 }
-                Step::Rigid { base, dc, ds, base_len, lift, plane, .. } => {
+                Step::Rigid {
+                    base,
+                    dc,
+                    ds,
+                    base_len,
+                    lift,
+                    plane,
+                    ..
+                } => {
                     let (a, b) = (tr(base[0]), tr(base[1]));
                     match base_len {
                         // On a link of known length it cannot fail: a loop
@@ -430,15 +610,36 @@ impl<T: Real> Mechanism<T> {
         let p = pose.at(k);
         for step in &self.steps {
             let (y, x) = match step {
-                Step::Rrr { p1, p2, plane, out: b, .. } => rrr::transmission_parts(plane.project(&p[*p1]), plane.project(&p[*p2]), plane.project(&p[*b])),
-                Step::Rrp { from, through, toward, dir, plane, out: g, .. } => {
+                Step::Rrr {
+                    p1, p2, plane, out: b, ..
+                } => rrr::transmission_parts(plane.project(&p[*p1]), plane.project(&p[*p2]), plane.project(&p[*b])),
+                Step::Rrp {
+                    from,
+                    through,
+                    toward,
+                    dir,
+                    plane,
+                    out: g,
+                    ..
+                } => {
                     let h = plane.project(&p[*through]);
                     let u = toward.map_or(*dir, |t| unit(plane.project(&p[t]) - h).unwrap_or(*dir));
                     line::transmission_parts(u, plane.project(&p[*from]), plane.project(&p[*g]))
                 }
-                Step::Rpr { from, pivot, e, plane, .. } => rpr::transmission_parts(plane.project(&p[*from]), plane.project(&p[*pivot]), *e),
-                Step::Rssr { from, rocker, out: b, .. } => rssr::transmission_parts(rocker, p[*from], p[*b]),
-                Step::PointOnLine { from, through, toward, dir, out: q, .. } => {
+                Step::Rpr {
+                    from, pivot, e, plane, ..
+                } => rpr::transmission_parts(plane.project(&p[*from]), plane.project(&p[*pivot]), *e),
+                Step::Rssr {
+                    from, rocker, out: b, ..
+                } => rssr::transmission_parts(rocker, p[*from], p[*b]),
+                Step::PointOnLine {
+                    from,
+                    through,
+                    toward,
+                    dir,
+                    out: q,
+                    ..
+                } => {
                     let u = toward.map_or(*dir, |t| unit(p[t] - p[*through]).unwrap_or(*dir));
                     line::transmission_parts(u, p[*from], p[*q])
                 }
@@ -460,17 +661,26 @@ impl<T: Real> Mechanism<T> {
         };
         for step in &self.steps {
             match step {
-                Step::Rrr { p1, p2, plane, out: b, .. } => {
+                Step::Rrr {
+                    p1, p2, plane, out: b, ..
+                } => {
                     out.push(ang(plane, *p1, *b));
                     out.push(ang(plane, *p2, *b));
                 }
-                Step::Rrp { from, plane, out: g, .. } => out.push(ang(plane, *from, *g)),
-                Step::Rpr { from, pivot, plane, e, .. } => {
+                Step::Rrp {
+                    from, plane, out: g, ..
+                } => out.push(ang(plane, *from, *g)),
+                Step::Rpr {
+                    from, pivot, plane, e, ..
+                } => {
                     // Direction of the slot, from the pivot's foot toward the pin.
-                    let u = rpr::rpr(plane.project(&p[*from]), plane.project(&p[*pivot]), *e).map_or(V2::x(), |(u, _)| u);
+                    let u =
+                        rpr::rpr(plane.project(&p[*from]), plane.project(&p[*pivot]), *e).map_or(V2::x(), |(u, _)| u);
                     out.push(u.y.angle_of(u.x));
                 }
-                Step::Rssr { rocker, zero, out: b, .. } => {
+                Step::Rssr {
+                    rocker, zero, out: b, ..
+                } => {
                     let q = p[*b] - rocker.c;
                     let y = rocker.w.cross(zero);
                     out.push(q.dot(&y).angle_of(q.dot(zero)));
@@ -498,7 +708,12 @@ impl<T: Real> Mechanism<T> {
                         crate::geometry::norm_or_zero((p[*q] - p[*h]).cross(&u))
                     }
                 },
-                MeasureStep::Coordinate { p: q, from, origin, axis } => {
+                MeasureStep::Coordinate {
+                    p: q,
+                    from,
+                    origin,
+                    axis,
+                } => {
                     let o = from.map_or(*origin, |f| p[f]);
                     (p[*q] - o).dot(axis)
                 }
@@ -518,7 +733,11 @@ impl<T: Real> Mechanism<T> {
 
     /// The xy-plane of frame `index` (see [`crate::model::Model::frame_index`]).
     pub fn frame_plane(&self, index: usize) -> Plane<T> {
-        if index == 0 { Plane::WORLD } else { Plane(Some(self.frames[index])) }
+        if index == 0 {
+            Plane::WORLD
+        } else {
+            Plane(Some(self.frames[index]))
+        }
     }
 }
 

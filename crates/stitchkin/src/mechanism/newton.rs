@@ -94,7 +94,11 @@ impl<T: Real> NewtonGroup<T> {
         match r {
             PointRef::Unknown(i) => {
                 let k = i * self.dim;
-                if self.dim == 2 { V3::new(x[k], x[k + 1], S::zero()) } else { V3::new(x[k], x[k + 1], x[k + 2]) }
+                if self.dim == 2 {
+                    V3::new(x[k], x[k + 1], S::zero())
+                } else {
+                    V3::new(x[k], x[k + 1], x[k + 2])
+                }
             }
             PointRef::Known(slot) => known(slot),
         }
@@ -168,7 +172,12 @@ impl<T: Real> NewtonGroup<T> {
 
     /// Solves the group at every φ of a pose's tracks in order, each from the
     /// previous solution, and writes its points.
-    pub(crate) fn solve_track(&self, tracks: &mut [Vec<V3<T>>], n: usize, st: &mut NewtonState<T>) -> Result<(), (usize, NoAssembly)> {
+    pub(crate) fn solve_track(
+        &self,
+        tracks: &mut [Vec<V3<T>>],
+        n: usize,
+        st: &mut NewtonState<T>,
+    ) -> Result<(), (usize, NoAssembly)> {
         let mut pts = vec![V3::zeros(); tracks.len()];
         let slots = self.known_slots();
         for k in 0..n {
@@ -241,7 +250,10 @@ impl<T: Real> NewtonGroup<T> {
             }
             self.jacobian(&st.x, &known_re, &mut st.j);
             if !lu_factor(&mut st.j, n, &mut st.piv) {
-                return Err(NoAssembly::new(res, "the closure equations are singular here (a dead point or a redundant constraint)".into()));
+                return Err(NoAssembly::new(
+                    res,
+                    "the closure equations are singular here (a dead point or a redundant constraint)".into(),
+                ));
             }
             st.dx.copy_from_slice(&st.r);
             lu_solve(&st.j, n, &st.piv, &mut st.dx);
@@ -271,7 +283,10 @@ impl<T: Real> NewtonGroup<T> {
         // Exact derivatives: two Newton steps in T with the real Jacobian.
         self.jacobian(&st.x, &known_re, &mut st.j);
         if !lu_factor(&mut st.j, n, &mut st.piv) {
-            return Err(NoAssembly::new(0.0, "the group is at a singular position (its analogs are infinite)".into()));
+            return Err(NoAssembly::new(
+                0.0,
+                "the group is at a singular position (its analogs are infinite)".into(),
+            ));
         }
         for k in 0..n {
             st.xt[k] = T::cst(st.x[k]);
@@ -301,7 +316,11 @@ impl<T: Real> NewtonGroup<T> {
     }
 
     fn from_group(&self, p: V3<T>) -> V3<T> {
-        if self.dim == 2 { self.plane.lift(V2::new(p.x, p.y), T::zero()) } else { p }
+        if self.dim == 2 {
+            self.plane.lift(V2::new(p.x, p.y), T::zero())
+        } else {
+            p
+        }
     }
 }
 
@@ -326,7 +345,9 @@ fn normals<S: Real>(u: V3<S>) -> (V3<S>, V3<S>) {
 pub fn lu_factor(a: &mut [f64], n: usize, piv: &mut [usize]) -> bool {
     let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
     for k in 0..n {
-        let p = (k..n).max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs())).unwrap_or(k);
+        let p = (k..n)
+            .max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))
+            .unwrap_or(k);
         piv[k] = p;
         if a[p * n + k].abs() <= 1e-13 * scale {
             return false;
@@ -395,8 +416,16 @@ mod tests {
             outs: vec![2],
             guess: vec![2.0, 2.0],
             closures: vec![
-                Closure::Distance { a: PointRef::Unknown(0), b: PointRef::Known(0), l: 3.0 },
-                Closure::Distance { a: PointRef::Unknown(0), b: PointRef::Known(1), l: 4.0 },
+                Closure::Distance {
+                    a: PointRef::Unknown(0),
+                    b: PointRef::Known(0),
+                    l: 3.0,
+                },
+                Closure::Distance {
+                    a: PointRef::Unknown(0),
+                    b: PointRef::Known(1),
+                    l: 4.0,
+                },
             ],
         };
         let mut pts = vec![V3::zeros(), V3::new(5.0, 0.0, 0.0), V3::zeros()];

@@ -58,14 +58,25 @@ mod tests {
         // link along +y, 30° counter-clockwise from it points to (−sin30, cos30).
         assert_relative_eq!(p, V2::new(1.0 - 10.0, 1.0 + 20.0 * g.cos()), epsilon = 1e-12);
         // The same point with the link's length (10) known.
-        let q = rigid_point_on_link(V2::new(1.0, 1.0), V2::new(1.0, 11.0), d * g.cos() / 10.0, d * g.sin() / 10.0);
+        let q = rigid_point_on_link(
+            V2::new(1.0, 1.0),
+            V2::new(1.0, 11.0),
+            d * g.cos() / 10.0,
+            d * g.sin() / 10.0,
+        );
         assert_relative_eq!(q, p, epsilon = 1e-12);
     }
 
     #[test]
     fn frame_from_three_points() {
         let o = V3::new(1.0, 0.0, 0.0);
-        let p = rigid_point_3d(o, V3::new(1.0, 5.0, 0.0), V3::new(1.0, 0.0, 7.0), V3::new(1.0, 2.0, 3.0)).unwrap();
+        let p = rigid_point_3d(
+            o,
+            V3::new(1.0, 5.0, 0.0),
+            V3::new(1.0, 0.0, 7.0),
+            V3::new(1.0, 2.0, 3.0),
+        )
+        .unwrap();
         // e1 = y, e2 = z (side of the third point), e3 = e1 × e2 = x.
         assert_relative_eq!(p, V3::new(1.0 + 3.0, 1.0, 2.0), epsilon = 1e-12);
         assert!(rigid_point_3d(o, V3::new(2.0, 0.0, 0.0), V3::new(3.0, 0.0, 0.0), V3::zeros()).is_err());

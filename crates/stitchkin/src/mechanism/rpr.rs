@@ -17,7 +17,10 @@ pub fn rpr<T: Real>(a: V2<T>, c: V2<T>, e: T) -> Result<(V2<T>, T), NoAssembly> 
         let dist = d2.re().sqrt();
         return Err(NoAssembly::new(
             e.re().abs() - dist,
-            format!("the pin is {dist:.4} mm from the pivot, within the slot offset {:.4} mm", e.re().abs()),
+            format!(
+                "the pin is {dist:.4} mm from the pivot, within the slot offset {:.4} mm",
+                e.re().abs()
+            ),
         ));
     }
     let s = s2.sqrt();

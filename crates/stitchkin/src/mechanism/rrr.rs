@@ -35,12 +35,18 @@ pub fn rrr<T: Real>(p1: V2<T>, p2: V2<T>, l1sq: T, l2sq: T, sign: f64) -> Result
         return Err(if dist > l1.max(l2) {
             NoAssembly::new(
                 dist - (l1 + l2),
-                format!("the joints are {dist:.4} mm apart but the two links reach only {:.4} mm", l1 + l2),
+                format!(
+                    "the joints are {dist:.4} mm apart but the two links reach only {:.4} mm",
+                    l1 + l2
+                ),
             )
         } else {
             NoAssembly::new(
                 (l1 - l2).abs() - dist,
-                format!("the joints are {dist:.4} mm apart, closer than the links' difference {:.4} mm", (l1 - l2).abs()),
+                format!(
+                    "the joints are {dist:.4} mm apart, closer than the links' difference {:.4} mm",
+                    (l1 - l2).abs()
+                ),
             )
         });
     }

@@ -55,9 +55,15 @@ pub fn rssr<T: Real>(rod: &RockerRod<T>, a: V3<T>, sign: f64) -> Result<V3<T>, N
     let near = ((rho - r).powi(2) + aw * aw).sqrt();
     let far = ((rho + r).powi(2) + aw * aw).sqrt();
     Err(if l > far {
-        NoAssembly::new(l - far, format!("the rod ({l:.4} mm) is longer than the farthest reach of the rocker circle ({far:.4} mm)"))
+        NoAssembly::new(
+            l - far,
+            format!("the rod ({l:.4} mm) is longer than the farthest reach of the rocker circle ({far:.4} mm)"),
+        )
     } else {
-        NoAssembly::new(near - l, format!("the rod ({l:.4} mm) is shorter than the nearest reach of the rocker circle ({near:.4} mm)"))
+        NoAssembly::new(
+            near - l,
+            format!("the rod ({l:.4} mm) is shorter than the nearest reach of the rocker circle ({near:.4} mm)"),
+        )
     })
 }
 
@@ -103,7 +109,13 @@ mod tests {
     use approx::assert_relative_eq;
 
     fn planar_rocker(c: V3<f64>, r: f64) -> Rocker<f64> {
-        Rocker { c, u: V3::x(), v: V3::y(), w: V3::z(), r }
+        Rocker {
+            c,
+            u: V3::x(),
+            v: V3::y(),
+            w: V3::z(),
+            r,
+        }
     }
 
     #[test]
@@ -112,12 +124,22 @@ mod tests {
         let b = rssr(&RockerRod::new(k, 3.0), V3::zeros(), -1.0).unwrap();
         // Same triangle as the RRR test, seen from the rocker centre.
         assert_relative_eq!(b, V3::new(1.8, 2.4, 0.0), epsilon = 1e-13);
-        assert_relative_eq!(transmission(&k, V3::zeros(), b), std::f64::consts::FRAC_PI_2, epsilon = 1e-13);
+        assert_relative_eq!(
+            transmission(&k, V3::zeros(), b),
+            std::f64::consts::FRAC_PI_2,
+            epsilon = 1e-13
+        );
     }
 
     #[test]
     fn out_of_plane_point_keeps_lengths() {
-        let k = Rocker { c: V3::new(1.0, 2.0, 3.0), u: V3::y(), v: V3::z(), w: V3::x(), r: 20.0 };
+        let k = Rocker {
+            c: V3::new(1.0, 2.0, 3.0),
+            u: V3::y(),
+            v: V3::z(),
+            w: V3::x(),
+            r: 20.0,
+        };
         let a = V3::new(7.0, -10.0, 30.0);
         for sign in [1.0, -1.0] {
             let b = rssr(&RockerRod::new(k, 28.0), a, sign).unwrap();

@@ -26,9 +26,14 @@ impl Dim {
 
     fn checked(length: i32, angle: i32) -> Result<Dim, String> {
         if length.abs() > Self::MAX_POWER || angle.abs() > Self::MAX_POWER {
-            return Err(format!("the units grow to mm^{length}·deg^{angle}, beyond any physical quantity"));
+            return Err(format!(
+                "the units grow to mm^{length}·deg^{angle}, beyond any physical quantity"
+            ));
         }
-        Ok(Dim { length: length as i8, angle: angle as i8 })
+        Ok(Dim {
+            length: length as i8,
+            angle: angle as i8,
+        })
     }
     fn mul(self, o: Dim) -> Result<Dim, String> {
         Dim::checked(self.length as i32 + o.length as i32, self.angle as i32 + o.angle as i32)
@@ -126,7 +131,11 @@ pub struct ExprError {
 
 impl ExprError {
     fn new(message: impl Into<String>, at: std::ops::Range<usize>) -> Self {
-        ExprError { message: message.into(), help: None, at }
+        ExprError {
+            message: message.into(),
+            help: None,
+            at,
+        }
     }
     fn help(mut self, help: impl Into<String>) -> Self {
         self.help = Some(help.into());
@@ -184,8 +193,10 @@ fn tokenize(src: &str) -> Result<Vec<(Tok, std::ops::Range<usize>)>, ExprError> 
             i += 1;
         } else {
             let len = src[i..].chars().next().map_or(1, char::len_utf8);
-            return Err(ExprError::new(format!("unexpected character `{}`", &src[i..i + len]), i..i + len)
-                .help("expressions use numbers, parameter names, + - * / ^, parentheses and functions"));
+            return Err(
+                ExprError::new(format!("unexpected character `{}`", &src[i..i + len]), i..i + len)
+                    .help("expressions use numbers, parameter names, + - * / ^, parentheses and functions"),
+            );
         }
     }
     Ok(out)
@@ -209,7 +220,9 @@ impl<F: Fn(&str) -> Option<usize>> Parser<'_, F> {
         self.toks.get(self.pos).map(|t| &t.0)
     }
     fn here(&self) -> std::ops::Range<usize> {
-        self.toks.get(self.pos).map_or(self.src_len..self.src_len, |t| t.1.clone())
+        self.toks
+            .get(self.pos)
+            .map_or(self.src_len..self.src_len, |t| t.1.clone())
     }
     fn eat(&mut self, c: char) -> bool {
         if self.peek() == Some(&Tok::Op(c)) {
@@ -318,7 +331,10 @@ impl<F: Fn(&str) -> Option<usize>> Parser<'_, F> {
                         args.push(self.sum()?);
                     }
                     if !self.eat(')') {
-                        return Err(ExprError::new("missing `)` after the function's arguments", self.here()));
+                        return Err(ExprError::new(
+                            "missing `)` after the function's arguments",
+                            self.here(),
+                        ));
                     }
                     if args.len() != arity {
                         return Err(ExprError::new(
@@ -348,17 +364,30 @@ impl Expr {
     pub fn parse(src: &str, lookup: &impl Fn(&str) -> Option<usize>) -> Result<Expr, ExprError> {
         let toks = tokenize(src)?;
         if toks.len() > MAX_TOKENS {
-            return Err(ExprError::new(format!("the expression is too long ({} tokens, at most {MAX_TOKENS})", toks.len()), 0..src.len())
-                .help("split it into derived parameters (`expr = ...`)"));
+            return Err(ExprError::new(
+                format!(
+                    "the expression is too long ({} tokens, at most {MAX_TOKENS})",
+                    toks.len()
+                ),
+                0..src.len(),
+            )
+            .help("split it into derived parameters (`expr = ...`)"));
         }
         if toks.is_empty() {
             return Err(ExprError::new("empty expression", 0..src.len()).help("write a number or an expression"));
         }
-        let mut p = Parser { toks, pos: 0, src_len: src.len(), lookup, depth: 0 };
+        let mut p = Parser {
+            toks,
+            pos: 0,
+            src_len: src.len(),
+            lookup,
+            depth: 0,
+        };
         let e = p.sum()?;
         if p.pos < p.toks.len() {
-            return Err(ExprError::new("unexpected text after the expression", p.here())
-                .help("is an operator missing?"));
+            return Err(
+                ExprError::new("unexpected text after the expression", p.here()).help("is an operator missing?")
+            );
         }
         Ok(e)
     }
@@ -384,15 +413,13 @@ impl Expr {
             Expr::Num(_) => Free,
             Expr::Param(i) => Is(param_dim(*i)),
             Expr::Neg(a) => a.dimension(param_dim)?,
-            Expr::Add(a, b) | Expr::Sub(a, b) => {
-                match (a.dimension(param_dim)?, b.dimension(param_dim)?) {
-                    (Free, d) | (d, Free) => d,
-                    (Is(x), Is(y)) if x == y => Is(x),
-                    (Is(x), Is(y)) => {
-                        return Err(format!("cannot add or subtract {} and {}", x.unit(), y.unit()));
-                    }
+            Expr::Add(a, b) | Expr::Sub(a, b) => match (a.dimension(param_dim)?, b.dimension(param_dim)?) {
+                (Free, d) | (d, Free) => d,
+                (Is(x), Is(y)) if x == y => Is(x),
+                (Is(x), Is(y)) => {
+                    return Err(format!("cannot add or subtract {} and {}", x.unit(), y.unit()));
                 }
-            }
+            },
             Expr::Mul(a, b) | Expr::Div(a, b) => {
                 let is_mul = matches!(self, Expr::Mul(..));
                 match (a.dimension(param_dim)?, b.dimension(param_dim)?) {
@@ -407,8 +434,7 @@ impl Expr {
                 Is(d) => Is(Dim::checked(d.length as i32 * *n, d.angle as i32 * *n)?),
             },
             Expr::Call(f, args) => {
-                let dims: Vec<Dimension> =
-                    args.iter().map(|a| a.dimension(param_dim)).collect::<Result<_, _>>()?;
+                let dims: Vec<Dimension> = args.iter().map(|a| a.dimension(param_dim)).collect::<Result<_, _>>()?;
                 let want = |d: Dimension, w: Dim, what: &str| match d {
                     Free => Ok(()),
                     Is(x) if x == w => Ok(()),
@@ -438,9 +464,10 @@ impl Expr {
                     }
                     Func::Sqrt => match dims[0] {
                         Free => Free,
-                        Is(d) if d.length % 2 == 0 && d.angle % 2 == 0 => {
-                            Is(Dim { length: d.length / 2, angle: d.angle / 2 })
-                        }
+                        Is(d) if d.length % 2 == 0 && d.angle % 2 == 0 => Is(Dim {
+                            length: d.length / 2,
+                            angle: d.angle / 2,
+                        }),
                         Is(d) => return Err(format!("cannot take the square root of {}", d.unit())),
                     },
                     Func::Abs => dims[0],

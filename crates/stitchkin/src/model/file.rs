@@ -213,7 +213,10 @@ impl TryFrom<Vec<Value>> for Rotation {
         match <[Value; 2]>::try_from(v) {
             Ok([Value::Expr(axis), angle]) => Ok(Rotation(axis, angle)),
             Ok(_) => Err("a rotation starts with its axis name: [\"x\", 20]".into()),
-            Err(v) => Err(format!("a rotation is [axis, angle in degrees], got {} elements", v.len())),
+            Err(v) => Err(format!(
+                "a rotation is [axis, angle in degrees], got {} elements",
+                v.len()
+            )),
         }
     }
 }

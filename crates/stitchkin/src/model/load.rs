@@ -7,12 +7,16 @@ use std::sync::Arc;
 use super::expr::{Dim, Dimension, Expr, ExprError};
 use super::file::{self, Axis, Branch, FixedPoint, Group, ModelFile, Unit, Value};
 use super::spans::{Path, SpanIndex};
-use super::{AxisDef, CamContactDef, CamDef, ClosureDef, FrameDef, MeasureDef, ParamDef, PathDef, PointKind, ProfileDef, Q, SpanDef, StepDef, ThreadsDef};
+use super::{
+    AxisDef, CamContactDef, CamDef, ClosureDef, FrameDef, MeasureDef, ParamDef, PathDef, PointKind, ProfileDef, Q,
+    SpanDef, StepDef, ThreadsDef,
+};
 use crate::error::{ModelError, did_you_mean};
 
 /// Reserved words that cannot name a parameter.
-const RESERVED: &[&str] =
-    &["pi", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "abs", "hypot", "min", "max"];
+const RESERVED: &[&str] = &[
+    "pi", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "abs", "hypot", "min", "max",
+];
 
 pub(super) struct Loader<'a> {
     file_name: String,
@@ -103,7 +107,11 @@ impl<'a> Loader<'a> {
                 ));
             }
             if RESERVED.contains(&name.as_str()) {
-                return Err(self.err(&path, format!("`{name}` is a reserved word"), Some("choose another name".into())));
+                return Err(self.err(
+                    &path,
+                    format!("`{name}` is a reserved word"),
+                    Some("choose another name".into()),
+                ));
             }
             match (p.value, &p.expr) {
                 (Some(_), Some(_)) => {
@@ -123,25 +131,31 @@ impl<'a> Loader<'a> {
                 _ => {}
             }
             if let Some(v) = p.value
-                && !v.is_finite() {
-                    return Err(self.err(&path.key("value"), "the value must be a finite number", None));
-                }
+                && !v.is_finite()
+            {
+                return Err(self.err(&path.key("value"), "the value must be a finite number", None));
+            }
             if let Some([lo, hi]) = p.range {
                 let rp = path.key("range");
                 if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
                     return Err(self.err(&rp, "the range must be [min, max] with min ≤ max", None));
                 }
                 if p.expr.is_some() {
-                    return Err(self.err(&rp, "a derived parameter (with `expr`) cannot have a range", Some("put the range on the parameters it is derived from".into())));
+                    return Err(self.err(
+                        &rp,
+                        "a derived parameter (with `expr`) cannot have a range",
+                        Some("put the range on the parameters it is derived from".into()),
+                    ));
                 }
                 if let Some(v) = p.value
-                    && (v < lo || v > hi) {
-                        return Err(self.err(
-                            &path.key("value"),
-                            format!("the value {v} is outside the parameter's range [{lo}, {hi}]"),
-                            Some("widen the range or correct the value".into()),
-                        ));
-                    }
+                    && (v < lo || v > hi)
+                {
+                    return Err(self.err(
+                        &path.key("value"),
+                        format!("the value {v} is outside the parameter's range [{lo}, {hi}]"),
+                        Some("widen the range or correct the value".into()),
+                    ));
+                }
             }
             self.param_index.insert(name.clone(), self.params.len());
             self.params.push(ParamDef {
@@ -191,7 +205,10 @@ impl<'a> Loader<'a> {
                 return Ok(order);
             }
             if order.len() == before {
-                let cyc: Vec<&str> = (0..n).filter(|&i| !done[i]).map(|i| self.params[i].name.as_str()).collect();
+                let cyc: Vec<&str> = (0..n)
+                    .filter(|&i| !done[i])
+                    .map(|i| self.params[i].name.as_str())
+                    .collect();
                 let path = Path::root().key("parameters").key(cyc[0]).key("expr");
                 return Err(self.err(
                     &path,
@@ -231,7 +248,11 @@ impl<'a> Loader<'a> {
     fn check_dim(&self, e: &Expr, want: Option<Dim>, path: &Path, src: &str) -> R<()> {
         let pd = |i: usize| unit_dim(self.params[i].unit).unwrap_or(Dim::ONE);
         match e.dimension(&pd) {
-            Err(m) => Err(self.err(path, format!("in `{src}`: {m}"), Some("check the units of the parameters used".into()))),
+            Err(m) => Err(self.err(
+                path,
+                format!("in `{src}`: {m}"),
+                Some("check the units of the parameters used".into()),
+            )),
             Ok(Dimension::Is(d)) if want.is_some_and(|w| w != d) => {
                 let w = want.unwrap_or(Dim::ONE);
                 Err(self.err(
@@ -286,26 +307,52 @@ impl<'a> Loader<'a> {
 
     fn coords(&mut self, v: &[Value], path: &Path, dims: std::ops::RangeInclusive<usize>) -> R<[Q; 3]> {
         if !dims.contains(&v.len()) {
-            let want = if dims.start() == dims.end() { format!("{}", dims.start()) } else { format!("{} or {}", dims.start(), dims.end()) };
-            return Err(self.err(path, format!("expected {want} coordinates, got {}", v.len()), Some("write `[x, y]` or `[x, y, z]` in mm".into())));
+            let want = if dims.start() == dims.end() {
+                format!("{}", dims.start())
+            } else {
+                format!("{} or {}", dims.start(), dims.end())
+            };
+            return Err(self.err(
+                path,
+                format!("expected {want} coordinates, got {}", v.len()),
+                Some("write `[x, y]` or `[x, y, z]` in mm".into()),
+            ));
         }
         let x = self.length(&v[0], path.index(0))?;
         let y = self.length(&v[1], path.index(1))?;
-        let z = if v.len() > 2 { self.length(&v[2], path.index(2))? } else { self.zero() };
+        let z = if v.len() > 2 {
+            self.length(&v[2], path.index(2))?
+        } else {
+            self.zero()
+        };
         Ok([x, y, z])
     }
 
     // ---- frames and axes ----------------------------------------------------
 
     pub(super) fn frames(&mut self, f: &ModelFile) -> R<()> {
-        self.frames.push(FrameDef { name: "world".into(), parent: None, origin: None, rotate: Vec::new() });
+        self.frames.push(FrameDef {
+            name: "world".into(),
+            parent: None,
+            origin: None,
+            rotate: Vec::new(),
+        });
         self.frame_index.insert("world".into(), 0);
         if f.frames.contains_key("world") {
-            return Err(self.err(&Path::root().key("frames").key("world"), "`world` is built in and cannot be redefined", Some("choose another frame name".into())));
+            return Err(self.err(
+                &Path::root().key("frames").key("world"),
+                "`world` is built in and cannot be redefined",
+                Some("choose another frame name".into()),
+            ));
         }
         for name in f.frames.keys() {
             self.frame_index.insert(name.clone(), self.frames.len());
-            self.frames.push(FrameDef { name: name.clone(), parent: None, origin: None, rotate: Vec::new() });
+            self.frames.push(FrameDef {
+                name: name.clone(),
+                parent: None,
+                origin: None,
+                rotate: Vec::new(),
+            });
         }
         for (name, fr) in &f.frames {
             let path = Path::root().key("frames").key(name);
@@ -326,12 +373,21 @@ impl<'a> Loader<'a> {
                     "y" => 1,
                     "z" => 2,
                     _ => {
-                        return Err(self.err(&rp.index(0), format!("unknown rotation axis `{axis}`"), Some("write \"x\", \"y\" or \"z\"".into())));
+                        return Err(self.err(
+                            &rp.index(0),
+                            format!("unknown rotation axis `{axis}`"),
+                            Some("write \"x\", \"y\" or \"z\"".into()),
+                        ));
                     }
                 };
                 rotate.push((a, self.angle(ang, rp.index(1))?));
             }
-            self.frames[i] = FrameDef { name: name.clone(), parent, origin, rotate };
+            self.frames[i] = FrameDef {
+                name: name.clone(),
+                parent,
+                origin,
+                rotate,
+            };
         }
         // Parent chains must end at the world.
         for i in 1..self.frames.len() {
@@ -343,7 +399,11 @@ impl<'a> Loader<'a> {
                 }
                 if seen.contains(&p) {
                     let name = self.frames[i].name.clone();
-                    return Err(self.err(&Path::root().key("frames").key(&name).key("parent"), "frames are each other's parents in a loop", Some("one frame of the loop must have `world` as parent".into())));
+                    return Err(self.err(
+                        &Path::root().key("frames").key(&name).key("parent"),
+                        "frames are each other's parents in a loop",
+                        Some("one frame of the loop must have `world` as parent".into()),
+                    ));
                 }
                 seen.push(p);
                 j = p;
@@ -381,14 +441,25 @@ impl<'a> Loader<'a> {
                     "y" => 1,
                     "z" => 2,
                     _ => {
-                        return Err(self.err(&path, format!("unknown axis `{s}`"), Some("write \"x\", \"y\", \"z\" (optionally with a sign, \"-y\") or a vector [x, y, z]".into())));
+                        return Err(self.err(
+                            &path,
+                            format!("unknown axis `{s}`"),
+                            Some(
+                                "write \"x\", \"y\", \"z\" (optionally with a sign, \"-y\") or a vector [x, y, z]"
+                                    .into(),
+                            ),
+                        ));
                     }
                 };
                 Ok(AxisDef::Named(i, sign))
             }
             Axis::Vector(v) => {
                 if v.len() != 3 && v.len() != 2 {
-                    return Err(self.err(&path, format!("a direction has 2 or 3 components, got {}", v.len()), None));
+                    return Err(self.err(
+                        &path,
+                        format!("a direction has 2 or 3 components, got {}", v.len()),
+                        None,
+                    ));
                 }
                 let mut c = [0; 3];
                 for (k, x) in v.iter().enumerate() {
@@ -410,9 +481,10 @@ impl<'a> Loader<'a> {
             self.check_point_name(name, &path)?;
             let (frame, coords) = match p {
                 FixedPoint::Coords(c) => (0, self.coords(c, &path, 2..=3)?),
-                FixedPoint::InFrame(fp) => {
-                    (self.opt_frame(&fp.frame, path.key("frame"))?, self.coords(&fp.at, &path.key("at"), 2..=3)?)
-                }
+                FixedPoint::InFrame(fp) => (
+                    self.opt_frame(&fp.frame, path.key("frame"))?,
+                    self.coords(&fp.at, &path.key("at"), 2..=3)?,
+                ),
             };
             self.add_point(name, PointKind::Fixed { frame, coords }, &path)?;
         }
@@ -421,7 +493,11 @@ impl<'a> Loader<'a> {
 
     fn check_point_name(&self, name: &str, path: &Path) -> R<()> {
         if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
-            return Err(self.err(path, format!("`{name}` is not a valid point name"), Some("point names use letters, digits and `_` (they become column names like `E.x_mm`)".into())));
+            return Err(self.err(
+                path,
+                format!("`{name}` is not a valid point name"),
+                Some("point names use letters, digits and `_` (they become column names like `E.x_mm`)".into()),
+            ));
         }
         Ok(())
     }
@@ -429,7 +505,11 @@ impl<'a> Loader<'a> {
     fn add_point(&mut self, name: &str, kind: PointKind, path: &Path) -> R<usize> {
         self.check_point_name(name, path)?;
         if self.point_index.contains_key(name) {
-            return Err(self.err(path, format!("point `{name}` is defined twice"), Some("every point is created once: by [points], a driver or a group".into())));
+            return Err(self.err(
+                path,
+                format!("point `{name}` is defined twice"),
+                Some("every point is created once: by [points], a driver or a group".into()),
+            ));
         }
         self.point_index.insert(name.to_string(), self.points.len());
         self.points.push((name.to_string(), kind));
@@ -440,7 +520,11 @@ impl<'a> Loader<'a> {
     /// created later in the file.
     pub(super) fn declare_moving(&mut self, f: &ModelFile) -> R<()> {
         for (k, d) in f.drivers.iter().enumerate() {
-            self.add_point(&d.out, PointKind::Moving, &Path::root().key("drivers").index(k).key("out"))?;
+            self.add_point(
+                &d.out,
+                PointKind::Moving,
+                &Path::root().key("drivers").index(k).key("out"),
+            )?;
         }
         for (k, g) in f.groups.iter().enumerate() {
             let path = Path::root().key("groups").index(k);
@@ -472,7 +556,11 @@ impl<'a> Loader<'a> {
     fn fixed_point(&self, name: &str, path: &Path) -> R<usize> {
         let i = self.point(name, path)?;
         if !matches!(self.points[i].1, PointKind::Fixed { .. }) {
-            return Err(self.err(path, format!("`{name}` moves, but a fixed point is needed here"), Some("use a point from [points]".into())));
+            return Err(self.err(
+                path,
+                format!("`{name}` moves, but a fixed point is needed here"),
+                Some("use a point from [points]".into()),
+            ));
         }
         Ok(i)
     }
@@ -500,11 +588,27 @@ impl<'a> Loader<'a> {
             };
             let speed = d.speed.unwrap_or(1.0);
             if !speed.is_finite() || speed == 0.0 {
-                return Err(self.err(&path.key("speed"), "the speed must be a non-zero number of turns per main-shaft turn", None));
+                return Err(self.err(
+                    &path.key("speed"),
+                    "the speed must be a non-zero number of turns per main-shaft turn",
+                    None,
+                ));
             }
             let outp = self.point_index[&d.out];
             let label = format!("driver {}", d.name.as_deref().unwrap_or(&d.out));
-            out.push((StepDef::Crank { center, out: outp, frame, axis, zero_dir, radius, phase, speed }, label));
+            out.push((
+                StepDef::Crank {
+                    center,
+                    out: outp,
+                    frame,
+                    axis,
+                    zero_dir,
+                    radius,
+                    phase,
+                    speed,
+                },
+                label,
+            ));
         }
         Ok(out)
     }
@@ -516,10 +620,21 @@ impl<'a> Loader<'a> {
             let path = Path::root().key("groups").index(k);
             if let Some(n) = group_name(g) {
                 if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
-                    return Err(self.err(&path.key("name"), format!("`{n}` is not a valid group name"), Some("group names use letters, digits and `_` (they become column names like `mu_45_deg`)".into())));
+                    return Err(self.err(
+                        &path.key("name"),
+                        format!("`{n}` is not a valid group name"),
+                        Some(
+                            "group names use letters, digits and `_` (they become column names like `mu_45_deg`)"
+                                .into(),
+                        ),
+                    ));
                 }
                 if names.contains(&n) {
-                    return Err(self.err(&path.key("name"), format!("two groups are named `{n}`"), Some("give every group its own name".into())));
+                    return Err(self.err(
+                        &path.key("name"),
+                        format!("two groups are named `{n}`"),
+                        Some("give every group its own name".into()),
+                    ));
                 }
                 names.push(n);
             }
@@ -536,16 +651,42 @@ impl<'a> Loader<'a> {
             None => format!("{kind} group → {}", group_out(g)),
         };
         let step = match g {
-            Group::Rrr { joints, lengths, out, branch, plane, .. } => {
+            Group::Rrr {
+                joints,
+                lengths,
+                out,
+                branch,
+                plane,
+                ..
+            } => {
                 let p1 = self.point(&joints[0], &path.key("joints").index(0))?;
                 let p2 = self.point(&joints[1], &path.key("joints").index(1))?;
                 let l1 = self.positive_length(&lengths[0], path.key("lengths").index(0), "a link length")?;
                 let l2 = self.positive_length(&lengths[1], path.key("lengths").index(1), "a link length")?;
                 let sign = self.side(*branch, &path.key("branch"))?;
                 let plane = self.opt_frame(plane, path.key("plane"))?;
-                StepDef::Rrr { p1, p2, l1, l2, sign, plane, out: self.point_index[out] }
+                StepDef::Rrr {
+                    p1,
+                    p2,
+                    l1,
+                    l2,
+                    sign,
+                    plane,
+                    out: self.point_index[out],
+                }
             }
-            Group::Rrp { from, length, through, toward, direction_deg, offset, out, branch, plane, .. } => {
+            Group::Rrp {
+                from,
+                length,
+                through,
+                toward,
+                direction_deg,
+                offset,
+                out,
+                branch,
+                plane,
+                ..
+            } => {
                 let from = self.point(from, &path.key("from"))?;
                 let l = self.positive_length(length, path.key("length"), "the rod length")?;
                 let through = self.point(through, &path.key("through"))?;
@@ -553,7 +694,11 @@ impl<'a> Loader<'a> {
                     (Some(t), None) => (Some(self.point(t, &path.key("toward"))?), None),
                     (None, Some(d)) => (None, Some(self.angle(d, path.key("direction_deg"))?)),
                     _ => {
-                        return Err(self.err(path, "the guide line needs exactly one of `toward` (a point) or `direction_deg`", Some("e.g. `through = \"H\", direction_deg = 90`".into())));
+                        return Err(self.err(
+                            path,
+                            "the guide line needs exactly one of `toward` (a point) or `direction_deg`",
+                            Some("e.g. `through = \"H\", direction_deg = 90`".into()),
+                        ));
                     }
                 };
                 let offset = match offset {
@@ -562,9 +707,27 @@ impl<'a> Loader<'a> {
                 };
                 let sign = self.along(*branch, &path.key("branch"))?;
                 let plane = self.opt_frame(plane, path.key("plane"))?;
-                StepDef::Rrp { from, through, toward, dir, offset, l, sign, plane, out: self.point_index[out] }
+                StepDef::Rrp {
+                    from,
+                    through,
+                    toward,
+                    dir,
+                    offset,
+                    l,
+                    sign,
+                    plane,
+                    out: self.point_index[out],
+                }
             }
-            Group::Rpr { from, pivot, offset, out, distance, plane, .. } => {
+            Group::Rpr {
+                from,
+                pivot,
+                offset,
+                out,
+                distance,
+                plane,
+                ..
+            } => {
                 let from = self.point(from, &path.key("from"))?;
                 let pivot = self.point(pivot, &path.key("pivot"))?;
                 let e = match offset {
@@ -573,9 +736,28 @@ impl<'a> Loader<'a> {
                 };
                 let d = self.length(distance, path.key("distance"))?;
                 let plane = self.opt_frame(plane, path.key("plane"))?;
-                StepDef::Rpr { from, pivot, e, d, plane, out: self.point_index[out] }
+                StepDef::Rpr {
+                    from,
+                    pivot,
+                    e,
+                    d,
+                    plane,
+                    out: self.point_index[out],
+                }
             }
-            Group::Rssr { from, rod, pivot, axis, arm, offset, out, branch, frame, zero_dir, .. } => {
+            Group::Rssr {
+                from,
+                rod,
+                pivot,
+                axis,
+                arm,
+                offset,
+                out,
+                branch,
+                frame,
+                zero_dir,
+                ..
+            } => {
                 let from = self.point(from, &path.key("from"))?;
                 let l = self.positive_length(rod, path.key("rod"), "the rod length")?;
                 let pivot = self.fixed_point(pivot, &path.key("pivot"))?;
@@ -591,9 +773,30 @@ impl<'a> Loader<'a> {
                     None => None,
                 };
                 let sign = self.side(*branch, &path.key("branch"))?;
-                StepDef::Rssr { from, l, pivot, frame, axis, r, offset, zero_dir, sign, out: self.point_index[out] }
+                StepDef::Rssr {
+                    from,
+                    l,
+                    pivot,
+                    frame,
+                    axis,
+                    r,
+                    offset,
+                    zero_dir,
+                    sign,
+                    out: self.point_index[out],
+                }
             }
-            Group::PointOnLine { from, length, through, toward, direction, frame, out, branch, .. } => {
+            Group::PointOnLine {
+                from,
+                length,
+                through,
+                toward,
+                direction,
+                frame,
+                out,
+                branch,
+                ..
+            } => {
                 let from = self.point(from, &path.key("from"))?;
                 let l = self.positive_length(length, path.key("length"), "the rod length")?;
                 let through = self.point(through, &path.key("through"))?;
@@ -602,13 +805,34 @@ impl<'a> Loader<'a> {
                     (Some(t), None) => (Some(self.point(t, &path.key("toward"))?), None),
                     (None, Some(d)) => (None, Some(self.axis(d, path.key("direction"))?)),
                     _ => {
-                        return Err(self.err(path, "the line needs exactly one of `toward` (a point) or `direction`", Some("e.g. `through = \"N1\", toward = \"N2\"`".into())));
+                        return Err(self.err(
+                            path,
+                            "the line needs exactly one of `toward` (a point) or `direction`",
+                            Some("e.g. `through = \"N1\", toward = \"N2\"`".into()),
+                        ));
                     }
                 };
                 let sign = self.along(*branch, &path.key("branch"))?;
-                StepDef::PointOnLine { from, through, toward, dir, frame, l, sign, out: self.point_index[out] }
+                StepDef::PointOnLine {
+                    from,
+                    through,
+                    toward,
+                    dir,
+                    frame,
+                    l,
+                    sign,
+                    out: self.point_index[out],
+                }
             }
-            Group::RigidPoint { base, distance, angle_deg, lift, out, plane, .. } => {
+            Group::RigidPoint {
+                base,
+                distance,
+                angle_deg,
+                lift,
+                out,
+                plane,
+                ..
+            } => {
                 let a = self.point(&base[0], &path.key("base").index(0))?;
                 let b = self.point(&base[1], &path.key("base").index(1))?;
                 let d = self.length(distance, path.key("distance"))?;
@@ -621,13 +845,27 @@ impl<'a> Loader<'a> {
                     None => self.zero(),
                 };
                 let plane = self.opt_frame(plane, path.key("plane"))?;
-                StepDef::Rigid { base: [a, b], d, angle, lift, plane, out: self.point_index[out] }
+                StepDef::Rigid {
+                    base: [a, b],
+                    d,
+                    angle,
+                    lift,
+                    plane,
+                    out: self.point_index[out],
+                }
             }
-            Group::Offset { from, by, frame, out, .. } => {
+            Group::Offset {
+                from, by, frame, out, ..
+            } => {
                 let from = self.point(from, &path.key("from"))?;
                 let frame = self.opt_frame(frame, path.key("frame"))?;
                 let by = self.coords(by, &path.key("by"), 2..=3)?;
-                StepDef::Offset { from, by, frame, out: self.point_index[out] }
+                StepDef::Offset {
+                    from,
+                    by,
+                    frame,
+                    out: self.point_index[out],
+                }
             }
             Group::RigidPoint3d { frame, at, out, .. } => {
                 let mut fr = [0; 3];
@@ -635,9 +873,19 @@ impl<'a> Loader<'a> {
                     fr[k] = self.point(n, &path.key("frame").index(k))?;
                 }
                 let at = self.coords(at, &path.key("at"), 3..=3)?;
-                StepDef::Rigid3 { frame: fr, at, out: self.point_index[out] }
+                StepDef::Rigid3 {
+                    frame: fr,
+                    at,
+                    out: self.point_index[out],
+                }
             }
-            Group::Newton { unknowns, constraints, plane, planar, .. } => {
+            Group::Newton {
+                unknowns,
+                constraints,
+                plane,
+                planar,
+                ..
+            } => {
                 let dims: Vec<usize> = unknowns.values().map(Vec::len).collect();
                 let dim = match planar {
                     Some(true) => 2,
@@ -645,7 +893,11 @@ impl<'a> Loader<'a> {
                     None => dims.first().copied().unwrap_or(2),
                 };
                 if unknowns.is_empty() {
-                    return Err(self.err(&path.key("unknowns"), "a newton group needs at least one unknown point", Some("e.g. `unknowns = { B = [10, 20] }`".into())));
+                    return Err(self.err(
+                        &path.key("unknowns"),
+                        "a newton group needs at least one unknown point",
+                        Some("e.g. `unknowns = { B = [10, 20] }`".into()),
+                    ));
                 }
                 let mut outs = Vec::new();
                 let mut guess = Vec::new();
@@ -653,7 +905,15 @@ impl<'a> Loader<'a> {
                 for (i, (name, g)) in unknowns.iter().enumerate() {
                     let gp = path.key("unknowns").key(name);
                     if g.len() != dim {
-                        return Err(self.err(&gp, format!("expected {dim} coordinates for the guess, got {}", g.len()), Some(if dim == 2 { "a planar group's guesses are [x, y] in its plane".into() } else { "a spatial group's guesses are [x, y, z]".into() })));
+                        return Err(self.err(
+                            &gp,
+                            format!("expected {dim} coordinates for the guess, got {}", g.len()),
+                            Some(if dim == 2 {
+                                "a planar group's guesses are [x, y] in its plane".into()
+                            } else {
+                                "a spatial group's guesses are [x, y, z]".into()
+                            }),
+                        ));
                     }
                     for (k, v) in g.iter().enumerate() {
                         guess.push(self.length(v, gp.index(k))?);
@@ -666,7 +926,13 @@ impl<'a> Loader<'a> {
                 for (k, c) in constraints.iter().enumerate() {
                     let cp = path.key("constraints").index(k);
                     match c {
-                        file::Constraint { distance: Some(distance), length: Some(length), on_line: None, through: None, toward: None } => {
+                        file::Constraint {
+                            distance: Some(distance),
+                            length: Some(length),
+                            on_line: None,
+                            through: None,
+                            toward: None,
+                        } => {
                             let mut r = [ClosureRef::Known(0); 2];
                             for j in 0..2 {
                                 let n = &distance[j];
@@ -679,9 +945,19 @@ impl<'a> Loader<'a> {
                             closures.push(ClosureDef::Distance { a: r[0], b: r[1], l });
                             equations += 1;
                         }
-                        file::Constraint { distance: None, length: None, on_line: Some(on_line), through: Some(through), toward: Some(toward) } => {
+                        file::Constraint {
+                            distance: None,
+                            length: None,
+                            on_line: Some(on_line),
+                            through: Some(through),
+                            toward: Some(toward),
+                        } => {
                             let Some(&p) = local.get(on_line.as_str()) else {
-                                return Err(self.err(&cp.key("on_line"), format!("`{on_line}` is not an unknown of this group"), Some("the point on the line must be one of the group's unknowns".into())));
+                                return Err(self.err(
+                                    &cp.key("on_line"),
+                                    format!("`{on_line}` is not an unknown of this group"),
+                                    Some("the point on the line must be one of the group's unknowns".into()),
+                                ));
                             };
                             let h = self.point(through, &cp.key("through"))?;
                             let t = self.point(toward, &cp.key("toward"))?;
@@ -707,14 +983,28 @@ impl<'a> Loader<'a> {
                     return Err(self.err(
                         &path.key("constraints"),
                         format!("{equations} closure equation(s) for {n} unknown coordinates"),
-                        Some(if equations < n { "add constraints: the group can still move".into() } else { "remove a redundant constraint (keep its length as a `distance` measure to watch it)".into() }),
+                        Some(if equations < n {
+                            "add constraints: the group can still move".into()
+                        } else {
+                            "remove a redundant constraint (keep its length as a `distance` measure to watch it)".into()
+                        }),
                     ));
                 }
                 if dim == 3 && plane.is_some() {
-                    return Err(self.err(&path.key("plane"), "a spatial newton group (3 coordinates per unknown) has no plane", Some("remove `plane`, or give 2-coordinate guesses for a planar group".into())));
+                    return Err(self.err(
+                        &path.key("plane"),
+                        "a spatial newton group (3 coordinates per unknown) has no plane",
+                        Some("remove `plane`, or give 2-coordinate guesses for a planar group".into()),
+                    ));
                 }
                 let plane = self.opt_frame(plane, path.key("plane"))?;
-                StepDef::Newton { dim, plane, outs, guess, closures }
+                StepDef::Newton {
+                    dim,
+                    plane,
+                    outs,
+                    guess,
+                    closures,
+                }
             }
         };
         Ok((step, label))
@@ -724,7 +1014,11 @@ impl<'a> Loader<'a> {
         match b {
             Branch::Left => Ok(1.0),
             Branch::Right => Ok(-1.0),
-            _ => Err(self.err(path, "this group's assembly is `left` or `right` of its base line", Some("write branch = \"left\" or branch = \"right\"".into()))),
+            _ => Err(self.err(
+                path,
+                "this group's assembly is `left` or `right` of its base line",
+                Some("write branch = \"left\" or branch = \"right\"".into()),
+            )),
         }
     }
 
@@ -732,7 +1026,11 @@ impl<'a> Loader<'a> {
         match b {
             Branch::Forward => Ok(1.0),
             Branch::Backward => Ok(-1.0),
-            _ => Err(self.err(path, "a slider's assembly is `forward` or `backward` along its line", Some("write branch = \"forward\" or branch = \"backward\"".into()))),
+            _ => Err(self.err(
+                path,
+                "a slider's assembly is `forward` or `backward` along its line",
+                Some("write branch = \"forward\" or branch = \"backward\"".into()),
+            )),
         }
     }
 
@@ -748,7 +1046,13 @@ impl<'a> Loader<'a> {
                     let b = self.point(&points[1], &path.key("points").index(1))?;
                     (name, MeasureDef::Distance { a, b })
                 }
-                file::Measure::LineDeviation { name, point, through, toward, plane } => {
+                file::Measure::LineDeviation {
+                    name,
+                    point,
+                    through,
+                    toward,
+                    plane,
+                } => {
                     let p = self.point(point, &path.key("point"))?;
                     let h = self.point(through, &path.key("through"))?;
                     let t = self.point(toward, &path.key("toward"))?;
@@ -759,7 +1063,13 @@ impl<'a> Loader<'a> {
                     };
                     (name, MeasureDef::LineDeviation { p, h, t, plane })
                 }
-                file::Measure::Coordinate { name, point, axis, frame, from } => {
+                file::Measure::Coordinate {
+                    name,
+                    point,
+                    axis,
+                    frame,
+                    from,
+                } => {
                     let p = self.point(point, &path.key("point"))?;
                     let frame = self.opt_frame(frame, path.key("frame"))?;
                     let axis = self.axis(axis, path.key("axis"))?;
@@ -771,10 +1081,18 @@ impl<'a> Loader<'a> {
                 }
             };
             if !is_ident(name) {
-                return Err(self.err(&path.key("name"), format!("`{name}` is not a valid measure name"), Some("use letters, digits and `_`".into())));
+                return Err(self.err(
+                    &path.key("name"),
+                    format!("`{name}` is not a valid measure name"),
+                    Some("use letters, digits and `_`".into()),
+                ));
             }
             if out.iter().any(|(n, _)| n == name) || self.point_index.contains_key(name) {
-                return Err(self.err(&path.key("name"), format!("the name `{name}` is already used"), Some("give every measure its own name, distinct from point names".into())));
+                return Err(self.err(
+                    &path.key("name"),
+                    format!("the name `{name}` is already used"),
+                    Some("give every measure its own name, distinct from point names".into()),
+                ));
             }
             out.push((name.clone(), def));
         }
@@ -788,20 +1106,28 @@ impl<'a> Loader<'a> {
                 .enumerate()
                 .map(|(k, n)| self.point(n, &Path::root().key("output").key("points").index(k)))
                 .collect(),
-            None => Ok((0..self.points.len()).filter(|&i| matches!(self.points[i].1, PointKind::Moving)).collect()),
+            None => Ok((0..self.points.len())
+                .filter(|&i| matches!(self.points[i].1, PointKind::Moving))
+                .collect()),
         }
     }
 
     /// Orders drivers and groups so every step's inputs are solved before it
     /// (file order where possible).
     pub(super) fn order(&self, steps: Vec<(StepDef, String, Path)>) -> R<Vec<(StepDef, String)>> {
-        let mut known: Vec<bool> = self.points.iter().map(|(_, k)| matches!(k, PointKind::Fixed { .. })).collect();
+        let mut known: Vec<bool> = self
+            .points
+            .iter()
+            .map(|(_, k)| matches!(k, PointKind::Fixed { .. }))
+            .collect();
         let mut left: Vec<Option<(StepDef, String, Path)>> = steps.into_iter().map(Some).collect();
         let mut out = Vec::with_capacity(left.len());
         loop {
             let mut progressed = false;
             for slot in left.iter_mut() {
-                let ready = slot.as_ref().is_some_and(|(s, _, _)| s.inputs().iter().all(|&i| known[i]));
+                let ready = slot
+                    .as_ref()
+                    .is_some_and(|(s, _, _)| s.inputs().iter().all(|&i| known[i]));
                 if ready {
                     let (s, label, _) = slot.take().expect("checked above");
                     for o in s.outputs() {
@@ -818,7 +1144,12 @@ impl<'a> Loader<'a> {
                 let stuck: Vec<&(StepDef, String, Path)> = left.iter().flatten().collect();
                 let names: Vec<&str> = stuck.iter().map(|(_, l, _)| l.as_str()).collect();
                 let (s, _, path) = stuck[0];
-                let missing: Vec<&str> = s.inputs().iter().filter(|&&i| !known[i]).map(|&i| self.points[i].0.as_str()).collect();
+                let missing: Vec<&str> = s
+                    .inputs()
+                    .iter()
+                    .filter(|&&i| !known[i])
+                    .map(|&i| self.points[i].0.as_str())
+                    .collect();
                 return Err(self.err(
                     path,
                     format!(
@@ -834,10 +1165,18 @@ impl<'a> Loader<'a> {
 
     // ---- thread paths ---------------------------------------------------------
 
-    pub(super) fn threads(&mut self, f: &ModelFile, same_body: &impl Fn(usize, usize) -> bool) -> R<Option<ThreadsDef>> {
+    pub(super) fn threads(
+        &mut self,
+        f: &ModelFile,
+        same_body: &impl Fn(usize, usize) -> bool,
+    ) -> R<Option<ThreadsDef>> {
         let Some(t) = &f.thread else {
             if !f.cams.is_empty() {
-                return Err(self.err(&Path::root().key("cams"), "[[cams]] are only used by thread paths", Some("add a [thread] table with paths that bear on the cam, or remove the cam".into())));
+                return Err(self.err(
+                    &Path::root().key("cams"),
+                    "[[cams]] are only used by thread paths",
+                    Some("add a [thread] table with paths that bear on the cam, or remove the cam".into()),
+                ));
             }
             return Ok(None);
         };
@@ -845,42 +1184,74 @@ impl<'a> Loader<'a> {
         let path = Path::root().key("thread");
         let check_mu = |ld: &Self, mu: Option<f64>, p: Path| -> R<Option<f64>> {
             match mu {
-                Some(m) if !(m.is_finite() && (0.0..=5.0).contains(&m)) => Err(ld.err(&p, format!("friction coefficient {m} is out of range"), Some("give μ between 0 and 5 (thread on steel is about 0.1–0.3)".into()))),
+                Some(m) if !(m.is_finite() && (0.0..=5.0).contains(&m)) => Err(ld.err(
+                    &p,
+                    format!("friction coefficient {m} is out of range"),
+                    Some("give μ between 0 and 5 (thread on steel is about 0.1–0.3)".into()),
+                )),
                 m => Ok(m),
             }
         };
         let default_mu = check_mu(self, t.friction, path.key("friction"))?.unwrap_or(0.0);
         if let Some(tn) = t.tension_n
-            && !(tn.is_finite() && tn > 0.0) {
-                return Err(self.err(&path.key("tension_n"), format!("the regulator tension {tn} N must be positive"), None));
-            }
+            && !(tn.is_finite() && tn > 0.0)
+        {
+            return Err(self.err(
+                &path.key("tension_n"),
+                format!("the regulator tension {tn} N must be positive"),
+                None,
+            ));
+        }
         if let Some(p0) = t.phi0_deg
-            && !p0.is_finite() {
-                return Err(self.err(&path.key("phi0_deg"), "phi0_deg must be a finite angle", None));
-            }
+            && !p0.is_finite()
+        {
+            return Err(self.err(&path.key("phi0_deg"), "phi0_deg must be a finite angle", None));
+        }
         let convention = t.convention.unwrap_or(file::TakeUpConvention::Release);
         let elongation = match &t.elongation_mm {
             Some(_) if convention == file::TakeUpConvention::Release => {
-                return Err(self.err(&path.key("elongation_mm"), "the elongation allowance ΔP belongs to the `feed` convention", Some("write convention = \"feed\" (P = ξ(φ) − ξ(φ0) + ΔP, seed 001), or remove elongation_mm".into())));
+                return Err(self.err(
+                    &path.key("elongation_mm"),
+                    "the elongation allowance ΔP belongs to the `feed` convention",
+                    Some(
+                        "write convention = \"feed\" (P = ξ(φ) − ξ(φ0) + ΔP, seed 001), or remove elongation_mm".into(),
+                    ),
+                ));
             }
             Some(v) => Some(self.length(v, path.key("elongation_mm"))?),
             None => None,
         };
         if t.paths.is_empty() {
-            return Err(self.err(&path.key("paths"), "[thread] has no paths", Some("add [[thread.paths]] with `name` and `nodes`".into())));
+            return Err(self.err(
+                &path.key("paths"),
+                "[thread] has no paths",
+                Some("add [[thread.paths]] with `name` and `nodes`".into()),
+            ));
         }
         let mut paths: Vec<PathDef> = Vec::new();
         for (k, tp) in t.paths.iter().enumerate() {
             let pp = path.key("paths").index(k);
             if !is_ident(&tp.name) {
-                return Err(self.err(&pp.key("name"), format!("`{}` is not a valid path name", tp.name), Some("path names use letters, digits and `_` (they prefix column names like `n1_A.P_mm`)".into())));
+                return Err(self.err(
+                    &pp.key("name"),
+                    format!("`{}` is not a valid path name", tp.name),
+                    Some("path names use letters, digits and `_` (they prefix column names like `n1_A.P_mm`)".into()),
+                ));
             }
             if paths.iter().any(|p| p.name == tp.name) {
-                return Err(self.err(&pp.key("name"), format!("two thread paths are named `{}`", tp.name), Some("give every path its own name".into())));
+                return Err(self.err(
+                    &pp.key("name"),
+                    format!("two thread paths are named `{}`", tp.name),
+                    Some("give every path its own name".into()),
+                ));
             }
             let path_mu = check_mu(self, tp.friction, pp.key("friction"))?.unwrap_or(default_mu);
             if tp.nodes.len() < 2 {
-                return Err(self.err(&pp.key("nodes"), "a thread path needs at least two nodes", Some("list the nodes from the tension regulator to the eye".into())));
+                return Err(self.err(
+                    &pp.key("nodes"),
+                    "a thread path needs at least two nodes",
+                    Some("list the nodes from the tension regulator to the eye".into()),
+                ));
             }
             let mut nodes = Vec::new();
             let mut names = Vec::new();
@@ -896,20 +1267,44 @@ impl<'a> Loader<'a> {
                         let cam_fields = g.contact.is_some() || g.gamma_deg.is_some();
                         match (&g.at, &g.pin, &g.cam) {
                             (Some(at), None, None) => {
-                                if g.axis.is_some() || g.wrap.is_some() || g.radius.is_some() || g.frame.is_some() || cam_fields {
-                                    return Err(self.err(&np, "an eyelet (`at`) has no axis, wrap, radius, frame or cam contact", Some("for a one-sided guide write `pin = \"NAME\"` instead of `at`".into())));
+                                if g.axis.is_some()
+                                    || g.wrap.is_some()
+                                    || g.radius.is_some()
+                                    || g.frame.is_some()
+                                    || cam_fields
+                                {
+                                    return Err(self.err(
+                                        &np,
+                                        "an eyelet (`at`) has no axis, wrap, radius, frame or cam contact",
+                                        Some("for a one-sided guide write `pin = \"NAME\"` instead of `at`".into()),
+                                    ));
                                 }
                                 (at.clone(), mu, None)
                             }
                             (None, Some(pin), None) => {
                                 if cam_fields {
-                                    return Err(self.err(&np, "`contact` and `gamma_deg` belong to cams, not pins", None));
+                                    return Err(self.err(
+                                        &np,
+                                        "`contact` and `gamma_deg` belong to cams, not pins",
+                                        None,
+                                    ));
                                 }
                                 let Some(axis) = &g.axis else {
-                                    return Err(self.err(&np, "a pin needs its `axis`", Some("e.g. `axis = \"z\"`: the direction of the pin".into())));
+                                    return Err(self.err(
+                                        &np,
+                                        "a pin needs its `axis`",
+                                        Some("e.g. `axis = \"z\"`: the direction of the pin".into()),
+                                    ));
                                 };
                                 let Some(wrap) = g.wrap else {
-                                    return Err(self.err(&np, "a pin needs `wrap`: the sense the thread turns around it", Some("write wrap = \"ccw\" or wrap = \"cw\" (about the axis, right-hand rule)".into())));
+                                    return Err(self.err(
+                                        &np,
+                                        "a pin needs `wrap`: the sense the thread turns around it",
+                                        Some(
+                                            "write wrap = \"ccw\" or wrap = \"cw\" (about the axis, right-hand rule)"
+                                                .into(),
+                                        ),
+                                    ));
                                 };
                                 let frame = self.opt_frame(&g.frame, np.key("frame"))?;
                                 let axis = self.axis(axis, np.key("axis"))?;
@@ -919,11 +1314,28 @@ impl<'a> Loader<'a> {
                                 };
                                 let sense = if wrap == file::Wrap::Ccw { 1.0 } else { -1.0 };
                                 let c = self.point(pin, &np.key("pin"))?;
-                                (pin.clone(), mu, Some(SpanDef::Pin { a: 0, b: 0, c, axis, frame, r, sense, node: i }))
+                                (
+                                    pin.clone(),
+                                    mu,
+                                    Some(SpanDef::Pin {
+                                        a: 0,
+                                        b: 0,
+                                        c,
+                                        axis,
+                                        frame,
+                                        r,
+                                        sense,
+                                        node: i,
+                                    }),
+                                )
                             }
                             (None, None, Some(cam)) => {
                                 if g.axis.is_some() || g.radius.is_some() || g.frame.is_some() {
-                                    return Err(self.err(&np, "a cam node takes its axis and profile from [[cams]]", Some("remove `axis`, `radius` and `frame` here".into())));
+                                    return Err(self.err(
+                                        &np,
+                                        "a cam node takes its axis and profile from [[cams]]",
+                                        Some("remove `axis`, `radius` and `frame` here".into()),
+                                    ));
                                 }
                                 let Some(ci) = cams.iter().position(|c| &c.name == cam) else {
                                     let names: Vec<&str> = cams.iter().map(|c| c.name.as_str()).collect();
@@ -936,7 +1348,11 @@ impl<'a> Loader<'a> {
                                 let contact = match g.contact.unwrap_or(file::CamContactModel::Exact) {
                                     file::CamContactModel::Exact => {
                                         if g.gamma_deg.is_some() {
-                                            return Err(self.err(&np.key("gamma_deg"), "`gamma_deg` belongs to `contact = \"offset\"`", None));
+                                            return Err(self.err(
+                                                &np.key("gamma_deg"),
+                                                "`gamma_deg` belongs to `contact = \"offset\"`",
+                                                None,
+                                            ));
                                         }
                                         let Some(wrap) = g.wrap else {
                                             return Err(self.err(&np, "an exact cam contact needs `wrap`: the sense the thread turns around the cam", Some("write wrap = \"ccw\" or wrap = \"cw\" (about the cam's axis)".into())));
@@ -944,19 +1360,41 @@ impl<'a> Loader<'a> {
                                         if cams[ci].convex_min <= 0.0 {
                                             return Err(self.err(&np.key("cam"), format!("cam `{cam}` is not convex, so a taut thread does not follow its profile"), Some("use contact = \"offset\" or smooth the profile".into())));
                                         }
-                                        CamContactDef::Exact { sense: if wrap == file::Wrap::Ccw { 1.0 } else { -1.0 } }
+                                        CamContactDef::Exact {
+                                            sense: if wrap == file::Wrap::Ccw { 1.0 } else { -1.0 },
+                                        }
                                     }
                                     file::CamContactModel::Offset => {
                                         if g.wrap.is_some() {
-                                            return Err(self.err(&np.key("wrap"), "an offset cam contact has no wrap sense", Some("remove `wrap`, or use contact = \"exact\"".into())));
+                                            return Err(self.err(
+                                                &np.key("wrap"),
+                                                "an offset cam contact has no wrap sense",
+                                                Some("remove `wrap`, or use contact = \"exact\"".into()),
+                                            ));
                                         }
                                         let Some(gamma) = &g.gamma_deg else {
-                                            return Err(self.err(&np, "an offset cam contact needs `gamma_deg`", Some("seed 004 uses γ = 0.4–0.8 rad, i.e. 23–46 degrees".into())));
+                                            return Err(self.err(
+                                                &np,
+                                                "an offset cam contact needs `gamma_deg`",
+                                                Some("seed 004 uses γ = 0.4–0.8 rad, i.e. 23–46 degrees".into()),
+                                            ));
                                         };
-                                        CamContactDef::Offset { gamma: self.angle(gamma, np.key("gamma_deg"))? }
+                                        CamContactDef::Offset {
+                                            gamma: self.angle(gamma, np.key("gamma_deg"))?,
+                                        }
                                     }
                                 };
-                                (cam.clone(), mu, Some(SpanDef::Cam { a: 0, b: 0, cam: ci, contact, node: i }))
+                                (
+                                    cam.clone(),
+                                    mu,
+                                    Some(SpanDef::Cam {
+                                        a: 0,
+                                        b: 0,
+                                        cam: ci,
+                                        contact,
+                                        node: i,
+                                    }),
+                                )
                             }
                             _ => {
                                 return Err(self.err(&np, "a guide table has one of `at` (an eyelet), `pin` (a one-sided guide) or `cam`", Some("e.g. `{ at = \"G1\", friction = 0.2 }`, `{ pin = \"G4\", axis = \"z\", wrap = \"ccw\" }` or `{ cam = \"C\", wrap = \"cw\" }`".into())));
@@ -967,19 +1405,38 @@ impl<'a> Loader<'a> {
                 let slot = match &guide {
                     // A cam node names the cam, not a point: its slot is the cam centre.
                     Some(SpanDef::Cam { cam, .. }) => cams[*cam].center,
-                    _ => self.point(&name, &if matches!(node, file::Node::Point(_)) { np.clone() } else { np.key("at") })?,
+                    _ => self.point(
+                        &name,
+                        &if matches!(node, file::Node::Point(_)) {
+                            np.clone()
+                        } else {
+                            np.key("at")
+                        },
+                    )?,
                 };
                 if let Some(span) = guide {
                     if i == 0 || i + 1 == tp.nodes.len() {
-                        return Err(self.err(&np, "a path starts and ends at an eyelet, not at a pin or cam", Some("put the guide between two eyelets".into())));
+                        return Err(self.err(
+                            &np,
+                            "a path starts and ends at an eyelet, not at a pin or cam",
+                            Some("put the guide between two eyelets".into()),
+                        ));
                     }
                     if pins.last().is_some_and(|p| p.0 + 1 == i) {
-                        return Err(self.err(&np, "two pins or cams follow each other", Some("put an eyelet or guide between them".into())));
+                        return Err(self.err(
+                            &np,
+                            "two pins or cams follow each other",
+                            Some("put an eyelet or guide between them".into()),
+                        ));
                     }
                     pins.push((i, span));
                 }
                 if names.contains(&name) {
-                    return Err(self.err(&np, format!("`{name}` appears twice in path `{}`", tp.name), Some("a path passes each guide once (its columns are named after the nodes)".into())));
+                    return Err(self.err(
+                        &np,
+                        format!("`{name}` appears twice in path `{}`", tp.name),
+                        Some("a path passes each guide once (its columns are named after the nodes)".into()),
+                    ));
                 }
                 nodes.push(slot);
                 names.push(name);
@@ -992,21 +1449,63 @@ impl<'a> Loader<'a> {
                 if let Some((_, guide)) = pins.iter().find(|p| p.0 == i + 1) {
                     let (a0, b0) = (nodes[i], nodes[i + 2]);
                     spans.push(match guide.clone() {
-                        SpanDef::Pin { c, axis, frame, r, sense, node, .. } => SpanDef::Pin { a: a0, b: b0, c, axis, frame, r, sense, node },
-                        SpanDef::Cam { cam, contact, node, .. } => SpanDef::Cam { a: a0, b: b0, cam, contact, node },
+                        SpanDef::Pin {
+                            c,
+                            axis,
+                            frame,
+                            r,
+                            sense,
+                            node,
+                            ..
+                        } => SpanDef::Pin {
+                            a: a0,
+                            b: b0,
+                            c,
+                            axis,
+                            frame,
+                            r,
+                            sense,
+                            node,
+                        },
+                        SpanDef::Cam { cam, contact, node, .. } => SpanDef::Cam {
+                            a: a0,
+                            b: b0,
+                            cam,
+                            contact,
+                            node,
+                        },
                         s => s,
                     });
                     i += 2;
                 } else {
                     let (a, b) = (nodes[i], nodes[i + 1]);
-                    spans.push(SpanDef::Straight { a, b, constant: same_body(a, b) });
+                    spans.push(SpanDef::Straight {
+                        a,
+                        b,
+                        constant: same_body(a, b),
+                    });
                     i += 1;
                 }
             }
-            paths.push(PathDef { name: tp.name.clone(), label: tp.thread.clone(), nodes, node_names: names, friction, spans });
+            paths.push(PathDef {
+                name: tp.name.clone(),
+                label: tp.thread.clone(),
+                nodes,
+                node_names: names,
+                friction,
+                spans,
+            });
         }
         let layout = std::sync::Arc::new(super::ThreadLayout::new(&paths));
-        Ok(Some(ThreadsDef { convention, elongation, phi0_deg: t.phi0_deg, tension_n: t.tension_n, paths, cams, layout }))
+        Ok(Some(ThreadsDef {
+            convention,
+            elongation,
+            phi0_deg: t.phi0_deg,
+            tension_n: t.tension_n,
+            paths,
+            cams,
+            layout,
+        }))
     }
 
     fn cams(&mut self, f: &ModelFile) -> R<Vec<CamDef>> {
@@ -1014,7 +1513,13 @@ impl<'a> Loader<'a> {
         for (k, c) in f.cams.iter().enumerate() {
             let path = Path::root().key("cams").index(k);
             if !is_ident(&c.name) || out.iter().any(|o| o.name == c.name) || self.point_index.contains_key(&c.name) {
-                return Err(self.err(&path.key("name"), format!("`{}` is not a valid, unique cam name", c.name), Some("cam names use letters, digits and `_`, and differ from each other and from point names".into())));
+                return Err(self.err(
+                    &path.key("name"),
+                    format!("`{}` is not a valid, unique cam name", c.name),
+                    Some(
+                        "cam names use letters, digits and `_`, and differ from each other and from point names".into(),
+                    ),
+                ));
             }
             let center = self.point(&c.center, &path.key("center"))?;
             let marker = self.point(&c.marker, &path.key("marker"))?;
@@ -1032,21 +1537,40 @@ impl<'a> Loader<'a> {
                 (None, Some(p)) => {
                     let pp = path.key("polar");
                     if p.angle_deg.len() != p.radius_mm.len() || p.angle_deg.len() < 4 {
-                        return Err(self.err(&pp, "a polar profile needs at least 4 points, as many angles as radii", Some("give `angle_deg` and `radius_mm` of equal length".into())));
+                        return Err(self.err(
+                            &pp,
+                            "a polar profile needs at least 4 points, as many angles as radii",
+                            Some("give `angle_deg` and `radius_mm` of equal length".into()),
+                        ));
                     }
                     let ok = p.angle_deg.iter().all(|a| a.is_finite())
                         && p.angle_deg.windows(2).all(|w| w[1] > w[0])
                         && p.angle_deg[p.angle_deg.len() - 1] - p.angle_deg[0] < 360.0;
                     if !ok {
-                        return Err(self.err(&pp.key("angle_deg"), "profile angles must increase and stay within one turn", Some("list angles in degrees, e.g. 0, 30, …, 330".into())));
+                        return Err(self.err(
+                            &pp.key("angle_deg"),
+                            "profile angles must increase and stay within one turn",
+                            Some("list angles in degrees, e.g. 0, 30, …, 330".into()),
+                        ));
                     }
                     if let Some(r) = p.radius_mm.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
-                        return Err(self.err(&pp.key("radius_mm"), format!("profile radius {r} must be a positive number of mm"), None));
+                        return Err(self.err(
+                            &pp.key("radius_mm"),
+                            format!("profile radius {r} must be a positive number of mm"),
+                            None,
+                        ));
                     }
-                    ProfileDef::Polar { theta: p.angle_deg.iter().map(|a| a.to_radians()).collect(), rho: p.radius_mm.clone() }
+                    ProfileDef::Polar {
+                        theta: p.angle_deg.iter().map(|a| a.to_radians()).collect(),
+                        rho: p.radius_mm.clone(),
+                    }
                 }
                 _ => {
-                    return Err(self.err(&path, "a cam has exactly one profile: `disc` or `polar`", Some("e.g. `disc = { radius_mm = 12, eccentricity_mm = 3 }`".into())));
+                    return Err(self.err(
+                        &path,
+                        "a cam has exactly one profile: `disc` or `polar`",
+                        Some("e.g. `disc = { radius_mm = 12, eccentricity_mm = 3 }`".into()),
+                    ));
                 }
             };
             // Convexity, for the exact contact model (disc profiles are convex;
@@ -1055,7 +1579,16 @@ impl<'a> Loader<'a> {
                 ProfileDef::Disc { .. } => 1.0,
                 ProfileDef::Polar { theta, rho } => crate::thread::cam::Profile::spline(theta, rho).convexity(),
             };
-            out.push(CamDef { name: c.name.clone(), center, marker, axis, frame, profile, convex_min, path });
+            out.push(CamDef {
+                name: c.name.clone(),
+                center,
+                marker,
+                axis,
+                frame,
+                profile,
+                convex_min,
+                path,
+            });
         }
         Ok(out)
     }
@@ -1073,7 +1606,8 @@ use super::ClosureRef;
 
 pub(super) fn is_ident(s: &str) -> bool {
     let mut c = s.chars();
-    matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_') && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
+    matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_')
+        && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
 }
 
 fn unit_dim(u: Unit) -> Option<Dim> {

@@ -22,7 +22,7 @@ use crate::error::{ModelError, ParamError, did_you_mean};
 use crate::geometry::{Placement, Plane, V2, V3, axis_rotation};
 use crate::mechanism::newton::{Closure, NewtonGroup, PointRef};
 use crate::mechanism::rssr::Rocker;
-use crate::mechanism::{Mechanism, MeasureStep, Step};
+use crate::mechanism::{MeasureStep, Mechanism, Step};
 use crate::scalar::Real;
 use crate::thread::{Convention, Span, ThreadPath, Threads};
 use expr::Expr;
@@ -95,16 +95,92 @@ pub(crate) enum ClosureDef {
 /// A step before its parameters are resolved.
 #[derive(Debug, Clone)]
 pub(crate) enum StepDef {
-    Crank { center: usize, out: usize, frame: usize, axis: AxisDef, zero_dir: Option<AxisDef>, radius: Q, phase: Q, speed: f64 },
-    Rrr { p1: usize, p2: usize, l1: Q, l2: Q, sign: f64, plane: usize, out: usize },
-    Rrp { from: usize, through: usize, toward: Option<usize>, dir: Option<Q>, offset: Q, l: Q, sign: f64, plane: usize, out: usize },
-    Rpr { from: usize, pivot: usize, e: Q, d: Q, plane: usize, out: usize },
-    Rssr { from: usize, l: Q, pivot: usize, frame: usize, axis: AxisDef, r: Q, offset: Q, zero_dir: Option<AxisDef>, sign: f64, out: usize },
-    PointOnLine { from: usize, through: usize, toward: Option<usize>, dir: Option<AxisDef>, frame: usize, l: Q, sign: f64, out: usize },
-    Rigid { base: [usize; 2], d: Q, angle: Q, lift: Q, plane: usize, out: usize },
-    Rigid3 { frame: [usize; 3], at: [Q; 3], out: usize },
-    Offset { from: usize, by: [Q; 3], frame: usize, out: usize },
-    Newton { dim: usize, plane: usize, outs: Vec<usize>, guess: Vec<Q>, closures: Vec<ClosureDef> },
+    Crank {
+        center: usize,
+        out: usize,
+        frame: usize,
+        axis: AxisDef,
+        zero_dir: Option<AxisDef>,
+        radius: Q,
+        phase: Q,
+        speed: f64,
+    },
+    Rrr {
+        p1: usize,
+        p2: usize,
+        l1: Q,
+        l2: Q,
+        sign: f64,
+        plane: usize,
+        out: usize,
+    },
+    Rrp {
+        from: usize,
+        through: usize,
+        toward: Option<usize>,
+        dir: Option<Q>,
+        offset: Q,
+        l: Q,
+        sign: f64,
+        plane: usize,
+        out: usize,
+    },
+    Rpr {
+        from: usize,
+        pivot: usize,
+        e: Q,
+        d: Q,
+        plane: usize,
+        out: usize,
+    },
+    Rssr {
+        from: usize,
+        l: Q,
+        pivot: usize,
+        frame: usize,
+        axis: AxisDef,
+        r: Q,
+        offset: Q,
+        zero_dir: Option<AxisDef>,
+        sign: f64,
+        out: usize,
+    },
+    PointOnLine {
+        from: usize,
+        through: usize,
+        toward: Option<usize>,
+        dir: Option<AxisDef>,
+        frame: usize,
+        l: Q,
+        sign: f64,
+        out: usize,
+    },
+    Rigid {
+        base: [usize; 2],
+        d: Q,
+        angle: Q,
+        lift: Q,
+        plane: usize,
+        out: usize,
+    },
+    Rigid3 {
+        frame: [usize; 3],
+        at: [Q; 3],
+        out: usize,
+    },
+    Offset {
+        from: usize,
+        by: [Q; 3],
+        frame: usize,
+        out: usize,
+    },
+    Newton {
+        dim: usize,
+        plane: usize,
+        outs: Vec<usize>,
+        guess: Vec<Q>,
+        closures: Vec<ClosureDef>,
+    },
 }
 
 impl StepDef {
@@ -112,7 +188,12 @@ impl StepDef {
         match self {
             StepDef::Crank { center, .. } => vec![*center],
             StepDef::Rrr { p1, p2, .. } => vec![*p1, *p2],
-            StepDef::Rrp { from, through, toward, .. } | StepDef::PointOnLine { from, through, toward, .. } => {
+            StepDef::Rrp {
+                from, through, toward, ..
+            }
+            | StepDef::PointOnLine {
+                from, through, toward, ..
+            } => {
                 let mut v = vec![*from, *through];
                 v.extend(toward);
                 v
@@ -163,7 +244,9 @@ impl StepDef {
             StepDef::Rrr { plane, .. } | StepDef::Rrp { plane, .. } | StepDef::Rpr { plane, .. } => *plane == 0,
             StepDef::Rigid { plane, .. } => *plane == 0,
             StepDef::Newton { dim, plane, .. } => *dim == 2 && *plane == 0,
-            StepDef::Rssr { .. } | StepDef::PointOnLine { .. } | StepDef::Rigid3 { .. } | StepDef::Offset { .. } => false,
+            StepDef::Rssr { .. } | StepDef::PointOnLine { .. } | StepDef::Rigid3 { .. } | StepDef::Offset { .. } => {
+                false
+            }
         }
     }
 }
@@ -171,8 +254,11 @@ impl StepDef {
 /// Rigid bodies of a mechanism as sets of point slots: two points on one
 /// body keep their distance (a thread segment between them is constant).
 pub(crate) fn bodies(steps: &[StepDef], kinds: &[PointKind]) -> Vec<Vec<usize>> {
-    let mut bodies: Vec<Vec<usize>> =
-        vec![(0..kinds.len()).filter(|&i| matches!(kinds[i], PointKind::Fixed { .. })).collect()];
+    let mut bodies: Vec<Vec<usize>> = vec![
+        (0..kinds.len())
+            .filter(|&i| matches!(kinds[i], PointKind::Fixed { .. }))
+            .collect(),
+    ];
     // Translating bodies (sliders and points offset from them).
     let mut translating: Vec<usize> = Vec::new();
     let join = |bodies: &mut Vec<Vec<usize>>, on: &[usize], out: usize| {
@@ -299,7 +385,10 @@ impl ThreadLayout {
                 pin_span,
             });
         }
-        ThreadLayout { paths: out.into(), pieces }
+        ThreadLayout {
+            paths: out.into(),
+            pieces,
+        }
     }
 }
 
@@ -312,11 +401,46 @@ fn same_piece(x: &SpanDef, y: &SpanDef) -> bool {
         _ => false,
     };
     match (x, y) {
-        (SpanDef::Straight { a, b, constant }, SpanDef::Straight { a: a2, b: b2, constant: c2 }) => (a, b, constant) == (a2, b2, c2),
-        (SpanDef::Pin { a, b, c, axis, frame, r, sense, .. }, SpanDef::Pin { a: a2, b: b2, c: c2, axis: x2, frame: f2, r: r2, sense: s2, .. }) => {
-            (a, b, c, frame, r) == (a2, b2, c2, f2, r2) && sense == s2 && same_axis(axis, x2)
-        }
-        (SpanDef::Cam { a, b, cam, contact, .. }, SpanDef::Cam { a: a2, b: b2, cam: m2, contact: k2, .. }) => {
+        (
+            SpanDef::Straight { a, b, constant },
+            SpanDef::Straight {
+                a: a2,
+                b: b2,
+                constant: c2,
+            },
+        ) => (a, b, constant) == (a2, b2, c2),
+        (
+            SpanDef::Pin {
+                a,
+                b,
+                c,
+                axis,
+                frame,
+                r,
+                sense,
+                ..
+            },
+            SpanDef::Pin {
+                a: a2,
+                b: b2,
+                c: c2,
+                axis: x2,
+                frame: f2,
+                r: r2,
+                sense: s2,
+                ..
+            },
+        ) => (a, b, c, frame, r) == (a2, b2, c2, f2, r2) && sense == s2 && same_axis(axis, x2),
+        (
+            SpanDef::Cam { a, b, cam, contact, .. },
+            SpanDef::Cam {
+                a: a2,
+                b: b2,
+                cam: m2,
+                contact: k2,
+                ..
+            },
+        ) => {
             (a, b, cam) == (a2, b2, m2)
                 && match (contact, k2) {
                     (CamContactDef::Exact { sense }, CamContactDef::Exact { sense: s2 }) => sense == s2,
@@ -340,16 +464,48 @@ pub(crate) struct PathDef {
 
 #[derive(Debug, Clone)]
 pub(crate) enum SpanDef {
-    Straight { a: usize, b: usize, constant: bool },
-    Pin { a: usize, b: usize, c: usize, axis: AxisDef, frame: usize, r: Q, sense: f64, node: usize },
-    Cam { a: usize, b: usize, cam: usize, contact: CamContactDef, node: usize },
+    Straight {
+        a: usize,
+        b: usize,
+        constant: bool,
+    },
+    Pin {
+        a: usize,
+        b: usize,
+        c: usize,
+        axis: AxisDef,
+        frame: usize,
+        r: Q,
+        sense: f64,
+        node: usize,
+    },
+    Cam {
+        a: usize,
+        b: usize,
+        cam: usize,
+        contact: CamContactDef,
+        node: usize,
+    },
 }
 
 #[derive(Debug, Clone)]
 pub(crate) enum MeasureDef {
-    Distance { a: usize, b: usize },
-    LineDeviation { p: usize, h: usize, t: usize, plane: Option<usize> },
-    Coordinate { p: usize, from: Option<usize>, frame: usize, axis: AxisDef },
+    Distance {
+        a: usize,
+        b: usize,
+    },
+    LineDeviation {
+        p: usize,
+        h: usize,
+        t: usize,
+        plane: Option<usize>,
+    },
+    Coordinate {
+        p: usize,
+        from: Option<usize>,
+        frame: usize,
+        axis: AxisDef,
+    },
 }
 
 /// What a dyad's transmission angle is called in output.
@@ -411,8 +567,11 @@ impl Model {
         ld.declare_moving(&file)?;
         let drivers = ld.drivers(&file)?;
         let groups = ld.groups(&file)?;
-        let keys: Vec<(String, &'static str)> =
-            file.groups.iter().map(|g| (load::group_key(g), load::group_kind(g))).collect();
+        let keys: Vec<(String, &'static str)> = file
+            .groups
+            .iter()
+            .map(|g| (load::group_key(g), load::group_kind(g)))
+            .collect();
         let mut all: Vec<(StepDef, String, Path)> = drivers
             .into_iter()
             .enumerate()
@@ -452,18 +611,34 @@ impl Model {
                 StepDef::Rssr { pivot, out, .. } => link_angle_names.push(format!("angle_{}_{}", n(pivot), n(out))),
                 _ => {}
             }
-            if matches!(s, StepDef::Rrr { .. } | StepDef::Rrp { .. } | StepDef::Rpr { .. } | StepDef::Rssr { .. } | StepDef::PointOnLine { .. }) {
-                dyads.push(DyadInfo { key, label: label.clone() });
+            if matches!(
+                s,
+                StepDef::Rrr { .. }
+                    | StepDef::Rrp { .. }
+                    | StepDef::Rpr { .. }
+                    | StepDef::Rssr { .. }
+                    | StepDef::PointOnLine { .. }
+            ) {
+                dyads.push(DyadInfo {
+                    key,
+                    label: label.clone(),
+                });
             }
         }
         let fixed_flat = point_kinds.iter().all(|k| match k {
-            PointKind::Fixed { frame, coords } => *frame == 0 && matches!(ld.exprs[coords[2]], Expr::Num(z) if z == 0.0),
+            PointKind::Fixed { frame, coords } => {
+                *frame == 0 && matches!(ld.exprs[coords[2]], Expr::Num(z) if z == 0.0)
+            }
             PointKind::Moving => true,
         });
         let flat = |q: Q| matches!(ld.exprs[q], Expr::Num(z) if z == 0.0);
         let planar = fixed_flat
-            && steps.iter().all(|s| s.is_planar_xy() || matches!(s, StepDef::Offset { by, frame: 0, .. } if flat(by[2])))
-            && steps.iter().all(|s| !matches!(s, StepDef::Rigid { lift, .. } if !matches!(ld.exprs[*lift], Expr::Num(z) if z == 0.0)));
+            && steps
+                .iter()
+                .all(|s| s.is_planar_xy() || matches!(s, StepDef::Offset { by, frame: 0, .. } if flat(by[2])))
+            && steps.iter().all(
+                |s| !matches!(s, StepDef::Rigid { lift, .. } if !matches!(ld.exprs[*lift], Expr::Num(z) if z == 0.0)),
+            );
         let frames = std::mem::take(&mut ld.frames);
         let params = std::mem::take(&mut ld.params);
         let exprs = std::mem::take(&mut ld.exprs);
@@ -501,9 +676,8 @@ impl Model {
 
     /// Loads a model file from disk.
     pub fn from_path(path: &std::path::Path) -> Result<Model, crate::Error> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            crate::Error::Io(format!("cannot read model file `{}`: {e}", path.display()))
-        })?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| crate::Error::Io(format!("cannot read model file `{}`: {e}", path.display())))?;
         Ok(Model::from_toml_str(&text, &path.display().to_string())?)
     }
 
@@ -511,7 +685,9 @@ impl Model {
     pub fn preset(name: &str) -> Result<Model, crate::Error> {
         let p = crate::presets::find(name).ok_or_else(|| {
             let names = crate::presets::ALL.iter().map(|p| p.name);
-            let hint = did_you_mean(name, names).map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
+            let hint = did_you_mean(name, names)
+                .map(|s| format!(" (did you mean `{s}`?)"))
+                .unwrap_or_default();
             crate::Error::Param(ParamError {
                 message: format!("no preset named `{name}`{hint}"),
                 help: Some("`stitchkin presets` lists them".into()),
@@ -522,7 +698,9 @@ impl Model {
 
     /// Nominal parameter values.
     pub fn defaults(&self) -> Params {
-        Params { values: self.params.iter().map(|p| p.value.unwrap_or(0.0)).collect() }
+        Params {
+            values: self.params.iter().map(|p| p.value.unwrap_or(0.0)).collect(),
+        }
     }
 
     /// Index of a parameter.
@@ -541,7 +719,12 @@ impl Model {
                     Some(s) => format!("did you mean `{s}`?"),
                     None => format!(
                         "its parameters are: {}",
-                        self.params.iter().filter(|p| !p.is_derived()).map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
+                        self.params
+                            .iter()
+                            .filter(|p| !p.is_derived())
+                            .map(|p| p.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
                     ),
                 }),
             });
@@ -554,15 +737,23 @@ impl Model {
             });
         }
         if !value.is_finite() {
-            return Err(ParamError { message: format!("`{name}` must be a finite number"), help: None });
+            return Err(ParamError {
+                message: format!("`{name}` must be a finite number"),
+                help: None,
+            });
         }
         if let Some([lo, hi]) = p.range
-            && (value < lo || value > hi) {
-                return Err(ParamError {
-                    message: format!("{name} = {value} {} is outside its adjustable range {lo}…{hi} {}", p.unit_str(), p.unit_str()),
-                    help: Some(format!("choose a value between {lo} and {hi}")),
-                });
-            }
+            && (value < lo || value > hi)
+        {
+            return Err(ParamError {
+                message: format!(
+                    "{name} = {value} {} is outside its adjustable range {lo}…{hi} {}",
+                    p.unit_str(),
+                    p.unit_str()
+                ),
+                help: Some(format!("choose a value between {lo} and {hi}")),
+            });
+        }
         params.values[i] = value;
         Ok(())
     }
@@ -625,7 +816,11 @@ impl Model {
             if p.is_derived() && !pv[i].re().is_finite() {
                 return Err(self.error_at(
                     &Path::root().key("parameters").key(&p.name).key("expr"),
-                    format!("derived parameter `{}` evaluates to {} with these values", p.name, pv[i].re()),
+                    format!(
+                        "derived parameter `{}` evaluates to {} with these values",
+                        p.name,
+                        pv[i].re()
+                    ),
                     Some("check the inputs of its expression (e.g. acos or sqrt of an out-of-range value)".into()),
                 ));
             }
@@ -684,7 +879,11 @@ impl Model {
                 AxisDef::Vector(c, path) => {
                     let v = V3::new(q[c[0]], q[c[1]], q[c[2]]);
                     if v.norm().re() <= 0.0 {
-                        return Err(self.error_at(path, "the direction vector is zero", Some("give a non-zero vector".into())));
+                        return Err(self.error_at(
+                            path,
+                            "the direction vector is zero",
+                            Some("give a non-zero vector".into()),
+                        ));
                     }
                     v
                 }
@@ -692,37 +891,55 @@ impl Model {
             Ok(frames[frame].dir_to_world(local).normalize())
         };
         // Default zero direction: the next axis cyclically (x→y, y→z, z→x).
-        let basis = |axis: &AxisDef, zero: &Option<AxisDef>, frame: usize| -> Result<(V3<T>, V3<T>, V3<T>), Box<ModelError>> {
-            let w = dir(axis, frame)?;
-            let z0 = match (zero, axis) {
-                (Some(z), _) => dir(z, frame)?,
-                (None, AxisDef::Named(i, _)) => dir(&AxisDef::Named((i + 1) % 3, 1.0), frame)?,
-                // Any perpendicular: the world axis least aligned with w.
-                (None, AxisDef::Vector(..)) => if w.x.re().abs() < 0.9 { V3::x() } else { V3::y() },
-            };
-            let u = z0 - w * z0.dot(&w);
-            if u.norm().re() < 1e-9 {
-                let path = match (zero, axis) {
-                    (Some(AxisDef::Vector(_, p)), _) | (None, AxisDef::Vector(_, p)) => p.clone(),
-                    _ => Path::root(),
+        let basis =
+            |axis: &AxisDef, zero: &Option<AxisDef>, frame: usize| -> Result<(V3<T>, V3<T>, V3<T>), Box<ModelError>> {
+                let w = dir(axis, frame)?;
+                let z0 = match (zero, axis) {
+                    (Some(z), _) => dir(z, frame)?,
+                    (None, AxisDef::Named(i, _)) => dir(&AxisDef::Named((i + 1) % 3, 1.0), frame)?,
+                    // Any perpendicular: the world axis least aligned with w.
+                    (None, AxisDef::Vector(..)) => {
+                        if w.x.re().abs() < 0.9 {
+                            V3::x()
+                        } else {
+                            V3::y()
+                        }
+                    }
                 };
-                return Err(self.error_at(&path, "the zero direction is parallel to the axis", Some("give a `zero_dir` perpendicular to the axis".into())));
-            }
-            let u = u.normalize();
-            Ok((u, w.cross(&u), w))
-        };
+                let u = z0 - w * z0.dot(&w);
+                if u.norm().re() < 1e-9 {
+                    let path = match (zero, axis) {
+                        (Some(AxisDef::Vector(_, p)), _) | (None, AxisDef::Vector(_, p)) => p.clone(),
+                        _ => Path::root(),
+                    };
+                    return Err(self.error_at(
+                        &path,
+                        "the zero direction is parallel to the axis",
+                        Some("give a `zero_dir` perpendicular to the axis".into()),
+                    ));
+                }
+                let u = u.normalize();
+                Ok((u, w.cross(&u), w))
+            };
         let fixed: Vec<(usize, V3<T>)> = self
             .point_kinds
             .iter()
             .enumerate()
             .filter_map(|(i, k)| match k {
-                PointKind::Fixed { frame, coords } => {
-                    Some((i, frames[*frame].to_world(V3::new(q[coords[0]], q[coords[1]], q[coords[2]]))))
-                }
+                PointKind::Fixed { frame, coords } => Some((
+                    i,
+                    frames[*frame].to_world(V3::new(q[coords[0]], q[coords[1]], q[coords[2]])),
+                )),
                 PointKind::Moving => None,
             })
             .collect();
-        let fixed_at = |slot: usize| fixed.iter().find(|(i, _)| *i == slot).map(|(_, p)| *p).unwrap_or_else(V3::zeros);
+        let fixed_at = |slot: usize| {
+            fixed
+                .iter()
+                .find(|(i, _)| *i == slot)
+                .map(|(_, p)| *p)
+                .unwrap_or_else(V3::zeros)
+        };
         let mut steps = Vec::with_capacity(self.steps.len());
         // In-plane distances fixed by a link: (point, point, plane) → length.
         // A rigid point on such a link needs no square root per position.
@@ -733,24 +950,81 @@ impl Model {
         let link = |a: usize, b: usize| [a.min(b), a.max(b)];
         for s in &self.steps {
             match s {
-                StepDef::Rrr { p1, p2, l1, l2, plane: pl, out, .. } => {
+                StepDef::Rrr {
+                    p1,
+                    p2,
+                    l1,
+                    l2,
+                    plane: pl,
+                    out,
+                    ..
+                } => {
                     links.push((link(*p1, *out), *pl, q[*l1]));
                     links.push((link(*p2, *out), *pl, q[*l2]));
                 }
-                StepDef::Rrp { from, l, plane: pl, out, .. } => links.push((link(*from, *out), *pl, q[*l])),
+                StepDef::Rrp {
+                    from,
+                    l,
+                    plane: pl,
+                    out,
+                    ..
+                } => links.push((link(*from, *out), *pl, q[*l])),
                 _ => {}
             }
             steps.push(match s {
-                StepDef::Crank { center, out, frame, axis, zero_dir, radius, phase, speed } => {
+                StepDef::Crank {
+                    center,
+                    out,
+                    frame,
+                    axis,
+                    zero_dir,
+                    radius,
+                    phase,
+                    speed,
+                } => {
                     let (u, v, _) = basis(axis, zero_dir, *frame)?;
                     let ph = q[*phase] * deg;
                     let (sin_ph, cos_ph) = ph.sin_cos();
-                    Step::Crank { center: *center, out: *out, r: q[*radius], u, v, speed: *speed, phase: ph, cos_ph, sin_ph }
+                    Step::Crank {
+                        center: *center,
+                        out: *out,
+                        r: q[*radius],
+                        u,
+                        v,
+                        speed: *speed,
+                        phase: ph,
+                        cos_ph,
+                        sin_ph,
+                    }
                 }
-                StepDef::Rrr { p1, p2, l1, l2, sign, plane: pl, out } => {
-                    Step::Rrr { p1: *p1, p2: *p2, l1: q[*l1], l2: q[*l2], sign: *sign, plane: plane(*pl), out: *out }
-                }
-                StepDef::Rrp { from, through, toward, dir: d, offset, l, sign, plane: pl, out } => {
+                StepDef::Rrr {
+                    p1,
+                    p2,
+                    l1,
+                    l2,
+                    sign,
+                    plane: pl,
+                    out,
+                } => Step::Rrr {
+                    p1: *p1,
+                    p2: *p2,
+                    l1: q[*l1],
+                    l2: q[*l2],
+                    sign: *sign,
+                    plane: plane(*pl),
+                    out: *out,
+                },
+                StepDef::Rrp {
+                    from,
+                    through,
+                    toward,
+                    dir: d,
+                    offset,
+                    l,
+                    sign,
+                    plane: pl,
+                    out,
+                } => {
                     let a = d.map_or(T::zero(), |d| q[d] * deg);
                     Step::Rrp {
                         from: *from,
@@ -764,45 +1038,120 @@ impl Model {
                         out: *out,
                     }
                 }
-                StepDef::Rpr { from, pivot, e, d, plane: pl, out } => {
-                    Step::Rpr { from: *from, pivot: *pivot, e: q[*e], d: q[*d], plane: plane(*pl), out: *out }
-                }
-                StepDef::Rssr { from, l, pivot, frame, axis, r, offset, zero_dir, sign, out } => {
+                StepDef::Rpr {
+                    from,
+                    pivot,
+                    e,
+                    d,
+                    plane: pl,
+                    out,
+                } => Step::Rpr {
+                    from: *from,
+                    pivot: *pivot,
+                    e: q[*e],
+                    d: q[*d],
+                    plane: plane(*pl),
+                    out: *out,
+                },
+                StepDef::Rssr {
+                    from,
+                    l,
+                    pivot,
+                    frame,
+                    axis,
+                    r,
+                    offset,
+                    zero_dir,
+                    sign,
+                    out,
+                } => {
                     let (u, v, w) = basis(axis, zero_dir, *frame)?;
                     let c = fixed_at(*pivot) + w * q[*offset];
                     arms.push((link(*pivot, *out), w, q[*r]));
-                    Step::Rssr { from: *from, rocker: Rocker { c, u, v, w, r: q[*r] }, zero: u, l: q[*l], sign: *sign, out: *out }
+                    Step::Rssr {
+                        from: *from,
+                        rocker: Rocker { c, u, v, w, r: q[*r] },
+                        zero: u,
+                        l: q[*l],
+                        sign: *sign,
+                        out: *out,
+                    }
                 }
-                StepDef::PointOnLine { from, through, toward, dir: d, frame, l, sign, out } => {
+                StepDef::PointOnLine {
+                    from,
+                    through,
+                    toward,
+                    dir: d,
+                    frame,
+                    l,
+                    sign,
+                    out,
+                } => {
                     let dv = match d {
                         Some(a) => dir(a, *frame)?,
                         None => V3::x(),
                     };
-                    Step::PointOnLine { from: *from, through: *through, toward: *toward, dir: dv, l: q[*l], sign: *sign, out: *out }
+                    Step::PointOnLine {
+                        from: *from,
+                        through: *through,
+                        toward: *toward,
+                        dir: dv,
+                        l: q[*l],
+                        sign: *sign,
+                        out: *out,
+                    }
                 }
-                StepDef::Rigid { base, d, angle, lift, plane: pl, out } => {
+                StepDef::Rigid {
+                    base,
+                    d,
+                    angle,
+                    lift,
+                    plane: pl,
+                    out,
+                } => {
                     let (s, c) = (q[*angle] * deg).sin_cos();
-                    let base_len =
-                        links.iter().find(|(ab, p, l)| *ab == link(base[0], base[1]) && p == pl && l.re() > 0.0).map(|(_, _, l)| *l).or_else(|| {
+                    let base_len = links
+                        .iter()
+                        .find(|(ab, p, l)| *ab == link(base[0], base[1]) && p == pl && l.re() > 0.0)
+                        .map(|(_, _, l)| *l)
+                        .or_else(|| {
                             let normal = match &plane(*pl).0 {
                                 None => V3::z(),
                                 Some(f) => f.dir_to_world(V3::z()),
                             };
                             arms.iter()
-                                .find(|(ab, w, r)| *ab == link(base[0], base[1]) && r.re() > 0.0 && normal.cross(w).norm().re() < 1e-12)
+                                .find(|(ab, w, r)| {
+                                    *ab == link(base[0], base[1]) && r.re() > 0.0 && normal.cross(w).norm().re() < 1e-12
+                                })
                                 .map(|(_, _, r)| *r)
                         });
-                    Step::Rigid { base: *base, dc: q[*d] * c, ds: q[*d] * s, base_len, lift: q[*lift], plane: plane(*pl), out: *out }
+                    Step::Rigid {
+                        base: *base,
+                        dc: q[*d] * c,
+                        ds: q[*d] * s,
+                        base_len,
+                        lift: q[*lift],
+                        plane: plane(*pl),
+                        out: *out,
+                    }
                 }
-                StepDef::Rigid3 { frame, at, out } => {
-                    Step::Rigid3 { frame: *frame, at: V3::new(q[at[0]], q[at[1]], q[at[2]]), out: *out }
-                }
+                StepDef::Rigid3 { frame, at, out } => Step::Rigid3 {
+                    frame: *frame,
+                    at: V3::new(q[at[0]], q[at[1]], q[at[2]]),
+                    out: *out,
+                },
                 StepDef::Offset { from, by, frame, out } => Step::Offset {
                     from: *from,
                     by: frames[*frame].dir_to_world(V3::new(q[by[0]], q[by[1]], q[by[2]])),
                     out: *out,
                 },
-                StepDef::Newton { dim, plane: pl, outs, guess, closures } => {
+                StepDef::Newton {
+                    dim,
+                    plane: pl,
+                    outs,
+                    guess,
+                    closures,
+                } => {
                     let conv = |r: &ClosureRef| match r {
                         ClosureRef::Unknown(u) => PointRef::Unknown(*u),
                         ClosureRef::Known(k) => PointRef::Known(*k),
@@ -815,7 +1164,11 @@ impl Model {
                         closures: closures
                             .iter()
                             .map(|c| match c {
-                                ClosureDef::Distance { a, b, l } => Closure::Distance { a: conv(a), b: conv(b), l: q[*l] },
+                                ClosureDef::Distance { a, b, l } => Closure::Distance {
+                                    a: conv(a),
+                                    b: conv(b),
+                                    l: q[*l],
+                                },
                                 ClosureDef::OnLine { p, h, t } => Closure::OnLine { p: *p, h: *h, t: *t },
                             })
                             .collect(),
@@ -827,9 +1180,12 @@ impl Model {
         for m in &self.measures {
             measures.push(match m {
                 MeasureDef::Distance { a, b } => MeasureStep::Distance { a: *a, b: *b },
-                MeasureDef::LineDeviation { p, h, t, plane: pl } => {
-                    MeasureStep::LineDeviation { p: *p, h: *h, t: *t, plane: pl.map(plane) }
-                }
+                MeasureDef::LineDeviation { p, h, t, plane: pl } => MeasureStep::LineDeviation {
+                    p: *p,
+                    h: *h,
+                    t: *t,
+                    plane: pl.map(plane),
+                },
                 MeasureDef::Coordinate { p, from, frame, axis } => MeasureStep::Coordinate {
                     p: *p,
                     from: *from,
@@ -847,13 +1203,23 @@ impl Model {
                         ProfileDef::Disc { r, e } => {
                             let (r, e) = (q[*r].re(), q[*e].re());
                             if e.abs() >= r {
-                                return Err(self.error_at(&c.path.key("disc"), format!("the disc's eccentricity {e} mm must be smaller than its radius {r} mm"), Some("the shaft must lie inside the disc".into())));
+                                return Err(self.error_at(
+                                    &c.path.key("disc"),
+                                    format!("the disc's eccentricity {e} mm must be smaller than its radius {r} mm"),
+                                    Some("the shaft must lie inside the disc".into()),
+                                ));
                             }
                             crate::thread::cam::Profile::disc(r, e)
                         }
                         ProfileDef::Polar { theta, rho } => crate::thread::cam::Profile::spline(theta, rho),
                     };
-                    cams.push(crate::thread::Cam { name: c.name.clone(), center: c.center, marker: c.marker, axis: dir(&c.axis, c.frame)?, profile });
+                    cams.push(crate::thread::Cam {
+                        name: c.name.clone(),
+                        center: c.center,
+                        marker: c.marker,
+                        axis: dir(&c.axis, c.frame)?,
+                        profile,
+                    });
                 }
                 // The paths' structure is the model's (ThreadsDef::layout);
                 // only the distinct pieces take this setting's values.
@@ -863,14 +1229,40 @@ impl Model {
                     spans.push(match &p.spans[si] {
                         SpanDef::Straight { a, b, constant } => {
                             let still = |slot: &usize| fixed.iter().any(|(s, _)| s == slot);
-                            Span::Straight { a: *a, b: *b, constant: *constant, fixed: [still(a), still(b)] }
+                            Span::Straight {
+                                a: *a,
+                                b: *b,
+                                constant: *constant,
+                                fixed: [still(a), still(b)],
+                            }
                         }
-                        SpanDef::Pin { a, b, c, axis, frame, r, sense, node } => {
+                        SpanDef::Pin {
+                            a,
+                            b,
+                            c,
+                            axis,
+                            frame,
+                            r,
+                            sense,
+                            node,
+                        } => {
                             if q[*r].re() < 0.0 {
-                                return Err(self.error_at(&self.expr_paths[*r], "a pin radius cannot be negative", Some("give the radius in mm, 0 for a thin pin".into())));
+                                return Err(self.error_at(
+                                    &self.expr_paths[*r],
+                                    "a pin radius cannot be negative",
+                                    Some("give the radius in mm, 0 for a thin pin".into()),
+                                ));
                             }
                             let name = p.node_names[*node].clone();
-                            Span::Pin { a: *a, b: *b, c: *c, axis: dir(axis, *frame)?, r: q[*r], sense: *sense, name }
+                            Span::Pin {
+                                a: *a,
+                                b: *b,
+                                c: *c,
+                                axis: dir(axis, *frame)?,
+                                r: q[*r],
+                                sense: *sense,
+                                name,
+                            }
                         }
                         SpanDef::Cam { a, b, cam, contact, .. } => Span::Cam {
                             a: *a,
@@ -878,7 +1270,9 @@ impl Model {
                             cam: *cam,
                             contact: match contact {
                                 CamContactDef::Exact { sense } => crate::thread::CamModel::Exact { sense: *sense },
-                                CamContactDef::Offset { gamma } => crate::thread::CamModel::Offset { gamma_rad: q[*gamma].re().to_radians() },
+                                CamContactDef::Offset { gamma } => crate::thread::CamModel::Offset {
+                                    gamma_rad: q[*gamma].re().to_radians(),
+                                },
                             },
                         },
                     });
@@ -886,7 +1280,9 @@ impl Model {
                 let paths = t.layout.paths.clone();
                 let convention = match t.convention {
                     file::TakeUpConvention::Release => Convention::Release,
-                    file::TakeUpConvention::Feed => Convention::Feed { elongation_mm: t.elongation.map_or(0.0, |e| q[e].re()) },
+                    file::TakeUpConvention::Feed => Convention::Feed {
+                        elongation_mm: t.elongation.map_or(0.0, |e| q[e].re()),
+                    },
                 };
                 // A path that ends at the eye of a [[stitch.needles]] entry is
                 // split at B (seed 004 §2.3): its take-up is measured past the
@@ -897,10 +1293,15 @@ impl Model {
                     .map(|p| {
                         let st = self.stitch.as_ref()?;
                         let eye = *p.nodes.last()?;
-                        st.needles.iter().any(|n| matches!(n.eye, stitch::OrganDef::Point(s) if s == eye)).then(|| {
-                            let beta = st.tilt.map_or(T::zero(), |i| q[i] * deg);
-                            frames[st.frame].dir_to_world(V3::new(T::zero(), -beta.sin(), beta.cos())).normalize()
-                        })
+                        st.needles
+                            .iter()
+                            .any(|n| matches!(n.eye, stitch::OrganDef::Point(s) if s == eye))
+                            .then(|| {
+                                let beta = st.tilt.map_or(T::zero(), |i| q[i] * deg);
+                                frames[st.frame]
+                                    .dir_to_world(V3::new(T::zero(), -beta.sin(), beta.cos()))
+                                    .normalize()
+                            })
                     })
                     .collect();
                 Some(Threads {
@@ -914,7 +1315,15 @@ impl Model {
                 })
             }
         };
-        Ok(Mechanism { fixed, steps, measures, n_points: self.point_names.len(), labels: self.labels.clone(), threads, frames })
+        Ok(Mechanism {
+            fixed,
+            steps,
+            measures,
+            n_points: self.point_names.len(),
+            labels: self.labels.clone(),
+            threads,
+            frames,
+        })
     }
 
     fn error_at(&self, path: &Path, message: impl Into<String>, help: Option<String>) -> Box<ModelError> {
@@ -956,7 +1365,10 @@ impl Model {
 
     /// The names of the points that move, in slot order.
     pub fn moving_point_names(&self) -> Vec<&str> {
-        (0..self.point_names.len()).filter(|&i| !self.is_fixed(i)).map(|i| self.point_names[i].as_str()).collect()
+        (0..self.point_names.len())
+            .filter(|&i| !self.is_fixed(i))
+            .map(|i| self.point_names[i].as_str())
+            .collect()
     }
 }
 

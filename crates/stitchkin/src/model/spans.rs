@@ -1,7 +1,7 @@
 //! Where things are in a model file's text, for error messages.
 
-use toml::de::{DeTable, DeValue};
 use toml::Spanned;
+use toml::de::{DeTable, DeValue};
 
 /// A place in the model, e.g. `groups[2].lengths[1]`.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -49,7 +49,9 @@ pub struct SpanIndex<'a> {
 
 impl<'a> SpanIndex<'a> {
     pub fn new(text: &'a str) -> Self {
-        SpanIndex { root: DeTable::parse(text).ok() }
+        SpanIndex {
+            root: DeTable::parse(text).ok(),
+        }
     }
 
     /// Span of the deepest part of `path` found in the file (a missing key
@@ -70,7 +72,11 @@ impl<'a> SpanIndex<'a> {
                     let Some((key, v)) = t.iter().find(|(key, _)| key.get_ref().as_ref() == k.as_str()) else {
                         break;
                     };
-                    span = Some(if matches!(v.get_ref(), DeValue::Table(_)) { key.span() } else { v.span() });
+                    span = Some(if matches!(v.get_ref(), DeValue::Table(_)) {
+                        key.span()
+                    } else {
+                        v.span()
+                    });
                     table = None;
                     value = Some(v.get_ref());
                 }
@@ -102,6 +108,10 @@ mod tests {
         assert_eq!(&text[s], "\"x\"");
         // A missing key falls back to the deepest part found.
         let s = idx.find(&Path::root().key("groups").index(0).key("nope")).unwrap();
-        assert!(text[s.clone()].contains("rrr") || text[s.clone()].contains("[[groups]]"), "{:?}", &text[s]);
+        assert!(
+            text[s.clone()].contains("rrr") || text[s.clone()].contains("[[groups]]"),
+            "{:?}",
+            &text[s]
+        );
     }
 }

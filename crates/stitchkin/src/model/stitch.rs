@@ -12,8 +12,8 @@ use crate::error::{Error, ModelError};
 use crate::geometry::V3;
 use crate::mechanism::Phi;
 use crate::stitch::spec::{
-    DEFAULT_REGULATOR_WIDTH_DEG, FeedLaw, LooperSpec, Moments, Motion, NeedleSpec, Regulator, SpreaderSpec, StitchSpec, StitchType,
-    UpperLooperSpec,
+    DEFAULT_REGULATOR_WIDTH_DEG, FeedLaw, LooperSpec, Moments, Motion, NeedleSpec, Regulator, SpreaderSpec, StitchSpec,
+    StitchType, UpperLooperSpec,
 };
 
 type R<T> = Result<T, Box<ModelError>>;
@@ -28,9 +28,26 @@ pub const MOTION_STEP_DEG: f64 = 0.02;
 pub(crate) enum OrganDef {
     /// A mechanism point (slot).
     Point(usize),
-    NeedleLaw { x: Q, s_b: Q, stroke: Q, bdc: Option<Q> },
-    LooperLaw { stroke: Q, far: Q, catch: Q, catch_x: Option<Q>, y0: Option<Q>, avoid: Option<Q>, depth: Q },
-    Polyline { points: Vec<[f64; 3]>, low: f64, high: f64 },
+    NeedleLaw {
+        x: Q,
+        s_b: Q,
+        stroke: Q,
+        bdc: Option<Q>,
+    },
+    LooperLaw {
+        stroke: Q,
+        far: Q,
+        catch: Q,
+        catch_x: Option<Q>,
+        y0: Option<Q>,
+        avoid: Option<Q>,
+        depth: Q,
+    },
+    Polyline {
+        points: Vec<[f64; 3]>,
+        low: f64,
+        high: f64,
+    },
 }
 
 #[derive(Debug, Clone)]
@@ -99,7 +116,11 @@ pub struct StitchSetup {
 }
 
 fn finite_deg(ld: &Loader, v: f64, path: &Path) -> R<f64> {
-    if v.is_finite() { Ok(v) } else { Err(ld.err(path, "the angle must be a finite number of degrees", None)) }
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(ld.err(path, "the angle must be a finite number of degrees", None))
+    }
 }
 
 impl Loader<'_> {
@@ -123,16 +144,33 @@ impl Loader<'_> {
 
     /// An organ that moves along a polyline stand-in (the upper looper, the
     /// spreader): a mechanism point `eye` or a polyline `law`.
-    fn polyline_organ(&self, eye: &Option<String>, law: &Option<PolylineLawFile>, at: &Path, what: &str) -> R<OrganDef> {
+    fn polyline_organ(
+        &self,
+        eye: &Option<String>,
+        law: &Option<PolylineLawFile>,
+        at: &Path,
+        what: &str,
+    ) -> R<OrganDef> {
         match (self.organ_point(eye, law.is_some(), at, what)?, law) {
             (Some(slot), _) => Ok(OrganDef::Point(slot)),
             (None, Some(w)) => {
                 let p = at.key("law");
                 if w.polyline_mm.len() < 2 || w.polyline_mm.iter().flatten().any(|x| !x.is_finite()) {
-                    return Err(self.err(&p.key("polyline_mm"), "the polyline needs at least 2 finite points", Some("e.g. [[13, 1, -6], [5.5, 0, 4]]".into())));
+                    return Err(self.err(
+                        &p.key("polyline_mm"),
+                        "the polyline needs at least 2 finite points",
+                        Some("e.g. [[13, 1, -6], [5.5, 0, 4]]".into()),
+                    ));
                 }
-                let (low, high) = (finite_deg(self, w.low_deg, &p.key("low_deg"))?, finite_deg(self, w.high_deg, &p.key("high_deg"))?);
-                Ok(OrganDef::Polyline { points: w.polyline_mm.clone(), low, high })
+                let (low, high) = (
+                    finite_deg(self, w.low_deg, &p.key("low_deg"))?,
+                    finite_deg(self, w.high_deg, &p.key("high_deg"))?,
+                );
+                Ok(OrganDef::Polyline {
+                    points: w.polyline_mm.clone(),
+                    low,
+                    high,
+                })
             }
             (None, None) => unreachable!("organ_point checked"),
         }
@@ -165,20 +203,36 @@ impl Loader<'_> {
         };
         let m = self.positive_length(&s.m_mm, path.key("m_mm"), "the material thickness m")?;
         let t = self.positive_length(&s.t_mm, path.key("t_mm"), "the stitch length t")?;
-        let tilt = s.tilt_deg.as_ref().map(|v| self.angle(v, path.key("tilt_deg"))).transpose()?;
+        let tilt = s
+            .tilt_deg
+            .as_ref()
+            .map(|v| self.angle(v, path.key("tilt_deg")))
+            .transpose()?;
         let a_e = self.opt_length(&s.overedge_width_mm, path.key("overedge_width_mm"))?;
         if matches!(stitch_type, StitchType::S503 | StitchType::S504) && a_e.is_none() {
-            return Err(self.err(&path, format!("stitch {} needs the overedge width", s.stitch_type), Some("add `overedge_width_mm = 4`".into())));
+            return Err(self.err(
+                &path,
+                format!("stitch {} needs the overedge width", s.stitch_type),
+                Some("add `overedge_width_mm = 4`".into()),
+            ));
         }
         let edge_split = s.edge_split.unwrap_or(0.5);
         if !(0.0..=1.0).contains(&edge_split) {
-            return Err(self.err(&path.key("edge_split"), format!("edge_split = {edge_split} is outside 0…1"), Some("0.5 puts the looper threads' meeting point mid-edge".into())));
+            return Err(self.err(
+                &path.key("edge_split"),
+                format!("edge_split = {edge_split} is outside 0…1"),
+                Some("0.5 puts the looper threads' meeting point mid-edge".into()),
+            ));
         }
         let frame = self.opt_frame(&s.frame, path.key("frame"))?;
         let cyclogram_zero_deg = finite_deg(self, s.cyclogram_zero_deg, &path.key("cyclogram_zero_deg"))?;
         let tolerance_mm = s.tolerance_mm.unwrap_or(0.5);
         if !(tolerance_mm.is_finite() && tolerance_mm > 0.0) {
-            return Err(self.err(&path.key("tolerance_mm"), "the tolerance must be a positive number of mm", None));
+            return Err(self.err(
+                &path.key("tolerance_mm"),
+                "the tolerance must be a positive number of mm",
+                None,
+            ));
         }
         let rp = path.key("regulator");
         let regulator = match &s.regulator {
@@ -191,7 +245,11 @@ impl Loader<'_> {
                     }
                     // P' = 0 at φ0 (the taut state): each stitch's thread
                     // is drawn between one φ0 and the next.
-                    let phi0 = f.thread.as_ref().and_then(|t| t.phi0_deg).unwrap_or(f.model.phi_start_deg.unwrap_or(0.0));
+                    let phi0 = f
+                        .thread
+                        .as_ref()
+                        .and_then(|t| t.phi0_deg)
+                        .unwrap_or(f.model.phi_start_deg.unwrap_or(0.0));
                     let inside = (phi0 - w[0]).rem_euclid(360.0);
                     if inside > 1e-9 && inside < width - 1e-9 {
                         // The same width ending at φ0.
@@ -210,7 +268,9 @@ impl Loader<'_> {
                     }
                     RegulatorDef::Window(w)
                 }
-                (None, Some(v), None | Some(false)) => RegulatorDef::BeforeTightening(Some(self.angle(v, rp.key("width_deg"))?)),
+                (None, Some(v), None | Some(false)) => {
+                    RegulatorDef::BeforeTightening(Some(self.angle(v, rp.key("width_deg"))?))
+                }
                 (None, None, Some(true)) => RegulatorDef::AtLock,
                 _ => {
                     return Err(self.err(&rp, "give exactly one of `window_deg`, `width_deg` or `at_lock = true`", Some("e.g. regulator = { width_deg = 60 } (the default), or regulator = { window_deg = [300, 360] }".into())));
@@ -218,14 +278,30 @@ impl Loader<'_> {
             },
         };
         let fp = path.key("feed");
-        let feed = match (s.feed.law.as_str(), &s.feed.start_deg, &s.feed.duration_deg, &s.feed.point) {
-            ("harmonic", Some(a), Some(d), None) => FeedDef::Harmonic(self.angle(a, fp.key("start_deg"))?, self.angle(d, fp.key("duration_deg"))?),
+        let feed = match (
+            s.feed.law.as_str(),
+            &s.feed.start_deg,
+            &s.feed.duration_deg,
+            &s.feed.point,
+        ) {
+            ("harmonic", Some(a), Some(d), None) => FeedDef::Harmonic(
+                self.angle(a, fp.key("start_deg"))?,
+                self.angle(d, fp.key("duration_deg"))?,
+            ),
             ("harmonic", ..) => {
-                return Err(self.err(&fp, "the harmonic feed takes `start_deg` and `duration_deg` (and no `point`)", Some("e.g. feed = { law = \"harmonic\", start_deg = 134, duration_deg = 100 }".into())));
+                return Err(self.err(
+                    &fp,
+                    "the harmonic feed takes `start_deg` and `duration_deg` (and no `point`)",
+                    Some("e.g. feed = { law = \"harmonic\", start_deg = 134, duration_deg = 100 }".into()),
+                ));
             }
             ("point", None, None, Some(p)) => FeedDef::Point(self.point(p, &fp.key("point"))?),
             ("point", ..) => {
-                return Err(self.err(&fp, "the point feed takes `point`, the feed dog's tooth (and no angles: they follow from its motion)", Some("e.g. feed = { law = \"point\", point = \"DOG\" }".into())));
+                return Err(self.err(
+                    &fp,
+                    "the point feed takes `point`, the feed dog's tooth (and no angles: they follow from its motion)",
+                    Some("e.g. feed = { law = \"point\", point = \"DOG\" }".into()),
+                ));
             }
             (other, ..) => {
                 return Err(self.err(&fp.key("law"), format!("unknown feed law `{other}`"), Some("write law = \"harmonic\" (seed 004 §2.2.3) or law = \"point\" (a feed-dog tooth of the mechanism)".into())));
@@ -235,11 +311,17 @@ impl Loader<'_> {
         if s.needles.len() != want {
             return Err(self.err(
                 &path.key("needles"),
-                format!("stitch {} has {want} needle(s), {} given", s.stitch_type, s.needles.len()),
+                format!(
+                    "stitch {} has {want} needle(s), {} given",
+                    s.stitch_type,
+                    s.needles.len()
+                ),
                 Some(format!("give {want} [[stitch.needles]] tables")),
             ));
         }
-        let path_names: Vec<&str> = threads.map(|t| t.paths.iter().map(|p| p.name.as_str()).collect()).unwrap_or_default();
+        let path_names: Vec<&str> = threads
+            .map(|t| t.paths.iter().map(|p| p.name.as_str()).collect())
+            .unwrap_or_default();
         let check_path = |ld: &Self, p: &Option<String>, at: Path| -> R<Option<String>> {
             match p {
                 Some(name) if !path_names.contains(&name.as_str()) => Err(ld.err(
@@ -247,7 +329,9 @@ impl Loader<'_> {
                     format!("unknown thread path `{name}`"),
                     Some(match crate::error::did_you_mean(name, path_names.iter().copied()) {
                         Some(s) => format!("did you mean `{s}`? Paths are the [[thread.paths]] names"),
-                        None if path_names.is_empty() => "the model has no [[thread.paths]]; add one or remove `path`".into(),
+                        None if path_names.is_empty() => {
+                            "the model has no [[thread.paths]]; add one or remove `path`".into()
+                        }
                         None => format!("paths are: {}", path_names.join(", ")),
                     }),
                 )),
@@ -258,8 +342,18 @@ impl Loader<'_> {
         let mut needles = Vec::new();
         for (k, n) in s.needles.iter().enumerate() {
             let np = path.key("needles").index(k);
-            if !super::load::is_ident(&n.name) || names.contains(&n.name) || ["lower", "upper", "looper"].contains(&n.name.as_str()) {
-                return Err(self.err(&np.key("name"), format!("`{}` is not a valid, unique thread name", n.name), Some("use letters, digits and `_`, e.g. `n1`; `lower`, `upper` and `looper` are the looper threads".into())));
+            if !super::load::is_ident(&n.name)
+                || names.contains(&n.name)
+                || ["lower", "upper", "looper"].contains(&n.name.as_str())
+            {
+                return Err(self.err(
+                    &np.key("name"),
+                    format!("`{}` is not a valid, unique thread name", n.name),
+                    Some(
+                        "use letters, digits and `_`, e.g. `n1`; `lower`, `upper` and `looper` are the looper threads"
+                            .into(),
+                    ),
+                ));
             }
             names.push(n.name.clone());
             let eye = match (self.organ_point(&n.eye, n.law.is_some(), &np, "needle")?, &n.law) {
@@ -270,13 +364,21 @@ impl Loader<'_> {
                         x: self.length(&l.x_mm, lp.key("x_mm"))?,
                         s_b: self.length(&l.eye_above_plate_mm, lp.key("eye_above_plate_mm"))?,
                         stroke: self.positive_length(&l.stroke_mm, lp.key("stroke_mm"), "the needle stroke")?,
-                        bdc: l.bdc_deg.as_ref().map(|v| self.angle(v, lp.key("bdc_deg"))).transpose()?,
+                        bdc: l
+                            .bdc_deg
+                            .as_ref()
+                            .map(|v| self.angle(v, lp.key("bdc_deg")))
+                            .transpose()?,
                     }
                 }
                 (None, None) => unreachable!("organ_point checked"),
             };
             if n.law.is_some() && n.eye_above_plate_mm.is_some() {
-                return Err(self.err(&np.key("eye_above_plate_mm"), "with a `law`, the eye height is the law's `eye_above_plate_mm`", Some("remove this line".into())));
+                return Err(self.err(
+                    &np.key("eye_above_plate_mm"),
+                    "with a `law`, the eye height is the law's `eye_above_plate_mm`",
+                    Some("remove this line".into()),
+                ));
             }
             let eye_above_plate = self.opt_length(&n.eye_above_plate_mm, np.key("eye_above_plate_mm"))?;
             let point_below_eye = self.opt_length(&n.point_below_eye_mm, np.key("point_below_eye_mm"))?;
@@ -328,13 +430,21 @@ impl Loader<'_> {
                 Some((eye, w, check_path(self, &u.path, up.key("path"))?))
             }
             (None, StitchType::S504) => {
-                return Err(self.err(&path, "stitch 504 needs an upper looper", Some("add a [stitch.upper_looper] table".into())));
+                return Err(self.err(
+                    &path,
+                    "stitch 504 needs an upper looper",
+                    Some("add a [stitch.upper_looper] table".into()),
+                ));
             }
             (Some(_), StitchType::S503) => {
                 return Err(self.err(&path.key("upper_looper"), "stitch 503 has no upper looper", Some("remove [stitch.upper_looper]; the organ that carries 503's looper thread over the edge is [stitch.spreader]".into())));
             }
             (Some(_), _) => {
-                return Err(self.err(&path.key("upper_looper"), format!("stitch {} has no upper looper", s.stitch_type), Some("remove [stitch.upper_looper]".into())));
+                return Err(self.err(
+                    &path.key("upper_looper"),
+                    format!("stitch {} has no upper looper", s.stitch_type),
+                    Some("remove [stitch.upper_looper]".into()),
+                ));
             }
             (None, _) => None,
         };
@@ -352,7 +462,11 @@ impl Loader<'_> {
                 ));
             }
             (Some(_), _) => {
-                return Err(self.err(&path.key("spreader"), format!("stitch {} has no spreader", s.stitch_type), Some("remove [stitch.spreader] (only 503 has one)".into())));
+                return Err(self.err(
+                    &path.key("spreader"),
+                    format!("stitch {} has no spreader", s.stitch_type),
+                    Some("remove [stitch.spreader] (only 503 has one)".into()),
+                ));
             }
             (None, _) => None,
         };
@@ -362,28 +476,62 @@ impl Loader<'_> {
                 // 504: the upper looper lets go of the lower thread's bight;
                 // 503: the spreader lets go of the looper thread (§5.5).
                 let ((key, release), (other_key, other)) = if stitch_type == StitchType::S504 {
-                    (("upper_release_deg", mo.upper_release_deg), ("spreader_release_deg", mo.spreader_release_deg))
+                    (
+                        ("upper_release_deg", mo.upper_release_deg),
+                        ("spreader_release_deg", mo.spreader_release_deg),
+                    )
                 } else {
-                    (("spreader_release_deg", mo.spreader_release_deg), ("upper_release_deg", mo.upper_release_deg))
+                    (
+                        ("spreader_release_deg", mo.spreader_release_deg),
+                        ("upper_release_deg", mo.upper_release_deg),
+                    )
                 };
                 if other.is_some() {
-                    return Err(self.err(&mp.key(other_key), format!("stitch {} has no `{other_key}`", s.stitch_type), Some(format!("write `{key}` instead"))));
+                    return Err(self.err(
+                        &mp.key(other_key),
+                        format!("stitch {} has no `{other_key}`", s.stitch_type),
+                        Some(format!("write `{key}` instead")),
+                    ));
                 }
                 let Some(release) = release else {
-                    return Err(self.err(&mp, format!("stitch {} needs `{key}`", s.stitch_type), Some(format!("add `{key} = 290` (φ_c, degrees, between stab and draw-in)"))));
+                    return Err(self.err(
+                        &mp,
+                        format!("stitch {} needs `{key}`", s.stitch_type),
+                        Some(format!("add `{key} = 290` (φ_c, degrees, between stab and draw-in)")),
+                    ));
                 };
-                for (v, k) in [(mo.stab_deg, "stab_deg"), (release, key), (mo.draw_in_deg, "draw_in_deg")] {
+                for (v, k) in [
+                    (mo.stab_deg, "stab_deg"),
+                    (release, key),
+                    (mo.draw_in_deg, "draw_in_deg"),
+                ] {
                     finite_deg(self, v, &mp.key(k))?;
                 }
                 if !(mo.stab_deg < release && release < mo.draw_in_deg && mo.draw_in_deg < 360.0) {
                     let name = key.trim_end_matches("_deg");
-                    return Err(self.err(&mp, format!("the moments must come in the order stab < {name} < draw_in < 360 (φ_c, degrees)"), Some("seed 004 Table 2: stab 270, draw-in 330".into())));
+                    return Err(self.err(
+                        &mp,
+                        format!("the moments must come in the order stab < {name} < draw_in < 360 (φ_c, degrees)"),
+                        Some("seed 004 Table 2: stab 270, draw-in 330".into()),
+                    ));
                 }
-                Some(Moments { stab_deg: mo.stab_deg, upper_release_deg: release, draw_in_deg: mo.draw_in_deg })
+                Some(Moments {
+                    stab_deg: mo.stab_deg,
+                    upper_release_deg: release,
+                    draw_in_deg: mo.draw_in_deg,
+                })
             }
             (None, StitchType::S503 | StitchType::S504) => {
-                let key = if stitch_type == StitchType::S504 { "upper_release_deg" } else { "spreader_release_deg" };
-                return Err(self.err(&path, format!("stitch {} needs its cyclogram moments", s.stitch_type), Some(format!("add [stitch.moments] with stab_deg, {key}, draw_in_deg"))));
+                let key = if stitch_type == StitchType::S504 {
+                    "upper_release_deg"
+                } else {
+                    "spreader_release_deg"
+                };
+                return Err(self.err(
+                    &path,
+                    format!("stitch {} needs its cyclogram moments", s.stitch_type),
+                    Some(format!("add [stitch.moments] with stab_deg, {key}, draw_in_deg")),
+                ));
             }
             (_, _) => None,
         };
@@ -426,10 +574,16 @@ impl Model {
         let n = (360.0 / MOTION_STEP_DEG).round() as usize;
         // One mechanism, from the quantities already resolved, gives both the
         // samples and the stitch frame's placement.
-        let mech = if needs_mechanism || d.frame != 0 { Some(self.mechanism_from(&q)?) } else { None };
+        let mech = if needs_mechanism || d.frame != 0 {
+            Some(self.mechanism_from(&q)?)
+        } else {
+            None
+        };
         let pose = match &mech {
             Some(mech) if needs_mechanism => {
-                let phis: Vec<f64> = (0..n).map(|k| d.cyclogram_zero_deg + k as f64 * MOTION_STEP_DEG).collect();
+                let phis: Vec<f64> = (0..n)
+                    .map(|k| d.cyclogram_zero_deg + k as f64 * MOTION_STEP_DEG)
+                    .collect();
                 let mut pose = mech.new_pose(n);
                 mech.solve(&Phi::table(&phis), &mut pose)?;
                 Some(pose)
@@ -439,8 +593,16 @@ impl Model {
         let placement = mech.as_ref().filter(|_| d.frame != 0).map(|m| m.frames[d.frame]);
         let table = |slot: usize| -> Motion {
             let pose = pose.as_ref().expect("sampled when a point is used");
-            let pts: Vec<V3<f64>> = pose.track(slot).iter().map(|p| placement.map_or(*p, |pl| pl.to_local(*p))).collect();
-            Motion::Table { start_deg: 0.0, step_deg: MOTION_STEP_DEG, points: Arc::from(pts) }
+            let pts: Vec<V3<f64>> = pose
+                .track(slot)
+                .iter()
+                .map(|p| placement.map_or(*p, |pl| pl.to_local(*p)))
+                .collect();
+            Motion::Table {
+                start_deg: 0.0,
+                step_deg: MOTION_STEP_DEG,
+                points: Arc::from(pts),
+            }
         };
         let b = tilt_deg.to_radians();
         let u_n = V3::new(0.0, -b.sin(), b.cos());
@@ -449,7 +611,14 @@ impl Model {
         for nd in &d.needles {
             let eye = match &nd.eye {
                 OrganDef::Point(slot) => {
-                    let Motion::Table { start_deg, step_deg, points } = table(*slot) else { unreachable!() };
+                    let Motion::Table {
+                        start_deg,
+                        step_deg,
+                        points,
+                    } = table(*slot)
+                    else {
+                        unreachable!()
+                    };
                     match nd.eye_above_plate {
                         // Set the needle in its bar: shift the eye along the
                         // needle so that it stands s_B above the plate at TDC.
@@ -457,9 +626,17 @@ impl Model {
                             let s_b_now = points.iter().map(|p| p.z).fold(f64::MIN, f64::max) / b.cos();
                             let shift = u_n * (q[sb] - s_b_now);
                             let moved: Vec<V3<f64>> = points.iter().map(|p| p + shift).collect();
-                            Motion::Table { start_deg, step_deg, points: Arc::from(moved) }
+                            Motion::Table {
+                                start_deg,
+                                step_deg,
+                                points: Arc::from(moved),
+                            }
                         }
-                        None => Motion::Table { start_deg, step_deg, points },
+                        None => Motion::Table {
+                            start_deg,
+                            step_deg,
+                            points,
+                        },
                     }
                 }
                 OrganDef::NeedleLaw { x, s_b, stroke, bdc } => Motion::NeedleLaw {
@@ -481,7 +658,15 @@ impl Model {
         }
         let looper_eye = match &d.looper.0 {
             OrganDef::Point(slot) => table(*slot),
-            OrganDef::LooperLaw { stroke, far, catch, catch_x, y0, avoid, depth } => Motion::LooperLaw {
+            OrganDef::LooperLaw {
+                stroke,
+                far,
+                catch,
+                catch_x,
+                y0,
+                avoid,
+                depth,
+            } => Motion::LooperLaw {
                 stroke_mm: q[*stroke],
                 far_deg: q[*far],
                 catch_deg: q[*catch],
@@ -496,14 +681,24 @@ impl Model {
         let polyline_motion = |o: &OrganDef| match o {
             OrganDef::Point(slot) => table(*slot),
             OrganDef::Polyline { points, low, high } => Motion::PolylineLaw {
-                points: points.iter().map(|p| V3::new(p[0], p[1], p[2])).collect::<Vec<_>>().into(),
+                points: points
+                    .iter()
+                    .map(|p| V3::new(p[0], p[1], p[2]))
+                    .collect::<Vec<_>>()
+                    .into(),
                 low_deg: *low,
                 high_deg: *high,
             },
             _ => unreachable!("the upper looper and the spreader take a point or a polyline law"),
         };
-        let upper_looper = d.upper.as_ref().map(|(o, w, _)| UpperLooperSpec { eye: polyline_motion(o), pick_window_deg: *w });
-        let spreader = d.spreader.as_ref().map(|(o, w)| SpreaderSpec { eye: polyline_motion(o), pick_window_deg: *w });
+        let upper_looper = d.upper.as_ref().map(|(o, w, _)| UpperLooperSpec {
+            eye: polyline_motion(o),
+            pick_window_deg: *w,
+        });
+        let spreader = d.spreader.as_ref().map(|(o, w)| SpreaderSpec {
+            eye: polyline_motion(o),
+            pick_window_deg: *w,
+        });
         let spec = StitchSpec {
             stitch_type: d.stitch_type,
             m_mm: q[d.m],
@@ -512,18 +707,36 @@ impl Model {
             a_e_mm: d.a_e.map_or(0.0, |i| q[i]),
             edge_split: d.edge_split,
             feed: match d.feed {
-                FeedDef::Harmonic(start, duration) => FeedLaw::Harmonic { start_deg: q[start], duration_deg: q[duration] },
+                FeedDef::Harmonic(start, duration) => FeedLaw::Harmonic {
+                    start_deg: q[start],
+                    duration_deg: q[duration],
+                },
                 FeedDef::Point(slot) => FeedLaw::Point { dog: table(slot) },
             },
             needles,
-            looper: LooperSpec { eye: looper_eye, k_mm: k, a_mm: a, b_mm: bb, gamma_max_rad: gmax.to_radians() },
+            looper: LooperSpec {
+                eye: looper_eye,
+                k_mm: k,
+                a_mm: a,
+                b_mm: bb,
+                gamma_max_rad: gmax.to_radians(),
+            },
             upper_looper,
             spreader,
             // Chain stitches have no looper-thread moments.
-            moments: d.moments.unwrap_or(Moments { stab_deg: 0.0, upper_release_deg: 0.0, draw_in_deg: 0.0 }),
+            moments: d.moments.unwrap_or(Moments {
+                stab_deg: 0.0,
+                upper_release_deg: 0.0,
+                draw_in_deg: 0.0,
+            }),
             regulator: match d.regulator {
-                RegulatorDef::Window([from, to]) => Regulator::Window { from_deg: from - d.cyclogram_zero_deg, to_deg: to - d.cyclogram_zero_deg },
-                RegulatorDef::BeforeTightening(w) => Regulator::BeforeTightening { width_deg: w.map_or(DEFAULT_REGULATOR_WIDTH_DEG, |i| q[i]) },
+                RegulatorDef::Window([from, to]) => Regulator::Window {
+                    from_deg: from - d.cyclogram_zero_deg,
+                    to_deg: to - d.cyclogram_zero_deg,
+                },
+                RegulatorDef::BeforeTightening(w) => Regulator::BeforeTightening {
+                    width_deg: w.map_or(DEFAULT_REGULATOR_WIDTH_DEG, |i| q[i]),
+                },
                 RegulatorDef::AtLock => Regulator::AtLock,
             },
         };

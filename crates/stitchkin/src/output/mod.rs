@@ -1,10 +1,10 @@
 //! Writing results: CSV and JSON, SVG plots, and files that are never
 //! half-written.
 
-pub mod svg;
-pub mod plots;
 pub mod drawing;
+pub mod plots;
 pub mod report;
+pub mod svg;
 pub mod text;
 
 use std::io::Write;
@@ -24,7 +24,11 @@ pub fn fmt_num(x: f64) -> String {
     }
     let rounded: f64 = format!("{x:.11e}").parse().unwrap_or(x);
     let a = rounded.abs();
-    if (1e-4..1e15).contains(&a) { format!("{rounded}") } else { format!("{rounded:e}") }
+    if (1e-4..1e15).contains(&a) {
+        format!("{rounded}")
+    } else {
+        format!("{rounded:e}")
+    }
 }
 
 /// The table as CSV: a header of unit-carrying column names, one row per φ.
@@ -71,7 +75,12 @@ pub fn write_json(model: &Model, params: &Params, table: &CycleTable, out: &mut 
         .iter()
         .zip(&params.values)
         .filter(|(p, _)| !p.is_derived())
-        .map(|(p, v)| JsonParam { name: &p.name, value: *v, unit: p.unit_str(), derived: false })
+        .map(|(p, v)| JsonParam {
+            name: &p.name,
+            value: *v,
+            unit: p.unit_str(),
+            derived: false,
+        })
         .collect();
     let run = JsonRun {
         model: &model.file.model.name,
@@ -87,7 +96,9 @@ pub fn write_json(model: &Model, params: &Params, table: &CycleTable, out: &mut 
 
 /// The folder a file `path` goes into (`.` for a bare name).
 fn folder_of(path: &Path) -> &Path {
-    path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."))
+    path.parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."))
 }
 
 /// Checks, before a long computation, that `path` can be written: its
@@ -97,7 +108,11 @@ pub fn check_folder(path: &Path) -> Result<(), Error> {
     if dir.is_dir() {
         Ok(())
     } else {
-        Err(Error::Io(format!("cannot write `{}`: there is no folder `{}`", path.display(), dir.display())))
+        Err(Error::Io(format!(
+            "cannot write `{}`: there is no folder `{}`",
+            path.display(),
+            dir.display()
+        )))
     }
 }
 
@@ -114,7 +129,10 @@ enum Destination {
 
 fn destination(path: &Path) -> Result<Destination, Error> {
     match std::fs::metadata(path) {
-        Ok(m) if m.is_dir() => Err(Error::Io(format!("cannot write `{}`: it is a folder; name a file in it", path.display()))),
+        Ok(m) if m.is_dir() => Err(Error::Io(format!(
+            "cannot write `{}`: it is a folder; name a file in it",
+            path.display()
+        ))),
         Ok(m) if !m.is_file() => Ok(Destination::InPlace),
         found => {
             // An existing file through any links to it; a new one as named.
@@ -122,7 +140,9 @@ fn destination(path: &Path) -> Result<Destination, Error> {
                 Ok(_) => std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()),
                 Err(_) => path.to_path_buf(),
             };
-            let name = real.file_name().ok_or_else(|| Error::Io(format!("`{}` is not a file path", path.display())))?;
+            let name = real
+                .file_name()
+                .ok_or_else(|| Error::Io(format!("`{}` is not a file path", path.display())))?;
             let tmp = folder_of(&real).join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
             Ok(Destination::Replace { real, tmp })
         }
@@ -136,7 +156,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     let io = |e: std::io::Error, what: &str| Error::Io(format!("cannot {what} `{}`: {e}", path.display()));
     let (real, tmp) = match destination(path)? {
         Destination::InPlace => {
-            let mut f = std::fs::OpenOptions::new().write(true).open(path).map_err(|e| io(e, "open"))?;
+            let mut f = std::fs::OpenOptions::new()
+                .write(true)
+                .open(path)
+                .map_err(|e| io(e, "open"))?;
             return f.write_all(bytes).and_then(|_| f.flush()).map_err(|e| io(e, "write"));
         }
         Destination::Replace { real, tmp } => (real, tmp),
@@ -164,9 +187,17 @@ pub struct Sink {
 enum SinkTarget {
     Stdout(std::io::BufWriter<std::io::Stdout>),
     /// A regular file: `tmp` renamed onto `real` when finished.
-    File { tmp: PathBuf, real: PathBuf, path: PathBuf, file: Option<std::io::BufWriter<std::fs::File>> },
+    File {
+        tmp: PathBuf,
+        real: PathBuf,
+        path: PathBuf,
+        file: Option<std::io::BufWriter<std::fs::File>>,
+    },
     /// A device or a pipe, written in place.
-    InPlace { path: PathBuf, file: std::io::BufWriter<std::fs::File> },
+    InPlace {
+        path: PathBuf,
+        file: std::io::BufWriter<std::fs::File>,
+    },
 }
 
 impl Sink {
@@ -175,16 +206,25 @@ impl Sink {
             None => SinkTarget::Stdout(std::io::BufWriter::new(std::io::stdout())),
             Some(path) => match destination(path)? {
                 Destination::Replace { real, tmp } => {
-                    let f = std::fs::File::create(&tmp)
-                        .map_err(|e| Error::Io(format!("cannot create a temporary file for `{}`: {e}", path.display())))?;
-                    SinkTarget::File { tmp, real, path: path.to_path_buf(), file: Some(std::io::BufWriter::new(f)) }
+                    let f = std::fs::File::create(&tmp).map_err(|e| {
+                        Error::Io(format!("cannot create a temporary file for `{}`: {e}", path.display()))
+                    })?;
+                    SinkTarget::File {
+                        tmp,
+                        real,
+                        path: path.to_path_buf(),
+                        file: Some(std::io::BufWriter::new(f)),
+                    }
                 }
                 Destination::InPlace => {
                     let f = std::fs::OpenOptions::new()
                         .write(true)
                         .open(path)
                         .map_err(|e| Error::Io(format!("cannot open `{}`: {e}", path.display())))?;
-                    SinkTarget::InPlace { path: path.to_path_buf(), file: std::io::BufWriter::new(f) }
+                    SinkTarget::InPlace {
+                        path: path.to_path_buf(),
+                        file: std::io::BufWriter::new(f),
+                    }
                 }
             },
         };
@@ -203,7 +243,9 @@ impl Sink {
                 .expect("open until finished")
                 .write_all(bytes)
                 .map_err(|e| Error::Io(format!("cannot write `{}`: {e}", path.display()))),
-            SinkTarget::InPlace { path, file } => file.write_all(bytes).map_err(|e| Error::Io(format!("cannot write `{}`: {e}", path.display()))),
+            SinkTarget::InPlace { path, file } => file
+                .write_all(bytes)
+                .map_err(|e| Error::Io(format!("cannot write `{}`: {e}", path.display()))),
         }
     }
 
@@ -211,10 +253,14 @@ impl Sink {
     pub fn finish(mut self) -> Result<(), Error> {
         match &mut self.target {
             SinkTarget::Stdout(w) => match w.flush() {
-                Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Error::Io(format!("cannot write to stdout: {e}"))),
+                Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+                    Err(Error::Io(format!("cannot write to stdout: {e}")))
+                }
                 _ => Ok(()),
             },
-            SinkTarget::InPlace { path, file } => file.flush().map_err(|e| Error::Io(format!("cannot write `{}`: {e}", path.display()))),
+            SinkTarget::InPlace { path, file } => file
+                .flush()
+                .map_err(|e| Error::Io(format!("cannot write `{}`: {e}", path.display()))),
             SinkTarget::File { tmp, real, path, file } => {
                 let w = file.take().expect("open until finished");
                 let io = |e: std::io::Error| Error::Io(format!("cannot write `{}`: {e}", path.display()));
@@ -310,7 +356,10 @@ mod tests {
                 write_atomic(&fifo, b"through the pipe").unwrap();
             }
             assert_eq!(reader.join().unwrap(), b"through the pipe");
-            assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo(), "the pipe stays a pipe");
+            assert!(
+                std::fs::metadata(&fifo).unwrap().file_type().is_fifo(),
+                "the pipe stays a pipe"
+            );
         }
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary file left");
         std::fs::remove_dir_all(&dir).unwrap();

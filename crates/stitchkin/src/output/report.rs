@@ -18,8 +18,8 @@ use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle};
 use crate::model::{Model, ParamDef, Params};
 use crate::study::measured::{MeasuredMatch, measured_match};
 use crate::study::nomogram::NomogramOptions;
-use crate::thread::measured::{CurveKind, MeasuredCurve};
 use crate::study::tune::{self, TuneOptions, TuneResult};
+use crate::thread::measured::{CurveKind, MeasuredCurve};
 
 /// What the report holds beyond its fixed sections.
 #[derive(Debug, Clone)]
@@ -44,7 +44,15 @@ pub struct ReportOptions {
 
 impl Default for ReportOptions {
     fn default() -> Self {
-        ReportOptions { step_deg: 1.0, phi_deg: None, view: None, animate: true, tune: None, nomogram: None, measured: Vec::new() }
+        ReportOptions {
+            step_deg: 1.0,
+            phi_deg: None,
+            view: None,
+            animate: true,
+            tune: None,
+            nomogram: None,
+            measured: Vec::new(),
+        }
     }
 }
 
@@ -82,8 +90,14 @@ fn table(class: &str, head: &[&str], rows: &[Vec<String>]) -> String {
 /// An SVG as a figure with a caption.
 fn figure(id: &str, svg: &str, caption: &str) -> String {
     // The XML declaration, if any, cannot stand inside HTML.
-    let svg = svg.trim_start().strip_prefix("<?xml").map_or(svg, |rest| rest.split_once("?>").map_or(rest, |(_, s)| s));
-    format!("<figure id=\"{id}\">{svg}<figcaption>{}</figcaption></figure>", escape(caption))
+    let svg = svg
+        .trim_start()
+        .strip_prefix("<?xml")
+        .map_or(svg, |rest| rest.split_once("?>").map_or(rest, |(_, s)| s));
+    format!(
+        "<figure id=\"{id}\">{svg}<figcaption>{}</figcaption></figure>",
+        escape(caption)
+    )
 }
 
 const STYLE: &str = "body{font:14px/1.45 system-ui,sans-serif;color:#222;max-width:1000px;margin:0 auto;padding:16px 20px}\
@@ -98,20 +112,40 @@ figure{margin:8px 0}figure svg{width:100%;height:auto}figcaption{color:#555;font
 
 /// The whole report for `model` at `params`.
 pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<String, Error> {
-    crate::eval::check_options(&CycleOptions { step_deg: opts.step_deg, ..Default::default() })?;
+    crate::eval::check_options(&CycleOptions {
+        step_deg: opts.step_deg,
+        ..Default::default()
+    })?;
     let info = &model.file.model;
-    let cycle = CycleOptions { step_deg: opts.step_deg, analogs: false, points: Some(Vec::new()), ..Default::default() };
+    let cycle = CycleOptions {
+        step_deg: opts.step_deg,
+        analogs: false,
+        points: Some(Vec::new()),
+        ..Default::default()
+    };
     let table_ = run_cycle(model, params, &cycle)?;
     let phi = opts.phi_deg.unwrap_or_else(|| model.phi_start_deg());
     let view = opts.view.clone().unwrap_or_else(|| View::default_for(model));
 
-    let measured = opts.measured.iter().map(|(t, c)| measured_match(&table_, c, t.as_deref())).collect::<Result<Vec<_>, _>>()?;
+    let measured = opts
+        .measured
+        .iter()
+        .map(|(t, c)| measured_match(&table_, c, t.as_deref()))
+        .collect::<Result<Vec<_>, _>>()?;
 
     let mut sections: Vec<(&str, &str, String)> = Vec::new();
     sections.push(("parameters", "Parameters", parameters(model, params)?));
-    sections.push(("mechanism", "Mechanism", mechanism(model, params, phi, &view, opts.animate)?));
+    sections.push((
+        "mechanism",
+        "Mechanism",
+        mechanism(model, params, phi, &view, opts.animate)?,
+    ));
     if !table_.paths.is_empty() {
-        sections.push(("takeup", "Take-up P(φ) and required P′(φ)", take_up(model, &table_, &measured)?));
+        sections.push((
+            "takeup",
+            "Take-up P(φ) and required P′(φ)",
+            take_up(model, &table_, &measured)?,
+        ));
     }
     if table_.stitch.is_some() {
         sections.push(("mismatch", "Mismatch P − P′", mismatch(&table_)));
@@ -120,10 +154,20 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
     if !measured.is_empty() {
         sections.push(("measured", "Measured curves", measured_section(&measured)));
     }
-    let caveats: Vec<&String> = model.file.model.caveats.iter().chain(table_.stitch.iter().flat_map(|s| s.transfers.iter())).collect();
+    let caveats: Vec<&String> = model
+        .file
+        .model
+        .caveats
+        .iter()
+        .chain(table_.stitch.iter().flat_map(|s| s.transfers.iter()))
+        .collect();
     if !caveats.is_empty() {
         let items: String = caveats.iter().map(|c| format!("<li>{}</li>", escape(c))).collect();
-        sections.push(("caveats", "What this model reconstructs or carries over", format!("<ul>{items}</ul>")));
+        sections.push((
+            "caveats",
+            "What this model reconstructs or carries over",
+            format!("<ul>{items}</ul>"),
+        ));
     }
     if !table_.transmission.is_empty() {
         sections.push(("transmission", "Transmission angles", transmission(model, &table_)?));
@@ -135,10 +179,17 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
     if let Some(n) = &opts.nomogram {
         let computed = crate::study::nomogram::nomogram(model, params, n, || {})?;
         let chart = plots::nomogram::nomogram_figure(&computed);
-        let mut body = figure("nomogram-chart", &chart.render(), "The tuned setting against the material thickness, one line per stitch length.");
+        let mut body = figure(
+            "nomogram-chart",
+            &chart.render(),
+            "The tuned setting against the material thickness, one line per stitch length.",
+        );
         let notes = computed.notes();
         if !notes.is_empty() {
-            let items: String = notes.iter().map(|n| format!("<li class=\"warn\">{}</li>", escape(n))).collect();
+            let items: String = notes
+                .iter()
+                .map(|n| format!("<li class=\"warn\">{}</li>", escape(n)))
+                .collect();
             let _ = write!(body, "<ul>{items}</ul>");
         }
         sections.push(("nomogram", "Nomogram", body));
@@ -148,7 +199,10 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
         warnings.extend(s.warnings.iter().cloned());
     }
     if !warnings.is_empty() {
-        let items: String = warnings.iter().map(|w| format!("<li class=\"warn\">{}</li>", escape(w))).collect();
+        let items: String = warnings
+            .iter()
+            .map(|w| format!("<li class=\"warn\">{}</li>", escape(w)))
+            .collect();
         sections.push(("warnings", "Warnings", format!("<ul>{items}</ul>")));
     }
 
@@ -158,8 +212,17 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
     };
     let mut html = String::with_capacity(1 << 20);
     html += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"/>";
-    let _ = write!(html, "<title>stitchkin report · {}</title><style>{STYLE}</style></head><body>", escape(&info.name));
-    let _ = write!(html, "<header><h1>{}</h1><p class=\"meta\">model {}", escape(&title), escape(&model.file_name));
+    let _ = write!(
+        html,
+        "<title>stitchkin report · {}</title><style>{STYLE}</style></head><body>",
+        escape(&info.name)
+    );
+    let _ = write!(
+        html,
+        "<header><h1>{}</h1><p class=\"meta\">model {}",
+        escape(&title),
+        escape(&model.file_name)
+    );
     if let Some(seed) = &info.seed {
         let _ = write!(html, " · seed {}", escape(seed));
     }
@@ -173,7 +236,12 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
     if !changed.is_empty() {
         let _ = write!(html, " · set: {}", escape(&changed.join(", ")));
     }
-    let _ = write!(html, " · φ step {} deg · stitchkin {}</p>", super::fmt_num(opts.step_deg), env!("CARGO_PKG_VERSION"));
+    let _ = write!(
+        html,
+        " · φ step {} deg · stitchkin {}</p>",
+        super::fmt_num(opts.step_deg),
+        env!("CARGO_PKG_VERSION")
+    );
     if let Some(notes) = &info.notes {
         let _ = write!(html, "<p class=\"meta\">{}</p>", escape(notes));
     }
@@ -183,7 +251,12 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
     }
     html += "</nav></header>";
     for (k, (id, name, body)) in sections.iter().enumerate() {
-        let _ = write!(html, "<section id=\"{id}\"><h2>{}. {}</h2>{body}</section>", k + 1, escape(name));
+        let _ = write!(
+            html,
+            "<section id=\"{id}\"><h2>{}. {}</h2>{body}</section>",
+            k + 1,
+            escape(name)
+        );
     }
     html += "</body></html>\n";
     Ok(html)
@@ -203,26 +276,60 @@ fn parameters(model: &Model, params: &Params) -> Result<String, Error> {
                 None => String::new(),
             };
             let changed = is_set(p, *v);
-            let value = format!("{}{}", num(Some(*v), 4).trim_end_matches('0').trim_end_matches('.'), if changed { " (set)" } else { "" });
+            let value = format!(
+                "{}{}",
+                num(Some(*v), 4).trim_end_matches('0').trim_end_matches('.'),
+                if changed { " (set)" } else { "" }
+            );
             vec![
                 escape(&p.name),
                 escape(&value),
                 unit.into(),
                 escape(&range),
-                p.provenance.as_ref().map_or(String::new(), |pr| escape(&format!("{pr:?}").to_lowercase())),
-                format!("<span class=\"text\">{}</span>", escape(p.source.as_deref().unwrap_or(""))),
+                p.provenance
+                    .as_ref()
+                    .map_or(String::new(), |pr| escape(&format!("{pr:?}").to_lowercase())),
+                format!(
+                    "<span class=\"text\">{}</span>",
+                    escape(p.source.as_deref().unwrap_or(""))
+                ),
             ]
         })
         .collect();
-    Ok(table("parameters", &["parameter", "value", "unit", "range", "provenance", "source"], &rows))
+    Ok(table(
+        "parameters",
+        &["parameter", "value", "unit", "range", "provenance", "source"],
+        &rows,
+    ))
 }
 
 fn mechanism(model: &Model, params: &Params, phi: f64, view: &View, animate: bool) -> Result<String, Error> {
-    let still = DrawOptions { phi_deg: phi, view: view.clone(), dimensions: true, ..Default::default() };
-    let mut s = figure("mechanism-still", &drawing::render(model, params, &still)?, &format!("The mechanism and its threads at φ = {} deg, dimensioned.", super::fmt_num(phi)));
+    let still = DrawOptions {
+        phi_deg: phi,
+        view: view.clone(),
+        dimensions: true,
+        ..Default::default()
+    };
+    let mut s = figure(
+        "mechanism-still",
+        &drawing::render(model, params, &still)?,
+        &format!(
+            "The mechanism and its threads at φ = {} deg, dimensioned.",
+            super::fmt_num(phi)
+        ),
+    );
     if animate {
-        let moving = DrawOptions { phi_deg: phi, view: view.clone(), animate: true, ..Default::default() };
-        s += &figure("mechanism-animated", &drawing::render(model, params, &moving)?, "One turn of the main shaft, animated (plays in any browser).");
+        let moving = DrawOptions {
+            phi_deg: phi,
+            view: view.clone(),
+            animate: true,
+            ..Default::default()
+        };
+        s += &figure(
+            "mechanism-animated",
+            &drawing::render(model, params, &moving)?,
+            "One turn of the main shaft, animated (plays in any browser).",
+        );
     }
     Ok(s)
 }
@@ -235,8 +342,15 @@ fn take_up(model: &Model, t: &CycleTable, measured: &[MeasuredMatch]) -> Result<
         .map(|p| {
             vec![
                 escape(&p.path),
-                format!("<span class=\"text\">{}</span>", escape(p.thread.as_deref().unwrap_or(""))),
-                if p.split == crate::thread::SplitPoint::B { "B".into() } else { "last node".into() },
+                format!(
+                    "<span class=\"text\">{}</span>",
+                    escape(p.thread.as_deref().unwrap_or(""))
+                ),
+                if p.split == crate::thread::SplitPoint::B {
+                    "B".into()
+                } else {
+                    "last node".into()
+                },
                 num(Some(p.max_p_mm), 2),
                 num(Some(p.phi_at_max_deg), 1),
                 num(Some(p.min_p_mm), 2),
@@ -249,7 +363,19 @@ fn take_up(model: &Model, t: &CycleTable, measured: &[MeasuredMatch]) -> Result<
         &chart,
         "P(φ) of every thread path (solid) and the required P′(φ) of every stitch thread (dashed), needle threads measured at B, the eye's top position; shaded: a one-sided guide engaged.",
     );
-    s += &table("paths", &["thread path", "thread", "measured at", "max P, mm", "at φ, deg", "min P, mm", "length at φ0, mm"], &rows);
+    s += &table(
+        "paths",
+        &[
+            "thread path",
+            "thread",
+            "measured at",
+            "max P, mm",
+            "at φ, deg",
+            "min P, mm",
+            "length at φ0, mm",
+        ],
+        &rows,
+    );
     if let Some(words) = &t.take_up {
         let _ = write!(s, "<p class=\"meta\">{}</p>", escape(words));
     }
@@ -299,7 +425,20 @@ fn mismatch(t: &CycleTable) -> String {
     );
     s += &table(
         "mismatch",
-        &["thread", "path", "per stitch, mm", "max P′, mm", "max P′ at the eye, mm", "RMS(D), mm", "max |D|, mm", "at φ, deg", "slack, mm·deg", "strain, mm·deg", "Δφ of maxima, deg", "score"],
+        &[
+            "thread",
+            "path",
+            "per stitch, mm",
+            "max P′, mm",
+            "max P′ at the eye, mm",
+            "RMS(D), mm",
+            "max |D|, mm",
+            "at φ, deg",
+            "slack, mm·deg",
+            "strain, mm·deg",
+            "Δφ of maxima, deg",
+            "score",
+        ],
         &rows,
     );
     s
@@ -318,7 +457,11 @@ fn checks(t: &CycleTable) -> String {
             vec![
                 escape(&c.thread),
                 escape(c.name),
-                if c.ok { "<span class=\"good\">ok</span>".into() } else { "<span class=\"bad\">FAIL</span>".into() },
+                if c.ok {
+                    "<span class=\"good\">ok</span>".into()
+                } else {
+                    "<span class=\"bad\">FAIL</span>".into()
+                },
                 num(Some(c.value), 2),
                 match c.limit {
                     [Some(a), Some(b)] => format!("{}…{}", num(Some(a), 2), num(Some(b), 2)),
@@ -336,7 +479,19 @@ fn checks(t: &CycleTable) -> String {
          loop on the looper), a looper point that does not pass 1–3 mm above the eye at the catch, a loop that drops before the \
          needle has entered the looper thread's triangle.</p>",
     );
-    s += &table("checks", &["thread", "check", "result", "value, mm", "allowed, mm", "at φ, deg", "what it means"], &rows);
+    s += &table(
+        "checks",
+        &[
+            "thread",
+            "check",
+            "result",
+            "value, mm",
+            "allowed, mm",
+            "at φ, deg",
+            "what it means",
+        ],
+        &rows,
+    );
     s
 }
 
@@ -366,7 +521,17 @@ fn measured_section(measured: &[MeasuredMatch]) -> String {
         .collect();
     table(
         "measured",
-        &["file", "thread", "curve", "at", "against", "RMS(D), mm", "score", "RMS vs the model, mm", "max |difference| vs the model, mm"],
+        &[
+            "file",
+            "thread",
+            "curve",
+            "at",
+            "against",
+            "RMS(D), mm",
+            "score",
+            "RMS vs the model, mm",
+            "max |difference| vs the model, mm",
+        ],
         &rows,
     )
 }
@@ -383,12 +548,31 @@ fn transmission(model: &Model, t: &CycleTable) -> Result<String, Error> {
                 num(Some(m.phi_at_min_deg), 1),
                 num(Some(m.max_deg), 1),
                 num(Some(m.phi_at_max_deg), 1),
-                if m.ok { "<span class=\"good\">inside</span>".into() } else { "<span class=\"bad\">outside</span>".into() },
+                if m.ok {
+                    "<span class=\"good\">inside</span>".into()
+                } else {
+                    "<span class=\"bad\">outside</span>".into()
+                },
             ]
         })
         .collect();
-    let mut s = figure("mu-chart", &chart, &format!("Transmission angles μ(φ); outside {MU_MIN_DEG}°…{MU_MAX_DEG}° (shaded) the mechanism risks jamming."));
-    s += &table("transmission", &["group", "min μ, deg", "at φ, deg", "max μ, deg", "at φ, deg", &format!("{MU_MIN_DEG}°…{MU_MAX_DEG}°")], &rows);
+    let mut s = figure(
+        "mu-chart",
+        &chart,
+        &format!("Transmission angles μ(φ); outside {MU_MIN_DEG}°…{MU_MAX_DEG}° (shaded) the mechanism risks jamming."),
+    );
+    s += &table(
+        "transmission",
+        &[
+            "group",
+            "min μ, deg",
+            "at φ, deg",
+            "max μ, deg",
+            "at φ, deg",
+            &format!("{MU_MIN_DEG}°…{MU_MAX_DEG}°"),
+        ],
+        &rows,
+    );
     Ok(s)
 }
 
@@ -398,24 +582,68 @@ fn tuning(model: &Model, params: &Params, r: &TuneResult, step: f64) -> Result<S
         .iter()
         .zip(r.before.iter().zip(&r.after))
         .map(|((name, unit), (b, a))| {
-            let flat = r.flatness.iter().find(|f| f.name == *name).map_or(String::new(), |f| format!("{}…{}", num(Some(f.lo), 2), num(Some(f.hi), 2)));
-            vec![escape(name), (*unit).into(), num(Some(*b), 3), format!("<b>{}</b>", num(Some(*a), 3)), num(Some(a - b), 3), flat]
+            let flat = r.flatness.iter().find(|f| f.name == *name).map_or(String::new(), |f| {
+                format!("{}…{}", num(Some(f.lo), 2), num(Some(f.hi), 2))
+            });
+            vec![
+                escape(name),
+                (*unit).into(),
+                num(Some(*b), 3),
+                format!("<b>{}</b>", num(Some(*a), 3)),
+                num(Some(a - b), 3),
+                flat,
+            ]
         })
         .collect();
     let mut s = String::from(
         "<p>The adjustable settings that make P match P′ best for every thread together, with the transmission angles inside their \
          band and every physical check passing (constraints of the search).</p>",
     );
-    s += &table("tuning", &["setting", "unit", "before", "recommended", "change", "within one score point"], &rows);
+    s += &table(
+        "tuning",
+        &[
+            "setting",
+            "unit",
+            "before",
+            "recommended",
+            "change",
+            "within one score point",
+        ],
+        &rows,
+    );
     let threads: Vec<Vec<String>> = r
         .before_figures
         .threads
         .iter()
         .zip(&r.after_figures.threads)
-        .map(|(b, a)| vec![escape(&b.0), score_cell(b.1), score_cell(a.1), num(Some(b.2), 2), num(Some(a.2), 2)])
+        .map(|(b, a)| {
+            vec![
+                escape(&b.0),
+                score_cell(b.1),
+                score_cell(a.1),
+                num(Some(b.2), 2),
+                num(Some(a.2), 2),
+            ]
+        })
         .collect();
-    s += &table("tuning-scores", &["thread", "score before", "score after", "RMS(D) before, mm", "RMS(D) after, mm"], &threads);
-    let failed = |f: &tune::MatchFigures| if f.failed_checks.is_empty() { "all pass".to_string() } else { format!("{} fail", f.failed_checks.join(", ")) };
+    s += &table(
+        "tuning-scores",
+        &[
+            "thread",
+            "score before",
+            "score after",
+            "RMS(D) before, mm",
+            "RMS(D) after, mm",
+        ],
+        &threads,
+    );
+    let failed = |f: &tune::MatchFigures| {
+        if f.failed_checks.is_empty() {
+            "all pass".to_string()
+        } else {
+            format!("{} fail", f.failed_checks.join(", "))
+        }
+    };
     let _ = write!(
         s,
         "<p class=\"meta\">mean score {} → {}; physical checks before: {}, after: {}; {} cycles evaluated.</p>",
@@ -426,7 +654,11 @@ fn tuning(model: &Model, params: &Params, r: &TuneResult, step: f64) -> Result<S
         r.evaluations
     );
     if !r.notes.is_empty() {
-        let items: String = r.notes.iter().map(|n| format!("<li class=\"warn\">{}</li>", escape(n))).collect();
+        let items: String = r
+            .notes
+            .iter()
+            .map(|n| format!("<li class=\"warn\">{}</li>", escape(n)))
+            .collect();
         let _ = write!(s, "<ul>{items}</ul>");
     }
     let mut tuned = params.clone();
@@ -434,6 +666,10 @@ fn tuning(model: &Model, params: &Params, r: &TuneResult, step: f64) -> Result<S
         model.set(&mut tuned, name, *v)?;
     }
     let chart = plots::render(model, &tuned, &Plot::TakeUp, step)?;
-    s += &figure("tuned-takeup-chart", &chart, "P(φ) and P′(φ) at the recommended setting.");
+    s += &figure(
+        "tuned-takeup-chart",
+        &chart,
+        "P(φ) and P′(φ) at the recommended setting.",
+    );
     Ok(s)
 }

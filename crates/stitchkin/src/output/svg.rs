@@ -15,7 +15,9 @@
 use std::fmt::Write;
 
 /// Line colours, distinguishable and print-safe (Tableau 10).
-pub const PALETTE: [&str; 10] = ["#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f", "#edc948", "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac"];
+pub const PALETTE: [&str; 10] = [
+    "#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f", "#edc948", "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac",
+];
 
 /// The palette colour for index `i` (cycling).
 pub fn color(i: usize) -> &'static str {
@@ -33,7 +35,11 @@ pub struct Axis {
 
 impl Axis {
     pub fn new(label: impl Into<String>) -> Axis {
-        Axis { label: label.into(), range: None, step: None }
+        Axis {
+            label: label.into(),
+            range: None,
+            step: None,
+        }
     }
 }
 
@@ -189,7 +195,11 @@ pub fn ticks_in(lo: f64, hi: f64, step: f64) -> Vec<f64> {
 /// A nice axis over the data [lo, hi]: the range widened to whole ticks,
 /// the step and the ticks. A zero-width range is widened first.
 pub fn nice_axis(lo: f64, hi: f64, target: usize) -> (f64, f64, f64, Vec<f64>) {
-    let (mut lo, mut hi) = if lo.is_finite() && hi.is_finite() && lo <= hi { (lo, hi) } else { (0.0, 1.0) };
+    let (mut lo, mut hi) = if lo.is_finite() && hi.is_finite() && lo <= hi {
+        (lo, hi)
+    } else {
+        (0.0, 1.0)
+    };
     if hi - lo < 1e-12 * (1.0 + lo.abs()) {
         let d = if lo.abs() > 0.0 { lo.abs() * 0.05 } else { 1.0 };
         lo -= d;
@@ -208,7 +218,11 @@ pub fn tick_label(v: f64, step: f64) -> String {
     });
     let decimals = decimals.unwrap_or(10);
     let s = format!("{v:.decimals$}");
-    if s.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') { s.trim_start_matches('-').to_string() } else { s }
+    if s.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+        s.trim_start_matches('-').to_string()
+    } else {
+        s
+    }
 }
 
 /// Text escaped for SVG/XML content and attribute values.
@@ -232,7 +246,11 @@ pub fn escape(text: &str) -> String {
 fn n(v: f64) -> String {
     let s = format!("{v:.2}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" || s.is_empty() { "0".into() } else { s.to_string() }
+    if s == "-0" || s.is_empty() {
+        "0".into()
+    } else {
+        s.to_string()
+    }
 }
 
 /// The viridis colour map at `t` ∈ [0, 1] (dark violet → yellow),
@@ -267,7 +285,13 @@ pub fn family_color(i: usize, n: usize) -> String {
 impl Series {
     /// A solid line without a start mark.
     pub fn new(name: impl Into<String>, points: Vec<(f64, f64)>, color: impl Into<String>) -> Series {
-        Series { name: name.into(), points, color: color.into(), dashed: false, mark_start: false }
+        Series {
+            name: name.into(),
+            points,
+            color: color.into(),
+            dashed: false,
+            mark_start: false,
+        }
     }
 }
 
@@ -290,7 +314,12 @@ pub fn cell_edges(v: &[f64]) -> Vec<f64> {
 impl Heat {
     /// The smallest and largest finite value (widened when equal).
     pub fn z_range(&self) -> Option<(f64, f64)> {
-        let (lo, hi) = self.z.iter().flatten().filter(|v| v.is_finite()).fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+        let (lo, hi) = self
+            .z
+            .iter()
+            .flatten()
+            .filter(|v| v.is_finite())
+            .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
         if lo > hi {
             return None;
         }
@@ -325,15 +354,30 @@ fn open_document(s: &mut String, w: f64, h: f64, title: &str) {
         n(h)
     );
     let _ = writeln!(s, "<title>{}</title>", escape(title));
-    let _ = writeln!(s, r#"<rect x="0" y="0" width="{}" height="{}" fill="white"/>"#, n(w), n(h));
+    let _ = writeln!(
+        s,
+        r#"<rect x="0" y="0" width="{}" height="{}" fill="white"/>"#,
+        n(w),
+        n(h)
+    );
 }
 
 /// The bold title and the grey subtitle under it; returns the y where the
 /// content may start.
 fn write_titles(s: &mut String, x: f64, title: &str, subtitle: Option<&str>) -> f64 {
-    let _ = writeln!(s, r#"<text class="title" x="{}" y="24" font-size="16" font-weight="bold">{}</text>"#, n(x), escape(title));
+    let _ = writeln!(
+        s,
+        r#"<text class="title" x="{}" y="24" font-size="16" font-weight="bold">{}</text>"#,
+        n(x),
+        escape(title)
+    );
     if let Some(sub) = subtitle {
-        let _ = writeln!(s, r##"<text class="subtitle" x="{}" y="44" fill="#555">{}</text>"##, n(x), escape(sub));
+        let _ = writeln!(
+            s,
+            r##"<text class="subtitle" x="{}" y="44" fill="#555">{}</text>"##,
+            n(x),
+            escape(sub)
+        );
         62.0
     } else {
         44.0
@@ -365,8 +409,20 @@ fn colorbar(s: &mut String, id: &str, x: f64, top: f64, height: f64, (lo, hi): (
         let y = top + height * (1.0 - (t - lo) / (hi - lo));
         let text = tick_label(t, step);
         widest = widest.max(text.chars().count());
-        let _ = writeln!(s, r##"<line class="colorbar-mark" x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="#333"/>"##, n(x + COLORBAR_W), n(x + COLORBAR_W + 4.0), y = n(y));
-        let _ = writeln!(s, r##"<text class="colorbar-tick" x="{}" y="{}" fill="#333">{}</text>"##, n(x + COLORBAR_W + 7.0), n(y + 4.0), escape(&text));
+        let _ = writeln!(
+            s,
+            r##"<line class="colorbar-mark" x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="#333"/>"##,
+            n(x + COLORBAR_W),
+            n(x + COLORBAR_W + 4.0),
+            y = n(y)
+        );
+        let _ = writeln!(
+            s,
+            r##"<text class="colorbar-tick" x="{}" y="{}" fill="#333">{}</text>"##,
+            n(x + COLORBAR_W + 7.0),
+            n(y + 4.0),
+            escape(&text)
+        );
     }
     let lx = x + COLORBAR_W + 7.0 + CHAR_W * widest as f64 + 14.0;
     let _ = writeln!(
@@ -394,15 +450,36 @@ impl Chart {
             }
             None => Vec::new(),
         };
-        let mut it = self.series.iter().flat_map(|s| s.points.iter()).chain(areas).chain(&marks).chain(&cells).filter(|(x, y)| x.is_finite() && y.is_finite());
+        let mut it = self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .chain(areas)
+            .chain(&marks)
+            .chain(&cells)
+            .filter(|(x, y)| x.is_finite() && y.is_finite());
         let &(x0, y0) = it.next()?;
-        Some(it.fold((x0, x0, y0, y0), |(a, b, c, d), &(x, y)| (a.min(x), b.max(x), c.min(y), d.max(y))))
+        Some(it.fold((x0, x0, y0, y0), |(a, b, c, d), &(x, y)| {
+            (a.min(x), b.max(x), c.min(y), d.max(y))
+        }))
     }
 
     /// Width of the legend column: room for the longest entry.
     fn legend_width(&self) -> f64 {
-        let names = self.series.iter().map(|s| s.name.chars().count()).chain(self.markers.iter().filter_map(|m| m.legend.as_ref().map(|l| l.chars().count())));
-        let longest = names.chain(self.heat.as_ref().filter(|h| h.has_missing()).map(|h| h.missing.chars().count())).max().unwrap_or(0);
+        let names = self.series.iter().map(|s| s.name.chars().count()).chain(
+            self.markers
+                .iter()
+                .filter_map(|m| m.legend.as_ref().map(|l| l.chars().count())),
+        );
+        let longest = names
+            .chain(
+                self.heat
+                    .as_ref()
+                    .filter(|h| h.has_missing())
+                    .map(|h| h.missing.chars().count()),
+            )
+            .max()
+            .unwrap_or(0);
         (40.0 + CHAR_W * longest as f64).clamp(LEGEND_W, 360.0)
     }
 
@@ -507,15 +584,46 @@ impl Chart {
         // Grid, ticks and tick labels.
         for &t in &xt {
             let x = sx(t);
-            let _ = writeln!(s, r##"<line class="grid" x1="{x}" y1="{}" x2="{x}" y2="{}" stroke="#e4e4e4"/>"##, n(py0), n(py1), x = n(x));
-            let _ = writeln!(s, r##"<text class="tick x" x="{}" y="{}" text-anchor="middle" fill="#333">{}</text>"##, n(x), n(py1 + 16.0), escape(&tick_label(t, xs)));
+            let _ = writeln!(
+                s,
+                r##"<line class="grid" x1="{x}" y1="{}" x2="{x}" y2="{}" stroke="#e4e4e4"/>"##,
+                n(py0),
+                n(py1),
+                x = n(x)
+            );
+            let _ = writeln!(
+                s,
+                r##"<text class="tick x" x="{}" y="{}" text-anchor="middle" fill="#333">{}</text>"##,
+                n(x),
+                n(py1 + 16.0),
+                escape(&tick_label(t, xs))
+            );
         }
         for &t in &yt {
             let y = sy(t);
-            let _ = writeln!(s, r##"<line class="grid" x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="#e4e4e4"/>"##, n(px0), n(px1), y = n(y));
-            let _ = writeln!(s, r##"<text class="tick y" x="{}" y="{}" text-anchor="end" fill="#333">{}</text>"##, n(px0 - 6.0), n(y + 4.0), escape(&tick_label(t, ys)));
+            let _ = writeln!(
+                s,
+                r##"<line class="grid" x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="#e4e4e4"/>"##,
+                n(px0),
+                n(px1),
+                y = n(y)
+            );
+            let _ = writeln!(
+                s,
+                r##"<text class="tick y" x="{}" y="{}" text-anchor="end" fill="#333">{}</text>"##,
+                n(px0 - 6.0),
+                n(y + 4.0),
+                escape(&tick_label(t, ys))
+            );
         }
-        let _ = writeln!(s, r#"<clipPath id="{id}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>"#, n(px0), n(py0), n(px1 - px0), n(py1 - py0));
+        let _ = writeln!(
+            s,
+            r#"<clipPath id="{id}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>"#,
+            n(px0),
+            n(py0),
+            n(px1 - px0),
+            n(py1 - py0)
+        );
         // The heat map covers the grid.
         let z_range = self.heat.as_ref().and_then(Heat::z_range);
         if let (Some(h), Some((zlo, zhi))) = (&self.heat, z_range) {
@@ -524,8 +632,16 @@ impl Chart {
             for (j, row) in h.z.iter().enumerate().take(h.ys.len()) {
                 for (i, &v) in row.iter().enumerate().take(h.xs.len()) {
                     let (xa, xb, ya, yb) = (sx(ex[i]), sx(ex[i + 1]), sy(ey[j]), sy(ey[j + 1]));
-                    let (class, fill) = if v.is_finite() { ("cell", ramp((v - zlo) / (zhi - zlo))) } else { ("cell missing", "#d9d9d9".to_string()) };
-                    let tip = h.tips.get(j).and_then(|r| r.get(i)).map_or(String::new(), |t| format!("<title>{}</title>", escape(t)));
+                    let (class, fill) = if v.is_finite() {
+                        ("cell", ramp((v - zlo) / (zhi - zlo)))
+                    } else {
+                        ("cell missing", "#d9d9d9".to_string())
+                    };
+                    let tip = h
+                        .tips
+                        .get(j)
+                        .and_then(|r| r.get(i))
+                        .map_or(String::new(), |t| format!("<title>{}</title>", escape(t)));
                     let _ = writeln!(
                         s,
                         r#"<rect class="{class}" x="{}" y="{}" width="{}" height="{}" fill="{fill}">{tip}</rect>"#,
@@ -539,8 +655,13 @@ impl Chart {
             s.push_str("</g>\n");
         }
         for a in &self.areas {
-            let pts: Vec<String> =
-                a.upper.iter().chain(a.lower.iter().rev()).filter(|(x, y)| x.is_finite() && y.is_finite()).map(|&(x, y)| format!("{},{}", n(sx(x)), n(sy(y)))).collect();
+            let pts: Vec<String> = a
+                .upper
+                .iter()
+                .chain(a.lower.iter().rev())
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .map(|&(x, y)| format!("{},{}", n(sx(x)), n(sy(y))))
+                .collect();
             if pts.len() >= 3 {
                 let _ = writeln!(
                     s,
@@ -578,7 +699,12 @@ impl Chart {
         );
         // Data, clipped to the plot area.
         for se in &self.series {
-            let pts: Vec<String> = se.points.iter().filter(|(x, y)| x.is_finite() && y.is_finite()).map(|&(x, y)| format!("{},{}", n(sx(x)), n(sy(y)))).collect();
+            let pts: Vec<String> = se
+                .points
+                .iter()
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .map(|&(x, y)| format!("{},{}", n(sx(x)), n(sy(y))))
+                .collect();
             let dash = if se.dashed { r#" stroke-dasharray="6 4""# } else { "" };
             let _ = writeln!(
                 s,
@@ -590,7 +716,13 @@ impl Chart {
             if se.mark_start
                 && let Some(&(x, y)) = se.points.iter().find(|(x, y)| x.is_finite() && y.is_finite())
             {
-                let _ = writeln!(s, r#"<circle class="start" cx="{}" cy="{}" r="3" fill="{}"/>"#, n(sx(x)), n(sy(y)), escape(&se.color));
+                let _ = writeln!(
+                    s,
+                    r#"<circle class="start" cx="{}" cy="{}" r="3" fill="{}"/>"#,
+                    n(sx(x)),
+                    n(sy(y)),
+                    escape(&se.color)
+                );
             }
         }
         for m in self.markers.iter().filter(|m| m.x.is_finite() && m.y.is_finite()) {
@@ -607,13 +739,31 @@ impl Chart {
         let lx = px1 + 16.0;
         let mut ly = py0 + 8.0;
         let missing = self.heat.as_ref().filter(|h| h.has_missing());
-        let entries = self.series.len() + self.markers.iter().filter(|m| m.legend.is_some()).count() + usize::from(missing.is_some());
+        let entries = self.series.len()
+            + self.markers.iter().filter(|m| m.legend.is_some()).count()
+            + usize::from(missing.is_some());
         if let (Some(h), Some((zlo, zhi))) = (&self.heat, z_range) {
-            let height = if entries > 0 { ((py1 - py0) * 0.6).max(60.0) } else { (py1 - py0) * 0.8 };
-            colorbar(s, &format!("{id}-ramp"), lx, py0, height.min(py1 - py0), (zlo, zhi), &h.label);
+            let height = if entries > 0 {
+                ((py1 - py0) * 0.6).max(60.0)
+            } else {
+                (py1 - py0) * 0.8
+            };
+            colorbar(
+                s,
+                &format!("{id}-ramp"),
+                lx,
+                py0,
+                height.min(py1 - py0),
+                (zlo, zhi),
+                &h.label,
+            );
             ly = py0 + height + 24.0;
         }
-        let pitch = if entries > 1 { ((py1 + MARGIN_B * 0.5 - ly) / (entries - 1) as f64).clamp(10.0, 18.0) } else { 18.0 };
+        let pitch = if entries > 1 {
+            ((py1 + MARGIN_B * 0.5 - ly) / (entries - 1) as f64).clamp(10.0, 18.0)
+        } else {
+            18.0
+        };
         for se in &self.series {
             let dash = if se.dashed { r#" stroke-dasharray="6 4""# } else { "" };
             let _ = writeln!(
@@ -624,19 +774,48 @@ impl Chart {
                 escape(&se.color),
                 y = n(ly)
             );
-            let _ = writeln!(s, r#"<text class="legend" x="{}" y="{}">{}</text>"#, n(lx + 32.0), n(ly + 4.0), escape(&se.name));
+            let _ = writeln!(
+                s,
+                r#"<text class="legend" x="{}" y="{}">{}</text>"#,
+                n(lx + 32.0),
+                n(ly + 4.0),
+                escape(&se.name)
+            );
             ly += pitch;
         }
         for m in &self.markers {
             if let Some(text) = &m.legend {
-                let _ = writeln!(s, r##"<circle class="legend-sample" cx="{}" cy="{}" r="4" fill="{}" stroke="#555"/>"##, n(lx + 13.0), n(ly), escape(&m.color));
-                let _ = writeln!(s, r#"<text class="legend" x="{}" y="{}">{}</text>"#, n(lx + 32.0), n(ly + 4.0), escape(text));
+                let _ = writeln!(
+                    s,
+                    r##"<circle class="legend-sample" cx="{}" cy="{}" r="4" fill="{}" stroke="#555"/>"##,
+                    n(lx + 13.0),
+                    n(ly),
+                    escape(&m.color)
+                );
+                let _ = writeln!(
+                    s,
+                    r#"<text class="legend" x="{}" y="{}">{}</text>"#,
+                    n(lx + 32.0),
+                    n(ly + 4.0),
+                    escape(text)
+                );
                 ly += pitch;
             }
         }
         if let Some(h) = missing {
-            let _ = writeln!(s, r##"<rect class="legend-sample" x="{}" y="{}" width="26" height="10" fill="#d9d9d9"/>"##, n(lx), n(ly - 5.0));
-            let _ = writeln!(s, r#"<text class="legend" x="{}" y="{}">{}</text>"#, n(lx + 32.0), n(ly + 4.0), escape(&h.missing));
+            let _ = writeln!(
+                s,
+                r##"<rect class="legend-sample" x="{}" y="{}" width="26" height="10" fill="#d9d9d9"/>"##,
+                n(lx),
+                n(ly - 5.0)
+            );
+            let _ = writeln!(
+                s,
+                r#"<text class="legend" x="{}" y="{}">{}</text>"#,
+                n(lx + 32.0),
+                n(ly + 4.0),
+                escape(&h.missing)
+            );
         }
     }
 }
@@ -653,7 +832,11 @@ pub struct Figure {
 
 impl Figure {
     pub fn new(title: impl Into<String>) -> Figure {
-        Figure { title: title.into(), subtitle: None, panels: Vec::new() }
+        Figure {
+            title: title.into(),
+            subtitle: None,
+            panels: Vec::new(),
+        }
     }
 
     /// The SVG document.
@@ -666,7 +849,13 @@ impl Figure {
         open_document(&mut s, w, h, &self.title);
         let mut y = write_titles(&mut s, MARGIN_L, &self.title, self.subtitle.as_deref());
         for (k, p) in self.panels.iter().enumerate() {
-            let _ = writeln!(s, r#"<text class="panel-title" x="{}" y="{}" font-size="13" font-weight="bold">{}</text>"#, n(MARGIN_L), n(y + 16.0), escape(&p.title));
+            let _ = writeln!(
+                s,
+                r#"<text class="panel-title" x="{}" y="{}" font-size="13" font-weight="bold">{}</text>"#,
+                n(MARGIN_L),
+                n(y + 16.0),
+                escape(&p.title)
+            );
             let mut panel = p.clone();
             panel.width = w;
             panel.draw(&mut s, y + 26.0, y + p.height, legend_w, &format!("plot{}", k + 1));
@@ -710,7 +899,12 @@ impl Surface {
         let mut s = String::new();
         open_document(&mut s, w, h, &self.title);
         let top = write_titles(&mut s, MARGIN_L, &self.title, self.subtitle.as_deref()) + 10.0;
-        let fin = |v: &[f64]| v.iter().copied().filter(|v| v.is_finite()).fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
+        let fin = |v: &[f64]| {
+            v.iter()
+                .copied()
+                .filter(|v| v.is_finite())
+                .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)))
+        };
         let all: Vec<f64> = self.z_values.iter().flatten().copied().collect();
         let ((zl, zh), (xl, xh), (yl, yh)) = (fin(&all), fin(&self.xs), fin(&self.ys));
         let axis = |a: &Axis, lo: f64, hi: f64, target: usize| match (a.range, a.step) {
@@ -743,7 +937,14 @@ impl Surface {
         };
         let pt = |q: (f64, f64)| format!("{},{}", n(q.0), n(q.1));
         let line = |s: &mut String, class: &str, a: (f64, f64), b: (f64, f64), stroke: &str| {
-            let _ = writeln!(s, r#"<line class="{class}" x1="{}" y1="{}" x2="{}" y2="{}" stroke="{stroke}"/>"#, n(a.0), n(a.1), n(b.0), n(b.1));
+            let _ = writeln!(
+                s,
+                r#"<line class="{class}" x1="{}" y1="{}" x2="{}" y2="{}" stroke="{stroke}"/>"#,
+                n(a.0),
+                n(a.1),
+                n(b.0),
+                n(b.1)
+            );
         };
         // The floor and the two back walls, with grid lines.
         for (class, corners) in [
@@ -752,7 +953,11 @@ impl Surface {
             ("wall", [p(x0, y0, z0), p(x0, y1, z0), p(x0, y1, z1), p(x0, y0, z1)]),
         ] {
             let pts: Vec<String> = corners.iter().map(|&q| pt(q)).collect();
-            let _ = writeln!(s, r##"<polygon class="{class}" points="{}" fill="#fafafa" stroke="#999"/>"##, pts.join(" "));
+            let _ = writeln!(
+                s,
+                r##"<polygon class="{class}" points="{}" fill="#fafafa" stroke="#999"/>"##,
+                pts.join(" ")
+            );
         }
         for &t in &xt {
             line(&mut s, "grid", p(t, y0, z0), p(t, y1, z0), "#e4e4e4");
@@ -770,20 +975,50 @@ impl Surface {
         // the front left edge (z).
         for &t in &xt {
             let (a, b) = p(t, y0, z0);
-            let _ = writeln!(s, r##"<text class="tick x" x="{}" y="{}" text-anchor="middle" fill="#333">{}</text>"##, n(a), n(b + 16.0), escape(&tick_label(t, xs_)));
+            let _ = writeln!(
+                s,
+                r##"<text class="tick x" x="{}" y="{}" text-anchor="middle" fill="#333">{}</text>"##,
+                n(a),
+                n(b + 16.0),
+                escape(&tick_label(t, xs_))
+            );
         }
         for &t in &yt {
             let (a, b) = p(x1, t, z0);
-            let _ = writeln!(s, r##"<text class="tick y" x="{}" y="{}" fill="#333">{}</text>"##, n(a + 14.0), n(b + 8.0), escape(&tick_label(t, ys_)));
+            let _ = writeln!(
+                s,
+                r##"<text class="tick y" x="{}" y="{}" fill="#333">{}</text>"##,
+                n(a + 14.0),
+                n(b + 8.0),
+                escape(&tick_label(t, ys_))
+            );
         }
         for &t in &zt {
             let (a, b) = p(x0, y0, t);
-            let _ = writeln!(s, r##"<text class="tick z" x="{}" y="{}" text-anchor="end" fill="#333">{}</text>"##, n(a - 6.0), n(b + 4.0), escape(&tick_label(t, zs_)));
+            let _ = writeln!(
+                s,
+                r##"<text class="tick z" x="{}" y="{}" text-anchor="end" fill="#333">{}</text>"##,
+                n(a - 6.0),
+                n(b + 4.0),
+                escape(&tick_label(t, zs_))
+            );
         }
         let (ax, ay) = p((x0 + x1) / 2.0, y0, z0);
-        let _ = writeln!(s, r#"<text class="axis-label x" x="{}" y="{}" text-anchor="middle">{}</text>"#, n(ax), n(ay + 36.0), escape(&self.x.label));
+        let _ = writeln!(
+            s,
+            r#"<text class="axis-label x" x="{}" y="{}" text-anchor="middle">{}</text>"#,
+            n(ax),
+            n(ay + 36.0),
+            escape(&self.x.label)
+        );
         let (bx, by) = p(x1, (y0 + y1) / 2.0, z0);
-        let _ = writeln!(s, r#"<text class="axis-label y" x="{}" y="{}">{}</text>"#, n(bx + 54.0), n(by + 8.0), escape(&self.y.label));
+        let _ = writeln!(
+            s,
+            r#"<text class="axis-label y" x="{}" y="{}">{}</text>"#,
+            n(bx + 54.0),
+            n(by + 8.0),
+            escape(&self.y.label)
+        );
         let (cx, cy) = (22.0, (p(x0, y0, z0).1 + p(x0, y0, z1).1) / 2.0);
         let _ = writeln!(
             s,
@@ -799,7 +1034,11 @@ impl Surface {
             let mut run: Vec<String> = Vec::new();
             let flush = |s: &mut String, run: &mut Vec<String>| {
                 if run.len() >= 2 {
-                    let _ = writeln!(s, r##"<polyline class="mesh" fill="none" stroke="#333" stroke-width="0.8" points="{}"/>"##, run.join(" "));
+                    let _ = writeln!(
+                        s,
+                        r##"<polyline class="mesh" fill="none" stroke="#333" stroke-width="0.8" points="{}"/>"##,
+                        run.join(" ")
+                    );
                 }
                 run.clear();
             };
@@ -825,13 +1064,27 @@ impl Surface {
                         continue;
                     }
                     let fill = ramp((vs.iter().sum::<f64>() / 4.0 - zl) / (zh - zl).max(1e-12));
-                    let pts: Vec<String> = c.iter().zip(&vs).map(|(&(a, b), &v)| pt(p(self.xs[a], self.ys[b], v))).collect();
-                    let _ = writeln!(s, r#"<polygon class="facet" points="{}" fill="{fill}" stroke="{fill}" stroke-width="0.5"/>"#, pts.join(" "));
+                    let pts: Vec<String> = c
+                        .iter()
+                        .zip(&vs)
+                        .map(|(&(a, b), &v)| pt(p(self.xs[a], self.ys[b], v)))
+                        .collect();
+                    let _ = writeln!(
+                        s,
+                        r#"<polygon class="facet" points="{}" fill="{fill}" stroke="{fill}" stroke-width="0.5"/>"#,
+                        pts.join(" ")
+                    );
                 }
                 for i in (0..ni).step_by(every).chain(std::iter::once(ni - 1)) {
                     let (a, b) = (z(i, j), z(i, j + 1));
                     if a.is_finite() && b.is_finite() {
-                        line(&mut s, "mesh", p(self.xs[i], self.ys[j], a), p(self.xs[i], self.ys[j + 1], b), "#333");
+                        line(
+                            &mut s,
+                            "mesh",
+                            p(self.xs[i], self.ys[j], a),
+                            p(self.xs[i], self.ys[j + 1], b),
+                            "#333",
+                        );
                     }
                 }
                 edge(&mut s, j + 1);
@@ -839,8 +1092,20 @@ impl Surface {
             edge(&mut s, 0);
         }
         if zh >= zl {
-            let (lo, hi) = if zh - zl > 1e-12 { (zl, zh) } else { (zl - 0.5, zh + 0.5) };
-            colorbar(&mut s, "surface-ramp", w - 150.0, top, (bottom - top) * 0.7, (lo, hi), &self.z.label);
+            let (lo, hi) = if zh - zl > 1e-12 {
+                (zl, zh)
+            } else {
+                (zl - 0.5, zh + 0.5)
+            };
+            colorbar(
+                &mut s,
+                "surface-ramp",
+                w - 150.0,
+                top,
+                (bottom - top) * 0.7,
+                (lo, hi),
+                &self.z.label,
+            );
         }
         s.push_str("</svg>\n");
         s
@@ -872,7 +1137,10 @@ mod tests {
         assert!(a < 5.0 && b > 5.0 && t.len() >= 2);
         let (a, b, _, _) = nice_axis(0.0, 0.0, 6);
         assert!(a < 0.0 && b > 0.0);
-        assert_eq!(ticks_in(90.6, 450.6, 45.0), vec![135.0, 180.0, 225.0, 270.0, 315.0, 360.0, 405.0, 450.0]);
+        assert_eq!(
+            ticks_in(90.6, 450.6, 45.0),
+            vec![135.0, 180.0, 225.0, 270.0, 315.0, 360.0, 405.0, 450.0]
+        );
         assert_eq!(ticks_in(0.0, 360.0, 45.0).len(), 9);
     }
 
@@ -888,7 +1156,10 @@ mod tests {
 
     #[test]
     fn text_is_escaped() {
-        assert_eq!(escape(r#"a<b & "c" 'd'>"#), "a&lt;b &amp; &quot;c&quot; &#39;d&#39;&gt;");
+        assert_eq!(
+            escape(r#"a<b & "c" 'd'>"#),
+            "a&lt;b &amp; &quot;c&quot; &#39;d&#39;&gt;"
+        );
         assert_eq!(escape("P′(φ), mm"), "P′(φ), mm");
         assert_eq!(escape("bell\u{7}"), "bell");
     }
@@ -896,9 +1167,26 @@ mod tests {
     #[test]
     fn a_chart_has_no_nan_and_one_polyline_per_series() {
         let mut c = Chart::new("t <1>", Axis::new("φ, deg"), Axis::new("P, mm"));
-        c.series.push(Series { name: "a&b".into(), points: vec![(0.0, 1.0), (1.0, f64::NAN), (2.0, 3.0)], color: color(0).into(), dashed: false, mark_start: true });
-        c.series.push(Series { name: "empty".into(), points: vec![], color: color(1).into(), dashed: true, mark_start: false });
-        c.x_shades.push(XShade { from: 0.5, to: 0.5, color: color(0).into(), label: "G".into() });
+        c.series.push(Series {
+            name: "a&b".into(),
+            points: vec![(0.0, 1.0), (1.0, f64::NAN), (2.0, 3.0)],
+            color: color(0).into(),
+            dashed: false,
+            mark_start: true,
+        });
+        c.series.push(Series {
+            name: "empty".into(),
+            points: vec![],
+            color: color(1).into(),
+            dashed: true,
+            mark_start: false,
+        });
+        c.x_shades.push(XShade {
+            from: 0.5,
+            to: 0.5,
+            color: color(0).into(),
+            label: "G".into(),
+        });
         let svg = c.render();
         assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
         assert_eq!(svg.matches("<polyline").count(), 2);

@@ -16,7 +16,11 @@ pub fn sparkline(values: &[f64], lo: f64, hi: f64, cols: usize) -> String {
         .map(|c| {
             let (a, b) = (c * n / cols, ((c + 1) * n / cols).max(c * n / cols + 1).min(n));
             let mean = values[a..b].iter().sum::<f64>() / (b - a) as f64;
-            let level = if span > 0.0 && mean.is_finite() { ((mean - lo) / span * 7.0).round().clamp(0.0, 7.0) as usize } else { 0 };
+            let level = if span > 0.0 && mean.is_finite() {
+                ((mean - lo) / span * 7.0).round().clamp(0.0, 7.0) as usize
+            } else {
+                0
+            };
             BARS[level]
         })
         .collect()
@@ -30,7 +34,11 @@ pub fn window_marks(start_deg: f64, cols: usize, window: [f64; 2], mark: char) -
     (0..cols)
         .map(|c| {
             let phi = start_deg + (c as f64 + 0.5) * 360.0 / cols as f64;
-            if (phi - window[0]).rem_euclid(360.0) <= len { mark } else { ' ' }
+            if (phi - window[0]).rem_euclid(360.0) <= len {
+                mark
+            } else {
+                ' '
+            }
         })
         .collect()
 }
@@ -41,7 +49,10 @@ mod tests {
 
     #[test]
     fn sparkline_heights_and_means() {
-        assert_eq!(sparkline(&[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0], 0.0, 7.0, 8), "▁▂▃▄▅▆▇█");
+        assert_eq!(
+            sparkline(&[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0], 0.0, 7.0, 8),
+            "▁▂▃▄▅▆▇█"
+        );
         // Two values a column: their mean; out of range clamps.
         assert_eq!(sparkline(&[0.0, 2.0, 7.0, 7.0, -5.0, 50.0], 0.0, 7.0, 3), "▂██");
         assert_eq!(sparkline(&[], 0.0, 1.0, 5), "");

@@ -84,7 +84,15 @@ pub fn thread_bound(thread: &str, phis_deg: &[f64], p_b: &[f64], bound: &[f64], 
     let bound_at = bound;
     let first_max = |key: &dyn Fn(usize) -> f64| (0..n).max_by(|&a, &b| key(a).total_cmp(&key(b)).then(b.cmp(&a)));
     let Some(worst) = first_max(&|k| p_b[k] - bound[k]) else {
-        return Check { name: "thread_bound", thread: thread.into(), ok: true, value: 0.0, limit: [None, None], at_deg: 0.0, message: "no positions to check".into() };
+        return Check {
+            name: "thread_bound",
+            thread: thread.into(),
+            ok: true,
+            value: 0.0,
+            limit: [None, None],
+            at_deg: 0.0,
+            message: "no positions to check".into(),
+        };
     };
     let peak = first_max(&|k| p_b[k]).unwrap_or(worst);
     let (peak_mm, peak_at) = (p_b[peak], phis_deg[peak].rem_euclid(360.0));
@@ -93,7 +101,10 @@ pub fn thread_bound(thread: &str, phis_deg: &[f64], p_b: &[f64], bound: &[f64], 
     let at = phis_deg[k].rem_euclid(360.0);
     let ok = value <= bound + 1e-9;
     let parts = |bound: f64, lp: f64| {
-        format!("twice the needle's {:.1} mm deepest travel below B so far plus {lp:.1} mm of loop on the looper", 0.5 * (bound - lp))
+        format!(
+            "twice the needle's {:.1} mm deepest travel below B so far plus {lp:.1} mm of loop on the looper",
+            0.5 * (bound - lp)
+        )
     };
     let message = if ok {
         format!(
@@ -112,7 +123,15 @@ pub fn thread_bound(thread: &str, phis_deg: &[f64], p_b: &[f64], bound: &[f64], 
             parts(bound, lp)
         )
     };
-    Check { name: "thread_bound", thread: thread.into(), ok, value, limit: [None, Some(bound)], at_deg: at, message }
+    Check {
+        name: "thread_bound",
+        thread: thread.into(),
+        ok,
+        value,
+        limit: [None, Some(bound)],
+        at_deg: at,
+        message,
+    }
 }
 
 /// `catch_clearance` and `stab_before_drop` of one needle thread;
@@ -123,7 +142,9 @@ pub fn catch_and_stab(thread: &str, m: &NeedleMoments, from_c: impl Fn(f64) -> f
     let at = from_c(m.catch_deg);
     let catch_ok = (lo..=hi).contains(&h);
     let message = if catch_ok {
-        format!("at the catch (φ = {at:.1}°) the looper point passes {h:.2} mm above the eye, within {lo}–{hi} mm: it enters the loop")
+        format!(
+            "at the catch (φ = {at:.1}°) the looper point passes {h:.2} mm above the eye, within {lo}–{hi} mm: it enters the loop"
+        )
     } else if h < lo {
         format!(
             "at the catch (φ = {at:.1}°) the looper point passes {} the eye ({h:+.2} mm; {lo}–{hi} mm above it wanted): it can miss \
@@ -136,7 +157,15 @@ pub fn catch_and_stab(thread: &str, m: &NeedleMoments, from_c: impl Fn(f64) -> f
              has formed: it can miss it and skip stitches; set the needle higher in its bar, or catch later"
         )
     };
-    let catch = Check { name: "catch_clearance", thread: thread.into(), ok: catch_ok, value: h, limit: [Some(lo), Some(hi)], at_deg: at, message };
+    let catch = Check {
+        name: "catch_clearance",
+        thread: thread.into(),
+        ok: catch_ok,
+        value: h,
+        limit: [Some(lo), Some(hi)],
+        at_deg: at,
+        message,
+    };
     let (z, top) = (m.point_z_at_drop_mm, m.looper_top_z_mm);
     let at = from_c(m.drop_deg);
     let stab_ok = z <= top + 1e-9;
@@ -154,7 +183,15 @@ pub fn catch_and_stab(thread: &str, m: &NeedleMoments, from_c: impl Fn(f64) -> f
             z - top
         )
     };
-    let stab = Check { name: "stab_before_drop", thread: thread.into(), ok: stab_ok, value: z, limit: [None, Some(top)], at_deg: at, message };
+    let stab = Check {
+        name: "stab_before_drop",
+        thread: thread.into(),
+        ok: stab_ok,
+        value: z,
+        limit: [None, Some(top)],
+        at_deg: at,
+        message,
+    };
     [catch, stab]
 }
 
@@ -168,21 +205,39 @@ mod tests {
         // 3 mm is on the looper from 210 to 300.
         let phis: Vec<f64> = (0..360).map(f64::from).collect();
         let s: Vec<f64> = phis.iter().map(|p| 5.0 * (1.0 - p.to_radians().cos())).collect();
-        let lp: Vec<f64> = phis.iter().map(|&p| if (210.0..300.0).contains(&p) { 3.0 } else { 0.0 }).collect();
+        let lp: Vec<f64> = phis
+            .iter()
+            .map(|&p| if (210.0..300.0).contains(&p) { 3.0 } else { 0.0 })
+            .collect();
         // Exactly the bound: ok, nothing to spare at the worst φ.
-        let p: Vec<f64> = (0..360).map(|k| 2.0 * if k <= 180 { s[k] } else { 10.0 } + lp[k]).collect();
+        let p: Vec<f64> = (0..360)
+            .map(|k| 2.0 * if k <= 180 { s[k] } else { 10.0 } + lp[k])
+            .collect();
         let bound = bound_curve(&phis, &s, &lp, 0.0);
         let c = thread_bound("n1", &phis, &p, &bound, &lp);
         assert!(c.ok, "{c:?}");
         // Nothing to spare; the peak, 2·10 + 3 mm while the loop is carried.
         assert!(c.limit[1].unwrap() - c.value < 1e-12, "{c:?}");
-        assert!(c.message.starts_with("P_B peaks at 23.00 mm at φ = 210.0°, within the 23.00 mm") && c.message.contains("least to spare over the cycle is 0.00 mm"), "{}", c.message);
+        assert!(
+            c.message
+                .starts_with("P_B peaks at 23.00 mm at φ = 210.0°, within the 23.00 mm")
+                && c.message.contains("least to spare over the cycle is 0.00 mm"),
+            "{}",
+            c.message
+        );
         // 1 mm too much while the needle descends: fails there, by 1 mm.
         let mut q = p.clone();
         q[90] += 1.0;
         let c = thread_bound("n1", &phis, &q, &bound, &lp);
-        assert!(!c.ok && c.at_deg == 90.0 && (c.value - c.limit[1].unwrap() - 1.0).abs() < 1e-12, "{c:?}");
-        assert!(c.message.contains("slack") && c.message.contains("phase"), "{}", c.message);
+        assert!(
+            !c.ok && c.at_deg == 90.0 && (c.value - c.limit[1].unwrap() - 1.0).abs() < 1e-12,
+            "{c:?}"
+        );
+        assert!(
+            c.message.contains("slack") && c.message.contains("phase"),
+            "{}",
+            c.message
+        );
         // After BDC the loop held below the material counts: 2·10 mm stay
         // allowed while the needle rises.
         let c = thread_bound("n1", &phis, &vec![19.0; 360], &bound, &lp);
@@ -199,15 +254,36 @@ mod tests {
 
     #[test]
     fn catch_and_stab_limits() {
-        let m = NeedleMoments { catch_deg: 30.0, looper_above_eye_mm: 2.0, drop_deg: 300.0, point_z_at_drop_mm: -6.0, looper_top_z_mm: -4.0 };
+        let m = NeedleMoments {
+            catch_deg: 30.0,
+            looper_above_eye_mm: 2.0,
+            drop_deg: 300.0,
+            point_z_at_drop_mm: -6.0,
+            looper_top_z_mm: -4.0,
+        };
         let from_c = |p: f64| p + 180.0;
         let [c, s] = catch_and_stab("n1", &m, from_c);
         assert!(c.ok && s.ok && c.at_deg == 210.0 && s.at_deg == 480.0);
         assert_eq!(c.limit, [Some(1.0), Some(3.0)]);
-        let [c, s] = catch_and_stab("n1", &NeedleMoments { looper_above_eye_mm: -0.8, point_z_at_drop_mm: -1.3, ..m }, from_c);
+        let [c, s] = catch_and_stab(
+            "n1",
+            &NeedleMoments {
+                looper_above_eye_mm: -0.8,
+                point_z_at_drop_mm: -1.3,
+                ..m
+            },
+            from_c,
+        );
         assert!(!c.ok && c.message.contains("below the eye"), "{}", c.message);
         assert!(!s.ok && s.message.contains("2.70 mm above"), "{}", s.message);
-        let [c, _] = catch_and_stab("n1", &NeedleMoments { looper_above_eye_mm: 6.0, ..m }, from_c);
+        let [c, _] = catch_and_stab(
+            "n1",
+            &NeedleMoments {
+                looper_above_eye_mm: 6.0,
+                ..m
+            },
+            from_c,
+        );
         assert!(!c.ok && c.message.contains("higher"), "{}", c.message);
     }
 }

@@ -86,10 +86,17 @@ const MATRIX: &[(u16, [u8; 4])] = &[
 impl StitchGeometry {
     fn check(&self) -> Result<(), ParamError> {
         let bad = |what: &str, v: f64, want: &str| {
-            Err(ParamError { message: format!("{what} = {v} is out of range"), help: Some(want.to_string()) })
+            Err(ParamError {
+                message: format!("{what} = {v} is out of range"),
+                help: Some(want.to_string()),
+            })
         };
         if !(self.thickness_mm.is_finite() && self.thickness_mm >= 0.0) {
-            return bad("the material thickness", self.thickness_mm, "give m ≥ 0 mm, e.g. --thickness 2.5");
+            return bad(
+                "the material thickness",
+                self.thickness_mm,
+                "give m ≥ 0 mm, e.g. --thickness 2.5",
+            );
         }
         if !(self.stitch_mm.is_finite() && self.stitch_mm > 0.0) {
             return bad("the stitch length", self.stitch_mm, "give t > 0 mm, e.g. --stitch 2.8");
@@ -98,10 +105,18 @@ impl StitchGeometry {
             return bad("the overedge width", self.width_mm, "give a ≥ 0 mm, e.g. --width 4");
         }
         if !(self.incline_deg.is_finite() && self.incline_deg.abs() < 80.0) {
-            return bad("the needle inclination", self.incline_deg, "give β between −80° and 80°, e.g. --incline 20");
+            return bad(
+                "the needle inclination",
+                self.incline_deg,
+                "give β between −80° and 80°, e.g. --incline 20",
+            );
         }
         if !(0.0..=1.0).contains(&self.edge_fraction) {
-            return bad("the edge fraction", self.edge_fraction, "give e between 0 and 1 (0.5: the looper threads meet mid-edge)");
+            return bad(
+                "the edge fraction",
+                self.edge_fraction,
+                "give e between 0 and 1 (0.5: the looper threads meet mid-edge)",
+            );
         }
         Ok(())
     }
@@ -117,10 +132,16 @@ pub fn consumption(stitch_type: u16, g: &StitchGeometry) -> Result<Consumption, 
         match c {
             1 => ("t + 2·l_m".into(), Some(t + 2.0 * l_m)),
             2 => ("t + 2·l_m + l".into(), Some(t + 2.0 * l_m + l)),
-            3 => ("t + 2·l_m + 2·a + 2·e·m".into(), Some(t + 2.0 * l_m + 2.0 * a + 2.0 * e * m)),
+            3 => (
+                "t + 2·l_m + 2·a + 2·e·m".into(),
+                Some(t + 2.0 * l_m + 2.0 * a + 2.0 * e * m),
+            ),
             10 => ("a + l + 2·(1 − e)·m".into(), Some(a + l + 2.0 * (1.0 - e) * m)),
             13 => ("a + l + 2·e·m".into(), Some(a + l + 2.0 * e * m)),
-            _ => ("not derivable: the thesis's drawing of this contour is lost".into(), None),
+            _ => (
+                "not derivable: the thesis's drawing of this contour is lost".into(),
+                None,
+            ),
         }
     };
     let mut threads = Vec::new();
@@ -158,12 +179,24 @@ pub fn consumption(stitch_type: u16, g: &StitchGeometry) -> Result<Consumption, 
                     continue;
                 }
                 let (formula, length_mm) = contour(c);
-                threads.push(ThreadConsumption { thread: name.to_string(), contour: Some(c), formula, length_mm });
+                threads.push(ThreadConsumption {
+                    thread: name.to_string(),
+                    contour: Some(c),
+                    formula,
+                    length_mm,
+                });
             }
         }
     }
     let total_mm = threads.iter().map(|t| t.length_mm).sum::<Option<f64>>();
-    Ok(Consumption { stitch_type, geometry: *g, threads, total_mm, l_m_mm: l_m, l_mm: l })
+    Ok(Consumption {
+        stitch_type,
+        geometry: *g,
+        threads,
+        total_mm,
+        l_m_mm: l_m,
+        l_mm: l,
+    })
 }
 
 #[cfg(test)]
@@ -172,7 +205,13 @@ mod tests {
     use approx::assert_relative_eq;
 
     fn altin() -> StitchGeometry {
-        StitchGeometry { thickness_mm: 2.5, stitch_mm: 2.8, width_mm: 4.0, incline_deg: 20.0, edge_fraction: 0.5 }
+        StitchGeometry {
+            thickness_mm: 2.5,
+            stitch_mm: 2.8,
+            width_mm: 4.0,
+            incline_deg: 20.0,
+            edge_fraction: 0.5,
+        }
     }
 
     #[test]
@@ -183,7 +222,11 @@ mod tests {
         assert_eq!(c.threads.len(), 3);
         assert_relative_eq!(c.threads[0].length_mm.unwrap(), 2.8 + 2.0 * c.l_m_mm, epsilon = 1e-12);
         assert_relative_eq!(c.total_mm.unwrap(), 30.8861334, epsilon = 1e-6);
-        assert_relative_eq!(consumption(503, &altin()).unwrap().total_mm.unwrap(), 30.0035111, epsilon = 1e-6);
+        assert_relative_eq!(
+            consumption(503, &altin()).unwrap().total_mm.unwrap(),
+            30.0035111,
+            epsilon = 1e-6
+        );
         // Types whose contours are lost: no total, no guessed numbers.
         let c = consumption(505, &altin()).unwrap();
         assert!(c.total_mm.is_none() && c.threads.iter().any(|t| t.length_mm.is_none()));
@@ -191,16 +234,55 @@ mod tests {
 
     #[test]
     fn chain_stitch_needles_and_bad_input() {
-        let g = StitchGeometry { thickness_mm: 3.0, stitch_mm: 3.0, width_mm: 0.0, incline_deg: 0.0, edge_fraction: 0.5 };
+        let g = StitchGeometry {
+            thickness_mm: 3.0,
+            stitch_mm: 3.0,
+            width_mm: 0.0,
+            incline_deg: 0.0,
+            edge_fraction: 0.5,
+        };
         let c = consumption(407, &g).unwrap();
         assert_eq!(c.threads.iter().filter(|t| t.thread.starts_with("needle")).count(), 3);
         assert_eq!(c.threads[0].length_mm, Some(9.0));
         assert!(consumption(300, &g).unwrap_err().help.unwrap().contains("501"));
         assert!(consumption(504, &StitchGeometry { stitch_mm: 0.0, ..g }).is_err());
-        assert!(consumption(504, &StitchGeometry { edge_fraction: 1.5, ..g }).is_err());
+        assert!(
+            consumption(
+                504,
+                &StitchGeometry {
+                    edge_fraction: 1.5,
+                    ..g
+                }
+            )
+            .is_err()
+        );
         // More thread for thicker material and longer stitches.
         let base = consumption(504, &altin()).unwrap().total_mm.unwrap();
-        assert!(consumption(504, &StitchGeometry { thickness_mm: 3.0, ..altin() }).unwrap().total_mm.unwrap() > base);
-        assert!(consumption(504, &StitchGeometry { stitch_mm: 3.2, ..altin() }).unwrap().total_mm.unwrap() > base);
+        assert!(
+            consumption(
+                504,
+                &StitchGeometry {
+                    thickness_mm: 3.0,
+                    ..altin()
+                }
+            )
+            .unwrap()
+            .total_mm
+            .unwrap()
+                > base
+        );
+        assert!(
+            consumption(
+                504,
+                &StitchGeometry {
+                    stitch_mm: 3.2,
+                    ..altin()
+                }
+            )
+            .unwrap()
+            .total_mm
+            .unwrap()
+                > base
+        );
     }
 }

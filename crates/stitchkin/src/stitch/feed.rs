@@ -51,10 +51,15 @@ impl Feed {
     /// inside one cyclogram cycle (it never straddles φ_c = 0, §2).
     pub fn new(law: &FeedLaw, t_mm: f64) -> Result<Feed, Error> {
         if !(t_mm.is_finite() && t_mm > 0.0) {
-            return Err(Error::Stitch(format!("feed: the stitch length t = {t_mm} mm is not positive; give t > 0")));
+            return Err(Error::Stitch(format!(
+                "feed: the stitch length t = {t_mm} mm is not positive; give t > 0"
+            )));
         }
         let (start_deg, duration_deg) = match law {
-            FeedLaw::Harmonic { start_deg, duration_deg } => (*start_deg, *duration_deg),
+            FeedLaw::Harmonic {
+                start_deg,
+                duration_deg,
+            } => (*start_deg, *duration_deg),
             FeedLaw::Point { dog } => return Feed::from_dog(dog, t_mm),
         };
         if !(duration_deg.is_finite() && duration_deg > 0.0 && duration_deg < 360.0) {
@@ -70,7 +75,13 @@ impl Feed {
                 start_deg + duration_deg
             )));
         }
-        Ok(Feed { t_mm, start_deg, duration_deg, dog: None, warning: None })
+        Ok(Feed {
+            t_mm,
+            start_deg,
+            duration_deg,
+            dog: None,
+            warning: None,
+        })
     }
 
     /// The feed of a tooth point: the transport is where it is above the
@@ -83,7 +94,9 @@ impl Feed {
             let (a, b) = (k as f64 * DOG_GRID_DEG, (k + 1) as f64 * DOG_GRID_DEG);
             let (za, zb) = (z(a), z(b));
             if !(za.is_finite() && zb.is_finite()) {
-                return Err(Error::Stitch(format!("feed: the feed dog's tooth is not finite at φ_c = {a:.2}°")));
+                return Err(Error::Stitch(format!(
+                    "feed: the feed dog's tooth is not finite at φ_c = {a:.2}°"
+                )));
             }
             if za <= 0.0 && zb > 0.0 {
                 rises.push(crossing(&z, a, b));
@@ -180,7 +193,14 @@ mod tests {
     use approx::assert_relative_eq;
 
     fn altin() -> Feed {
-        Feed::new(&FeedLaw::Harmonic { start_deg: 134.0, duration_deg: 100.0 }, 2.8).unwrap()
+        Feed::new(
+            &FeedLaw::Harmonic {
+                start_deg: 134.0,
+                duration_deg: 100.0,
+            },
+            2.8,
+        )
+        .unwrap()
     }
 
     #[test]
@@ -208,9 +228,17 @@ mod tests {
 
     #[test]
     fn bad_feeds_are_errors() {
-        let h = |s, d| FeedLaw::Harmonic { start_deg: s, duration_deg: d };
+        let h = |s, d| FeedLaw::Harmonic {
+            start_deg: s,
+            duration_deg: d,
+        };
         assert!(Feed::new(&h(134.0, 100.0), 0.0).is_err());
-        assert!(Feed::new(&h(300.0, 100.0), 2.8).unwrap_err().to_string().contains("inside the cyclogram"));
+        assert!(
+            Feed::new(&h(300.0, 100.0), 2.8)
+                .unwrap_err()
+                .to_string()
+                .contains("inside the cyclogram")
+        );
         assert!(Feed::new(&h(0.0, 360.0), 2.8).is_err());
         assert!(Feed::new(&h(f64::NAN, 100.0), 2.8).is_err());
     }
@@ -224,7 +252,13 @@ mod tests {
                 crate::geometry::V3::new(0.0, r * th.sin(), r * (th.cos() - 50f64.to_radians().cos()))
             })
             .collect();
-        FeedLaw::Point { dog: Motion::Table { start_deg: 0.0, step_deg: 0.01, points: pts.into() } }
+        FeedLaw::Point {
+            dog: Motion::Table {
+                start_deg: 0.0,
+                step_deg: 0.01,
+                points: pts.into(),
+            },
+        }
     }
 
     #[test]
@@ -234,7 +268,14 @@ mod tests {
         assert_relative_eq!(f.start_deg, 134.0, epsilon = 1e-6);
         assert_relative_eq!(f.duration_deg, 100.0, epsilon = 1e-6);
         assert!(f.warning.is_none());
-        let h = Feed::new(&FeedLaw::Harmonic { start_deg: 134.0, duration_deg: 100.0 }, t).unwrap();
+        let h = Feed::new(
+            &FeedLaw::Harmonic {
+                start_deg: 134.0,
+                duration_deg: 100.0,
+            },
+            t,
+        )
+        .unwrap();
         for phi in [100.0, 134.0, 150.0, 184.0, 200.5, 234.0, 300.0] {
             assert_relative_eq!(f.at(phi), h.at(phi), epsilon = 1e-6);
         }
@@ -242,6 +283,12 @@ mod tests {
         let e = Feed::new(&dog(10.0, 1.5), t).unwrap_err().to_string();
         assert!(e.contains("through the needle's BDC"), "{e}");
         // A stroke 25 % longer than t is reported.
-        assert!(Feed::new(&dog(184.0, 1.5), 0.8 * t).unwrap().warning.unwrap().contains("disagree"));
+        assert!(
+            Feed::new(&dog(184.0, 1.5), 0.8 * t)
+                .unwrap()
+                .warning
+                .unwrap()
+                .contains("disagree")
+        );
     }
 }

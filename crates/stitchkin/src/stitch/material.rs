@@ -38,7 +38,11 @@ impl WPath {
     fn new(length: f64, nodes: &[V3<f64>]) -> WPath {
         let mut all = [V3::zeros(); 4];
         all[..nodes.len()].copy_from_slice(nodes);
-        WPath { length, nodes: all, n: nodes.len() }
+        WPath {
+            length,
+            nodes: all,
+            n: nodes.len(),
+        }
     }
 
     /// P, the contact points in order, Q.
@@ -152,7 +156,11 @@ pub fn polyline_nearest(poly: &[V3<f64>], x: &V3<f64>) -> Option<(f64, V3<f64>)>
     for w in poly.windows(2) {
         let ab = w[1] - w[0];
         let l2 = ab.norm_squared();
-        let s = if l2 < 1e-18 { 0.0 } else { ((x - w[0]).dot(&ab) / l2).clamp(0.0, 1.0) };
+        let s = if l2 < 1e-18 {
+            0.0
+        } else {
+            ((x - w[0]).dot(&ab) / l2).clamp(0.0, 1.0)
+        };
         let c = w[0] + ab * s;
         let d = (c - x).norm();
         if best.is_none_or(|(bd, _)| d < bd) {

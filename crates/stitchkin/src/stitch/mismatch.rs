@@ -79,9 +79,19 @@ pub fn sum_sq_diff(p: &[f64], pprime: &[f64], w: &[f64]) -> f64 {
 /// cycle, step `phi_deg[1] − phi_deg[0]`). `compared[k]` is false inside a
 /// regulator window; `eps_mm` is the tolerance ε of the intervals; `lag`
 /// asks for the best lag (n² work). `None` when nothing is compared.
-pub fn mismatch(phi_deg: &[f64], p: &[f64], pprime: &[f64], compared: &[bool], eps_mm: f64, lag: bool) -> Option<Mismatch> {
+pub fn mismatch(
+    phi_deg: &[f64],
+    p: &[f64],
+    pprime: &[f64],
+    compared: &[bool],
+    eps_mm: f64,
+    lag: bool,
+) -> Option<Mismatch> {
     let n = phi_deg.len();
-    assert!(p.len() == n && pprime.len() == n && compared.len() == n, "one value per φ");
+    assert!(
+        p.len() == n && pprime.len() == n && compared.len() == n,
+        "one value per φ"
+    );
     let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
     if ks.is_empty() {
         return None;
@@ -93,9 +103,18 @@ pub fn mismatch(phi_deg: &[f64], p: &[f64], pprime: &[f64], compared: &[bool], e
     let weight: Vec<f64> = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
     let rms = (sum_sq_diff(p, pprime, &weight) / count).sqrt();
     let std = (ks.iter().map(|&k| (d[k] - mean).powi(2)).sum::<f64>() / count).sqrt();
-    let k_abs = *ks.iter().max_by(|&&a, &&b| d[a].abs().total_cmp(&d[b].abs()).then(b.cmp(&a))).unwrap();
-    let argmax = |v: &[f64]| *ks.iter().max_by(|&&a, &&b| v[a].total_cmp(&v[b]).then(b.cmp(&a))).unwrap();
-    let (pp_max, pp_min) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| (hi.max(pprime[k]), lo.min(pprime[k])));
+    let k_abs = *ks
+        .iter()
+        .max_by(|&&a, &&b| d[a].abs().total_cmp(&d[b].abs()).then(b.cmp(&a)))
+        .unwrap();
+    let argmax = |v: &[f64]| {
+        *ks.iter()
+            .max_by(|&&a, &&b| v[a].total_cmp(&v[b]).then(b.cmp(&a)))
+            .unwrap()
+    };
+    let (pp_max, pp_min) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| {
+        (hi.max(pprime[k]), lo.min(pprime[k]))
+    });
     let range = pp_max - pp_min;
     // Best circular lag: λ = j·dφ minimizing std over the compared set of
     // P(φ + λ) − P'(φ). P is laid out twice so no index wraps.
@@ -225,7 +244,17 @@ mod tests {
     fn intervals_are_maximal_runs() {
         let phi = grid(10.0);
         let pp = vec![0.0; 36];
-        let p: Vec<f64> = (0..36).map(|k| if (3..=6).contains(&k) { 1.0 } else if k >= 30 { -1.0 } else { 0.0 }).collect();
+        let p: Vec<f64> = (0..36)
+            .map(|k| {
+                if (3..=6).contains(&k) {
+                    1.0
+                } else if k >= 30 {
+                    -1.0
+                } else {
+                    0.0
+                }
+            })
+            .collect();
         let m = mismatch(&phi, &p, &pp, &[true; 36], 0.5, true).unwrap();
         assert_eq!(m.excess_intervals_deg, vec![[30.0, 60.0]]);
         assert_eq!(m.deficit_intervals_deg, vec![[300.0, 350.0]]);

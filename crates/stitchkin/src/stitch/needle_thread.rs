@@ -48,7 +48,10 @@ pub fn before(phi: f64, at: f64, side: Side) -> bool {
 /// The piece of a cyclogram at φ: the first of `pieces` (each with the
 /// moment it ends at, in order) whose end φ has not reached, else `last`.
 pub fn piece_at<P: Copy>(phi: f64, side: Side, pieces: &[(f64, P)], last: P) -> P {
-    pieces.iter().find(|(end, _)| before(phi, *end, side)).map_or(last, |(_, p)| *p)
+    pieces
+        .iter()
+        .find(|(end, _)| before(phi, *end, side))
+        .map_or(last, |(_, p)| *p)
 }
 
 /// A root of `f` in [a, b], f(a)·f(b) ≤ 0, by 60 bisections.
@@ -262,7 +265,11 @@ impl LoopCarry {
     /// (φ1 < φ_far), looper catching point `looper` (L = its x).
     pub fn new(looper: &Motion, x_j: f64, phi_catch: f64, phi_far: f64, d_l: f64, gamma_max_rad: f64) -> LoopCarry {
         let k0 = (phi_catch / GRID_STEP_DEG).ceil() as usize;
-        let k0 = if k0 > 0 && grid_deg(k0 - 1) >= phi_catch { k0 - 1 } else { k0 };
+        let k0 = if k0 > 0 && grid_deg(k0 - 1) >= phi_catch {
+            k0 - 1
+        } else {
+            k0
+        };
         let mut running_max = Vec::new();
         let mut l_max = f64::NEG_INFINITY;
         let mut k = k0;
@@ -321,7 +328,9 @@ impl LoopCarry {
     /// grid, as the reference. `None` if the nose does not come back within
     /// the cycle.
     pub fn derived_drop(&self) -> Option<f64> {
-        (0..GRID_N).map(grid_deg).find(|&phi| phi > self.phi_far && self.l(phi) - self.x_j <= self.x_hold(phi) + 1e-12)
+        (0..GRID_N)
+            .map(grid_deg)
+            .find(|&phi| phi > self.phi_far && self.l(phi) - self.x_j <= self.x_hold(phi) + 1e-12)
     }
 }
 
@@ -410,8 +419,16 @@ impl NeedleThread {
     ) -> Result<NeedleThread, Error> {
         let name = &needle.name;
         let err = |msg: String| Err(Error::Stitch(format!("needle {name}: {msg}")));
-        let section = LooperSection { k: looper.k_mm, a: looper.a_mm, b: looper.b_mm };
-        if ![section.k, section.a, section.b].iter().all(|v| v.is_finite() && *v >= 0.0) || section.d_l() <= 0.0 {
+        let section = LooperSection {
+            k: looper.k_mm,
+            a: looper.a_mm,
+            b: looper.b_mm,
+        };
+        if ![section.k, section.a, section.b]
+            .iter()
+            .all(|v| v.is_finite() && *v >= 0.0)
+            || section.d_l() <= 0.0
+        {
             return err(format!(
                 "the looper section k = {}, a = {}, b = {} mm must be ≥ 0 with k + b + a > 0 (seed 004: 4, 1, 2.5)",
                 section.k, section.a, section.b
@@ -419,10 +436,15 @@ impl NeedleThread {
         }
         let gamma_max = looper.gamma_max_rad;
         if !(gamma_max.is_finite() && gamma_max > 0.0 && gamma_max < 0.5 * PI) {
-            return err(format!("γmax = {gamma_max} rad is out of range; give 0 < γmax < π/2 (seed 004: 0.4–0.8 rad)"));
+            return err(format!(
+                "γmax = {gamma_max} rad is out of range; give 0 < γmax < π/2 (seed 004: 0.4–0.8 rad)"
+            ));
         }
         let line = NeedleLine::new(&needle.eye, tilt_deg, m);
-        if ![line.s_b, line.x_j, line.s_max, line.n0.y].iter().all(|v| v.is_finite()) {
+        if ![line.s_b, line.x_j, line.s_max, line.n0.y]
+            .iter()
+            .all(|v| v.is_finite())
+        {
             return err("the eye motion gives non-finite positions".into());
         }
         let Some((phi_out, phi_in)) = line.crossings() else {
@@ -470,8 +492,9 @@ impl NeedleThread {
             }
             (None, Some(c)) => c,
             (None, None) => {
-                let (lo, hi) =
-                    (0..GRID_N).map(|k| l(grid_deg(k))).fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
+                let (lo, hi) = (0..GRID_N)
+                    .map(|k| l(grid_deg(k)))
+                    .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
                 return err(format!(
                     "the looper never reaches the needle: its catching point moves in x = {lo:.3} … {hi:.3} mm and \
                      the needle line is at x = {x_j:.3} mm; move the looper or the needle, or declare catch_deg"
@@ -535,7 +558,9 @@ impl NeedleThread {
             ));
         }
         if phi_drop <= phi_catch {
-            return err(format!("the drop φ4 = {phi_drop:.2}° is not after the catch φ1 = {phi_catch:.2}°"));
+            return err(format!(
+                "the drop φ4 = {phi_drop:.2}° is not after the catch φ1 = {phi_catch:.2}°"
+            ));
         }
         // The needle point must be out of the material while it is fed (§4.1).
         let d_p = needle.point_below_eye_mm;
@@ -698,7 +723,11 @@ impl NeedleThread {
             ("transport start".to_string(), self.feed.start_deg, EventKind::Cont),
             ("transport end".to_string(), self.feed.end_deg(), EventKind::Cont),
             ("eye enters material (φ_in)".to_string(), self.phi_in, EventKind::Cont),
-            ("drop = needle-thread lock (φ4)".to_string(), self.phi_drop, EventKind::Lock),
+            (
+                "drop = needle-thread lock (φ4)".to_string(),
+                self.phi_drop,
+                EventKind::Lock,
+            ),
         ];
         ev.sort_by(|a, b| a.1.total_cmp(&b.1));
         ev
@@ -752,7 +781,11 @@ mod tests {
         assert_relative_eq!(l.n0, V3::zeros(), epsilon = 1e-12);
         assert_relative_eq!(l.s_max, 25.44, epsilon = 1e-12);
         for phi in [0.0, 37.0, 180.0, 271.5] {
-            assert_relative_eq!(l.travel(phi), 12.72 * (1.0 + f64::to_radians(phi).cos()), epsilon = 1e-12);
+            assert_relative_eq!(
+                l.travel(phi),
+                12.72 * (1.0 + f64::to_radians(phi).cos()),
+                epsilon = 1e-12
+            );
         }
         assert!(l.off_line_mm < 1e-12);
         assert_relative_eq!(l.l_m, 2.5 / 20f64.to_radians().cos(), epsilon = 1e-15);
@@ -770,7 +803,11 @@ mod tests {
         // Both roots at the hole bottom (origin), loop straight below at y = 0:
         // two legs of √(1 + 6.5²) and the half circle π.
         let o = V3::zeros();
-        assert_relative_eq!(loop_length(&sec, 0.0, 0.0, &o, &o), 2.0 * 1f64.hypot(6.5) + PI, epsilon = 1e-12);
+        assert_relative_eq!(
+            loop_length(&sec, 0.0, 0.0, &o, &o),
+            2.0 * 1f64.hypot(6.5) + PI,
+            epsilon = 1e-12
+        );
         // Carried 3 mm across and 0.5 along the seam; R1 at the eye below the plate.
         let r1 = V3::new(0.0, 0.0, -10.0);
         let want = 3f64.hypot(0.5 + 1.0).hypot(3.5) + PI + 3f64.hypot(0.5).hypot(6.5);

@@ -99,12 +99,17 @@ impl EdgeSeam {
             return err(format!("the overedge width a_e = {a_e} mm must be > 0 (e.g. 4)"));
         }
         if !(0.0..=1.0).contains(&e) {
-            return err(format!("the edge split e = {e} must be in [0, 1] (0.5: the threads meet mid-edge)"));
+            return err(format!(
+                "the edge split e = {e} must be in [0, 1] (0.5: the threads meet mid-edge)"
+            ));
         }
         let line = needle.line.clone();
         Ok(EdgeSeam {
             stitch,
-            slab: Slab { x_edge: line.x_j + a_e, m },
+            slab: Slab {
+                x_edge: line.x_j + a_e,
+                m,
+            },
             line,
             feed: needle.feed.clone(),
             m,
@@ -129,7 +134,11 @@ impl EdgeSeam {
         (needle, phi_drop): (&str, f64),
         phi_draw_in: f64,
     ) -> Result<(), Error> {
-        for (what, v) in [("stab φ3", phi_stab), (release_name, phi_release), ("draw_in φ5", phi_draw_in)] {
+        for (what, v) in [
+            ("stab φ3", phi_stab),
+            (release_name, phi_release),
+            ("draw_in φ5", phi_draw_in),
+        ] {
             if !(v.is_finite() && (0.0..360.0).contains(&v)) {
                 return Err(self.err(format!("the moment {what} = {v}° is not in [0°, 360°)")));
             }
@@ -208,7 +217,11 @@ impl EdgeSeam {
     /// G(φ): the needle node for the looper threads, the needle line at the
     /// needle point's height or at the material top (§5.4).
     pub fn g(&self, phi: f64) -> V3<f64> {
-        V3::new(self.line.x_j, self.line.n0.y, self.line.point_z(phi, self.d_point).max(self.m))
+        V3::new(
+            self.line.x_j,
+            self.line.n0.y,
+            self.line.point_z(phi, self.d_point).max(self.m),
+        )
     }
 
     /// The thread on the top face cut at a lock φ_L, from the final nodes:
@@ -234,7 +247,9 @@ impl EdgeSeam {
     ) -> Result<PickUp, Error> {
         let [w0, w1] = window;
         if !(w0.is_finite() && w1.is_finite() && 0.0 <= w0 && w0 < w1 && w1 <= 360.0) {
-            return Err(self.err(format!("the pick-up window [{w0}°, {w1}°] must satisfy 0° ≤ from < to ≤ 360°")));
+            return Err(self.err(format!(
+                "the pick-up window [{w0}°, {w1}°] must satisfy 0° ≤ from < to ≤ 360°"
+            )));
         }
         let delta = (w0 + PICK_STEP_DEG) - w0;
         let n = ((w1 - w0) / PICK_STEP_DEG).ceil() as usize;
@@ -243,7 +258,9 @@ impl EdgeSeam {
             let phi = w0 + i as f64 * delta;
             let (from, to) = ends(phi);
             let path = self.path(&from, &to, phi, what)?;
-            let Some((d, c)) = polyline_nearest(path.nodes(), &organ.at(phi)) else { continue };
+            let Some((d, c)) = polyline_nearest(path.nodes(), &organ.at(phi)) else {
+                continue;
+            };
             if best.is_none_or(|(bd, _, _)| d < bd) {
                 best = Some((d, phi, c));
             }
@@ -251,7 +268,11 @@ impl EdgeSeam {
         let Some((hook_offset_mm, phi, c)) = best else {
             return Err(self.err(format!("the pick-up window [{w0}°, {w1}°] is empty")));
         };
-        Ok(PickUp { phi, hook_offset_mm, offset: c - organ.at(phi) })
+        Ok(PickUp {
+            phi,
+            hook_offset_mm,
+            offset: c - organ.at(phi),
+        })
     }
 }
 
@@ -333,7 +354,12 @@ impl Overedge {
         let mo = spec.moments;
         let (phi_stab, phi_release, phi_draw_in) = (mo.stab_deg, mo.upper_release_deg, mo.draw_in_deg);
         let phi_drop = needle.phi_drop;
-        seam.check_moments(phi_stab, ("upper_release φ_UD", phi_release), (&needle.name, phi_drop), phi_draw_in)?;
+        seam.check_moments(
+            phi_stab,
+            ("upper_release φ_UD", phi_release),
+            (&needle.name, phi_drop),
+            phi_draw_in,
+        )?;
         let mut ov = Overedge {
             seam,
             phi_stab,
@@ -358,9 +384,12 @@ impl Overedge {
 
         // Pick-up φ_UC (§4.5): closest approach of UE to the lower thread's
         // path W(LE, K_{c−1}).
-        let pick = seam.pick_up(&ov.upper_eye, upper.pick_window_deg, "the lower thread LE → K_{c−1}", |phi| {
-            (ov.lower_eye.at(phi), seam.k_pt(-1, phi))
-        })?;
+        let pick = seam.pick_up(
+            &ov.upper_eye,
+            upper.pick_window_deg,
+            "the lower thread LE → K_{c−1}",
+            |phi| (ov.lower_eye.at(phi), seam.k_pt(-1, phi)),
+        )?;
         let (phi_pick, hook) = (pick.phi, pick.hook_offset_mm);
         if phi_pick >= phi_release {
             return stitch_err(format!(
@@ -379,7 +408,11 @@ impl Overedge {
             ));
         }
         for phi in inside_scan().filter(|&phi| phi_pick <= phi && phi <= phi_release) {
-            ov.seam.check_outside("the upper looper's hook Q_U (the lower thread's bight)", &ov.q_u(phi), phi)?;
+            ov.seam.check_outside(
+                "the upper looper's hook Q_U (the lower thread's bight)",
+                &ov.q_u(phi),
+                phi,
+            )?;
         }
         // The released bight settles along W to its final place E_c (§4.6).
         let from = ov.q_u(phi_release);
@@ -428,13 +461,23 @@ impl Overedge {
 
     pub fn lower_piece(&self, phi: f64, side: Side) -> LowerPiece {
         use LowerPiece::*;
-        let ends = [(self.phi_pick, L1), (self.phi_release, L2), (self.phi_drop, L3), (self.phi_draw_in, L4)];
+        let ends = [
+            (self.phi_pick, L1),
+            (self.phi_release, L2),
+            (self.phi_drop, L3),
+            (self.phi_draw_in, L4),
+        ];
         piece_at(phi, side, &ends, L5)
     }
 
     pub fn upper_piece(&self, phi: f64, side: Side) -> UpperPiece {
         use UpperPiece::*;
-        piece_at(phi, side, &[(self.phi_stab, U1), (self.phi_release, U2), (self.phi_draw_in, U3)], U4)
+        piece_at(
+            phi,
+            side,
+            &[(self.phi_stab, U1), (self.phi_release, U2), (self.phi_draw_in, U3)],
+            U4,
+        )
     }
 
     /// η of the lower-looper thread: from its eye LE to the anchor
@@ -511,10 +554,22 @@ impl Overedge {
     pub fn lower_events(&self) -> Vec<(String, f64, EventKind)> {
         let mut ev = vec![
             ("transport start".to_string(), self.seam.feed.start_deg, EventKind::Cont),
-            ("upper looper picks lower thread (φ_UC, derived)".to_string(), self.phi_pick, EventKind::Cont),
+            (
+                "upper looper picks lower thread (φ_UC, derived)".to_string(),
+                self.phi_pick,
+                EventKind::Cont,
+            ),
             ("transport end".to_string(), self.seam.feed.end_deg(), EventKind::Cont),
-            ("upper looper releases bight (φ_UD)".to_string(), self.phi_release, EventKind::Cont),
-            ("needle loop drops (φ4): draw-in starts".to_string(), self.phi_drop, EventKind::Cont),
+            (
+                "upper looper releases bight (φ_UD)".to_string(),
+                self.phi_release,
+                EventKind::Cont,
+            ),
+            (
+                "needle loop drops (φ4): draw-in starts".to_string(),
+                self.phi_drop,
+                EventKind::Cont,
+            ),
             ("drawn in = lock (φ5)".to_string(), self.phi_draw_in, EventKind::Lock),
         ];
         ev.sort_by(|a, b| a.1.total_cmp(&b.1));
@@ -526,8 +581,16 @@ impl Overedge {
         let mut ev = vec![
             ("transport start".to_string(), self.seam.feed.start_deg, EventKind::Cont),
             ("transport end".to_string(), self.seam.feed.end_deg(), EventKind::Cont),
-            ("stab: needle takes the upper thread (φ3)".to_string(), self.phi_stab, EventKind::Jump),
-            ("lower bight joins the upper thread (φ_UD)".to_string(), self.phi_release, EventKind::Jump),
+            (
+                "stab: needle takes the upper thread (φ3)".to_string(),
+                self.phi_stab,
+                EventKind::Jump,
+            ),
+            (
+                "lower bight joins the upper thread (φ_UD)".to_string(),
+                self.phi_release,
+                EventKind::Jump,
+            ),
             ("lock (φ5)".to_string(), self.phi_draw_in, EventKind::Lock),
         ];
         ev.sort_by(|a, b| a.1.total_cmp(&b.1));

@@ -119,7 +119,12 @@ impl Overedge503 {
         let mo = spec.moments;
         let (phi_stab, phi_release, phi_draw_in) = (mo.stab_deg, mo.upper_release_deg, mo.draw_in_deg);
         let phi_drop = needle.phi_drop;
-        seam.check_moments(phi_stab, ("spreader_release φ_SD", phi_release), (&needle.name, phi_drop), phi_draw_in)?;
+        seam.check_moments(
+            phi_stab,
+            ("spreader_release φ_SD", phi_release),
+            (&needle.name, phi_drop),
+            phi_draw_in,
+        )?;
         let lower_eye = spec.looper.eye.clone();
         let spreader_point = spreader.eye.clone();
 
@@ -131,9 +136,12 @@ impl Overedge503 {
 
         // Pick-up φ_SC (§4.5): closest approach of the spreader to the
         // looper thread W(LE, H̄_c^t).
-        let pick = seam.pick_up(&spreader_point, spreader.pick_window_deg, "the looper thread LE → H̄_c^t", |phi| {
-            (lower_eye.at(phi), seam.ht(0, phi))
-        })?;
+        let pick = seam.pick_up(
+            &spreader_point,
+            spreader.pick_window_deg,
+            "the looper thread LE → H̄_c^t",
+            |phi| (lower_eye.at(phi), seam.ht(0, phi)),
+        )?;
         let (phi_pick, hook) = (pick.phi, pick.hook_offset_mm);
         if phi_pick >= phi_stab {
             return Err(seam.err(format!(
@@ -213,7 +221,13 @@ impl Overedge503 {
 
     pub fn looper_piece(&self, phi: f64, side: Side) -> LooperPiece {
         use LooperPiece::*;
-        let ends = [(self.phi_pick, S1), (self.phi_stab, S2), (self.phi_release, S3a), (self.phi_drop, S3b), (self.phi_draw_in, S4)];
+        let ends = [
+            (self.phi_pick, S1),
+            (self.phi_stab, S2),
+            (self.phi_release, S3a),
+            (self.phi_drop, S3b),
+            (self.phi_draw_in, S4),
+        ];
         piece_at(phi, side, &ends, S5)
     }
 
@@ -227,7 +241,9 @@ impl Overedge503 {
                 // along the top face to hole c−1.
                 let (l_m, t) = (self.needle.line.l_m, self.seam.t);
                 let (_, h_b) = self.needle.hole_c(phi);
-                let legs = self.seam.w(&h_b, &self.b_c(phi), phi, "the needle loop's legs H_c^b → B_c")?;
+                let legs = self
+                    .seam
+                    .w(&h_b, &self.b_c(phi), phi, "the needle loop's legs H_c^b → B_c")?;
                 Ok(self.needle.head(phi) + l_m + 2.0 * legs + l_m + t)
             }
         }
@@ -289,13 +305,19 @@ impl Overedge503 {
             .events()
             .into_iter()
             .map(|e| match e.2 {
-                EventKind::Lock => {
-                    ("drop (φ4): the loop slides onto the looper thread".to_string(), e.1, EventKind::Jump)
-                }
+                EventKind::Lock => (
+                    "drop (φ4): the loop slides onto the looper thread".to_string(),
+                    e.1,
+                    EventKind::Jump,
+                ),
                 _ => e,
             })
             .collect();
-        ev.push(("drawn to the edge = lock (φ5)".to_string(), self.phi_draw_in, EventKind::Lock));
+        ev.push((
+            "drawn to the edge = lock (φ5)".to_string(),
+            self.phi_draw_in,
+            EventKind::Lock,
+        ));
         ev.sort_by(|a, b| a.1.total_cmp(&b.1));
         ev
     }
@@ -303,12 +325,28 @@ impl Overedge503 {
     /// The looper thread's moments in φ_c order (§5.6).
     pub fn looper_events(&self) -> Vec<(String, f64, EventKind)> {
         let mut ev = vec![
-            ("spreader picks the looper thread (φ_SC, derived)".to_string(), self.phi_pick, EventKind::Cont),
+            (
+                "spreader picks the looper thread (φ_SC, derived)".to_string(),
+                self.phi_pick,
+                EventKind::Cont,
+            ),
             ("transport start".to_string(), self.seam.feed.start_deg, EventKind::Cont),
             ("transport end".to_string(), self.seam.feed.end_deg(), EventKind::Cont),
-            ("stab: needle enters the spreader's triangle (φ3)".to_string(), self.phi_stab, EventKind::Jump),
-            ("spreader releases the looper thread (φ_SD)".to_string(), self.phi_release, EventKind::Jump),
-            ("needle loop drops onto the looper thread (φ4)".to_string(), self.phi_drop, EventKind::Jump),
+            (
+                "stab: needle enters the spreader's triangle (φ3)".to_string(),
+                self.phi_stab,
+                EventKind::Jump,
+            ),
+            (
+                "spreader releases the looper thread (φ_SD)".to_string(),
+                self.phi_release,
+                EventKind::Jump,
+            ),
+            (
+                "needle loop drops onto the looper thread (φ4)".to_string(),
+                self.phi_drop,
+                EventKind::Jump,
+            ),
             ("drawn in = lock (φ5)".to_string(), self.phi_draw_in, EventKind::Lock),
         ];
         ev.sort_by(|a, b| a.1.total_cmp(&b.1));
@@ -355,7 +393,10 @@ mod tests {
         assert!((o.hook_offset_mm - 0.304).abs() < 5e-4, "{}", o.hook_offset_mm);
         assert!(o.warnings.is_empty(), "{:?}", o.warnings);
         // The catching point lies on the thread at φ_SC: S2 starts continuously.
-        let (l, r) = (o.eta_looper(o.phi_pick, Side::Left).unwrap(), o.eta_looper(o.phi_pick, Side::Right).unwrap());
+        let (l, r) = (
+            o.eta_looper(o.phi_pick, Side::Left).unwrap(),
+            o.eta_looper(o.phi_pick, Side::Right).unwrap(),
+        );
         assert!((r - l).abs() < 1e-9, "{}", r - l);
         // At the stab the hook is above the material and past the needle line.
         let q = o.q_s(o.phi_stab);
@@ -427,7 +468,10 @@ mod tests {
         let n = NeedleThread::new(&s.needles[0], &s.looper, s.m_mm, s.tilt_deg, feed).unwrap();
         s.moments.upper_release_deg = 310.0; // after the drop
         let err = Overedge503::new(&s, &n).unwrap_err().to_string();
-        assert!(err.contains("stitch 503") && err.contains("spreader_release φ_SD") && err.contains("ordered"), "{err}");
+        assert!(
+            err.contains("stitch 503") && err.contains("spreader_release φ_SD") && err.contains("ordered"),
+            "{err}"
+        );
         s.spreader = None;
         let err = Overedge503::new(&s, &n).unwrap_err().to_string();
         assert!(err.contains("[stitch.spreader]"), "{err}");

@@ -14,7 +14,9 @@ use super::feed::Feed;
 use super::needle_thread::{NeedleThread, Side};
 use super::overedge::Overedge;
 use super::overedge503::Overedge503;
-use super::spec::{Event, EventKind, Motion, Regulator, RequiredTakeUp, RequiredThread, StitchSpec, StitchType, ThreadRole};
+use super::spec::{
+    Event, EventKind, Motion, Regulator, RequiredTakeUp, RequiredThread, StitchSpec, StitchType, ThreadRole,
+};
 
 /// One thread's contour, for the common bookkeeping.
 enum Contour<'a> {
@@ -115,13 +117,19 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
     let ty = spec.stitch_type;
     let (m, t, tilt) = (spec.m_mm, spec.t_mm, spec.tilt_deg);
     if !(m.is_finite() && m > 0.0) {
-        return Err(Error::Stitch(format!("the material thickness m = {m} mm must be > 0 (e.g. 2.5)")));
+        return Err(Error::Stitch(format!(
+            "the material thickness m = {m} mm must be > 0 (e.g. 2.5)"
+        )));
     }
     if !(tilt.is_finite() && tilt.abs() < 80.0) {
-        return Err(Error::Stitch(format!("the needle tilt β = {tilt}° must be between −80° and 80° (Altin: 20°)")));
+        return Err(Error::Stitch(format!(
+            "the needle tilt β = {tilt}° must be between −80° and 80° (Altin: 20°)"
+        )));
     }
     if let Some(bad) = phis_c_deg.iter().chain([&phi0_c_deg]).find(|p| !p.is_finite()) {
-        return Err(Error::Stitch(format!("the angle φ_c = {bad} is not a number; give finite angles in degrees")));
+        return Err(Error::Stitch(format!(
+            "the angle φ_c = {bad} is not a number; give finite angles in degrees"
+        )));
     }
     if spec.needles.len() != ty.needles() {
         return Err(Error::Stitch(format!(
@@ -168,15 +176,29 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
         edge_fraction: if overedge { spec.edge_split } else { 0.5 },
     };
     let per_stitch = consumption(ty.number(), &geometry)?;
-    let formula = |thread: &str| per_stitch.threads.iter().find(|c| c.thread == thread).and_then(|c| c.length_mm);
+    let formula = |thread: &str| {
+        per_stitch
+            .threads
+            .iter()
+            .find(|c| c.thread == thread)
+            .and_then(|c| c.length_mm)
+    };
 
     let needles = spec
         .needles
         .iter()
         .map(|n| NeedleThread::new(n, &spec.looper, m, tilt, feed.clone()))
         .collect::<Result<Vec<_>, _>>()?;
-    let ov = if ty == StitchType::S504 { Some(Overedge::new(spec, &needles[0])?) } else { None };
-    let ov503 = if ty == StitchType::S503 { Some(Overedge503::new(spec, &needles[0])?) } else { None };
+    let ov = if ty == StitchType::S504 {
+        Some(Overedge::new(spec, &needles[0])?)
+    } else {
+        None
+    };
+    let ov503 = if ty == StitchType::S503 {
+        Some(Overedge503::new(spec, &needles[0])?)
+    } else {
+        None
+    };
 
     // Needles in order, then the looper threads (the order of the model's
     // `StitchSetup::paths`).
@@ -185,7 +207,10 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
             (o.needle.name.clone(), ThreadRole::Needle, 3, Contour::Needle503(o)),
             ("looper".into(), ThreadRole::LowerLooper, 10, Contour::Looper503(o)),
         ],
-        None => needles.iter().map(|n| (n.name.clone(), ThreadRole::Needle, 1, Contour::Needle(n))).collect(),
+        None => needles
+            .iter()
+            .map(|n| (n.name.clone(), ThreadRole::Needle, 1, Contour::Needle(n)))
+            .collect(),
     };
     if let Some(o) = &ov {
         contours.push(("lower".into(), ThreadRole::LowerLooper, 13, Contour::Lower(o)));
@@ -202,15 +227,26 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
             ThreadRole::UpperLooper => formula("upper looper"),
         }
         .ok_or_else(|| Error::Stitch(format!("thread {name}: no per-stitch formula for contour {contour}")))?;
-        let eta_mm = phis.iter().map(|&p| c.eta(p, Side::Right)).collect::<Result<Vec<_>, _>>()?;
+        let eta_mm = phis
+            .iter()
+            .map(|&p| c.eta(p, Side::Right))
+            .collect::<Result<Vec<_>, _>>()?;
         let eta0 = c.eta(phi0, Side::Right)?;
         let lock = c.lock();
         // A needle thread's stitch is pulled tight as the needle reaches
         // TDC, a looper thread's at its draw-in (its lock).
-        let tight = if *role == ThreadRole::Needle { needles[0].line.phi_tdc } else { lock };
-        let window = regulator_window(spec.regulator, tight, phi0).map_err(|e| Error::Stitch(format!("thread {name}: {e}")))?;
-        let pprime_mm: Vec<f64> =
-            eta_mm.iter().zip(&phis).map(|(e, &p)| e - eta0 + regulator_shift(window, per_stitch_mm, lock, phi0, p)).collect();
+        let tight = if *role == ThreadRole::Needle {
+            needles[0].line.phi_tdc
+        } else {
+            lock
+        };
+        let window =
+            regulator_window(spec.regulator, tight, phi0).map_err(|e| Error::Stitch(format!("thread {name}: {e}")))?;
+        let pprime_mm: Vec<f64> = eta_mm
+            .iter()
+            .zip(&phis)
+            .map(|(e, &p)| e - eta0 + regulator_shift(window, per_stitch_mm, lock, phi0, p))
+            .collect();
         let events = c
             .events()
             .into_iter()
@@ -272,7 +308,11 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
     if let Some(o) = &ov503 {
         warnings.extend(o.warnings.iter().cloned());
     }
-    Ok(RequiredTakeUp { threads, moments, warnings })
+    Ok(RequiredTakeUp {
+        threads,
+        moments,
+        warnings,
+    })
 }
 
 /// A thread's regulator window, φ_c [from, to] deg with from in [0, 360)
@@ -333,7 +373,11 @@ fn check_motion(organ: &str, motion: &Motion) -> Result<(), Error> {
     let bad = |what: String| Err(Error::Stitch(format!("{organ}: {what}")));
     let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
     match motion {
-        Motion::Table { start_deg, step_deg, points } => {
+        Motion::Table {
+            start_deg,
+            step_deg,
+            points,
+        } => {
             if points.is_empty() || !(step_deg.is_finite() && *step_deg > 0.0) || !start_deg.is_finite() {
                 return bad(format!(
                     "the motion table ({} points, step {step_deg}°) is empty or has no positive step",
@@ -354,19 +398,44 @@ fn check_motion(organ: &str, motion: &Motion) -> Result<(), Error> {
                 ));
             }
         }
-        Motion::NeedleLaw { x_mm, eye_above_plate_mm, stroke_mm, bdc_deg, tilt_deg } => {
+        Motion::NeedleLaw {
+            x_mm,
+            eye_above_plate_mm,
+            stroke_mm,
+            bdc_deg,
+            tilt_deg,
+        } => {
             if !finite(&[*x_mm, *eye_above_plate_mm, *stroke_mm, *bdc_deg, *tilt_deg]) || *stroke_mm <= 0.0 {
                 return bad("the needle law needs finite numbers and a positive stroke".into());
             }
         }
-        Motion::LooperLaw { stroke_mm, far_deg, catch_deg, catch_x_mm, y0_mm, avoid_mm, depth_mm } => {
-            if !finite(&[*stroke_mm, *far_deg, *catch_deg, *catch_x_mm, *y0_mm, *avoid_mm, *depth_mm])
-                || *stroke_mm <= 0.0
+        Motion::LooperLaw {
+            stroke_mm,
+            far_deg,
+            catch_deg,
+            catch_x_mm,
+            y0_mm,
+            avoid_mm,
+            depth_mm,
+        } => {
+            if !finite(&[
+                *stroke_mm,
+                *far_deg,
+                *catch_deg,
+                *catch_x_mm,
+                *y0_mm,
+                *avoid_mm,
+                *depth_mm,
+            ]) || *stroke_mm <= 0.0
             {
                 return bad("the looper law needs finite numbers and a positive stroke".into());
             }
         }
-        Motion::PolylineLaw { points, low_deg, high_deg } => {
+        Motion::PolylineLaw {
+            points,
+            low_deg,
+            high_deg,
+        } => {
             let up = (high_deg - low_deg).rem_euclid(360.0);
             if points.is_empty() || !finite(&[*low_deg, *high_deg]) || up == 0.0 {
                 return bad(format!(
@@ -385,16 +454,31 @@ fn check_motion(organ: &str, motion: &Motion) -> Result<(), Error> {
 
 /// No NaN or infinity leaves: name the thread and φ instead.
 fn check_finite(th: &RequiredThread, phis: &[f64]) -> Result<(), Error> {
-    let series = [Some(&th.eta_mm), Some(&th.pprime_mm), th.travel_mm.as_ref(), th.gamma_deg.as_ref(), th.loop_mm.as_ref()];
+    let series = [
+        Some(&th.eta_mm),
+        Some(&th.pprime_mm),
+        th.travel_mm.as_ref(),
+        th.gamma_deg.as_ref(),
+        th.loop_mm.as_ref(),
+    ];
     for s in series.into_iter().flatten() {
         if let Some(k) = s.iter().position(|v| !v.is_finite()) {
-            return Err(Error::Stitch(format!("thread {}: η is not finite at φ_c = {:.2}°", th.name, phis[k])));
+            return Err(Error::Stitch(format!(
+                "thread {}: η is not finite at φ_c = {:.2}°",
+                th.name, phis[k]
+            )));
         }
     }
     let scalars = [th.per_stitch_mm, th.cut_mm, th.released_mm, th.snap_mm, th.lock_deg];
-    let events = th.events.iter().flat_map(|e| [e.eta_left_mm, e.eta_right_mm, e.phi_c_deg]);
+    let events = th
+        .events
+        .iter()
+        .flat_map(|e| [e.eta_left_mm, e.eta_right_mm, e.phi_c_deg]);
     if scalars.into_iter().chain(events).any(|v| !v.is_finite()) {
-        return Err(Error::Stitch(format!("thread {}: a lock or event value is not finite", th.name)));
+        return Err(Error::Stitch(format!(
+            "thread {}: a lock or event value is not finite",
+            th.name
+        )));
     }
     Ok(())
 }
@@ -437,14 +521,22 @@ mod tests {
         assert_relative_eq!(needle.released_mm, 17.749, epsilon = 5e-4);
         assert_relative_eq!(needle.travel_mm.as_ref().unwrap()[0], 25.44, epsilon = 1e-12);
         assert_eq!(needle.piece, ["N1", "N2a", "N3b"]);
-        assert!(r.moments.iter().any(|(n, p)| n.contains("φ_UC") && (p - 126.6).abs() < 1e-9));
+        assert!(
+            r.moments
+                .iter()
+                .any(|(n, p)| n.contains("φ_UC") && (p - 126.6).abs() < 1e-9)
+        );
     }
 
     #[test]
     fn the_407_has_three_needle_threads() {
         let r = required_take_up(&mf7923d_407(), &[180.0], 180.0).unwrap();
         assert_eq!(r.threads.len(), 3);
-        assert!(r.threads.iter().all(|t| t.role == ThreadRole::Needle && t.per_stitch_mm == 9.0));
+        assert!(
+            r.threads
+                .iter()
+                .all(|t| t.role == ThreadRole::Needle && t.per_stitch_mm == 9.0)
+        );
         assert!(r.warnings.is_empty(), "{:?}", r.warnings);
     }
 
@@ -452,7 +544,13 @@ mod tests {
     fn altin503_has_a_needle_and_a_looper_thread_locked_at_the_draw_in() {
         let r = required_take_up(&altin503(), &[0.0, 315.0, 359.999_999_999], 0.0).unwrap();
         let names: Vec<_> = r.threads.iter().map(|t| (t.name.as_str(), t.role, t.contour)).collect();
-        assert_eq!(names, [("needle", ThreadRole::Needle, 3), ("looper", ThreadRole::LowerLooper, 10)]);
+        assert_eq!(
+            names,
+            [
+                ("needle", ThreadRole::Needle, 3),
+                ("looper", ThreadRole::LowerLooper, 10)
+            ]
+        );
         assert!(r.warnings.is_empty(), "{:?}", r.warnings);
         for th in &r.threads {
             assert_relative_eq!(th.cut_mm, th.per_stitch_mm, epsilon = 1e-12);
@@ -465,31 +563,93 @@ mod tests {
         assert_eq!(r.threads[1].piece, ["S1", "S4", "S5"]);
         assert!(r.threads[0].travel_mm.is_some() && r.threads[1].travel_mm.is_none());
         // 18.621 + 11.383 = 30.004 mm per stitch (§6.3).
-        assert_relative_eq!(r.threads[0].per_stitch_mm + r.threads[1].per_stitch_mm, 30.0035111, epsilon = 1e-6);
-        assert!(r.moments.iter().any(|(n, p)| n.contains("φ_SC") && (p - 143.7).abs() < 1e-9));
+        assert_relative_eq!(
+            r.threads[0].per_stitch_mm + r.threads[1].per_stitch_mm,
+            30.0035111,
+            epsilon = 1e-6
+        );
+        assert!(
+            r.moments
+                .iter()
+                .any(|(n, p)| n.contains("φ_SC") && (p - 143.7).abs() < 1e-9)
+        );
         assert!(r.moments.iter().any(|(n, p)| n.contains("lock (φ5)") && *p == 330.0));
         // A 503 without its spreader is an error that says what to add.
-        let err = required_take_up(&StitchSpec { spreader: None, ..altin503() }, &[0.0], 0.0).unwrap_err();
-        assert!(matches!(&err, Error::Stitch(m) if m.contains("503") && m.contains("[stitch.spreader]")), "{err}");
+        let err = required_take_up(
+            &StitchSpec {
+                spreader: None,
+                ..altin503()
+            },
+            &[0.0],
+            0.0,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(&err, Error::Stitch(m) if m.contains("503") && m.contains("[stitch.spreader]")),
+            "{err}"
+        );
     }
 
     #[test]
     fn bad_input_is_an_error_not_a_panic() {
         let s = altin504();
         assert!(required_take_up(&s, &[f64::NAN], 0.0).is_err());
-        assert!(required_take_up(&StitchSpec { m_mm: -1.0, ..s.clone() }, &[0.0], 0.0).is_err());
-        assert!(required_take_up(&StitchSpec { needles: vec![], ..s.clone() }, &[0.0], 0.0).is_err());
-        let err = required_take_up(&StitchSpec { a_e_mm: 0.0, ..s.clone() }, &[0.0], 0.0).unwrap_err();
+        assert!(
+            required_take_up(
+                &StitchSpec {
+                    m_mm: -1.0,
+                    ..s.clone()
+                },
+                &[0.0],
+                0.0
+            )
+            .is_err()
+        );
+        assert!(
+            required_take_up(
+                &StitchSpec {
+                    needles: vec![],
+                    ..s.clone()
+                },
+                &[0.0],
+                0.0
+            )
+            .is_err()
+        );
+        let err = required_take_up(
+            &StitchSpec {
+                a_e_mm: 0.0,
+                ..s.clone()
+            },
+            &[0.0],
+            0.0,
+        )
+        .unwrap_err();
         assert!(matches!(&err, Error::Stitch(m) if m.contains("a_e")), "{err}");
-        let err = required_take_up(&StitchSpec { edge_split: 1.5, ..s.clone() }, &[0.0], 0.0).unwrap_err();
+        let err = required_take_up(
+            &StitchSpec {
+                edge_split: 1.5,
+                ..s.clone()
+            },
+            &[0.0],
+            0.0,
+        )
+        .unwrap_err();
         assert!(matches!(&err, Error::Stitch(m) if m.contains("edge split")), "{err}");
         let mut empty_table = s.clone();
-        empty_table.needles[0].eye = Motion::Table { start_deg: 0.0, step_deg: 0.01, points: Vec::new().into() };
+        empty_table.needles[0].eye = Motion::Table {
+            start_deg: 0.0,
+            step_deg: 0.01,
+            points: Vec::new().into(),
+        };
         let err = required_take_up(&empty_table, &[0.0], 0.0).unwrap_err().to_string();
         assert!(err.contains("needle needle: the eye") && err.contains("empty"), "{err}");
         let mut short_table = s.clone();
-        short_table.needles[0].eye =
-            Motion::Table { start_deg: 0.0, step_deg: 1.0, points: vec![crate::geometry::V3::zeros(); 90].into() };
+        short_table.needles[0].eye = Motion::Table {
+            start_deg: 0.0,
+            step_deg: 1.0,
+            points: vec![crate::geometry::V3::zeros(); 90].into(),
+        };
         let err = required_take_up(&short_table, &[0.0], 0.0).unwrap_err().to_string();
         assert!(err.contains("one cycle"), "{err}");
         let mut no_upper = s.clone();

@@ -18,7 +18,10 @@ pub fn altin504(m: f64, t: f64) -> StitchSpec {
         tilt_deg: 20.0,
         a_e_mm: 4.0,
         edge_split: 0.5,
-        feed: FeedLaw::Harmonic { start_deg: 134.0, duration_deg: 100.0 },
+        feed: FeedLaw::Harmonic {
+            start_deg: 134.0,
+            duration_deg: 100.0,
+        },
         needles: vec![NeedleSpec {
             name: "needle".into(),
             eye: Motion::NeedleLaw {
@@ -49,14 +52,22 @@ pub fn altin504(m: f64, t: f64) -> StitchSpec {
         },
         upper_looper: Some(UpperLooperSpec {
             eye: Motion::PolylineLaw {
-                points: Arc::from(vec![V3::new(13.0, 1.0, -6.0), V3::new(5.5, 0.0, 4.0), V3::new(-1.0, -1.0, 4.0)]),
+                points: Arc::from(vec![
+                    V3::new(13.0, 1.0, -6.0),
+                    V3::new(5.5, 0.0, 4.0),
+                    V3::new(-1.0, -1.0, 4.0),
+                ]),
                 low_deg: 110.0,
                 high_deg: 270.0,
             },
             pick_window_deg: [120.0, 200.0],
         }),
         spreader: None,
-        moments: Moments { stab_deg: 270.0, upper_release_deg: 290.0, draw_in_deg: 330.0 },
+        moments: Moments {
+            stab_deg: 270.0,
+            upper_release_deg: 290.0,
+            draw_in_deg: 330.0,
+        },
         regulator: Regulator::AtLock,
     }
 }
@@ -70,7 +81,11 @@ pub fn altin503(m: f64, t: f64) -> StitchSpec {
         upper_looper: None,
         spreader: Some(SpreaderSpec {
             eye: Motion::PolylineLaw {
-                points: Arc::from(vec![V3::new(11.0, 1.5, -3.0), V3::new(5.5, 0.0, 4.0), V3::new(-1.0, -1.0, 4.0)]),
+                points: Arc::from(vec![
+                    V3::new(11.0, 1.5, -3.0),
+                    V3::new(5.5, 0.0, 4.0),
+                    V3::new(-1.0, -1.0, 4.0),
+                ]),
                 low_deg: 110.0,
                 high_deg: 270.0,
             },
@@ -92,11 +107,16 @@ pub fn slider_crank_travel(phi_machine_deg: f64) -> f64 {
 pub fn mf7923d_407(m: f64, t: f64) -> StitchSpec {
     let needle = |name: &str, x: f64| {
         // The eye tabulated at 0.01° of φ_c (machine φ = φ_c + 180°), s_B = 20.5.
-        let points: Vec<V3<f64>> =
-            (0..36_000).map(|k| V3::new(x, 0.0, 20.5 - slider_crank_travel(k as f64 * 0.01 + 180.0))).collect();
+        let points: Vec<V3<f64>> = (0..36_000)
+            .map(|k| V3::new(x, 0.0, 20.5 - slider_crank_travel(k as f64 * 0.01 + 180.0)))
+            .collect();
         NeedleSpec {
             name: name.into(),
-            eye: Motion::Table { start_deg: 0.0, step_deg: 0.01, points: Arc::from(points) },
+            eye: Motion::Table {
+                start_deg: 0.0,
+                step_deg: 0.01,
+                points: Arc::from(points),
+            },
             point_below_eye_mm: 2.0,
             catch_deg: None,
             drop_deg: None,
@@ -109,7 +129,10 @@ pub fn mf7923d_407(m: f64, t: f64) -> StitchSpec {
         tilt_deg: 0.0,
         a_e_mm: 0.0,
         edge_split: 0.5,
-        feed: FeedLaw::Harmonic { start_deg: 130.0, duration_deg: 100.0 },
+        feed: FeedLaw::Harmonic {
+            start_deg: 130.0,
+            duration_deg: 100.0,
+        },
         needles: vec![needle("n1", -4.0), needle("n2", 0.0), needle("n3", 4.0)],
         looper: LooperSpec {
             eye: Motion::LooperLaw {
@@ -128,8 +151,11 @@ pub fn mf7923d_407(m: f64, t: f64) -> StitchSpec {
         },
         upper_looper: None,
         spreader: None,
-        moments: Moments { stab_deg: 270.0, upper_release_deg: 290.0, draw_in_deg: 330.0 },
+        moments: Moments {
+            stab_deg: 270.0,
+            upper_release_deg: 290.0,
+            draw_in_deg: 330.0,
+        },
         regulator: Regulator::AtLock,
     }
 }
-

@@ -71,25 +71,55 @@ pub enum FeedLaw {
 pub enum Motion {
     /// Samples at `start_deg + k·step_deg`, k = 0…n−1, covering one cycle
     /// (periodic: φ_c is wrapped into the table).
-    Table { start_deg: f64, step_deg: f64, points: Arc<[V3<f64>]> },
+    Table {
+        start_deg: f64,
+        step_deg: f64,
+        points: Arc<[V3<f64>]>,
+    },
     /// Stand-in needle eye: `N = (x, 0, 0) + (s_B − S)·u_n` with
     /// `S = stroke/2·(1 + cos(φ_c − bdc))` and `u_n = (0, −sin β, cos β)`.
-    NeedleLaw { x_mm: f64, eye_above_plate_mm: f64, stroke_mm: f64, bdc_deg: f64, tilt_deg: f64 },
+    NeedleLaw {
+        x_mm: f64,
+        eye_above_plate_mm: f64,
+        stroke_mm: f64,
+        bdc_deg: f64,
+        tilt_deg: f64,
+    },
     /// Stand-in looper eye (catching point):
     /// `x = x_c − stroke/2·cos(φ_c − far + 180°)`, with `x_c` such that
     /// x = `catch_x_mm` at `catch_deg`; `y = y0 − avoid·sin(φ_c)`; `z = −depth`.
-    LooperLaw { stroke_mm: f64, far_deg: f64, catch_deg: f64, catch_x_mm: f64, y0_mm: f64, avoid_mm: f64, depth_mm: f64 },
+    LooperLaw {
+        stroke_mm: f64,
+        far_deg: f64,
+        catch_deg: f64,
+        catch_x_mm: f64,
+        y0_mm: f64,
+        avoid_mm: f64,
+        depth_mm: f64,
+    },
     /// Stand-in upper looper or spreader: along a polyline, with harmonic
     /// progress from its first point at `low_deg` to its last at `high_deg`
     /// and back.
-    PolylineLaw { points: Arc<[V3<f64>]>, low_deg: f64, high_deg: f64 },
+    PolylineLaw {
+        points: Arc<[V3<f64>]>,
+        low_deg: f64,
+        high_deg: f64,
+    },
 }
 
 impl std::fmt::Debug for Motion {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Motion::Table { start_deg, step_deg, points } => {
-                write!(f, "Table {{ start_deg: {start_deg}, step_deg: {step_deg}, n: {} }}", points.len())
+            Motion::Table {
+                start_deg,
+                step_deg,
+                points,
+            } => {
+                write!(
+                    f,
+                    "Table {{ start_deg: {start_deg}, step_deg: {step_deg}, n: {} }}",
+                    points.len()
+                )
             }
             Motion::NeedleLaw { .. } | Motion::LooperLaw { .. } | Motion::PolylineLaw { .. } => {
                 f.write_str(match self {
@@ -108,18 +138,66 @@ impl PartialEq for Motion {
     fn eq(&self, other: &Self) -> bool {
         use Motion::*;
         match (self, other) {
-            (Table { start_deg: a, step_deg: b, points: p }, Table { start_deg: c, step_deg: d, points: q }) => a == c && b == d && p[..] == q[..],
             (
-                NeedleLaw { x_mm: a, eye_above_plate_mm: b, stroke_mm: c, bdc_deg: d, tilt_deg: e },
-                NeedleLaw { x_mm: f, eye_above_plate_mm: g, stroke_mm: h, bdc_deg: i, tilt_deg: j },
+                Table {
+                    start_deg: a,
+                    step_deg: b,
+                    points: p,
+                },
+                Table {
+                    start_deg: c,
+                    step_deg: d,
+                    points: q,
+                },
+            ) => a == c && b == d && p[..] == q[..],
+            (
+                NeedleLaw {
+                    x_mm: a,
+                    eye_above_plate_mm: b,
+                    stroke_mm: c,
+                    bdc_deg: d,
+                    tilt_deg: e,
+                },
+                NeedleLaw {
+                    x_mm: f,
+                    eye_above_plate_mm: g,
+                    stroke_mm: h,
+                    bdc_deg: i,
+                    tilt_deg: j,
+                },
             ) => [a, b, c, d, e] == [f, g, h, i, j],
             (
-                LooperLaw { stroke_mm: a, far_deg: b, catch_deg: c, catch_x_mm: d, y0_mm: e, avoid_mm: f, depth_mm: g },
-                LooperLaw { stroke_mm: h, far_deg: i, catch_deg: j, catch_x_mm: k, y0_mm: l, avoid_mm: m, depth_mm: n },
+                LooperLaw {
+                    stroke_mm: a,
+                    far_deg: b,
+                    catch_deg: c,
+                    catch_x_mm: d,
+                    y0_mm: e,
+                    avoid_mm: f,
+                    depth_mm: g,
+                },
+                LooperLaw {
+                    stroke_mm: h,
+                    far_deg: i,
+                    catch_deg: j,
+                    catch_x_mm: k,
+                    y0_mm: l,
+                    avoid_mm: m,
+                    depth_mm: n,
+                },
             ) => [a, b, c, d, e, f, g] == [h, i, j, k, l, m, n],
-            (PolylineLaw { points: p, low_deg: a, high_deg: b }, PolylineLaw { points: q, low_deg: c, high_deg: d }) => {
-                p[..] == q[..] && a == c && b == d
-            }
+            (
+                PolylineLaw {
+                    points: p,
+                    low_deg: a,
+                    high_deg: b,
+                },
+                PolylineLaw {
+                    points: q,
+                    low_deg: c,
+                    high_deg: d,
+                },
+            ) => p[..] == q[..] && a == c && b == d,
             _ => false,
         }
     }
@@ -129,7 +207,11 @@ impl Motion {
     /// Position at φ_c (deg), mm.
     pub fn at(&self, phi_c_deg: f64) -> V3<f64> {
         match self {
-            Motion::Table { start_deg, step_deg, points } => {
+            Motion::Table {
+                start_deg,
+                step_deg,
+                points,
+            } => {
                 let n = points.len();
                 let u = (phi_c_deg - start_deg).rem_euclid(360.0) / step_deg;
                 let k = (u.floor() as usize).min(n - 1);
@@ -137,19 +219,37 @@ impl Motion {
                 let (a, b) = (points[k], points[(k + 1) % n]);
                 a + (b - a) * s
             }
-            Motion::NeedleLaw { x_mm, eye_above_plate_mm, stroke_mm, bdc_deg, tilt_deg } => {
+            Motion::NeedleLaw {
+                x_mm,
+                eye_above_plate_mm,
+                stroke_mm,
+                bdc_deg,
+                tilt_deg,
+            } => {
                 let s = 0.5 * stroke_mm * (1.0 + (phi_c_deg - bdc_deg).to_radians().cos());
                 let b = tilt_deg.to_radians();
                 let up = eye_above_plate_mm - s;
                 V3::new(*x_mm, -b.sin() * up, b.cos() * up)
             }
-            Motion::LooperLaw { stroke_mm, far_deg, catch_deg, catch_x_mm, y0_mm, avoid_mm, depth_mm } => {
+            Motion::LooperLaw {
+                stroke_mm,
+                far_deg,
+                catch_deg,
+                catch_x_mm,
+                y0_mm,
+                avoid_mm,
+                depth_mm,
+            } => {
                 let amp = 0.5 * stroke_mm;
                 let x_c = catch_x_mm + amp * (catch_deg - far_deg + 180.0).to_radians().cos();
                 let x = x_c - amp * (phi_c_deg - far_deg + 180.0).to_radians().cos();
                 V3::new(x, y0_mm - avoid_mm * phi_c_deg.to_radians().sin(), -depth_mm)
             }
-            Motion::PolylineLaw { points, low_deg, high_deg } => {
+            Motion::PolylineLaw {
+                points,
+                low_deg,
+                high_deg,
+            } => {
                 let x = (phi_c_deg - low_deg).rem_euclid(360.0);
                 let up = (high_deg - low_deg).rem_euclid(360.0);
                 let s = if x <= up {
@@ -173,7 +273,11 @@ pub fn polyline_at(points: &[V3<f64>], s: f64) -> V3<f64> {
     for w in points.windows(2) {
         let l = (w[1] - w[0]).norm();
         if target <= l {
-            return if l < 1e-15 { w[0] } else { w[0] + (w[1] - w[0]) * (target / l) };
+            return if l < 1e-15 {
+                w[0]
+            } else {
+                w[0] + (w[1] - w[0]) * (target / l)
+            };
         }
         target -= l;
     }
@@ -275,7 +379,9 @@ pub enum Regulator {
 
 impl Default for Regulator {
     fn default() -> Self {
-        Regulator::BeforeTightening { width_deg: DEFAULT_REGULATOR_WIDTH_DEG }
+        Regulator::BeforeTightening {
+            width_deg: DEFAULT_REGULATOR_WIDTH_DEG,
+        }
     }
 }
 

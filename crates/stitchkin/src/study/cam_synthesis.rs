@@ -83,7 +83,11 @@ pub enum Target {
     /// increasing within one turn: last − first < 360°), the periodic cubic
     /// spline between them. [`Target::from_curve`] makes one from a curve
     /// file.
-    Curve { phi_deg: Vec<f64>, p_mm: Vec<f64>, source: String },
+    Curve {
+        phi_deg: Vec<f64>,
+        p_mm: Vec<f64>,
+        source: String,
+    },
 }
 
 impl Target {
@@ -103,7 +107,11 @@ impl Target {
                 "give the curve at the eye (a column `P_mm`, `P_eye_mm`, `Pprime_mm` or `Pprime_eye_mm`): P_eye = P_B − (S(φ) − S(φ0)), docs/stitch-formation.md §3.2",
             ));
         }
-        Ok(Target::Curve { phi_deg: curve.phi_deg().to_vec(), p_mm: curve.values_mm().to_vec(), source: curve.source().to_string() })
+        Ok(Target::Curve {
+            phi_deg: curve.phi_deg().to_vec(),
+            p_mm: curve.values_mm().to_vec(),
+            source: curve.source().to_string(),
+        })
     }
 }
 
@@ -251,7 +259,10 @@ pub struct CamSynthesis {
 }
 
 fn bad(message: String, help: &str) -> Error {
-    Error::Param(ParamError { message, help: Some(help.to_string()) })
+    Error::Param(ParamError {
+        message,
+        help: Some(help.to_string()),
+    })
 }
 
 /// The contact ray of the offset model at one φ (seed 004 §2.5).
@@ -290,12 +301,25 @@ impl Ray {
         }
         let beta = bis.y.atan2(bis.x) + gamma;
         let e = V2::new(beta.cos(), beta.sin());
-        Some(Ray { beta, ap: pl.dot(&e), cp: pl.norm_squared() + hp * hp, aq: ql.dot(&e), cq: ql.norm_squared() + hq * hq, pl, ql, hp, hq })
+        Some(Ray {
+            beta,
+            ap: pl.dot(&e),
+            cp: pl.norm_squared() + hp * hp,
+            aq: ql.dot(&e),
+            cq: ql.norm_squared() + hq * hq,
+            pl,
+            ql,
+            hp,
+            hq,
+        })
     }
 
     /// The two pieces |A − p|, |A − q| for radius ρ.
     fn pieces(&self, rho: f64) -> (f64, f64) {
-        ((rho * rho - 2.0 * self.ap * rho + self.cp).max(0.0).sqrt(), (rho * rho - 2.0 * self.aq * rho + self.cq).max(0.0).sqrt())
+        (
+            (rho * rho - 2.0 * self.ap * rho + self.cp).max(0.0).sqrt(),
+            (rho * rho - 2.0 * self.aq * rho + self.cq).max(0.0).sqrt(),
+        )
     }
 
     /// L(ρ) = |A − p| + |A − q|.
@@ -409,7 +433,15 @@ impl PeriodicSpline {
     /// (x_{n−1} − x_0 < 360), at least 3 points.
     fn new(x: &[f64], y: &[f64]) -> PeriodicSpline {
         let n = x.len();
-        let h: Vec<f64> = (0..n).map(|i| if i + 1 < n { x[i + 1] - x[i] } else { x[0] + 360.0 - x[n - 1] }).collect();
+        let h: Vec<f64> = (0..n)
+            .map(|i| {
+                if i + 1 < n {
+                    x[i + 1] - x[i]
+                } else {
+                    x[0] + 360.0 - x[n - 1]
+                }
+            })
+            .collect();
         let rhs: Vec<f64> = (0..n)
             .map(|i| {
                 let ip = (i + n - 1) % n;
@@ -427,18 +459,27 @@ impl PeriodicSpline {
                 m[i] = (rhs[i] - h[ip] / 6.0 * prev[ip] - h[i] / 6.0 * prev[(i + 1) % n]) / ((h[ip] + h[i]) / 3.0);
             }
         }
-        PeriodicSpline { x: x.to_vec(), y: y.to_vec(), m }
+        PeriodicSpline {
+            x: x.to_vec(),
+            y: y.to_vec(),
+            m,
+        }
     }
 
     fn at(&self, phi_deg: f64) -> f64 {
         // The segment [x_i, x_{i+1}] holding φ, the last one wrapping to the
         // first point a turn later.
-        let Some(seg) = periodic_segment(&self.x, phi_deg) else { return f64::NAN };
+        let Some(seg) = periodic_segment(&self.x, phi_deg) else {
+            return f64::NAN;
+        };
         let (i, j, x0, x1, x) = (seg.i, seg.j, seg.from_deg, seg.to_deg, seg.at_deg);
         let h = x1 - x0;
         let (a, b) = (x1 - x, x - x0);
         let (m0, m1) = (self.m[i], self.m[j]);
-        m0 * a * a * a / (6.0 * h) + m1 * b * b * b / (6.0 * h) + (self.y[i] - m0 * h * h / 6.0) * a / h + (self.y[j] - m1 * h * h / 6.0) * b / h
+        m0 * a * a * a / (6.0 * h)
+            + m1 * b * b * b / (6.0 * h)
+            + (self.y[i] - m0 * h * h / 6.0) * a / h
+            + (self.y[j] - m1 * h * h / 6.0) * b / h
     }
 }
 
@@ -449,22 +490,50 @@ fn turn_deg(x: f64) -> f64 {
 }
 
 /// P of path `pi` at every φ of `pose` with the mechanism's current cams.
-fn take_up(mech: &Mechanism<f64>, threads: &Threads<f64>, pose: &crate::mechanism::Pose<f64>, phis: &[f64], pi: usize) -> Result<Vec<f64>, Error> {
+fn take_up(
+    mech: &Mechanism<f64>,
+    threads: &Threads<f64>,
+    pose: &crate::mechanism::Pose<f64>,
+    phis: &[f64],
+    pi: usize,
+) -> Result<Vec<f64>, Error> {
     let tracks = threads.evaluate(pose, None).map_err(|e| {
         let phi = phis[e.k];
         eval::path_error(e, phi)
     })?;
     let xi0 = eval::tracks_at_phi0(mech, threads)?[pi].xi_at_split(0);
-    Ok((0..tracks[pi].xi.len()).map(|k| threads.convention.take_up(tracks[pi].xi_at_split(k), xi0)).collect())
+    Ok((0..tracks[pi].xi.len())
+        .map(|k| threads.convention.take_up(tracks[pi].xi_at_split(k), xi0))
+        .collect())
 }
 
 /// The take-up of path `path` over `phis` (deg) with the profile of cam
 /// `cam` replaced by `profile`: the forward model the synthesis inverts.
-pub fn take_up_with_profile(model: &Model, params: &Params, path: &str, cam: &str, profile: &Profile, phis: &[f64]) -> Result<Vec<f64>, Error> {
+pub fn take_up_with_profile(
+    model: &Model,
+    params: &Params,
+    path: &str,
+    cam: &str,
+    profile: &Profile,
+    phis: &[f64],
+) -> Result<Vec<f64>, Error> {
     let mut mech = model.mechanism::<f64>(params)?;
-    let threads = mech.threads.as_mut().ok_or_else(|| bad(format!("model `{}` has no thread paths", model.file.model.name), "add [thread] paths"))?;
-    let pi = threads.paths.iter().position(|p| p.name == path).ok_or_else(|| bad(format!("unknown thread path `{path}`"), "see `stitchkin check`"))?;
-    let ci = threads.cams.iter().position(|c| c.name == cam).ok_or_else(|| bad(format!("unknown cam `{cam}`"), "see the model's [[cams]]"))?;
+    let threads = mech.threads.as_mut().ok_or_else(|| {
+        bad(
+            format!("model `{}` has no thread paths", model.file.model.name),
+            "add [thread] paths",
+        )
+    })?;
+    let pi = threads
+        .paths
+        .iter()
+        .position(|p| p.name == path)
+        .ok_or_else(|| bad(format!("unknown thread path `{path}`"), "see `stitchkin check`"))?;
+    let ci = threads
+        .cams
+        .iter()
+        .position(|c| c.name == cam)
+        .ok_or_else(|| bad(format!("unknown cam `{cam}`"), "see the model's [[cams]]"))?;
     threads.cams[ci].profile = profile.clone();
     let mut pose = mech.new_pose(phis.len());
     mech.solve(&Phi::table(phis), &mut pose)?;
@@ -476,33 +545,65 @@ pub fn take_up_with_profile(model: &Model, params: &Params, path: &str, cam: &st
 pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<CamSynthesis, Error> {
     // --- the inputs ---------------------------------------------------------
     if !(8..=1440).contains(&opts.points) {
-        return Err(bad(format!("{} profile points is out of range", opts.points), "give --points between 8 and 1440, e.g. 360 (one per degree)"));
+        return Err(bad(
+            format!("{} profile points is out of range", opts.points),
+            "give --points between 8 and 1440, e.g. 360 (one per degree)",
+        ));
     }
     if !(opts.smooth_deg.is_finite() && (0.0..=180.0).contains(&opts.smooth_deg)) {
-        return Err(bad(format!("smoothing over {} deg is out of range", opts.smooth_deg), "give --smooth between 0 (none) and 180 degrees"));
+        return Err(bad(
+            format!("smoothing over {} deg is out of range", opts.smooth_deg),
+            "give --smooth between 0 (none) and 180 degrees",
+        ));
     }
     if !(opts.min_radius_mm.is_finite() && opts.min_radius_mm >= 0.0) {
-        return Err(bad(format!("the minimum radius {} mm is out of range", opts.min_radius_mm), "give --min-radius as a non-negative number of mm, e.g. 3"));
+        return Err(bad(
+            format!("the minimum radius {} mm is out of range", opts.min_radius_mm),
+            "give --min-radius as a non-negative number of mm, e.g. 3",
+        ));
     }
-    if !(opts.max_pressure_angle_deg.is_finite() && opts.max_pressure_angle_deg > 0.0 && opts.max_pressure_angle_deg < 90.0) {
-        return Err(bad(format!("the contact-angle limit {} deg is out of range", opts.max_pressure_angle_deg), "give --max-pressure-angle between 0 and 90 degrees, e.g. 45"));
+    if !(opts.max_pressure_angle_deg.is_finite()
+        && opts.max_pressure_angle_deg > 0.0
+        && opts.max_pressure_angle_deg < 90.0)
+    {
+        return Err(bad(
+            format!(
+                "the contact-angle limit {} deg is out of range",
+                opts.max_pressure_angle_deg
+            ),
+            "give --max-pressure-angle between 0 and 90 degrees, e.g. 45",
+        ));
     }
     if let Some(r) = opts.anchor_radius_mm
         && !(r.is_finite() && r > 0.0)
     {
-        return Err(bad(format!("the anchor radius {r} mm must be a positive number of mm"), "e.g. --anchor-radius 12"));
+        return Err(bad(
+            format!("the anchor radius {r} mm must be a positive number of mm"),
+            "e.g. --anchor-radius 12",
+        ));
     }
     let name = &model.file.model.name;
     let mech = model.mechanism::<f64>(params)?;
     let threads = mech.threads.as_ref().ok_or_else(|| {
-        bad(format!("model `{name}` has no thread paths, so there is no cam to synthesise"), "add [thread] paths with a cam node (docs/model-format.md §13.5)")
+        bad(
+            format!("model `{name}` has no thread paths, so there is no cam to synthesise"),
+            "add [thread] paths with a cam node (docs/model-format.md §13.5)",
+        )
     })?;
-    let all_paths = || threads.paths.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ");
-    let pi = threads
-        .paths
-        .iter()
-        .position(|p| p.name == opts.path)
-        .ok_or_else(|| bad(format!("model `{name}` has no thread path `{}`", opts.path), &format!("its paths are: {}", all_paths())))?;
+    let all_paths = || {
+        threads
+            .paths
+            .iter()
+            .map(|p| p.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let pi = threads.paths.iter().position(|p| p.name == opts.path).ok_or_else(|| {
+        bad(
+            format!("model `{name}` has no thread path `{}`", opts.path),
+            &format!("its paths are: {}", all_paths()),
+        )
+    })?;
     let path = &threads.paths[pi];
     // The path's cam pieces.
     let cams: Vec<(usize, usize, usize, CamModel)> = path
@@ -513,7 +614,12 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
             _ => None,
         })
         .collect();
-    let cam_names = |v: &[(usize, usize, usize, CamModel)]| v.iter().map(|c| threads.cams[c.2].name.clone()).collect::<Vec<_>>().join(", ");
+    let cam_names = |v: &[(usize, usize, usize, CamModel)]| {
+        v.iter()
+            .map(|c| threads.cams[c.2].name.clone())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
     let (a, b, ci, contact) = match (&opts.cam, cams.len()) {
         (_, 0) => {
             let with: Vec<&str> = threads
@@ -523,7 +629,10 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
                 .map(|p| p.name.as_str())
                 .collect();
             return Err(bad(
-                format!("thread path `{}` runs over no cam, so there is no profile to synthesise", opts.path),
+                format!(
+                    "thread path `{}` runs over no cam, so there is no profile to synthesise",
+                    opts.path
+                ),
                 &if with.is_empty() {
                     "give the path a cam node `{ cam = \"NAME\", contact = \"offset\", gamma_deg = 23 }` and a [[cams]] entry (docs/model-format.md §13.5)".to_string()
                 } else {
@@ -532,10 +641,22 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
             ));
         }
         (Some(c), _) => *cams.iter().find(|x| threads.cams[x.2].name == *c).ok_or_else(|| {
-            bad(format!("thread path `{}` does not run over cam `{c}`", opts.path), &format!("its cams: {}", cam_names(&cams)))
+            bad(
+                format!("thread path `{}` does not run over cam `{c}`", opts.path),
+                &format!("its cams: {}", cam_names(&cams)),
+            )
         })?,
         (None, 1) => cams[0],
-        (None, _) => return Err(bad(format!("thread path `{}` runs over several cams ({})", opts.path, cam_names(&cams)), "name one with --cam")),
+        (None, _) => {
+            return Err(bad(
+                format!(
+                    "thread path `{}` runs over several cams ({})",
+                    opts.path,
+                    cam_names(&cams)
+                ),
+                "name one with --cam",
+            ));
+        }
     };
     let cam = &threads.cams[ci];
     let gamma = match contact {
@@ -578,7 +699,8 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
     let mut turn = 0.0;
     let mut sign = 0.0;
     for j in 0..rays.len() {
-        let d = (rays[(j + 1) % rays.len()].beta - rays[j].beta + std::f64::consts::PI).rem_euclid(TAU) - std::f64::consts::PI;
+        let d = (rays[(j + 1) % rays.len()].beta - rays[j].beta + std::f64::consts::PI).rem_euclid(TAU)
+            - std::f64::consts::PI;
         if d == 0.0 || (sign != 0.0 && d.signum() != sign) {
             return Err(bad(
                 format!(
@@ -595,7 +717,11 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
     }
     if (turn.abs() - TAU).abs() > 1e-6 {
         return Err(bad(
-            format!("the contact sweeps cam `{}` {:.3} turns per cycle; a profile can be synthesised only for exactly one", cam.name, turn.abs() / TAU),
+            format!(
+                "the contact sweeps cam `{}` {:.3} turns per cycle; a profile can be synthesised only for exactly one",
+                cam.name,
+                turn.abs() / TAU
+            ),
             "cam synthesis needs a cam turning once per main-shaft cycle relative to its guides",
         ));
     }
@@ -624,12 +750,22 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
         Err(e) if required => return Err(e),
         Err(_) => None,
     };
-    let stitch_thread = prepared.as_ref().and_then(|s| s.setup.paths.iter().position(|p| p.as_deref() == Some(opts.path.as_str())));
+    let stitch_thread = prepared.as_ref().and_then(|s| {
+        s.setup
+            .paths
+            .iter()
+            .position(|p| p.as_deref() == Some(opts.path.as_str()))
+    });
     // P' of the thread on this path over the grid, and the compared mask.
     let pprime: Option<(String, Vec<f64>, Vec<bool>, f64)> = match (&prepared, stitch_thread) {
         (Some(s), Some(t)) => {
             let th = &s.required.threads[t];
-            Some((th.name.clone(), eval::stitch::pprime_at_split(th, phis.len()), s.compared[t].clone(), s.setup.tolerance_mm))
+            Some((
+                th.name.clone(),
+                eval::stitch::pprime_at_split(th, phis.len()),
+                s.compared[t].clone(),
+                s.setup.tolerance_mm,
+            ))
         }
         _ => None,
     };
@@ -644,13 +780,20 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
                 ));
             }
             None => {
-                let listed: Vec<String> = setup
-                    .iter()
-                    .flat_map(|s| s.paths.iter().flatten().cloned())
-                    .collect();
+                let listed: Vec<String> = setup.iter().flat_map(|s| s.paths.iter().flatten().cloned()).collect();
                 return Err(bad(
-                    format!("no thread of [stitch] is compared with path `{}`, so it has no required take-up P'", opts.path),
-                    &format!("paths with a P': {}; or give --target FILE.csv", if listed.is_empty() { "none".into() } else { listed.join(", ") }),
+                    format!(
+                        "no thread of [stitch] is compared with path `{}`, so it has no required take-up P'",
+                        opts.path
+                    ),
+                    &format!(
+                        "paths with a P': {}; or give --target FILE.csv",
+                        if listed.is_empty() {
+                            "none".into()
+                        } else {
+                            listed.join(", ")
+                        }
+                    ),
                 ));
             }
         },
@@ -662,12 +805,17 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
                 && phi_deg[phi_deg.len() - 1] - phi_deg[0] < 360.0;
             if !ok {
                 return Err(bad(
-                    format!("the target curve from {source} is not at least 4 finite points with φ increasing within one turn"),
+                    format!(
+                        "the target curve from {source} is not at least 4 finite points with φ increasing within one turn"
+                    ),
                     "read it with thread::measured::read_curve and make the target with Target::from_curve",
                 ));
             }
             let sp = PeriodicSpline::new(phi_deg, p_mm);
-            (format!("curve from {source} ({} points)", phi_deg.len()), phis.iter().map(|&p| sp.at(p)).collect())
+            (
+                format!("curve from {source} ({} points)", phi_deg.len()),
+                phis.iter().map(|&p| sp.at(p)).collect(),
+            )
         }
     };
     // Take-up is p_conv0 at φ0 by definition: shift the target to it.
@@ -697,11 +845,19 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
         let r = &rays[2 * k];
         let near = if k == 0 { anchor_rho } else { cam.profile.rho(r.beta) };
         match r.solve(l, near) {
-            Some(rho) => knots.push(Knot { theta_deg: turn_deg(r.beta.to_degrees()), radius_mm: rho, solved_mm: rho, phi_deg: wrap_deg(phis[2 * k]) }),
+            Some(rho) => knots.push(Knot {
+                theta_deg: turn_deg(r.beta.to_degrees()),
+                radius_mm: rho,
+                solved_mm: rho,
+                phi_deg: wrap_deg(phis[2 * k]),
+            }),
             None => short.push((k, r.min_length())),
         }
     }
-    if let Some(&(k, lmin)) = short.iter().max_by(|a, b| (a.1 - l_t[a.0]).total_cmp(&(b.1 - l_t[b.0]))) {
+    if let Some(&(k, lmin)) = short
+        .iter()
+        .max_by(|a, b| (a.1 - l_t[a.0]).total_cmp(&(b.1 - l_t[b.0])))
+    {
         // Every L grows with ξ(φ0) one for one: the worst shortfall (plus
         // 0.01 mm) is what φ0's contour must gain, and the anchor radius
         // that gives it lies on the rising side of L along φ0's radius.
@@ -732,9 +888,19 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
     knots.sort_by(|x, y| x.theta_deg.total_cmp(&y.theta_deg));
     // Distinct within the turn, the last one short of the first a turn later.
     for k in 0..n {
-        let (a, b) = (knots[k].theta_deg, if k + 1 < n { knots[k + 1].theta_deg } else { knots[0].theta_deg + 360.0 });
+        let (a, b) = (
+            knots[k].theta_deg,
+            if k + 1 < n {
+                knots[k + 1].theta_deg
+            } else {
+                knots[0].theta_deg + 360.0
+            },
+        );
         if b - a < 1e-9 {
-            return Err(bad(format!("two knots fall on profile angle {:.6}°", a), "use fewer --points"));
+            return Err(bad(
+                format!("two knots fall on profile angle {:.6}°", a),
+                "use fewer --points",
+            ));
         }
     }
     // --- smoothing: a periodic moving average over `smooth_deg`, twice -------
@@ -756,7 +922,8 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
     let p_after = take_up(&mech2, threads2, &pose, &phis, pi)?;
     let p_before: Vec<f64> = xi_ref.iter().map(|x| threads.convention.take_up(*x, xi0_ref)).collect();
     let worst = |js: &mut dyn Iterator<Item = usize>, p: &[f64]| {
-        js.map(|j| ((p[j] - target[j]).abs(), wrap_deg(phis[j]))).fold((0.0f64, phis[0]), |m, x| if x.0 > m.0 { x } else { m })
+        js.map(|j| ((p[j] - target[j]).abs(), wrap_deg(phis[j])))
+            .fold((0.0f64, phis[0]), |m, x| if x.0 > m.0 { x } else { m })
     };
     let (ek, ek_at) = worst(&mut (0..2 * n).step_by(2), &p_after);
     let (eb, eb_at) = worst(&mut (1..2 * n).step_by(2), &p_after);
@@ -776,15 +943,28 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
     };
     // --- checks -------------------------------------------------------------
     let checks = check(&profile, &rays, &phis, opts);
-    let range = |p: &Profile| (0..3600).map(|i| p.rho(i as f64 * TAU / 3600.0)).fold([f64::MAX, f64::MIN], |m, r| [m[0].min(r), m[1].max(r)]);
+    let range = |p: &Profile| {
+        (0..3600)
+            .map(|i| p.rho(i as f64 * TAU / 3600.0))
+            .fold([f64::MAX, f64::MIN], |m, r| [m[0].min(r), m[1].max(r)])
+    };
     let shared_with: Vec<String> = threads
         .paths
         .iter()
-        .filter(|p| p.name != opts.path && p.spans.iter().any(|&s| matches!(threads.spans[s], Span::Cam { cam, .. } if cam == ci)))
+        .filter(|p| {
+            p.name != opts.path
+                && p.spans
+                    .iter()
+                    .any(|&s| matches!(threads.spans[s], Span::Cam { cam, .. } if cam == ci))
+        })
         .map(|p| p.name.clone())
         .collect();
     if !shared_with.is_empty() {
-        notes.push(format!("cam `{}` also feeds path(s) {}: their take-up changes with the new profile too", cam.name, shared_with.join(", ")));
+        notes.push(format!(
+            "cam `{}` also feeds path(s) {}: their take-up changes with the new profile too",
+            cam.name,
+            shared_with.join(", ")
+        ));
     }
     let axis_toml = file_cam.and_then(|c| c.axis.as_ref()).map(|ax| match ax {
         crate::model::file::Axis::Named(s) => format!("{s:?}"),
@@ -845,7 +1025,9 @@ fn smooth(knots: &mut [Knot], width_deg: f64) {
     let n = knots.len();
     let th: Vec<f64> = knots.iter().map(|k| k.theta_deg).collect();
     let gap = |i: usize, j: usize| (th[j] - th[i]).rem_euclid(360.0);
-    let span: Vec<f64> = (0..n).map(|i| 0.5 * (gap((i + n - 1) % n, i) + gap(i, (i + 1) % n))).collect();
+    let span: Vec<f64> = (0..n)
+        .map(|i| 0.5 * (gap((i + n - 1) % n, i) + gap(i, (i + 1) % n)))
+        .collect();
     let rho: Vec<f64> = knots.iter().map(|k| k.radius_mm).collect();
     for (i, k) in knots.iter_mut().enumerate() {
         let (mut sw, mut s) = (0.0, 0.0);
@@ -883,7 +1065,10 @@ fn check(profile: &Profile, rays: &[Ray], phis: &[f64], opts: &CamOptions) -> Ch
         conv_min = conv_min.min(c);
         flags.push(c <= 0.0);
     }
-    let not_convex: Vec<[f64; 2]> = crate::thread::intervals(&flags, &ths).iter().map(|i| [i.from_deg, i.to_deg.min(i.from_deg + 360.0)]).collect();
+    let not_convex: Vec<[f64; 2]> = crate::thread::intervals(&flags, &ths)
+        .iter()
+        .map(|i| [i.from_deg, i.to_deg.min(i.from_deg + 360.0)])
+        .collect();
     let mut contact = (0.0f64, 0.0);
     for (r, &phi) in rays.iter().zip(phis) {
         if let Some(a) = r.contact_angle_deg(profile)
@@ -929,10 +1114,19 @@ impl CamSynthesis {
         let mut s = format!(
             "# Cam `{}` synthesised by `stitchkin cam` for thread path `{}`: {}.\n\
              # {} knots, radius {:.3}…{:.3} mm; replace the [[cams]] entry named `{}` with this one.\n",
-            self.cam, self.path, self.target, self.knots.len(), self.radius_mm[0], self.radius_mm[1], self.cam
+            self.cam,
+            self.path,
+            self.target,
+            self.knots.len(),
+            self.radius_mm[0],
+            self.radius_mm[1],
+            self.cam
         );
         s += "[[cams]]\n";
-        s += &format!("name = {:?}\ncenter = {:?}\nmarker = {:?}\n", self.cam, self.center, self.marker);
+        s += &format!(
+            "name = {:?}\ncenter = {:?}\nmarker = {:?}\n",
+            self.cam, self.center, self.marker
+        );
         if let Some(a) = &self.axis_toml {
             s += &format!("axis = {a}\n");
         }
@@ -993,7 +1187,10 @@ impl CamSynthesis {
             xml(&self.path),
             xml(&self.target)
         );
-        s += &format!("  <path id=\"profile\" d=\"{d}\" fill=\"none\" stroke=\"black\" stroke-width=\"{}\"/>\n", f(0.01 * r));
+        s += &format!(
+            "  <path id=\"profile\" d=\"{d}\" fill=\"none\" stroke=\"black\" stroke-width=\"{}\"/>\n",
+            f(0.01 * r)
+        );
         let c = 0.06 * r;
         s += &format!(
             "  <g id=\"centre\" stroke=\"black\" stroke-width=\"{}\"><line x1=\"{}\" y1=\"0\" x2=\"{}\" y2=\"0\"/><line x1=\"0\" y1=\"{}\" x2=\"0\" y2=\"{}\"/><circle cx=\"0\" cy=\"0\" r=\"{}\" fill=\"none\"/></g>\n",
@@ -1064,21 +1261,59 @@ impl CamSynthesis {
         let mut g = |code: i32, v: &str| {
             s += &format!("{code}\n{v}\n");
         };
-        g(999, &format!("stitchkin cam: cam {} for thread path {}; units mm", self.cam, self.path));
-        for (c, v) in [(0, "SECTION"), (2, "HEADER"), (9, "$ACADVER"), (1, "AC1009"), (9, "$INSUNITS"), (70, "4"), (0, "ENDSEC")] {
+        g(
+            999,
+            &format!(
+                "stitchkin cam: cam {} for thread path {}; units mm",
+                self.cam, self.path
+            ),
+        );
+        for (c, v) in [
+            (0, "SECTION"),
+            (2, "HEADER"),
+            (9, "$ACADVER"),
+            (1, "AC1009"),
+            (9, "$INSUNITS"),
+            (70, "4"),
+            (0, "ENDSEC"),
+        ] {
             g(c, v);
         }
-        for (c, v) in [(0, "SECTION"), (2, "ENTITIES"), (0, "POLYLINE"), (8, "PROFILE"), (66, "1"), (70, "1"), (10, "0.0"), (20, "0.0"), (30, "0.0")] {
+        for (c, v) in [
+            (0, "SECTION"),
+            (2, "ENTITIES"),
+            (0, "POLYLINE"),
+            (8, "PROFILE"),
+            (66, "1"),
+            (70, "1"),
+            (10, "0.0"),
+            (20, "0.0"),
+            (30, "0.0"),
+        ] {
             g(c, v);
         }
         let pts = self.outline();
         for (x, y) in &pts {
-            for (c, v) in [(0, "VERTEX".to_string()), (8, "PROFILE".into()), (10, format!("{x:.6}")), (20, format!("{y:.6}")), (30, "0.0".into())] {
+            for (c, v) in [
+                (0, "VERTEX".to_string()),
+                (8, "PROFILE".into()),
+                (10, format!("{x:.6}")),
+                (20, format!("{y:.6}")),
+                (30, "0.0".into()),
+            ] {
                 g(c, &v);
             }
         }
         let r = pts.iter().map(|(x, y)| x.hypot(*y)).fold(0.0f64, f64::max);
-        for (c, v) in [(0, "SEQEND".to_string()), (8, "PROFILE".into()), (0, "POINT".into()), (8, "CENTER".into()), (10, "0.0".into()), (20, "0.0".into()), (30, "0.0".into())] {
+        for (c, v) in [
+            (0, "SEQEND".to_string()),
+            (8, "PROFILE".into()),
+            (0, "POINT".into()),
+            (8, "CENTER".into()),
+            (10, "0.0".into()),
+            (20, "0.0".into()),
+            (30, "0.0".into()),
+        ] {
             g(c, &v);
         }
         for (c, v) in [
@@ -1103,11 +1338,18 @@ impl CamSynthesis {
 fn nice_length(x: f64) -> f64 {
     let x = x.max(1.0);
     let p = 10f64.powf(x.log10().floor());
-    [5.0, 2.0, 1.0].into_iter().map(|m| m * p).find(|&v| v <= x).unwrap_or(p)
+    [5.0, 2.0, 1.0]
+        .into_iter()
+        .map(|m| m * p)
+        .find(|&v| v <= x)
+        .unwrap_or(p)
 }
 
 fn xml(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 #[cfg(test)]
@@ -1116,7 +1358,12 @@ mod tests {
     use crate::thread::cam::offset_contact;
 
     fn at(angle: f64) -> CamPlacement<f64> {
-        CamPlacement { center: V3::zeros(), u: V3::new(angle.cos(), angle.sin(), 0.0), v: V3::new(-angle.sin(), angle.cos(), 0.0), w: V3::z() }
+        CamPlacement {
+            center: V3::zeros(),
+            u: V3::new(angle.cos(), angle.sin(), 0.0),
+            v: V3::new(-angle.sin(), angle.cos(), 0.0),
+            w: V3::z(),
+        }
     }
 
     #[test]
@@ -1150,11 +1397,16 @@ mod tests {
         assert!((r.solve(l, 10.0).unwrap() - want).abs() < 1e-12);
         // Shorter than the thread can be along that radius: no root.
         assert!(r.solve(r.min_length() - 0.1, 10.0).is_none());
-        assert!(r.solve(35.0, 10.0).is_none(), "shorter than the straight line between the guides");
+        assert!(
+            r.solve(35.0, 10.0).is_none(),
+            "shorter than the straight line between the guides"
+        );
     }
 
     fn spline(t: &Target) -> PeriodicSpline {
-        let Target::Curve { phi_deg, p_mm, .. } = t else { panic!("a curve") };
+        let Target::Curve { phi_deg, p_mm, .. } = t else {
+            panic!("a curve")
+        };
         PeriodicSpline::new(phi_deg, p_mm)
     }
 
@@ -1167,9 +1419,19 @@ mod tests {
     fn csv_targets_are_periodic_splines_and_checked() {
         // Four points a quarter turn apart (given directly: a curve file
         // needs a row at least every 45°).
-        let t = Target::Curve { phi_deg: vec![0.0, 90.0, 180.0, 270.0], p_mm: vec![0.0, 1.0, 2.0, 1.0], source: "t".into() };
+        let t = Target::Curve {
+            phi_deg: vec![0.0, 90.0, 180.0, 270.0],
+            p_mm: vec![0.0, 1.0, 2.0, 1.0],
+            source: "t".into(),
+        };
         let s = spline(&t);
-        for (x, y) in [(0.0, 0.0), (90.0, 1.0), (180.0, 2.0), (270.0 + 360.0, 1.0), (-90.0, 1.0)] {
+        for (x, y) in [
+            (0.0, 0.0),
+            (90.0, 1.0),
+            (180.0, 2.0),
+            (270.0 + 360.0, 1.0),
+            (-90.0, 1.0),
+        ] {
             assert!((s.at(x) - y).abs() < 1e-12, "{x}");
         }
         // Symmetric about 180°, periodic.
@@ -1209,18 +1471,34 @@ mod tests {
         }
         // A curve at B is not the path's take-up.
         let e = target_csv(&file(5.0).replace("lower.P_mm", "n1.Pprime_B_mm")).unwrap_err();
-        assert!(e.to_string().contains("`n1.Pprime_B_mm` from t.csv is taken at B") && e.help().unwrap().contains("P_eye = P_B − (S(φ) − S(φ0))"), "{e}");
+        assert!(
+            e.to_string().contains("`n1.Pprime_B_mm` from t.csv is taken at B")
+                && e.help().unwrap().contains("P_eye = P_B − (S(φ) − S(φ0))"),
+            "{e}"
+        );
         assert!(target_csv(&file(5.0).replace("lower.P_mm", "n1.Pprime_eye_mm")).is_ok());
     }
 
     #[test]
     fn smoothing_keeps_a_constant_and_flattens_a_spike() {
-        let mut k: Vec<Knot> = (0..36).map(|i| Knot { theta_deg: i as f64 * 10.0, radius_mm: 10.0, solved_mm: 10.0, phi_deg: 0.0 }).collect();
+        let mut k: Vec<Knot> = (0..36)
+            .map(|i| Knot {
+                theta_deg: i as f64 * 10.0,
+                radius_mm: 10.0,
+                solved_mm: 10.0,
+                phi_deg: 0.0,
+            })
+            .collect();
         smooth(&mut k, 30.0);
         assert!(k.iter().all(|k| (k.radius_mm - 10.0).abs() < 1e-12));
         k[0].radius_mm = 20.0;
         smooth(&mut k, 30.0);
-        assert!(k[0].radius_mm < 14.0 && k[1].radius_mm > 10.0 && k[35].radius_mm > 10.0 && (k[18].radius_mm - 10.0).abs() < 1e-12);
+        assert!(
+            k[0].radius_mm < 14.0
+                && k[1].radius_mm > 10.0
+                && k[35].radius_mm > 10.0
+                && (k[18].radius_mm - 10.0).abs() < 1e-12
+        );
     }
 
     #[test]

@@ -38,7 +38,10 @@ pub struct Comparison {
 /// Compares the 3D paths of `model` with their projections on the xy-plane
 /// of frame `plane` over a cycle of `step_deg`.
 pub fn compare_2d3d(model: &Model, params: &Params, plane: &str, step_deg: f64) -> Result<Comparison, Error> {
-    check_options(&crate::eval::CycleOptions { step_deg, ..Default::default() })?;
+    check_options(&crate::eval::CycleOptions {
+        step_deg,
+        ..Default::default()
+    })?;
     let frame = model.frame_index(plane).ok_or_else(|| {
         Error::Param(ParamError {
             message: format!("the model has no frame `{plane}`"),
@@ -63,11 +66,15 @@ pub fn compare_2d3d(model: &Model, params: &Params, plane: &str, step_deg: f64) 
             let phi = phis[e.k];
             path_error(e, phi)
         })?;
-        let xi0 = threads.evaluate(&pose0, proj).map_err(|e| path_error(e, threads.phi0_deg))?;
+        let xi0 = threads
+            .evaluate(&pose0, proj)
+            .map_err(|e| path_error(e, threads.phi0_deg))?;
         // P at the path's split (B for a needle thread): ΔP is the same at
         // either split, its size relative to P is not.
         Ok((
-            xi.into_iter().map(|t| (0..t.xi.len()).map(|k| t.xi_at_split(k)).collect()).collect(),
+            xi.into_iter()
+                .map(|t| (0..t.xi.len()).map(|k| t.xi_at_split(k)).collect())
+                .collect(),
             xi0.into_iter().map(|t| t.xi_at_split(0)).collect(),
         ))
     };
@@ -75,10 +82,18 @@ pub fn compare_2d3d(model: &Model, params: &Params, plane: &str, step_deg: f64) 
     let (xi2, xi2_0) = tracks(Some(&plane))?;
     let mut paths = Vec::new();
     for (i, path) in threads.paths.iter().enumerate() {
-        let p3d: Vec<f64> = xi3[i].iter().map(|x| threads.convention.take_up(*x, xi3_0[i])).collect();
-        let p2d: Vec<f64> = xi2[i].iter().map(|x| threads.convention.take_up(*x, xi2_0[i])).collect();
+        let p3d: Vec<f64> = xi3[i]
+            .iter()
+            .map(|x| threads.convention.take_up(*x, xi3_0[i]))
+            .collect();
+        let p2d: Vec<f64> = xi2[i]
+            .iter()
+            .map(|x| threads.convention.take_up(*x, xi2_0[i]))
+            .collect();
         let dp: Vec<f64> = p3d.iter().zip(&p2d).map(|(a, b)| a - b).collect();
-        let k = (0..dp.len()).max_by(|&i, &j| dp[i].abs().total_cmp(&dp[j].abs())).unwrap_or(0);
+        let k = (0..dp.len())
+            .max_by(|&i, &j| dp[i].abs().total_cmp(&dp[j].abs()))
+            .unwrap_or(0);
         let p_max = p3d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         paths.push(PathComparison {
             path: path.name.clone(),
@@ -90,5 +105,9 @@ pub fn compare_2d3d(model: &Model, params: &Params, plane: &str, step_deg: f64) 
             dp_mm: dp,
         });
     }
-    Ok(Comparison { plane: model.frame_names()[frame].to_string(), phi_deg: phis, paths })
+    Ok(Comparison {
+        plane: model.frame_names()[frame].to_string(),
+        phi_deg: phis,
+        paths,
+    })
 }

@@ -114,7 +114,14 @@ impl Facts {
     pub fn from_toml_str(text: &str, file: &str) -> Result<Facts, Error> {
         let text: Arc<str> = text.into();
         let err = |span: Option<std::ops::Range<usize>>, path: String, message: String, help: &str| {
-            Error::Model(Box::new(ModelError { file: file.to_string(), text: text.clone(), span, path, message, help: Some(help.to_string()) }))
+            Error::Model(Box::new(ModelError {
+                file: file.to_string(),
+                text: text.clone(),
+                span,
+                path,
+                message,
+                help: Some(help.to_string()),
+            }))
         };
         let def: FactsFileDef = toml::from_str(&text).map_err(|e| {
             err(
@@ -131,20 +138,43 @@ impl Facts {
         for (i, f) in def.fact.iter().enumerate() {
             let fail = |key: &str, message: String, help: &str| {
                 let p = at(i, key);
-                err(spans.find(&p).or_else(|| spans.find(&Path::root().key("fact").index(i))), p.to_string(), message, help)
+                err(
+                    spans
+                        .find(&p)
+                        .or_else(|| spans.find(&Path::root().key("fact").index(i))),
+                    p.to_string(),
+                    message,
+                    help,
+                )
             };
             if !f.value.is_finite() {
-                return Err(fail("value", "the stated value must be a finite number".into(), "give the value in the figure's unit"));
+                return Err(fail(
+                    "value",
+                    "the stated value must be a finite number".into(),
+                    "give the value in the figure's unit",
+                ));
             }
             let weight = match (f.weight, f.tolerance) {
                 (Some(_), Some(_)) => {
-                    return Err(fail("tolerance", "give a tolerance or a weight, not both".into(), "tolerance = T weighs the residual by 1/T"));
+                    return Err(fail(
+                        "tolerance",
+                        "give a tolerance or a weight, not both".into(),
+                        "tolerance = T weighs the residual by 1/T",
+                    ));
                 }
                 (Some(w), None) if !(w.is_finite() && w > 0.0) => {
-                    return Err(fail("weight", format!("the weight must be positive, got {w}"), "e.g. weight = 1"));
+                    return Err(fail(
+                        "weight",
+                        format!("the weight must be positive, got {w}"),
+                        "e.g. weight = 1",
+                    ));
                 }
                 (None, Some(t)) if !(t.is_finite() && t > 0.0) => {
-                    return Err(fail("tolerance", format!("the tolerance must be positive, got {t}"), "in the figure's unit, e.g. tolerance = 0.1"));
+                    return Err(fail(
+                        "tolerance",
+                        format!("the tolerance must be positive, got {t}"),
+                        "in the figure's unit, e.g. tolerance = 0.1",
+                    ));
                 }
                 (Some(w), None) => w,
                 (None, Some(t)) => 1.0 / t,
@@ -162,14 +192,28 @@ impl Facts {
             });
         }
         if facts.is_empty() {
-            return Err(err(None, String::new(), "the facts file states no fact".into(), "add [[fact]] tables: figure = \"needle_y.range_mm\", value = 18"));
+            return Err(err(
+                None,
+                String::new(),
+                "the facts file states no fact".into(),
+                "add [[fact]] tables: figure = \"needle_y.range_mm\", value = 18",
+            ));
         }
-        Ok(Facts { file: file.to_string(), text, title: def.title, model: def.model, adjust: def.adjust, step_deg: def.step_deg, facts })
+        Ok(Facts {
+            file: file.to_string(),
+            text,
+            title: def.title,
+            model: def.model,
+            adjust: def.adjust,
+            step_deg: def.step_deg,
+            facts,
+        })
     }
 
     /// Reads and parses a facts file.
     pub fn from_path(path: &std::path::Path) -> Result<Facts, Error> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Io(format!("cannot read facts file `{}`: {e}", path.display())))?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Error::Io(format!("cannot read facts file `{}`: {e}", path.display())))?;
         Facts::from_toml_str(&text, &path.display().to_string())
     }
 
@@ -177,8 +221,17 @@ impl Facts {
     fn error_at(&self, i: usize, key: &str, message: String, help: String) -> Error {
         let spans = SpanIndex::new(&self.text);
         let p = Path::root().key("fact").index(i).key(key);
-        let span = spans.find(&p).or_else(|| spans.find(&Path::root().key("fact").index(i)));
-        Error::Model(Box::new(ModelError { file: self.file.clone(), text: self.text.clone(), span, path: p.to_string(), message, help: Some(help) }))
+        let span = spans
+            .find(&p)
+            .or_else(|| spans.find(&Path::root().key("fact").index(i)));
+        Error::Model(Box::new(ModelError {
+            file: self.file.clone(),
+            text: self.text.clone(),
+            span,
+            path: p.to_string(),
+            message,
+            help: Some(help),
+        }))
     }
 }
 
@@ -196,26 +249,51 @@ pub struct Bounded {
 
 impl Bounded {
     pub fn parse(model: &Model, spec: &str) -> Result<Bounded, Error> {
-        let bad = |message: String, help: String| Error::Param(ParamError { message, help: Some(help) });
+        let bad = |message: String, help: String| {
+            Error::Param(ParamError {
+                message,
+                help: Some(help),
+            })
+        };
         let (name, bounds) = match spec.split_once('=') {
             Some((n, b)) => (n.trim(), Some(b)),
             None => (spec.trim(), None),
         };
         let index = model.param_index(name).ok_or_else(|| {
-            let names: Vec<&str> = model.params.iter().filter(|p| !p.is_derived()).map(|p| p.name.as_str()).collect();
-            bad(format!("the model has no parameter `{name}` to fit"), format!("its parameters are: {}", names.join(", ")))
+            let names: Vec<&str> = model
+                .params
+                .iter()
+                .filter(|p| !p.is_derived())
+                .map(|p| p.name.as_str())
+                .collect();
+            bad(
+                format!("the model has no parameter `{name}` to fit"),
+                format!("its parameters are: {}", names.join(", ")),
+            )
         })?;
         let p = &model.params[index];
         if p.is_derived() {
-            return Err(bad(format!("`{name}` is derived from other parameters and cannot be fitted"), "fit the parameters its expression uses".into()));
+            return Err(bad(
+                format!("`{name}` is derived from other parameters and cannot be fitted"),
+                "fit the parameters its expression uses".into(),
+            ));
         }
         let (lo, hi) = match bounds {
             Some(b) => {
                 let parts: Vec<&str> = b.split(':').collect();
                 let num = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
-                match (parts.len(), parts.first().and_then(|s| num(s)), parts.get(1).and_then(|s| num(s))) {
+                match (
+                    parts.len(),
+                    parts.first().and_then(|s| num(s)),
+                    parts.get(1).and_then(|s| num(s)),
+                ) {
                     (2, Some(lo), Some(hi)) if lo < hi => (lo, hi),
-                    _ => return Err(bad(format!("`{spec}` does not give bounds LO:HI with LO < HI"), format!("e.g. --adjust {name}=30:45"))),
+                    _ => {
+                        return Err(bad(
+                            format!("`{spec}` does not give bounds LO:HI with LO < HI"),
+                            format!("e.g. --adjust {name}=30:45"),
+                        ));
+                    }
                 }
             }
             None => match p.range {
@@ -232,11 +310,20 @@ impl Bounded {
             && (lo < rlo || hi > rhi)
         {
             return Err(bad(
-                format!("the bounds {lo}…{hi} {} of `{name}` leave its adjustable range {rlo}…{rhi}", p.unit_str()),
+                format!(
+                    "the bounds {lo}…{hi} {} of `{name}` leave its adjustable range {rlo}…{rhi}",
+                    p.unit_str()
+                ),
                 format!("fit within {rlo}…{rhi}"),
             ));
         }
-        Ok(Bounded { name: name.to_string(), index, unit: p.unit_str(), lo, hi })
+        Ok(Bounded {
+            name: name.to_string(),
+            index,
+            unit: p.unit_str(),
+            lo,
+            hi,
+        })
     }
 }
 
@@ -253,7 +340,11 @@ pub struct FitOptions {
 
 impl Default for FitOptions {
     fn default() -> Self {
-        FitOptions { adjust: Vec::new(), step_deg: None, max_iterations: 100 }
+        FitOptions {
+            adjust: Vec::new(),
+            step_deg: None,
+            max_iterations: 100,
+        }
     }
 }
 
@@ -328,10 +419,17 @@ fn settings(model: &Model, facts: &Facts, adjusted: &[Bounded]) -> Result<Settin
             let mut out = Vec::new();
             for (name, v) in pairs {
                 if adjusted.iter().any(|a| a.name == *name) {
-                    return Err(facts.error_at(i, key, format!("this fact sets `{name}`, which is being fitted"), format!("fit other parameters, or drop `{name}` from this fact's {key}")));
+                    return Err(facts.error_at(
+                        i,
+                        key,
+                        format!("this fact sets `{name}`, which is being fitted"),
+                        format!("fit other parameters, or drop `{name}` from this fact's {key}"),
+                    ));
                 }
                 let mut p = model.defaults();
-                model.set(&mut p, name, *v).map_err(|e| facts.error_at(i, key, e.message.clone(), e.help.clone().unwrap_or_default()))?;
+                model
+                    .set(&mut p, name, *v)
+                    .map_err(|e| facts.error_at(i, key, e.message.clone(), e.help.clone().unwrap_or_default()))?;
                 out.push((model.param_index(name).unwrap_or(0), *v));
             }
             Ok(out)
@@ -385,7 +483,13 @@ impl Problem<'_> {
 
     fn plain(&self, p: &Params) -> Result<Vec<(String, f64)>, Error> {
         self.cycles.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let opts = CycleOptions { step_deg: self.step_deg, rpm: None, analogs: false, points: None, lean: true };
+        let opts = CycleOptions {
+            step_deg: self.step_deg,
+            rpm: None,
+            analogs: false,
+            points: None,
+            lean: true,
+        };
         Ok(figures(&run_cycle_with(self.model, p, &opts, None)?))
     }
 
@@ -414,7 +518,10 @@ impl Problem<'_> {
                 let mut rows: Vec<Row> = Vec::new();
                 for f in &needed {
                     let v = value(&plain, f).filter(|v| v.is_finite()).ok_or_else(|| {
-                        Error::Param(ParamError { message: format!("figure `{f}` is not available at this setting"), help: None })
+                        Error::Param(ParamError {
+                            message: format!("figure `{f}` is not available at this setting"),
+                            help: None,
+                        })
                     })?;
                     rows.push((f.to_string(), v, vec![0.0; nx]));
                 }
@@ -442,7 +549,12 @@ impl Problem<'_> {
                                         let (up, dn, h) = fd.as_ref().expect("computed above");
                                         match (value(up, f), value(dn, f)) {
                                             (Some(u), Some(d)) => col.push((u - d) / (2.0 * h)),
-                                            _ => return Err(Error::Param(ParamError { message: format!("figure `{f}` has no derivative here"), help: None })),
+                                            _ => {
+                                                return Err(Error::Param(ParamError {
+                                                    message: format!("figure `{f}` has no derivative here"),
+                                                    help: None,
+                                                }));
+                                            }
                                         }
                                     }
                                 }
@@ -460,7 +572,12 @@ impl Problem<'_> {
             })
             .collect();
         let per = per.into_iter().collect::<Result<Vec<_>, _>>()?;
-        let get = |s: usize, f: &str| per[s].iter().find(|r| r.0 == f).expect("every needed figure is evaluated");
+        let get = |s: usize, f: &str| {
+            per[s]
+                .iter()
+                .find(|r| r.0 == f)
+                .expect("every needed figure is evaluated")
+        };
         let mut values = Vec::new();
         let mut jac = Vec::new();
         for (f, &(a, b)) in self.facts.facts.iter().zip(&self.of_fact) {
@@ -474,12 +591,21 @@ impl Problem<'_> {
             values.push(v);
             jac.push(d);
         }
-        Ok(Eval { values, jacobian: jacobian.then_some(jac) })
+        Ok(Eval {
+            values,
+            jacobian: jacobian.then_some(jac),
+        })
     }
 
     /// Weighted residuals w_i (F_i − v_i) and their cost Σ r².
     fn residuals(&self, values: &[f64]) -> (Vec<f64>, f64) {
-        let r: Vec<f64> = self.facts.facts.iter().zip(values).map(|(f, v)| f.weight * (v - f.value)).collect();
+        let r: Vec<f64> = self
+            .facts
+            .facts
+            .iter()
+            .zip(values)
+            .map(|(f, v)| f.weight * (v - f.value))
+            .collect();
         let c = r.iter().map(|x| x * x).sum();
         (r, c)
     }
@@ -498,8 +624,15 @@ fn solve_spd(a: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
 /// Fits `opts.adjust` of `model` (starting from `base`) to `facts`.
 pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Result<FitResult, Error> {
     let step_deg = opts.step_deg.or(facts.step_deg).unwrap_or(1.0);
-    check_options(&CycleOptions { step_deg, ..Default::default() })?;
-    let specs = if opts.adjust.is_empty() { &facts.adjust } else { &opts.adjust };
+    check_options(&CycleOptions {
+        step_deg,
+        ..Default::default()
+    })?;
+    let specs = if opts.adjust.is_empty() {
+        &facts.adjust
+    } else {
+        &opts.adjust
+    };
     if specs.is_empty() {
         let rec: Vec<&str> = model
             .params
@@ -511,28 +644,53 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
             message: "nothing to fit".into(),
             help: Some(format!(
                 "name the parameters: --adjust NAME (within its range) or NAME=LO:HI, or `adjust = [...]` in the facts file{}",
-                if rec.is_empty() { String::new() } else { format!(" (reconstructed in this model: {})", rec.join(", ")) }
+                if rec.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (reconstructed in this model: {})", rec.join(", "))
+                }
             )),
         }));
     }
-    let adjusted = specs.iter().map(|s| Bounded::parse(model, s)).collect::<Result<Vec<_>, _>>()?;
+    let adjusted = specs
+        .iter()
+        .map(|s| Bounded::parse(model, s))
+        .collect::<Result<Vec<_>, _>>()?;
     for (k, a) in adjusted.iter().enumerate() {
         if adjusted[..k].iter().any(|b| b.name == a.name) {
-            return Err(Error::Param(ParamError { message: format!("`{}` is fitted twice", a.name), help: Some("name each parameter once".into()) }));
+            return Err(Error::Param(ParamError {
+                message: format!("`{}` is fitted twice", a.name),
+                help: Some("name each parameter once".into()),
+            }));
         }
     }
     let start: Vec<f64> = adjusted.iter().map(|a| base.values[a.index]).collect();
     for (a, &x) in adjusted.iter().zip(&start) {
         if x < a.lo || x > a.hi {
             return Err(Error::Param(ParamError {
-                message: format!("the start {} = {x} {} lies outside its bounds {}…{} {}", a.name, a.unit, a.lo, a.hi, a.unit),
-                help: Some(format!("start inside them (--set {}=...) or widen them (--adjust {}=LO:HI)", a.name, a.name)),
+                message: format!(
+                    "the start {} = {x} {} lies outside its bounds {}…{} {}",
+                    a.name, a.unit, a.lo, a.hi, a.unit
+                ),
+                help: Some(format!(
+                    "start inside them (--set {}=...) or widen them (--adjust {}=LO:HI)",
+                    a.name, a.name
+                )),
             }));
         }
     }
     let (settings, of_fact) = settings(model, facts, &adjusted)?;
     // Every figure must exist (checked at the start setting, naming the fact).
-    let problem = Problem { model, base, facts, adjusted: &adjusted, settings, of_fact, step_deg, cycles: Default::default() };
+    let problem = Problem {
+        model,
+        base,
+        facts,
+        adjusted: &adjusted,
+        settings,
+        of_fact,
+        step_deg,
+        cycles: Default::default(),
+    };
     let start_figures = problem.plain(&problem.params_at(&start, 0))?;
     for (i, f) in facts.facts.iter().enumerate() {
         if !start_figures.iter().any(|(n, _)| *n == f.figure) {
@@ -541,7 +699,11 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
             return Err(facts.error_at(
                 i,
                 "figure",
-                format!("the model has no figure `{}`{}", f.figure, hint.map(|h| format!(" (did you mean `{h}`?)")).unwrap_or_default()),
+                format!(
+                    "the model has no figure `{}`{}",
+                    f.figure,
+                    hint.map(|h| format!(" (did you mean `{h}`?)")).unwrap_or_default()
+                ),
                 format!("figures of this model: {}", names.join(", ")),
             ));
         }
@@ -563,7 +725,11 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
         iterations += 1;
         // J is of the facts' values; the normal equations weigh it.
         let (a, g) = weighted_normal(&jac, &r, facts);
-        if cost <= 1e-24 || g.iter().zip(&adjusted).all(|(g, b)| (g * (b.hi - b.lo)).abs() <= 1e-12 * (1.0 + cost)) {
+        if cost <= 1e-24
+            || g.iter()
+                .zip(&adjusted)
+                .all(|(g, b)| (g * (b.hi - b.lo)).abs() <= 1e-12 * (1.0 + cost))
+        {
             converged = true;
             stop = "the gradient vanishes".into();
             break;
@@ -584,12 +750,31 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
                 continue;
             };
             // Project the step onto the box.
-            let trial: Vec<f64> = x.iter().zip(&delta).zip(&adjusted).map(|((x, d), b)| (x + d).clamp(b.lo, b.hi)).collect();
-            let moved = trial.iter().zip(&x).zip(&adjusted).map(|((t, x), b)| (t - x).abs() / (b.hi - b.lo)).fold(0.0, f64::max);
+            let trial: Vec<f64> = x
+                .iter()
+                .zip(&delta)
+                .zip(&adjusted)
+                .map(|((x, d), b)| (x + d).clamp(b.lo, b.hi))
+                .collect();
+            let moved = trial
+                .iter()
+                .zip(&x)
+                .zip(&adjusted)
+                .map(|((t, x), b)| (t - x).abs() / (b.hi - b.lo))
+                .fold(0.0, f64::max);
             if moved <= 1e-12 {
                 converged = true;
-                let pressed = x.iter().zip(&delta).zip(&adjusted).any(|((x, d), b)| (*x <= b.lo && *d < 0.0) || (*x >= b.hi && *d > 0.0));
-                stop = if pressed { "the step vanishes: pressed against a bound" } else { "the step vanishes" }.into();
+                let pressed = x
+                    .iter()
+                    .zip(&delta)
+                    .zip(&adjusted)
+                    .any(|((x, d), b)| (*x <= b.lo && *d < 0.0) || (*x >= b.hi && *d > 0.0));
+                stop = if pressed {
+                    "the step vanishes: pressed against a bound"
+                } else {
+                    "the step vanishes"
+                }
+                .into();
                 break 'outer;
             }
             let tried = problem.evaluate(&trial, false);
@@ -638,13 +823,19 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
     };
     for (b, s) in adjusted.iter().zip(&std_error) {
         if s.is_none() {
-            warnings.push(format!("the facts do not determine `{}` (JᵀJ is singular): its fitted value is one of many", b.name));
+            warnings.push(format!(
+                "the facts do not determine `{}` (JᵀJ is singular): its fitted value is one of many",
+                b.name
+            ));
         }
     }
     if let Some(name) = &facts.model
         && *name != model.file.model.name
     {
-        warnings.push(format!("the facts are stated for model `{name}`, the fit ran on `{}`", model.file.model.name));
+        warnings.push(format!(
+            "the facts are stated for model `{name}`, the fit ran on `{}`",
+            model.file.model.name
+        ));
     }
     let m = facts.facts.len();
     if m < n {
@@ -654,7 +845,16 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
         if s.is_empty() {
             "nominal".to_string()
         } else {
-            s.iter().map(|(k, v)| format!("{k} = {} {}", crate::output::fmt_num(*v), model.param_index(k).map_or("", |i| model.params[i].unit_str()))).collect::<Vec<_>>().join(", ")
+            s.iter()
+                .map(|(k, v)| {
+                    format!(
+                        "{k} = {} {}",
+                        crate::output::fmt_num(*v),
+                        model.param_index(k).map_or("", |i| model.params[i].unit_str())
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
         }
     };
     let facts_out = facts
@@ -697,7 +897,17 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
             at_bound: xf <= b.lo || xf >= b.hi,
         })
         .collect();
-    Ok(FitResult { params, facts: facts_out, cost_start, cost, iterations, cycles: problem.cycles.into_inner(), converged, stop, warnings })
+    Ok(FitResult {
+        params,
+        facts: facts_out,
+        cost_start,
+        cost,
+        iterations,
+        cycles: problem.cycles.into_inner(),
+        converged,
+        stop,
+        warnings,
+    })
 }
 
 /// JᵀWᵀWJ and JᵀW r for the unweighted Jacobian `jac` of the facts' values
@@ -730,10 +940,16 @@ fn invert_spd(a: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
     // Scaled to a unit diagonal, so the condition measures correlation.
     let s = nalgebra::DMatrix::from_fn(n, n, |i, j| a[i][j] / (d[i] * d[j]));
     let eig = s.clone().symmetric_eigenvalues();
-    let (min, max) = eig.iter().fold((f64::MAX, 0.0f64), |(lo, hi), &e| (lo.min(e), hi.max(e)));
+    let (min, max) = eig
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(lo, hi), &e| (lo.min(e), hi.max(e)));
     if min <= max * 1e-12 {
         return None;
     }
     let inv = s.try_inverse()?;
-    Some((0..n).map(|i| (0..n).map(|j| inv[(i, j)] / (d[i] * d[j])).collect()).collect())
+    Some(
+        (0..n)
+            .map(|i| (0..n).map(|j| inv[(i, j)] / (d[i] * d[j])).collect())
+            .collect(),
+    )
 }

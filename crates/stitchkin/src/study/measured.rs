@@ -39,7 +39,10 @@ pub struct MeasuredMatch {
 }
 
 fn bad(message: String, help: String) -> Error {
-    Error::Param(ParamError { message, help: Some(help) })
+    Error::Param(ParamError {
+        message,
+        help: Some(help),
+    })
 }
 
 /// Sets `curve` beside the stitch thread `thread` of the cycle `table`
@@ -53,30 +56,62 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
             "use a model with a stitch process (e.g. --preset mf7923d)".into(),
         ));
     };
-    let compared: Vec<&str> = st.threads.iter().filter(|t| t.path.is_some()).map(|t| t.thread.as_str()).collect();
+    let compared: Vec<&str> = st
+        .threads
+        .iter()
+        .filter(|t| t.path.is_some())
+        .map(|t| t.thread.as_str())
+        .collect();
     let wanted = thread.or(curve.thread());
     let th = match wanted {
-        Some(w) => st.threads.iter().find(|t| t.thread == w || t.path.as_deref() == Some(w)).ok_or_else(|| {
-            bad(format!("{source}: the model has no stitch thread or thread path `{w}`"), format!("its compared threads are: {}", compared.join(", ")))
-        })?,
+        Some(w) => st
+            .threads
+            .iter()
+            .find(|t| t.thread == w || t.path.as_deref() == Some(w))
+            .ok_or_else(|| {
+                bad(
+                    format!("{source}: the model has no stitch thread or thread path `{w}`"),
+                    format!("its compared threads are: {}", compared.join(", ")),
+                )
+            })?,
         None => match compared.as_slice() {
             [one] => st.threads.iter().find(|t| t.thread == *one).expect("listed above"),
             _ => {
                 return Err(bad(
-                    format!("{source}: the curve does not say which thread it is, and the model compares {}", compared.join(", ")),
-                    format!("name the column after the thread (e.g. `{}.P_B_mm`) or write --measured THREAD=FILE", compared.first().unwrap_or(&"n1")),
+                    format!(
+                        "{source}: the curve does not say which thread it is, and the model compares {}",
+                        compared.join(", ")
+                    ),
+                    format!(
+                        "name the column after the thread (e.g. `{}.P_B_mm`) or write --measured THREAD=FILE",
+                        compared.first().unwrap_or(&"n1")
+                    ),
                 ));
             }
         },
     };
     let Some(path) = &th.path else {
-        return Err(bad(format!("{source}: thread `{}` has no take-up path to compare", th.thread), "give it a `path` in [stitch]".into()));
+        return Err(bad(
+            format!("{source}: thread `{}` has no take-up path to compare", th.thread),
+            "give it a `path` in [stitch]".into(),
+        ));
     };
     let column = |name: String| -> Result<&[f64], Error> {
-        table.column(&name).ok_or_else(|| bad(format!("{source}: the cycle has no column `{name}`"), "run the full cycle (not a lean one)".into()))
+        table.column(&name).ok_or_else(|| {
+            bad(
+                format!("{source}: the cycle has no column `{name}`"),
+                "run the full cycle (not a lean one)".into(),
+            )
+        })
     };
     let phis = column("phi_deg".into())?;
-    let p = column(table.paths.iter().find(|q| &q.path == path).map_or(format!("{path}.P_mm"), |q| q.p_column.clone()))?;
+    let p = column(
+        table
+            .paths
+            .iter()
+            .find(|q| &q.path == path)
+            .map_or(format!("{path}.P_mm"), |q| q.p_column.clone()),
+    )?;
     let at_b = th.split == SplitPoint::B;
     let pprime = column(th.pprime_column())?;
     let mut values = curve.resample(phis);
@@ -90,7 +125,11 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
         }
         (Some(SplitPoint::B), false) => {
             return Err(bad(
-                format!("{source}: `{}` is measured at B, but thread `{}` is a looper thread measured at its eye", curve.column(), th.thread),
+                format!(
+                    "{source}: `{}` is measured at B, but thread `{}` is a looper thread measured at its eye",
+                    curve.column(),
+                    th.thread
+                ),
                 "give the curve at the looper eye (a column `P_mm` or `Pprime_mm`)".into(),
             ));
         }
@@ -99,8 +138,14 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
     let compared_at = compared_outside(phis, th.regulator_window_deg);
     let eps = st.tolerance_mm;
     let (against_other, against_model) = match curve.kind() {
-        CurveKind::TakeUp => (mismatch_on_cycle(phis, &values, pprime, &compared_at, eps, true), mismatch_on_cycle(phis, p, &values, &compared_at, eps, true)),
-        CurveKind::Required => (mismatch_on_cycle(phis, p, &values, &compared_at, eps, true), mismatch_on_cycle(phis, pprime, &values, &compared_at, eps, true)),
+        CurveKind::TakeUp => (
+            mismatch_on_cycle(phis, &values, pprime, &compared_at, eps, true),
+            mismatch_on_cycle(phis, p, &values, &compared_at, eps, true),
+        ),
+        CurveKind::Required => (
+            mismatch_on_cycle(phis, p, &values, &compared_at, eps, true),
+            mismatch_on_cycle(phis, pprime, &values, &compared_at, eps, true),
+        ),
     };
     Ok(MeasuredMatch {
         source: source.to_string(),

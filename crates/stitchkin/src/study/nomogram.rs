@@ -42,42 +42,49 @@ impl Axis {
         let bad = |message: String| {
             Error::Param(ParamError {
                 message,
-                help: Some(format!("write {flag} LO:HI:N in mm, e.g. {flag} 0.5:5:10 (N values, ends included), or one value")),
+                help: Some(format!(
+                    "write {flag} LO:HI:N in mm, e.g. {flag} 0.5:5:10 (N values, ends included), or one value"
+                )),
             })
         };
         let parts: Vec<&str> = spec.split(':').collect();
         let num = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
-        let axis = match parts.as_slice() {
-            [v] => {
-                let v = num(v).ok_or_else(|| bad(format!("{flag} `{spec}` is not a number")))?;
-                Axis { lo: v, hi: v, n: 1 }
-            }
-            [lo, hi, rest @ ..] if rest.len() <= 1 => {
-                let (Some(lo), Some(hi)) = (num(lo), num(hi)) else {
-                    return Err(bad(format!("the ends of {flag} `{spec}` must be numbers")));
-                };
-                let n = match rest.first() {
-                    Some(s) => s
-                        .trim()
-                        .parse::<usize>()
-                        .ok()
-                        .filter(|&n| n >= 1)
-                        .ok_or_else(|| bad(format!("N = `{s}` must be a whole number ≥ 1 (in {flag} {spec})")))?,
-                    None => 11,
-                };
-                if n > 1 && lo == hi {
-                    return Err(bad(format!("{flag} {spec}: LO = HI gives {n} equal values; use N = 1 or widen the range")));
+        let axis =
+            match parts.as_slice() {
+                [v] => {
+                    let v = num(v).ok_or_else(|| bad(format!("{flag} `{spec}` is not a number")))?;
+                    Axis { lo: v, hi: v, n: 1 }
                 }
-                Axis { lo, hi, n }
-            }
-            _ => return Err(bad(format!("{flag} `{spec}` is not LO:HI:N"))),
-        };
+                [lo, hi, rest @ ..] if rest.len() <= 1 => {
+                    let (Some(lo), Some(hi)) = (num(lo), num(hi)) else {
+                        return Err(bad(format!("the ends of {flag} `{spec}` must be numbers")));
+                    };
+                    let n =
+                        match rest.first() {
+                            Some(s) => s.trim().parse::<usize>().ok().filter(|&n| n >= 1).ok_or_else(|| {
+                                bad(format!("N = `{s}` must be a whole number ≥ 1 (in {flag} {spec})"))
+                            })?,
+                            None => 11,
+                        };
+                    if n > 1 && lo == hi {
+                        return Err(bad(format!(
+                            "{flag} {spec}: LO = HI gives {n} equal values; use N = 1 or widen the range"
+                        )));
+                    }
+                    Axis { lo, hi, n }
+                }
+                _ => return Err(bad(format!("{flag} `{spec}` is not LO:HI:N"))),
+            };
         Ok(axis)
     }
 
     /// The k-th value.
     pub fn value(&self, k: usize) -> f64 {
-        if self.n == 1 { self.lo } else { self.lo + (self.hi - self.lo) * k as f64 / (self.n - 1) as f64 }
+        if self.n == 1 {
+            self.lo
+        } else {
+            self.lo + (self.hi - self.lo) * k as f64 / (self.n - 1) as f64
+        }
     }
 }
 
@@ -139,12 +146,28 @@ fn stitch_param(model: &Model, which: &str) -> Option<String> {
 /// stitch, nothing to adjust, adjusting m or t themselves) is an error
 /// before anything runs. A grid point whose tuning fails is kept with its
 /// reason; when every point fails, the first point's error is returned.
-pub fn nomogram(model: &Model, base: &Params, opts: &NomogramOptions, progress: impl Fn() + Sync) -> Result<Nomogram, Error> {
-    let bad = |message: String, help: String| Error::Param(ParamError { message, help: Some(help) });
-    crate::eval::check_options(&crate::eval::CycleOptions { step_deg: opts.tune.step_deg, ..Default::default() })?;
-    let nominal = model
-        .stitch_setup(base)?
-        .ok_or_else(|| Error::Stitch(format!("model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504", model.file.model.name)))?;
+pub fn nomogram(
+    model: &Model,
+    base: &Params,
+    opts: &NomogramOptions,
+    progress: impl Fn() + Sync,
+) -> Result<Nomogram, Error> {
+    let bad = |message: String, help: String| {
+        Error::Param(ParamError {
+            message,
+            help: Some(help),
+        })
+    };
+    crate::eval::check_options(&crate::eval::CycleOptions {
+        step_deg: opts.tune.step_deg,
+        ..Default::default()
+    })?;
+    let nominal = model.stitch_setup(base)?.ok_or_else(|| {
+        Error::Stitch(format!(
+            "model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504",
+            model.file.model.name
+        ))
+    })?;
     // Both ends of each axis must be settable (a parameter, inside its range).
     for (which, axis) in [("m", Some(&opts.thickness)), ("t", opts.stitch.as_ref())] {
         if let Some(a) = axis {
@@ -153,11 +176,18 @@ pub fn nomogram(model: &Model, base: &Params, opts: &NomogramOptions, progress: 
             }
         }
     }
-    let stitch = opts.stitch.unwrap_or(Axis { lo: nominal.spec.t_mm, hi: nominal.spec.t_mm, n: 1 });
+    let stitch = opts.stitch.unwrap_or(Axis {
+        lo: nominal.spec.t_mm,
+        hi: nominal.spec.t_mm,
+        n: 1,
+    });
     let total = opts.thickness.n.saturating_mul(stitch.n);
     if total > MAX_POINTS {
         return Err(bad(
-            format!("the nomogram has {total} grid points ({} × {})", opts.thickness.n, stitch.n),
+            format!(
+                "the nomogram has {total} grid points ({} × {})",
+                opts.thickness.n, stitch.n
+            ),
             format!("at most {MAX_POINTS}: each point is a full tuning; use fewer values per axis"),
         ));
     }
@@ -165,7 +195,10 @@ pub fn nomogram(model: &Model, base: &Params, opts: &NomogramOptions, progress: 
     if tune_opts.adjust.is_empty() {
         tune_opts.adjust = default_adjustables(model, base)?;
     }
-    for (which, flag, what) in [("m", "--thickness", "material thickness"), ("t", "--stitch", "stitch length")] {
+    for (which, flag, what) in [
+        ("m", "--thickness", "material thickness"),
+        ("t", "--stitch", "stitch length"),
+    ] {
         if let Some(p) = stitch_param(model, which)
             && tune_opts.adjust.contains(&p)
         {
@@ -175,7 +208,10 @@ pub fn nomogram(model: &Model, base: &Params, opts: &NomogramOptions, progress: 
             ));
         }
     }
-    let grid: Vec<(f64, f64)> = (0..opts.thickness.n).flat_map(|i| (0..stitch.n).map(move |j| (i, j))).map(|(i, j)| (opts.thickness.value(i), stitch.value(j))).collect();
+    let grid: Vec<(f64, f64)> = (0..opts.thickness.n)
+        .flat_map(|i| (0..stitch.n).map(move |j| (i, j)))
+        .map(|(i, j)| (opts.thickness.value(i), stitch.value(j)))
+        .collect();
     let vary_t = opts.stitch.is_some();
     let results: Vec<Result<TuneResult, Error>> = grid
         .par_iter()
@@ -199,13 +235,25 @@ pub fn nomogram(model: &Model, base: &Params, opts: &NomogramOptions, progress: 
     }
     let first = results.iter().find_map(|r| r.as_ref().ok());
     let adjust = first.map(|r| r.names.clone()).unwrap_or_default();
-    let threads = first.map(|r| r.after_figures.threads.iter().map(|t| t.0.clone()).collect()).unwrap_or_default();
+    let threads = first
+        .map(|r| r.after_figures.threads.iter().map(|t| t.0.clone()).collect())
+        .unwrap_or_default();
     let points = grid
         .iter()
         .zip(results)
         .map(|(&(m_mm, t_mm), r)| match r {
-            Ok(r) => NomogramPoint { m_mm, t_mm, tuned: Some(r), error: None },
-            Err(e) => NomogramPoint { m_mm, t_mm, tuned: None, error: Some(e.to_string().replace('\n', " ")) },
+            Ok(r) => NomogramPoint {
+                m_mm,
+                t_mm,
+                tuned: Some(r),
+                error: None,
+            },
+            Err(e) => NomogramPoint {
+                m_mm,
+                t_mm,
+                tuned: None,
+                error: Some(e.to_string().replace('\n', " ")),
+            },
         })
         .collect();
     Ok(Nomogram {
@@ -225,14 +273,22 @@ pub fn nomogram(model: &Model, base: &Params, opts: &NomogramOptions, progress: 
 pub fn default_thickness(model: &Model) -> Result<Axis, Error> {
     let no_range = || {
         Error::Param(ParamError {
-            message: format!("model `{}` gives no thickness range to draw the nomogram over", model.file.model.name),
+            message: format!(
+                "model `{}` gives no thickness range to draw the nomogram over",
+                model.file.model.name
+            ),
             help: Some("give one with --thickness LO:HI:N in mm, e.g. --thickness 1:5:5".into()),
         })
     };
     let stitch = model.file.stitch.as_ref().ok_or_else(|| {
-        Error::Stitch(format!("model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504", model.file.model.name))
+        Error::Stitch(format!(
+            "model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504",
+            model.file.model.name
+        ))
     })?;
-    let Value::Expr(name) = &stitch.m_mm else { return Err(no_range()) };
+    let Value::Expr(name) = &stitch.m_mm else {
+        return Err(no_range());
+    };
     let i = model.param_index(name.trim()).ok_or_else(no_range)?;
     match model.params[i].range {
         Some([lo, hi]) if hi > lo => Ok(Axis { lo, hi, n: 5 }),
@@ -271,7 +327,13 @@ impl Nomogram {
     /// constraint is not met.
     pub fn notes(&self) -> Vec<String> {
         let r2 = |x: f64| fmt_num((x * 100.0).round() / 100.0);
-        let at = |p: &NomogramPoint| if self.stitch.n > 1 { format!("m = {} mm, t = {} mm", r2(p.m_mm), r2(p.t_mm)) } else { format!("m = {} mm", r2(p.m_mm)) };
+        let at = |p: &NomogramPoint| {
+            if self.stitch.n > 1 {
+                format!("m = {} mm, t = {} mm", r2(p.m_mm), r2(p.t_mm))
+            } else {
+                format!("m = {} mm", r2(p.m_mm))
+            }
+        };
         let mut out = Vec::new();
         let tuned: Vec<(&NomogramPoint, &TuneResult)> = self.tuned().collect();
         for (name, unit) in &self.adjust {
@@ -294,13 +356,26 @@ impl Nomogram {
                 }
             }
         }
-        let flat: Vec<String> = tuned.iter().filter(|(_, r)| r.notes.iter().any(|n| n.starts_with("the match does not improve"))).map(|(p, _)| at(p)).collect();
+        let flat: Vec<String> = tuned
+            .iter()
+            .filter(|(_, r)| r.notes.iter().any(|n| n.starts_with("the match does not improve")))
+            .map(|(p, _)| at(p))
+            .collect();
         if !flat.is_empty() {
-            out.push(format!("tuning does not raise the mean score at {} ({} of {} grid points)", flat.join("; "), flat.len(), tuned.len()));
+            out.push(format!(
+                "tuning does not raise the mean score at {} ({} of {} grid points)",
+                flat.join("; "),
+                flat.len(),
+                tuned.len()
+            ));
         }
         for (p, r) in &tuned {
             if !r.after_figures.failed_checks.is_empty() {
-                out.push(format!("at {} no setting in the ranges passes every physical check ({} fail)", at(p), r.after_figures.failed_checks.join(", ")));
+                out.push(format!(
+                    "at {} no setting in the ranges passes every physical check ({} fail)",
+                    at(p),
+                    r.after_figures.failed_checks.join(", ")
+                ));
             }
         }
         out
@@ -329,10 +404,21 @@ impl Nomogram {
                 Some(r) => {
                     for (k, (name, _)) in self.adjust.iter().enumerate() {
                         let f = r.flatness.iter().find(|f| &f.name == name);
-                        s += &format!(",{},{},{}", cell(r.after.get(k).copied()), cell(f.map(|f| f.lo)), cell(f.map(|f| f.hi)));
+                        s += &format!(
+                            ",{},{},{}",
+                            cell(r.after.get(k).copied()),
+                            cell(f.map(|f| f.lo)),
+                            cell(f.map(|f| f.hi))
+                        );
                     }
                     let (b, a) = (&r.before_figures, &r.after_figures);
-                    s += &format!(",{},{},{},{}", cell(Some(b.score_mean)), cell(Some(a.score_mean)), cell(Some(b.objective)), cell(Some(a.objective)));
+                    s += &format!(
+                        ",{},{},{},{}",
+                        cell(Some(b.score_mean)),
+                        cell(Some(a.score_mean)),
+                        cell(Some(b.objective)),
+                        cell(Some(a.objective))
+                    );
                     for t in &self.threads {
                         let rms = |f: &super::tune::MatchFigures| f.threads.iter().find(|x| &x.0 == t).map(|x| x.2);
                         s += &format!(
@@ -367,7 +453,12 @@ impl Nomogram {
             self.model
         );
         let adj: Vec<String> = self.adjust.iter().map(|(n, u)| format!("{n} ({u})")).collect();
-        s += &format!("adjusting {}; seed {}, φ step {}°\n", adj.join(", "), self.seed, self.step_deg);
+        s += &format!(
+            "adjusting {}; seed {}, φ step {}°\n",
+            adj.join(", "),
+            self.seed,
+            self.step_deg
+        );
         s += &format!(
             "score: the mean match score of {} (0…100); per thread after tuning; J: the objective tuned (J ≥ 1 gives score 0)\n",
             self.threads.join(", ")
@@ -404,7 +495,12 @@ impl Nomogram {
                 Some(r) => {
                     for (k, (name, _)) in self.adjust.iter().enumerate() {
                         cells.push(r2(r.after[k]));
-                        cells.push(r.flatness.iter().find(|f| &f.name == name).map_or("—".into(), |f| format!("{} … {}", r2(f.lo), r2(f.hi))));
+                        cells.push(
+                            r.flatness
+                                .iter()
+                                .find(|f| &f.name == name)
+                                .map_or("—".into(), |f| format!("{} … {}", r2(f.lo), r2(f.hi))),
+                        );
                     }
                     cells.push(format!("{:.1}", r.before_figures.score_mean));
                     cells.push(format!("{:.1}", r.after_figures.score_mean));
@@ -434,7 +530,10 @@ impl Nomogram {
                 for i in 0..self.thickness.n {
                     s += &format!("{:>6}", r2(self.thickness.value(i)));
                     for j in 0..self.stitch.n {
-                        let v = self.points[i * self.stitch.n + j].tuned.as_ref().map_or("—".into(), |r| r2(r.after[k]));
+                        let v = self.points[i * self.stitch.n + j]
+                            .tuned
+                            .as_ref()
+                            .map_or("—".into(), |r| r2(r.after[k]));
                         s += &format!("  {v:>7}");
                     }
                     s += "\n";

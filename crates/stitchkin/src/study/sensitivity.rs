@@ -35,9 +35,11 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::sweep::{Design, Sweep, Vary, figures, select_figures, shared_stitch};
-use crate::eval::stitch::Prepared;
 use crate::error::{Error, ParamError};
-use crate::eval::{CycleOptions, check_options, cycle_phis_deg, path_error, run_cycle_with, take_up_name, tracks_at_phi0};
+use crate::eval::stitch::Prepared;
+use crate::eval::{
+    CycleOptions, check_options, cycle_phis_deg, path_error, run_cycle_with, take_up_name, tracks_at_phi0,
+};
 use crate::mechanism::{Mechanism, Phi, Pose};
 use crate::model::{Model, Params};
 
@@ -47,7 +49,15 @@ pub const FD_REL_STEP: f64 = 1e-5;
 /// Figures shown by default (those the model has): the match score per
 /// stitch thread, max P per path, the transmission-angle extremes, the
 /// measures' ranges and the point strokes.
-pub const DEFAULT_FIGURES: &[&str] = &["*.max_P_B_mm", "*.max_P_mm", "*.score", "mu.min_deg", "mu.max_deg", "*.range_mm", "*_stroke_mm"];
+pub const DEFAULT_FIGURES: &[&str] = &[
+    "*.max_P_B_mm",
+    "*.max_P_mm",
+    "*.score",
+    "mu.min_deg",
+    "mu.max_deg",
+    "*.range_mm",
+    "*_stroke_mm",
+];
 
 /// How the parameters of one figure are ranked.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -168,7 +178,12 @@ pub fn figure_unit(name: &str) -> &'static str {
 
 /// Every parameter with an adjustable range (lo < hi), in file order.
 pub fn adjustable(model: &Model) -> Vec<String> {
-    model.params.iter().filter(|p| !p.is_derived() && p.range.is_some_and(|[lo, hi]| lo < hi)).map(|p| p.name.clone()).collect()
+    model
+        .params
+        .iter()
+        .filter(|p| !p.is_derived() && p.range.is_some_and(|[lo, hi]| lo < hi))
+        .map(|p| p.name.clone())
+        .collect()
 }
 
 /// Indices (first occurrence) of the smallest and largest value part, as
@@ -189,13 +204,29 @@ fn extremes(v: &[Dual64]) -> (usize, usize) {
 /// The cycle solved with parameter `param` seeded as p + ε: the mechanism,
 /// its pose at every φ (value and d/dp), and the φ grid in degrees.
 #[allow(clippy::type_complexity)]
-fn seeded_cycle(model: &Model, base: &Params, param: usize, step_deg: f64) -> Result<(Mechanism<Dual64>, Pose<Dual64>, Vec<f64>), Error> {
-    check_options(&CycleOptions { step_deg, ..Default::default() })?;
+fn seeded_cycle(
+    model: &Model,
+    base: &Params,
+    param: usize,
+    step_deg: f64,
+) -> Result<(Mechanism<Dual64>, Pose<Dual64>, Vec<f64>), Error> {
+    check_options(&CycleOptions {
+        step_deg,
+        ..Default::default()
+    })?;
     if model.params.get(param).is_none_or(|p| p.is_derived()) {
-        return Err(Error::Param(ParamError { message: format!("parameter #{param} cannot be seeded"), help: Some("seed a settable parameter".into()) }));
+        return Err(Error::Param(ParamError {
+            message: format!("parameter #{param} cannot be seeded"),
+            help: Some("seed a settable parameter".into()),
+        }));
     }
     // ε = 1 on p; every other value is a constant.
-    let seeded: Vec<Dual64> = base.values.iter().enumerate().map(|(i, &v)| Dual64::new(v, if i == param { 1.0 } else { 0.0 })).collect();
+    let seeded: Vec<Dual64> = base
+        .values
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| Dual64::new(v, if i == param { 1.0 } else { 0.0 }))
+        .collect();
     let mech = model.mechanism_with::<Dual64>(&seeded)?;
     let phis = cycle_phis_deg(model.phi_start_deg(), step_deg);
     // φ is a plain constant here: the ε part is d/dp, not d/dφ.
@@ -211,7 +242,12 @@ fn seeded_cycle(model: &Model, base: &Params, param: usize, step_deg: f64) -> Re
 /// the figure's units (a transmission angle in deg per mm or per deg).
 /// Take-up extremes, transmission-angle extremes, measure extremes and
 /// ranges, point strokes; not the match figures.
-pub fn figure_derivatives(model: &Model, base: &Params, param: usize, step_deg: f64) -> Result<Vec<(String, f64, f64)>, Error> {
+pub fn figure_derivatives(
+    model: &Model,
+    base: &Params,
+    param: usize,
+    step_deg: f64,
+) -> Result<Vec<(String, f64, f64)>, Error> {
     let (mech, pose, phis) = seeded_cycle(model, base, param, step_deg)?;
     let n = phis.len();
     let mut out = Vec::new();
@@ -231,7 +267,9 @@ pub fn figure_derivatives(model: &Model, base: &Params, param: usize, step_deg: 
             path_error(e, phi)
         })?;
         for ((path, track), at0) in th.paths.iter().zip(tracks).zip(at0) {
-            let p: Vec<Dual64> = (0..track.xi.len()).map(|k| th.convention.take_up(track.xi_at_split(k), at0.xi_at_split(0))).collect();
+            let p: Vec<Dual64> = (0..track.xi.len())
+                .map(|k| th.convention.take_up(track.xi_at_split(k), at0.xi_at_split(0)))
+                .collect();
             let (lo, hi) = extremes(&p);
             let pn = take_up_name(!track.eye_up.is_empty());
             push(&mut out, format!("{}.max_{pn}_mm", path.name), p[hi]);
@@ -250,10 +288,13 @@ pub fn figure_derivatives(model: &Model, base: &Params, param: usize, step_deg: 
                 mu[j].push(deg(*m));
             }
         }
-        let ext: Vec<(Dual64, Dual64)> = mu.iter().map(|v| {
-            let (lo, hi) = extremes(v);
-            (v[lo], v[hi])
-        }).collect();
+        let ext: Vec<(Dual64, Dual64)> = mu
+            .iter()
+            .map(|v| {
+                let (lo, hi) = extremes(v);
+                (v[lo], v[hi])
+            })
+            .collect();
         // The overall extremes: the dyad whose extreme it is.
         let mut jmin = 0;
         let mut jmax = 0;
@@ -290,12 +331,20 @@ pub fn figure_derivatives(model: &Model, base: &Params, param: usize, step_deg: 
         }
     }
     // Point strokes along each axis, for the model's output points.
-    let axes: &[(usize, &str)] = if model.planar { &[(0, "x"), (1, "y")] } else { &[(0, "x"), (1, "y"), (2, "z")] };
+    let axes: &[(usize, &str)] = if model.planar {
+        &[(0, "x"), (1, "y")]
+    } else {
+        &[(0, "x"), (1, "y"), (2, "z")]
+    };
     for &slot in &model.output_points {
         for &(a, name) in axes {
             let v: Vec<Dual64> = pose.track(slot).iter().map(|q| q[a]).collect();
             let (lo, hi) = extremes(&v);
-            push(&mut out, format!("{}.{name}_stroke_mm", model.point_names[slot]), v[hi] - v[lo]);
+            push(
+                &mut out,
+                format!("{}.{name}_stroke_mm", model.point_names[slot]),
+                v[hi] - v[lo],
+            );
         }
     }
     Ok(out)
@@ -305,9 +354,27 @@ pub fn figure_derivatives(model: &Model, base: &Params, param: usize, step_deg: 
 /// written directly (a central difference may step just past a range end).
 /// With `shared`, P' of the stitch process is taken from it (see
 /// [`super::sweep::shared_stitch`]).
-fn plain_figures(model: &Model, values: &[f64], step_deg: f64, shared: Option<&Prepared>) -> Result<Vec<(String, f64)>, Error> {
-    let opts = CycleOptions { step_deg, rpm: None, analogs: false, points: None, lean: true };
-    let t = run_cycle_with(model, &Params { values: values.to_vec() }, &opts, shared)?;
+fn plain_figures(
+    model: &Model,
+    values: &[f64],
+    step_deg: f64,
+    shared: Option<&Prepared>,
+) -> Result<Vec<(String, f64)>, Error> {
+    let opts = CycleOptions {
+        step_deg,
+        rpm: None,
+        analogs: false,
+        points: None,
+        lean: true,
+    };
+    let t = run_cycle_with(
+        model,
+        &Params {
+            values: values.to_vec(),
+        },
+        &opts,
+        shared,
+    )?;
     Ok(figures(&t))
 }
 
@@ -330,40 +397,70 @@ type Figures = Result<Vec<(String, f64)>, Error>;
 
 /// The first line of an error, for a note.
 fn why(r: &Figures) -> Option<String> {
-    r.as_ref().err().map(|e| e.to_string().lines().next().unwrap_or("").to_string())
+    r.as_ref()
+        .err()
+        .map(|e| e.to_string().lines().next().unwrap_or("").to_string())
 }
 
 /// The sensitivity of `opts.figures` to `opts.params` at the setting `base`.
 pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> Result<SensitivityResult, Error> {
-    let bad = |message: String, help: String| Error::Param(ParamError { message, help: Some(help) });
-    check_options(&CycleOptions { step_deg: opts.step_deg, ..Default::default() })?;
-    let names = if opts.params.is_empty() { adjustable(model) } else { opts.params.clone() };
+    let bad = |message: String, help: String| {
+        Error::Param(ParamError {
+            message,
+            help: Some(help),
+        })
+    };
+    check_options(&CycleOptions {
+        step_deg: opts.step_deg,
+        ..Default::default()
+    })?;
+    let names = if opts.params.is_empty() {
+        adjustable(model)
+    } else {
+        opts.params.clone()
+    };
     if names.is_empty() {
         return Err(bad(
-            format!("model `{}` has no parameter with an adjustable range", model.file.model.name),
+            format!(
+                "model `{}` has no parameter with an adjustable range",
+                model.file.model.name
+            ),
             "give a parameter `range = [lo, hi]` in [parameters] to study it".into(),
         ));
     }
     let mut params: Vec<(usize, f64, f64)> = Vec::new();
     for name in &names {
         let i = model.param_index(name).ok_or_else(|| {
-            bad(format!("the model has no parameter `{name}`"), format!("parameters with a range: {}", adjustable(model).join(", ")))
+            bad(
+                format!("the model has no parameter `{name}`"),
+                format!("parameters with a range: {}", adjustable(model).join(", ")),
+            )
         })?;
         let p = &model.params[i];
         let Some([lo, hi]) = p.range.filter(|r| r[0] < r[1] && !p.is_derived()) else {
             return Err(bad(
                 format!("`{name}` has no adjustable range, so it has no whole-range effect to report"),
-                format!("study parameters with a range ({}), or give `{name}` `range = [lo, hi]` in [parameters]", adjustable(model).join(", ")),
+                format!(
+                    "study parameters with a range ({}), or give `{name}` `range = [lo, hi]` in [parameters]",
+                    adjustable(model).join(", ")
+                ),
             ));
         };
         if params.iter().any(|(j, ..)| *j == i) {
-            return Err(bad(format!("`{name}` is named twice"), "name each parameter once".into()));
+            return Err(bad(
+                format!("`{name}` is named twice"),
+                "name each parameter once".into(),
+            ));
         }
         params.push((i, lo, hi));
     }
     let nominal = plain_figures(model, &base.values, opts.step_deg, None)?;
     let patterns: Vec<String> = if opts.figures.is_empty() {
-        DEFAULT_FIGURES.iter().filter(|p| nominal.iter().any(|(n, _)| crate::eval::glob_match(p, n))).map(|p| p.to_string()).collect()
+        DEFAULT_FIGURES
+            .iter()
+            .filter(|p| nominal.iter().any(|(n, _)| crate::eval::glob_match(p, n)))
+            .map(|p| p.to_string())
+            .collect()
     } else {
         opts.figures.clone()
     };
@@ -382,13 +479,24 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
     // P' once per parameter that leaves the stitch process alone; once for
     // all when no selected figure involves P' (its figures are then unused).
     let stitch_figure = |f: &str| {
-        f.starts_with("score.") || [".score", ".rms_D_mm", ".max_abs_D_mm", ".max_Pprime_mm"].iter().any(|s| f.ends_with(s))
+        f.starts_with("score.")
+            || [".score", ".rms_D_mm", ".max_abs_D_mm", ".max_Pprime_mm"]
+                .iter()
+                .any(|s| f.ends_with(s))
     };
     let shared: Vec<Option<Prepared>> = if selected.iter().any(|f| stitch_figure(f)) {
         params
             .iter()
             .map(|&(i, lo, hi)| {
-                let one = Sweep::new(vec![Vary { name: model.params[i].name.clone(), lo, hi, n: 2 }], Design::Grid)?;
+                let one = Sweep::new(
+                    vec![Vary {
+                        name: model.params[i].name.clone(),
+                        lo,
+                        hi,
+                        n: 2,
+                    }],
+                    Design::Grid,
+                )?;
                 shared_stitch(model, base, &one, opts.step_deg)
             })
             .collect::<Result<_, _>>()?
@@ -403,8 +511,10 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
             plain_figures(model, &v, opts.step_deg, shared[j].as_ref())
         })
         .collect();
-    let exact: Vec<Vec<(String, f64, f64)>> =
-        params.par_iter().map(|&(i, ..)| figure_derivatives(model, base, i, opts.step_deg)).collect::<Result<_, _>>()?;
+    let exact: Vec<Vec<(String, f64, f64)>> = params
+        .par_iter()
+        .map(|&(i, ..)| figure_derivatives(model, base, i, opts.step_deg))
+        .collect::<Result<_, _>>()?;
     let mut out = Vec::new();
     let mut insensitive = Vec::new();
     for fig in &selected {
@@ -420,7 +530,9 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
             let value = |r: &Figures| r.as_ref().ok().and_then(|v| lookup(v, fig)).filter(|x| x.is_finite());
             let mut notes = Vec::new();
             let d_exact = exact[j].iter().find(|(n, ..)| n == fig).map(|e| e.2);
-            let central = value(&runs[0]).zip(value(&runs[1])).map(|(a, b)| (a - b) / (2.0 * h[j]));
+            let central = value(&runs[0])
+                .zip(value(&runs[1]))
+                .map(|(a, b)| (a - b) / (2.0 * h[j]));
             let (derivative, method) = match (d_exact, central) {
                 (Some(e), Some(c)) if !agrees(e, c, f0, h[j]) => {
                     notes.push(format!(
@@ -444,13 +556,24 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
             for (k, r) in samples.iter().enumerate() {
                 if let Some(w) = why(r) {
                     let x = lo + width * k as f64 / (RANGE_SAMPLES - 1) as f64;
-                    notes.push(format!("at {} = {} {}: {w}", p.name, crate::output::fmt_num(x), p.unit_str()));
+                    notes.push(format!(
+                        "at {} = {} {}: {w}",
+                        p.name,
+                        crate::output::fmt_num(x),
+                        p.unit_str()
+                    ));
                 }
             }
             // The span over the range: the samples and the nominal setting.
-            let vals: Vec<f64> = samples.iter().filter_map(value).chain(std::iter::once(f0).filter(|_| (lo..=hi).contains(&base.values[i]))).collect();
+            let vals: Vec<f64> = samples
+                .iter()
+                .filter_map(value)
+                .chain(std::iter::once(f0).filter(|_| (lo..=hi).contains(&base.values[i])))
+                .collect();
             let span = if vals.len() >= 2 {
-                Some(snap(vals.iter().cloned().fold(f64::MIN, f64::max) - vals.iter().cloned().fold(f64::MAX, f64::min)))
+                Some(snap(
+                    vals.iter().cloned().fold(f64::MIN, f64::max) - vals.iter().cloned().fold(f64::MAX, f64::min),
+                ))
             } else {
                 None
             };
@@ -498,7 +621,13 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
         step_deg: opts.step_deg,
         params: params
             .iter()
-            .map(|&(i, lo, hi)| StudiedParam { name: model.params[i].name.clone(), unit: model.params[i].unit_str(), nominal: base.values[i], lo, hi })
+            .map(|&(i, lo, hi)| StudiedParam {
+                name: model.params[i].name.clone(),
+                unit: model.params[i].unit_str(),
+                nominal: base.values[i],
+                lo,
+                hi,
+            })
             .collect(),
         figures: out,
         insensitive,
@@ -510,10 +639,18 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
 /// cycle: `(path, P mm, dP/dp)` per path, on the cycle's φ grid (returned
 /// first, degrees).
 #[allow(clippy::type_complexity)]
-pub fn take_up_derivatives(model: &Model, base: &Params, param: usize, step_deg: f64) -> Result<(Vec<f64>, Vec<(String, Vec<f64>, Vec<f64>)>), Error> {
+pub fn take_up_derivatives(
+    model: &Model,
+    base: &Params,
+    param: usize,
+    step_deg: f64,
+) -> Result<(Vec<f64>, Vec<(String, Vec<f64>, Vec<f64>)>), Error> {
     let (mech, pose, phis) = seeded_cycle(model, base, param, step_deg)?;
     let Some(th) = &mech.threads else {
-        return Err(Error::Thread(format!("model `{}` has no thread paths", model.file.model.name)));
+        return Err(Error::Thread(format!(
+            "model `{}` has no thread paths",
+            model.file.model.name
+        )));
     };
     let at0 = tracks_at_phi0(&mech, th)?;
     let tracks = th.evaluate(&pose, None).map_err(|e| {
@@ -526,8 +663,14 @@ pub fn take_up_derivatives(model: &Model, base: &Params, param: usize, step_deg:
         .zip(tracks)
         .zip(at0)
         .map(|((path, track), at0)| {
-            let p: Vec<Dual64> = (0..track.xi.len()).map(|k| th.convention.take_up(track.xi_at_split(k), at0.xi_at_split(0))).collect();
-            (path.name.clone(), p.iter().map(|x| x.re).collect(), p.iter().map(|x| x.eps).collect())
+            let p: Vec<Dual64> = (0..track.xi.len())
+                .map(|k| th.convention.take_up(track.xi_at_split(k), at0.xi_at_split(0)))
+                .collect();
+            (
+                path.name.clone(),
+                p.iter().map(|x| x.re).collect(),
+                p.iter().map(|x| x.eps).collect(),
+            )
         })
         .collect();
     Ok((phis, paths))

@@ -63,7 +63,10 @@ impl Reference {
                 help: Some("e.g. --line N1,N2".into()),
             }));
         }
-        Ok(Reference::Line { through: point_slot(model, h, "--line", false)?, toward: point_slot(model, t, "--line", false)? })
+        Ok(Reference::Line {
+            through: point_slot(model, h, "--line", false)?,
+            toward: point_slot(model, t, "--line", false)?,
+        })
     }
 }
 
@@ -85,20 +88,27 @@ impl Window {
     /// `cycle`, `down`, `up` or `FROM:TO` (degrees).
     pub fn parse(spec: &str) -> Result<Window, Error> {
         let bad = |message: String| {
-            Error::Param(ParamError { message, help: Some("write --over cycle, down, up, or FROM:TO in degrees of φ, e.g. --over 300:60".into()) })
+            Error::Param(ParamError {
+                message,
+                help: Some("write --over cycle, down, up, or FROM:TO in degrees of φ, e.g. --over 300:60".into()),
+            })
         };
         match spec.trim() {
             "cycle" => Ok(Window::Cycle),
             "down" => Ok(Window::Down),
             "up" => Ok(Window::Up),
             s => {
-                let (a, b) = s.split_once(':').ok_or_else(|| bad(format!("`{s}` is not cycle, down, up or FROM:TO")))?;
+                let (a, b) = s
+                    .split_once(':')
+                    .ok_or_else(|| bad(format!("`{s}` is not cycle, down, up or FROM:TO")))?;
                 let num = |x: &str| x.trim().parse::<f64>().ok().filter(|v| v.is_finite());
                 let (Some(from_deg), Some(to_deg)) = (num(a), num(b)) else {
                     return Err(bad(format!("the ends of `{s}` must be numbers (degrees)")));
                 };
                 if (to_deg - from_deg).rem_euclid(360.0) < 1e-9 {
-                    return Err(bad(format!("`{s}` is empty or a whole turn; use --over cycle for the whole turn")));
+                    return Err(bad(format!(
+                        "`{s}` is empty or a whole turn; use --over cycle for the whole turn"
+                    )));
                 }
                 Ok(Window::Phi { from_deg, to_deg })
             }
@@ -200,11 +210,23 @@ impl PoseFn for Dev {
 fn fit_line(pts: &[V3<f64>]) -> (V3<f64>, V3<f64>) {
     let n = pts.len() as f64;
     let c = pts.iter().fold(V3::zeros(), |a, p| a + p) / n;
-    let cov = pts.iter().fold(Matrix3::zeros(), |a, p| a + (p - c) * (p - c).transpose());
+    let cov = pts
+        .iter()
+        .fold(Matrix3::zeros(), |a, p| a + (p - c) * (p - c).transpose());
     let eig = cov.symmetric_eigen();
-    let (i, _) = eig.eigenvalues.iter().enumerate().fold((0, f64::MIN), |b, (i, &l)| if l > b.1 { (i, l) } else { b });
+    let (i, _) = eig
+        .eigenvalues
+        .iter()
+        .enumerate()
+        .fold((0, f64::MIN), |b, (i, &l)| if l > b.1 { (i, l) } else { b });
     let mut u: V3<f64> = eig.eigenvectors.column(i).into_owned();
-    let key = if u.y.abs() > 1e-12 { u.y } else if u.x.abs() > 1e-12 { u.x } else { u.z };
+    let key = if u.y.abs() > 1e-12 {
+        u.y
+    } else if u.x.abs() > 1e-12 {
+        u.x
+    } else {
+        u.z
+    };
     if key < 0.0 {
         u = -u;
     }
@@ -228,7 +250,11 @@ pub fn zone_width(pts: &[[f64; 2]]) -> f64 {
     let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * p.len());
     for pass in 0..2 {
         let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 { Box::new(p.iter()) } else { Box::new(p.iter().rev()) };
+        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
+            Box::new(p.iter())
+        } else {
+            Box::new(p.iter().rev())
+        };
         for &q in iter {
             while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0.0 {
                 hull.pop();
@@ -256,7 +282,13 @@ type Extreme = (f64, f64);
 /// The extremes of f over samples `phis` (with values `v`), refined with
 /// the exact analog where they are interior (`periodic`: the samples are the
 /// whole cycle): (min, max).
-fn refined_extremes(refiner: &mut Refiner, f: &Dev, phis: &[f64], v: &[f64], periodic: bool) -> Result<(Extreme, Extreme), Error> {
+fn refined_extremes(
+    refiner: &mut Refiner,
+    f: &Dev,
+    phis: &[f64],
+    v: &[f64],
+    periodic: bool,
+) -> Result<(Extreme, Extreme), Error> {
     let (i0, i1) = argminmax(v);
     let n = phis.len();
     let mut one = |k: usize, maximum: bool| -> Result<Extreme, Error> {
@@ -293,7 +325,10 @@ fn measure(model: &Model, params: &Params, opts: &StraightnessOptions, detail: b
         let pose = solve(&[model.phi_start_deg()])?;
         if (pose.point(toward, 0) - pose.point(through, 0)).norm() < 1e-9 {
             return Err(Error::Param(ParamError {
-                message: format!("--line: points `{}` and `{}` coincide, so they give no direction", model.point_names[through], model.point_names[toward]),
+                message: format!(
+                    "--line: points `{}` and `{}` coincide, so they give no direction",
+                    model.point_names[through], model.point_names[toward]
+                ),
                 help: Some("choose two distinct points of the guide".into()),
             }));
         }
@@ -314,16 +349,28 @@ fn measure(model: &Model, params: &Params, opts: &StraightnessOptions, detail: b
                     Line::Fixed(c, u)
                 }
             };
-            let f = Dev { point: opts.point, line, signed: false, along: true };
+            let f = Dev {
+                point: opts.point,
+                line,
+                signed: false,
+                along: true,
+            };
             let s: Vec<f64> = (0..cycle.len()).map(|k| f.at(&mech, &pose, k)).collect();
             let ((phi_lo, lo), (phi_hi, hi)) = refined_extremes(&mut refiner, &f, &cycle, &s, true)?;
             if hi - lo < NO_STROKE_MM {
                 return Err(Error::Param(ParamError {
-                    message: format!("point `{}` does not move along the line, so it has no working stroke", model.point_names[opts.point]),
+                    message: format!(
+                        "point `{}` does not move along the line, so it has no working stroke",
+                        model.point_names[opts.point]
+                    ),
                     help: Some("use --over cycle, or a line along the point's motion".into()),
                 }));
             }
-            let (a, b) = if opts.window == Window::Down { (phi_hi, phi_lo) } else { (phi_lo, phi_hi) };
+            let (a, b) = if opts.window == Window::Down {
+                (phi_hi, phi_lo)
+            } else {
+                (phi_lo, phi_hi)
+            };
             (a, a + (b - a).rem_euclid(360.0))
         }
     };
@@ -332,7 +379,9 @@ fn measure(model: &Model, params: &Params, opts: &StraightnessOptions, detail: b
         cycle
     } else {
         let n = ((to_deg - from_deg) / opts.step_deg - 1e-9).ceil().max(2.0) as usize + 1;
-        (0..n).map(|j| from_deg + (to_deg - from_deg) * j as f64 / (n - 1) as f64).collect()
+        (0..n)
+            .map(|j| from_deg + (to_deg - from_deg) * j as f64 / (n - 1) as f64)
+            .collect()
     };
     let pose = solve(&phis)?;
     let pts = positions(&pose);
@@ -352,7 +401,12 @@ fn measure(model: &Model, params: &Params, opts: &StraightnessOptions, detail: b
             Line::Fixed(c, u)
         }
     };
-    let dev = Dev { point: opts.point, line, signed, along: false };
+    let dev = Dev {
+        point: opts.point,
+        line,
+        signed,
+        along: false,
+    };
     let along = Dev { along: true, ..dev };
     let d: Vec<f64> = (0..phis.len()).map(|k| dev.at(&mech, &pose, k)).collect();
     let s: Vec<f64> = (0..phis.len()).map(|k| along.at(&mech, &pose, k)).collect();
@@ -373,7 +427,11 @@ fn measure(model: &Model, params: &Params, opts: &StraightnessOptions, detail: b
             (h, (t - h).normalize())
         }
     };
-    let line_from_y_deg = if signed { ld.x.atan2(ld.y).to_degrees() } else { ld.y.clamp(-1.0, 1.0).acos().to_degrees() };
+    let line_from_y_deg = if signed {
+        ld.x.atan2(ld.y).to_degrees()
+    } else {
+        ld.y.clamp(-1.0, 1.0).acos().to_degrees()
+    };
     let words = |p: usize| model.point_names[p].as_str();
     let reference = match opts.reference {
         Reference::Line { through, toward } => format!("the line {} → {}", words(through), words(toward)),
@@ -407,10 +465,21 @@ fn measure(model: &Model, params: &Params, opts: &StraightnessOptions, detail: b
         along_mm: s,
         dev_mm: d,
     };
-    let finite = [out.max_dev_mm, out.min_dev_mm, out.rms_dev_mm, out.travel_mm, out.line_from_y_deg].iter().all(|x| x.is_finite())
+    let finite = [
+        out.max_dev_mm,
+        out.min_dev_mm,
+        out.rms_dev_mm,
+        out.travel_mm,
+        out.line_from_y_deg,
+    ]
+    .iter()
+    .all(|x| x.is_finite())
         && out.dev_mm.iter().chain(&out.along_mm).all(|x| x.is_finite());
     if !finite {
-        return Err(Error::NotFinite(format!("the deviation of `{}` is not finite: the line's two points coincide at some φ", out.point)));
+        return Err(Error::NotFinite(format!(
+            "the deviation of `{}` is not finite: the line's two points coincide at some φ",
+            out.point
+        )));
     }
     Ok(out)
 }
@@ -428,39 +497,63 @@ pub struct Tolerance {
 /// length parameter (mm) at ± `length_tol` (seed 004: ± 0.05 mm). Angles and
 /// dimensionless parameters need an explicit tolerance.
 pub fn tolerances(model: &Model, specs: &[String], length_tol: f64) -> Result<Vec<Tolerance>, Error> {
-    let help = || Some("write --tol NAME=±T in the parameter's unit, e.g. --tol l_ab=±0.05 (T = 0 holds it exact)".to_string());
+    let help = || {
+        Some("write --tol NAME=±T in the parameter's unit, e.g. --tol l_ab=±0.05 (T = 0 holds it exact)".to_string())
+    };
     if !(length_tol.is_finite() && length_tol >= 0.0) {
-        return Err(Error::Param(ParamError { message: format!("the default length tolerance {length_tol} mm must be ≥ 0"), help: Some("e.g. --length-tol 0.05".into()) }));
+        return Err(Error::Param(ParamError {
+            message: format!("the default length tolerance {length_tol} mm must be ≥ 0"),
+            help: Some("e.g. --length-tol 0.05".into()),
+        }));
     }
     let mut explicit: Vec<(usize, f64)> = Vec::new();
     for spec in specs {
         let Some((name, value)) = spec.split_once('=') else {
-            return Err(Error::Param(ParamError { message: format!("`{spec}` is not NAME=±T"), help: help() }));
+            return Err(Error::Param(ParamError {
+                message: format!("`{spec}` is not NAME=±T"),
+                help: help(),
+            }));
         };
         let name = name.trim();
         let t = value.trim();
         let t = ["±", "+-", "+/-"].iter().find_map(|p| t.strip_prefix(p)).unwrap_or(t);
         let Some(tol) = t.trim().parse::<f64>().ok().filter(|x| x.is_finite() && *x >= 0.0) else {
-            return Err(Error::Param(ParamError { message: format!("the tolerance in `--tol {spec}` must be a number ≥ 0"), help: help() }));
+            return Err(Error::Param(ParamError {
+                message: format!("the tolerance in `--tol {spec}` must be a number ≥ 0"),
+                help: help(),
+            }));
         };
         let Some(i) = model.param_index(name) else {
-            let hint = did_you_mean(name, model.params.iter().map(|p| p.name.as_str())).map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
+            let hint = did_you_mean(name, model.params.iter().map(|p| p.name.as_str()))
+                .map(|s| format!(" (did you mean `{s}`?)"))
+                .unwrap_or_default();
             return Err(Error::Param(ParamError {
                 message: format!("the model has no parameter `{name}` (in --tol {spec}){hint}"),
                 help: Some(format!(
                     "its parameters are: {}",
-                    model.params.iter().filter(|p| !p.is_derived()).map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
+                    model
+                        .params
+                        .iter()
+                        .filter(|p| !p.is_derived())
+                        .map(|p| p.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 )),
             }));
         };
         if model.params[i].is_derived() {
             return Err(Error::Param(ParamError {
-                message: format!("`{name}` is derived from other parameters and has no tolerance of its own (in --tol {spec})"),
+                message: format!(
+                    "`{name}` is derived from other parameters and has no tolerance of its own (in --tol {spec})"
+                ),
                 help: Some("give tolerances to the parameters its expression uses".into()),
             }));
         }
         if explicit.iter().any(|(j, _)| *j == i) {
-            return Err(Error::Param(ParamError { message: format!("`{name}` has two --tol"), help: None }));
+            return Err(Error::Param(ParamError {
+                message: format!("`{name}` has two --tol"),
+                help: None,
+            }));
         }
         explicit.push((i, tol));
     }
@@ -475,11 +568,18 @@ pub fn tolerances(model: &Model, specs: &[String], length_tol: f64) -> Result<Ve
                 None if p.unit_str() == "mm" => length_tol,
                 None => 0.0,
             };
-            (tol > 0.0).then(|| Tolerance { name: p.name.clone(), unit: p.unit_str(), tol })
+            (tol > 0.0).then(|| Tolerance {
+                name: p.name.clone(),
+                unit: p.unit_str(),
+                tol,
+            })
         })
         .collect();
     if out.is_empty() {
-        return Err(Error::Param(ParamError { message: "no parameter has a tolerance to study".into(), help: help() }));
+        return Err(Error::Param(ParamError {
+            message: "no parameter has a tolerance to study".into(),
+            help: help(),
+        }));
     }
     Ok(out)
 }
@@ -582,17 +682,49 @@ fn percentile(v: &[f64], q: f64) -> Option<f64> {
     }
     let h = q * (v.len() - 1) as f64;
     let (i, f) = (h.floor() as usize, h - h.floor());
-    Some(if i + 1 < v.len() { v[i] + f * (v[i + 1] - v[i]) } else { v[i] })
+    Some(if i + 1 < v.len() {
+        v[i] + f * (v[i + 1] - v[i])
+    } else {
+        v[i]
+    })
 }
 
 /// Φ⁻¹(p), the standard normal quantile, 0 < p < 1: Acklam's rational
 /// approximation (relative error < 1.2e-9), enough for drawing samples.
 pub fn normal_quantile(p: f64) -> f64 {
-    const A: [f64; 6] = [-3.969683028665376e1, 2.209460984245205e2, -2.759285104469687e2, 1.38357751867269e2, -3.066479806614716e1, 2.506628277459239];
-    const B: [f64; 5] = [-5.447609879822406e1, 1.615858368580409e2, -1.556989798598866e2, 6.680131188771972e1, -1.328068155288572e1];
-    const C: [f64; 6] = [-7.784894002430293e-3, -3.223964580411365e-1, -2.400758277161838, -2.549732539343734, 4.374664141464968, 2.938163982698783];
-    const D: [f64; 4] = [7.784695709041462e-3, 3.224671290700398e-1, 2.445134137142996, 3.754408661907416];
-    let tail = |q: f64| (((((C[0] * q + C[1]) * q + C[2]) * q + C[3]) * q + C[4]) * q + C[5]) / ((((D[0] * q + D[1]) * q + D[2]) * q + D[3]) * q + 1.0);
+    const A: [f64; 6] = [
+        -3.969683028665376e1,
+        2.209460984245205e2,
+        -2.759285104469687e2,
+        1.38357751867269e2,
+        -3.066479806614716e1,
+        2.506628277459239,
+    ];
+    const B: [f64; 5] = [
+        -5.447609879822406e1,
+        1.615858368580409e2,
+        -1.556989798598866e2,
+        6.680131188771972e1,
+        -1.328068155288572e1,
+    ];
+    const C: [f64; 6] = [
+        -7.784894002430293e-3,
+        -3.223964580411365e-1,
+        -2.400758277161838,
+        -2.549732539343734,
+        4.374664141464968,
+        2.938163982698783,
+    ];
+    const D: [f64; 4] = [
+        7.784695709041462e-3,
+        3.224671290700398e-1,
+        2.445134137142996,
+        3.754408661907416,
+    ];
+    let tail = |q: f64| {
+        (((((C[0] * q + C[1]) * q + C[2]) * q + C[3]) * q + C[4]) * q + C[5])
+            / ((((D[0] * q + D[1]) * q + D[2]) * q + D[3]) * q + 1.0)
+    };
     if p < 0.02425 {
         tail((-2.0 * p.ln()).sqrt())
     } else if p > 1.0 - 0.02425 {
@@ -600,7 +732,8 @@ pub fn normal_quantile(p: f64) -> f64 {
     } else {
         let q = p - 0.5;
         let r = q * q;
-        (((((A[0] * r + A[1]) * r + A[2]) * r + A[3]) * r + A[4]) * r + A[5]) * q / (((((B[0] * r + B[1]) * r + B[2]) * r + B[3]) * r + B[4]) * r + 1.0)
+        (((((A[0] * r + A[1]) * r + A[2]) * r + A[3]) * r + A[4]) * r + A[5]) * q
+            / (((((B[0] * r + B[1]) * r + B[2]) * r + B[3]) * r + B[4]) * r + 1.0)
     }
 }
 
@@ -610,21 +743,34 @@ const PHI_MINUS_3: f64 = 0.001_349_898_031_630_094_6;
 /// Runs the tolerance study (module docs).
 pub fn tolerance_study(model: &Model, base: &Params, opts: &ToleranceOptions) -> Result<ToleranceStudy, Error> {
     if !(opts.limit_mm.is_finite() && opts.limit_mm > 0.0) {
-        return Err(Error::Param(ParamError { message: format!("the limit {} mm must be a positive number", opts.limit_mm), help: Some("e.g. --limit 0.05 (seed 004)".into()) }));
+        return Err(Error::Param(ParamError {
+            message: format!("the limit {} mm must be a positive number", opts.limit_mm),
+            help: Some("e.g. --limit 0.05 (seed 004)".into()),
+        }));
     }
     if opts.samples > 1_000_000 {
-        return Err(Error::Param(ParamError { message: format!("{} Monte Carlo samples are too many", opts.samples), help: Some("up to 1 000 000; 1000 give the 99 % percentile to a few per cent".into()) }));
+        return Err(Error::Param(ParamError {
+            message: format!("{} Monte Carlo samples are too many", opts.samples),
+            help: Some("up to 1 000 000; 1000 give the 99 % percentile to a few per cent".into()),
+        }));
     }
     let so = &opts.straightness;
     let nominal = straightness(model, base, so)?;
     let nominal_mm = nominal.max_abs_dev_mm;
     if nominal_mm > opts.limit_mm {
         return Err(Error::Param(ParamError {
-            message: format!("at the nominal dimensions the path already deviates {nominal_mm:.4} mm, beyond the limit {} mm", opts.limit_mm),
+            message: format!(
+                "at the nominal dimensions the path already deviates {nominal_mm:.4} mm, beyond the limit {} mm",
+                opts.limit_mm
+            ),
             help: Some("raise --limit, or measure over the working stroke (--over down)".into()),
         }));
     }
-    let index: Vec<usize> = opts.tolerances.iter().map(|t| model.param_index(&t.name).expect("tolerances name parameters")).collect();
+    let index: Vec<usize> = opts
+        .tolerances
+        .iter()
+        .map(|t| model.param_index(&t.name).expect("tolerances name parameters"))
+        .collect();
     let one_at_a_time: Vec<OneAtATime> = opts
         .tolerances
         .par_iter()
@@ -669,8 +815,23 @@ pub fn tolerance_study(model: &Model, base: &Params, opts: &ToleranceOptions) ->
         // Uniform numbers u in [0, 1) from the sweep's seeded SplitMix64
         // stream (fixed forever, as `sweep --method random` uses), one per
         // sample and parameter.
-        let unit_box: Vec<Vary> = opts.tolerances.iter().map(|t| Vary { name: t.name.clone(), lo: 0.0, hi: 1.0, n: 2 }).collect();
-        let draws = Sweep::new(unit_box, Design::Random { samples: opts.samples, seed: opts.seed })?;
+        let unit_box: Vec<Vary> = opts
+            .tolerances
+            .iter()
+            .map(|t| Vary {
+                name: t.name.clone(),
+                lo: 0.0,
+                hi: 1.0,
+                n: 2,
+            })
+            .collect();
+        let draws = Sweep::new(
+            unit_box,
+            Design::Random {
+                samples: opts.samples,
+                seed: opts.seed,
+            },
+        )?;
         let devs: Vec<Option<f64>> = (0..opts.samples)
             .into_par_iter()
             .map(|k| {
@@ -682,7 +843,9 @@ pub fn tolerance_study(model: &Model, base: &Params, opts: &ToleranceOptions) ->
                     .map(|((&u, t), &i)| {
                         let d = match opts.distribution {
                             Distribution::Uniform => t.tol * (2.0 * u - 1.0),
-                            Distribution::Normal => t.tol / 3.0 * normal_quantile(PHI_MINUS_3 + u * (1.0 - 2.0 * PHI_MINUS_3)),
+                            Distribution::Normal => {
+                                t.tol / 3.0 * normal_quantile(PHI_MINUS_3 + u * (1.0 - 2.0 * PHI_MINUS_3))
+                            }
                         };
                         (i, d)
                     })
@@ -724,11 +887,17 @@ mod tests {
 
     #[test]
     fn zone_of_a_rectangle_is_its_short_side() {
-        let pts: Vec<[f64; 2]> = (0..=100).flat_map(|i| [[i as f64 * 0.3, 0.0], [i as f64 * 0.3, 0.02]]).collect();
+        let pts: Vec<[f64; 2]> = (0..=100)
+            .flat_map(|i| [[i as f64 * 0.3, 0.0], [i as f64 * 0.3, 0.02]])
+            .collect();
         assert!((zone_width(&pts) - 0.02).abs() < 1e-12);
         // Turned by 30°, with interior points: the same width.
         let (s, c) = 30f64.to_radians().sin_cos();
-        let turned: Vec<[f64; 2]> = pts.iter().chain(&[[5.0, 0.01]]).map(|p| [c * p[0] - s * p[1], s * p[0] + c * p[1]]).collect();
+        let turned: Vec<[f64; 2]> = pts
+            .iter()
+            .chain(&[[5.0, 0.01]])
+            .map(|p| [c * p[0] - s * p[1], s * p[0] + c * p[1]])
+            .collect();
         assert!((zone_width(&turned) - 0.02).abs() < 1e-12);
         assert_eq!(zone_width(&[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]]), 0.0);
     }
@@ -752,7 +921,13 @@ mod tests {
     #[test]
     fn windows_and_tolerances_parse() {
         assert_eq!(Window::parse("down").unwrap(), Window::Down);
-        assert_eq!(Window::parse("300:60").unwrap(), Window::Phi { from_deg: 300.0, to_deg: 60.0 });
+        assert_eq!(
+            Window::parse("300:60").unwrap(),
+            Window::Phi {
+                from_deg: 300.0,
+                to_deg: 60.0
+            }
+        );
         for bad in ["sideways", "10:10", "a:3", "0:360"] {
             assert!(Window::parse(bad).is_err(), "{bad}");
         }
@@ -765,10 +940,20 @@ mod tests {
         assert_eq!(get("l_lm"), None);
         assert_eq!(get("alpha"), None, "angles need an explicit tolerance");
         assert!(get("rot_d").is_none(), "derived");
-        for (bad, says) in [("l_ab", "NAME=±T"), ("l_abb=0.1", "did you mean `l_ab`"), ("l_ab=-1", "≥ 0"), ("rot_d=1", "derived")] {
+        for (bad, says) in [
+            ("l_ab", "NAME=±T"),
+            ("l_abb=0.1", "did you mean `l_ab`"),
+            ("l_ab=-1", "≥ 0"),
+            ("rot_d=1", "derived"),
+        ] {
             let e = tolerances(&m, &[bad.to_string()], 0.05).unwrap_err().to_string();
             assert!(e.contains(says), "{bad}: {e}");
         }
-        assert!(tolerances(&m, &[], 0.0).unwrap_err().to_string().contains("no parameter"));
+        assert!(
+            tolerances(&m, &[], 0.0)
+                .unwrap_err()
+                .to_string()
+                .contains("no parameter")
+        );
     }
 }

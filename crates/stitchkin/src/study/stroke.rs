@@ -49,11 +49,16 @@ pub const MAX_STEP_DEG: f64 = 45.0;
 /// Checks a study's φ step (the cycle's own checks, and at most
 /// [`MAX_STEP_DEG`]).
 pub(crate) fn check_step(step_deg: f64) -> Result<(), Error> {
-    crate::eval::check_options(&crate::eval::CycleOptions { step_deg, ..Default::default() })?;
+    crate::eval::check_options(&crate::eval::CycleOptions {
+        step_deg,
+        ..Default::default()
+    })?;
     if step_deg > MAX_STEP_DEG {
         return Err(Error::Param(ParamError {
             message: format!("the step {step_deg} deg is too coarse to bracket the extremes"),
-            help: Some(format!("give a step of at most {MAX_STEP_DEG} deg, e.g. --step 1 (extremes are refined below it)")),
+            help: Some(format!(
+                "give a step of at most {MAX_STEP_DEG} deg, e.g. --step 1 (extremes are refined below it)"
+            )),
         }));
     }
     Ok(())
@@ -132,7 +137,15 @@ impl Refiner {
     /// end) or the refined value is no better than the grid sample, the grid
     /// sample is returned; at a corner (an infinite analog) the best point
     /// reached.
-    pub(crate) fn refine(&mut self, f: &impl PoseFn, a: f64, b: f64, phi_deg: f64, value: f64, maximum: bool) -> Result<(f64, f64), Error> {
+    pub(crate) fn refine(
+        &mut self,
+        f: &impl PoseFn,
+        a: f64,
+        b: f64,
+        phi_deg: f64,
+        value: f64,
+        maximum: bool,
+    ) -> Result<(f64, f64), Error> {
         let grid = (phi_deg, value);
         let (_, ga, _) = self.eval(f, a)?;
         let (_, gb, _) = self.eval(f, b)?;
@@ -150,7 +163,11 @@ impl Refiner {
             if !(g.is_finite() && gp.is_finite()) || g == 0.0 {
                 break;
             }
-            if g < 0.0 { lo = x } else { hi = x }
+            if g < 0.0 {
+                lo = x
+            } else {
+                hi = x
+            }
             let newton = g / gp * DEG_PER_RAD;
             let xn = x - newton;
             if gp != 0.0 && (xn - lo) * (xn - hi) < 0.0 && 2.0 * newton.abs() <= dx_old.abs() {
@@ -218,11 +235,18 @@ impl Axis {
             return Ok(Axis::World(a));
         }
         if spec.contains(',') {
-            let parts: Vec<Option<f64>> = spec.split(',').map(|s| s.trim().parse::<f64>().ok().filter(|x| x.is_finite())).collect();
+            let parts: Vec<Option<f64>> = spec
+                .split(',')
+                .map(|s| s.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+                .collect();
             if !(2..=3).contains(&parts.len()) || parts.iter().any(Option::is_none) {
                 return Err(bad(format!("`{spec}` is not a direction of two or three numbers")));
             }
-            let v = V3::new(parts[0].unwrap_or(0.0), parts[1].unwrap_or(0.0), parts.get(2).copied().flatten().unwrap_or(0.0));
+            let v = V3::new(
+                parts[0].unwrap_or(0.0),
+                parts[1].unwrap_or(0.0),
+                parts.get(2).copied().flatten().unwrap_or(0.0),
+            );
             let n = v.norm();
             if n < 1e-12 {
                 return Err(bad(format!("the direction `{spec}` has zero length")));
@@ -230,12 +254,24 @@ impl Axis {
             return Ok(Axis::Vector([v.x / n, v.y / n, v.z / n]));
         }
         if let Some((frame, a)) = spec.rsplit_once('.') {
-            let Some(axis) = letter(a) else { return Err(bad(format!("`{a}` in `{spec}` is not x, y or z"))) };
+            let Some(axis) = letter(a) else {
+                return Err(bad(format!("`{a}` in `{spec}` is not x, y or z")));
+            };
             let Some(f) = model.frame_index(frame) else {
-                let hint = did_you_mean(frame, model.frame_names()).map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
+                let hint = did_you_mean(frame, model.frame_names())
+                    .map(|s| format!(" (did you mean `{s}`?)"))
+                    .unwrap_or_default();
                 return Err(bad(format!("the model has no frame `{frame}`{hint}")));
             };
-            return Ok(if f == 0 { Axis::World(axis) } else { Axis::Frame { frame: f, name: frame.to_string(), axis } });
+            return Ok(if f == 0 {
+                Axis::World(axis)
+            } else {
+                Axis::Frame {
+                    frame: f,
+                    name: frame.to_string(),
+                    axis,
+                }
+            });
         }
         Err(bad(format!("`{spec}` is not an axis")))
     }
@@ -277,7 +313,9 @@ impl Axis {
 /// error lists the model's points.
 pub fn point_slot(model: &Model, name: &str, option: &str, moving: bool) -> Result<usize, Error> {
     let slot = model.point_names.iter().position(|p| p == name).ok_or_else(|| {
-        let hint = did_you_mean(name, model.point_names.iter().map(String::as_str)).map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
+        let hint = did_you_mean(name, model.point_names.iter().map(String::as_str))
+            .map(|s| format!(" (did you mean `{s}`?)"))
+            .unwrap_or_default();
         Error::Param(ParamError {
             message: format!("the model has no point `{name}` (in {option}){hint}"),
             help: Some(format!("its points are: {}", model.point_names.join(", "))),
@@ -286,7 +324,10 @@ pub fn point_slot(model: &Model, name: &str, option: &str, moving: bool) -> Resu
     if moving && model.is_fixed(slot) {
         return Err(Error::Param(ParamError {
             message: format!("point `{name}` is fixed, so it has no path (in {option})"),
-            help: Some(format!("the moving points are: {}", model.moving_point_names().join(", "))),
+            help: Some(format!(
+                "the moving points are: {}",
+                model.moving_point_names().join(", ")
+            )),
         }));
     }
     Ok(slot)
@@ -358,11 +399,19 @@ pub fn stroke(model: &Model, params: &Params, point: usize, axis: &Axis, step_de
     let mut dead_centre = |k: usize, maximum: bool| -> Result<DeadCentre, Error> {
         if !moves {
             let p = pose.point(point, k);
-            return Ok(DeadCentre { phi_deg: None, position_mm: s[k], point_mm: [p.x, p.y, p.z] });
+            return Ok(DeadCentre {
+                phi_deg: None,
+                position_mm: s[k],
+                point_mm: [p.x, p.y, p.z],
+            });
         }
         let (a, b) = neighbours(&phis, k);
         let (phi, v) = refiner.refine(&along, a, b, phis[k], s[k], maximum)?;
-        Ok(DeadCentre { phi_deg: Some(wrap_deg(phi)), position_mm: v, point_mm: refiner.point(point, phi)? })
+        Ok(DeadCentre {
+            phi_deg: Some(wrap_deg(phi)),
+            position_mm: v,
+            point_mm: refiner.point(point, phi)?,
+        })
     };
     let min = dead_centre(kmin, false)?;
     let max = dead_centre(kmax, true)?;
@@ -388,8 +437,14 @@ pub fn stroke(model: &Model, params: &Params, point: usize, axis: &Axis, step_de
         let (a, b) = neighbours(&phis, i1);
         let (phi_max, max_rad) = refiner.refine(&f, a, b, phis[i1], v[i1], true)?;
         let (min_deg, max_deg) = (min_rad.to_degrees(), max_rad.to_degrees());
-        let flags: Vec<bool> = v.iter().map(|m| !(MU_MIN_DEG..=MU_MAX_DEG).contains(&m.to_degrees())).collect();
-        let outside_deg = crate::thread::intervals(&flags, &phis).iter().map(|i| [wrap_deg(i.from_deg), wrap_deg(i.to_deg)]).collect();
+        let flags: Vec<bool> = v
+            .iter()
+            .map(|m| !(MU_MIN_DEG..=MU_MAX_DEG).contains(&m.to_degrees()))
+            .collect();
+        let outside_deg = crate::thread::intervals(&flags, &phis)
+            .iter()
+            .map(|i| [wrap_deg(i.from_deg), wrap_deg(i.to_deg)])
+            .collect();
         mu.push(MuRange {
             range: crate::eval::TransmissionSummary {
                 key: d.key.clone(),
@@ -403,12 +458,20 @@ pub fn stroke(model: &Model, params: &Params, point: usize, axis: &Axis, step_de
             outside_deg,
         });
     }
-    let out = Stroke { stroke_mm: max.position_mm - min.position_mm, min, max, min_to_max_deg, mu };
+    let out = Stroke {
+        stroke_mm: max.position_mm - min.position_mm,
+        min,
+        max,
+        min_to_max_deg,
+        mu,
+    };
     let finite = out.stroke_mm.is_finite()
         && out.min.point_mm.iter().chain(&out.max.point_mm).all(|x| x.is_finite())
         && out.mu.iter().all(|m| m.min_deg.is_finite() && m.max_deg.is_finite());
     if !finite {
-        return Err(Error::NotFinite("the stroke or a transmission angle is not finite: the mechanism passes a dead point".into()));
+        return Err(Error::NotFinite(
+            "the stroke or a transmission angle is not finite: the mechanism passes a dead point".into(),
+        ));
     }
     Ok(out)
 }
@@ -473,7 +536,13 @@ pub struct StrokeOptions {
     pub step_deg: f64,
 }
 
-fn at_setting(model: &Model, base: &Params, names: &[String], values: &[f64], opts: &StrokeOptions) -> Result<Stroke, Error> {
+fn at_setting(
+    model: &Model,
+    base: &Params,
+    names: &[String],
+    values: &[f64],
+    opts: &StrokeOptions,
+) -> Result<Stroke, Error> {
     let mut p = base.clone();
     for (n, x) in names.iter().zip(values) {
         model.set(&mut p, n, *x)?;
@@ -498,14 +567,25 @@ pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeO
             }
             if s.len() > MAX_SETTINGS {
                 return Err(Error::Param(ParamError {
-                    message: format!("{} settings are more than a stroke table holds ({MAX_SETTINGS})", s.len()),
-                    help: Some("use fewer grid points, or `stitchkin sweep --figures '*_stroke_mm,mu.*'` which streams".into()),
+                    message: format!(
+                        "{} settings are more than a stroke table holds ({MAX_SETTINGS})",
+                        s.len()
+                    ),
+                    help: Some(
+                        "use fewer grid points, or `stitchkin sweep --figures '*_stroke_mm,mu.*'` which streams".into(),
+                    ),
                 }));
             }
-            (s.vary.iter().map(|v| v.name.clone()).collect(), (0..s.len()).map(|i| s.setting(i)).collect())
+            (
+                s.vary.iter().map(|v| v.name.clone()).collect(),
+                (0..s.len()).map(|i| s.setting(i)).collect(),
+            )
         }
     };
-    let results: Vec<Result<Stroke, Error>> = settings.par_iter().map(|x| at_setting(model, base, &names, x, opts)).collect();
+    let results: Vec<Result<Stroke, Error>> = settings
+        .par_iter()
+        .map(|x| at_setting(model, base, &names, x, opts))
+        .collect();
     // A single setting that does not evaluate is an error, not a row.
     if sweep.is_none()
         && let Some(Err(e)) = results.first()
@@ -516,8 +596,16 @@ pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeO
         .iter()
         .zip(results)
         .map(|(x, r)| match r {
-            Ok(s) => StrokeRow { setting: x.clone(), stroke: Some(s), error: None },
-            Err(e) => StrokeRow { setting: x.clone(), stroke: None, error: Some(e.to_string().replace('\n', " ")) },
+            Ok(s) => StrokeRow {
+                setting: x.clone(),
+                stroke: Some(s),
+                error: None,
+            },
+            Err(e) => StrokeRow {
+                setting: x.clone(),
+                stroke: None,
+                error: Some(e.to_string().replace('\n', " ")),
+            },
         })
         .collect();
     let unit = |n: &str| model.param_index(n).map_or("", |i| model.params[i].unit_str());
@@ -526,24 +614,43 @@ pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeO
         let last = s.vary.len() - 1;
         let n_last = s.vary[last].n;
         // Neighbouring settings along the last parameter, the others held.
-        let pairs: Vec<(usize, usize)> = (0..rows.len().saturating_sub(1)).filter(|i| (i + 1) % n_last != 0).map(|i| (i, i + 1)).collect();
+        let pairs: Vec<(usize, usize)> = (0..rows.len().saturating_sub(1))
+            .filter(|i| (i + 1) % n_last != 0)
+            .map(|i| (i, i + 1))
+            .collect();
         let found: Vec<Vec<BandCrossing>> = pairs
             .par_iter()
             .map(|&(i, j)| {
-                let (Some(a), Some(b)) = (&rows[i].stroke, &rows[j].stroke) else { return Vec::new() };
+                let (Some(a), Some(b)) = (&rows[i].stroke, &rows[j].stroke) else {
+                    return Vec::new();
+                };
                 let mut out = Vec::new();
                 for (dyad, (ma, mb)) in a.mu.iter().zip(&b.mu).enumerate() {
                     if ma.ok == mb.ok {
                         continue;
                     }
-                    let (x, bound) = bisect_band(model, base, &names, &rows[i].setting, rows[i].setting[last], rows[j].setting[last], dyad, ma.ok, opts);
+                    let (x, bound) = bisect_band(
+                        model,
+                        base,
+                        &names,
+                        &rows[i].setting,
+                        rows[i].setting[last],
+                        rows[j].setting[last],
+                        dyad,
+                        ma.ok,
+                        opts,
+                    );
                     out.push(BandCrossing {
                         key: ma.key.clone(),
                         group: ma.group.clone(),
                         parameter: names[last].clone(),
                         value: x,
                         unit: unit(&names[last]),
-                        held: names[..last].iter().cloned().zip(rows[i].setting[..last].iter().cloned()).collect(),
+                        held: names[..last]
+                            .iter()
+                            .cloned()
+                            .zip(rows[i].setting[..last].iter().cloned())
+                            .collect(),
                         bound_deg: bound,
                         leaves: ma.ok,
                     });
@@ -559,7 +666,13 @@ pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeO
         axis: opts.axis.label(),
         axis_words: opts.axis.describe(),
         step_deg: opts.step_deg,
-        vary: names.iter().map(|n| Varied { name: n.clone(), unit: unit(n) }).collect(),
+        vary: names
+            .iter()
+            .map(|n| Varied {
+                name: n.clone(),
+                unit: unit(n),
+            })
+            .collect(),
         rows,
         crossings,
     })
@@ -570,12 +683,24 @@ pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeO
 /// edge, by bisection (to 1e-9 of the interval; a setting that does not
 /// assemble counts as outside the band), and that edge in degrees.
 #[allow(clippy::too_many_arguments)]
-fn bisect_band(model: &Model, base: &Params, names: &[String], setting: &[f64], lo: f64, hi: f64, dyad: usize, ok_at_lo: bool, opts: &StrokeOptions) -> (f64, f64) {
+fn bisect_band(
+    model: &Model,
+    base: &Params,
+    names: &[String],
+    setting: &[f64],
+    lo: f64,
+    hi: f64,
+    dyad: usize,
+    ok_at_lo: bool,
+    opts: &StrokeOptions,
+) -> (f64, f64) {
     let last = names.len() - 1;
     let eval = |x: f64| {
         let mut values = setting.to_vec();
         values[last] = x;
-        at_setting(model, base, names, &values, opts).ok().map(|s| s.mu[dyad].clone())
+        at_setting(model, base, names, &values, opts)
+            .ok()
+            .map(|s| s.mu[dyad].clone())
     };
     let ok = |m: &Option<MuRange>| m.as_ref().is_some_and(|m| m.ok);
     let (mut a, mut b) = (lo, hi);
@@ -634,7 +759,12 @@ mod tests {
     fn slider_crank_dead_centres_are_exact_below_the_grid_step() {
         let m = Model::from_toml_str(SLIDER_CRANK, "slider.toml").unwrap();
         let s = point_slot(&m, "S", "--point", true).unwrap();
-        assert!(point_slot(&m, "O", "--point", true).unwrap_err().to_string().contains("is fixed"));
+        assert!(
+            point_slot(&m, "O", "--point", true)
+                .unwrap_err()
+                .to_string()
+                .contains("is fixed")
+        );
         // A 7° grid misses both dead centres; refinement finds them.
         let r = stroke(&m, &m.defaults(), s, &Axis::World(0), 7.0).unwrap();
         assert!((r.stroke_mm - 20.0).abs() < 1e-12, "{r:?}");
@@ -649,7 +779,10 @@ mod tests {
         // The rod's transmission angle: 90° at the dead centres, 90° − asin(r/l) at its least.
         let mu = &r.mu[0];
         assert!((mu.max_deg - 90.0).abs() < 1e-9, "{mu:?}");
-        assert!((mu.min_deg - (90.0 - (10.0f64 / 40.0).asin().to_degrees())).abs() < 1e-9, "{mu:?}");
+        assert!(
+            (mu.min_deg - (90.0 - (10.0f64 / 40.0).asin().to_degrees())).abs() < 1e-9,
+            "{mu:?}"
+        );
     }
 
     #[test]
@@ -657,10 +790,21 @@ mod tests {
         let m = Model::preset("altin-needle").unwrap();
         assert_eq!(Axis::parse(&m, "y").unwrap(), Axis::World(1));
         assert_eq!(Axis::parse(&m, "world.x").unwrap(), Axis::World(0));
-        assert!(matches!(Axis::parse(&m, "guide.y").unwrap(), Axis::Frame { axis: 1, .. }));
-        let Axis::Vector(v) = Axis::parse(&m, "3,4").unwrap() else { panic!() };
+        assert!(matches!(
+            Axis::parse(&m, "guide.y").unwrap(),
+            Axis::Frame { axis: 1, .. }
+        ));
+        let Axis::Vector(v) = Axis::parse(&m, "3,4").unwrap() else {
+            panic!()
+        };
         assert!((v[0] - 0.6).abs() < 1e-15 && (v[1] - 0.8).abs() < 1e-15);
-        for (bad, says) in [("w", "not an axis"), ("gide.y", "did you mean `guide`"), ("guide.q", "not x, y or z"), ("0,0", "zero length"), ("1,a", "two or three numbers")] {
+        for (bad, says) in [
+            ("w", "not an axis"),
+            ("gide.y", "did you mean `guide`"),
+            ("guide.q", "not x, y or z"),
+            ("0,0", "zero length"),
+            ("1,a", "two or three numbers"),
+        ] {
             let e = Axis::parse(&m, bad).unwrap_err().to_string();
             assert!(e.contains(says), "{bad}: {e}");
         }

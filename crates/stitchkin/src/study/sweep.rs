@@ -34,9 +34,14 @@ impl Vary {
     /// the model: a settable parameter, both ends inside its adjustable range.
     pub fn parse(model: &Model, spec: &str) -> Result<Vary, Error> {
         let bad = |message: String| {
-            Error::Param(ParamError { message, help: Some("write NAME=LO:HI:N, e.g. --vary z=-10:10:41 (N values, ends included)".into()) })
+            Error::Param(ParamError {
+                message,
+                help: Some("write NAME=LO:HI:N, e.g. --vary z=-10:10:41 (N values, ends included)".into()),
+            })
         };
-        let (name, range) = spec.split_once('=').ok_or_else(|| bad(format!("`{spec}` is not NAME=LO:HI:N")))?;
+        let (name, range) = spec
+            .split_once('=')
+            .ok_or_else(|| bad(format!("`{spec}` is not NAME=LO:HI:N")))?;
         let parts: Vec<&str> = range.split(':').collect();
         if !(2..=3).contains(&parts.len()) {
             return Err(bad(format!("`{range}` is not LO:HI:N (in --vary {spec})")));
@@ -46,11 +51,18 @@ impl Vary {
             return Err(bad(format!("the ends of `{range}` must be numbers (in --vary {spec})")));
         };
         let n = match parts.get(2) {
-            Some(s) => s.trim().parse::<usize>().ok().filter(|&n| n >= 1).ok_or_else(|| bad(format!("N = `{s}` must be a whole number ≥ 1 (in --vary {spec})")))?,
+            Some(s) => s
+                .trim()
+                .parse::<usize>()
+                .ok()
+                .filter(|&n| n >= 1)
+                .ok_or_else(|| bad(format!("N = `{s}` must be a whole number ≥ 1 (in --vary {spec})")))?,
             None => 11,
         };
         if n > 1 && lo == hi {
-            return Err(bad(format!("--vary {spec}: LO = HI gives {n} equal values; use N = 1 or widen the range")));
+            return Err(bad(format!(
+                "--vary {spec}: LO = HI gives {n} equal values; use N = 1 or widen the range"
+            )));
         }
         let name = name.trim().to_string();
         // Both ends must be accepted by the parameter (existence, range).
@@ -62,7 +74,11 @@ impl Vary {
 
     /// The k-th of the N grid values.
     pub fn grid_value(&self, k: usize) -> f64 {
-        if self.n == 1 { self.lo } else { self.lo + (self.hi - self.lo) * k as f64 / (self.n - 1) as f64 }
+        if self.n == 1 {
+            self.lo
+        } else {
+            self.lo + (self.hi - self.lo) * k as f64 / (self.n - 1) as f64
+        }
     }
 }
 
@@ -107,10 +123,19 @@ fn uniform(seed: u64, setting: usize, dim: usize) -> f64 {
 impl Sweep {
     pub fn new(vary: Vec<Vary>, design: Design) -> Result<Sweep, Error> {
         if vary.is_empty() {
-            return Err(Error::Param(ParamError { message: "a sweep needs at least one --vary".into(), help: Some("e.g. --vary z=-10:10:41".into()) }));
+            return Err(Error::Param(ParamError {
+                message: "a sweep needs at least one --vary".into(),
+                help: Some("e.g. --vary z=-10:10:41".into()),
+            }));
         }
-        if let Some(d) = vary.iter().position(|v| vary.iter().filter(|w| w.name == v.name).count() > 1) {
-            return Err(Error::Param(ParamError { message: format!("`{}` is varied twice", vary[d].name), help: None }));
+        if let Some(d) = vary
+            .iter()
+            .position(|v| vary.iter().filter(|w| w.name == v.name).count() > 1)
+        {
+            return Err(Error::Param(ParamError {
+                message: format!("`{}` is varied twice", vary[d].name),
+                help: None,
+            }));
         }
         let perm = match design {
             Design::Lhs { samples, seed } => (0..vary.len())
@@ -118,7 +143,8 @@ impl Sweep {
                     // Fisher–Yates with the seeded generator.
                     let mut p: Vec<u32> = (0..samples as u32).collect();
                     for i in (1..samples).rev() {
-                        let j = (splitmix64(seed.wrapping_mul(31).wrapping_add((d as u64) << 40 | i as u64)) % (i as u64 + 1)) as usize;
+                        let j = (splitmix64(seed.wrapping_mul(31).wrapping_add((d as u64) << 40 | i as u64))
+                            % (i as u64 + 1)) as usize;
                         p.swap(i, j);
                     }
                     p
@@ -160,9 +186,12 @@ impl Sweep {
                 }
                 out
             }
-            Design::Random { seed, .. } => {
-                self.vary.iter().enumerate().map(|(d, v)| v.lo + (v.hi - v.lo) * uniform(seed, i, d)).collect()
-            }
+            Design::Random { seed, .. } => self
+                .vary
+                .iter()
+                .enumerate()
+                .map(|(d, v)| v.lo + (v.hi - v.lo) * uniform(seed, i, d))
+                .collect(),
             Design::Lhs { samples, seed } => self
                 .vary
                 .iter()
@@ -193,9 +222,22 @@ pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
         out.push((format!("{}.min_{pn}_mm", p.path), p.min_p_mm));
     }
     if !table.transmission.is_empty() {
-        out.push(("mu.min_deg".into(), table.transmission.iter().map(|t| t.min_deg).fold(f64::MAX, f64::min)));
-        out.push(("mu.max_deg".into(), table.transmission.iter().map(|t| t.max_deg).fold(f64::MIN, f64::max)));
-        out.push(("mu.ok".into(), if table.transmission.iter().all(|t| t.ok) { 1.0 } else { 0.0 }));
+        out.push((
+            "mu.min_deg".into(),
+            table.transmission.iter().map(|t| t.min_deg).fold(f64::MAX, f64::min),
+        ));
+        out.push((
+            "mu.max_deg".into(),
+            table.transmission.iter().map(|t| t.max_deg).fold(f64::MIN, f64::max),
+        ));
+        out.push((
+            "mu.ok".into(),
+            if table.transmission.iter().all(|t| t.ok) {
+                1.0
+            } else {
+                0.0
+            },
+        ));
         for t in &table.transmission {
             out.push((format!("mu_{}.min_deg", t.key), t.min_deg));
             out.push((format!("mu_{}.max_deg", t.key), t.max_deg));
@@ -207,24 +249,42 @@ pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
         out.push((format!("{}.max_mm", r.name), r.max));
     }
     for c in &table.columns {
-        let coord = [".x_mm", ".y_mm", ".z_mm"].iter().find_map(|s| c.name.strip_suffix(s).map(|p| (p, &s[1..2])));
+        let coord = [".x_mm", ".y_mm", ".z_mm"]
+            .iter()
+            .find_map(|s| c.name.strip_suffix(s).map(|p| (p, &s[1..2])));
         if let Some((point, axis)) = coord
             && !c.name.contains("Pprime")
         {
-            let (lo, hi) = c.values.iter().fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+            let (lo, hi) = c
+                .values
+                .iter()
+                .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
             out.push((format!("{point}.{axis}_stroke_mm"), hi - lo));
         }
     }
     if let Some(st) = &table.stitch {
         let mut scores = Vec::new();
         for t in &st.threads {
-            out.push((format!("{}.{}", t.thread, max_pprime_figure(t.split == crate::thread::SplitPoint::B)), t.max_pprime_mm));
+            out.push((
+                format!(
+                    "{}.{}",
+                    t.thread,
+                    max_pprime_figure(t.split == crate::thread::SplitPoint::B)
+                ),
+                t.max_pprime_mm,
+            ));
             let checks: Vec<_> = st.checks.iter().filter(|c| c.thread == t.thread).collect();
             if !checks.is_empty() {
-                out.push((format!("{}.checks_ok", t.thread), if checks.iter().all(|c| c.ok) { 1.0 } else { 0.0 }));
+                out.push((
+                    format!("{}.checks_ok", t.thread),
+                    if checks.iter().all(|c| c.ok) { 1.0 } else { 0.0 },
+                ));
             }
             if let Some(c) = checks.iter().find(|c| c.name == "thread_bound") {
-                out.push((format!("{}.bound_margin_mm", t.thread), c.limit[1].unwrap_or(f64::INFINITY) - c.value));
+                out.push((
+                    format!("{}.bound_margin_mm", t.thread),
+                    c.limit[1].unwrap_or(f64::INFINITY) - c.value,
+                ));
             }
             if let Some(m) = &t.mismatch {
                 if let Some(s) = m.score {
@@ -256,12 +316,25 @@ fn max_pprime_figure(at_b: bool) -> &'static str {
 /// score and their mean and worst, the take-up maximum of every path (at B
 /// for a needle-eye path), whether every physical check passes, the
 /// transmission-angle extremes, the measures' ranges and the point strokes.
-pub const DEFAULT_FIGURES: &[&str] =
-    &["*.score", "score.*", "*.max_P_B_mm", "*.max_P_mm", "checks.ok", "mu.min_deg", "mu.max_deg", "*.range_mm", "*_stroke_mm"];
+pub const DEFAULT_FIGURES: &[&str] = &[
+    "*.score",
+    "score.*",
+    "*.max_P_B_mm",
+    "*.max_P_mm",
+    "checks.ok",
+    "mu.min_deg",
+    "mu.max_deg",
+    "*.range_mm",
+    "*_stroke_mm",
+];
 
 /// The [`DEFAULT_FIGURES`] patterns that match a figure of `available`.
 pub fn default_figures(available: &[(String, f64)]) -> Vec<String> {
-    DEFAULT_FIGURES.iter().filter(|p| available.iter().any(|(n, _)| crate::eval::glob_match(p, n))).map(|p| p.to_string()).collect()
+    DEFAULT_FIGURES
+        .iter()
+        .filter(|p| available.iter().any(|(n, _)| crate::eval::glob_match(p, n)))
+        .map(|p| p.to_string())
+        .collect()
 }
 
 /// The figure names matching `patterns` (`*` matches any run), in the order
@@ -277,7 +350,11 @@ pub fn select_figures(available: &[(String, f64)], patterns: &[String]) -> Resul
             }));
         }
     }
-    Ok(available.iter().filter(|(n, _)| patterns.iter().any(|p| glob_match(p, n))).map(|(n, _)| n.clone()).collect())
+    Ok(available
+        .iter()
+        .filter(|(n, _)| patterns.iter().any(|p| glob_match(p, n)))
+        .map(|(n, _)| n.clone())
+        .collect())
 }
 
 /// P' computed once for the whole sweep, when the varied parameters leave
@@ -289,7 +366,9 @@ pub fn select_figures(available: &[(String, f64)], patterns: &[String]) -> Resul
 /// stitch process or a varied parameter changes it (P' is then computed per
 /// setting).
 pub fn shared_stitch(model: &Model, base: &Params, sweep: &Sweep, step_deg: f64) -> Result<Option<Prepared>, Error> {
-    let Some(nominal) = model.stitch_setup(base)? else { return Ok(None) };
+    let Some(nominal) = model.stitch_setup(base)? else {
+        return Ok(None);
+    };
     for v in &sweep.vary {
         for x in [v.lo, v.hi, v.lo + (v.hi - v.lo) / 3.0] {
             let mut p = base.clone();
@@ -318,7 +397,15 @@ pub struct Row {
 }
 
 /// Evaluates one setting (with P' from `shared` when given).
-pub fn evaluate(model: &Model, base: &Params, sweep: &Sweep, names: &[String], opts: &CycleOptions, shared: Option<&Prepared>, index: usize) -> Row {
+pub fn evaluate(
+    model: &Model,
+    base: &Params,
+    sweep: &Sweep,
+    names: &[String],
+    opts: &CycleOptions,
+    shared: Option<&Prepared>,
+    index: usize,
+) -> Row {
     let values = sweep.setting(index);
     let mut p = base.clone();
     let mut result = Ok(());
@@ -332,10 +419,28 @@ pub fn evaluate(model: &Model, base: &Params, sweep: &Sweep, names: &[String], o
     match table {
         Ok(t) => {
             let all = figures(&t);
-            let figures = names.iter().map(|n| all.iter().find(|(m, _)| m == n).map(|(_, v)| *v).filter(|v| v.is_finite())).collect();
-            Row { index, values, figures, error: None }
+            let figures = names
+                .iter()
+                .map(|n| {
+                    all.iter()
+                        .find(|(m, _)| m == n)
+                        .map(|(_, v)| *v)
+                        .filter(|v| v.is_finite())
+                })
+                .collect();
+            Row {
+                index,
+                values,
+                figures,
+                error: None,
+            }
         }
-        Err(e) => Row { index, values, figures: vec![None; names.len()], error: Some(e.to_string().replace('\n', " ")) },
+        Err(e) => Row {
+            index,
+            values,
+            figures: vec![None; names.len()],
+            error: Some(e.to_string().replace('\n', " ")),
+        },
     }
 }
 
@@ -413,9 +518,29 @@ struct StitchPlan {
 impl<'a> Evaluator<'a> {
     /// An evaluator of `sweep`'s settings for the figures `names` (as
     /// [`select_figures`] gives them), with P' from `shared` when given.
-    pub fn new(model: &'a Model, base: &'a Params, sweep: &'a Sweep, names: &'a [String], opts: &'a CycleOptions, shared: Option<&'a Prepared>) -> Self {
+    pub fn new(
+        model: &'a Model,
+        base: &'a Params,
+        sweep: &'a Sweep,
+        names: &'a [String],
+        opts: &'a CycleOptions,
+        shared: Option<&'a Prepared>,
+    ) -> Self {
         let fast = Fast::plan(model, base, names, opts, shared);
-        Evaluator { model, base, sweep, names, opts, shared, fast, out: Figures { vals: Vec::new(), names: None }, pick: None }
+        Evaluator {
+            model,
+            base,
+            sweep,
+            names,
+            opts,
+            shared,
+            fast,
+            out: Figures {
+                vals: Vec::new(),
+                names: None,
+            },
+            pick: None,
+        }
     }
 
     /// Whether settings go through the fast path (else the full cycle).
@@ -426,7 +551,15 @@ impl<'a> Evaluator<'a> {
     /// The row of setting `index`: the same as [`evaluate`]'s.
     pub fn evaluate(&mut self, index: usize) -> Row {
         let Some(fast) = &mut self.fast else {
-            return evaluate(self.model, self.base, self.sweep, self.names, self.opts, self.shared, index);
+            return evaluate(
+                self.model,
+                self.base,
+                self.sweep,
+                self.names,
+                self.opts,
+                self.shared,
+                index,
+            );
         };
         let values = self.sweep.setting(index);
         fast.params.values.clone_from(&self.base.values);
@@ -446,10 +579,23 @@ impl<'a> Evaluator<'a> {
                     self.pick = Some(self.names.iter().map(|n| names.iter().position(|m| m == n)).collect());
                 }
                 let pick = self.pick.as_ref().expect("set by the first setting that evaluates");
-                let figures = pick.iter().map(|i| i.map(|i| out.vals[i]).filter(|v| v.is_finite())).collect();
-                Row { index, values, figures, error: None }
+                let figures = pick
+                    .iter()
+                    .map(|i| i.map(|i| out.vals[i]).filter(|v| v.is_finite()))
+                    .collect();
+                Row {
+                    index,
+                    values,
+                    figures,
+                    error: None,
+                }
             }
-            Err(e) => Row { index, values, figures: vec![None; self.names.len()], error: Some(e.to_string().replace('\n', " ")) },
+            Err(e) => Row {
+                index,
+                values,
+                figures: vec![None; self.names.len()],
+                error: Some(e.to_string().replace('\n', " ")),
+            },
         }
     }
 }
@@ -457,7 +603,13 @@ impl<'a> Evaluator<'a> {
 impl Fast {
     /// The plan, or `None` when a figure needs the full cycle (a shared P'
     /// is missing for a stitch figure, or a figure of another kind).
-    fn plan(model: &Model, base: &Params, names: &[String], opts: &CycleOptions, shared: Option<&Prepared>) -> Option<Fast> {
+    fn plan(
+        model: &Model,
+        base: &Params,
+        names: &[String],
+        opts: &CycleOptions,
+        shared: Option<&Prepared>,
+    ) -> Option<Fast> {
         if opts.analogs || opts.rpm.is_some() || crate::eval::check_options(opts).is_err() {
             return None;
         }
@@ -476,13 +628,25 @@ impl Fast {
                 mu = true;
             } else if n.ends_with("_stroke_mm") {
                 strokes = true;
-            } else if model.measure_names.iter().any(|m| [".range_mm", ".min_mm", ".max_mm"].iter().any(|s| n == &format!("{m}{s}"))) {
+            } else if model.measure_names.iter().any(|m| {
+                [".range_mm", ".min_mm", ".max_mm"]
+                    .iter()
+                    .any(|s| n == &format!("{m}{s}"))
+            }) {
                 measures = true;
             } else if n.starts_with("score.")
                 || n == "checks.ok"
-                || [".score", ".rms_D_mm", ".max_abs_D_mm", ".max_Pprime_mm", ".max_Pprime_B_mm", ".checks_ok", ".bound_margin_mm"]
-                    .iter()
-                    .any(|s| n.ends_with(s))
+                || [
+                    ".score",
+                    ".rms_D_mm",
+                    ".max_abs_D_mm",
+                    ".max_Pprime_mm",
+                    ".max_Pprime_B_mm",
+                    ".checks_ok",
+                    ".bound_margin_mm",
+                ]
+                .iter()
+                .any(|s| n.ends_with(s))
             {
                 stitch = true;
             } else {
@@ -503,8 +667,12 @@ impl Fast {
                 let compared = &prepared.compared[i];
                 let pprime = crate::eval::stitch::pprime_at_split(th, n);
                 let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
-                let (hi, lo) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| (hi.max(pprime[k]), lo.min(pprime[k])));
-                let kmax = (0..n).max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a))).unwrap_or(0);
+                let (hi, lo) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| {
+                    (hi.max(pprime[k]), lo.min(pprime[k]))
+                });
+                let kmax = (0..n)
+                    .max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a)))
+                    .unwrap_or(0);
                 let path = match path {
                     Some(name) => Some(path_names.iter().position(|p| p == name)?),
                     None => None,
@@ -516,7 +684,12 @@ impl Fast {
                     return None;
                 }
                 let bound = match (path, &th.travel_mm, &th.loop_mm) {
-                    (Some(_), Some(s), Some(lp)) => Some(crate::stitch::checks::bound_curve(&phis, &s[..n], &lp[..n], prepared.phi0_deg)),
+                    (Some(_), Some(s), Some(lp)) => Some(crate::stitch::checks::bound_curve(
+                        &phis,
+                        &s[..n],
+                        &lp[..n],
+                        prepared.phi0_deg,
+                    )),
                     _ => None,
                 };
                 let weight = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
@@ -560,7 +733,13 @@ impl Fast {
 
     /// Every figure of the kinds planned, by name, for `self.params`: what
     /// [`figures`] of the cycle table gives.
-    fn figures(&mut self, model: &Model, opts: &CycleOptions, shared: Option<&Prepared>, out: &mut Figures) -> Result<(), Error> {
+    fn figures(
+        &mut self,
+        model: &Model,
+        opts: &CycleOptions,
+        shared: Option<&Prepared>,
+        out: &mut Figures,
+    ) -> Result<(), Error> {
         let mech = model.mechanism::<f64>(&self.params)?;
         let n = self.phis.len();
         mech.reset_pose(&mut self.pose, n);
@@ -573,14 +752,18 @@ impl Fast {
             if k0.is_none() {
                 mech.reset_pose(&mut self.pose0, 1);
                 mech.solve(&self.phi0, &mut self.pose0)?;
-                threads.evaluate_into(&self.pose0, None, &mut self.work0).map_err(|e| path_error(e, threads.phi0_deg))?;
+                threads
+                    .evaluate_into(&self.pose0, None, &mut self.work0)
+                    .map_err(|e| path_error(e, threads.phi0_deg))?;
             }
             if let Err(e) = threads.evaluate_into(&self.pose, None, &mut self.work) {
                 // `run_cycle` reports a path that fails at φ0 first.
                 if k0.is_some() {
                     mech.reset_pose(&mut self.pose0, 1);
                     mech.solve(&self.phi0, &mut self.pose0)?;
-                    threads.evaluate_into(&self.pose0, None, &mut self.work0).map_err(|e| path_error(e, threads.phi0_deg))?;
+                    threads
+                        .evaluate_into(&self.pose0, None, &mut self.work0)
+                        .map_err(|e| path_error(e, threads.phi0_deg))?;
                 }
                 let phi = self.phis[e.k];
                 return Err(path_error(e, phi));
@@ -595,7 +778,8 @@ impl Fast {
                 p.clear();
                 p.extend((0..n).map(|k| threads.convention.take_up(track.xi_at_split(k), xi0)));
                 let pn = crate::eval::take_up_name(!track.eye_up.is_empty());
-                let (lo, hi) = finite_extremes(p).map_err(|k| not_finite(&format!("{}.{pn}_mm", path.name), p[k], self.phis[k]))?;
+                let (lo, hi) = finite_extremes(p)
+                    .map_err(|k| not_finite(&format!("{}.{pn}_mm", path.name), p[k], self.phis[k]))?;
                 out.push(|| format!("{}.max_{pn}_mm", path.name), hi);
                 out.push(|| format!("{}.min_{pn}_mm", path.name), lo);
             }
@@ -603,7 +787,9 @@ impl Fast {
         if self.mu && !model.dyads.is_empty() {
             // The angles' parts (y, x) only; atan2 at the extremes alone.
             let pose = &self.pose;
-            per_phi_columns(&mut self.parts, &mut self.part_buf, model.dyads.len(), n, |k, b| mech.transmission_parts(pose, k, b));
+            per_phi_columns(&mut self.parts, &mut self.part_buf, model.dyads.len(), n, |k, b| {
+                mech.transmission_parts(pose, k, b)
+            });
             let mut all_ok = true;
             let (mut lo, mut hi) = (f64::MAX, f64::MIN);
             let first = out.vals.len();
@@ -611,8 +797,8 @@ impl Fast {
             out.push(|| "mu.max_deg".into(), 0.0);
             out.push(|| "mu.ok".into(), 0.0);
             for (d, v) in model.dyads.iter().zip(&self.parts) {
-                let (mu_min, mu_max) =
-                    transmission_extremes_deg(v).map_err(|(k, mu)| not_finite(&format!("mu_{}_deg", d.key), mu, self.phis[k]))?;
+                let (mu_min, mu_max) = transmission_extremes_deg(v)
+                    .map_err(|(k, mu)| not_finite(&format!("mu_{}_deg", d.key), mu, self.phis[k]))?;
                 all_ok &= mu_min >= crate::eval::MU_MIN_DEG && mu_max <= crate::eval::MU_MAX_DEG;
                 lo = lo.min(mu_min);
                 hi = hi.max(mu_max);
@@ -623,7 +809,9 @@ impl Fast {
         }
         if self.measures && !model.measure_names.is_empty() {
             let pose = &self.pose;
-            per_phi_columns(&mut self.cols, &mut self.buf, model.measure_names.len(), n, |k, b| mech.measures(pose, k, b));
+            per_phi_columns(&mut self.cols, &mut self.buf, model.measure_names.len(), n, |k, b| {
+                mech.measures(pose, k, b)
+            });
             for (name, v) in model.measure_names.iter().zip(&self.cols) {
                 if let Some(k) = v.iter().position(|x| !x.is_finite()) {
                     return Err(not_finite(&format!("{name}_mm"), v[k], self.phis[k]));
@@ -639,9 +827,17 @@ impl Fast {
             let axes = if model.planar { 2 } else { 3 };
             for &pt in &points {
                 for (c, axis) in ["x", "y", "z"].iter().enumerate().take(axes) {
-                    let (lo, hi) = self.pose.track(pt).iter().fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v[c]), b.max(v[c])));
+                    let (lo, hi) = self
+                        .pose
+                        .track(pt)
+                        .iter()
+                        .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v[c]), b.max(v[c])));
                     if !(lo.is_finite() && hi.is_finite()) {
-                        return Err(not_finite(&format!("{}.{axis}_mm", model.point_names[pt]), f64::NAN, self.phis[0]));
+                        return Err(not_finite(
+                            &format!("{}.{axis}_mm", model.point_names[pt]),
+                            f64::NAN,
+                            self.phis[0],
+                        ));
                     }
                     out.push(|| format!("{}.{axis}_stroke_mm", model.point_names[pt]), hi - lo);
                 }
@@ -652,12 +848,19 @@ impl Fast {
             let mut all_ok = true;
             let mut any_checks = false;
             for plan in &self.stitch {
-                out.push(|| format!("{}.{}", plan.name, plan.max_pprime_figure), plan.max_pprime_mm);
+                out.push(
+                    || format!("{}.{}", plan.name, plan.max_pprime_figure),
+                    plan.max_pprime_mm,
+                );
                 // As `eval::stitch`: the thread bound where P comes
                 // closest to it, and every check of the thread.
                 let margin = match (plan.path, &plan.bound) {
                     (Some(pi), Some(bound)) => Some(
-                        self.p[pi].iter().zip(bound).map(|(p, b)| b - p).fold(f64::INFINITY, f64::min),
+                        self.p[pi]
+                            .iter()
+                            .zip(bound)
+                            .map(|(p, b)| b - p)
+                            .fold(f64::INFINITY, f64::min),
                     ),
                     _ => None,
                 };
@@ -705,7 +908,13 @@ impl Fast {
 
 /// `cols[j][k]` = the j-th of `width` values `fill(k, buf)` gives at the
 /// k-th φ, for k < n (the columns keep their buffers).
-fn per_phi_columns<X: Copy>(cols: &mut Vec<Vec<X>>, buf: &mut Vec<X>, width: usize, n: usize, mut fill: impl FnMut(usize, &mut Vec<X>)) {
+fn per_phi_columns<X: Copy>(
+    cols: &mut Vec<Vec<X>>,
+    buf: &mut Vec<X>,
+    width: usize,
+    n: usize,
+    mut fill: impl FnMut(usize, &mut Vec<X>),
+) {
     cols.resize_with(width, Vec::new);
     cols.iter_mut().for_each(Vec::clear);
     for k in 0..n {
@@ -737,7 +946,9 @@ fn transmission_extremes_deg(v: &[(f64, f64)]) -> Result<(f64, f64), (usize, f64
         let r = (x * x + y * y).sqrt();
         if r > 0.0 { x / r } else { 1.0 }
     };
-    let (key_hi, key_lo) = v.iter().fold((f64::MIN, f64::MAX), |(h, l), yx| (h.max(key(*yx)), l.min(key(*yx))));
+    let (key_hi, key_lo) = v
+        .iter()
+        .fold((f64::MIN, f64::MAX), |(h, l), yx| (h.max(key(*yx)), l.min(key(*yx))));
     const WITHIN: f64 = 1e-12;
     let (mut mu_min, mut mu_max) = (f64::MAX, f64::MIN);
     for yx in v {
@@ -818,7 +1029,14 @@ pub fn run<E: Send>(
     let compute = |chunk: std::ops::Range<usize>| -> Vec<Row> {
         // At least 64 settings per piece of work: each piece sets up one
         // evaluator (its buffers grow on the first setting).
-        chunk.into_par_iter().with_min_len(64).map_init(|| Evaluator::new(model, base, sweep, names, opts, shared), |ev, i| ev.evaluate(i)).collect()
+        chunk
+            .into_par_iter()
+            .with_min_len(64)
+            .map_init(
+                || Evaluator::new(model, base, sweep, names, opts, shared),
+                |ev, i| ev.evaluate(i),
+            )
+            .collect()
     };
     let mut pending: Vec<Row> = Vec::new();
     let mut start = range.start;
@@ -838,7 +1056,12 @@ mod tests {
     use super::*;
 
     fn vary(name: &str, lo: f64, hi: f64, n: usize) -> Vary {
-        Vary { name: name.into(), lo, hi, n }
+        Vary {
+            name: name.into(),
+            lo,
+            hi,
+            n,
+        }
     }
 
     #[test]
@@ -855,9 +1078,15 @@ mod tests {
     #[test]
     fn latin_hypercube_uses_every_stratum_once() {
         let n = 50;
-        let s = Sweep::new(vec![vary("a", 0.0, 1.0, 2), vary("b", -5.0, 5.0, 2)], Design::Lhs { samples: n, seed: 7 }).unwrap();
+        let s = Sweep::new(
+            vec![vary("a", 0.0, 1.0, 2), vary("b", -5.0, 5.0, 2)],
+            Design::Lhs { samples: n, seed: 7 },
+        )
+        .unwrap();
         for (d, (lo, hi)) in [(0.0, 1.0), (-5.0, 5.0)].into_iter().enumerate() {
-            let mut strata: Vec<usize> = (0..n).map(|i| ((s.setting(i)[d] - lo) / (hi - lo) * n as f64) as usize).collect();
+            let mut strata: Vec<usize> = (0..n)
+                .map(|i| ((s.setting(i)[d] - lo) / (hi - lo) * n as f64) as usize)
+                .collect();
             strata.sort();
             assert_eq!(strata, (0..n).collect::<Vec<_>>());
         }
@@ -870,7 +1099,14 @@ mod tests {
 
     #[test]
     fn random_samples_stay_in_the_box_and_look_uniform() {
-        let s = Sweep::new(vec![vary("a", 2.0, 4.0, 2)], Design::Random { samples: 20_000, seed: 1 }).unwrap();
+        let s = Sweep::new(
+            vec![vary("a", 2.0, 4.0, 2)],
+            Design::Random {
+                samples: 20_000,
+                seed: 1,
+            },
+        )
+        .unwrap();
         let xs: Vec<f64> = (0..20_000).map(|i| s.setting(i)[0]).collect();
         assert!(xs.iter().all(|x| (2.0..4.0).contains(x)));
         let mean = xs.iter().sum::<f64>() / xs.len() as f64;

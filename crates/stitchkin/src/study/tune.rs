@@ -102,7 +102,11 @@ struct Problem<'a> {
 impl Problem<'_> {
     /// The setting at u ∈ [0, 1]^d.
     fn values(&self, u: &[f64]) -> Vec<f64> {
-        self.vary.iter().zip(u).map(|(v, &u)| v.lo + (v.hi - v.lo) * u.clamp(0.0, 1.0)).collect()
+        self.vary
+            .iter()
+            .zip(u)
+            .map(|(v, &u)| v.lo + (v.hi - v.lo) * u.clamp(0.0, 1.0))
+            .collect()
     }
 
     fn table(&self, x: &[f64]) -> Result<CycleTable, Error> {
@@ -133,15 +137,23 @@ impl Problem<'_> {
         let scores: Vec<f64> = threads.iter().filter_map(|t| t.1).collect();
         let mu_min = t.transmission.iter().map(|m| m.min_deg).reduce(f64::min);
         let mu_max = t.transmission.iter().map(|m| m.max_deg).reduce(f64::max);
-        let out_of_band = mu_min.map_or(0.0, |m| (MU_MIN_DEG - m).max(0.0)) + mu_max.map_or(0.0, |m| (m - MU_MAX_DEG).max(0.0));
+        let out_of_band =
+            mu_min.map_or(0.0, |m| (MU_MIN_DEG - m).max(0.0)) + mu_max.map_or(0.0, |m| (m - MU_MAX_DEG).max(0.0));
         // The physical checks are constraints: a fixed penalty for each
         // that fails, plus the thread beyond the bound at B, so the search
         // is led back inside it.
         let failed: Vec<&crate::stitch::checks::Check> = st.checks.iter().filter(|c| !c.ok).collect();
-        let excess_mm: f64 =
-            failed.iter().filter(|c| c.name == "thread_bound").map(|c| c.value - c.limit[1].unwrap_or(c.value)).sum();
+        let excess_mm: f64 = failed
+            .iter()
+            .filter(|c| c.name == "thread_bound")
+            .map(|c| c.value - c.limit[1].unwrap_or(c.value))
+            .sum();
         Some(MatchFigures {
-            score_mean: if scores.is_empty() { 0.0 } else { scores.iter().sum::<f64>() / scores.len() as f64 },
+            score_mean: if scores.is_empty() {
+                0.0
+            } else {
+                scores.iter().sum::<f64>() / scores.len() as f64
+            },
             threads,
             mu_min_deg: mu_min,
             mu_max_deg: mu_max,
@@ -184,7 +196,15 @@ pub fn default_adjustables(model: &Model, base: &Params) -> Result<Vec<String>, 
         if p.is_derived() || lo >= hi {
             continue;
         }
-        let one = Sweep::new(vec![Vary { name: p.name.clone(), lo, hi, n: 2 }], Design::Grid)?;
+        let one = Sweep::new(
+            vec![Vary {
+                name: p.name.clone(),
+                lo,
+                hi,
+                n: 2,
+            }],
+            Design::Grid,
+        )?;
         if super::sweep::shared_stitch(model, base, &one, 5.0)?.is_some() {
             out.push(p.name.clone());
         }
@@ -195,51 +215,117 @@ pub fn default_adjustables(model: &Model, base: &Params) -> Result<Vec<String>, 
 /// Sets the stitch's thickness (`which` = "m") or length ("t") through the
 /// parameter its `[stitch]` value names.
 pub fn set_stitch_value(model: &Model, params: &mut Params, which: &str, value: f64) -> Result<(), Error> {
-    let v = model.file.stitch.as_ref().map(|s| if which == "m" { &s.m_mm } else { &s.t_mm });
+    let v = model
+        .file
+        .stitch
+        .as_ref()
+        .map(|s| if which == "m" { &s.m_mm } else { &s.t_mm });
     match v {
         Some(crate::model::file::Value::Expr(name)) if model.param_index(name.trim()).is_some() => {
             model.set(params, name.trim(), value).map_err(Error::Param)
         }
         Some(_) => Err(Error::Param(ParamError {
             message: format!("[stitch] {}_mm is not a parameter, so it cannot be set", which),
-            help: Some(format!("write {which}_mm = \"NAME\" with NAME in [parameters] (with a range), or use --set")),
+            help: Some(format!(
+                "write {which}_mm = \"NAME\" with NAME in [parameters] (with a range), or use --set"
+            )),
         })),
-        None => Err(Error::Stitch(format!("model `{}` has no [stitch]", model.file.model.name))),
+        None => Err(Error::Stitch(format!(
+            "model `{}` has no [stitch]",
+            model.file.model.name
+        ))),
     }
 }
 
 /// Tunes `model` (with `base`, where the stitch's thickness and length are
 /// already set) over `opts.adjust`.
 pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResult, Error> {
-    let bad = |message: String, help: &str| Error::Param(ParamError { message, help: Some(help.into()) });
-    crate::eval::check_options(&CycleOptions { step_deg: opts.step_deg, ..Default::default() })?;
+    let bad = |message: String, help: &str| {
+        Error::Param(ParamError {
+            message,
+            help: Some(help.into()),
+        })
+    };
+    crate::eval::check_options(&CycleOptions {
+        step_deg: opts.step_deg,
+        ..Default::default()
+    })?;
     if opts.adjust.is_empty() {
-        return Err(bad("nothing to adjust".into(), "name the settings, e.g. --adjust z,dphi (parameters with an adjustable range)"));
+        return Err(bad(
+            "nothing to adjust".into(),
+            "name the settings, e.g. --adjust z,dphi (parameters with an adjustable range)",
+        ));
     }
     let mut vary = Vec::new();
     for name in &opts.adjust {
-        let i = model.param_index(name).ok_or_else(|| bad(format!("the model has no parameter `{name}`"), "see `stitchkin check` for its parameters"))?;
+        let i = model.param_index(name).ok_or_else(|| {
+            bad(
+                format!("the model has no parameter `{name}`"),
+                "see `stitchkin check` for its parameters",
+            )
+        })?;
         let Some([lo, hi]) = model.params[i].range else {
-            return Err(bad(format!("`{name}` has no adjustable range to tune in"), "give it `range = [lo, hi]` in [parameters]"));
+            return Err(bad(
+                format!("`{name}` has no adjustable range to tune in"),
+                "give it `range = [lo, hi]` in [parameters]",
+            ));
         };
-        vary.push(Vary { name: name.clone(), lo, hi, n: 2 });
+        vary.push(Vary {
+            name: name.clone(),
+            lo,
+            hi,
+            n: 2,
+        });
     }
-    let cycle = CycleOptions { step_deg: opts.step_deg, rpm: None, analogs: false, points: Some(Vec::new()), lean: true };
-    let samples = if opts.samples == 0 { (32 * vary.len()).max(64) } else { opts.samples };
-    let design = Sweep::new(vary.clone(), Design::Lhs { samples, seed: opts.seed })?;
+    let cycle = CycleOptions {
+        step_deg: opts.step_deg,
+        rpm: None,
+        analogs: false,
+        points: Some(Vec::new()),
+        lean: true,
+    };
+    let samples = if opts.samples == 0 {
+        (32 * vary.len()).max(64)
+    } else {
+        opts.samples
+    };
+    let design = Sweep::new(
+        vary.clone(),
+        Design::Lhs {
+            samples,
+            seed: opts.seed,
+        },
+    )?;
     let shared = super::sweep::shared_stitch(model, base, &design, opts.step_deg)?;
-    let problem = Problem { model, base, vary: &vary, opts: cycle, shared: shared.as_ref() };
-    let before: Vec<f64> = vary.iter().map(|v| base.values[model.param_index(&v.name).unwrap_or(0)]).collect();
-    let before_figures = problem.figures(&before).ok_or_else(|| {
-        match model.stitch_setup(base) {
-            Ok(None) => Error::Stitch(format!("model `{}` has no [stitch] with a take-up path to match", model.file.model.name)),
-            _ => problem.table(&before).err().unwrap_or_else(|| Error::Stitch("no thread of the stitch is compared with a take-up path (give `path` in [stitch])".into())),
-        }
+    let problem = Problem {
+        model,
+        base,
+        vary: &vary,
+        opts: cycle,
+        shared: shared.as_ref(),
+    };
+    let before: Vec<f64> = vary
+        .iter()
+        .map(|v| base.values[model.param_index(&v.name).unwrap_or(0)])
+        .collect();
+    let before_figures = problem.figures(&before).ok_or_else(|| match model.stitch_setup(base) {
+        Ok(None) => Error::Stitch(format!(
+            "model `{}` has no [stitch] with a take-up path to match",
+            model.file.model.name
+        )),
+        _ => problem.table(&before).err().unwrap_or_else(|| {
+            Error::Stitch("no thread of the stitch is compared with a take-up path (give `path` in [stitch])".into())
+        }),
     })?;
     let count = std::sync::atomic::AtomicUsize::new(0);
     // Global: the Latin-hypercube sample, in parallel.
     let unit = |i: usize| -> Vec<f64> {
-        design.setting(i).iter().zip(&vary).map(|(x, v)| (x - v.lo) / (v.hi - v.lo)).collect()
+        design
+            .setting(i)
+            .iter()
+            .zip(&vary)
+            .map(|(x, v)| (x - v.lo) / (v.hi - v.lo))
+            .collect()
     };
     let mut scored: Vec<(f64, Vec<f64>)> = (0..samples)
         .into_par_iter()
@@ -250,7 +336,11 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
         })
         .collect();
     // The nominal setting competes too.
-    let u0: Vec<f64> = before.iter().zip(&vary).map(|(x, v)| (x - v.lo) / (v.hi - v.lo)).collect();
+    let u0: Vec<f64> = before
+        .iter()
+        .zip(&vary)
+        .map(|(x, v)| (x - v.lo) / (v.hi - v.lo))
+        .collect();
     scored.push((before_figures.objective, u0));
     scored.sort_by(|a, b| a.0.total_cmp(&b.0));
     // Local: Nelder–Mead from the best three starts.
@@ -264,7 +354,9 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
             v[k] += if v[k] > 0.5 { -0.08 } else { 0.08 };
             simplex.push(v);
         }
-        let solver = NelderMead::new(simplex).with_sd_tolerance(1e-7).map_err(|e| Error::Stitch(format!("tuning: {e}")))?;
+        let solver = NelderMead::new(simplex)
+            .with_sd_tolerance(1e-7)
+            .map_err(|e| Error::Stitch(format!("tuning: {e}")))?;
         let res = Executor::new(Cost(&problem, &count), solver)
             .configure(|st| st.max_iters(60 * d as u64))
             .run()
@@ -277,7 +369,9 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
         }
     }
     let after = problem.values(&best.1);
-    let after_figures = problem.figures(&after).ok_or_else(|| Error::Stitch("tuning: the optimum does not evaluate".into()))?;
+    let after_figures = problem
+        .figures(&after)
+        .ok_or_else(|| Error::Stitch("tuning: the optimum does not evaluate".into()))?;
     // Flatness: each parameter alone across its range.
     let flatness = vary
         .iter()
@@ -289,12 +383,18 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
                 .map(|&x| {
                     let mut s = after.clone();
                     s[k] = x;
-                    problem.figures(&s).is_some_and(|f| f.feasible && f.objective <= after_figures.objective + 0.01)
+                    problem
+                        .figures(&s)
+                        .is_some_and(|f| f.feasible && f.objective <= after_figures.objective + 0.01)
                 })
                 .collect();
             count.fetch_add(xs.len(), std::sync::atomic::Ordering::Relaxed);
             // The run of acceptable values around the optimum.
-            let j0 = xs.iter().enumerate().min_by(|a, b| (a.1 - after[k]).abs().total_cmp(&(b.1 - after[k]).abs())).map_or(0, |(j, _)| j);
+            let j0 = xs
+                .iter()
+                .enumerate()
+                .min_by(|a, b| (a.1 - after[k]).abs().total_cmp(&(b.1 - after[k]).abs()))
+                .map_or(0, |(j, _)| j);
             let (mut a, mut b) = (j0, j0);
             while a > 0 && ok[a - 1] {
                 a -= 1;
@@ -302,17 +402,43 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
             while b + 1 < xs.len() && ok[b + 1] {
                 b += 1;
             }
-            Flatness { name: v.name.clone(), lo: xs[a].min(after[k]), hi: xs[b].max(after[k]) }
+            Flatness {
+                name: v.name.clone(),
+                lo: xs[a].min(after[k]),
+                hi: xs[b].max(after[k]),
+            }
         })
         .collect();
-    let names: Vec<(String, &'static str)> =
-        vary.iter().map(|v| (v.name.clone(), model.params[model.param_index(&v.name).unwrap_or(0)].unit_str())).collect();
+    let names: Vec<(String, &'static str)> = vary
+        .iter()
+        .map(|v| {
+            (
+                v.name.clone(),
+                model.params[model.param_index(&v.name).unwrap_or(0)].unit_str(),
+            )
+        })
+        .collect();
     let notes = standing(&vary, &names, &after, &before_figures, &after_figures);
-    Ok(TuneResult { names, before, after, before_figures, after_figures, flatness, notes, evaluations: count.into_inner() })
+    Ok(TuneResult {
+        names,
+        before,
+        after,
+        before_figures,
+        after_figures,
+        flatness,
+        notes,
+        evaluations: count.into_inner(),
+    })
 }
 
 /// Where a tuning's result stands (see [`TuneResult::notes`]).
-fn standing(vary: &[Vary], names: &[(String, &str)], after: &[f64], before: &MatchFigures, best: &MatchFigures) -> Vec<String> {
+fn standing(
+    vary: &[Vary],
+    names: &[(String, &str)],
+    after: &[f64],
+    before: &MatchFigures,
+    best: &MatchFigures,
+) -> Vec<String> {
     let mut notes = Vec::new();
     for ((v, (name, unit)), &x) in vary.iter().zip(names).zip(after) {
         let tol = 1e-3 * (v.hi - v.lo);
@@ -345,7 +471,9 @@ fn standing(vary: &[Vary], names: &[(String, &str)], after: &[f64], before: &Mat
         ));
     }
     if !best.mu_ok {
-        notes.push("a transmission angle stays outside 30°…150° at the best setting found: the mechanism risks jamming".into());
+        notes.push(
+            "a transmission angle stays outside 30°…150° at the best setting found: the mechanism risks jamming".into(),
+        );
     }
     notes
 }

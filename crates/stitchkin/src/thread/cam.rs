@@ -40,7 +40,10 @@ pub struct Profile {
 
 impl Profile {
     fn new(shape: Shape) -> Profile {
-        let mut p = Profile { shape, samples: Vec::new() };
+        let mut p = Profile {
+            shape,
+            samples: Vec::new(),
+        };
         p.samples = (0..N_SAMPLES)
             .map(|k| {
                 let th = k as f64 * std::f64::consts::TAU / N_SAMPLES as f64;
@@ -60,7 +63,15 @@ impl Profile {
     pub fn spline(theta: &[f64], rho: &[f64]) -> Profile {
         let n = theta.len();
         let tau = std::f64::consts::TAU;
-        let h: Vec<f64> = (0..n).map(|i| if i + 1 < n { theta[i + 1] - theta[i] } else { theta[0] + tau - theta[n - 1] }).collect();
+        let h: Vec<f64> = (0..n)
+            .map(|i| {
+                if i + 1 < n {
+                    theta[i + 1] - theta[i]
+                } else {
+                    theta[0] + tau - theta[n - 1]
+                }
+            })
+            .collect();
         let y = |i: usize| rho[i % n];
         // Periodic natural-cubic system for the second derivatives M_i
         // (cyclic tridiagonal; solved densely, profiles have few points).
@@ -87,7 +98,10 @@ impl Profile {
                 [y(i), c1, m0 / 2.0, (m1 - m0) / (6.0 * hi)]
             })
             .collect();
-        Profile::new(Shape::Spline { theta: theta.to_vec(), coef })
+        Profile::new(Shape::Spline {
+            theta: theta.to_vec(),
+            coef,
+        })
     }
 
     /// ρ(θ), generic so θ may carry derivatives.
@@ -139,7 +153,9 @@ impl Profile {
 
     /// Smallest radius over the turn.
     pub fn min_radius(&self) -> f64 {
-        (0..720).map(|k| self.rho(k as f64 * std::f64::consts::TAU / 720.0)).fold(f64::MAX, f64::min)
+        (0..720)
+            .map(|k| self.rho(k as f64 * std::f64::consts::TAU / 720.0))
+            .fold(f64::MAX, f64::min)
     }
 }
 
@@ -164,7 +180,12 @@ impl<T: Real> CamPlacement<T> {
             return None;
         }
         let u = u / n;
-        Some(CamPlacement { center, u, v: w.cross(&u), w })
+        Some(CamPlacement {
+            center,
+            u,
+            v: w.cross(&u),
+            w,
+        })
     }
 
     /// Coordinates of a world point in the cam's frame: (in-plane, height).
@@ -189,7 +210,13 @@ pub struct CamContact<T: Real> {
 /// the profile radius at the profile angle facing the guides (the bisector
 /// of their directions from the centre) turned by `gamma` (rad, in the
 /// cam's positive sense).
-pub fn offset_contact<T: Real>(profile: &Profile, at: &CamPlacement<T>, p: V3<T>, q: V3<T>, gamma: f64) -> Option<CamContact<T>> {
+pub fn offset_contact<T: Real>(
+    profile: &Profile,
+    at: &CamPlacement<T>,
+    p: V3<T>,
+    q: V3<T>,
+    gamma: f64,
+) -> Option<CamContact<T>> {
     let (pl, _) = at.local(p);
     let (ql, _) = at.local(q);
     let (np, nq) = (pl.norm(), ql.norm());
@@ -208,7 +235,12 @@ pub fn offset_contact<T: Real>(profile: &Profile, at: &CamPlacement<T>, p: V3<T>
     let (u_in, u_out) = ((a - p).map(|x| x.re()), (q - a).map(|x| x.re()));
     let turn = (u_in.normalize().dot(&u_out.normalize())).clamp(-1.0, 1.0).acos();
     let ar = a.map(|x| x.re());
-    Some(CamContact { length: (a - p).norm() + (q - a).norm(), engaged: true, wrap_rad: turn, touch: Some([ar, ar]) })
+    Some(CamContact {
+        length: (a - p).norm() + (q - a).norm(),
+        engaged: true,
+        wrap_rad: turn,
+        touch: Some([ar, ar]),
+    })
 }
 
 /// Profile samples per turn.
@@ -218,7 +250,13 @@ const N_SAMPLES: usize = 360;
 /// turning in the sense `s` about the shaft axis (`+1` counter-clockwise,
 /// i.e. the cam on the thread's left). Free when the straight thread misses
 /// the profile on that side. `None` when an end lies inside the profile.
-pub fn exact_contact<T: Real>(profile: &Profile, at: &CamPlacement<T>, p: V3<T>, q: V3<T>, s: f64) -> Option<CamContact<T>> {
+pub fn exact_contact<T: Real>(
+    profile: &Profile,
+    at: &CamPlacement<T>,
+    p: V3<T>,
+    q: V3<T>,
+    s: f64,
+) -> Option<CamContact<T>> {
     let (pl, hp) = at.local(p);
     let (ql, hq) = at.local(q);
     let (pr, qr) = (pl.map(|x| x.re()), ql.map(|x| x.re()));
@@ -234,7 +272,12 @@ pub fn exact_contact<T: Real>(profile: &Profile, at: &CamPlacement<T>, p: V3<T>,
     let side = |pt: V2<f64>| s * (d.x * (pt.y - pr.y) - d.y * (pt.x - pr.x));
     let min_side = samples.iter().map(|(_, pt)| side(*pt)).fold(f64::MAX, f64::min);
     if min_side >= 0.0 {
-        return Some(CamContact { length: (q - p).norm(), engaged: false, wrap_rad: 0.0, touch: None });
+        return Some(CamContact {
+            length: (q - p).norm(),
+            engaged: false,
+            wrap_rad: 0.0,
+            touch: None,
+        });
     }
     // Tangent points: from p, the profile point whose direction is most
     // clockwise (for s = +1) as seen from p; toward q, the most
@@ -300,7 +343,11 @@ pub fn exact_contact<T: Real>(profile: &Profile, at: &CamPlacement<T>, p: V3<T>,
     // The thread turns by the change of the tangent direction along the arc.
     let (t_in, t_out) = (c1p.map(|x| x.re()) * s, c1q.map(|x| x.re()) * s);
     let turn = (t_in.normalize().dot(&t_out.normalize())).clamp(-1.0, 1.0).acos();
-    let turn = if span.re() > std::f64::consts::PI { tau - turn } else { turn };
+    let turn = if span.re() > std::f64::consts::PI {
+        tau - turn
+    } else {
+        turn
+    };
     // Tangent points in the world, at the heights of the unrolled line.
     let (lp_re, len_re) = (l_perp.re(), length.re());
     let world = |c: V2<T>, frac: f64| {
@@ -309,7 +356,12 @@ pub fn exact_contact<T: Real>(profile: &Profile, at: &CamPlacement<T>, p: V3<T>,
     };
     let (t_in, t_out) = ((cp - pl).norm().re(), (ql - cq).norm().re());
     let touch = [world(cp, t_in / lp_re), world(cq, 1.0 - t_out / lp_re)];
-    Some(CamContact { length, engaged: true, wrap_rad: turn * lp_re / len_re, touch: Some(touch) })
+    Some(CamContact {
+        length,
+        engaged: true,
+        wrap_rad: turn * lp_re / len_re,
+        touch: Some(touch),
+    })
 }
 
 /// Profile point and its θ-derivative at a dual angle.
@@ -319,7 +371,10 @@ fn point_t<T: Real>(profile: &Profile, th: T) -> (V2<T>, V2<T>) {
     let rho = profile.rho(th);
     let rho1 = rho_prime(profile, th);
     let (s, c) = th.sin_cos();
-    (V2::new(rho * c, rho * s), V2::new(rho1 * c - rho * s, rho1 * s + rho * c))
+    (
+        V2::new(rho * c, rho * s),
+        V2::new(rho1 * c - rho * s, rho1 * s + rho * c),
+    )
 }
 
 /// ρ'(θ) for a dual θ, from the profile's closed form.
@@ -346,8 +401,20 @@ fn rho_prime<T: Real>(profile: &Profile, th: T) -> T {
 /// Arc length of the profile from `th0` over the signed angle `dth`:
 /// composite 5-point Gauss–Legendre on |c'(θ)| = √(ρ² + ρ'²).
 fn arc_length<T: Real>(profile: &Profile, th0: T, dth: T) -> T {
-    const X: [f64; 5] = [0.0, -0.538_469_310_105_683, 0.538_469_310_105_683, -0.906_179_845_938_664, 0.906_179_845_938_664];
-    const W: [f64; 5] = [0.568_888_888_888_889, 0.478_628_670_499_366, 0.478_628_670_499_366, 0.236_926_885_056_189, 0.236_926_885_056_189];
+    const X: [f64; 5] = [
+        0.0,
+        -0.538_469_310_105_683,
+        0.538_469_310_105_683,
+        -0.906_179_845_938_664,
+        0.906_179_845_938_664,
+    ];
+    const W: [f64; 5] = [
+        0.568_888_888_888_889,
+        0.478_628_670_499_366,
+        0.478_628_670_499_366,
+        0.236_926_885_056_189,
+        0.236_926_885_056_189,
+    ];
     let pieces = ((dth.re().abs() / (std::f64::consts::PI / 24.0)).ceil() as usize).max(1);
     let h = dth / T::cst(pieces as f64);
     let mut sum = T::zero();
@@ -368,7 +435,12 @@ mod tests {
     use approx::assert_relative_eq;
 
     fn at(angle: f64) -> CamPlacement<f64> {
-        CamPlacement { center: V3::zeros(), u: V3::new(angle.cos(), angle.sin(), 0.0), v: V3::new(-angle.sin(), angle.cos(), 0.0), w: V3::z() }
+        CamPlacement {
+            center: V3::zeros(),
+            u: V3::new(angle.cos(), angle.sin(), 0.0),
+            v: V3::new(-angle.sin(), angle.cos(), 0.0),
+            w: V3::z(),
+        }
     }
 
     #[test]
@@ -376,7 +448,11 @@ mod tests {
         let p = Profile::disc(10.0, 3.0);
         assert_relative_eq!(p.rho(0.0), 13.0, epsilon = 1e-12);
         assert_relative_eq!(p.rho(std::f64::consts::PI), 7.0, epsilon = 1e-12);
-        assert_relative_eq!(p.rho(std::f64::consts::FRAC_PI_2), (100.0f64 - 9.0).sqrt(), epsilon = 1e-12);
+        assert_relative_eq!(
+            p.rho(std::f64::consts::FRAC_PI_2),
+            (100.0f64 - 9.0).sqrt(),
+            epsilon = 1e-12
+        );
         assert!(p.convexity() > 0.0);
     }
 

@@ -130,10 +130,16 @@ impl MeasuredCurve {
     /// sampled at most h rad apart it differs from the curve by at most
     /// M·h²/8. NaN for a non-finite φ.
     pub fn value_at(&self, phi_deg: f64) -> f64 {
-        let Some(s) = periodic_segment(&self.phi_deg, phi_deg) else { return f64::NAN };
+        let Some(s) = periodic_segment(&self.phi_deg, phi_deg) else {
+            return f64::NAN;
+        };
         let (y0, y1) = (self.values_mm[s.i], self.values_mm[s.j]);
         let h = s.to_deg - s.from_deg;
-        if h > 0.0 { y0 + (y1 - y0) * ((s.at_deg - s.from_deg) / h) } else { y0 }
+        if h > 0.0 {
+            y0 + (y1 - y0) * ((s.at_deg - s.from_deg) / h)
+        } else {
+            y0
+        }
     }
 
     /// The curve at every φ of `phis_deg` (deg, any grid, any turn), mm:
@@ -174,10 +180,28 @@ pub(crate) fn periodic_segment(phis_deg: &[f64], phi_deg: f64) -> Option<Segment
     }
     let n = phis_deg.len();
     Some(match phis_deg.partition_point(|&v| v <= at) {
-        p if p >= n => Segment { i: n - 1, j: 0, from_deg: last, to_deg: first + 360.0, at_deg: at },
+        p if p >= n => Segment {
+            i: n - 1,
+            j: 0,
+            from_deg: last,
+            to_deg: first + 360.0,
+            at_deg: at,
+        },
         // p = 0 only if `at` were below φ_0, which the reduction rules out.
-        0 => Segment { i: 0, j: 1 % n, from_deg: first, to_deg: phis_deg[1 % n], at_deg: first },
-        p => Segment { i: p - 1, j: p, from_deg: phis_deg[p - 1], to_deg: phis_deg[p], at_deg: at },
+        0 => Segment {
+            i: 0,
+            j: 1 % n,
+            from_deg: first,
+            to_deg: phis_deg[1 % n],
+            at_deg: first,
+        },
+        p => Segment {
+            i: p - 1,
+            j: p,
+            from_deg: phis_deg[p - 1],
+            to_deg: phis_deg[p],
+            at_deg: at,
+        },
     })
 }
 
@@ -195,7 +219,10 @@ pub fn read_curve(path: &Path) -> Result<MeasuredCurve, Error> {
             span: None,
             path: String::new(),
             message: format!("cannot read the curve file: {e}"),
-            help: Some("give the path of a CSV file with a header `phi_deg,P_mm` (or `phi_deg,Pprime_mm`) and one row per φ".into()),
+            help: Some(
+                "give the path of a CSV file with a header `phi_deg,P_mm` (or `phi_deg,Pprime_mm`) and one row per φ"
+                    .into(),
+            ),
         })
     })?;
     parse_curve_csv(&String::from_utf8_lossy(&bytes), &source)
@@ -228,7 +255,10 @@ impl Line<'_> {
             let lead = raw.len() - raw.trim_start().len();
             let text = raw.trim();
             let from = at + lead;
-            out.push(Field { span: from..from + text.len(), text });
+            out.push(Field {
+                span: from..from + text.len(),
+                text,
+            });
             at += raw.len() + 1;
         }
         out
@@ -239,7 +269,11 @@ impl Line<'_> {
 fn data_lines(text: &str) -> impl Iterator<Item = Line<'_>> {
     let mut start = 0;
     text.split_inclusive('\n').enumerate().filter_map(move |(k, raw)| {
-        let line = Line { number: k + 1, start, text: raw.trim_end_matches(['\n', '\r']) };
+        let line = Line {
+            number: k + 1,
+            start,
+            text: raw.trim_end_matches(['\n', '\r']),
+        };
         start += raw.len();
         let t = line.text.trim_start_matches('\u{feff}').trim();
         (!t.is_empty() && !t.starts_with('#')).then_some(line)
@@ -262,14 +296,21 @@ fn column_kind(name: &str) -> Result<(Option<String>, CurveKind, Option<SplitPoi
             did_you_mean(base, COLUMNS.iter().map(|c| c.0)).filter(|_| base.starts_with(['P', 'p']))
         };
         return Err(match guess {
-            Some(g) => format!("`{name}` is not a take-up column: did you mean `{}`?", prefix.map_or(g.to_string(), |p| format!("{p}.{g}"))),
-            None => format!("`{name}` is not a take-up column; it must say what it is: P_mm, P_B_mm, P_eye_mm, Pprime_mm, Pprime_B_mm or Pprime_eye_mm"),
+            Some(g) => format!(
+                "`{name}` is not a take-up column: did you mean `{}`?",
+                prefix.map_or(g.to_string(), |p| format!("{p}.{g}"))
+            ),
+            None => format!(
+                "`{name}` is not a take-up column; it must say what it is: P_mm, P_B_mm, P_eye_mm, Pprime_mm, Pprime_B_mm or Pprime_eye_mm"
+            ),
         });
     };
     if let Some(p) = prefix
         && (p.is_empty() || !p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'))
     {
-        return Err(format!("`{p}` before the dot in `{name}` is not a thread or path name (letters, digits and `_`)"));
+        return Err(format!(
+            "`{p}` before the dot in `{name}` is not a thread or path name (letters, digits and `_`)"
+        ));
     }
     Ok((prefix.map(str::to_string), kind, split))
 }
@@ -294,39 +335,80 @@ fn column_kind(name: &str) -> Result<(Option<String>, CurveKind, Option<SplitPoi
 pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error> {
     let shared: Arc<str> = Arc::from(text);
     let err = |span: Option<Range<usize>>, message: String, help: &str| -> Error {
-        Error::from(ModelError { file: source.to_string(), text: shared.clone(), span, path: String::new(), message, help: Some(help.to_string()) })
+        Error::from(ModelError {
+            file: source.to_string(),
+            text: shared.clone(),
+            span,
+            path: String::new(),
+            message,
+            help: Some(help.to_string()),
+        })
     };
     let mut lines = data_lines(text);
     let Some(header) = lines.next() else {
-        return Err(err(None, "the curve file has no header: it is empty or holds only comments and blank lines".into(), HEADER_HELP));
+        return Err(err(
+            None,
+            "the curve file has no header: it is empty or holds only comments and blank lines".into(),
+            HEADER_HELP,
+        ));
     };
     let names: Vec<Field> = header
         .fields()
         .into_iter()
-        .map(|f| Field { span: f.span, text: f.text.trim_start_matches('\u{feff}').trim_matches('"').trim() })
+        .map(|f| Field {
+            span: f.span,
+            text: f.text.trim_start_matches('\u{feff}').trim_matches('"').trim(),
+        })
         .collect();
-    let listed = names.iter().map(|f| format!("`{}`", f.text)).collect::<Vec<_>>().join(", ");
+    let listed = names
+        .iter()
+        .map(|f| format!("`{}`", f.text))
+        .collect::<Vec<_>>()
+        .join(", ");
     if names.len() == 1 && [';', '\t'].iter().any(|c| header.text.contains(*c)) {
         return Err(err(
             Some(header.span()),
-            format!("the header `{}` is one column: the columns are not separated by commas", header.text.trim()),
+            format!(
+                "the header `{}` is one column: the columns are not separated by commas",
+                header.text.trim()
+            ),
             "separate the columns with `,` (and write decimals with a point, `0.5`), e.g. `phi_deg,P_mm`",
         ));
     }
     if names.len() != 2 {
-        return Err(err(Some(header.span()), format!("the header names {} column(s), {listed}; a curve has two: `phi_deg` and one take-up column", names.len()), HEADER_HELP));
+        return Err(err(
+            Some(header.span()),
+            format!(
+                "the header names {} column(s), {listed}; a curve has two: `phi_deg` and one take-up column",
+                names.len()
+            ),
+            HEADER_HELP,
+        ));
     }
     let iphi = match names.iter().filter(|f| f.text == "phi_deg").count() {
         1 => usize::from(names[1].text == "phi_deg"),
         0 => {
             let guess = names.iter().find_map(|f| did_you_mean(f.text, ["phi_deg"]).map(|_| f));
             let message = match guess {
-                Some(f) => format!("the header has no column `phi_deg` (got {listed}): did you mean `phi_deg` for `{}`?", f.text),
+                Some(f) => format!(
+                    "the header has no column `phi_deg` (got {listed}): did you mean `phi_deg` for `{}`?",
+                    f.text
+                ),
                 None => format!("the header has no column `phi_deg` (got {listed})"),
             };
-            return Err(err(Some(guess.map_or(header.span(), |f| f.span.clone())), message, "name the main-shaft angle column `phi_deg` (deg)"));
+            return Err(err(
+                Some(guess.map_or(header.span(), |f| f.span.clone())),
+                message,
+                "name the main-shaft angle column `phi_deg` (deg)",
+            ));
         }
-        _ => return Err(err(Some(header.span()), "the header names `phi_deg` twice".into(), HEADER_HELP)),
+        _ => {
+            return Err(err(
+                Some(header.span()),
+                "the header names `phi_deg` twice".into(),
+                HEADER_HELP,
+            ));
+        }
     };
     let value = &names[1 - iphi];
     let (thread, kind, split) = column_kind(value.text).map_err(|m| err(Some(value.span.clone()), m, HEADER_HELP))?;
@@ -340,9 +422,18 @@ pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error>
         let fields = line.fields();
         if fields.len() != 2 {
             let (message, help) = if fields.len() > 2 {
-                (format!("the row has {} fields, the header two (`phi_deg`, `{column}`)", fields.len()), format!("remove the extra fields; {ROW_HELP}"))
+                (
+                    format!(
+                        "the row has {} fields, the header two (`phi_deg`, `{column}`)",
+                        fields.len()
+                    ),
+                    format!("remove the extra fields; {ROW_HELP}"),
+                )
             } else {
-                (format!("the row has one field, the header two (`phi_deg`, `{column}`)"), format!("add the missing value; {ROW_HELP}"))
+                (
+                    format!("the row has one field, the header two (`phi_deg`, `{column}`)"),
+                    format!("add the missing value; {ROW_HELP}"),
+                )
             };
             return Err(err(Some(line.span()), message, &help));
         }
@@ -350,27 +441,51 @@ pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error>
         let number = |k: usize, name: &str, what: &str, unit: &str| -> Result<f64, Error> {
             let f = &fields[k];
             if f.text.is_empty() {
-                return Err(err(Some(line.span()), format!("the {name} value is missing"), &format!("write {what} in {unit}; {ROW_HELP}")));
+                return Err(err(
+                    Some(line.span()),
+                    format!("the {name} value is missing"),
+                    &format!("write {what} in {unit}; {ROW_HELP}"),
+                ));
             }
             match f.text.parse::<f64>() {
                 Ok(v) if v.is_finite() => Ok(v),
                 Ok(_) => Err(err(
                     Some(f.span.clone()),
                     format!("`{}` ({name}) is not a finite number", f.text),
-                    &format!("write {what} as a finite number in {unit}; leave out a row that was not measured (the curve is linear between rows, at most {}° apart)", fmt_num(MAX_GAP_DEG)),
+                    &format!(
+                        "write {what} as a finite number in {unit}; leave out a row that was not measured (the curve is linear between rows, at most {}° apart)",
+                        fmt_num(MAX_GAP_DEG)
+                    ),
                 )),
-                Err(_) => Err(err(Some(f.span.clone()), format!("`{}` ({name}) is not a number", f.text), &format!("write {what} as a number in {unit}; {ROW_HELP}"))),
+                Err(_) => Err(err(
+                    Some(f.span.clone()),
+                    format!("`{}` ({name}) is not a number", f.text),
+                    &format!("write {what} as a number in {unit}; {ROW_HELP}"),
+                )),
             }
         };
         let phi = number(iphi, "phi_deg", "φ", "deg")?;
-        let y = number(1 - iphi, &column, if kind == CurveKind::TakeUp { "the take-up P" } else { "the required take-up P′" }, "mm")?;
+        let y = number(
+            1 - iphi,
+            &column,
+            if kind == CurveKind::TakeUp {
+                "the take-up P"
+            } else {
+                "the required take-up P′"
+            },
+            "mm",
+        )?;
         let phi_span = fields[iphi].span.clone();
         if let (Some(&prev), Some((prev_line, _))) = (phi_deg.last(), rows.last())
             && phi <= prev
         {
             return Err(err(
                 Some(phi_span),
-                format!("φ = {}° does not come after φ = {}° on line {prev_line}: the rows must run in strictly increasing φ", fmt_num(phi), fmt_num(prev)),
+                format!(
+                    "φ = {}° does not come after φ = {}° on line {prev_line}: the rows must run in strictly increasing φ",
+                    fmt_num(phi),
+                    fmt_num(prev)
+                ),
                 "sort the rows by φ and give each φ once (a turn may start at any φ, e.g. 174.85 … 533.85)",
             ));
         }
@@ -379,7 +494,11 @@ pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error>
         {
             return Err(err(
                 Some(phi_span),
-                format!("φ = {}° is a whole turn or more after the first row's φ = {}° (line {first_line}); a curve covers one turn", fmt_num(phi), fmt_num(first)),
+                format!(
+                    "φ = {}° is a whole turn or more after the first row's φ = {}° (line {first_line}); a curve covers one turn",
+                    fmt_num(phi),
+                    fmt_num(first)
+                ),
                 "give one turn, last φ − first φ < 360°: leave out the row that repeats the first a turn later (the curve closes the turn by itself)",
             ));
         }
@@ -392,16 +511,39 @@ pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error>
         fmt_num(MAX_GAP_DEG)
     );
     if phi_deg.len() < MIN_ROWS {
-        return Err(err(Some(header.span()), format!("the curve has {} row(s) after its header; it needs at least {MIN_ROWS}", phi_deg.len()), &gap_help));
+        return Err(err(
+            Some(header.span()),
+            format!(
+                "the curve has {} row(s) after its header; it needs at least {MIN_ROWS}",
+                phi_deg.len()
+            ),
+            &gap_help,
+        ));
     }
     let n = phi_deg.len();
     // The widest gap, ending at sample `end` (0: the one closing the turn).
     let (gap, end) = (0..n)
-        .map(|j| (if j == 0 { phi_deg[0] + 360.0 - phi_deg[n - 1] } else { phi_deg[j] - phi_deg[j - 1] }, j))
+        .map(|j| {
+            (
+                if j == 0 {
+                    phi_deg[0] + 360.0 - phi_deg[n - 1]
+                } else {
+                    phi_deg[j] - phi_deg[j - 1]
+                },
+                j,
+            )
+        })
         .fold((f64::MIN, 0), |best, g| if g.0 > best.0 { g } else { best });
     if gap > MAX_GAP_DEG {
         let start = (end + n - 1) % n;
-        let (to, to_line) = if end == 0 { (phi_deg[0] + 360.0, format!("line {}, the first row a turn later", rows[0].0)) } else { (phi_deg[end], format!("line {}", rows[end].0)) };
+        let (to, to_line) = if end == 0 {
+            (
+                phi_deg[0] + 360.0,
+                format!("line {}, the first row a turn later", rows[0].0),
+            )
+        } else {
+            (phi_deg[end], format!("line {}", rows[end].0))
+        };
         return Err(err(
             Some(rows[if end == 0 { start } else { end }].1.clone()),
             format!(
@@ -415,7 +557,15 @@ pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error>
             &gap_help,
         ));
     }
-    Ok(MeasuredCurve { phi_deg, values_mm, kind, split, thread, column, source: source.to_string() })
+    Ok(MeasuredCurve {
+        phi_deg,
+        values_mm,
+        kind,
+        split,
+        thread,
+        column,
+        source: source.to_string(),
+    })
 }
 
 #[cfg(test)]
@@ -425,7 +575,10 @@ mod tests {
     /// Rows every `step` deg from `from` over one turn, the value `f(φ)`.
     fn rows(from: f64, step: f64, f: impl Fn(f64) -> f64) -> String {
         let n = (360.0 / step).round() as usize;
-        (0..n).map(|k| from + step * k as f64).map(|x| format!("{x},{}\n", f(x))).collect()
+        (0..n)
+            .map(|k| from + step * k as f64)
+            .map(|x| format!("{x},{}\n", f(x)))
+            .collect()
     }
 
     fn parse(text: &str) -> MeasuredCurve {
@@ -461,13 +614,26 @@ mod tests {
             ("needle.Pprime_eye_mm", Required, Some(Eye), Some("needle")),
         ] {
             let c = parse(&format!("phi_deg,{name}\n{body}"));
-            assert_eq!((c.kind(), c.split(), c.thread(), c.column(), c.source()), (kind, split, thread, name, "t.csv"), "{name}");
+            assert_eq!(
+                (c.kind(), c.split(), c.thread(), c.column(), c.source()),
+                (kind, split, thread, name, "t.csv"),
+                "{name}"
+            );
             assert_eq!(c.phi_deg().len(), 12);
-            assert_eq!((c.phi_deg()[1], c.values_mm()[1], c.phi_deg()[11], c.values_mm()[11]), (30.0, 0.3, 330.0, 3.3));
+            assert_eq!(
+                (c.phi_deg()[1], c.values_mm()[1], c.phi_deg()[11], c.values_mm()[11]),
+                (30.0, 0.3, 330.0, 3.3)
+            );
         }
         // Quoted names, spaces, a byte-order mark and Windows line ends.
-        let c = parse(&format!("\u{feff}\"phi_deg\" , \"n1.P_mm\"\r\n{}", body.replace('\n', "\r\n").replace(',', " , ")));
-        assert_eq!((c.column(), c.thread(), c.values_mm()[11]), ("n1.P_mm", Some("n1"), 3.3));
+        let c = parse(&format!(
+            "\u{feff}\"phi_deg\" , \"n1.P_mm\"\r\n{}",
+            body.replace('\n', "\r\n").replace(',', " , ")
+        ));
+        assert_eq!(
+            (c.column(), c.thread(), c.values_mm()[11]),
+            ("n1.P_mm", Some("n1"), 3.3)
+        );
     }
 
     #[test]
@@ -497,22 +663,78 @@ mod tests {
 
     #[test]
     fn header_errors_name_the_line_and_the_fix() {
-        refused("", "t.csv: the curve file has no header", "help: write a header `phi_deg,P_mm`");
-        refused("# only a comment\n\n", "t.csv: the curve file has no header", "help: write a header");
+        refused(
+            "",
+            "t.csv: the curve file has no header",
+            "help: write a header `phi_deg,P_mm`",
+        );
+        refused(
+            "# only a comment\n\n",
+            "t.csv: the curve file has no header",
+            "help: write a header",
+        );
         let body = rows(0.0, 30.0, |_| 1.0);
         for (header, start, has) in [
-            ("# x\nphi_deg;P_mm", "t.csv:2:1: the header `phi_deg;P_mm` is one column", "help: separate the columns with `,`"),
-            ("phi_deg,P_mm,Pprime_mm", "t.csv:1:1: the header names 3 column(s), `phi_deg`, `P_mm`, `Pprime_mm`; a curve has two", "help: write a header"),
-            ("phi_deg", "t.csv:1:1: the header names 1 column(s)", "help: write a header"),
-            ("phi,P_mm", "t.csv:1:1: the header has no column `phi_deg` (got `phi`, `P_mm`)", "help: name the main-shaft angle column `phi_deg` (deg)"),
-            ("P_mm,phi_dg", "t.csv:1:6: the header has no column `phi_deg` (got `P_mm`, `phi_dg`): did you mean `phi_deg` for `phi_dg`?", "help: name"),
-            ("phi_deg,phi_deg", "t.csv:1:1: the header names `phi_deg` twice", "help: write a header"),
-            ("phi_deg,xi_mm", "t.csv:1:9: `xi_mm` is not a take-up column; it must say what it is: P_mm, P_B_mm", "help: write a header"),
-            ("phi_deg,n1.P'_mm", "t.csv:1:9: `n1.P'_mm` is not a take-up column: did you mean `n1.Pprime_mm`?", "help: write a header"),
-            ("phi_deg,p_mm", "t.csv:1:9: `p_mm` is not a take-up column: did you mean `P_mm`?", "help: write a header"),
-            ("phi_deg,P", "t.csv:1:9: `P` is not a take-up column; it must say what it is", "help: write a header"),
-            ("phi_deg,n-1.P_mm", "t.csv:1:9: `n-1` before the dot in `n-1.P_mm` is not a thread or path name", "help: write a header"),
-            ("phi_deg,.P_mm", "t.csv:1:9: `` before the dot in `.P_mm` is not a thread or path name", "help: write a header"),
+            (
+                "# x\nphi_deg;P_mm",
+                "t.csv:2:1: the header `phi_deg;P_mm` is one column",
+                "help: separate the columns with `,`",
+            ),
+            (
+                "phi_deg,P_mm,Pprime_mm",
+                "t.csv:1:1: the header names 3 column(s), `phi_deg`, `P_mm`, `Pprime_mm`; a curve has two",
+                "help: write a header",
+            ),
+            (
+                "phi_deg",
+                "t.csv:1:1: the header names 1 column(s)",
+                "help: write a header",
+            ),
+            (
+                "phi,P_mm",
+                "t.csv:1:1: the header has no column `phi_deg` (got `phi`, `P_mm`)",
+                "help: name the main-shaft angle column `phi_deg` (deg)",
+            ),
+            (
+                "P_mm,phi_dg",
+                "t.csv:1:6: the header has no column `phi_deg` (got `P_mm`, `phi_dg`): did you mean `phi_deg` for `phi_dg`?",
+                "help: name",
+            ),
+            (
+                "phi_deg,phi_deg",
+                "t.csv:1:1: the header names `phi_deg` twice",
+                "help: write a header",
+            ),
+            (
+                "phi_deg,xi_mm",
+                "t.csv:1:9: `xi_mm` is not a take-up column; it must say what it is: P_mm, P_B_mm",
+                "help: write a header",
+            ),
+            (
+                "phi_deg,n1.P'_mm",
+                "t.csv:1:9: `n1.P'_mm` is not a take-up column: did you mean `n1.Pprime_mm`?",
+                "help: write a header",
+            ),
+            (
+                "phi_deg,p_mm",
+                "t.csv:1:9: `p_mm` is not a take-up column: did you mean `P_mm`?",
+                "help: write a header",
+            ),
+            (
+                "phi_deg,P",
+                "t.csv:1:9: `P` is not a take-up column; it must say what it is",
+                "help: write a header",
+            ),
+            (
+                "phi_deg,n-1.P_mm",
+                "t.csv:1:9: `n-1` before the dot in `n-1.P_mm` is not a thread or path name",
+                "help: write a header",
+            ),
+            (
+                "phi_deg,.P_mm",
+                "t.csv:1:9: `` before the dot in `.P_mm` is not a thread or path name",
+                "help: write a header",
+            ),
         ] {
             refused(&format!("{header}\n{body}"), start, has);
         }
@@ -523,20 +745,56 @@ mod tests {
         let head = "phi_deg,P_mm\n0,0\n45,1\n";
         let tail = "180,4\n225,3\n270,2\n315,1\n";
         for (row, start, has) in [
-            ("90,2,7", "t.csv:4:1: the row has 3 fields, the header two (`phi_deg`, `P_mm`)", "help: remove the extra fields; one row per φ"),
+            (
+                "90,2,7",
+                "t.csv:4:1: the row has 3 fields, the header two (`phi_deg`, `P_mm`)",
+                "help: remove the extra fields; one row per φ",
+            ),
             // A decimal comma makes an extra field; the help says to use a point.
             ("90,2,5", "t.csv:4:1: the row has 3 fields", "with a point for decimals"),
-            ("90,2,", "t.csv:4:1: the row has 3 fields", "help: remove the extra fields"),
+            (
+                "90,2,",
+                "t.csv:4:1: the row has 3 fields",
+                "help: remove the extra fields",
+            ),
             ("90", "t.csv:4:1: the row has one field", "help: add the missing value"),
-            ("90,", "t.csv:4:1: the P_mm value is missing", "help: write the take-up P in mm"),
+            (
+                "90,",
+                "t.csv:4:1: the P_mm value is missing",
+                "help: write the take-up P in mm",
+            ),
             (",2", "t.csv:4:1: the phi_deg value is missing", "help: write φ in deg"),
-            ("90, two", "t.csv:4:5: `two` (P_mm) is not a number", "help: write the take-up P as a number in mm"),
-            ("9O,2", "t.csv:4:1: `9O` (phi_deg) is not a number", "help: write φ as a number in deg"),
-            ("90,inf", "t.csv:4:4: `inf` (P_mm) is not a finite number", "leave out a row that was not measured"),
-            ("NaN,2", "t.csv:4:1: `NaN` (phi_deg) is not a finite number", "help: write φ as a finite number in deg"),
+            (
+                "90, two",
+                "t.csv:4:5: `two` (P_mm) is not a number",
+                "help: write the take-up P as a number in mm",
+            ),
+            (
+                "9O,2",
+                "t.csv:4:1: `9O` (phi_deg) is not a number",
+                "help: write φ as a number in deg",
+            ),
+            (
+                "90,inf",
+                "t.csv:4:4: `inf` (P_mm) is not a finite number",
+                "leave out a row that was not measured",
+            ),
+            (
+                "NaN,2",
+                "t.csv:4:1: `NaN` (phi_deg) is not a finite number",
+                "help: write φ as a finite number in deg",
+            ),
             // Order: strictly increasing.
-            ("30,2", "t.csv:4:1: φ = 30° does not come after φ = 45° on line 3", "help: sort the rows by φ and give each φ once"),
-            ("45,2", "t.csv:4:1: φ = 45° does not come after φ = 45° on line 3", "help: sort the rows"),
+            (
+                "30,2",
+                "t.csv:4:1: φ = 30° does not come after φ = 45° on line 3",
+                "help: sort the rows by φ and give each φ once",
+            ),
+            (
+                "45,2",
+                "t.csv:4:1: φ = 45° does not come after φ = 45° on line 3",
+                "help: sort the rows",
+            ),
         ] {
             refused(&format!("{head}{row}\n{tail}"), start, has);
         }
@@ -547,8 +805,16 @@ mod tests {
             "help: give one turn, last φ − first φ < 360°: leave out the row that repeats the first",
         );
         // Too few rows: the header is pointed at.
-        refused("# c\nphi_deg,P_mm\n0,0\n90,1\n180,0\n", "t.csv:2:1: the curve has 3 row(s) after its header; it needs at least 4", "at least every 45°");
-        refused("phi_deg,P_mm\n", "t.csv:1:1: the curve has 0 row(s)", "help: give a row");
+        refused(
+            "# c\nphi_deg,P_mm\n0,0\n90,1\n180,0\n",
+            "t.csv:2:1: the curve has 3 row(s) after its header; it needs at least 4",
+            "at least every 45°",
+        );
+        refused(
+            "phi_deg,P_mm\n",
+            "t.csv:1:1: the curve has 0 row(s)",
+            "help: give a row",
+        );
     }
 
     #[test]
@@ -558,7 +824,10 @@ mod tests {
         // A hole of 60° inside the turn: named by its ends and lines.
         let e = fails("phi_deg,P_mm\n0,0\n40,1\n80,1\n140,2\n180,2\n220,1\n260,1\n300,1\n330,0\n");
         assert!(e.starts_with("t.csv:5:1: no row for 60° of φ, from φ = 80° (line 4) to φ = 140° (line 5); rows may be at most 45° apart"), "{e}");
-        assert!(e.contains("help: give a row at least every 45° of φ") && e.contains("the line would invent it"), "{e}");
+        assert!(
+            e.contains("help: give a row at least every 45° of φ") && e.contains("the line would invent it"),
+            "{e}"
+        );
         // The gap that closes the turn: from the last row to the first a turn later.
         let e = fails("# c\nphi_deg,P_mm\n100,0\n140,1\n180,1\n220,2\n260,2\n300,1\n340,1\n380,1\n");
         assert!(e.starts_with("t.csv:10:1: no row for 80° of φ, from φ = 380° (line 10) to φ = 460° (line 3, the first row a turn later)"), "{e}");
@@ -573,10 +842,20 @@ mod tests {
     fn the_documented_example_and_error_are_true() {
         let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/studies.md")).unwrap();
         let section = &doc[doc.find("## Measured curves (CSV)").expect("the section")..];
-        let example = section.split("```csv\n").nth(1).and_then(|b| b.split("```").next()).expect("a csv block");
+        let example = section
+            .split("```csv\n")
+            .nth(1)
+            .and_then(|b| b.split("```").next())
+            .expect("a csv block");
         let c = parse(example);
-        assert_eq!((c.kind(), c.split(), c.thread(), c.column()), (CurveKind::TakeUp, None, Some("lower"), "lower.P_mm"));
-        assert_eq!(c.phi_deg(), (0..12).map(|k| 30.0 * f64::from(k)).collect::<Vec<_>>().as_slice());
+        assert_eq!(
+            (c.kind(), c.split(), c.thread(), c.column()),
+            (CurveKind::TakeUp, None, Some("lower"), "lower.P_mm")
+        );
+        assert_eq!(
+            c.phi_deg(),
+            (0..12).map(|k| 30.0 * f64::from(k)).collect::<Vec<_>>().as_slice()
+        );
         for (x, y) in c.phi_deg().iter().zip(c.values_mm()) {
             assert!((y - 3.0 * (1.0 - x.to_radians().cos())).abs() < 5e-4, "{x}: {y}");
         }
@@ -584,14 +863,21 @@ mod tests {
         assert!((c.value_at(345.0) - 0.201).abs() < 1e-12);
         let e = fails("phi_deg,P_mm\n0,0\n40,1\n80,1\n140,2\n180,2\n220,1\n260,1\n300,1\n330,0\n");
         let first = e.lines().next().unwrap();
-        assert!(section.contains(&format!("× {first}\n")), "the doc does not show `{first}`");
+        assert!(
+            section.contains(&format!("× {first}\n")),
+            "the doc does not show `{first}`"
+        );
     }
 
     #[test]
     fn a_file_that_cannot_be_read_is_named() {
         let e = read_curve(Path::new("/nonexistent/altin.csv")).unwrap_err();
         let s = e.to_string();
-        assert!(s.starts_with("/nonexistent/altin.csv: cannot read the curve file: ") && s.contains("help: give the path of a CSV file"), "{s}");
+        assert!(
+            s.starts_with("/nonexistent/altin.csv: cannot read the curve file: ")
+                && s.contains("help: give the path of a CSV file"),
+            "{s}"
+        );
     }
 
     #[test]
@@ -605,7 +891,10 @@ mod tests {
         std::fs::write(&path, bytes).unwrap();
         let c = read_curve(&path).unwrap();
         std::fs::remove_dir_all(&dir).unwrap();
-        assert_eq!((c.source(), c.thread(), c.phi_deg().len(), c.values_mm()[35]), (path.display().to_string().as_str(), Some("lower"), 36, 35.0));
+        assert_eq!(
+            (c.source(), c.thread(), c.phi_deg().len(), c.values_mm()[35]),
+            (path.display().to_string().as_str(), Some("lower"), 36, 35.0)
+        );
     }
 
     #[test]
@@ -623,7 +912,10 @@ mod tests {
         let err: Vec<f64> = grid.iter().zip(&got).map(|(x, y)| (y - sine(*x)).abs()).collect();
         assert!(err.iter().all(|e| *e <= bound), "{err:?}");
         let worst = err.iter().cloned().fold(0.0, f64::max);
-        assert!((worst - 0.02126790860458705).abs() < 1e-12 && err[86] == worst, "{worst}");
+        assert!(
+            (worst - 0.02126790860458705).abs() < 1e-12 && err[86] == worst,
+            "{worst}"
+        );
         // Literal values: at 4° on [0°, 7.5°], at 86° on [82.5°, 90°].
         assert!((got[4] - 0.696139691840275).abs() < 1e-12 && (got[86] - 9.954372593993655).abs() < 1e-12);
         // At the samples, the samples themselves.
@@ -638,7 +930,10 @@ mod tests {
         // from φ0): rows 200, 230, …, 530; the last segment runs from 530°
         // to 560° = 200° a turn later.
         let c = parse(&format!("phi_deg,P_mm\n{}", rows(200.0, 30.0, |x| (x - 200.0) / 10.0)));
-        assert_eq!((c.phi_deg()[0], c.phi_deg()[11], c.values_mm()[11]), (200.0, 530.0, 33.0));
+        assert_eq!(
+            (c.phi_deg()[0], c.phi_deg()[11], c.values_mm()[11]),
+            (200.0, 530.0, 33.0)
+        );
         // φ in any turn: 215° = −145° = 575° is halfway from 200° to 230°.
         assert_eq!(c.resample(&[215.0, -145.0, 575.0, 935.0]), vec![1.5; 4]);
         // 0° = 360° lies on [350°, 380°]: 15 + 3·(10/30).
@@ -683,7 +978,10 @@ mod tests {
                 let (lo, hi) = y.iter().fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
                 let tol = 1e-9 * (1.0 + lo.abs().max(hi.abs()));
                 for v in c.resample(&[x[0], -1e9, -1.5, 0.0, 359.999, 1e12, f64::NAN]) {
-                    prop_assert!(v.is_nan() || (lo - tol..=hi + tol).contains(&v), "{v} outside {lo}…{hi}");
+                    prop_assert!(
+                        v.is_nan() || (lo - tol..=hi + tol).contains(&v),
+                        "{v} outside {lo}…{hi}"
+                    );
                 }
             }
         }
@@ -699,8 +997,31 @@ mod tests {
             (-1e3f64..1e3).prop_map(|v| format!("{v}")),
             Just(String::new()),
             proptest::sample::select(vec![
-                "phi_deg", "P_mm", "Pprime_B_mm", "n1.P_eye_mm", ".P_mm", "a..P_mm", "\"phi_deg\"", "\"", "#", "\u{feff}", "φ", "′", "inf", "-nan",
-                "1e400", "-0", " ", "\r", ";", "\t", "x", "1,5", "\n", "\n#", "\u{10FFFF}",
+                "phi_deg",
+                "P_mm",
+                "Pprime_B_mm",
+                "n1.P_eye_mm",
+                ".P_mm",
+                "a..P_mm",
+                "\"phi_deg\"",
+                "\"",
+                "#",
+                "\u{feff}",
+                "φ",
+                "′",
+                "inf",
+                "-nan",
+                "1e400",
+                "-0",
+                " ",
+                "\r",
+                ";",
+                "\t",
+                "x",
+                "1,5",
+                "\n",
+                "\n#",
+                "\u{10FFFF}",
             ])
             .prop_map(str::to_string),
         ]

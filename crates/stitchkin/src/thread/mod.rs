@@ -30,12 +30,30 @@ use crate::scalar::Real;
 pub enum Span<T: Real> {
     /// A straight segment `a → b`; `constant` when both ends ride on one
     /// rigid body; `fixed[i]` when end `i` (a, b) never moves.
-    Straight { a: usize, b: usize, constant: bool, fixed: [bool; 2] },
+    Straight {
+        a: usize,
+        b: usize,
+        constant: bool,
+        fixed: [bool; 2],
+    },
     /// `a → b` over a one-sided cylindrical guide through point `c` (named
     /// `name`), turning in the sense `sense` about `axis`.
-    Pin { a: usize, b: usize, c: usize, axis: V3<T>, r: T, sense: f64, name: String },
+    Pin {
+        a: usize,
+        b: usize,
+        c: usize,
+        axis: V3<T>,
+        r: T,
+        sense: f64,
+        name: String,
+    },
     /// `a → b` bearing on cam number `cam` of [`Threads::cams`].
-    Cam { a: usize, b: usize, cam: usize, contact: CamModel },
+    Cam {
+        a: usize,
+        b: usize,
+        cam: usize,
+        contact: CamModel,
+    },
 }
 
 /// How the thread meets a cam (see [`cam`]).
@@ -203,7 +221,11 @@ struct SpanBuf<T: Real> {
 
 impl<T: Real> Default for SpanBuf<T> {
     fn default() -> Self {
-        SpanBuf { constant: None, len: Vec::new(), on: Vec::new() }
+        SpanBuf {
+            constant: None,
+            len: Vec::new(),
+            on: Vec::new(),
+        }
     }
 }
 
@@ -228,7 +250,10 @@ pub struct ThreadWork<T: Real> {
 
 impl<T: Real> Default for ThreadWork<T> {
     fn default() -> Self {
-        ThreadWork { tracks: Vec::new(), spans: Vec::new() }
+        ThreadWork {
+            tracks: Vec::new(),
+            spans: Vec::new(),
+        }
     }
 }
 
@@ -254,7 +279,12 @@ impl<T: Real> Threads<T> {
 
     /// [`Self::evaluate_into`], inlined into each vector-unit variant.
     #[inline(always)]
-    fn evaluate_in(&self, pose: &Pose<T>, project: Option<&Plane<T>>, work: &mut ThreadWork<T>) -> Result<(), PathError> {
+    fn evaluate_in(
+        &self,
+        pose: &Pose<T>,
+        project: Option<&Plane<T>>,
+        work: &mut ThreadWork<T>,
+    ) -> Result<(), PathError> {
         let projected;
         let (pose, axis_override) = match project {
             Some(pl) => {
@@ -269,7 +299,9 @@ impl<T: Real> Threads<T> {
             let buf = &mut work.spans[i];
             buf.reset();
             match span {
-                Span::Straight { a, b, constant: true, .. } if n > 0 => buf.constant = Some((pose.point(*b, 0) - pose.point(*a, 0)).norm_squared().sqrt()),
+                Span::Straight {
+                    a, b, constant: true, ..
+                } if n > 0 => buf.constant = Some((pose.point(*b, 0) - pose.point(*a, 0)).norm_squared().sqrt()),
                 Span::Straight { a, b, fixed, .. } => {
                     // A fixed end is read once (one of the ends of most
                     // varying pieces is a guide on the frame).
@@ -282,16 +314,34 @@ impl<T: Real> Threads<T> {
                     }
                     T::sqrt_slice(&mut buf.len);
                 }
-                Span::Pin { a, b, c, axis, r, sense, .. } if r.re() == 0.0 => {
+                Span::Pin {
+                    a,
+                    b,
+                    c,
+                    axis,
+                    r,
+                    sense,
+                    ..
+                } if r.re() == 0.0 => {
                     let axis = axis_override.unwrap_or(*axis);
                     let ends = (pose.track(*a), pose.track(*b), pose.track(*c));
-                    wrap::thin_pin_lengths(ends, axis, *sense, &mut buf.len, &mut buf.on).map_err(|k| self.inside(i, k))?;
+                    wrap::thin_pin_lengths(ends, axis, *sense, &mut buf.len, &mut buf.on)
+                        .map_err(|k| self.inside(i, k))?;
                 }
-                Span::Pin { a, b, c, axis, r, sense, .. } => {
+                Span::Pin {
+                    a,
+                    b,
+                    c,
+                    axis,
+                    r,
+                    sense,
+                    ..
+                } => {
                     let axis = axis_override.unwrap_or(*axis);
                     let (ta, tb, tc) = (pose.track(*a), pose.track(*b), pose.track(*c));
                     for k in 0..n {
-                        let (l, e) = wrap::pin_length(ta[k], tb[k], tc[k], axis, *r, *sense).ok_or_else(|| self.inside(i, k))?;
+                        let (l, e) =
+                            wrap::pin_length(ta[k], tb[k], tc[k], axis, *r, *sense).ok_or_else(|| self.inside(i, k))?;
                         buf.len.push(l);
                         buf.on.push(e);
                     }
@@ -299,9 +349,15 @@ impl<T: Real> Threads<T> {
                 Span::Cam { a, b, cam, contact } => {
                     let c = &self.cams[*cam];
                     let axis = axis_override.unwrap_or(c.axis);
-                    let (ta, tb, tc, tm) = (pose.track(*a), pose.track(*b), pose.track(c.center), pose.track(c.marker));
+                    let (ta, tb, tc, tm) = (
+                        pose.track(*a),
+                        pose.track(*b),
+                        pose.track(c.center),
+                        pose.track(c.marker),
+                    );
                     for k in 0..n {
-                        let (l, e) = cam_length(&c.profile, *contact, axis, ta[k], tb[k], tc[k], tm[k]).ok_or_else(|| self.inside(i, k))?;
+                        let (l, e) = cam_length(&c.profile, *contact, axis, ta[k], tb[k], tc[k], tm[k])
+                            .ok_or_else(|| self.inside(i, k))?;
                         buf.len.push(l);
                         buf.on.push(e);
                     }
@@ -327,16 +383,37 @@ impl<T: Real> Threads<T> {
             .enumerate()
             .map(|(i, span)| match span {
                 Span::Straight { a, b, .. } => Ok((pose.point(*b, k) - pose.point(*a, k)).norm_squared().sqrt()),
-                Span::Pin { a, b, c, axis, r, sense, .. } => {
-                    wrap::pin_length(pose.point(*a, k), pose.point(*b, k), pose.point(*c, k), *axis, *r, *sense)
-                        .map(|(l, _)| l)
-                        .ok_or_else(|| self.inside(i, k))
-                }
+                Span::Pin {
+                    a,
+                    b,
+                    c,
+                    axis,
+                    r,
+                    sense,
+                    ..
+                } => wrap::pin_length(
+                    pose.point(*a, k),
+                    pose.point(*b, k),
+                    pose.point(*c, k),
+                    *axis,
+                    *r,
+                    *sense,
+                )
+                .map(|(l, _)| l)
+                .ok_or_else(|| self.inside(i, k)),
                 Span::Cam { a, b, cam, contact } => {
                     let c = &self.cams[*cam];
-                    cam_length(&c.profile, *contact, c.axis, pose.point(*a, k), pose.point(*b, k), pose.point(c.center, k), pose.point(c.marker, k))
-                        .map(|(l, _)| l)
-                        .ok_or_else(|| self.inside(i, k))
+                    cam_length(
+                        &c.profile,
+                        *contact,
+                        c.axis,
+                        pose.point(*a, k),
+                        pose.point(*b, k),
+                        pose.point(c.center, k),
+                        pose.point(c.marker, k),
+                    )
+                    .map(|(l, _)| l)
+                    .ok_or_else(|| self.inside(i, k))
                 }
             })
             .collect::<Result<Vec<T>, PathError>>()?;
@@ -347,8 +424,17 @@ impl<T: Real> Threads<T> {
             .iter()
             .zip(&self.split_up)
             .map(|(p, up)| {
-                let constant = p.spans.iter().filter(|&&s| self.is_constant(s)).fold(T::zero(), |x, &s| x + lengths[s]);
-                let varying: Vec<T> = p.spans.iter().filter(|&&s| !self.is_constant(s)).map(|&s| lengths[s]).collect();
+                let constant = p
+                    .spans
+                    .iter()
+                    .filter(|&&s| self.is_constant(s))
+                    .fold(T::zero(), |x, &s| x + lengths[s]);
+                let varying: Vec<T> = p
+                    .spans
+                    .iter()
+                    .filter(|&&s| !self.is_constant(s))
+                    .map(|&s| lengths[s])
+                    .collect();
                 let xi = varying.chunks(4).fold(constant, |x, c| match *c {
                     [a] => x + a,
                     [a, b] => x + (a + b),
@@ -360,7 +446,11 @@ impl<T: Real> Threads<T> {
                     (Some(up), Some(&eye)) => vec![up.dot(&pose.point(eye, k))],
                     _ => Vec::new(),
                 };
-                PathTrack { xi: vec![xi], eye_up, engaged: Vec::new() }
+                PathTrack {
+                    xi: vec![xi],
+                    eye_up,
+                    engaged: Vec::new(),
+                }
             })
             .collect())
     }
@@ -371,7 +461,11 @@ impl<T: Real> Threads<T> {
     }
 
     fn inside(&self, span: usize, k: usize) -> PathError {
-        let path = self.paths.iter().find(|p| p.spans.contains(&span)).map_or(String::new(), |p| p.name.clone());
+        let path = self
+            .paths
+            .iter()
+            .find(|p| p.spans.contains(&span))
+            .map_or(String::new(), |p| p.name.clone());
         let message = match &self.spans[span] {
             Span::Pin { name, .. } => format!("a thread end lies inside the guide at `{name}`"),
             Span::Cam { cam, .. } => format!(
@@ -409,12 +503,13 @@ impl<T: Real> Threads<T> {
                 Span::Cam { cam, contact, .. } => {
                     let c = &self.cams[*cam];
                     let re = |v: V3<T>| v.map(|x| x.re());
-                    match cam::CamPlacement::new(re(pose.point(c.center, k)), re(pose.point(c.marker, k)), re(c.axis)).and_then(|pl| {
-                        match contact {
+                    match cam::CamPlacement::new(re(pose.point(c.center, k)), re(pose.point(c.marker, k)), re(c.axis))
+                        .and_then(|pl| match contact {
                             CamModel::Exact { sense } => cam::exact_contact(&c.profile, &pl, re(p), re(q), *sense),
-                            CamModel::Offset { gamma_rad } => cam::offset_contact(&c.profile, &pl, re(p), re(q), *gamma_rad),
-                        }
-                    }) {
+                            CamModel::Offset { gamma_rad } => {
+                                cam::offset_contact(&c.profile, &pl, re(p), re(q), *gamma_rad)
+                            }
+                        }) {
                         Some(w) => (w.wrap_rad, w.touch),
                         None => (0.0, None),
                     }
@@ -464,7 +559,10 @@ pub fn capstan(theta: &[f64], friction: &[f64], t0: f64) -> Vec<f64> {
 impl ThreadPath {
     /// Names of the path's pins, in order.
     pub fn pin_names(&self) -> Vec<&str> {
-        (0..self.nodes.len()).filter(|&i| self.pin_span[i].is_some()).map(|i| self.node_names[i].as_str()).collect()
+        (0..self.nodes.len())
+            .filter(|&i| self.pin_span[i].is_some())
+            .map(|i| self.node_names[i].as_str())
+            .collect()
     }
 }
 
@@ -473,7 +571,11 @@ impl ThreadPath {
 /// the contacts of its guides (`straight(s)` tells a piece without one).
 #[inline(always)]
 fn sum_paths<T: Real>(paths: &[ThreadPath], straight: impl Fn(usize) -> bool, n: usize, work: &mut ThreadWork<T>) {
-    work.tracks.resize_with(paths.len(), || PathTrack { xi: Vec::new(), eye_up: Vec::new(), engaged: Vec::new() });
+    work.tracks.resize_with(paths.len(), || PathTrack {
+        xi: Vec::new(),
+        eye_up: Vec::new(),
+        engaged: Vec::new(),
+    });
     for (p, track) in paths.iter().zip(&mut work.tracks) {
         let bufs = p.spans.iter().map(|&s| &work.spans[s]);
         let constant = bufs.clone().filter_map(|b| b.constant).fold(T::zero(), |x, l| x + l);
@@ -515,24 +617,43 @@ impl Threads<f64> {
     }
 
     #[inline(always)]
-    fn evaluate_analogs_in(&self, pose: &Pose<f64>, an: &PoseAnalogs, work: &mut ThreadWork<Dual2_64>) -> Result<(), PathError> {
+    fn evaluate_analogs_in(
+        &self,
+        pose: &Pose<f64>,
+        an: &PoseAnalogs,
+        work: &mut ThreadWork<Dual2_64>,
+    ) -> Result<(), PathError> {
         let n = pose.len();
         assert_eq!(an.len(), n, "analogs of the same cycle");
         // A point as a dual vector at the k-th φ.
         let jet = |slot: usize, k: usize| -> V3<Dual2_64> {
             let (p, v, a) = (pose.point(slot, k), an.vel(slot, k), an.acc(slot, k));
-            V3::new(Dual2_64::new(p.x, v.x, a.x), Dual2_64::new(p.y, v.y, a.y), Dual2_64::new(p.z, v.z, a.z))
+            V3::new(
+                Dual2_64::new(p.x, v.x, a.x),
+                Dual2_64::new(p.y, v.y, a.y),
+                Dual2_64::new(p.z, v.z, a.z),
+            )
         };
         let dual = |v: V3<f64>| v.map(Dual2_64::from_re);
         // A point's positions and analogs over the cycle, cut to its length.
-        let tracks = |slot: usize| [&pose.track(slot)[..n], &an.vel_track(slot)[..n], &an.acc_track(slot)[..n]];
+        let tracks = |slot: usize| {
+            [
+                &pose.track(slot)[..n],
+                &an.vel_track(slot)[..n],
+                &an.acc_track(slot)[..n],
+            ]
+        };
         work.spans.resize_with(self.spans.len(), SpanBuf::default);
         for (i, span) in self.spans.iter().enumerate() {
             let buf = &mut work.spans[i];
             buf.reset();
             match span {
-                Span::Straight { a, b, constant: true, .. } if n > 0 => {
-                    buf.constant = Some(Dual2_64::from_re((pose.point(*b, 0) - pose.point(*a, 0)).norm_squared().sqrt()))
+                Span::Straight {
+                    a, b, constant: true, ..
+                } if n > 0 => {
+                    buf.constant = Some(Dual2_64::from_re(
+                        (pose.point(*b, 0) - pose.point(*a, 0)).norm_squared().sqrt(),
+                    ))
                 }
                 Span::Straight { a, b, .. } => {
                     let [pa, va, aa] = tracks(*a);
@@ -542,7 +663,15 @@ impl Threads<f64> {
                         *l = wrap::straight_jet([pb[k] - pa[k], vb[k] - va[k], ab[k] - aa[k]]);
                     }
                 }
-                Span::Pin { a, b, c, axis, r, sense, .. } if *r == 0.0 => {
+                Span::Pin {
+                    a,
+                    b,
+                    c,
+                    axis,
+                    r,
+                    sense,
+                    ..
+                } if *r == 0.0 => {
                     let (ta, tb, tc) = (tracks(*a), tracks(*b), tracks(*c));
                     let at = |t: [&[V3<f64>]; 3], k: usize| [t[0][k], t[1][k], t[2][k]];
                     buf.len.resize(n, Dual2_64::from_re(0.0));
@@ -554,14 +683,31 @@ impl Threads<f64> {
                         inside |= bad;
                     }
                     if inside {
-                        let k = (0..n).find(|&k| wrap::thin_pin_jets(at(ta, k), at(tb, k), at(tc, k), *axis, *sense).is_none()).unwrap_or(0);
+                        let k = (0..n)
+                            .find(|&k| wrap::thin_pin_jets(at(ta, k), at(tb, k), at(tc, k), *axis, *sense).is_none())
+                            .unwrap_or(0);
                         return Err(self.inside(i, k));
                     }
                 }
-                Span::Pin { a, b, c, axis, r, sense, .. } => {
+                Span::Pin {
+                    a,
+                    b,
+                    c,
+                    axis,
+                    r,
+                    sense,
+                    ..
+                } => {
                     for k in 0..n {
-                        let (l, e) = wrap::pin_length(jet(*a, k), jet(*b, k), jet(*c, k), dual(*axis), Dual2_64::from_re(*r), *sense)
-                            .ok_or_else(|| self.inside(i, k))?;
+                        let (l, e) = wrap::pin_length(
+                            jet(*a, k),
+                            jet(*b, k),
+                            jet(*c, k),
+                            dual(*axis),
+                            Dual2_64::from_re(*r),
+                            *sense,
+                        )
+                        .ok_or_else(|| self.inside(i, k))?;
                         buf.len.push(l);
                         buf.on.push(e);
                     }
@@ -569,8 +715,16 @@ impl Threads<f64> {
                 Span::Cam { a, b, cam, contact } => {
                     let c = &self.cams[*cam];
                     for k in 0..n {
-                        let (l, e) = cam_length(&c.profile, *contact, dual(c.axis), jet(*a, k), jet(*b, k), jet(c.center, k), jet(c.marker, k))
-                            .ok_or_else(|| self.inside(i, k))?;
+                        let (l, e) = cam_length(
+                            &c.profile,
+                            *contact,
+                            dual(c.axis),
+                            jet(*a, k),
+                            jet(*b, k),
+                            jet(c.center, k),
+                            jet(c.marker, k),
+                        )
+                        .ok_or_else(|| self.inside(i, k))?;
                         buf.len.push(l);
                         buf.on.push(e);
                     }
@@ -582,7 +736,9 @@ impl Threads<f64> {
             track.eye_up.clear();
             if let (Some(up), Some(&eye)) = (up, path.nodes.last()) {
                 let [p, v, a] = tracks(eye);
-                track.eye_up.extend((0..n).map(|k| Dual2_64::new(up.dot(&p[k]), up.dot(&v[k]), up.dot(&a[k]))));
+                track
+                    .eye_up
+                    .extend((0..n).map(|k| Dual2_64::new(up.dot(&p[k]), up.dot(&v[k]), up.dot(&a[k]))));
             }
         }
         Ok(())
@@ -596,13 +752,32 @@ fn add_parts<T: Real>(xi: &mut [T], parts: &[&[T]]) {
         [] => {}
         [a] => xi.iter_mut().zip(a).for_each(|(x, a)| *x += *a),
         [a, b] => xi.iter_mut().zip(a).zip(b).for_each(|((x, a), b)| *x += *a + *b),
-        [a, b, c] => xi.iter_mut().zip(a).zip(b).zip(c).for_each(|(((x, a), b), c)| *x += *a + *b + *c),
-        [a, b, c, d, ..] => xi.iter_mut().zip(a).zip(b).zip(c).zip(d).for_each(|((((x, a), b), c), d)| *x += (*a + *b) + (*c + *d)),
+        [a, b, c] => xi
+            .iter_mut()
+            .zip(a)
+            .zip(b)
+            .zip(c)
+            .for_each(|(((x, a), b), c)| *x += *a + *b + *c),
+        [a, b, c, d, ..] => xi
+            .iter_mut()
+            .zip(a)
+            .zip(b)
+            .zip(c)
+            .zip(d)
+            .for_each(|((((x, a), b), c), d)| *x += (*a + *b) + (*c + *d)),
     }
 }
 
 /// Length of the thread `p → q` on a cam placed by its centre and marker.
-fn cam_length<T: Real>(profile: &cam::Profile, model: CamModel, axis: V3<T>, p: V3<T>, q: V3<T>, center: V3<T>, marker: V3<T>) -> Option<(T, bool)> {
+fn cam_length<T: Real>(
+    profile: &cam::Profile,
+    model: CamModel,
+    axis: V3<T>,
+    p: V3<T>,
+    q: V3<T>,
+    center: V3<T>,
+    marker: V3<T>,
+) -> Option<(T, bool)> {
     let pl = cam::CamPlacement::new(center, marker, axis)?;
     let contact = match model {
         CamModel::Exact { sense } => cam::exact_contact(profile, &pl, p, q, sense),
@@ -635,7 +810,10 @@ pub fn intervals(flag: &[bool], phis: &[f64]) -> Vec<Interval> {
         return Vec::new();
     }
     if flag.iter().all(|f| *f) {
-        return vec![Interval { from_deg: phis[0], to_deg: phis[0] + 360.0 }];
+        return vec![Interval {
+            from_deg: phis[0],
+            to_deg: phis[0] + 360.0,
+        }];
     }
     // Start scanning just after a false entry so a wrapping run is whole.
     let start = (0..n).find(|&k| !flag[k]).unwrap_or(0);
@@ -667,7 +845,9 @@ mod tests {
     #[test]
     fn intervals_join_a_run_that_wraps() {
         let phis: Vec<f64> = (0..12).map(|k| k as f64 * 30.0).collect();
-        let flag = [true, true, false, false, true, true, true, false, false, false, true, true];
+        let flag = [
+            true, true, false, false, true, true, true, false, false, false, true, true,
+        ];
         let iv = intervals(&flag, &phis);
         assert_eq!(iv.len(), 2);
         assert_eq!((iv[0].from_deg, iv[0].to_deg), (120.0, 180.0));
@@ -694,7 +874,9 @@ mod tests {
                 continue;
             }
             covered += 1;
-            let phis_deg: Vec<f64> = (0..120).map(|k| model.phi_start_deg() + 3.0 * k as f64 + 0.37).collect();
+            let phis_deg: Vec<f64> = (0..120)
+                .map(|k| model.phi_start_deg() + 3.0 * k as f64 + 0.37)
+                .collect();
             let phis = Phi::<f64>::table(&phis_deg);
             let mut pose = mech.new_pose(phis.len());
             mech.solve(&phis, &mut pose).unwrap();
@@ -721,7 +903,10 @@ mod tests {
                 }
             }
         }
-        assert!(covered >= 2, "only {covered} presets with threads have closed-form analogs");
+        assert!(
+            covered >= 2,
+            "only {covered} presets with threads have closed-form analogs"
+        );
     }
 
     #[test]

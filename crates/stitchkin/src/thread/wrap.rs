@@ -130,7 +130,13 @@ pub fn thin_pin_lengths<T: Real>(
 /// L′ = F′/(2L), L″ = (F″/2 − L′²)/L; a free thread is a straight piece.
 /// The value is bit for bit [`pin_length`]'s.
 #[inline(always)]
-pub fn thin_pin_jets(p: [V3<f64>; 3], q: [V3<f64>; 3], c: [V3<f64>; 3], a: V3<f64>, s: f64) -> Option<(Dual2_64, bool)> {
+pub fn thin_pin_jets(
+    p: [V3<f64>; 3],
+    q: [V3<f64>; 3],
+    c: [V3<f64>; 3],
+    a: V3<f64>,
+    s: f64,
+) -> Option<(Dual2_64, bool)> {
     let (l, engaged, inside) = thin_pin_jet(p, q, c, a, s);
     if inside { None } else { Some((l, engaged)) }
 }
@@ -195,9 +201,18 @@ pub fn pin_wrap<T: Real>(p: V3<T>, q: V3<T>, c: V3<T>, a: V3<T>, r: T, s: f64) -
     // Distance of the axis from the straight thread, positive on its left
     // (counter-clockwise side about a).
     let d_norm = d.norm().re();
-    let left = if d_norm > 0.0 { pp.cross(&d).dot(&a).re() / d_norm } else { 0.0 };
+    let left = if d_norm > 0.0 {
+        pp.cross(&d).dot(&a).re() / d_norm
+    } else {
+        0.0
+    };
     if s * left >= r.re() && d_norm > 0.0 {
-        return Some(PinContact { length: (q - p).norm(), engaged: false, wrap_rad: 0.0, touch: None });
+        return Some(PinContact {
+            length: (q - p).norm(),
+            engaged: false,
+            wrap_rad: 0.0,
+            touch: None,
+        });
     }
     let (rho_p2, rho_q2) = (pp.norm_squared(), qq.norm_squared());
     let r2 = r * r;
@@ -232,7 +247,9 @@ pub fn pin_wrap<T: Real>(p: V3<T>, q: V3<T>, c: V3<T>, a: V3<T>, r: T, s: f64) -
     } else {
         // A sharp bend: both straight pieces climb with the same slope Δh/L
         // and turn by θ across the axis, so cos ψ = (L⊥/L)²·cos θ + (Δh/L)².
-        (across * across * theta.re().cos() + axial * axial).clamp(-1.0, 1.0).acos()
+        (across * across * theta.re().cos() + axial * axial)
+            .clamp(-1.0, 1.0)
+            .acos()
     };
     // Tangent points: turned by ±acos(r/ρ) from the ends' directions, at the
     // heights of the unrolled straight line.
@@ -242,18 +259,30 @@ pub fn pin_wrap<T: Real>(p: V3<T>, q: V3<T>, c: V3<T>, a: V3<T>, r: T, s: f64) -
         let e2 = ar.cross(&e1);
         cr + (e1 * ang.cos() + e2 * ang.sin()) * rr + ar * h
     };
-    let (lp, lq) = (if lp > 0.0 { t_p.re() / lp } else { 0.5 }, if lp > 0.0 { t_q.re() / lp } else { 0.5 });
+    let (lp, lq) = (
+        if lp > 0.0 { t_p.re() / lp } else { 0.5 },
+        if lp > 0.0 { t_q.re() / lp } else { 0.5 },
+    );
     let (hpr, dhr) = (hp.re(), dh.re());
     let touch = if rr > 0.0 {
         [
             at_angle(pp.map(|v| v.re()), s * (rr / rho_p.re()).acos(), hpr + dhr * lp),
-            at_angle(qq.map(|v| v.re()), -s * (rr / rho_q.re()).acos(), hpr + dhr * (1.0 - lq)),
+            at_angle(
+                qq.map(|v| v.re()),
+                -s * (rr / rho_q.re()).acos(),
+                hpr + dhr * (1.0 - lq),
+            ),
         ]
     } else {
         let x = cr + ar * (hpr + dhr * rho_p.re() / (rho_p.re() + rho_q.re()));
         [x, x]
     };
-    Some(PinContact { length, engaged: true, wrap_rad, touch: Some(touch) })
+    Some(PinContact {
+        length,
+        engaged: true,
+        wrap_rad,
+        touch: Some(touch),
+    })
 }
 
 #[cfg(test)]
@@ -331,11 +360,17 @@ mod tests {
         // Tracks sweeping the thread across the pin, so it engages and releases.
         let a = V3::new(0.1, 0.2, 1.0).normalize();
         let track = |f: &dyn Fn(f64) -> V3<f64>| -> Vec<V3<Dual2_64>> {
-            (0..97).map(|k| {
-                let t = k as f64 * 0.065;
-                let (v, d, dd) = (f(t), (f(t + 1e-4) - f(t - 1e-4)) / 2e-4, V3::zeros());
-                V3::new(Dual2_64::new(v.x, d.x, dd.x), Dual2_64::new(v.y, d.y, dd.y), Dual2_64::new(v.z, d.z, dd.z))
-            }).collect()
+            (0..97)
+                .map(|k| {
+                    let t = k as f64 * 0.065;
+                    let (v, d, dd) = (f(t), (f(t + 1e-4) - f(t - 1e-4)) / 2e-4, V3::zeros());
+                    V3::new(
+                        Dual2_64::new(v.x, d.x, dd.x),
+                        Dual2_64::new(v.y, d.y, dd.y),
+                        Dual2_64::new(v.z, d.z, dd.z),
+                    )
+                })
+                .collect()
         };
         let tp = track(&|t| V3::new(-10.0, 4.0 * t.sin(), t));
         let tq = track(&|t| V3::new(9.0, 3.0 * t.cos(), -2.0 * t));
@@ -344,7 +379,10 @@ mod tests {
         for s in [1.0, -1.0] {
             let (mut len, mut on) = (Vec::new(), Vec::new());
             thin_pin_lengths((&tp, &tq, &tc), ad, s, &mut len, &mut on).unwrap();
-            assert!(on.iter().any(|e| *e) && on.iter().any(|e| !*e), "the sweep both engages and releases");
+            assert!(
+                on.iter().any(|e| *e) && on.iter().any(|e| !*e),
+                "the sweep both engages and releases"
+            );
             for k in 0..tp.len() {
                 let (l, e) = pin_length(tp[k], tq[k], tc[k], ad, Dual2_64::from_re(0.0), s).unwrap();
                 assert_eq!(e, on[k]);

@@ -6,8 +6,8 @@
 use stitchkin::eval::{CycleOptions, run_cycle};
 use stitchkin::model::{Model, Params};
 use stitchkin::study::cam_synthesis::{CamOptions, CamSynthesis, Target, synthesise, take_up_with_profile};
-use stitchkin::thread::measured::parse_curve_csv;
 use stitchkin::thread::cam::Profile;
+use stitchkin::thread::measured::parse_curve_csv;
 
 fn altin504() -> (Model, Params) {
     let m = Model::preset("altin504").unwrap();
@@ -31,11 +31,31 @@ fn err(model: &Model, opts: &CamOptions) -> String {
 /// A path's own take-up P(φ) on the 1° grid of the model, as a target curve
 /// (sorted within [0, 360)).
 fn own_take_up(model: &Model, path: &str) -> Target {
-    let t = run_cycle(model, &model.defaults(), &CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()), lean: true }).unwrap();
-    let mut v: Vec<(f64, f64)> =
-        t.column("phi_deg").unwrap().iter().map(|x| x.rem_euclid(360.0)).zip(t.column(&format!("{path}.P_mm")).unwrap().iter().copied()).collect();
+    let t = run_cycle(
+        model,
+        &model.defaults(),
+        &CycleOptions {
+            step_deg: 1.0,
+            rpm: None,
+            analogs: false,
+            points: Some(Vec::new()),
+            lean: true,
+        },
+    )
+    .unwrap();
+    let mut v: Vec<(f64, f64)> = t
+        .column("phi_deg")
+        .unwrap()
+        .iter()
+        .map(|x| x.rem_euclid(360.0))
+        .zip(t.column(&format!("{path}.P_mm")).unwrap().iter().copied())
+        .collect();
     v.sort_by(|a, b| a.0.total_cmp(&b.0));
-    Target::Curve { phi_deg: v.iter().map(|x| x.0).collect(), p_mm: v.iter().map(|x| x.1).collect(), source: format!("{path}.P_mm") }
+    Target::Curve {
+        phi_deg: v.iter().map(|x| x.0).collect(),
+        p_mm: v.iter().map(|x| x.1).collect(),
+        source: format!("{path}.P_mm"),
+    }
 }
 
 /// Model-format Example 11: a disc cam (r = 10, e = 6) on the main shaft
@@ -87,8 +107,15 @@ fn round_trip_reproduces_the_disc() {
     let (m, p) = altin504();
     let s = synth(&m, &CamOptions::new("lower", own_take_up(&m, "lower")));
     let disc = Profile::disc(12.0, 5.2); // cam_r, e_l of the preset
-    let radius_err = s.knots.iter().map(|k| (k.radius_mm - disc.rho(k.theta_deg.to_radians())).abs()).fold(0.0, f64::max);
-    println!("round trip: max radius error {radius_err:.3e} mm, max |P - target| {:.3e} mm at the knots", s.verify.max_err_knots_mm);
+    let radius_err = s
+        .knots
+        .iter()
+        .map(|k| (k.radius_mm - disc.rho(k.theta_deg.to_radians())).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "round trip: max radius error {radius_err:.3e} mm, max |P - target| {:.3e} mm at the knots",
+        s.verify.max_err_knots_mm
+    );
     assert!(radius_err < 1e-9, "radius error {radius_err}");
     assert!(s.verify.max_err_knots_mm < 1e-9, "{}", s.verify.max_err_knots_mm);
     assert!(s.verify.max_err_between_mm < 1e-6, "{}", s.verify.max_err_between_mm);
@@ -105,11 +132,19 @@ fn round_trip_reproduces_the_disc() {
     // The disc is convex, its least radius r − e = 6.8 mm is above 3 mm, and
     // the upper thread's cam is shared by no other path.
     assert!(s.checks.convex && s.checks.min_radius_ok, "{:?}", s.checks);
-    assert!((s.checks.min_radius_mm - 6.8).abs() < 1e-3, "{}", s.checks.min_radius_mm);
+    assert!(
+        (s.checks.min_radius_mm - 6.8).abs() < 1e-3,
+        "{}",
+        s.checks.min_radius_mm
+    );
     assert!(s.shared_with.is_empty() && s.notes.is_empty(), "{:?}", s.notes);
     // The disc's profile slope: atan(e sin θ / √(r² − e² sin² θ)) at most
     // asin(e/r) = 25.67°.
-    assert!((s.checks.max_slope_deg - (5.2f64 / 12.0).asin().to_degrees()).abs() < 0.05, "{}", s.checks.max_slope_deg);
+    assert!(
+        (s.checks.max_slope_deg - (5.2f64 / 12.0).asin().to_degrees()).abs() < 0.05,
+        "{}",
+        s.checks.max_slope_deg
+    );
 }
 
 #[test]
@@ -123,7 +158,11 @@ fn round_trip_under_the_feed_convention_with_a_coarse_grid() {
     assert!(s.target_shift_mm.abs() < 1e-12, "{}", s.target_shift_mm);
     assert!(s.verify.max_err_knots_mm < 1e-9, "{}", s.verify.max_err_knots_mm);
     let disc = Profile::disc(10.0, 6.0);
-    let radius_err = s.knots.iter().map(|k| (k.radius_mm - disc.rho(k.theta_deg.to_radians())).abs()).fold(0.0, f64::max);
+    let radius_err = s
+        .knots
+        .iter()
+        .map(|k| (k.radius_mm - disc.rho(k.theta_deg.to_radians())).abs())
+        .fold(0.0, f64::max);
     assert!(radius_err < 1e-6, "{radius_err}");
     // A 5° spline through the disc is close to it between the knots too.
     assert!(s.verify.max_err_between_mm < 1e-2, "{}", s.verify.max_err_between_mm);
@@ -135,7 +174,11 @@ fn round_trip_under_the_feed_convention_with_a_coarse_grid() {
 fn the_required_take_up_is_matched_and_the_checks_are_honest() {
     let (m, _) = altin504();
     let s = synth(&m, &CamOptions::new("lower", Target::Required));
-    let (b, a, all) = (s.verify.match_before.as_ref().unwrap(), s.verify.match_after.as_ref().unwrap(), s.verify.match_after_all.as_ref().unwrap());
+    let (b, a, all) = (
+        s.verify.match_before.as_ref().unwrap(),
+        s.verify.match_after.as_ref().unwrap(),
+        s.verify.match_after_all.as_ref().unwrap(),
+    );
     println!(
         "altin504 lower: score {:.2} -> {:.2} (knots), {:.2} with the midpoints; RMS(P - P') {:.4} -> {:.2e} mm ({:.4}); max |P - P'| {:.2e} mm at the knots, {:.4} mm between (φ = {:.1}°); radius {:.3}..{:.3} mm",
         b.score.unwrap(),
@@ -155,18 +198,31 @@ fn the_required_take_up_is_matched_and_the_checks_are_honest() {
     assert!((b.score.unwrap() - 90.33).abs() < 0.1, "before {:?}", b.score);
     assert!((b.rms_d_mm - 1.5535).abs() < 2e-3, "{}", b.rms_d_mm);
     // After: exact at the knots (= the match grid).
-    assert!(s.verify.max_err_knots_mm < 1e-9 && a.rms_d_mm < 1e-9, "{} {}", s.verify.max_err_knots_mm, a.rms_d_mm);
+    assert!(
+        s.verify.max_err_knots_mm < 1e-9 && a.rms_d_mm < 1e-9,
+        "{} {}",
+        s.verify.max_err_knots_mm,
+        a.rms_d_mm
+    );
     assert!(a.score.unwrap() > 99.999);
     // P' has no step to follow: the lower thread's stitch is drawn through
     // its regulator over the 60° before its draw-in (270°…330°), so between
     // the knots the cam stays within a few hundredths of a mm.
-    assert!(s.verify.max_err_between_mm < 0.05 && all.rms_d_mm < 1e-3, "{} {}", s.verify.max_err_between_mm, all.rms_d_mm);
+    assert!(
+        s.verify.max_err_between_mm < 0.05 && all.rms_d_mm < 1e-3,
+        "{} {}",
+        s.verify.max_err_between_mm,
+        all.rms_d_mm
+    );
     // The draw through the regulator starts at 270°: a kink of P' there
     // makes the profile steep and not convex; reported, not hidden. The
     // radius stays above 6 mm.
     let c = &s.checks;
     assert!(!c.convex && !c.not_convex_deg.is_empty());
-    assert!(c.max_slope_deg > 60.0 && !c.contact_angle_ok && c.max_contact_angle_deg > 80.0, "{c:?}");
+    assert!(
+        c.max_slope_deg > 60.0 && !c.contact_angle_ok && c.max_contact_angle_deg > 80.0,
+        "{c:?}"
+    );
     assert!((c.max_contact_angle_at_phi_deg - 270.9).abs() < 2.0, "{c:?}");
     assert!(c.min_radius_ok && c.min_radius_mm > 6.0);
     // The snippet pasted over the preset's disc gives the same match in a
@@ -177,12 +233,42 @@ fn the_required_take_up_is_matched_and_the_checks_are_honest() {
     let disc_line = "disc = { radius_mm = \"cam_r\", eccentricity_mm = \"e_l\" }\n";
     assert_eq!(text.matches(disc_line).count(), 1);
     let pasted = Model::from_toml_str(&text.replace(disc_line, polar), "altin504-synth.toml").unwrap();
-    let t = run_cycle(&pasted, &pasted.defaults(), &CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()), lean: true }).unwrap();
-    let th = t.stitch.as_ref().unwrap().threads.iter().find(|t| t.thread == "lower").unwrap();
+    let t = run_cycle(
+        &pasted,
+        &pasted.defaults(),
+        &CycleOptions {
+            step_deg: 1.0,
+            rpm: None,
+            analogs: false,
+            points: Some(Vec::new()),
+            lean: true,
+        },
+    )
+    .unwrap();
+    let th = t
+        .stitch
+        .as_ref()
+        .unwrap()
+        .threads
+        .iter()
+        .find(|t| t.thread == "lower")
+        .unwrap();
     let mm = th.mismatch.as_ref().unwrap();
-    assert!(mm.rms_d_mm < 1e-6 && mm.score.unwrap() > 99.999, "{} {:?}", mm.rms_d_mm, mm.score);
+    assert!(
+        mm.rms_d_mm < 1e-6 && mm.score.unwrap() > 99.999,
+        "{} {:?}",
+        mm.rms_d_mm,
+        mm.score
+    );
     // The other threads are untouched.
-    let up = t.stitch.as_ref().unwrap().threads.iter().find(|t| t.thread == "upper").unwrap();
+    let up = t
+        .stitch
+        .as_ref()
+        .unwrap()
+        .threads
+        .iter()
+        .find(|t| t.thread == "upper")
+        .unwrap();
     assert!((up.mismatch.as_ref().unwrap().score.unwrap() - 89.87).abs() < 0.1);
 }
 
@@ -195,11 +281,20 @@ fn smoothing_trades_the_match_for_a_gentler_profile() {
         o.smooth_deg = sm;
         let s = synth(&m, &o);
         let a = s.verify.match_after.as_ref().unwrap();
-        println!("smooth {sm}°: score {:.2}, RMS {:.4} mm, slope {:.1}°, contact angle {:.1}°", a.score.unwrap(), a.rms_d_mm, s.checks.max_slope_deg, s.checks.max_contact_angle_deg);
+        println!(
+            "smooth {sm}°: score {:.2}, RMS {:.4} mm, slope {:.1}°, contact angle {:.1}°",
+            a.score.unwrap(),
+            a.rms_d_mm,
+            s.checks.max_slope_deg,
+            s.checks.max_contact_angle_deg
+        );
         if let Some(p) = &prev {
             let pa = p.verify.match_after.as_ref().unwrap();
             assert!(a.rms_d_mm > pa.rms_d_mm, "smoothing more must cost match");
-            assert!(s.checks.max_slope_deg < p.checks.max_slope_deg && s.checks.max_contact_angle_deg < p.checks.max_contact_angle_deg);
+            assert!(
+                s.checks.max_slope_deg < p.checks.max_slope_deg
+                    && s.checks.max_contact_angle_deg < p.checks.max_contact_angle_deg
+            );
             // The knots left the solved radii, and the verification says so.
             assert!(s.verify.max_err_knots_mm > 0.1);
             assert!(s.knots.iter().any(|k| (k.radius_mm - k.solved_mm).abs() > 0.1));
@@ -223,10 +318,18 @@ fn a_shifted_target_and_an_anchor_radius() {
     // The model's disc reaches only 0.09 mm beyond the straight thread along
     // φ0's contact radius, so it cannot give out 1.5 mm more: a clear error.
     let e = err(&m, &CamOptions::new("seed", target.clone()));
-    assert!(e.contains("cannot be reached at") && e.contains("the worst is φ =") && e.contains("mm short"), "{e}");
+    assert!(
+        e.contains("cannot be reached at") && e.contains("the worst is φ =") && e.contains("mm short"),
+        "{e}"
+    );
     // The anchor radius the error suggests makes it reachable, exactly at
     // the knots; a little less does not.
-    let suggested: f64 = e.split("--anchor-radius ").nth(1).and_then(|t| t.split(' ').next()).and_then(|x| x.parse().ok()).unwrap_or_else(|| panic!("{e}"));
+    let suggested: f64 = e
+        .split("--anchor-radius ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|x| x.parse().ok())
+        .unwrap_or_else(|| panic!("{e}"));
     let mut o = CamOptions::new("seed", target.clone());
     o.anchor_radius_mm = Some(suggested - 0.1);
     assert!(err(&m, &o).contains("cannot be reached"));
@@ -236,8 +339,16 @@ fn a_shifted_target_and_an_anchor_radius() {
     o.anchor_radius_mm = Some(15.0);
     let s = synth(&m, &o);
     assert!((s.target_shift_mm + 1.0).abs() < 1e-12, "{}", s.target_shift_mm);
-    assert!(s.notes.iter().any(|n| n.contains("matched up to that constant")), "{:?}", s.notes);
-    assert!(s.verify.max_err_knots_mm < 1e-9 && s.verify.max_err_between_mm < 1e-6, "{:?}", s.verify.max_err_between_mm);
+    assert!(
+        s.notes.iter().any(|n| n.contains("matched up to that constant")),
+        "{:?}",
+        s.notes
+    );
+    assert!(
+        s.verify.max_err_knots_mm < 1e-9 && s.verify.max_err_between_mm < 1e-6,
+        "{:?}",
+        s.verify.max_err_between_mm
+    );
     assert!((s.anchor_radius_mm - 15.0).abs() < 1e-12);
     assert!(s.checks.convex && s.checks.contact_angle_ok, "{:?}", s.checks);
     assert!(s.verify.match_before.is_none(), "no [stitch] here");
@@ -247,19 +358,37 @@ fn a_shifted_target_and_an_anchor_radius() {
 fn bad_inputs_give_clear_errors() {
     let (m, _) = altin504();
     let e = err(&m, &CamOptions::new("lowr", Target::Required));
-    assert!(e.contains("no thread path `lowr`") && e.contains("needle, lower, upper"), "{e}");
+    assert!(
+        e.contains("no thread path `lowr`") && e.contains("needle, lower, upper"),
+        "{e}"
+    );
     let e = err(&m, &CamOptions::new("needle", Target::Required));
-    assert!(e.contains("`needle` runs over no cam") && e.contains("lower, upper"), "{e}");
+    assert!(
+        e.contains("`needle` runs over no cam") && e.contains("lower, upper"),
+        "{e}"
+    );
     let mut o = CamOptions::new("lower", Target::Required);
     o.cam = Some("cam_u".into());
     let e = err(&m, &o);
-    assert!(e.contains("does not run over cam `cam_u`") && e.contains("cam_l"), "{e}");
+    assert!(
+        e.contains("does not run over cam `cam_u`") && e.contains("cam_l"),
+        "{e}"
+    );
     for (f, what) in [
-        (Box::new(|o: &mut CamOptions| o.points = 4) as Box<dyn Fn(&mut CamOptions)>, "profile points"),
+        (
+            Box::new(|o: &mut CamOptions| o.points = 4) as Box<dyn Fn(&mut CamOptions)>,
+            "profile points",
+        ),
         (Box::new(|o: &mut CamOptions| o.smooth_deg = f64::NAN), "smoothing"),
         (Box::new(|o: &mut CamOptions| o.min_radius_mm = -1.0), "minimum radius"),
-        (Box::new(|o: &mut CamOptions| o.max_pressure_angle_deg = 90.0), "contact-angle limit"),
-        (Box::new(|o: &mut CamOptions| o.anchor_radius_mm = Some(0.0)), "anchor radius"),
+        (
+            Box::new(|o: &mut CamOptions| o.max_pressure_angle_deg = 90.0),
+            "contact-angle limit",
+        ),
+        (
+            Box::new(|o: &mut CamOptions| o.anchor_radius_mm = Some(0.0)),
+            "anchor radius",
+        ),
     ] {
         let mut o = CamOptions::new("lower", Target::Required);
         f(&mut o);
@@ -268,18 +397,32 @@ fn bad_inputs_give_clear_errors() {
     let ex = looper_cam("");
     // Exact contact: rejected with the reason.
     let e = err(&ex, &CamOptions::new("taut", Target::Required));
-    assert!(e.contains("contact = \"exact\"") && e.contains("offset") && e.contains("whole wrapped arc"), "{e}");
+    assert!(
+        e.contains("contact = \"exact\"") && e.contains("offset") && e.contains("whole wrapped arc"),
+        "{e}"
+    );
     // No [stitch]: no P'.
     let e = err(&ex, &CamOptions::new("seed", Target::Required));
     assert!(e.contains("no [stitch]") && e.contains("--target FILE.csv"), "{e}");
     let e = err(&ex, &CamOptions::new("straight", Target::Required));
     assert!(e.contains("runs over no cam") && e.contains("seed, taut"), "{e}");
     // Unreachable: more thread than the cam can give, with the shortfall.
-    let big = Target::Curve { phi_deg: (0..36).map(|k| 10.0 * k as f64).collect(), p_mm: (0..36).map(|k| 20.0 * f64::from(k * 10).to_radians().sin()).collect(), source: "big".into() };
+    let big = Target::Curve {
+        phi_deg: (0..36).map(|k| 10.0 * k as f64).collect(),
+        p_mm: (0..36).map(|k| 20.0 * f64::from(k * 10).to_radians().sin()).collect(),
+        source: "big".into(),
+    };
     let e = err(&ex, &CamOptions::new("seed", big));
-    assert!(e.contains("cannot be reached at") && e.contains("never shorter than 36.0000 mm"), "{e}");
+    assert!(
+        e.contains("cannot be reached at") && e.contains("never shorter than 36.0000 mm"),
+        "{e}"
+    );
     // A malformed curve.
-    let bad = Target::Curve { phi_deg: vec![0.0, 90.0, 90.0, 180.0], p_mm: vec![0.0; 4], source: "dup".into() };
+    let bad = Target::Curve {
+        phi_deg: vec![0.0, 90.0, 90.0, 180.0],
+        p_mm: vec![0.0; 4],
+        source: "dup".into(),
+    };
     assert!(err(&ex, &CamOptions::new("seed", bad)).contains("not at least 4 finite points"));
 }
 
@@ -308,7 +451,11 @@ fn exports_are_well_formed() {
     assert!(rows.windows(2).all(|w| w[1].0 > w[0].0) && rows[0].0 >= 0.0 && rows[89].0 < 360.0);
     assert!(rows.iter().all(|r| r.1 > 0.0 && r.1.is_finite()));
     let svg = s.svg();
-    assert!(svg.starts_with("<?xml") && svg.contains("<svg xmlns=\"http://www.w3.org/2000/svg\"") && svg.trim_end().ends_with("</svg>"));
+    assert!(
+        svg.starts_with("<?xml")
+            && svg.contains("<svg xmlns=\"http://www.w3.org/2000/svg\"")
+            && svg.trim_end().ends_with("</svg>")
+    );
     assert!(svg.contains("<path id=\"profile\" d=\"M") && svg.contains("mm\" height=") && svg.contains(" mm</text>"));
     assert!(!svg.contains("NaN") && !svg.contains("inf"));
     let dxf = s.dxf();
@@ -326,5 +473,10 @@ fn exports_are_well_formed() {
     let end = start + text[start..].find("\n\n").unwrap();
     let model = Model::from_toml_str(&format!("{}{}{}", &text[..start], snippet, &text[end..]), "pasted.toml").unwrap();
     let cam = model.file.cams.iter().find(|c| c.name == "cam_u").unwrap();
-    assert!(cam.disc.is_none() && cam.polar.as_ref().unwrap().angle_deg.len() == 90 && cam.center == "UCO" && cam.marker == "UCM");
+    assert!(
+        cam.disc.is_none()
+            && cam.polar.as_ref().unwrap().angle_deg.len() == 90
+            && cam.center == "UCO"
+            && cam.marker == "UCM"
+    );
 }

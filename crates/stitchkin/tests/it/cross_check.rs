@@ -33,7 +33,16 @@ fn needle876_agrees_across_its_adjustment_range() {
 
 /// Whether the generated model assembles over its whole cycle.
 fn assembles(m: &Model) -> bool {
-    run_cycle(m, &m.defaults(), &CycleOptions { step_deg: 5.0, analogs: false, ..Default::default() }).is_ok()
+    run_cycle(
+        m,
+        &m.defaults(),
+        &CycleOptions {
+            step_deg: 5.0,
+            analogs: false,
+            ..Default::default()
+        },
+    )
+    .is_ok()
 }
 
 proptest! {

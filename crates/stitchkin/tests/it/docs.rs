@@ -58,18 +58,12 @@ fn blocks(doc: &str) -> Vec<Block> {
 
 /// Complete models: blocks whose info string is exactly `toml`.
 fn models(doc: &str) -> Vec<Block> {
-    blocks(doc)
-        .into_iter()
-        .filter(|b| b.info == "toml")
-        .collect()
+    blocks(doc).into_iter().filter(|b| b.info == "toml").collect()
 }
 
 fn load(b: &Block) -> Result<Model, String> {
-    Model::from_toml_str(
-        &b.text,
-        &format!("docs/model-format.md (block at line {})", b.line),
-    )
-    .map_err(|e| e.to_string())
+    Model::from_toml_str(&b.text, &format!("docs/model-format.md (block at line {})", b.line))
+        .map_err(|e| e.to_string())
 }
 
 fn cycle(m: &Model) -> Result<CycleTable, String> {
@@ -126,11 +120,7 @@ fn model_names_in_the_doc_are_distinct() {
     let n = names.len();
     names.sort();
     names.dedup();
-    assert_eq!(
-        names.len(),
-        n,
-        "two worked examples share a [model] name: {names:?}"
-    );
+    assert_eq!(names.len(), n, "two worked examples share a [model] name: {names:?}");
 }
 
 #[test]
@@ -194,10 +184,7 @@ fn the_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     close(col(&t, "P.y_mm")[0], 19.662, 5e-4, "four-bar P.y at φ = 0");
     close(t.ranges[0].min, 45.7787, 5e-5, "four-bar P_to_O2 min");
     close(t.ranges[0].max, 67.1137, 5e-5, "four-bar P_to_O2 max");
-    assert!(
-        t.column("P.z_mm").is_none(),
-        "a planar model has no z columns"
-    );
+    assert!(t.column("P.z_mm").is_none(), "a planar model has no z columns");
     let mut p = m.defaults();
     assert!(
         m.set(&mut p, "l_crank", 25.0).is_err(),
@@ -207,9 +194,7 @@ fn the_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     run_cycle(&m, &p, &Default::default()).unwrap();
     let mut p = m.defaults();
     m.set(&mut p, "l_coupler", 30.0).unwrap();
-    let e = run_cycle(&m, &p, &Default::default())
-        .unwrap_err()
-        .to_string();
+    let e = run_cycle(&m, &p, &Default::default()).unwrap_err().to_string();
     assert!(
         e.contains("no assembly at φ = 127.000°") && e.contains("coupler_rocker"),
         "{e}"
@@ -220,18 +205,8 @@ fn the_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     let stroke = (57.0f64 * 57.0 - 36.0).sqrt() - (33.0f64 * 33.0 - 36.0).sqrt();
     close(t.ranges[0].range, stroke, 1e-3, "slider-crank stroke");
     close(stroke, 24.233, 5e-4, "slider-crank stroke formula");
-    close(
-        t.transmission[0].min_deg,
-        66.42,
-        0.005,
-        "slider-crank μ min",
-    );
-    close(
-        t.transmission[0].phi_at_min_deg,
-        270.0,
-        1e-9,
-        "slider-crank φ at μ min",
-    );
+    close(t.transmission[0].min_deg, 66.42, 0.005, "slider-crank μ min");
+    close(t.transmission[0].phi_at_min_deg, 270.0, 1e-9, "slider-crank φ at μ min");
 
     // Example 3: spatial RSSR.
     let (m, t) = example("spatial_rssr");
@@ -255,10 +230,7 @@ fn the_numbers_quoted_in_the_doc_are_what_the_examples_give() {
         }
     }
     let s = col(&t, "S.x_mm");
-    assert!(
-        s.iter().all(|x| (x - 70.0).abs() < 1e-9),
-        "the slider leaves its line"
-    );
+    assert!(s.iter().all(|x| (x - 70.0).abs() < 1e-9), "the slider leaves its line");
 
     // Example 6: μ = acos(e / |A − C|) of the slotted lever.
     let (m, t) = example("slotted_lever");
@@ -271,12 +243,7 @@ fn the_numbers_quoted_in_the_doc_are_what_the_examples_give() {
         "slotted lever μ at φ = 90°",
     );
     close(mu[90], 86.72, 0.005, "slotted lever μ at φ = 90° as quoted");
-    close(
-        mu[270],
-        82.34,
-        0.005,
-        "slotted lever μ at φ = 270° as quoted",
-    );
+    close(mu[270], 82.34, 0.005, "slotted lever μ at φ = 270° as quoted");
 
     // Example 7: the inclined four-bar moves in its plane like Example 1.
     let (_, flat) = example("fourbar");
@@ -295,19 +262,9 @@ fn the_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     for k in 0..360 {
         let j = (90 + k) % 360;
         close(dev[k], py[j], 1e-9, "in-plane deviation = flat P.y");
-        close(
-            height[k],
-            5.0 + py[j] * 20f64.to_radians().sin(),
-            1e-9,
-            "P_height",
-        );
+        close(height[k], 5.0 + py[j] * 20f64.to_radians().sin(), 1e-9, "P_height");
         close(mu[k], mu_flat[j], 1e-9, "μ in the inclined plane");
-        close(
-            angle[k],
-            angle_flat[j],
-            1e-9,
-            "link angle in the inclined plane",
-        );
+        close(angle[k], angle_flat[j], 1e-9, "link angle in the inclined plane");
     }
 }
 
@@ -351,18 +308,9 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     close(s.phi_at_max_deg, 270.0, 0.0, "Example 8 φ at max P");
     close(s.min_p_mm, -12.401, 5e-4, "Example 8 min P");
     close(s.phi_at_min_deg, 90.0, 0.0, "Example 8 φ at min P");
-    assert_eq!(
-        spans(&s.flat),
-        vec![(77.0, 103.0), (254.0, 286.0)],
-        "Example 8 dwells"
-    );
+    assert_eq!(spans(&s.flat), vec![(77.0, 103.0), (254.0, 286.0)], "Example 8 dwells");
     let [lo, hi] = s.eye_tension_n.expect("Example 8 has tension_n");
-    close(
-        lo,
-        0.5 * (0.2 * 0.6f64.acos()).exp(),
-        1e-9,
-        "Example 8 eye tension min",
-    );
+    close(lo, 0.5 * (0.2 * 0.6f64.acos()).exp(), 1e-9, "Example 8 eye tension min");
     close(
         hi,
         0.5 * (0.2 * std::f64::consts::FRAC_PI_2).exp(),
@@ -409,16 +357,9 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     let (x, on) = (col(&t, "thin.xi_mm"), col(&t, "thin.C_engaged"));
     let (x_thick, on_thick) = (col(&t, "thick.xi_mm"), col(&t, "thick.C_engaged"));
     for (k, phi) in col(&t, "phi_deg").iter().enumerate() {
-        let (tx, ty) = (
-            10.0 * phi.to_radians().cos(),
-            30.0 + 10.0 * phi.to_radians().sin(),
-        );
+        let (tx, ty) = (10.0 * phi.to_radians().cos(), 30.0 + 10.0 * phi.to_radians().sin());
         let engaged = (phi - beta).to_radians().sin() < 0.0;
-        assert_eq!(
-            on[k] == 1.0,
-            engaged,
-            "Example 9 thin pin engaged at φ = {phi}"
-        );
+        assert_eq!(on[k] == 1.0, engaged, "Example 9 thin pin engaged at φ = {phi}");
         let first = if engaged {
             25.0 + (tx + 20.0).hypot(ty - 15.0)
         } else {
@@ -466,12 +407,7 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     close(thin.phi_at_max_deg, 264.0, 0.0, "Example 9 thin φ at max P");
     close(thin.min_p_mm, -12.170, 5e-4, "Example 9 thin min P");
     close(thick.max_p_mm, 10.224, 5e-4, "Example 9 thick max P");
-    close(
-        thick.phi_at_max_deg,
-        262.0,
-        0.0,
-        "Example 9 thick φ at max P",
-    );
+    close(thick.phi_at_max_deg, 262.0, 0.0, "Example 9 thick φ at max P");
     close(thick.min_p_mm, -11.670, 5e-4, "Example 9 thick min P");
     assert_eq!(
         spans(&thin.flat),
@@ -486,10 +422,7 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     assert!(thin.eye_tension_n.is_none(), "Example 9 has no tension_n");
     // Every node between the ends has a wrap column, the eyelet T too.
     col(&t, "thin.T_wrap_deg");
-    assert!(
-        thin.max_tension_n.is_empty(),
-        "no tension_n, no tension maxima"
-    );
+    assert!(thin.max_tension_n.is_empty(), "no tension_n, no tension maxima");
 
     // Example 10: offset points on a needle bar, the feed convention.
     let (m, t) = example("needle_bar_thread");
@@ -511,12 +444,7 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     let p = col(&t, "needle.P_mm");
     let x = col(&t, "needle.xi_mm");
     for k in 0..p.len() {
-        close(
-            p[k],
-            x[k] - x[90] + 6.0,
-            1e-12,
-            "Example 10 feed convention",
-        );
+        close(p[k], x[k] - x[90] + 6.0, 1e-12, "Example 10 feed convention");
     }
     close(
         x[90],
@@ -528,17 +456,8 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     close(s.min_p_mm, 6.0, 1e-12, "Example 10 min P");
     close(s.max_p_mm, 24.187, 5e-4, "Example 10 max P");
     close(s.phi_at_max_deg, 270.0, 0.0, "Example 10 φ at max P");
-    assert_eq!(
-        spans(&s.flat),
-        vec![(61.0, 119.0), (258.0, 282.0)],
-        "Example 10 dwells"
-    );
-    assert!(
-        t.take_up
-            .as_deref()
-            .unwrap()
-            .contains("dP = 6 mm, phi0 = 90 deg")
-    );
+    assert_eq!(spans(&s.flat), vec![(61.0, 119.0), (258.0, 282.0)], "Example 10 dwells");
+    assert!(t.take_up.as_deref().unwrap().contains("dP = 6 mm, phi0 = 90 deg"));
     let c = compare_2d3d(&m, &m.defaults(), "world", 1.0).unwrap();
     let cp = &c.paths[0];
     close(
@@ -547,12 +466,7 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
         1e-9,
         "Example 10 P2D at 270°",
     );
-    close(
-        cp.p2d_mm[270],
-        24.997,
-        5e-4,
-        "Example 10 P2D at 270° as quoted",
-    );
+    close(cp.p2d_mm[270], 24.997, 5e-4, "Example 10 P2D at 270° as quoted");
     close(cp.max_abs_dp_mm, 0.8099, 5e-5, "Example 10 max |ΔP|");
     close(cp.phi_at_max_deg, 270.0, 0.0, "Example 10 φ at max |ΔP|");
     close(cp.max_rel_percent, 3.35, 5e-3, "Example 10 max |ΔP| in %");
@@ -568,14 +482,15 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     let t = cycle(&m).unwrap();
     let (a, b) = (path(&t, "n1_A"), path(&t, "n1_B"));
     for s in [a, b] {
-        assert_eq!(s.split, stitchkin::thread::SplitPoint::B, "mf7923d {} split at B", s.path);
+        assert_eq!(
+            s.split,
+            stitchkin::thread::SplitPoint::B,
+            "mf7923d {} split at B",
+            s.path
+        );
         close(s.max_p_eye_mm.unwrap(), 0.0, 0.0, "mf7923d max P_eye");
         close(s.min_p_mm, 0.0, 0.0, "mf7923d min P_B");
-        assert_eq!(
-            spans(&s.engaged[0].1),
-            vec![(256.0, 464.0)],
-            "mf7923d G4_1 engaged"
-        );
+        assert_eq!(spans(&s.engaged[0].1), vec![(256.0, 464.0)], "mf7923d G4_1 engaged");
     }
     close(a.max_p_mm, 17.475, 5e-4, "mf7923d n1_A max P_B");
     close(b.max_p_mm, 22.479, 5e-4, "mf7923d n1_B max P_B");
@@ -620,7 +535,10 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
         let t = cycle(m).unwrap();
         let st = t.stitch.expect("mf7923d has a [stitch]");
         assert!(st.checks.iter().all(|c| c.ok), "{:?}", st.checks);
-        st.threads.iter().map(|th| th.mismatch.as_ref().unwrap().score.unwrap()).collect()
+        st.threads
+            .iter()
+            .map(|th| th.mismatch.as_ref().unwrap().score.unwrap())
+            .collect()
     };
     let text = stitchkin::presets::find("mf7923d").unwrap().toml;
     let feed = "feed = { law = \"harmonic\", start_deg = 130, duration_deg = 100 }\n";
@@ -669,12 +587,7 @@ fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
         let phi = phis[k].to_radians();
         // Exact: free exactly when the disc's top e·sin φ + r is below h.
         let free = e * phi.sin() + r < h;
-        assert_eq!(
-            on_t[k] == 0.0,
-            free,
-            "Example 11 taut engaged at φ = {}",
-            phis[k]
-        );
+        assert_eq!(on_t[k] == 0.0, free, "Example 11 taut engaged at φ = {}", phis[k]);
         if free {
             close(xt[k], 2.0 * a, 1e-12, "Example 11 taut ξ while free");
             close(wrap_t[k], 0.0, 0.0, "Example 11 taut wrap while free");
@@ -697,12 +610,7 @@ fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
 
     // The taut thread at φ = 90°: tangents and the arc over the disc.
     let turn = std::f64::consts::PI - 2.0 * (r / a).acos();
-    close(
-        2.0 * (a * a - r * r).sqrt(),
-        29.933,
-        5e-4,
-        "Example 11 tangents",
-    );
+    close(2.0 * (a * a - r * r).sqrt(), 29.933, 5e-4, "Example 11 tangents");
     close(r * turn, 11.781, 5e-4, "Example 11 arc");
     close(
         xt[90],
@@ -713,19 +621,9 @@ fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
     close(xt[90], 41.714, 5e-4, "Example 11 taut ξ(90°) as quoted");
     close(turn.to_degrees(), 67.50, 5e-3, "Example 11 wrap at 90°");
     close(turn, 1.178, 5e-4, "Example 11 wrap at 90° in rad");
-    close(
-        wrap_t[90],
-        turn.to_degrees(),
-        1e-6,
-        "Example 11 taut wrap at 90°",
-    );
-    let longest = (0..xt.len())
-        .max_by(|&i, &j| xt[i].total_cmp(&xt[j]))
-        .unwrap();
-    assert_eq!(
-        longest, 90,
-        "Example 11: the taut contour is longest at 90°"
-    );
+    close(wrap_t[90], turn.to_degrees(), 1e-6, "Example 11 taut wrap at 90°");
+    let longest = (0..xt.len()).max_by(|&i, &j| xt[i].total_cmp(&xt[j])).unwrap();
+    assert_eq!(longest, 90, "Example 11: the taut contour is longest at 90°");
     let widest = (0..wrap_t.len())
         .max_by(|&i, &j| wrap_t[i].total_cmp(&wrap_t[j]))
         .unwrap();
@@ -750,27 +648,16 @@ fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
     }
 
     // Seed 004's contact at φ = 120°: A = 16·(cos 120°, sin 120°).
-    let (ax, ay) = (
-        16.0 * 120f64.to_radians().cos(),
-        16.0 * 120f64.to_radians().sin(),
-    );
+    let (ax, ay) = (16.0 * 120f64.to_radians().cos(), 16.0 * 120f64.to_radians().sin());
     close(ax, -8.0, 1e-12, "Example 11 A.x");
     close(ay, 13.856, 5e-4, "Example 11 A.y");
     close((ax + a).hypot(ay - h), 12.717, 5e-4, "Example 11 |G1 − A|");
     close((ax - a).hypot(ay - h), 27.161, 5e-4, "Example 11 |A − G2|");
     close(xs[120], 39.878, 5e-4, "Example 11 seed ξ(120°)");
-    let longest = (0..xs.len())
-        .max_by(|&i, &j| xs[i].total_cmp(&xs[j]))
-        .unwrap();
-    assert_eq!(
-        longest, 120,
-        "Example 11: the seed contour is longest at 120°"
-    );
+    let longest = (0..xs.len()).max_by(|&i, &j| xs[i].total_cmp(&xs[j])).unwrap();
+    assert_eq!(longest, 120, "Example 11: the seed contour is longest at 120°");
     close(xs[300], 36.360, 5e-4, "Example 11 seed ξ(300°)");
-    assert_eq!(
-        on_t[300], 0.0,
-        "Example 11: the taut thread is free at 300°"
-    );
+    assert_eq!(on_t[300], 0.0, "Example 11: the taut thread is free at 300°");
 
     // The summary lines.
     let (s, tt) = (path(&t, "seed"), path(&t, "taut"));
@@ -780,38 +667,20 @@ fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
     close(s.phi_at_max_deg, 19.0, 0.0, "Example 11 seed φ at max P");
     close(s.min_p_mm, -3.796, 5e-4, "Example 11 seed min P");
     close(s.phi_at_min_deg, 120.0, 0.0, "Example 11 seed φ at min P");
-    close(
-        tt.max_p_mm,
-        xt[0] - 2.0 * a,
-        1e-12,
-        "Example 11 taut max P = ξ(0) − 2a",
-    );
+    close(tt.max_p_mm, xt[0] - 2.0 * a, 1e-12, "Example 11 taut max P = ξ(0) − 2a");
     close(tt.max_p_mm, 1.057, 5e-4, "Example 11 taut max P");
     close(tt.phi_at_max_deg, 222.0, 0.0, "Example 11 taut φ at max P");
     close(tt.min_p_mm, -4.656, 5e-4, "Example 11 taut min P");
     close(tt.phi_at_min_deg, 90.0, 0.0, "Example 11 taut φ at min P");
-    close(
-        s.max_p_mm - s.min_p_mm,
-        3.88,
-        5e-3,
-        "Example 11 seed take-up per turn",
-    );
+    close(s.max_p_mm - s.min_p_mm, 3.88, 5e-3, "Example 11 seed take-up per turn");
     close(
         tt.max_p_mm - tt.min_p_mm,
         5.71,
         5e-3,
         "Example 11 taut take-up per turn",
     );
-    assert_eq!(
-        spans(&s.engaged[0].1),
-        vec![(0.0, 360.0)],
-        "Example 11 seed engaged"
-    );
-    assert_eq!(
-        spans(&tt.engaged[0].1),
-        vec![(319.0, 581.0)],
-        "Example 11 taut engaged"
-    );
+    assert_eq!(spans(&s.engaged[0].1), vec![(0.0, 360.0)], "Example 11 seed engaged");
+    assert_eq!(spans(&tt.engaged[0].1), vec![(319.0, 581.0)], "Example 11 taut engaged");
     assert_eq!(s.engaged[0].0, "feed");
     assert_eq!(
         spans(&s.flat),
@@ -834,12 +703,7 @@ fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
     );
     let [lo, hi] = tt.eye_tension_n.unwrap();
     close(lo, 0.3, 1e-12, "Example 11 taut eye tension min (free)");
-    close(
-        hi,
-        0.3 * (0.2 * turn).exp(),
-        1e-9,
-        "Example 11 taut eye tension max",
-    );
+    close(hi, 0.3 * (0.2 * turn).exp(), 1e-9, "Example 11 taut eye tension max");
     close(hi, 0.380, 5e-4, "Example 11 taut eye tension max as quoted");
 
     // --set gamma=0: A on the line of symmetry, ξ = 2·|G1 − A| (seed 004).
@@ -861,9 +725,8 @@ fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
     let bad = |text: String, file: &str| Model::from_toml_str(&text, file).unwrap_err().to_string();
     let e = bad(edit(&text, r#", gamma_deg = "gamma" }"#, " }"), "bad8.toml");
     assert!(
-        e.starts_with(
-            "bad8.toml:39:16: thread.paths[0].nodes[1]: an offset cam contact needs `gamma_deg`"
-        ) && e.contains("help: seed 004 uses γ = 0.4–0.8 rad, i.e. 23–46 degrees"),
+        e.starts_with("bad8.toml:39:16: thread.paths[0].nodes[1]: an offset cam contact needs `gamma_deg`")
+            && e.contains("help: seed 004 uses γ = 0.4–0.8 rad, i.e. 23–46 degrees"),
         "{e}"
     );
     let e = bad(

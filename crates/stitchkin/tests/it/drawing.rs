@@ -11,12 +11,18 @@ fn draw(preset: &str, opts: &DrawOptions) -> String {
     let m = Model::preset(preset).unwrap();
     let svg = render(&m, &m.defaults(), opts).unwrap_or_else(|e| panic!("{preset}: {e}"));
     assert!(svg.starts_with("<svg ") && svg.trim_end().ends_with("</svg>"));
-    assert!(!svg.contains("NaN") && !svg.contains("inf"), "{preset}: a non-finite number in the drawing");
+    assert!(
+        !svg.contains("NaN") && !svg.contains("inf"),
+        "{preset}: a non-finite number in the drawing"
+    );
     svg
 }
 
 fn at(phi: f64) -> DrawOptions {
-    DrawOptions { phi_deg: phi, ..Default::default() }
+    DrawOptions {
+        phi_deg: phi,
+        ..Default::default()
+    }
 }
 
 /// Elements whose class attribute is exactly `class`.
@@ -67,10 +73,15 @@ fn drawn_length(svg: &str, marker: &str) -> f64 {
 /// Every name in the labels of one class.
 fn label_names(svg: &str, class: &str) -> Vec<String> {
     let key = format!("class=\"{class}\" data-names=\"");
-    svg.match_indices(&key).flat_map(|(i, _)| {
-        let rest = &svg[i + key.len()..];
-        rest[..rest.find('"').unwrap()].split(' ').map(String::from).collect::<Vec<_>>()
-    }).collect()
+    svg.match_indices(&key)
+        .flat_map(|(i, _)| {
+            let rest = &svg[i + key.len()..];
+            rest[..rest.find('"').unwrap()]
+                .split(' ')
+                .map(String::from)
+                .collect::<Vec<_>>()
+        })
+        .collect()
 }
 
 #[test]
@@ -93,12 +104,24 @@ fn needle876_is_drawn_to_scale_at_any_phi() {
         assert_eq!(moving, ["A", "B", "D", "E", "G"]);
         // Links keep their lengths in the drawing: l·scale.
         let s = scale(&svg);
-        assert!((drawn_length(&svg, "data-points=\"A B\"") - 175.0 * s).abs() < 0.02, "AB at φ = {phi}");
-        assert!((drawn_length(&svg, "data-points=\"O A\"") - 15.0 * s).abs() < 0.02, "OA at φ = {phi}");
-        assert!((drawn_length(&svg, "data-points=\"E G\"") - 30.0 * s).abs() < 0.02, "EG at φ = {phi}");
+        assert!(
+            (drawn_length(&svg, "data-points=\"A B\"") - 175.0 * s).abs() < 0.02,
+            "AB at φ = {phi}"
+        );
+        assert!(
+            (drawn_length(&svg, "data-points=\"O A\"") - 15.0 * s).abs() < 0.02,
+            "OA at φ = {phi}"
+        );
+        assert!(
+            (drawn_length(&svg, "data-points=\"E G\"") - 30.0 * s).abs() < 0.02,
+            "EG at φ = {phi}"
+        );
         // The crank is drawn at φ: A − O along (cos φ, sin φ), y up.
         let p = points(attr(&svg, element(&svg, "data-points=\"O A\""), "points"));
-        let ang = (-(p[1].1 - p[0].1)).atan2(p[1].0 - p[0].0).to_degrees().rem_euclid(360.0);
+        let ang = (-(p[1].1 - p[0].1))
+            .atan2(p[1].0 - p[0].0)
+            .to_degrees()
+            .rem_euclid(360.0);
         assert!((ang - phi).abs() < 0.2, "crank at {ang}° for φ = {phi}°");
     }
     // The model's own numbers: D is l_cd from C, opposite B.
@@ -107,9 +130,22 @@ fn needle876_is_drawn_to_scale_at_any_phi() {
 
 #[test]
 fn dimensions_name_each_link_with_its_length() {
-    let svg = draw("needle876", &DrawOptions { dimensions: true, ..at(200.0) });
+    let svg = draw(
+        "needle876",
+        &DrawOptions {
+            dimensions: true,
+            ..at(200.0)
+        },
+    );
     assert_eq!(count(&svg, "dimension"), 6, "r_OA, l_AB, l_CB, l_DE, l_FE, l_EG");
-    for text in ["r_OA = 15 mm", "l_AB = 175 mm", "l_CB = 25 mm", "l_DE = 30 mm", "l_FE = 25 mm", "l_EG = 30 mm"] {
+    for text in [
+        "r_OA = 15 mm",
+        "l_AB = 175 mm",
+        "l_CB = 25 mm",
+        "l_DE = 30 mm",
+        "l_FE = 25 mm",
+        "l_EG = 30 mm",
+    ] {
         assert!(svg.contains(&format!(">{text}</text>")), "no {text}");
     }
     assert!(!draw("needle876", &at(200.0)).contains("class=\"dimension\""));
@@ -132,7 +168,16 @@ fn takeup_lever_has_two_plates_and_its_thread_through_five_eyelets() {
 
 /// Whether each pin of `path` bears on the thread at φ, from the cycle table.
 fn engaged(model: &Model, path: &str, pin: &str, phi: f64) -> bool {
-    let t = run_cycle(model, &model.defaults(), &CycleOptions { step_deg: 1.0, analogs: false, ..Default::default() }).unwrap();
+    let t = run_cycle(
+        model,
+        &model.defaults(),
+        &CycleOptions {
+            step_deg: 1.0,
+            analogs: false,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let phis = t.column("phi_deg").unwrap();
     let k = phis.iter().position(|p| (p - phi).abs() < 1e-9).unwrap();
     t.column(&format!("{path}.{pin}_engaged")).unwrap()[k] == 1.0
@@ -153,8 +198,18 @@ fn mf7923d_threads_run_through_the_guides_they_touch() {
             let nodes: Vec<&str> = attr(&svg, t, "data-nodes").split(' ').collect();
             // Every eyelet, and the pin only while the thread bears on it.
             let all = path.nodes.len();
-            assert_eq!(nodes.len(), if bearing { all } else { all - 1 }, "{} at φ = {phi}", path.name);
-            assert_eq!(points(attr(&svg, t, "points")).len(), nodes.len(), "{} at φ = {phi}: one vertex per guide touched", path.name);
+            assert_eq!(
+                nodes.len(),
+                if bearing { all } else { all - 1 },
+                "{} at φ = {phi}",
+                path.name
+            );
+            assert_eq!(
+                points(attr(&svg, t, "points")).len(),
+                nodes.len(),
+                "{} at φ = {phi}: one vertex per guide touched",
+                path.name
+            );
             assert_eq!(attr(&svg, t, "stroke"), stitchkin::output::svg::PALETTE[k]);
         }
         // The rocker T1 and the needle bar's eyelets carry labels; needles
@@ -172,25 +227,49 @@ fn mf7923d_threads_run_through_the_guides_they_touch() {
 fn spatial_presets_in_every_view() {
     for preset in ["mf7923d", "altin504"] {
         let m = Model::preset(preset).unwrap();
-        let mut views = vec![View::Plane(Plane::Xy), View::Plane(Plane::Xz), View::Plane(Plane::Yz), View::Isometric];
+        let mut views = vec![
+            View::Plane(Plane::Xy),
+            View::Plane(Plane::Xz),
+            View::Plane(Plane::Yz),
+            View::Isometric,
+        ];
         views.extend(m.frame_names().into_iter().map(|f| View::Frame(f.to_string())));
         let mut sizes = Vec::new();
         for view in views {
-            let svg = draw(preset, &DrawOptions { view: view.clone(), phi_deg: 30.0, ..Default::default() });
+            let svg = draw(
+                preset,
+                &DrawOptions {
+                    view: view.clone(),
+                    phi_deg: 30.0,
+                    ..Default::default()
+                },
+            );
             assert!(count_prefix(&svg, "link ") >= 8, "{preset} {view:?}");
             sizes.push(scale(&svg));
         }
         assert!(sizes.iter().all(|s| *s > 0.5 && s.is_finite()), "{preset}: {sizes:?}");
     }
     // The isometric drawing is not a plane view.
-    let a = draw("mf7923d", &DrawOptions { view: View::Isometric, ..at(0.0) });
+    let a = draw(
+        "mf7923d",
+        &DrawOptions {
+            view: View::Isometric,
+            ..at(0.0)
+        },
+    );
     let b = draw("mf7923d", &at(0.0));
     assert!(a.contains("isometric") && !b.contains("isometric"));
 }
 
 #[test]
 fn altin504_draws_its_cams_loopers_and_three_threads() {
-    let svg = draw("altin504", &DrawOptions { view: View::Isometric, ..at(90.0) });
+    let svg = draw(
+        "altin504",
+        &DrawOptions {
+            view: View::Isometric,
+            ..at(90.0)
+        },
+    );
     assert_eq!(count(&svg, "thread"), 3, "needle, lower, upper");
     assert_eq!(count(&svg, "cam"), 2, "the two looper-thread feed cams");
     assert_eq!(count(&svg, "joint spherical"), 4, "two RSSR rods, two ball ends each");
@@ -207,24 +286,52 @@ fn altin504_draws_its_cams_loopers_and_three_threads() {
 
 #[test]
 fn trajectories_are_closed_thin_lines_over_the_cycle() {
-    let svg = draw("needle876", &DrawOptions { trajectories: vec!["G".into(), "E".into()], ..at(0.0) });
+    let svg = draw(
+        "needle876",
+        &DrawOptions {
+            trajectories: vec!["G".into(), "E".into()],
+            ..at(0.0)
+        },
+    );
     assert_eq!(count(&svg, "trajectory"), 2);
     let g = points(attr(&svg, element(&svg, "data-point=\"G\" fill"), "points"));
     assert_eq!(g.len(), 361, "360 positions, closed");
     // The needle moves on a vertical line: one x, a stroke of about 18 mm.
     let s = scale(&svg);
-    let (lo, hi) = g.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    let (lo, hi) = g
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
     assert!(g.iter().all(|p| (p.0 - g[0].0).abs() < 0.02));
     let m = Model::preset("needle876").unwrap();
-    let t = run_cycle(&m, &m.defaults(), &CycleOptions { step_deg: 1.0, analogs: false, points: Some(vec![m.point_names.iter().position(|p| p == "G").unwrap()]), ..Default::default() }).unwrap();
+    let t = run_cycle(
+        &m,
+        &m.defaults(),
+        &CycleOptions {
+            step_deg: 1.0,
+            analogs: false,
+            points: Some(vec![m.point_names.iter().position(|p| p == "G").unwrap()]),
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let y = t.column("G.y_mm").unwrap();
     let stroke = y.iter().cloned().fold(f64::MIN, f64::max) - y.iter().cloned().fold(f64::MAX, f64::min);
-    assert!(((hi - lo) / s - stroke).abs() < 0.02, "stroke drawn {} mm, computed {stroke} mm", (hi - lo) / s);
+    assert!(
+        ((hi - lo) / s - stroke).abs() < 0.02,
+        "stroke drawn {} mm, computed {stroke} mm",
+        (hi - lo) / s
+    );
 }
 
 #[test]
 fn an_animation_moves_every_part_over_one_turn() {
-    let opts = DrawOptions { animate: true, frames: 24, duration_s: 3.0, trajectories: vec!["G".into()], ..at(90.6) };
+    let opts = DrawOptions {
+        animate: true,
+        frames: 24,
+        duration_s: 3.0,
+        trajectories: vec!["G".into()],
+        ..at(90.6)
+    };
     let svg = draw("needle876", &opts);
     assert!(svg.contains("data-frames=\"24\""));
     assert!(svg.contains("<animate ") && svg.contains("<animateTransform "));
@@ -244,7 +351,14 @@ fn an_animation_moves_every_part_over_one_turn() {
     // Fixed pivots do not move.
     assert_eq!(count(&svg, "pivot"), 3);
     // A spatial preset with threads and one-sided guides.
-    let svg = draw("mf7923d", &DrawOptions { animate: true, frames: 36, ..Default::default() });
+    let svg = draw(
+        "mf7923d",
+        &DrawOptions {
+            animate: true,
+            frames: 36,
+            ..Default::default()
+        },
+    );
     assert!(svg.contains("data-frames=\"36\""));
     let t = element(&svg, "data-path=\"n1_A\"");
     let anim = t + svg[t..].find("<animate ").unwrap();
@@ -292,20 +406,56 @@ fn no_assembly_is_the_usual_clear_error() {
     let msg = e.to_string();
     assert!(msg.contains("φ = 180.000°") && msg.contains("coupler_rocker"), "{msg}");
     // An animation needs every φ of the turn, and says where it fails.
-    let e = render(&m, &p, &DrawOptions { animate: true, ..at(0.0) }).unwrap_err();
-    assert!(matches!(e, Error::Assembly(_)) && e.to_string().contains("coupler_rocker"), "{e}");
+    let e = render(
+        &m,
+        &p,
+        &DrawOptions {
+            animate: true,
+            ..at(0.0)
+        },
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, Error::Assembly(_)) && e.to_string().contains("coupler_rocker"),
+        "{e}"
+    );
     // So do trajectories.
-    let e = render(&m, &p, &DrawOptions { trajectories: vec!["B".into()], ..at(0.0) }).unwrap_err();
+    let e = render(
+        &m,
+        &p,
+        &DrawOptions {
+            trajectories: vec!["B".into()],
+            ..at(0.0)
+        },
+    )
+    .unwrap_err();
     assert!(matches!(e, Error::Assembly(_)), "{e}");
 }
 
 #[test]
 fn every_preset_draws_without_a_non_finite_number() {
-    for preset in ["needle876", "overlock500", "altin-needle", "altin504", "mf7923d", "takeup-lever"] {
+    for preset in [
+        "needle876",
+        "overlock500",
+        "altin-needle",
+        "altin504",
+        "mf7923d",
+        "takeup-lever",
+    ] {
         let m = Model::preset(preset).unwrap();
         for phi in [0.0, 77.0, 181.5, 300.0] {
-            let svg = draw(preset, &DrawOptions { view: View::default_for(&m), dimensions: true, ..at(phi) });
-            assert!(count_prefix(&svg, "link ") > 0 && count(&svg, "scale-bar") == 1, "{preset}");
+            let svg = draw(
+                preset,
+                &DrawOptions {
+                    view: View::default_for(&m),
+                    dimensions: true,
+                    ..at(phi)
+                },
+            );
+            assert!(
+                count_prefix(&svg, "link ") > 0 && count(&svg, "scale-bar") == 1,
+                "{preset}"
+            );
         }
     }
 }
@@ -318,16 +468,50 @@ fn bad_options_name_what_to_change() {
         Error::Param(p) => format!("{} / {}", p.message, p.help.unwrap_or_default()),
         other => other.to_string(),
     };
-    let e = full(render(&m, &p, &DrawOptions { view: View::Frame("uwv".into()), ..Default::default() }).unwrap_err());
+    let e = full(
+        render(
+            &m,
+            &p,
+            &DrawOptions {
+                view: View::Frame("uwv".into()),
+                ..Default::default()
+            },
+        )
+        .unwrap_err(),
+    );
     assert!(e.contains("no frame `uwv`") && e.contains("uvw"), "{e}");
-    let e = full(render(&m, &p, &DrawOptions { animate: true, frames: 0, ..Default::default() }).unwrap_err());
+    let e = full(
+        render(
+            &m,
+            &p,
+            &DrawOptions {
+                animate: true,
+                frames: 0,
+                ..Default::default()
+            },
+        )
+        .unwrap_err(),
+    );
     assert!(e.contains("--frames") && e.contains("--frames 72"), "{e}");
-    let e = full(render(&m, &p, &DrawOptions { phi_deg: f64::INFINITY, ..Default::default() }).unwrap_err());
+    let e = full(
+        render(
+            &m,
+            &p,
+            &DrawOptions {
+                phi_deg: f64::INFINITY,
+                ..Default::default()
+            },
+        )
+        .unwrap_err(),
+    );
     assert!(e.contains("--phi"), "{e}");
     assert_eq!(View::parse("iso").unwrap(), View::Isometric);
     assert_eq!(View::parse("uvw").unwrap(), View::Frame("uvw".into()));
     assert!(View::parse(" ").is_err());
     assert_eq!(View::default_for(&m), View::Isometric);
-    assert_eq!(View::default_for(&Model::preset("needle876").unwrap()), View::Plane(Plane::Xy));
+    assert_eq!(
+        View::default_for(&Model::preset("needle876").unwrap()),
+        View::Plane(Plane::Xy)
+    );
     assert!(View::choices(&m).contains(&"uvw".to_string()));
 }

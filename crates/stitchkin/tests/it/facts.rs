@@ -80,7 +80,14 @@ struct Fact {
 }
 
 fn fact(id: &'static str, verdict: Verdict, text: String, values: Vec<f64>) -> Fact {
-    Fact { id, text, values, verdict, why: String::new(), why_values: Vec::new() }
+    Fact {
+        id,
+        text,
+        values,
+        verdict,
+        why: String::new(),
+        why_values: Vec::new(),
+    }
 }
 
 impl Fact {
@@ -94,17 +101,31 @@ impl Fact {
 /// `v` with `d` decimals and a true minus sign.
 fn f(v: f64, d: usize) -> String {
     let s = format!("{:.*}", d, v);
-    if s.starts_with('-') && s.trim_start_matches(['-', '0', '.']).is_empty() { s[1..].to_string() } else { s.replace('-', "−") }
+    if s.starts_with('-') && s.trim_start_matches(['-', '0', '.']).is_empty() {
+        s[1..].to_string()
+    } else {
+        s.replace('-', "−")
+    }
 }
 
 /// `v` with `d` decimals and its sign, + or −.
 fn sf(v: f64, d: usize) -> String {
     let s = f(v, d);
-    if s.starts_with('−') || s.trim_start_matches(['0', '.']).is_empty() { s } else { format!("+{s}") }
+    if s.starts_with('−') || s.trim_start_matches(['0', '.']).is_empty() {
+        s
+    } else {
+        format!("+{s}")
+    }
 }
 
 fn opts(step_deg: f64) -> CycleOptions {
-    CycleOptions { step_deg, rpm: None, analogs: false, points: None, lean: true }
+    CycleOptions {
+        step_deg,
+        rpm: None,
+        analogs: false,
+        points: None,
+        lean: true,
+    }
 }
 
 fn with(m: &Model, base: &Params, set: &[(&str, f64)]) -> Params {
@@ -120,7 +141,10 @@ fn run(m: &Model, p: &Params, step_deg: f64) -> CycleTable {
 }
 
 fn path<'a>(t: &'a CycleTable, name: &str) -> &'a PathSummary {
-    t.paths.iter().find(|p| p.path == name).unwrap_or_else(|| panic!("no path {name}"))
+    t.paths
+        .iter()
+        .find(|p| p.path == name)
+        .unwrap_or_else(|| panic!("no path {name}"))
 }
 
 fn col<'a>(t: &'a CycleTable, name: &str) -> &'a [f64] {
@@ -137,14 +161,24 @@ fn max_abs(v: &[f64]) -> f64 {
 
 /// The mean match score of a cycle's stitch threads.
 fn score_mean(t: &CycleTable) -> f64 {
-    let s: Vec<f64> = t.stitch.as_ref().unwrap().threads.iter().filter_map(|th| th.mismatch.as_ref()?.score).collect();
+    let s: Vec<f64> = t
+        .stitch
+        .as_ref()
+        .unwrap()
+        .threads
+        .iter()
+        .filter_map(|th| th.mismatch.as_ref()?.score)
+        .collect();
     s.iter().sum::<f64>() / s.len() as f64
 }
 
 /// The circular lag (deg) that best lays `p` over `p0`: the λ minimising
 /// std(p(φ + λ) − p0(φ)), the stitch mismatch's best lag.
 fn best_lag(phis: &[f64], p: &[f64], p0: &[f64]) -> f64 {
-    mismatch(phis, p, p0, &vec![true; phis.len()], 0.01, true).unwrap().best_lag_deg.unwrap()
+    mismatch(phis, p, p0, &vec![true; phis.len()], 0.01, true)
+        .unwrap()
+        .best_lag_deg
+        .unwrap()
 }
 
 fn within(v: f64, lo: f64, hi: f64) -> bool {
@@ -167,8 +201,15 @@ fn mf7923d() -> Vec<Fact> {
     // The alternative accounting: the whole stitch passes the regulator at
     // the lock (the independent reference tables' accounting).
     let feed = "feed = { law = \"harmonic\", start_deg = 130, duration_deg = 100 }\n";
-    assert!(text.contains(feed), "the preset's [stitch] feed line moved; the at-lock copy needs it");
-    let at_lock = Model::from_toml_str(&text.replace(feed, &format!("{feed}regulator = {{ at_lock = true }}\n")), "mf7923d-at-lock.toml").unwrap();
+    assert!(
+        text.contains(feed),
+        "the preset's [stitch] feed line moved; the at-lock copy needs it"
+    );
+    let at_lock = Model::from_toml_str(
+        &text.replace(feed, &format!("{feed}regulator = {{ at_lock = true }}\n")),
+        "mf7923d-at-lock.toml",
+    )
+    .unwrap();
     let d = m.defaults();
     // The tunings run beside everything else (each re-derives the stitch's
     // setup several times, the slow part in a debug build).
@@ -182,7 +223,18 @@ fn mf7923d() -> Vec<Fact> {
                     ms.map(|mm| {
                         let mut p = m.defaults();
                         set_stitch_value(m, &mut p, "m", mm).unwrap();
-                        tune(m, &p, &TuneOptions { adjust: vec![name.into()], samples: 24, seed: 1, step_deg: MF_STEP }).unwrap().after[0]
+                        tune(
+                            m,
+                            &p,
+                            &TuneOptions {
+                                adjust: vec![name.into()],
+                                samples: 24,
+                                seed: 1,
+                                step_deg: MF_STEP,
+                            },
+                        )
+                        .unwrap()
+                        .after[0]
                     })
                 })
             })
@@ -196,7 +248,13 @@ fn mf7923d() -> Vec<Fact> {
     let (zl, pl) = (out.at_lock_z, out.at_lock_dphi);
     // The best setting at m = 3 / 4 / 5 mm under both accountings, graded
     // against the seed's range [lo, hi].
-    let by_thickness = |id, what: &str, unit: &str, [lo, hi]: [f64; 2], tuned: [f64; 3], at_lock: [f64; 3], lock_digits| {
+    let by_thickness = |id,
+                        what: &str,
+                        unit: &str,
+                        [lo, hi]: [f64; 2],
+                        tuned: [f64; 3],
+                        at_lock: [f64; 3],
+                        lock_digits| {
         let within_range = |v: &[f64; 3]| v.iter().all(|x| within(*x, lo, hi));
         let [a, b, c] = tuned.map(|x| sf(x, 1));
         let [d, e, f] = at_lock.map(|x| sf(x, lock_digits));
@@ -210,7 +268,8 @@ fn mf7923d() -> Vec<Fact> {
             [ms.to_vec(), tuned.to_vec(), at_lock.to_vec()].concat(),
         )
     };
-    out.facts.push(by_thickness("MF11", "z", " mm", [-5.5, -1.5], zd, zl, 2));
+    out.facts
+        .push(by_thickness("MF11", "z", " mm", [-5.5, -1.5], zd, zl, 2));
     out.facts.push(by_thickness("MF13", "Δφ", "°", [-20.5, 0.5], pd, pl, 1));
     out.facts.sort_by_key(|f| f.id);
     out.facts
@@ -234,8 +293,21 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
     // P′ once for every setting that leaves the stitch alone: the take-up's
     // settings (r1, O2B, z, Δφ) and its phase reading. Checked: the stitch's
     // inputs with all of them moved at once are the nominal ones.
-    let moved = with(&m, d, &[("r1", 6.0), ("l_o2b", 23.0), ("z", Z_END), ("dphi", DPHI_END), ("t1_phase", 0.0)]);
-    assert!(m.stitch_setup(&moved).unwrap() == m.stitch_setup(d).unwrap(), "the take-up's settings changed the stitch");
+    let moved = with(
+        &m,
+        d,
+        &[
+            ("r1", 6.0),
+            ("l_o2b", 23.0),
+            ("z", Z_END),
+            ("dphi", DPHI_END),
+            ("t1_phase", 0.0),
+        ],
+    );
+    assert!(
+        m.stitch_setup(&moved).unwrap() == m.stitch_setup(d).unwrap(),
+        "the take-up's settings changed the stitch"
+    );
     let shared = stitchkin::eval::stitch::prepare(&m, d, MF_STEP).unwrap().unwrap();
     let runs = |p: &Params| run_cycle_with(&m, p, &opts(MF_STEP), Some(&shared)).unwrap();
     let d = d.clone();
@@ -264,12 +336,23 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
             Verdict::grade(diff.iter().all(|x| *x > 0.0), false),
             format!(
                 "max P_B, needles 1/2/3: A {} / {} / {} mm, B {} / {} / {} mm",
-                f(a[0], 1), f(a[1], 1), f(a[2], 1), f(b[0], 1), f(b[1], 1), f(b[2], 1)
+                f(a[0], 1),
+                f(a[1], 1),
+                f(a[2], 1),
+                f(b[0], 1),
+                f(b[1], 1),
+                f(b[2], 1)
             ),
             [vec![1.0, 2.0, 3.0], a.to_vec(), b.to_vec()].concat(),
         )
         .why(
-            format!("B − A at the maxima **{} / {} / {} mm**; B − A over the cycle never below **{} mm**", sf(diff[0], 1), sf(diff[1], 1), sf(diff[2], 1), f(least_b_minus_a, 2)),
+            format!(
+                "B − A at the maxima **{} / {} / {} mm**; B − A over the cycle never below **{} mm**",
+                sf(diff[0], 1),
+                sf(diff[1], 1),
+                sf(diff[2], 1),
+                f(least_b_minus_a, 2)
+            ),
             vec![diff[0], diff[1], diff[2], least_b_minus_a],
         ),
     );
@@ -280,7 +363,9 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
         needles.map(|j| {
             let p = path(&t, &format!("n{j}_{c}"));
             let w = |iv: &stitchkin::thread::Interval| iv.to_deg - iv.from_deg;
-            let holds = |iv: &&stitchkin::thread::Interval, phi: f64| (iv.from_deg..=iv.to_deg).contains(&phi) || (iv.from_deg..=iv.to_deg).contains(&(phi + 360.0));
+            let holds = |iv: &&stitchkin::thread::Interval, phi: f64| {
+                (iv.from_deg..=iv.to_deg).contains(&phi) || (iv.from_deg..=iv.to_deg).contains(&(phi + 360.0))
+            };
             let top = p.flat.iter().find(|iv| holds(iv, p.phi_at_max_deg)).map_or(0.0, w);
             let foot = p.flat.iter().find(|iv| holds(iv, 0.0)).map_or(0.0, w);
             (top, foot)
@@ -295,10 +380,22 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
         Verdict::grade(a_has && b_has_none, a_has && a_tops_longer),
         format!(
             "dwell at the top of P: A {} / {} / {}°, B {} / {} / {}°; around the TDC: A {} / {} / {}°, B {} / {} / {}°",
-            f(fa[0].0, 0), f(fa[1].0, 0), f(fa[2].0, 0), f(fb[0].0, 0), f(fb[1].0, 0), f(fb[2].0, 0),
-            f(fa[0].1, 0), f(fa[1].1, 0), f(fa[2].1, 0), f(fb[0].1, 0), f(fb[1].1, 0), f(fb[2].1, 0)
+            f(fa[0].0, 0),
+            f(fa[1].0, 0),
+            f(fa[2].0, 0),
+            f(fb[0].0, 0),
+            f(fb[1].0, 0),
+            f(fb[2].0, 0),
+            f(fa[0].1, 0),
+            f(fa[1].1, 0),
+            f(fa[2].1, 0),
+            f(fb[0].1, 0),
+            f(fb[1].1, 0),
+            f(fb[2].1, 0)
         ),
-        vec![fa[0].0, fa[1].0, fa[2].0, fb[0].0, fb[1].0, fb[2].0, fa[0].1, fa[1].1, fa[2].1, fb[0].1, fb[1].1, fb[2].1],
+        vec![
+            fa[0].0, fa[1].0, fa[2].0, fb[0].0, fb[1].0, fb[2].0, fa[0].1, fa[1].1, fa[2].1, fb[0].1, fb[1].1, fb[2].1,
+        ],
     ));
 
     // Max P of about 10 mm (0.2 mm is 2 % of it).
@@ -307,10 +404,18 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
         fact(
             "MF03",
             Verdict::grade(a.iter().all(|x| within(*x, 5.0, 20.0)), false),
-            format!("max P_B, contour A: {} / {} / {} mm", f(a[0], 1), f(a[1], 1), f(a[2], 1)),
+            format!(
+                "max P_B, contour A: {} / {} / {} mm",
+                f(a[0], 1),
+                f(a[1], 1),
+                f(a[2], 1)
+            ),
             a.to_vec(),
         )
-        .why(format!("**{}…{} mm**", f(a0[0].min(a0[2]), 1), f(a0[0].max(a0[2]), 1)), vec![a0[0].min(a0[2]), a0[0].max(a0[2])]),
+        .why(
+            format!("**{}…{} mm**", f(a0[0].min(a0[2]), 1), f(a0[0].max(a0[2]), 1)),
+            vec![a0[0].min(a0[2]), a0[0].max(a0[2])],
+        ),
     );
 
     // 2D against 3D, needle 1, contour A.
@@ -340,8 +445,13 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
     // r1 4 → 6 mm: +10 mm.
     let (r1, r1_0) = (change(&d, "r1", 4.0, 6.0, "A"), change(&phase0, "r1", 4.0, 6.0, "A"));
     out.push(
-        fact("MF05", Verdict::grade((r1 - 10.0).abs() <= 0.5, r1 > 0.0), format!("{} mm (needle 3, contour A)", sf(r1, 1)), vec![r1, 3.0])
-            .why(format!("**{} mm**", sf(r1_0, 1)), vec![r1_0]),
+        fact(
+            "MF05",
+            Verdict::grade((r1 - 10.0).abs() <= 0.5, r1 > 0.0),
+            format!("{} mm (needle 3, contour A)", sf(r1, 1)),
+            vec![r1, 3.0],
+        )
+        .why(format!("**{} mm**", sf(r1_0, 1)), vec![r1_0]),
     );
     // r2 15.5 → 16.5 mm: +4 mm.
     // r2 moves the needle, so P′: its own cycle.
@@ -350,15 +460,26 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
     let near4 = |v: f64| (v - 4.0).abs() <= 0.5;
     out.push(fact(
         "MF06",
-        Verdict::grade(near4(r2a) && near4(r2b), near4(r2a) || near4(r2b) || (r2a > 0.0 && r2b > 0.0)),
+        Verdict::grade(
+            near4(r2a) && near4(r2b),
+            near4(r2a) || near4(r2b) || (r2a > 0.0 && r2b > 0.0),
+        ),
         format!("{} mm contour A, {} mm contour B (needle 3)", sf(r2a, 1), sf(r2b, 1)),
         vec![r2a, r2b, 3.0],
     ));
     // O2B 20 → 23 mm: −7 mm.
-    let (o2b, o2b_0) = (change(&d, "l_o2b", 20.0, 23.0, "A"), change(&phase0, "l_o2b", 20.0, 23.0, "A"));
+    let (o2b, o2b_0) = (
+        change(&d, "l_o2b", 20.0, 23.0, "A"),
+        change(&phase0, "l_o2b", 20.0, 23.0, "A"),
+    );
     out.push(
-        fact("MF07", Verdict::grade((o2b + 7.0).abs() <= 0.5, o2b < 0.0), format!("{} mm (needle 3, contour A)", sf(o2b, 1)), vec![o2b, 3.0])
-            .why(format!("**{} mm**", sf(o2b_0, 1)), vec![o2b_0]),
+        fact(
+            "MF07",
+            Verdict::grade((o2b + 7.0).abs() <= 0.5, o2b < 0.0),
+            format!("{} mm (needle 3, contour A)", sf(o2b, 1)),
+            vec![o2b, 3.0],
+        )
+        .why(format!("**{} mm**", sf(o2b_0, 1)), vec![o2b_0]),
     );
 
     // z ±10 mm and Δφ ±20°: the change of max P and the phase shift.
@@ -384,10 +505,24 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
         let fa = fact(
             id,
             Verdict::grade(size_ok && lag_is, size_ok || lag_is),
-            format!("max P_B {} mm at {label} = ±{}{unit}; shift {}° / {}° (needle 3, contour A)", sf(size, 2), f(end, 0), sf(hi.1, 0), sf(lo.1, 0)),
+            format!(
+                "max P_B {} mm at {label} = ±{}{unit}; shift {}° / {}° (needle 3, contour A)",
+                sf(size, 2),
+                f(end, 0),
+                sf(hi.1, 0),
+                sf(lo.1, 0)
+            ),
             vec![size, end, hi.1, lo.1, 3.0],
         )
-        .why(format!("contour B: **{} mm, {}° / {}°**", sf(hib.0.max(lob.0), 2), sf(hib.1, 0), sf(lob.1, 0)), vec![hib.0.max(lob.0), hib.1, lob.1]);
+        .why(
+            format!(
+                "contour B: **{} mm, {}° / {}°**",
+                sf(hib.0.max(lob.0), 2),
+                sf(hib.1, 0),
+                sf(lob.1, 0)
+            ),
+            vec![hib.0.max(lob.0), hib.1, lob.1],
+        );
         (fa, size, hi.2.max(lo.2))
     };
     let (fz, zmag, zdev) = effect("MF08", "z", "z", Z_END, " mm");
@@ -398,8 +533,19 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
     // cycle, and the change of max P.
     out.push(fact(
         "MF10",
-        Verdict::grade(zdev > pdev + 0.05 && zmag > pmag + 0.05, zdev > pdev + 0.05 || zmag > pmag + 0.05),
-        format!("largest change of P_B: z ±{} mm {} mm, Δφ ±{}° {} mm; of max P_B: {} and {} mm", f(Z_END, 0), f(zdev, 2), f(DPHI_END, 0), f(pdev, 2), f(zmag, 2), f(pmag, 2)),
+        Verdict::grade(
+            zdev > pdev + 0.05 && zmag > pmag + 0.05,
+            zdev > pdev + 0.05 || zmag > pmag + 0.05,
+        ),
+        format!(
+            "largest change of P_B: z ±{} mm {} mm, Δφ ±{}° {} mm; of max P_B: {} and {} mm",
+            f(Z_END, 0),
+            f(zdev, 2),
+            f(DPHI_END, 0),
+            f(pdev, 2),
+            f(zmag, 2),
+            f(pmag, 2)
+        ),
         vec![Z_END, zdev, DPHI_END, pdev, zmag, pmag],
     ));
 
@@ -409,13 +555,18 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
     let lock_prepared = |mm: f64| {
         let mut p = at_lock.defaults();
         set_stitch_value(&at_lock, &mut p, "m", mm).unwrap();
-        let pr = stitchkin::eval::stitch::prepare(&at_lock, &p, MF_STEP).unwrap().unwrap();
+        let pr = stitchkin::eval::stitch::prepare(&at_lock, &p, MF_STEP)
+            .unwrap()
+            .unwrap();
         (p, pr)
     };
     let score_at = |model: &Model, p: &Params, pr: &stitchkin::eval::stitch::Prepared, name: &str, v: f64| {
         score_mean(&run_cycle_with(model, &with(model, p, &[(name, v)]), &opts(MF_STEP), Some(pr)).unwrap())
     };
-    let sd = (score_at(&m, &d, &shared, "z", -2.0), score_at(&m, &d, &shared, "z", 0.0));
+    let sd = (
+        score_at(&m, &d, &shared, "z", -2.0),
+        score_at(&m, &d, &shared, "z", 0.0),
+    );
     let mut at_lock_z = [0.0; 3];
     let mut at_lock_dphi = [0.0; 3];
     let mut sl = (0.0, 0.0);
@@ -423,12 +574,20 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
         let (p, pr) = lock_prepared(mm);
         let argbest = |name: &str, end: f64, grid: f64| {
             let n = (2.0 * end / grid).round() as i32;
-            (0..=n).map(|k| -end + grid * k as f64).map(|v| (v, score_at(&at_lock, &p, &pr, name, v))).max_by(|a, b| a.1.total_cmp(&b.1)).unwrap().0
+            (0..=n)
+                .map(|k| -end + grid * k as f64)
+                .map(|v| (v, score_at(&at_lock, &p, &pr, name, v)))
+                .max_by(|a, b| a.1.total_cmp(&b.1))
+                .unwrap()
+                .0
         };
         at_lock_z[i] = argbest("z", Z_END, Z_GRID_MM);
         at_lock_dphi[i] = argbest("dphi", DPHI_END, DPHI_GRID_DEG);
         if i == 0 {
-            sl = (score_at(&at_lock, &p, &pr, "z", -2.0), score_at(&at_lock, &p, &pr, "z", 0.0));
+            sl = (
+                score_at(&at_lock, &p, &pr, "z", -2.0),
+                score_at(&at_lock, &p, &pr, "z", 0.0),
+            );
         }
     }
     out.push(fact(
@@ -457,27 +616,67 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
     let (tx, ty) = (col(&t, "T1_1.x_mm")[k], tv[k]);
     let alpha0 = (ty - o2y).atan2(tx - o2x).to_degrees();
     out.push(
-        fact("MF15", Verdict::grade((alpha0 - 158.6).abs() <= 0.05, false), format!("{}° (at φ = {}°)", f(alpha0, 2), f(phis[k], 0)), vec![alpha0, phis[k]])
-            .why(format!("T1 there at (u, v) = **({}, {}) mm**", f(tx - qx, 1), f(ty - qy, 2)), vec![tx - qx, ty - qy]),
+        fact(
+            "MF15",
+            Verdict::grade((alpha0 - 158.6).abs() <= 0.05, false),
+            format!("{}° (at φ = {}°)", f(alpha0, 2), f(phis[k], 0)),
+            vec![alpha0, phis[k]],
+        )
+        .why(
+            format!("T1 there at (u, v) = **({}, {}) mm**", f(tx - qx, 1), f(ty - qy, 2)),
+            vec![tx - qx, ty - qy],
+        ),
     );
 
     // G4 touches the thread only part of the cycle (eq. 1).
     let eng = path(&t, "n1_A").engaged[0].1.clone();
-    let one_part = t.paths.iter().all(|p| p.engaged.iter().all(|(_, iv)| iv.len() == 1 && iv[0].to_deg - iv[0].from_deg < 360.0 - MF_STEP));
+    let one_part = t.paths.iter().all(|p| {
+        p.engaged
+            .iter()
+            .all(|(_, iv)| iv.len() == 1 && iv[0].to_deg - iv[0].from_deg < 360.0 - MF_STEP)
+    });
     out.push(fact(
         "MF16",
         Verdict::grade(one_part, false),
-        format!("needle 1, contour A: φ = {}°…{}° ({}° of the turn); one stretch on every path", f(eng[0].from_deg % 360.0, 0), f(eng[0].to_deg % 360.0, 0), f(eng[0].to_deg - eng[0].from_deg, 0)),
-        vec![1.0, eng[0].from_deg % 360.0, eng[0].to_deg % 360.0, eng[0].to_deg - eng[0].from_deg],
+        format!(
+            "needle 1, contour A: φ = {}°…{}° ({}° of the turn); one stretch on every path",
+            f(eng[0].from_deg % 360.0, 0),
+            f(eng[0].to_deg % 360.0, 0),
+            f(eng[0].to_deg - eng[0].from_deg, 0)
+        ),
+        vec![
+            1.0,
+            eng[0].from_deg % 360.0,
+            eng[0].to_deg % 360.0,
+            eng[0].to_deg - eng[0].from_deg,
+        ],
     ));
 
     // r1 up → the take-up's swing up; O2B up → down (Fig. 6).
-    let swing = |name: &str, v: f64| runs(&with(&m, &d, &[(name, v)])).ranges.iter().find(|r| r.name == "takeup_T1_v").unwrap().range;
-    let (w4, w6, w20, w23) = (swing("r1", 4.0), swing("r1", 6.0), swing("l_o2b", 20.0), swing("l_o2b", 23.0));
+    let swing = |name: &str, v: f64| {
+        runs(&with(&m, &d, &[(name, v)]))
+            .ranges
+            .iter()
+            .find(|r| r.name == "takeup_T1_v")
+            .unwrap()
+            .range
+    };
+    let (w4, w6, w20, w23) = (
+        swing("r1", 4.0),
+        swing("r1", 6.0),
+        swing("l_o2b", 20.0),
+        swing("l_o2b", 23.0),
+    );
     out.push(fact(
         "MF17",
         Verdict::grade(w6 > w4 && w23 < w20, false),
-        format!("T1's vertical travel {} → {} mm for r1 = 4 → 6 mm, {} → {} mm for O2B = 20 → 23 mm", f(w4, 1), f(w6, 1), f(w20, 1), f(w23, 1)),
+        format!(
+            "T1's vertical travel {} → {} mm for r1 = 4 → 6 mm, {} → {} mm for O2B = 20 → 23 mm",
+            f(w4, 1),
+            f(w6, 1),
+            f(w20, 1),
+            f(w23, 1)
+        ),
         vec![w4, w6, 4.0, 6.0, w20, w23, 20.0, 23.0],
     ));
 
@@ -490,7 +689,12 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
     }
     let mb = Model::from_toml_str(&with_b, "mf7923d-contour-b.toml").unwrap();
     let (sa, sb) = (score_mean(&t), score_mean(&run(&mb, &mb.defaults(), MF_STEP)));
-    out.push(fact("MF18", Verdict::grade(sa > sb, false), format!("mean match score: A {}, B {}", f(sa, 1), f(sb, 1)), vec![sa, sb]));
+    out.push(fact(
+        "MF18",
+        Verdict::grade(sa > sb, false),
+        format!("mean match score: A {}, B {}", f(sa, 1), f(sb, 1)),
+        vec![sa, sb],
+    ));
 
     // Max P′ directly proportional to m (and t).
     let pprime = |mm: f64| {
@@ -499,40 +703,91 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
         run(&m, &p, MF_STEP).stitch.unwrap().threads[0].max_pprime_mm
     };
     assert_eq!(v("m"), 3.0);
-    let (q1, q3, q5) = (pprime(1.0), t.stitch.as_ref().unwrap().threads[0].max_pprime_mm, pprime(5.0));
+    let (q1, q3, q5) = (
+        pprime(1.0),
+        t.stitch.as_ref().unwrap().threads[0].max_pprime_mm,
+        pprime(5.0),
+    );
     let ratio = [q1 / 1.0, q3 / 3.0, q5 / 5.0];
     let proportional = ratio.iter().all(|r| (r / ratio[1] - 1.0).abs() < 0.05);
     out.push(
         fact(
             "MF19",
             Verdict::grade(proportional, q1 < q3 && q3 < q5),
-            format!("needle 1, max P′_B: {} / {} / {} mm at m = 1 / 3 / 5 mm", f(q1, 2), f(q3, 2), f(q5, 2)),
+            format!(
+                "needle 1, max P′_B: {} / {} / {} mm at m = 1 / 3 / 5 mm",
+                f(q1, 2),
+                f(q3, 2),
+                f(q5, 2)
+            ),
             vec![1.0, q1, q3, q5, 1.0, 3.0, 5.0],
         )
-        .why(format!("**{} mm** per mm of m", f((q5 - q1) / 4.0, 2)), vec![(q5 - q1) / 4.0]),
+        .why(
+            format!("**{} mm** per mm of m", f((q5 - q1) / 4.0, 2)),
+            vec![(q5 - q1) / 4.0],
+        ),
     );
 
     // The thread past B within what the needle can take: P_B ≤ 2·S + loop.
     let bound = |t: &CycleTable| -> Vec<f64> {
-        t.stitch.as_ref().unwrap().checks.iter().filter(|c| c.name == "thread_bound").map(|c| c.limit[1].unwrap() - c.value).collect()
+        t.stitch
+            .as_ref()
+            .unwrap()
+            .checks
+            .iter()
+            .filter(|c| c.name == "thread_bound")
+            .map(|c| c.limit[1].unwrap() - c.value)
+            .collect()
     };
     let (bd, b0) = (bound(&t), bound(&t0));
     let margin = bd.iter().cloned().fold(f64::MAX, f64::min);
     out.push(
-        fact("MF20", Verdict::grade(margin >= 0.0, false), format!("smallest margin {} mm (needles 1/2/3)", f(margin, 2)), vec![margin, 1.0, 2.0, 3.0])
-            .why(format!("exceeded by **{} / {} / {} mm**", f(-b0[0], 1), f(-b0[1], 1), f(-b0[2], 1)), vec![-b0[0], -b0[1], -b0[2]]),
+        fact(
+            "MF20",
+            Verdict::grade(margin >= 0.0, false),
+            format!("smallest margin {} mm (needles 1/2/3)", f(margin, 2)),
+            vec![margin, 1.0, 2.0, 3.0],
+        )
+        .why(
+            format!(
+                "exceeded by **{} / {} / {} mm**",
+                f(-b0[0], 1),
+                f(-b0[1], 1),
+                f(-b0[2], 1)
+            ),
+            vec![-b0[0], -b0[1], -b0[2]],
+        ),
     );
 
     // Needle 1 is the one the looper catches first.
-    let catches = needles.map(|j| t.stitch.as_ref().unwrap().moments.iter().find(|(n, _)| n == &format!("n{j}: catch (derived)")).unwrap().1);
+    let catches = needles.map(|j| {
+        t.stitch
+            .as_ref()
+            .unwrap()
+            .moments
+            .iter()
+            .find(|(n, _)| n == &format!("n{j}: catch (derived)"))
+            .unwrap()
+            .1
+    });
     let first = (0..3).min_by(|&i, &j| catches[i].total_cmp(&catches[j])).unwrap() + 1;
     out.push(fact(
         "MF21",
         Verdict::grade(first == 1, false),
-        format!("catches at φ = {}° / {}° / {}° (needles 1/2/3): needle {} first", f(catches[0], 1), f(catches[1], 1), f(catches[2], 1), first),
+        format!(
+            "catches at φ = {}° / {}° / {}° (needles 1/2/3): needle {} first",
+            f(catches[0], 1),
+            f(catches[1], 1),
+            f(catches[2], 1),
+            first
+        ),
         vec![catches[0], catches[1], catches[2], 1.0, 2.0, 3.0, first as f64],
     ));
-    MfRest { facts: out, at_lock_z, at_lock_dphi }
+    MfRest {
+        facts: out,
+        at_lock_z,
+        at_lock_dphi,
+    }
 }
 
 // ---------------------------------------------------------------------------
@@ -551,7 +806,11 @@ fn needle876() -> Vec<Fact> {
     out.push(fact(
         "ND01",
         Verdict::grade(s0.stroke_mm.round() == 18.0 && s35.stroke_mm.round() == 23.0, false),
-        format!("{} mm at α = 0, {} mm at α = 35°", f(s0.stroke_mm, 2), f(s35.stroke_mm, 2)),
+        format!(
+            "{} mm at α = 0, {} mm at α = 35°",
+            f(s0.stroke_mm, 2),
+            f(s35.stroke_mm, 2)
+        ),
         vec![s0.stroke_mm, 0.0, s35.stroke_mm, 35.0],
     ));
     let lows: Vec<f64> = rows.iter().map(|r| r.min.position_mm).collect();
@@ -559,11 +818,20 @@ fn needle876() -> Vec<Fact> {
     out.push(fact(
         "ND02",
         Verdict::grade(spread < 0.005, false),
-        format!("y_G = {} mm at α = 0; it moves {} mm over α = 0…35°", f(lows[0], 3), f(spread, 4)),
+        format!(
+            "y_G = {} mm at α = 0; it moves {} mm over α = 0…35°",
+            f(lows[0], 3),
+            f(spread, 4)
+        ),
         vec![lows[0], 0.0, spread, 0.0, 35.0],
     ));
     let phi0 = s0.min.phi_deg.unwrap();
-    out.push(fact("ND03", Verdict::fitted((phi0 - 90.6).abs() <= 0.05, false), format!("{}°", f(phi0, 2)), vec![phi0]));
+    out.push(fact(
+        "ND03",
+        Verdict::fitted((phi0 - 90.6).abs() <= 0.05, false),
+        format!("{}°", f(phi0, 2)),
+        vec![phi0],
+    ));
 
     // l_CF from Fig. 1's condition: with EF horizontal at the needle's BDC,
     // E is l_DE from D there.
@@ -574,10 +842,21 @@ fn needle876() -> Vec<Fact> {
     let dd = pose.point(point_slot(&m, "D", "--point", true).unwrap(), 0);
     let x_e = v("x_c") + v("l_ef");
     let l_cf = v("y_c") - (dd[1] - (v("l_de").powi(2) - (x_e - dd[0]).powi(2)).sqrt());
-    out.push(fact("ND04", Verdict::grade((l_cf - 37.945).abs() <= 0.0005, false), format!("{} mm", f(l_cf, 4)), vec![l_cf]));
+    out.push(fact(
+        "ND04",
+        Verdict::grade((l_cf - 37.945).abs() <= 0.0005, false),
+        format!("{} mm", f(l_cf, 4)),
+        vec![l_cf],
+    ));
 
-    let mu_lo = rows.iter().flat_map(|r| r.mu.iter().map(|x| x.min_deg)).fold(f64::MAX, f64::min);
-    let mu_hi = rows.iter().flat_map(|r| r.mu.iter().map(|x| x.max_deg)).fold(f64::MIN, f64::max);
+    let mu_lo = rows
+        .iter()
+        .flat_map(|r| r.mu.iter().map(|x| x.min_deg))
+        .fold(f64::MAX, f64::min);
+    let mu_hi = rows
+        .iter()
+        .flat_map(|r| r.mu.iter().map(|x| x.max_deg))
+        .fold(f64::MIN, f64::max);
     out.push(fact(
         "ND05",
         Verdict::grade(mu_lo > 30.0 && mu_hi < 150.0, false),
@@ -585,7 +864,17 @@ fn needle876() -> Vec<Fact> {
         vec![1.0, 2.0, 3.0, mu_lo, mu_hi, 0.0, 35.0],
     ));
     let sweep = Sweep::new(vec![Vary::parse(&m, "alpha=35:40:2").unwrap()], Design::Grid).unwrap();
-    let s = study(&m, &d, Some(&sweep), &StrokeOptions { point: g, axis: Axis::World(1), step_deg: 2.0 }).unwrap();
+    let s = study(
+        &m,
+        &d,
+        Some(&sweep),
+        &StrokeOptions {
+            point: g,
+            axis: Axis::World(1),
+            step_deg: 2.0,
+        },
+    )
+    .unwrap();
     let c = &s.crossings[0];
     out.push(fact(
         "ND06",
@@ -598,28 +887,68 @@ fn needle876() -> Vec<Fact> {
     out.push(fact(
         "ND07",
         Verdict::grade(falls, false),
-        format!("min μ2 {}° → {}° as the stroke grows {} → {} mm (α = 0 → 35°)", f(mu2[0], 2), f(mu2[7], 2), f(s0.stroke_mm, 2), f(s35.stroke_mm, 2)),
+        format!(
+            "min μ2 {}° → {}° as the stroke grows {} → {} mm (α = 0 → 35°)",
+            f(mu2[0], 2),
+            f(mu2[7], 2),
+            f(s0.stroke_mm, 2),
+            f(s35.stroke_mm, 2)
+        ),
         vec![2.0, mu2[0], mu2[7], s0.stroke_mm, s35.stroke_mm, 0.0, 35.0],
     ));
     let analogs = |alpha: f64| {
-        let t = run_cycle(&m, &with(&m, &d, &[("alpha", alpha)]), &CycleOptions { step_deg: 2.0, analogs: true, ..opts(2.0) }).unwrap();
-        (max_abs(col(&t, "G.dy_dphi_mm_per_rad")), max_abs(col(&t, "G.d2y_dphi2_mm_per_rad2")))
+        let t = run_cycle(
+            &m,
+            &with(&m, &d, &[("alpha", alpha)]),
+            &CycleOptions {
+                step_deg: 2.0,
+                analogs: true,
+                ..opts(2.0)
+            },
+        )
+        .unwrap();
+        (
+            max_abs(col(&t, "G.dy_dphi_mm_per_rad")),
+            max_abs(col(&t, "G.d2y_dphi2_mm_per_rad2")),
+        )
     };
     let (a0, a35) = (analogs(0.0), analogs(35.0));
     out.push(fact(
         "ND08",
         Verdict::grade(a35.0 > a0.0 && a35.1 > a0.1, false),
-        format!("max |dy_G/dφ| {} → {} mm/rad, max |d²y_G/dφ²| {} → {} mm/rad² (α = 0 → 35°)", f(a0.0, 2), f(a35.0, 2), f(a0.1, 2), f(a35.1, 2)),
+        format!(
+            "max |dy_G/dφ| {} → {} mm/rad, max |d²y_G/dφ²| {} → {} mm/rad² (α = 0 → 35°)",
+            f(a0.0, 2),
+            f(a35.0, 2),
+            f(a0.1, 2),
+            f(a35.1, 2)
+        ),
         vec![a0.0, a35.0, a0.1, a35.1, 0.0, 35.0],
     ));
     let most = alphas.iter().map(|&a| at(a).stroke_mm).fold(f64::MIN, f64::max);
-    out.push(fact("ND09", Verdict::NotApplicable, format!("at most {} mm over α = 0…35°", f(most, 2)), vec![most, 0.0, 35.0]));
-    let cc = [0.0, 35.0].map(|a| cross_check(&m, &with(&m, &d, &[("alpha", a)]), 2.0).unwrap().max_deviation_mm);
+    out.push(fact(
+        "ND09",
+        Verdict::NotApplicable,
+        format!("at most {} mm over α = 0…35°", f(most, 2)),
+        vec![most, 0.0, 35.0],
+    ));
+    let cc = [0.0, 35.0].map(|a| {
+        cross_check(&m, &with(&m, &d, &[("alpha", a)]), 2.0)
+            .unwrap()
+            .max_deviation_mm
+    });
     let worst_nm = cc.iter().cloned().fold(0.0, f64::max) * 1e6;
     out.push(fact(
         "ND10",
-        if worst_nm < 1e-3 { Verdict::NotApplicable } else { Verdict::No },
-        format!("the closed-form groups and an independent Newton solver differ by at most {} nm at α = 0 and 35°", f(worst_nm, 3)),
+        if worst_nm < 1e-3 {
+            Verdict::NotApplicable
+        } else {
+            Verdict::No
+        },
+        format!(
+            "the closed-form groups and an independent Newton solver differ by at most {} nm at α = 0 and 35°",
+            f(worst_nm, 3)
+        ),
         vec![worst_nm, 0.0, 35.0],
     ));
     out
@@ -634,7 +963,10 @@ fn altin_needle() -> Vec<Fact> {
     let slot = |n: &str| point_slot(&m, n, "--line", false).unwrap();
     let o = StraightnessOptions {
         point: point_slot(&m, "E", "--point", true).unwrap(),
-        reference: Reference::Line { through: slot("N1"), toward: slot("N2") },
+        reference: Reference::Line {
+            through: slot("N1"),
+            toward: slot("N2"),
+        },
         window: Window::Cycle,
         step_deg: 2.0,
     };
@@ -653,13 +985,21 @@ fn altin_needle() -> Vec<Fact> {
         fact(
             "AN02",
             Verdict::NotApplicable,
-            format!("AB ± 0.05 mm: {} mm, BE ± 0.05 mm: {} mm (limit 0.05 mm)", f(ab, 4), f(be, 4)),
+            format!(
+                "AB ± 0.05 mm: {} mm, BE ± 0.05 mm: {} mm (limit 0.05 mm)",
+                f(ab, 4),
+                f(be, 4)
+            ),
             vec![0.05, ab, 0.05, be, 0.05],
         ),
         fact(
             "AN03",
             Verdict::grade(false, lm - nominal < 0.005),
-            format!("LM ± 0.05 mm: {} mm ({} mm from nominal)", f(lm, 5), sf(lm - nominal, 5)),
+            format!(
+                "LM ± 0.05 mm: {} mm ({} mm from nominal)",
+                f(lm, 5),
+                sf(lm - nominal, 5)
+            ),
             vec![0.05, lm, lm - nominal],
         ),
     ]
@@ -673,11 +1013,31 @@ fn altin504() -> Vec<Fact> {
     let d = m.defaults();
     let t = run(&m, &d, 1.0);
     let st = t.stitch.as_ref().unwrap();
-    let moment = |name: &str| st.moments.iter().find(|(n, _)| n == name).unwrap_or_else(|| panic!("no moment {name}")).1;
-    let (tdc, catch, drop) = (moment("needle: needle TDC"), moment("needle: catch (derived)"), moment("needle: drop (derived)"));
+    let moment = |name: &str| {
+        st.moments
+            .iter()
+            .find(|(n, _)| n == name)
+            .unwrap_or_else(|| panic!("no moment {name}"))
+            .1
+    };
+    let (tdc, catch, drop) = (
+        moment("needle: needle TDC"),
+        moment("needle: catch (derived)"),
+        moment("needle: drop (derived)"),
+    );
     let mut out = Vec::new();
-    out.push(fact("AL01", Verdict::grade((tdc - 180.0).abs() <= 0.5, (tdc - 180.0).abs() <= 10.0), format!("needle TDC at φ = {}°", f(tdc, 2)), vec![tdc]));
-    out.push(fact("AL02", Verdict::fitted((catch - 30.0).abs() <= 0.5, false), format!("derived catch at φ = {}°", f(catch, 2)), vec![catch]));
+    out.push(fact(
+        "AL01",
+        Verdict::grade((tdc - 180.0).abs() <= 0.5, (tdc - 180.0).abs() <= 10.0),
+        format!("needle TDC at φ = {}°", f(tdc, 2)),
+        vec![tdc],
+    ));
+    out.push(fact(
+        "AL02",
+        Verdict::fitted((catch - 30.0).abs() <= 0.5, false),
+        format!("derived catch at φ = {}°", f(catch, 2)),
+        vec![catch],
+    ));
 
     // The needle's rise from its BDC along its line (measure needle_s).
     let mech = m.mechanism::<f64>(&d).unwrap();
@@ -718,43 +1078,100 @@ fn altin504() -> Vec<Fact> {
         other => panic!("feed {other:?}"),
     };
     let (start, dur) = (num(&feed.start_deg), num(&feed.duration_deg));
-    out.push(fact("AL05", Verdict::NotApplicable, format!("transport φ_c = {}°…{}° (declared)", f(start, 0), f(start + dur, 0)), vec![start, start + dur]));
+    out.push(fact(
+        "AL05",
+        Verdict::NotApplicable,
+        format!("transport φ_c = {}°…{}° (declared)", f(start, 0), f(start + dur, 0)),
+        vec![start, start + dur],
+    ));
     let after_tdc = (tdc + 310.0) % 360.0;
     out.push(
-        fact("AL06", Verdict::grade((after_tdc - start).abs() <= 0.5, false), format!("310° after the TDC is φ_c = {}°; the preset starts at {}°", f(after_tdc, 2), f(start, 0)), vec![310.0, after_tdc, start])
-            .why(format!("**{}°**", f((180.0 + 310.0) % 360.0, 0)), vec![(180.0 + 310.0) % 360.0]),
+        fact(
+            "AL06",
+            Verdict::grade((after_tdc - start).abs() <= 0.5, false),
+            format!(
+                "310° after the TDC is φ_c = {}°; the preset starts at {}°",
+                f(after_tdc, 2),
+                f(start, 0)
+            ),
+            vec![310.0, after_tdc, start],
+        )
+        .why(
+            format!("**{}°**", f((180.0 + 310.0) % 360.0, 0)),
+            vec![(180.0 + 310.0) % 360.0],
+        ),
     );
-    out.push(fact("AL07", Verdict::fitted((drop - 300.0).abs() <= 0.5, (drop - 300.0).abs() <= 5.0), format!("derived drop at φ = {}°", f(drop, 2)), vec![drop]));
+    out.push(fact(
+        "AL07",
+        Verdict::fitted((drop - 300.0).abs() <= 0.5, (drop - 300.0).abs() <= 5.0),
+        format!("derived drop at φ = {}°", f(drop, 2)),
+        vec![drop],
+    ));
     let needle = &st.threads[0];
-    let lock = needle.events.iter().min_by(|a, b| a.jump_mm.total_cmp(&b.jump_mm)).unwrap();
-    let sharp = within(drop, 270.0, 305.0) && within(lock.phi_deg, 270.0, 305.0) && needle.phi_at_max_pprime_deg <= lock.phi_deg && needle.phi_at_max_pprime_deg >= 270.0;
+    let lock = needle
+        .events
+        .iter()
+        .min_by(|a, b| a.jump_mm.total_cmp(&b.jump_mm))
+        .unwrap();
+    let sharp = within(drop, 270.0, 305.0)
+        && within(lock.phi_deg, 270.0, 305.0)
+        && needle.phi_at_max_pprime_deg <= lock.phi_deg
+        && needle.phi_at_max_pprime_deg >= 270.0;
     out.push(fact(
         "AL08",
         Verdict::grade(sharp, false),
         format!(
             "needle thread: P′_B rises to {} mm at φ = {}°, then falls by {} mm at φ4 = {}° (derived drop {}°)",
-            f(needle.max_pprime_mm, 2), f(needle.phi_at_max_pprime_deg, 1), f(-lock.jump_mm, 2), f(lock.phi_deg, 0), f(drop, 1)
+            f(needle.max_pprime_mm, 2),
+            f(needle.phi_at_max_pprime_deg, 1),
+            f(-lock.jump_mm, 2),
+            f(lock.phi_deg, 0),
+            f(drop, 1)
         ),
-        vec![needle.max_pprime_mm, needle.phi_at_max_pprime_deg, -lock.jump_mm, 4.0, lock.phi_deg, drop],
+        vec![
+            needle.max_pprime_mm,
+            needle.phi_at_max_pprime_deg,
+            -lock.jump_mm,
+            4.0,
+            lock.phi_deg,
+            drop,
+        ],
     ));
     // The stitch's geometry: m and t of the preset, the overedge width
     // a_e = 4 mm and the mid-edge meeting of its [stitch] (illustrative),
     // the needle's β = 20°.
-    let geometry = StitchGeometry { thickness_mm: st.m_mm, stitch_mm: st.t_mm, width_mm: 4.0, incline_deg: 20.0, edge_fraction: 0.5 };
+    let geometry = StitchGeometry {
+        thickness_mm: st.m_mm,
+        stitch_mm: st.t_mm,
+        width_mm: 4.0,
+        incline_deg: 20.0,
+        edge_fraction: 0.5,
+    };
     let per: Vec<f64> = st.threads.iter().map(|th| th.per_stitch_mm).collect();
     let locked: Vec<f64> = st.threads.iter().map(|th| th.locked_mm).collect();
     let c = consumption(504, &geometry).unwrap();
     // Seed 004 §2.6: l_m = m / cos β, l = √(a² + t²).
-    let formulas = (c.l_m_mm - st.m_mm / 20f64.to_radians().cos()).abs() < 1e-12 && (c.l_mm - (4f64.powi(2) + st.t_mm.powi(2)).sqrt()).abs() < 1e-12;
+    let formulas = (c.l_m_mm - st.m_mm / 20f64.to_radians().cos()).abs() < 1e-12
+        && (c.l_mm - (4f64.powi(2) + st.t_mm.powi(2)).sqrt()).abs() < 1e-12;
     let locks = per.iter().zip(&locked).all(|(a, b)| (a - b).abs() < 1e-9);
     out.push(
         fact(
             "AL09",
             Verdict::fitted(formulas && locks, false),
-            format!("l_m = {} mm, l = {} mm; per stitch: needle {} mm, lower looper {} mm, upper looper {} mm", f(c.l_m_mm, 3), f(c.l_mm, 3), f(per[0], 3), f(per[1], 3), f(per[2], 3)),
+            format!(
+                "l_m = {} mm, l = {} mm; per stitch: needle {} mm, lower looper {} mm, upper looper {} mm",
+                f(c.l_m_mm, 3),
+                f(c.l_mm, 3),
+                f(per[0], 3),
+                f(per[1], 3),
+                f(per[2], 3)
+            ),
             vec![c.l_m_mm, c.l_mm, per[0], per[1], per[2]],
         )
-        .why(format!("**{} / {} / {} mm**", f(locked[0], 3), f(locked[1], 3), f(locked[2], 3)), vec![locked[0], locked[1], locked[2]]),
+        .why(
+            format!("**{} / {} / {} mm**", f(locked[0], 3), f(locked[1], 3), f(locked[2], 3)),
+            vec![locked[0], locked[1], locked[2]],
+        ),
     );
     // Seed 004 Table 3: contour 1 in 8 stitch types, the others in two or
     // three.
@@ -768,17 +1185,51 @@ fn altin504() -> Vec<Fact> {
         }
     }
     let one = types_of[&1].len();
-    let most_other = types_of.iter().filter(|(n, _)| **n != 1).map(|(n, s)| (s.len(), *n)).max().unwrap();
+    let most_other = types_of
+        .iter()
+        .filter(|(n, _)| **n != 1)
+        .map(|(n, s)| (s.len(), *n))
+        .max()
+        .unwrap();
     let singles = types_of.values().filter(|s| s.len() == 1).count();
-    let rest_two_three = types_of.iter().filter(|(n, _)| **n != 1).all(|(_, s)| within(s.len() as f64, 2.0, 3.0));
+    let rest_two_three = types_of
+        .iter()
+        .filter(|(n, _)| **n != 1)
+        .all(|(_, s)| within(s.len() as f64, 2.0, 3.0));
     out.push(fact("AL11", Verdict::NotApplicable, "—".into(), vec![]));
-    let lower = st.threads.iter().find(|th| th.thread == "lower").unwrap().mismatch.as_ref().unwrap().score.unwrap();
-    out.push(fact("AL12", Verdict::NotApplicable, format!("lower-looper thread: match score {} with the preset's illustrative cam", f(lower, 1)), vec![lower]));
+    let lower = st
+        .threads
+        .iter()
+        .find(|th| th.thread == "lower")
+        .unwrap()
+        .mismatch
+        .as_ref()
+        .unwrap()
+        .score
+        .unwrap();
+    out.push(fact(
+        "AL12",
+        Verdict::NotApplicable,
+        format!(
+            "lower-looper thread: match score {} with the preset's illustrative cam",
+            f(lower, 1)
+        ),
+        vec![lower],
+    ));
     out.push(fact(
         "AL10",
         Verdict::grade(one == 8 && rest_two_three, one == 8),
-        format!("contour 1 in {} types; contour {} in {}; {} contours in one type only", one, most_other.1, most_other.0, singles),
-        vec![1.0, one as f64, most_other.1 as f64, most_other.0 as f64, singles as f64],
+        format!(
+            "contour 1 in {} types; contour {} in {}; {} contours in one type only",
+            one, most_other.1, most_other.0, singles
+        ),
+        vec![
+            1.0,
+            one as f64,
+            most_other.1 as f64,
+            most_other.0 as f64,
+            singles as f64,
+        ],
     ));
     out.sort_by_key(|f| f.id);
     out
@@ -794,8 +1245,18 @@ fn takeup_lever() -> Vec<Fact> {
     let p = col(&t, "lever.P_mm");
     let (lo, hi) = (p.iter().cloned().fold(f64::MAX, f64::min), max_of(p));
     vec![
-        fact("TL01", Verdict::NotApplicable, format!("P(φ0) = {} mm", f(p[0], 3)), vec![0.0, p[0]]),
-        fact("TL02", Verdict::NotApplicable, format!("P from {} to {} mm (illustrative dimensions)", f(lo, 2), f(hi, 2)), vec![lo, hi]),
+        fact(
+            "TL01",
+            Verdict::NotApplicable,
+            format!("P(φ0) = {} mm", f(p[0], 3)),
+            vec![0.0, p[0]],
+        ),
+        fact(
+            "TL02",
+            Verdict::NotApplicable,
+            format!("P from {} to {} mm (illustrative dimensions)", f(lo, 2), f(hi, 2)),
+            vec![lo, hi],
+        ),
         fact("TL03", Verdict::NotApplicable, "—".into(), vec![]),
     ]
 }
@@ -803,20 +1264,47 @@ fn takeup_lever() -> Vec<Fact> {
 fn overlock500() -> Vec<Fact> {
     let m = Model::preset("overlock500").unwrap();
     let t = run(&m, &m.defaults(), 2.0);
-    let travel = |p: &str| ["x", "y", "z"].map(|a| {
-        let c = col(&t, &format!("{p}.{a}_mm"));
-        max_of(c) - c.iter().cloned().fold(f64::MAX, f64::min)
-    });
+    let travel = |p: &str| {
+        ["x", "y", "z"].map(|a| {
+            let c = col(&t, &format!("{p}.{a}_mm"));
+            max_of(c) - c.iter().cloned().fold(f64::MAX, f64::min)
+        })
+    };
     let span = |p: &str| travel(p).into_iter().fold(f64::MIN, f64::max);
     let displacement = |p: &str| {
-        let c: Vec<&[f64]> = ["x", "y", "z"].iter().map(|a| col(&t, &format!("{p}.{a}_mm"))).collect();
-        (0..c[0].len()).map(|k| (0..3).map(|i| (c[i][k] - c[i][0]).powi(2)).sum::<f64>().sqrt()).fold(0.0, f64::max)
+        let c: Vec<&[f64]> = ["x", "y", "z"]
+            .iter()
+            .map(|a| col(&t, &format!("{p}.{a}_mm")))
+            .collect();
+        (0..c[0].len())
+            .map(|k| (0..3).map(|i| (c[i][k] - c[i][0]).powi(2)).sum::<f64>().sqrt())
+            .fold(0.0, f64::max)
     };
     let (s20, s6, s11) = (span("P20"), span("P6"), span("P11"));
     let (d20, d6, d11) = (displacement("P20"), displacement("P6"), displacement("P11"));
     vec![
-        fact("OL01", Verdict::NotApplicable, format!("largest coordinate travel: P20 {} mm, P6 {} mm, P11 {} mm (illustrative)", f(s20, 2), f(s6, 2), f(s11, 2)), vec![s20, s6, s11]),
-        fact("OL02", Verdict::NotApplicable, format!("largest displacement from φ = 0: P20 {} mm, P6 {} mm, P11 {} mm (illustrative)", f(d20, 2), f(d6, 2), f(d11, 2)), vec![0.0, d20, d6, d11]),
+        fact(
+            "OL01",
+            Verdict::NotApplicable,
+            format!(
+                "largest coordinate travel: P20 {} mm, P6 {} mm, P11 {} mm (illustrative)",
+                f(s20, 2),
+                f(s6, 2),
+                f(s11, 2)
+            ),
+            vec![s20, s6, s11],
+        ),
+        fact(
+            "OL02",
+            Verdict::NotApplicable,
+            format!(
+                "largest displacement from φ = 0: P20 {} mm, P6 {} mm, P11 {} mm (illustrative)",
+                f(d20, 2),
+                f(d6, 2),
+                f(d11, 2)
+            ),
+            vec![0.0, d20, d6, d11],
+        ),
     ]
 }
 
@@ -833,7 +1321,9 @@ fn numbers(cell: &str) -> Vec<(f64, usize)> {
     let mut out = Vec::new();
     let mut i = 0;
     while i < c.len() {
-        let sign = matches!(c[i], '−' | '-' | '+') && c.get(i + 1).is_some_and(|x| x.is_ascii_digit()) && !(i > 0 && c[i - 1].is_ascii_digit());
+        let sign = matches!(c[i], '−' | '-' | '+')
+            && c.get(i + 1).is_some_and(|x| x.is_ascii_digit())
+            && !(i > 0 && c[i - 1].is_ascii_digit());
         if !(c[i].is_ascii_digit() || sign) {
             i += 1;
             continue;
@@ -842,7 +1332,9 @@ fn numbers(cell: &str) -> Vec<(f64, usize)> {
         let negative = sign && c[i] != '+';
         let start = if sign { i + 1 } else { i };
         let mut j = start;
-        while j < c.len() && (c[j].is_ascii_digit() || (c[j] == '.' && c.get(j + 1).is_some_and(|x| x.is_ascii_digit()))) {
+        while j < c.len()
+            && (c[j].is_ascii_digit() || (c[j] == '.' && c.get(j + 1).is_some_and(|x| x.is_ascii_digit())))
+        {
             j += 1;
         }
         if !word(before) && !word(c.get(j)) {
@@ -864,7 +1356,10 @@ fn bold_numbers(cell: &str) -> Vec<(f64, usize)> {
 /// Whether `printed` (with its decimals) is `value` rounded.
 fn agrees(printed: &[(f64, usize)], values: &[f64]) -> bool {
     printed.len() == values.len()
-        && printed.iter().zip(values).all(|(&(p, dec), &v)| (p - v).abs() <= 0.5 * 10f64.powi(-(dec as i32)) * (1.0 + 1e-9) + 1e-12)
+        && printed
+            .iter()
+            .zip(values)
+            .all(|(&(p, dec), &v)| (p - v).abs() <= 0.5 * 10f64.powi(-(dec as i32)) * (1.0 + 1e-9) + 1e-12)
 }
 
 /// One preset's rows.
@@ -882,19 +1377,40 @@ fn fact_cells(line: &str) -> Option<Vec<String>> {
         return None;
     }
     // `\|` is a bar inside a cell (|dy/dφ|), not a cell boundary.
-    let cells: Vec<String> = line.replace("\\|", "\u{a6}").trim().trim_matches('|').split('|').map(|c| c.trim().replace('\u{a6}', "|")).collect();
+    let cells: Vec<String> = line
+        .replace("\\|", "\u{a6}")
+        .trim()
+        .trim_matches('|')
+        .split('|')
+        .map(|c| c.trim().replace('\u{a6}', "|"))
+        .collect();
     let id = cells[0].as_bytes();
-    (id.len() == 4 && id[..2].iter().all(u8::is_ascii_uppercase) && id[2..].iter().all(u8::is_ascii_digit)).then_some(cells)
+    (id.len() == 4 && id[..2].iter().all(u8::is_ascii_uppercase) && id[2..].iter().all(u8::is_ascii_digit))
+        .then_some(cells)
 }
 
 fn doc_rows() -> Vec<Row> {
-    DOC.lines().filter_map(|l| Some(Row { line: l.to_string(), cells: fact_cells(l)? })).collect()
+    DOC.lines()
+        .filter_map(|l| {
+            Some(Row {
+                line: l.to_string(),
+                cells: fact_cells(l)?,
+            })
+        })
+        .collect()
 }
 
 #[test]
 fn published_facts_table_is_current() {
     let started = std::time::Instant::now();
-    let sections: [(&str, Section); 6] = [("mf7923d", mf7923d), ("needle876", needle876), ("altin-needle", altin_needle), ("altin504", altin504), ("takeup-lever", takeup_lever), ("overlock500", overlock500)];
+    let sections: [(&str, Section); 6] = [
+        ("mf7923d", mf7923d),
+        ("needle876", needle876),
+        ("altin-needle", altin_needle),
+        ("altin504", altin504),
+        ("takeup-lever", takeup_lever),
+        ("overlock500", overlock500),
+    ];
     let print = std::env::var_os("STITCHKIN_PRINT_FACTS").is_some();
     let mut facts = Vec::new();
     for (name, section) in sections {
@@ -911,22 +1427,54 @@ fn published_facts_table_is_current() {
             println!("{} | {} | {} | {}", fa.id, fa.text, fa.verdict.word(), fa.why);
         }
         let Some(row) = rows.iter().find(|r| r.cells[0] == fa.id) else {
-            writeln!(errors, "{}: no row in docs/published-facts.md; recomputed: {} | {} | {}", fa.id, fa.text, fa.verdict.word(), fa.why).unwrap();
+            writeln!(
+                errors,
+                "{}: no row in docs/published-facts.md; recomputed: {} | {} | {}",
+                fa.id,
+                fa.text,
+                fa.verdict.word(),
+                fa.why
+            )
+            .unwrap();
             continue;
         };
         if row.cells.len() != 7 {
-            writeln!(errors, "{}: the row has {} cells, not 7: {}", fa.id, row.cells.len(), row.line).unwrap();
+            writeln!(
+                errors,
+                "{}: the row has {} cells, not 7: {}",
+                fa.id,
+                row.cells.len(),
+                row.line
+            )
+            .unwrap();
             continue;
         }
         let (figure, verdict, why) = (&row.cells[4], &row.cells[5], &row.cells[6]);
         if !agrees(&numbers(figure), &fa.values) {
-            writeln!(errors, "{}: stitchkin's figure is stale; recomputed: {}  (values {:?})\n    row: {}", fa.id, fa.text, fa.values, row.line).unwrap();
+            writeln!(
+                errors,
+                "{}: stitchkin's figure is stale; recomputed: {}  (values {:?})\n    row: {}",
+                fa.id, fa.text, fa.values, row.line
+            )
+            .unwrap();
         }
         if verdict != fa.verdict.word() {
-            writeln!(errors, "{}: the verdict is `{verdict}`, the criterion gives `{}`\n    row: {}", fa.id, fa.verdict.word(), row.line).unwrap();
+            writeln!(
+                errors,
+                "{}: the verdict is `{verdict}`, the criterion gives `{}`\n    row: {}",
+                fa.id,
+                fa.verdict.word(),
+                row.line
+            )
+            .unwrap();
         }
         if !agrees(&bold_numbers(why), &fa.why_values) {
-            writeln!(errors, "{}: the figures in bold in `why` are stale; recomputed: {}  (values {:?})\n    row: {}", fa.id, fa.why, fa.why_values, row.line).unwrap();
+            writeln!(
+                errors,
+                "{}: the figures in bold in `why` are stale; recomputed: {}  (values {:?})\n    row: {}",
+                fa.id, fa.why, fa.why_values, row.line
+            )
+            .unwrap();
         }
     }
     for r in &rows {
@@ -941,7 +1489,10 @@ fn published_facts_table_is_current() {
         if line.starts_with("## ") {
             counts = [0; 4];
         } else if let Some(cells) = fact_cells(line) {
-            let k = ["yes", "partly", "no", "not applicable"].iter().position(|w| cells.get(5).is_some_and(|c| c == w)).unwrap_or(4);
+            let k = ["yes", "partly", "no", "not applicable"]
+                .iter()
+                .position(|w| cells.get(5).is_some_and(|c| c == w))
+                .unwrap_or(4);
             if k < 4 {
                 counts[k] += 1;
             }
@@ -949,7 +1500,12 @@ fn published_facts_table_is_current() {
             sections += 1;
             let said: Vec<usize> = numbers(line).into_iter().map(|(v, _)| v as usize).collect();
             if said != counts {
-                writeln!(errors, "summary `{line}`: the rows above count {} yes, {} partly, {} no, {} not applicable", counts[0], counts[1], counts[2], counts[3]).unwrap();
+                writeln!(
+                    errors,
+                    "summary `{line}`: the rows above count {} yes, {} partly, {} no, {} not applicable",
+                    counts[0], counts[1], counts[2], counts[3]
+                )
+                .unwrap();
             }
         }
     }
@@ -957,14 +1513,36 @@ fn published_facts_table_is_current() {
         writeln!(errors, "{sections} summary lines, one per preset (6) expected").unwrap();
     }
     if print {
-        println!("recomputed {} rows in {:.1} s", facts.len(), started.elapsed().as_secs_f64());
+        println!(
+            "recomputed {} rows in {:.1} s",
+            facts.len(),
+            started.elapsed().as_secs_f64()
+        );
     }
-    assert!(errors.is_empty(), "docs/published-facts.md does not match what stitchkin computes:\n{errors}");
+    assert!(
+        errors.is_empty(),
+        "docs/published-facts.md does not match what stitchkin computes:\n{errors}"
+    );
 }
 
 #[test]
 fn numbers_in_cells() {
-    assert_eq!(numbers("A 17.5 / 14.0 mm, n1 t1_phase −2.3 +0.32 ±52° 2D 3…−5 r2=16.5"), vec![(17.5, 1), (14.0, 1), (-2.3, 1), (0.32, 2), (52.0, 0), (3.0, 0), (-5.0, 0), (16.5, 1)]);
-    assert_eq!(bold_numbers("x 3 **0.108 mm (0.12 %)** y 4 **−7**"), vec![(0.108, 3), (0.12, 2), (-7.0, 0)]);
+    assert_eq!(
+        numbers("A 17.5 / 14.0 mm, n1 t1_phase −2.3 +0.32 ±52° 2D 3…−5 r2=16.5"),
+        vec![
+            (17.5, 1),
+            (14.0, 1),
+            (-2.3, 1),
+            (0.32, 2),
+            (52.0, 0),
+            (3.0, 0),
+            (-5.0, 0),
+            (16.5, 1)
+        ]
+    );
+    assert_eq!(
+        bold_numbers("x 3 **0.108 mm (0.12 %)** y 4 **−7**"),
+        vec![(0.108, 3), (0.12, 2), (-7.0, 0)]
+    );
     assert!(agrees(&[(0.96, 2)], &[0.958]) && !agrees(&[(0.95, 2)], &[0.958]) && !agrees(&[(1.0, 0)], &[1.0, 2.0]));
 }

@@ -108,9 +108,7 @@ fn a_name_only_model_loads() {
 #[test]
 fn non_finite_numbers_are_rejected() {
     for v in ["nan", "inf", "-inf", "+nan", "-nan", "+inf"] {
-        rejects(&with_params(&format!(
-            "a = {{ value = {v}, unit = \"mm\" }}"
-        )));
+        rejects(&with_params(&format!("a = {{ value = {v}, unit = \"mm\" }}")));
         rejects(&with_params(&format!(
             "a = {{ value = 1, unit = \"mm\", range = [{v}, 2] }}"
         )));
@@ -124,10 +122,7 @@ fn non_finite_numbers_are_rejected() {
 #[test]
 fn non_finite_cycle_settings_do_not_panic() {
     for v in ["nan", "inf", "-inf", "1e308", "-1e308", "5e-324"] {
-        let _ = exercise(&BASE.replace(
-            "name = \"base\"",
-            &format!("name = \"base\"\nphi_start_deg = {v}"),
-        ));
+        let _ = exercise(&BASE.replace("name = \"base\"", &format!("name = \"base\"\nphi_start_deg = {v}")));
         let _ = exercise(&BASE.replace("name = \"base\"", &format!("name = \"base\"\nrpm = {v}")));
     }
 }
@@ -417,24 +412,12 @@ fn bad_parameters_are_errors() {
     rejects(&with_params("a = { unit = \"mm\" }"));
     rejects(&with_params("a = { value = 1, unit = \"cm\" }"));
     rejects(&with_params("a = { value = 1, unit = \"\" }"));
-    rejects(&with_params(
-        "a = { value = 1, expr = \"2\", unit = \"mm\" }",
-    ));
-    rejects(&with_params(
-        "a = { value = 5, unit = \"mm\", range = [0, 1] }",
-    ));
-    rejects(&with_params(
-        "a = { value = 5, unit = \"mm\", range = [9, 1] }",
-    ));
-    rejects(&with_params(
-        "a = { value = 5, unit = \"mm\", range = [1] }",
-    ));
-    rejects(&with_params(
-        "a = { value = 5, unit = \"mm\", range = [1, 2, 3] }",
-    ));
-    rejects(&with_params(
-        "a = { expr = \"1\", unit = \"mm\", range = [0, 2] }",
-    ));
+    rejects(&with_params("a = { value = 1, expr = \"2\", unit = \"mm\" }"));
+    rejects(&with_params("a = { value = 5, unit = \"mm\", range = [0, 1] }"));
+    rejects(&with_params("a = { value = 5, unit = \"mm\", range = [9, 1] }"));
+    rejects(&with_params("a = { value = 5, unit = \"mm\", range = [1] }"));
+    rejects(&with_params("a = { value = 5, unit = \"mm\", range = [1, 2, 3] }"));
+    rejects(&with_params("a = { expr = \"1\", unit = \"mm\", range = [0, 2] }"));
     rejects(&with_params(
         "a = { value = 1, unit = \"mm\", provenance = \"guessed\" }",
     ));
@@ -454,9 +437,7 @@ fn bad_parameters_are_errors() {
     rejects(&with_params(
         "a = { value = 1, unit = \"1\", range = [1, 1] }\nb = { expr = \"\", unit = \"1\" }",
     ));
-    loads(&with_params(
-        "a = { value = 1, unit = \"1\", range = [1, 1] }",
-    ));
+    loads(&with_params("a = { value = 1, unit = \"1\", range = [1, 1] }"));
     loads(&with_params(
         "_ = { value = 1, unit = \"1\" }\n_9 = { expr = \"_ * 2\", unit = \"1\" }",
     ));
@@ -677,10 +658,7 @@ fn all_group_kinds_with_extreme_values_do_not_panic() {
             "unknowns = { N = [20, 30] }\nplane = \"tilt\"",
         ),
         ("unknowns = { N = [20, 30] }", "unknowns = { A = [20, 30] }"),
-        (
-            "unknowns = { N = [20, 30] }",
-            "unknowns = { \"\" = [20, 30] }",
-        ),
+        ("unknowns = { N = [20, 30] }", "unknowns = { \"\" = [20, 30] }"),
         ("phi_start_deg = 10", "phi_start_deg = 1e308"),
         ("phi_start_deg = 10", "phi_start_deg = nan"),
         (
@@ -708,24 +686,12 @@ fn newton_group_references_itself() {
 #[test]
 fn odd_cycle_steps_are_errors_or_run() {
     let model = loads(BASE);
-    for step in [
-        f64::NAN,
-        f64::INFINITY,
-        -1.0,
-        0.0,
-        1e-300,
-        1e-4,
-        360.0 + 1e-9,
-        1e308,
-    ] {
+    for step in [f64::NAN, f64::INFINITY, -1.0, 0.0, 1e-300, 1e-4, 360.0 + 1e-9, 1e308] {
         let opts = CycleOptions {
             step_deg: step,
             ..Default::default()
         };
-        assert!(
-            run_cycle(&model, &model.defaults(), &opts).is_err(),
-            "step {step}"
-        );
+        assert!(run_cycle(&model, &model.defaults(), &opts).is_err(), "step {step}");
     }
     for step in [1e-3, 0.7, 45.0, 359.999, 360.0] {
         let opts = CycleOptions {
@@ -741,10 +707,7 @@ fn odd_cycle_steps_are_errors_or_run() {
             rpm: Some(rpm),
             ..Default::default()
         };
-        assert!(
-            run_cycle(&model, &model.defaults(), &opts).is_err(),
-            "rpm {rpm}"
-        );
+        assert!(run_cycle(&model, &model.defaults(), &opts).is_err(), "rpm {rpm}");
     }
 }
 

@@ -24,7 +24,16 @@ fn positions(mech: &Mechanism<f64>, phi: f64) -> Vec<V3<f64>> {
 }
 
 fn assembles(m: &Model) -> bool {
-    run_cycle(m, &m.defaults(), &CycleOptions { step_deg: 5.0, analogs: false, ..Default::default() }).is_ok()
+    run_cycle(
+        m,
+        &m.defaults(),
+        &CycleOptions {
+            step_deg: 5.0,
+            analogs: false,
+            ..Default::default()
+        },
+    )
+    .is_ok()
 }
 
 fn check_lengths(g: &Generated) -> Result<(), TestCaseError> {
@@ -52,7 +61,11 @@ fn check_analogs(g: &Generated) -> Result<(), TestCaseError> {
         let phi = (k as f64 * 15.0 + 7.0).to_radians();
         let mut pose = exact.new_pose(1);
         exact.solve(&[Phi::new(Dual2_64::var(phi))], &mut pose).unwrap();
-        let (pm, p0, pp) = (positions(&plain, phi - h), positions(&plain, phi), positions(&plain, phi + h));
+        let (pm, p0, pp) = (
+            positions(&plain, phi - h),
+            positions(&plain, phi),
+            positions(&plain, phi + h),
+        );
         for s in 0..exact.n_points() {
             for c in 0..3 {
                 let d = pose.point(s, 0)[c];

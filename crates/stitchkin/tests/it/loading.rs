@@ -115,7 +115,10 @@ fn impossible_geometry_is_reported_at_load() {
     let e = load_err(&FOUR_BAR.replace("l = { value = 50", "l = { value = -50"));
     assert!(e.message.contains("must be positive"), "{e}");
     assert_eq!(place(&e).2, "\"l\"");
-    let e = load_err(&FOUR_BAR.replace("value = 15, unit = \"mm\", range = [10, 20]", "value = 25, unit = \"mm\", range = [10, 20]"));
+    let e = load_err(&FOUR_BAR.replace(
+        "value = 15, unit = \"mm\", range = [10, 20]",
+        "value = 25, unit = \"mm\", range = [10, 20]",
+    ));
     assert!(e.message.contains("outside the parameter's range"), "{e}");
     let e = load_err(&FOUR_BAR.replace("distance = 20", "distance = \"r*r/(r - 15)\""));
     assert!(e.message.contains("evaluates to inf"), "{e}");
@@ -147,18 +150,27 @@ fn no_assembly_names_group_phi_and_defect() {
     let text = FOUR_BAR.replace("c = { value = 40", "c = { value = 24");
     let m = Model::from_toml_str(&text, "short.toml").unwrap();
     let err = run_cycle(&m, &m.defaults(), &CycleOptions::default()).unwrap_err();
-    let Error::Assembly(a) = err else { panic!("expected an assembly error, got {err}") };
+    let Error::Assembly(a) = err else {
+        panic!("expected an assembly error, got {err}")
+    };
     assert!(a.group.contains("rrr group \"bc\""), "{a}");
     assert!(a.defect_mm > 0.0 && a.defect_mm < 20.0, "{a}");
     assert!((0.0..360.0).contains(&a.phi_deg), "{a}");
     let s = a.to_string();
-    assert!(s.contains("no assembly at φ =") && s.contains("closure fails by"), "{s}");
+    assert!(
+        s.contains("no assembly at φ =") && s.contains("closure fails by"),
+        "{s}"
+    );
 }
 
 #[test]
 fn missing_file_is_a_clear_error() {
     let e = Model::from_path(std::path::Path::new("/nonexistent/machine.toml")).unwrap_err();
-    assert!(e.to_string().contains("cannot read model file `/nonexistent/machine.toml`"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("cannot read model file `/nonexistent/machine.toml`"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -175,7 +187,10 @@ unknowns = { B = [2, 2] }
 constraints = [ { distance = ["B", "O"], length = 3 } ]
 "#;
     let e = load_err(text);
-    assert!(e.message.contains("1 closure equation(s) for 2 unknown coordinates"), "{e}");
+    assert!(
+        e.message.contains("1 closure equation(s) for 2 unknown coordinates"),
+        "{e}"
+    );
     assert!(e.help.unwrap().contains("add constraints"));
 }
 
@@ -211,7 +226,10 @@ constraints = [ { distance = ["B", "O"], length = 3 }, CONSTRAINT ]
     Model::from_toml_str(&ok, "ok.toml").unwrap();
     let e = load_err(&base.replace("CONSTRAINT", "{ distance = [\"B\", \"Q\"], lenght = 4 }"));
     assert!(e.message.contains("unknown field `lenght`"), "{e}");
-    let e = load_err(&base.replace("CONSTRAINT", "{ distance = [\"B\", \"Q\"], on_line = \"B\", length = 4 }"));
+    let e = load_err(&base.replace(
+        "CONSTRAINT",
+        "{ distance = [\"B\", \"Q\"], on_line = \"B\", length = 4 }",
+    ));
     assert!(e.message.contains("either a distance or a point on a line"), "{e}");
     // A spatial group (3 coordinates per unknown) has no plane to name.
     let spatial = r#"[model]
@@ -252,10 +270,20 @@ frame = "t"
 axis = [1, 0, 0]
 "#;
     let m = Model::from_toml_str(text, "turned.toml").unwrap();
-    let t = run_cycle(&m, &m.defaults(), &CycleOptions { step_deg: 90.0, ..Default::default() }).unwrap();
+    let t = run_cycle(
+        &m,
+        &m.defaults(),
+        &CycleOptions {
+            step_deg: 90.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     // The pin circles in the world xz-plane: y stays 0.
     assert!(t.column("A.y_mm").unwrap().iter().all(|y| y.abs() < 1e-12));
-    let r: Vec<f64> = (0..4).map(|k| t.column("A.x_mm").unwrap()[k].hypot(t.column("A.z_mm").unwrap()[k])).collect();
+    let r: Vec<f64> = (0..4)
+        .map(|k| t.column("A.x_mm").unwrap()[k].hypot(t.column("A.z_mm").unwrap()[k]))
+        .collect();
     assert!(r.iter().all(|r| (r - 10.0).abs() < 1e-12), "{r:?}");
 }
 

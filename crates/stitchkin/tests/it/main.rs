@@ -1,24 +1,24 @@
 //! Integration tests of the stitchkin library, in one test binary (one link
 //! step instead of one per file).
 
+mod altin504;
+mod cam_synthesis;
 mod cross_check;
-mod facts;
-mod mechgen;
 mod docs;
+mod drawing;
+mod facts;
 mod fuzz_regressions;
 mod invariants;
 mod loading;
-mod presets;
-mod threads;
-mod stitch;
-mod studies;
-mod sensitivity;
-mod strokes;
-mod nomogram;
-mod pprime;
-mod altin504;
-mod cam_synthesis;
-mod plots;
-mod drawing;
-mod report;
 mod measured;
+mod mechgen;
+mod nomogram;
+mod plots;
+mod pprime;
+mod presets;
+mod report;
+mod sensitivity;
+mod stitch;
+mod strokes;
+mod studies;
+mod threads;

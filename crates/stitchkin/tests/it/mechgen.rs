@@ -23,7 +23,16 @@ fn branch(left: bool) -> &'static str {
 
 /// Grashof crank-rocker four-bars with a coupler point.
 pub fn four_bar() -> impl Strategy<Value = Generated> {
-    (5.0..15.0f64, 40.0..80.0f64, 30.0..90.0f64, 30.0..90.0f64, 5.0..40.0f64, -180.0..180.0f64, any::<bool>(), -180.0..180.0f64)
+    (
+        5.0..15.0f64,
+        40.0..80.0f64,
+        30.0..90.0f64,
+        30.0..90.0f64,
+        5.0..40.0f64,
+        -180.0..180.0f64,
+        any::<bool>(),
+        -180.0..180.0f64,
+    )
         .prop_filter("Grashof crank-rocker with the crank shortest", |&(r, d, l, c, ..)| {
             let longest = d.max(l).max(c);
             let sum = r + d + l + c;
@@ -69,7 +78,15 @@ out = "P"
 
 /// Offset slider-cranks on a guide line at any angle.
 pub fn slider_crank() -> impl Strategy<Value = Generated> {
-    (5.0..20.0f64, 10.0..60.0f64, -8.0..8.0f64, -180.0..180.0f64, any::<bool>(), -20.0..20.0f64, -20.0..20.0f64)
+    (
+        5.0..20.0f64,
+        10.0..60.0f64,
+        -8.0..8.0f64,
+        -180.0..180.0f64,
+        any::<bool>(),
+        -20.0..20.0f64,
+        -20.0..20.0f64,
+    )
         .prop_map(|(r, extra, e, dir, fwd, hx, hy)| {
             // The rod must reach the guide line from everywhere on the crank circle.
             let dist = (hx * (dir.to_radians().sin()) - hy * (dir.to_radians().cos())).abs();
@@ -107,7 +124,16 @@ branch = "{}"
 /// Spatial chains: a crank, an RSSR rocker on a tilted axis, a point rigid
 /// to the rocker, and a slider on a spatial line driven from it.
 pub fn rssr_chain() -> impl Strategy<Value = Generated> {
-    (4.0..8.0f64, 40.0..60.0f64, 18.0..30.0f64, -0.3..0.3f64, -0.3..0.3f64, -10.0..10.0f64, any::<bool>(), 20.0..30.0f64)
+    (
+        4.0..8.0f64,
+        40.0..60.0f64,
+        18.0..30.0f64,
+        -0.3..0.3f64,
+        -0.3..0.3f64,
+        -10.0..10.0f64,
+        any::<bool>(),
+        20.0..30.0f64,
+    )
         .prop_map(|(r, dist, arm, ay, az, zoff, left, rod2)| {
             // Rod length so the arm stands roughly across the rod at φ = 90°.
             let rod = (dist.powi(2) + arm.powi(2)).sqrt();

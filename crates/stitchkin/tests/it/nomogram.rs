@@ -15,7 +15,12 @@ fn opts(thickness: &str, stitch: Option<&str>, adjust: &[&str], step_deg: f64) -
     NomogramOptions {
         thickness: Axis::parse(thickness, "--thickness").unwrap(),
         stitch: stitch.map(|s| Axis::parse(s, "--stitch").unwrap()),
-        tune: TuneOptions { adjust: adjust.iter().map(|s| s.to_string()).collect(), samples: 0, seed: 1, step_deg },
+        tune: TuneOptions {
+            adjust: adjust.iter().map(|s| s.to_string()).collect(),
+            samples: 0,
+            seed: 1,
+            step_deg,
+        },
     }
 }
 
@@ -23,22 +28,55 @@ fn opts(thickness: &str, stitch: Option<&str>, adjust: &[&str], step_deg: f64) -
 fn assert_never_worse(n: &Nomogram) {
     for (p, r) in n.tuned() {
         let (b, a) = (&r.before_figures, &r.after_figures);
-        assert!(a.objective <= b.objective + 1e-12, "m = {}, t = {}: J {} -> {}", p.m_mm, p.t_mm, b.objective, a.objective);
-        assert!(a.score_mean >= b.score_mean - 1e-9, "m = {}, t = {}: score {} -> {}", p.m_mm, p.t_mm, b.score_mean, a.score_mean);
+        assert!(
+            a.objective <= b.objective + 1e-12,
+            "m = {}, t = {}: J {} -> {}",
+            p.m_mm,
+            p.t_mm,
+            b.objective,
+            a.objective
+        );
+        assert!(
+            a.score_mean >= b.score_mean - 1e-9,
+            "m = {}, t = {}: score {} -> {}",
+            p.m_mm,
+            p.t_mm,
+            b.score_mean,
+            a.score_mean
+        );
     }
 }
 
 #[test]
 fn axes_parse_with_clear_errors() {
-    assert_eq!(Axis::parse("0.5:5:10", "--thickness").unwrap(), Axis { lo: 0.5, hi: 5.0, n: 10 });
-    assert_eq!(Axis::parse("4", "--thickness").unwrap(), Axis { lo: 4.0, hi: 4.0, n: 1 });
+    assert_eq!(
+        Axis::parse("0.5:5:10", "--thickness").unwrap(),
+        Axis {
+            lo: 0.5,
+            hi: 5.0,
+            n: 10
+        }
+    );
+    assert_eq!(
+        Axis::parse("4", "--thickness").unwrap(),
+        Axis { lo: 4.0, hi: 4.0, n: 1 }
+    );
     assert_eq!(Axis::parse("1:3", "--stitch").unwrap().n, 11);
     let a = Axis::parse("1:4.5:8", "--stitch").unwrap();
     assert_eq!((a.value(0), a.value(7)), (1.0, 4.5));
-    for (spec, says) in [("a:5:3", "must be numbers"), ("1:5:0", "whole number ≥ 1"), ("3:3:4", "LO = HI"), ("1:2:3:4", "not LO:HI:N"), ("nan", "not a number"), ("inf:5:2", "must be numbers")] {
+    for (spec, says) in [
+        ("a:5:3", "must be numbers"),
+        ("1:5:0", "whole number ≥ 1"),
+        ("3:3:4", "LO = HI"),
+        ("1:2:3:4", "not LO:HI:N"),
+        ("nan", "not a number"),
+        ("inf:5:2", "must be numbers"),
+    ] {
         let e = Axis::parse(spec, "--thickness").unwrap_err();
         assert!(e.to_string().contains(says), "{spec}: {e}");
-        let stitchkin::error::Error::Param(p) = e else { panic!("{spec}: not a parameter error") };
+        let stitchkin::error::Error::Param(p) = e else {
+            panic!("{spec}: not a parameter error")
+        };
         assert!(p.help.unwrap().contains("--thickness LO:HI:N"), "{spec}");
     }
 }
@@ -55,11 +93,15 @@ fn bad_input_is_refused_before_anything_runs() {
     assert!(run(opts("3", None, &["z"], 0.0)).contains("step 0 deg is out of range"));
     assert!(run(opts("0.5:5:200", Some("1:4.5:200"), &["z"], 10.0)).contains("40000 grid points"));
     let n = Model::preset("needle876").unwrap();
-    let e = nomogram(&n, &n.defaults(), &opts("3", None, &["alpha"], 10.0), || {}).unwrap_err().to_string();
+    let e = nomogram(&n, &n.defaults(), &opts("3", None, &["alpha"], 10.0), || {})
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("no [stitch]"), "{e}");
     // altin504 has nothing to tune by default, and says so.
     let a = Model::preset("altin504").unwrap();
-    let e = nomogram(&a, &a.defaults(), &opts("1:2.5:2", None, &[], 10.0), || {}).unwrap_err().to_string();
+    let e = nomogram(&a, &a.defaults(), &opts("1:2.5:2", None, &[], 10.0), || {})
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("nothing to adjust"), "{e}");
 }
 
@@ -83,7 +125,10 @@ fn seed000_z_finding_at_the_default_setting() {
     assert_eq!(n.adjust, vec![("z".to_string(), "mm")]);
     assert_eq!(n.threads, ["n1", "n2", "n3"]);
     assert_eq!(n.points.iter().map(|p| p.m_mm).collect::<Vec<_>>(), [3.0, 4.0, 5.0]);
-    assert!(n.points.iter().all(|p| p.t_mm == 3.0 && p.error.is_none()), "t stays the preset's 3 mm");
+    assert!(
+        n.points.iter().all(|p| p.t_mm == 3.0 && p.error.is_none()),
+        "t stays the preset's 3 mm"
+    );
     assert_never_worse(&n);
     let z: Vec<f64> = n.tuned().map(|(_, r)| r.after[0]).collect();
     for (k, z) in z.iter().enumerate() {
@@ -92,7 +137,11 @@ fn seed000_z_finding_at_the_default_setting() {
     for (_, r) in n.tuned() {
         let (b, a) = (r.before_figures.score_mean, r.after_figures.score_mean);
         assert!(a > b && a - b < 2.0 && a > 70.0, "a real but small gain: {b} -> {a}");
-        assert!(r.after_figures.failed_checks.is_empty(), "{:?}", r.after_figures.failed_checks);
+        assert!(
+            r.after_figures.failed_checks.is_empty(),
+            "{:?}",
+            r.after_figures.failed_checks
+        );
         let f = &r.flatness[0];
         assert!(f.lo <= 0.5 && f.hi >= 4.5, "flat optimum: {f:?}");
     }
@@ -129,7 +178,11 @@ fn a_grid_over_thickness_and_stitch_runs_stitch_fastest() {
         }
     }
     assert!(n.all_scores_zero());
-    assert!(n.notes().iter().any(|t| t.contains("passes every physical check")), "{:?}", n.notes());
+    assert!(
+        n.notes().iter().any(|t| t.contains("passes every physical check")),
+        "{:?}",
+        n.notes()
+    );
     // Each point's stitch really has that m and t: the per-stitch thread
     // of stitch 407 is t + 2m, so P' differs between the points.
     let before: Vec<f64> = n.tuned().map(|(_, r)| r.before_figures.threads[0].2).collect();
@@ -139,7 +192,15 @@ fn a_grid_over_thickness_and_stitch_runs_stitch_fastest() {
     assert_eq!(lines.len(), 5);
     let header: Vec<&str> = lines[0].split(',').collect();
     assert_eq!(&header[..5], ["m_mm", "t_mm", "z_mm", "z_lo_mm", "z_hi_mm"]);
-    for col in ["score_mean_before", "score_mean_after", "J_after", "n1.score_after", "n3.rms_D_after_mm", "mu_max_after_deg", "status"] {
+    for col in [
+        "score_mean_before",
+        "score_mean_after",
+        "J_after",
+        "n1.score_after",
+        "n3.rms_D_after_mm",
+        "mu_max_after_deg",
+        "status",
+    ] {
         assert!(header.contains(&col), "{col} missing: {header:?}");
     }
     for l in &lines[1..] {

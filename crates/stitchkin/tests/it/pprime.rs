@@ -45,8 +45,17 @@ impl Csv {
     fn read(name: &str) -> Csv {
         let text = std::fs::read_to_string(format!("{DATA}{name}")).unwrap();
         let mut lines = text.lines();
-        let cols = lines.next().unwrap().split(',').enumerate().map(|(i, c)| (c.to_string(), i)).collect();
-        let rows = lines.filter(|l| !l.is_empty()).map(|l| l.split(',').map(str::to_string).collect()).collect();
+        let cols = lines
+            .next()
+            .unwrap()
+            .split(',')
+            .enumerate()
+            .map(|(i, c)| (c.to_string(), i))
+            .collect();
+        let rows = lines
+            .filter(|l| !l.is_empty())
+            .map(|l| l.split(',').map(str::to_string).collect())
+            .collect();
         Csv { cols, rows }
     }
 
@@ -75,24 +84,37 @@ fn assert_close(what: &str, ours: &[f64], want: &[f64], phis: &[f64], tol: f64) 
             (worst, at) = (d, *p);
         }
     }
-    assert!(worst <= tol, "{what}: off by {worst:e} at φ_c = {at} (tolerance {tol:e})");
+    assert!(
+        worst <= tol,
+        "{what}: off by {worst:e} at φ_c = {at} (tolerance {tol:e})"
+    );
     worst
 }
 
 fn thread<'a>(r: &'a RequiredTakeUp, name: &str) -> &'a RequiredThread {
-    r.threads.iter().find(|t| t.name == name).unwrap_or_else(|| panic!("no thread {name}"))
+    r.threads
+        .iter()
+        .find(|t| t.name == name)
+        .unwrap_or_else(|| panic!("no thread {name}"))
 }
 
 /// The reference's piece id is ours plus a description (`N2a_carry_needle_in_hole`).
 fn assert_pieces(what: &str, ours: &[&str], want: &[&str], phis: &[f64]) {
     for ((a, b), p) in ours.iter().zip(want).zip(phis) {
-        assert!(b == a || b.starts_with(&format!("{a}_")), "{what}: piece {a} vs {b} at φ_c = {p}");
+        assert!(
+            b == a || b.starts_with(&format!("{a}_")),
+            "{what}: piece {a} vs {b} at φ_c = {p}"
+        );
     }
 }
 
 /// P'_B = P'_N + S − S(φ0) (§3.2).
 fn pprime_b(th: &RequiredThread, s0: f64) -> Vec<f64> {
-    th.pprime_mm.iter().zip(th.travel_mm.as_ref().unwrap()).map(|(p, s)| p + s - s0).collect()
+    th.pprime_mm
+        .iter()
+        .zip(th.travel_mm.as_ref().unwrap())
+        .map(|(p, s)| p + s - s0)
+        .collect()
 }
 
 // ---------------------------------------------------------------------------
@@ -109,18 +131,48 @@ fn check_overedge_needle(spec: &StitchSpec, r: &RequiredTakeUp, csv: &Csv, phis:
     let feed = Feed::new(&spec.feed, spec.t_mm).unwrap();
     let t: Vec<f64> = phis.iter().map(|&p| feed.at(p)).collect();
     assert_close("T", &t, &csv.f64("T_mm"), phis, TOL_MM);
-    let gamma: Vec<f64> = needle.gamma_deg.as_ref().unwrap().iter().map(|g| g.to_radians()).collect();
+    let gamma: Vec<f64> = needle
+        .gamma_deg
+        .as_ref()
+        .unwrap()
+        .iter()
+        .map(|g| g.to_radians())
+        .collect();
     assert_close("γ", &gamma, &csv.f64("gamma_rad"), phis, 1e-8);
     let (prefix, eye) = organ;
     for (axis, i) in [("x", 0), ("y", 1), ("z", 2)] {
         let le: Vec<f64> = phis.iter().map(|&p| spec.looper.eye.at(p)[i]).collect();
         let other: Vec<f64> = phis.iter().map(|&p| eye.at(p)[i]).collect();
-        assert_close(&format!("LE_{axis}"), &le, &csv.f64(&format!("LE_{axis}_mm")), phis, TOL_MM);
-        assert_close(&format!("{prefix}_{axis}"), &other, &csv.f64(&format!("{prefix}_{axis}_mm")), phis, TOL_MM);
+        assert_close(
+            &format!("LE_{axis}"),
+            &le,
+            &csv.f64(&format!("LE_{axis}_mm")),
+            phis,
+            TOL_MM,
+        );
+        assert_close(
+            &format!("{prefix}_{axis}"),
+            &other,
+            &csv.f64(&format!("{prefix}_{axis}_mm")),
+            phis,
+            TOL_MM,
+        );
     }
     assert_close("needle η_N", &needle.eta_mm, &csv.f64("needle_eta_N_mm"), phis, TOL_MM);
-    assert_close("needle P'_N", &needle.pprime_mm, &csv.f64("needle_Pprime_N_mm"), phis, TOL_MM);
-    assert_close("needle P'_B", &pprime_b(needle, 25.44), &csv.f64("needle_Pprime_B_mm"), phis, TOL_MM);
+    assert_close(
+        "needle P'_N",
+        &needle.pprime_mm,
+        &csv.f64("needle_Pprime_N_mm"),
+        phis,
+        TOL_MM,
+    );
+    assert_close(
+        "needle P'_B",
+        &pprime_b(needle, 25.44),
+        &csv.f64("needle_Pprime_B_mm"),
+        phis,
+        TOL_MM,
+    );
     assert_pieces("needle", &needle.piece, &csv.str("needle_piece"), phis);
 }
 
@@ -134,13 +186,31 @@ fn altin504_matches_the_reference_table() {
 
     // The motions and the needle thread, then the loop carry and the looper threads.
     check_overedge_needle(&spec, &r, &csv, &phis, ("UE", &spec.upper_looper.as_ref().unwrap().eye));
-    let gamma: Vec<f64> = thread(&r, "needle").gamma_deg.as_ref().unwrap().iter().map(|g| g.to_radians()).collect();
+    let gamma: Vec<f64> = thread(&r, "needle")
+        .gamma_deg
+        .as_ref()
+        .unwrap()
+        .iter()
+        .map(|g| g.to_radians())
+        .collect();
     let x_loop: Vec<f64> = gamma.iter().map(|g| 7.5 * g.tan()).collect(); // D_L·tan γ
     assert_close("x_loop", &x_loop, &csv.f64("x_loop_mm"), &phis, TOL_MM);
     for name in ["lower", "upper"] {
         let th = thread(&r, name);
-        assert_close(&format!("{name} η"), &th.eta_mm, &csv.f64(&format!("{name}_eta_mm")), &phis, TOL_MM);
-        assert_close(&format!("{name} P'"), &th.pprime_mm, &csv.f64(&format!("{name}_Pprime_mm")), &phis, TOL_MM);
+        assert_close(
+            &format!("{name} η"),
+            &th.eta_mm,
+            &csv.f64(&format!("{name}_eta_mm")),
+            &phis,
+            TOL_MM,
+        );
+        assert_close(
+            &format!("{name} P'"),
+            &th.pprime_mm,
+            &csv.f64(&format!("{name}_Pprime_mm")),
+            &phis,
+            TOL_MM,
+        );
         assert_pieces(name, &th.piece, &csv.str(&format!("{name}_piece")), &phis);
         assert!(th.travel_mm.is_none() && th.gamma_deg.is_none());
     }
@@ -165,11 +235,35 @@ fn mf7923d_407_matches_the_reference_table() {
     let s0 = slider_crank_travel(0.0);
     for name in ["n1", "n2", "n3"] {
         let th = thread(&r, name);
-        assert_close(&format!("{name} S"), th.travel_mm.as_ref().unwrap(), &csv.f64("S_mm"), &phis, TOL_MM);
-        assert_close(&format!("{name} η_N"), &th.eta_mm, &csv.f64(&format!("{name}_eta_N_mm")), &phis, TOL_MM);
-        assert_close(&format!("{name} P'_N"), &th.pprime_mm, &csv.f64(&format!("{name}_Pprime_N_mm")), &phis, TOL_MM);
+        assert_close(
+            &format!("{name} S"),
+            th.travel_mm.as_ref().unwrap(),
+            &csv.f64("S_mm"),
+            &phis,
+            TOL_MM,
+        );
+        assert_close(
+            &format!("{name} η_N"),
+            &th.eta_mm,
+            &csv.f64(&format!("{name}_eta_N_mm")),
+            &phis,
+            TOL_MM,
+        );
+        assert_close(
+            &format!("{name} P'_N"),
+            &th.pprime_mm,
+            &csv.f64(&format!("{name}_Pprime_N_mm")),
+            &phis,
+            TOL_MM,
+        );
         let pb = pprime_b(th, s0);
-        assert_close(&format!("{name} P'_B"), &pb, &csv.f64(&format!("{name}_Pprime_B_mm")), &phis, TOL_MM);
+        assert_close(
+            &format!("{name} P'_B"),
+            &pb,
+            &csv.f64(&format!("{name}_Pprime_B_mm")),
+            &phis,
+            TOL_MM,
+        );
         assert_pieces(name, &th.piece, &csv.str(&format!("{name}_piece")), &phis);
     }
     // docs §5.2: max P'_B (φ0 = TDC) is 22.7, 16.2 and 9.0 mm.
@@ -198,8 +292,18 @@ fn check_events(r: &RequiredTakeUp, csv: &Csv) {
                 EventKind::Lock => "lock",
             };
             assert_eq!(kind_ref, kind[i], "{what}");
-            assert!((ev.eta_left_mm - left[i]).abs() < TOL_MM, "{what}: left {} vs {}", ev.eta_left_mm, left[i]);
-            assert!((ev.eta_right_mm - right[i]).abs() < TOL_MM, "{what}: right {} vs {}", ev.eta_right_mm, right[i]);
+            assert!(
+                (ev.eta_left_mm - left[i]).abs() < TOL_MM,
+                "{what}: left {} vs {}",
+                ev.eta_left_mm,
+                left[i]
+            );
+            assert!(
+                (ev.eta_right_mm - right[i]).abs() < TOL_MM,
+                "{what}: right {} vs {}",
+                ev.eta_right_mm,
+                right[i]
+            );
             let j = ev.eta_right_mm - ev.eta_left_mm;
             assert!((j - jump[i]).abs() < TOL_MM, "{what}: jump {j} vs {}", jump[i]);
             if ev.kind == EventKind::Cont {
@@ -216,7 +320,13 @@ fn altin504_events_match_the_reference() {
     let r = required_take_up(&altin504(2.5, 2.8), &[0.0], 0.0).unwrap();
     check_events(&r, &Csv::read("altin504_events.csv"));
     // README: derived moments.
-    let moment = |name: &str| r.moments.iter().find(|(n, _)| n.contains(name)).unwrap_or_else(|| panic!("{name}")).1;
+    let moment = |name: &str| {
+        r.moments
+            .iter()
+            .find(|(n, _)| n.contains(name))
+            .unwrap_or_else(|| panic!("{name}"))
+            .1
+    };
     assert!((moment("eye leaves") - 107.762158).abs() < 1e-6);
     assert!((moment("eye enters") - 252.237842).abs() < 1e-6);
     assert!((moment("drop (derived)") - 300.0).abs() < 1e-9);
@@ -239,12 +349,24 @@ fn lock_cut_is_the_per_stitch_consumption() {
         (
             altin504(2.5, 2.8),
             0.0,
-            StitchGeometry { thickness_mm: 2.5, stitch_mm: 2.8, width_mm: 4.0, incline_deg: 20.0, edge_fraction: 0.5 },
+            StitchGeometry {
+                thickness_mm: 2.5,
+                stitch_mm: 2.8,
+                width_mm: 4.0,
+                incline_deg: 20.0,
+                edge_fraction: 0.5,
+            },
         ),
         (
             mf7923d_407(3.0, 3.0),
             PHI0_407,
-            StitchGeometry { thickness_mm: 3.0, stitch_mm: 3.0, width_mm: 0.0, incline_deg: 0.0, edge_fraction: 0.5 },
+            StitchGeometry {
+                thickness_mm: 3.0,
+                stitch_mm: 3.0,
+                width_mm: 0.0,
+                incline_deg: 0.0,
+                edge_fraction: 0.5,
+            },
         ),
     ];
     for (spec, phi0, geometry) in cases {
@@ -256,15 +378,30 @@ fn lock_cut_is_the_per_stitch_consumption() {
                 ThreadRole::LowerLooper => "lower looper",
                 ThreadRole::UpperLooper => "upper looper",
             };
-            let want = c.threads.iter().find(|t| t.thread == formula).unwrap().length_mm.unwrap();
+            let want = c
+                .threads
+                .iter()
+                .find(|t| t.thread == formula)
+                .unwrap()
+                .length_mm
+                .unwrap();
             // §7 (a): the cut recomputed from the final nodes is the formula.
-            assert!((th.cut_mm - want).abs() < 1e-12, "{}: cut {} vs {want}", th.name, th.cut_mm);
+            assert!(
+                (th.cut_mm - want).abs() < 1e-12,
+                "{}: cut {} vs {want}",
+                th.name,
+                th.cut_mm
+            );
             assert!((th.per_stitch_mm - want).abs() < 1e-12);
             // §7 (c): the lock jump is −L_s − ρ + σ_snap, with σ_snap ≥ 0.
             let lock = th.events.iter().find(|e| e.kind == EventKind::Lock).unwrap();
             assert_eq!(lock.phi_c_deg, th.lock_deg);
             let jump = lock.eta_right_mm - lock.eta_left_mm;
-            assert!((jump - (-th.cut_mm - th.released_mm + th.snap_mm)).abs() < 1e-9, "{}", th.name);
+            assert!(
+                (jump - (-th.cut_mm - th.released_mm + th.snap_mm)).abs() < 1e-9,
+                "{}",
+                th.name
+            );
             assert!(th.snap_mm > -1e-9, "{}: snap {}", th.name, th.snap_mm);
             match th.role {
                 // The needle thread's final nodes are its contour: no snap.
@@ -286,11 +423,21 @@ fn eta_is_periodic() {
     // §7 (b): η(360°⁻) = η(0⁺). The ends are evaluated by different pieces
     // with different hole indices, so this checks the feed and hole
     // bookkeeping.
-    for (spec, phi0) in [(altin504(2.5, 2.8), 0.0), (mf7923d_407(3.0, 3.0), PHI0_407), (altin504(1.0, 4.0), 0.0)] {
+    for (spec, phi0) in [
+        (altin504(2.5, 2.8), 0.0),
+        (mf7923d_407(3.0, 3.0), PHI0_407),
+        (altin504(1.0, 4.0), 0.0),
+    ] {
         let r = required_take_up(&spec, &[0.0, 360.0 - 1e-9], phi0).unwrap();
         for th in &r.threads {
             let d = th.eta_mm[1] - th.eta_mm[0];
-            assert!(d.abs() < 1e-6, "{} (m = {}, t = {}): η(360⁻) − η(0⁺) = {d}", th.name, spec.m_mm, spec.t_mm);
+            assert!(
+                d.abs() < 1e-6,
+                "{} (m = {}, t = {}): η(360⁻) − η(0⁺) = {d}",
+                th.name,
+                spec.m_mm,
+                spec.t_mm
+            );
         }
     }
 }
@@ -303,7 +450,12 @@ fn no_undeclared_discontinuity() {
     for (spec, phi0) in [(altin504(2.5, 2.8), 0.0), (mf7923d_407(3.0, 3.0), PHI0_407)] {
         let r = required_take_up(&spec, &grid, phi0).unwrap();
         for th in &r.threads {
-            let jumps: Vec<f64> = th.events.iter().filter(|e| e.kind != EventKind::Cont).map(|e| e.phi_c_deg).collect();
+            let jumps: Vec<f64> = th
+                .events
+                .iter()
+                .filter(|e| e.kind != EventKind::Cont)
+                .map(|e| e.phi_c_deg)
+                .collect();
             let (mut worst, mut at) = (0.0_f64, 0.0);
             for (k, w) in th.eta_mm.windows(2).enumerate() {
                 let (a, b) = (grid[k], grid[k + 1]);
@@ -317,7 +469,12 @@ fn no_undeclared_discontinuity() {
             assert!(worst <= 0.005, "{}: step {worst} mm at φ_c = {at}°", th.name);
             // Each declared jump is a real step of the grid series too.
             for ev in th.events.iter().filter(|e| e.kind != EventKind::Cont) {
-                assert!((ev.eta_right_mm - ev.eta_left_mm).abs() > 0.1, "{} '{}'", th.name, ev.name);
+                assert!(
+                    (ev.eta_right_mm - ev.eta_left_mm).abs() > 0.1,
+                    "{} '{}'",
+                    th.name,
+                    ev.name
+                );
             }
         }
     }
@@ -332,8 +489,11 @@ fn max_pprime_grows_with_m_and_t() {
     let csv = Csv::read("sweep_m_t.csv");
     let (case, name) = (csv.str("case"), csv.str("thread"));
     let (m, t) = (csv.f64("m_mm"), csv.f64("t_mm"));
-    let (max_ref, range_ref, per_stitch) =
-        (csv.f64("max_Pprime_mm"), csv.f64("range_Pprime_mm"), csv.f64("per_stitch_mm"));
+    let (max_ref, range_ref, per_stitch) = (
+        csv.f64("max_Pprime_mm"),
+        csv.f64("range_Pprime_mm"),
+        csv.f64("per_stitch_mm"),
+    );
     let grid: Vec<f64> = (0..360).map(f64::from).collect();
     let mut cache: HashMap<String, RequiredTakeUp> = HashMap::new();
     let mut series: HashMap<(String, String, bool), Vec<(f64, f64)>> = HashMap::new();
@@ -342,7 +502,11 @@ fn max_pprime_grows_with_m_and_t() {
         let is_504 = case[i] == "altin504";
         let phi0 = if is_504 { 0.0 } else { PHI0_407 };
         let r = cache.entry(key).or_insert_with(|| {
-            let spec = if is_504 { altin504(m[i], t[i]) } else { mf7923d_407(m[i], t[i]) };
+            let spec = if is_504 {
+                altin504(m[i], t[i])
+            } else {
+                mf7923d_407(m[i], t[i])
+            };
             required_take_up(&spec, &grid, phi0).unwrap()
         });
         let (base, split_b) = match name[i].strip_suffix("_B") {
@@ -360,15 +524,30 @@ fn max_pprime_grows_with_m_and_t() {
         let max = p.iter().cloned().fold(f64::MIN, f64::max);
         let min = p.iter().cloned().fold(f64::MAX, f64::min);
         let what = format!("{} {} m = {} t = {}", case[i], name[i], m[i], t[i]);
-        assert!((max - max_ref[i]).abs() < TOL_MM, "{what}: max P' {max} vs {}", max_ref[i]);
-        assert!((max - min - range_ref[i]).abs() < TOL_MM, "{what}: range {} vs {}", max - min, range_ref[i]);
+        assert!(
+            (max - max_ref[i]).abs() < TOL_MM,
+            "{what}: max P' {max} vs {}",
+            max_ref[i]
+        );
+        assert!(
+            (max - min - range_ref[i]).abs() < TOL_MM,
+            "{what}: range {} vs {}",
+            max - min,
+            range_ref[i]
+        );
         assert!((th.per_stitch_mm - per_stitch[i]).abs() < TOL_MM, "{what}: per stitch");
         let (t_nominal, m_nominal) = if is_504 { (2.8, 2.5) } else { (3.0, 3.0) };
         if t[i] == t_nominal {
-            series.entry((case[i].into(), name[i].into(), true)).or_default().push((m[i], max));
+            series
+                .entry((case[i].into(), name[i].into(), true))
+                .or_default()
+                .push((m[i], max));
         }
         if m[i] == m_nominal {
-            series.entry((case[i].into(), name[i].into(), false)).or_default().push((t[i], max));
+            series
+                .entry((case[i].into(), name[i].into(), false))
+                .or_default()
+                .push((t[i], max));
         }
     }
     let asserted = ["needle_B", "lower", "n1_B", "n2_B", "n3_B"];
@@ -407,7 +586,13 @@ fn stitch_error(spec: &StitchSpec, phis: &[f64]) -> String {
 #[test]
 fn bad_specs_are_errors() {
     // 503 without its spreader.
-    let msg = stitch_error(&StitchSpec { stitch_type: StitchType::S503, ..altin504(2.5, 2.8) }, &[0.0]);
+    let msg = stitch_error(
+        &StitchSpec {
+            stitch_type: StitchType::S503,
+            ..altin504(2.5, 2.8)
+        },
+        &[0.0],
+    );
     assert!(msg.contains("503") && msg.contains("[stitch.spreader]"), "{msg}");
 
     // The looper never reaches the needles.
@@ -424,7 +609,10 @@ fn bad_specs_are_errors() {
         *eye_above_plate_mm = 2.0;
     }
     let msg = stitch_error(&s, &[0.0]);
-    assert!(msg.contains("needle") && msg.contains("never leaves the material"), "{msg}");
+    assert!(
+        msg.contains("needle") && msg.contains("never leaves the material"),
+        "{msg}"
+    );
 
     // An organ inside the material.
     let mut s = altin504(2.5, 2.8);
@@ -471,18 +659,32 @@ fn warnings_for_questionable_stand_ins() {
     let mut s = altin504(2.5, 2.8);
     s.needles[0].drop_deg = Some(315.0);
     let r = required_take_up(&s, &[0.0], 0.0).unwrap();
-    assert!(r.warnings.iter().any(|w| w.contains("315.00") && w.contains("300.00")), "{:?}", r.warnings);
+    assert!(
+        r.warnings.iter().any(|w| w.contains("315.00") && w.contains("300.00")),
+        "{:?}",
+        r.warnings
+    );
 
     // An upper looper that passes 3.58 mm from the lower thread (the stand-in
     // moved 3 mm along the seam and 4 mm up).
     let mut s = altin504(2.5, 2.8);
     s.upper_looper.as_mut().unwrap().eye = Motion::PolylineLaw {
-        points: Arc::from(vec![V3::new(13.0, 4.0, -2.0), V3::new(5.5, 3.0, 8.0), V3::new(-1.0, 2.0, 8.0)]),
+        points: Arc::from(vec![
+            V3::new(13.0, 4.0, -2.0),
+            V3::new(5.5, 3.0, 8.0),
+            V3::new(-1.0, 2.0, 8.0),
+        ]),
         low_deg: 110.0,
         high_deg: 270.0,
     };
     let r = required_take_up(&s, &[0.0, 100.0, 200.0, 300.0], 0.0).unwrap();
-    assert!(r.warnings.iter().any(|w| w.contains("hook offset") && w.contains("3.58")), "{:?}", r.warnings);
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.contains("hook offset") && w.contains("3.58")),
+        "{:?}",
+        r.warnings
+    );
     assert!(r.threads.iter().all(|t| t.eta_mm.iter().all(|v| v.is_finite())));
 
     // Angles outside [0, 360) wrap.
@@ -510,7 +712,13 @@ fn altin503_matches_the_reference_table() {
     check_overedge_needle(&spec, &r, &csv, &phis, ("SP", &spec.spreader.as_ref().unwrap().eye));
     let looper = thread(&r, "looper");
     assert_close("looper η", &looper.eta_mm, &csv.f64("looper_eta_mm"), &phis, TOL_MM);
-    assert_close("looper P'", &looper.pprime_mm, &csv.f64("looper_Pprime_mm"), &phis, TOL_MM);
+    assert_close(
+        "looper P'",
+        &looper.pprime_mm,
+        &csv.f64("looper_Pprime_mm"),
+        &phis,
+        TOL_MM,
+    );
     assert_pieces("looper", &looper.piece, &csv.str("looper_piece"), &phis);
     assert!(looper.travel_mm.is_none() && looper.gamma_deg.is_none());
 }
@@ -520,21 +728,36 @@ fn altin503_events_match_the_reference() {
     let r = required_take_up(&altin503(2.5, 2.8), &[0.0], 0.0).unwrap();
     check_events(&r, &Csv::read("altin503_events.csv"));
     // README: the spreader picks the looper thread at 143.70°.
-    let moment = |name: &str| r.moments.iter().find(|(n, _)| n.contains(name)).unwrap_or_else(|| panic!("{name}")).1;
+    let moment = |name: &str| {
+        r.moments
+            .iter()
+            .find(|(n, _)| n.contains(name))
+            .unwrap_or_else(|| panic!("{name}"))
+            .1
+    };
     assert!((moment("φ_SC") - 143.7).abs() < 1e-9);
     assert!((moment("lock (φ5)") - 330.0).abs() < 1e-12);
 }
 
 /// η's jump at the event of `th` at φ_c = `phi`.
 fn jump_at(th: &RequiredThread, phi: f64) -> f64 {
-    let ev = th.events.iter().find(|e| e.phi_c_deg == phi).unwrap_or_else(|| panic!("{}: no event at {phi}", th.name));
+    let ev = th
+        .events
+        .iter()
+        .find(|e| e.phi_c_deg == phi)
+        .unwrap_or_else(|| panic!("{}: no event at {phi}", th.name));
     ev.eta_right_mm - ev.eta_left_mm
 }
 
 #[test]
 fn altin503_locks_cut_the_per_stitch_consumption_and_jumps_have_their_signs() {
-    let geometry =
-        StitchGeometry { thickness_mm: 2.5, stitch_mm: 2.8, width_mm: 4.0, incline_deg: 20.0, edge_fraction: 0.5 };
+    let geometry = StitchGeometry {
+        thickness_mm: 2.5,
+        stitch_mm: 2.8,
+        width_mm: 4.0,
+        incline_deg: 20.0,
+        edge_fraction: 0.5,
+    };
     let c = consumption(503, &geometry).unwrap();
     let r = required_take_up(&altin503(2.5, 2.8), &[0.0], 0.0).unwrap();
     for th in &r.threads {
@@ -543,10 +766,21 @@ fn altin503_locks_cut_the_per_stitch_consumption_and_jumps_have_their_signs() {
             ThreadRole::LowerLooper => "lower looper",
             ThreadRole::UpperLooper => panic!("503 has no upper looper thread"),
         };
-        let want = c.threads.iter().find(|t| t.thread == formula).unwrap().length_mm.unwrap();
+        let want = c
+            .threads
+            .iter()
+            .find(|t| t.thread == formula)
+            .unwrap()
+            .length_mm
+            .unwrap();
         // §7 (a): the cut recomputed from the final nodes is the formula
         // (contour 3: 18.621 mm, contour 10: 11.383 mm).
-        assert!((th.cut_mm - want).abs() < 1e-12, "{}: cut {} vs {want}", th.name, th.cut_mm);
+        assert!(
+            (th.cut_mm - want).abs() < 1e-12,
+            "{}: cut {} vs {want}",
+            th.name,
+            th.cut_mm
+        );
         assert!((th.per_stitch_mm - want).abs() < 1e-12);
         // §7 (c): the lock (φ5 for both) is −L_s + σ_snap; nothing is
         // released at it (the needle loop left the looper at φ4).
@@ -567,7 +801,9 @@ fn altin503_locks_cut_the_per_stitch_consumption_and_jumps_have_their_signs() {
     assert!((jump_at(needle, 30.0) - 0.583905106).abs() < 1e-7);
     let (stab, release, drop) = (jump_at(looper, 270.0), jump_at(looper, 290.0), jump_at(looper, 300.0));
     assert!(stab >= 0.0 && release <= 0.0 && drop >= 0.0, "{stab} {release} {drop}");
-    assert!((stab - 0.67779987).abs() < 1e-7 && (release + 2.88239431).abs() < 1e-7 && (drop - 25.6132889).abs() < 1e-6);
+    assert!(
+        (stab - 0.67779987).abs() < 1e-7 && (release + 2.88239431).abs() < 1e-7 && (drop - 25.6132889).abs() < 1e-6
+    );
 }
 
 #[test]
@@ -588,7 +824,12 @@ fn altin503_is_periodic_and_continuous_away_from_its_events() {
     let grid: Vec<f64> = (0..36_000).map(|k| k as f64 * 0.01).collect();
     let r = required_take_up(&altin503(2.5, 2.8), &grid, 0.0).unwrap();
     for th in &r.threads {
-        let jumps: Vec<f64> = th.events.iter().filter(|e| e.kind != EventKind::Cont).map(|e| e.phi_c_deg).collect();
+        let jumps: Vec<f64> = th
+            .events
+            .iter()
+            .filter(|e| e.kind != EventKind::Cont)
+            .map(|e| e.phi_c_deg)
+            .collect();
         let (mut worst, mut at) = (0.0_f64, 0.0);
         for (k, w) in th.eta_mm.windows(2).enumerate() {
             let (a, b) = (grid[k], grid[k + 1]);
@@ -616,7 +857,10 @@ fn altin503_bad_specs_are_errors() {
     let mut s = altin503(2.5, 2.8);
     s.moments.upper_release_deg = 310.0;
     let msg = stitch_error(&s, &[0.0]);
-    assert!(msg.contains("stitch 503") && msg.contains("spreader_release φ_SD") && msg.contains("ordered"), "{msg}");
+    assert!(
+        msg.contains("stitch 503") && msg.contains("spreader_release φ_SD") && msg.contains("ordered"),
+        "{msg}"
+    );
     // The spreader dips into the material.
     let mut s = altin503(2.5, 2.8);
     s.spreader.as_mut().unwrap().eye = Motion::PolylineLaw {
@@ -625,13 +869,22 @@ fn altin503_bad_specs_are_errors() {
         high_deg: 270.0,
     };
     let msg = stitch_error(&s, &[0.0]);
-    assert!(msg.contains("spreader") && msg.contains("inside the material") && msg.contains("φ_c ="), "{msg}");
+    assert!(
+        msg.contains("spreader") && msg.contains("inside the material") && msg.contains("φ_c ="),
+        "{msg}"
+    );
     // A window where the spreader only gets the thread after the stab.
     let mut s = altin503(2.5, 2.8);
     s.spreader.as_mut().unwrap().pick_window_deg = [280.0, 300.0];
     let msg = stitch_error(&s, &[0.0]);
     assert!(msg.contains("φ_SC") && msg.contains("stab"), "{msg}");
     // No overedge width.
-    let msg = stitch_error(&StitchSpec { a_e_mm: 0.0, ..altin503(2.5, 2.8) }, &[0.0]);
+    let msg = stitch_error(
+        &StitchSpec {
+            a_e_mm: 0.0,
+            ..altin503(2.5, 2.8)
+        },
+        &[0.0],
+    );
     assert!(msg.contains("stitch 503") && msg.contains("a_e"), "{msg}");
 }

@@ -8,7 +8,15 @@ fn run(m: &Model, set: &[(&str, f64)], step: f64) -> CycleTable {
     for (k, v) in set {
         m.set(&mut p, k, *v).unwrap();
     }
-    run_cycle(m, &p, &CycleOptions { step_deg: step, ..Default::default() }).unwrap()
+    run_cycle(
+        m,
+        &p,
+        &CycleOptions {
+            step_deg: step,
+            ..Default::default()
+        },
+    )
+    .unwrap()
 }
 
 #[test]
@@ -16,10 +24,24 @@ fn every_preset_loads_runs_and_is_traced() {
     for p in stitchkin::presets::ALL {
         let m = Model::preset(p.name).unwrap();
         assert_eq!(m.file.model.name, p.name);
-        assert!(m.file.model.title.is_some() && m.file.model.seed.is_some(), "{}", p.name);
+        assert!(
+            m.file.model.title.is_some() && m.file.model.seed.is_some(),
+            "{}",
+            p.name
+        );
         for par in &m.params {
-            assert!(par.source.is_some() || par.is_derived(), "{}: parameter {} has no source", p.name, par.name);
-            assert!(par.provenance.is_some() || par.is_derived(), "{}: parameter {} has no provenance", p.name, par.name);
+            assert!(
+                par.source.is_some() || par.is_derived(),
+                "{}: parameter {} has no source",
+                p.name,
+                par.name
+            );
+            assert!(
+                par.provenance.is_some() || par.is_derived(),
+                "{}: parameter {} has no provenance",
+                p.name,
+                par.name
+            );
         }
         let t = run(&m, &[], 1.0);
         assert_eq!(t.rows(), 360);
@@ -69,8 +91,16 @@ fn needle876_analogs_grow_with_stroke() {
     let m = Model::preset("needle876").unwrap();
     let peak = |alpha: f64| {
         let t = run(&m, &[("alpha", alpha)], 1.0);
-        let v = t.column("G.dy_dphi_mm_per_rad").unwrap().iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let a = t.column("G.d2y_dphi2_mm_per_rad2").unwrap().iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let v = t
+            .column("G.dy_dphi_mm_per_rad")
+            .unwrap()
+            .iter()
+            .fold(0.0f64, |a, v| a.max(v.abs()));
+        let a = t
+            .column("G.d2y_dphi2_mm_per_rad2")
+            .unwrap()
+            .iter()
+            .fold(0.0f64, |a, v| a.max(v.abs()));
         (v, a)
     };
     let (v0, a0) = peak(0.0);
@@ -85,7 +115,9 @@ fn overlock500_outputs_working_points() {
     let t = run(&m, &[], 1.0);
     for p in ["P20", "P6", "P11"] {
         for a in ["x", "y", "z"] {
-            let c = t.column(&format!("{p}.{a}_mm")).unwrap_or_else(|| panic!("no {p}.{a}_mm"));
+            let c = t
+                .column(&format!("{p}.{a}_mm"))
+                .unwrap_or_else(|| panic!("no {p}.{a}_mm"));
             assert!(c.iter().all(|v| v.is_finite()));
         }
     }
@@ -95,5 +127,11 @@ fn overlock500_outputs_working_points() {
 fn altin_needle_outputs_deviation_from_the_guide_line() {
     let m = Model::preset("altin-needle").unwrap();
     let t = run(&m, &[], 1.0);
-    assert!(t.columns.iter().any(|c| c.name.ends_with("_mm") && c.name.contains("dev")), "{:?}", t.columns.iter().map(|c| &c.name).collect::<Vec<_>>());
+    assert!(
+        t.columns
+            .iter()
+            .any(|c| c.name.ends_with("_mm") && c.name.contains("dev")),
+        "{:?}",
+        t.columns.iter().map(|c| &c.name).collect::<Vec<_>>()
+    );
 }

@@ -5,9 +5,25 @@ use stitchkin::stitch::consumption::{StitchGeometry, consumption};
 
 #[test]
 fn consumption_matches_the_reference_table() {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/stitch/consumption_per_stitch.csv")).unwrap();
-    let altin = StitchGeometry { thickness_mm: 2.5, stitch_mm: 2.8, width_mm: 4.0, incline_deg: 20.0, edge_fraction: 0.5 };
-    let mf = StitchGeometry { thickness_mm: 3.0, stitch_mm: 3.0, width_mm: 0.0, incline_deg: 0.0, edge_fraction: 0.5 };
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/stitch/consumption_per_stitch.csv"
+    ))
+    .unwrap();
+    let altin = StitchGeometry {
+        thickness_mm: 2.5,
+        stitch_mm: 2.8,
+        width_mm: 4.0,
+        incline_deg: 20.0,
+        edge_fraction: 0.5,
+    };
+    let mf = StitchGeometry {
+        thickness_mm: 3.0,
+        stitch_mm: 3.0,
+        width_mm: 0.0,
+        incline_deg: 0.0,
+        edge_fraction: 0.5,
+    };
     let mut checked = 0;
     for line in text.lines().skip(1) {
         let f: Vec<&str> = line.splitn(6, ',').collect();
@@ -21,10 +37,17 @@ fn consumption_matches_the_reference_table() {
                 Err(_) => assert!(c.total_mm.is_none(), "{ty}: a total where the reference has none"),
             }
         } else {
-            let ours = c.threads.iter().find(|t| t.thread == thread).unwrap_or_else(|| panic!("{ty}: no thread {thread}"));
+            let ours = c
+                .threads
+                .iter()
+                .find(|t| t.thread == thread)
+                .unwrap_or_else(|| panic!("{ty}: no thread {thread}"));
             match length.parse::<f64>() {
                 Ok(want) => assert!((ours.length_mm.unwrap() - want).abs() < 1e-6, "{ty} {thread}"),
-                Err(_) => assert!(ours.length_mm.is_none(), "{ty} {thread}: a length where the reference has none"),
+                Err(_) => assert!(
+                    ours.length_mm.is_none(),
+                    "{ty} {thread}: a length where the reference has none"
+                ),
             }
         }
         checked += 1;
@@ -44,7 +67,18 @@ fn mf_run(set: &[(&str, f64)]) -> CycleTable {
     for (k, v) in set {
         model.set(&mut params, k, *v).unwrap();
     }
-    run_cycle(&model, &params, &CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()), lean: false }).unwrap()
+    run_cycle(
+        &model,
+        &params,
+        &CycleOptions {
+            step_deg: 1.0,
+            rpm: None,
+            analogs: false,
+            points: Some(Vec::new()),
+            lean: false,
+        },
+    )
+    .unwrap()
 }
 
 #[test]
@@ -59,8 +93,18 @@ fn mf7923d_locks_one_stitch_of_thread_per_needle() {
         // Contour 1: t + 2·l_m = 3 + 2·3 = 9 mm (β = 0), and the P' model
         // cuts exactly that at the drop.
         assert!((t.per_stitch_mm - 9.0).abs() < 1e-12, "{t:?}");
-        assert!((t.locked_mm - t.per_stitch_mm).abs() < 1e-9, "{}: locked {} vs {}", t.thread, t.locked_mm, t.per_stitch_mm);
-        assert!(t.events.iter().any(|e| e.kind == stitchkin::stitch::spec::EventKind::Lock));
+        assert!(
+            (t.locked_mm - t.per_stitch_mm).abs() < 1e-9,
+            "{}: locked {} vs {}",
+            t.thread,
+            t.locked_mm,
+            t.per_stitch_mm
+        );
+        assert!(
+            t.events
+                .iter()
+                .any(|e| e.kind == stitchkin::stitch::spec::EventKind::Lock)
+        );
         let m = t.mismatch.as_ref().expect("compared with its path");
         assert!(m.rms_d_mm.is_finite() && m.rms_d_mm > 0.0);
         // Measured at B: the P' and P columns of the split, and D = P − P'.
@@ -76,9 +120,17 @@ fn mf7923d_locks_one_stitch_of_thread_per_needle() {
         }
         // The same thread at the moving eye differs by the needle's travel:
         // P_B − P_eye = P'_B − P'_eye = S(φ) − S(φ0), D the same at either.
-        let (pe, ppe) = (table.column(&format!("n{}_A.P_eye_mm", j + 1)).unwrap(), table.column(&format!("n{}.Pprime_eye_mm", j + 1)).unwrap());
+        let (pe, ppe) = (
+            table.column(&format!("n{}_A.P_eye_mm", j + 1)).unwrap(),
+            table.column(&format!("n{}.Pprime_eye_mm", j + 1)).unwrap(),
+        );
         for k in 0..pp.len() {
-            assert!(((p[k] - pe[k]) - (pp[k] - ppe[k])).abs() < 1e-5, "φ = {k}: {} vs {}", p[k] - pe[k], pp[k] - ppe[k]);
+            assert!(
+                ((p[k] - pe[k]) - (pp[k] - ppe[k])).abs() < 1e-5,
+                "φ = {k}: {} vs {}",
+                p[k] - pe[k],
+                pp[k] - ppe[k]
+            );
         }
         assert!(table.column(&format!("n{}.gamma_deg", j + 1)).is_some());
         // The regulator window: the last 60° before the needle's TDC (φ = 0).
@@ -86,8 +138,16 @@ fn mf7923d_locks_one_stitch_of_thread_per_needle() {
         assert!((w[0] - 300.0).abs() < 1e-6 && (w[1] - 360.0).abs() < 1e-6, "{w:?}");
         // At the lock P' drops by the loop it releases only; the stitch's
         // own 9 mm is drawn through the regulator over 300…360°.
-        let lock = t.events.iter().find(|e| e.kind == stitchkin::stitch::spec::EventKind::Lock).unwrap();
-        assert!((lock.jump_mm + t.released_mm).abs() < 1e-6, "{lock:?} vs ρ = {}", t.released_mm);
+        let lock = t
+            .events
+            .iter()
+            .find(|e| e.kind == stitchkin::stitch::spec::EventKind::Lock)
+            .unwrap();
+        assert!(
+            (lock.jump_mm + t.released_mm).abs() < 1e-6,
+            "{lock:?} vs ρ = {}",
+            t.released_mm
+        );
     }
     // P' differs from the reference accounting (the whole stitch at the
     // lock) by L_s·(H_L − w): 0 before the lock, L_s from the lock to the
@@ -97,7 +157,10 @@ fn mf7923d_locks_one_stitch_of_thread_per_needle() {
     let grid: Vec<f64> = (0..360).map(|k| (k as f64 + 180.0).rem_euclid(360.0)).collect();
     let ours = stitchkin::stitch::pprime::required_take_up(&spec, &grid, 180.0).unwrap();
     let at_lock = stitchkin::stitch::pprime::required_take_up(
-        &stitchkin::stitch::spec::StitchSpec { regulator: stitchkin::stitch::spec::Regulator::AtLock, ..spec },
+        &stitchkin::stitch::spec::StitchSpec {
+            regulator: stitchkin::stitch::spec::Regulator::AtLock,
+            ..spec
+        },
         &grid,
         180.0,
     )
@@ -106,8 +169,19 @@ fn mf7923d_locks_one_stitch_of_thread_per_needle() {
         let lock = (a.lock_deg + 180.0).rem_euclid(360.0);
         for (k, (x, y)) in a.pprime_mm.iter().zip(&b.pprime_mm).enumerate() {
             let phi = k as f64;
-            let want = if phi < lock { 0.0 } else if phi < 300.0 { 9.0 } else { 9.0 * (360.0 - phi) / 60.0 };
-            assert!((x - y - want).abs() < 1e-9, "{} at φ = {phi}: {} vs {want}", a.name, x - y);
+            let want = if phi < lock {
+                0.0
+            } else if phi < 300.0 {
+                9.0
+            } else {
+                9.0 * (360.0 - phi) / 60.0
+            };
+            assert!(
+                (x - y - want).abs() < 1e-9,
+                "{} at φ = {phi}: {} vs {want}",
+                a.name,
+                x - y
+            );
         }
     }
     // Every physical check passes at the default setting.
@@ -120,13 +194,34 @@ fn max_required_take_up_grows_with_thickness_and_stitch_length() {
     // the material thickness.
     let max_b = |set: &[(&str, f64)]| -> Vec<f64> {
         let table = mf_run(set);
-        (1..=3).map(|j| table.column(&format!("n{j}.Pprime_B_mm")).unwrap().iter().cloned().fold(f64::MIN, f64::max)).collect()
+        (1..=3)
+            .map(|j| {
+                table
+                    .column(&format!("n{j}.Pprime_B_mm"))
+                    .unwrap()
+                    .iter()
+                    .cloned()
+                    .fold(f64::MIN, f64::max)
+            })
+            .collect()
     };
     let (thin, thick) = (max_b(&[("m", 2.0)]), max_b(&[("m", 4.0)]));
     let (short, long) = (max_b(&[("stitch", 2.0)]), max_b(&[("stitch", 4.0)]));
     for j in 0..3 {
-        assert!(thick[j] > thin[j] + 1.0, "needle {}: m 2 → 4 gives {} → {}", j + 1, thin[j], thick[j]);
-        assert!(long[j] > short[j] + 0.5, "needle {}: t 2 → 4 gives {} → {}", j + 1, short[j], long[j]);
+        assert!(
+            thick[j] > thin[j] + 1.0,
+            "needle {}: m 2 → 4 gives {} → {}",
+            j + 1,
+            thin[j],
+            thick[j]
+        );
+        assert!(
+            long[j] > short[j] + 0.5,
+            "needle {}: t 2 → 4 gives {} → {}",
+            j + 1,
+            short[j],
+            long[j]
+        );
     }
 }
 
@@ -192,7 +287,10 @@ fn a_401_model_with_stand_in_laws_runs() {
     let st = table.stitch.clone().unwrap();
     let t = &st.threads[0];
     // l_m = m = 2, t = 2.5: 6.5 mm per stitch, locked exactly.
-    assert!((t.per_stitch_mm - 6.5).abs() < 1e-12 && (t.locked_mm - 6.5).abs() < 1e-9, "{t:?}");
+    assert!(
+        (t.per_stitch_mm - 6.5).abs() < 1e-12 && (t.locked_mm - 6.5).abs() < 1e-9,
+        "{t:?}"
+    );
     assert!(t.mismatch.as_ref().unwrap().score.is_some());
     assert!(table.column("thr.D_mm").is_some());
 }
@@ -200,15 +298,21 @@ fn a_401_model_with_stand_in_laws_runs() {
 #[test]
 fn bad_stitch_tables_are_rejected_with_the_place_and_the_fix() {
     let e = stitch_err(r#"type = "401""#, r#"type = "301""#);
-    assert!(e.contains("unknown or unsupported stitch type `301`") && e.contains("\"407\""), "{e}");
+    assert!(
+        e.contains("unknown or unsupported stitch type `301`") && e.contains("\"407\""),
+        "{e}"
+    );
     let e = stitch_err(r#"type = "401""#, r#"type = "503""#);
     assert!(e.contains("stitch 503 needs the overedge width"), "{e}");
     let e = stitch_err(r#"type = "401""#, r#"type = "406""#);
     assert!(e.contains("has 2 needle(s), 1 given"), "{e}");
     let e = stitch_err(r#"name = "thr""#, "name = \"thr\"\neye = \"N\"");
-    assert!(e.contains("exactly one of `eye`") , "{e}");
+    assert!(e.contains("exactly one of `eye`"), "{e}");
     let e = stitch_err(r#"path = "needle""#, r#"path = "neddle""#);
-    assert!(e.contains("unknown thread path `neddle`") && e.contains("did you mean `needle`"), "{e}");
+    assert!(
+        e.contains("unknown thread path `neddle`") && e.contains("did you mean `needle`"),
+        "{e}"
+    );
     let e = stitch_err("[stitch]\ntype", "[stitch]\nedge_split = 2\ntype");
     assert!(e.contains("edge_split = 2 is outside 0…1"), "{e}");
     let e = stitch_err(r#"law = "harmonic""#, r#"law = "cam""#);
@@ -217,7 +321,10 @@ fn bad_stitch_tables_are_rejected_with_the_place_and_the_fix() {
     assert!(e.contains("m_mm"), "{e}");
     let e = stitch_err(r#"type = "401""#, r#"type = "504""#);
     assert!(e.contains("overedge width"), "{e}");
-    let e = stitch_err("[stitch]\ntype = \"401\"", "[stitch]\ntype = \"504\"\noveredge_width_mm = 4");
+    let e = stitch_err(
+        "[stitch]\ntype = \"401\"",
+        "[stitch]\ntype = \"504\"\noveredge_width_mm = 4",
+    );
     assert!(e.contains("upper looper"), "{e}");
     // A thickness the parameter range does not allow is refused on --set.
     let model = Model::from_toml_str(STITCH_401, "chain.toml").unwrap();
@@ -247,23 +354,57 @@ phase_deg = -4
     );
     let point = STITCH_401
         .replacen("O = [0, 0]\n", &format!("O = [0, 0]\n{dog}"), 1)
-        .replacen(r#"feed = { law = "harmonic", start_deg = 134, duration_deg = 100 }"#, r#"feed = { law = "point", point = "DOG" }"#, 1);
+        .replacen(
+            r#"feed = { law = "harmonic", start_deg = 134, duration_deg = 100 }"#,
+            r#"feed = { law = "point", point = "DOG" }"#,
+            1,
+        );
     let harmonic = Model::from_toml_str(STITCH_401, "h.toml").unwrap();
     let dogged = Model::from_toml_str(&point, "d.toml").unwrap();
-    let opts = CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()), lean: false };
-    let (a, b) = (run_cycle(&harmonic, &harmonic.defaults(), &opts).unwrap(), run_cycle(&dogged, &dogged.defaults(), &opts).unwrap());
-    let (pa, pb) = (a.column("thr.Pprime_B_mm").unwrap(), b.column("thr.Pprime_B_mm").unwrap());
+    let opts = CycleOptions {
+        step_deg: 1.0,
+        rpm: None,
+        analogs: false,
+        points: Some(Vec::new()),
+        lean: false,
+    };
+    let (a, b) = (
+        run_cycle(&harmonic, &harmonic.defaults(), &opts).unwrap(),
+        run_cycle(&dogged, &dogged.defaults(), &opts).unwrap(),
+    );
+    let (pa, pb) = (
+        a.column("thr.Pprime_B_mm").unwrap(),
+        b.column("thr.Pprime_B_mm").unwrap(),
+    );
     let worst = pa.iter().zip(pb).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
-    assert!(worst < 1e-6, "point-law P' differs from the harmonic law's by {worst} mm");
-    assert!(b.warnings.iter().any(|w| w.contains("travels 3.064 mm") && w.contains("t = 2.5 mm")), "{:?}", b.warnings);
+    assert!(
+        worst < 1e-6,
+        "point-law P' differs from the harmonic law's by {worst} mm"
+    );
+    assert!(
+        b.warnings
+            .iter()
+            .any(|w| w.contains("travels 3.064 mm") && w.contains("t = 2.5 mm")),
+        "{:?}",
+        b.warnings
+    );
     assert!(a.warnings.iter().all(|w| !w.contains("feed dog")));
     // A dog that never rises is refused with the fix.
-    let low = point.replacen(&format!("DOGC = [0, 0, {}]", -r * 50f64.to_radians().cos()), "DOGC = [0, 0, -5]", 1);
+    let low = point.replacen(
+        &format!("DOGC = [0, 0, {}]", -r * 50f64.to_radians().cos()),
+        "DOGC = [0, 0, -5]",
+        1,
+    );
     let m = Model::from_toml_str(&low, "low.toml").unwrap();
     let e = run_cycle(&m, &m.defaults(), &opts).unwrap_err().to_string();
     assert!(e.contains("never rises above the plate"), "{e}");
     // Angles do not belong to the point law.
-    let e = Model::from_toml_str(&point.replacen(r#"point = "DOG" }"#, r#"point = "DOG", start_deg = 3 }"#, 1), "x.toml").unwrap_err().to_string();
+    let e = Model::from_toml_str(
+        &point.replacen(r#"point = "DOG" }"#, r#"point = "DOG", start_deg = 3 }"#, 1),
+        "x.toml",
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("the point feed takes `point`"), "{e}");
 }
 
@@ -277,18 +418,27 @@ fn mf7923d_match_golden() {
     let close = |a: f64, b: f64, what: &str| assert!((a - b).abs() < 2e-3, "{what}: {a} vs golden {b}");
     let golden_b = [24.2577, 20.4501, 18.8073];
     let golden_lock = [113.62, 124.56, 137.22];
-    for (phase, rms, score, bound_ok) in
-        [(0.0, [48.2470, 54.0508, 59.7335], [0.0, 0.0, 0.0], false), (180.0, [4.7060, 3.6411, 3.4837], [80.5852, 82.1801, 81.4607], true)]
-    {
+    for (phase, rms, score, bound_ok) in [
+        (0.0, [48.2470, 54.0508, 59.7335], [0.0, 0.0, 0.0], false),
+        (180.0, [4.7060, 3.6411, 3.4837], [80.5852, 82.1801, 81.4607], true),
+    ] {
         let table = mf_run(&[("t1_phase", phase)]);
         let st = table.stitch.as_ref().unwrap();
         for (j, t) in st.threads.iter().enumerate() {
             let m = t.mismatch.as_ref().unwrap();
             close(m.rms_d_mm, rms[j], &format!("t1_phase {phase} n{} RMS(D)", j + 1));
-            close(m.score.unwrap(), score[j], &format!("t1_phase {phase} n{} score", j + 1));
+            close(
+                m.score.unwrap(),
+                score[j],
+                &format!("t1_phase {phase} n{} score", j + 1),
+            );
             close(t.max_pprime_mm, golden_b[j], &format!("n{} max P'_B", j + 1));
             close(t.lock_phi_deg, golden_lock[j], &format!("n{} lock", j + 1));
-            let bound = st.checks.iter().find(|c| c.thread == t.thread && c.name == "thread_bound").unwrap();
+            let bound = st
+                .checks
+                .iter()
+                .find(|c| c.thread == t.thread && c.name == "thread_bound")
+                .unwrap();
             assert_eq!(bound.ok, bound_ok, "t1_phase {phase} {}: {}", t.thread, bound.message);
         }
     }
@@ -319,7 +469,12 @@ fn mf7923d_default_setting_is_physically_possible() {
     let table = mf_run(&[("t1_phase", 0.0)]);
     let st = table.stitch.as_ref().unwrap();
     let bound: Vec<_> = st.checks.iter().filter(|c| c.name == "thread_bound").collect();
-    assert!(bound.iter().all(|c| !c.ok && c.message.contains("hangs slack") && c.value > c.limit[1].unwrap() + 25.0), "{bound:?}");
+    assert!(
+        bound
+            .iter()
+            .all(|c| !c.ok && c.message.contains("hangs slack") && c.value > c.limit[1].unwrap() + 25.0),
+        "{bound:?}"
+    );
 }
 
 /// Stitch 503 with the stand-in laws of the reference's altin503 case
@@ -387,33 +542,64 @@ draw_in_deg = 330
 #[test]
 fn a_503_model_with_stand_in_laws_runs_and_gives_the_reference_pprime() {
     let model = Model::from_toml_str(STITCH_503, "overedge.toml").unwrap();
-    let opts = CycleOptions { step_deg: 1.0, rpm: None, analogs: false, points: Some(Vec::new()), lean: false };
+    let opts = CycleOptions {
+        step_deg: 1.0,
+        rpm: None,
+        analogs: false,
+        points: Some(Vec::new()),
+        lean: false,
+    };
     let table = run_cycle(&model, &model.defaults(), &opts).unwrap();
     let st = table.stitch.as_ref().expect("a [stitch]");
     assert_eq!(st.stitch_type, 503);
     // Needles, then the looper thread, each with its path.
-    let threads: Vec<_> = st.threads.iter().map(|t| (t.thread.as_str(), t.contour, t.path.as_deref())).collect();
+    let threads: Vec<_> = st
+        .threads
+        .iter()
+        .map(|t| (t.thread.as_str(), t.contour, t.path.as_deref()))
+        .collect();
     assert_eq!(threads, [("needle", 3, Some("needle")), ("looper", 10, Some("lower"))]);
     // Contour 3 and contour 10 (docs §6.3: 18.621 + 11.383 mm), locked at φ5.
     for (t, want) in st.threads.iter().zip([18.620888862, 11.382622246]) {
-        assert!((t.per_stitch_mm - want).abs() < 1e-8 && (t.locked_mm - t.per_stitch_mm).abs() < 1e-12, "{t:?}");
+        assert!(
+            (t.per_stitch_mm - want).abs() < 1e-8 && (t.locked_mm - t.per_stitch_mm).abs() < 1e-12,
+            "{t:?}"
+        );
         assert!((t.lock_phi_deg - 330.0).abs() < 1e-9);
         assert!(t.mismatch.as_ref().unwrap().score.is_some());
     }
     // P' at every whole degree is the reference's (altin503_Pprime.csv).
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/stitch/altin503_Pprime.csv")).unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/stitch/altin503_Pprime.csv"
+    ))
+    .unwrap();
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
     let (c_phi, c_n, c_l) = (col("phi_c_deg"), col("needle_Pprime_N_mm"), col("looper_Pprime_mm"));
-    let (phi, pn, pl) = (table.column("phi_deg").unwrap(), table.column("needle.Pprime_eye_mm").unwrap(), table.column("looper.Pprime_mm").unwrap());
+    let (phi, pn, pl) = (
+        table.column("phi_deg").unwrap(),
+        table.column("needle.Pprime_eye_mm").unwrap(),
+        table.column("looper.Pprime_mm").unwrap(),
+    );
     let mut checked = 0;
     for line in lines {
         let f: Vec<&str> = line.split(',').collect();
         let p: f64 = f[c_phi].parse().unwrap();
-        let Some(k) = phi.iter().position(|x| (x - p).abs() < 1e-9) else { continue };
-        assert!((pn[k] - f[c_n].parse::<f64>().unwrap()).abs() < 1e-6, "needle P' at {p}°: {}", pn[k]);
-        assert!((pl[k] - f[c_l].parse::<f64>().unwrap()).abs() < 1e-6, "looper P' at {p}°: {}", pl[k]);
+        let Some(k) = phi.iter().position(|x| (x - p).abs() < 1e-9) else {
+            continue;
+        };
+        assert!(
+            (pn[k] - f[c_n].parse::<f64>().unwrap()).abs() < 1e-6,
+            "needle P' at {p}°: {}",
+            pn[k]
+        );
+        assert!(
+            (pl[k] - f[c_l].parse::<f64>().unwrap()).abs() < 1e-6,
+            "looper P' at {p}°: {}",
+            pl[k]
+        );
         checked += 1;
     }
     assert_eq!(checked, 360);
@@ -421,7 +607,11 @@ fn a_503_model_with_stand_in_laws_runs_and_gives_the_reference_pprime() {
     assert!(table.column("looper.Pprime_B_mm").is_none());
     // With the reference's accounting (the regulator passes each stitch at
     // the lock) nothing is left out of the metrics.
-    assert!(st.threads.iter().all(|t| t.regulator_window_deg.is_none()), "{:?}", st.regulator);
+    assert!(
+        st.threads.iter().all(|t| t.regulator_window_deg.is_none()),
+        "{:?}",
+        st.regulator
+    );
 }
 
 fn stitch503_err(from: &str, to: &str) -> String {
@@ -440,15 +630,30 @@ fn stitch503_err(from: &str, to: &str) -> String {
 fn bad_503_tables_are_rejected_with_the_place_and_the_fix() {
     let spreader = "[stitch.spreader]\nlaw = { polyline_mm = [[11, 1.5, -3], [5.5, 0, 4], [-1, -1, 4]], low_deg = 110, high_deg = 270 }\npick_window_deg = [120, 200]\n";
     let e = stitch503_err(spreader, "");
-    assert!(e.contains("stitch 503 needs a spreader") && e.contains("[stitch.spreader]"), "{e}");
+    assert!(
+        e.contains("stitch 503 needs a spreader") && e.contains("[stitch.spreader]"),
+        "{e}"
+    );
     let e = stitch503_err("[stitch.spreader]\n", "[stitch.upper_looper]\n");
-    assert!(e.contains("stitch 503 has no upper looper") && e.contains("[stitch.spreader]"), "{e}");
+    assert!(
+        e.contains("stitch 503 has no upper looper") && e.contains("[stitch.spreader]"),
+        "{e}"
+    );
     let e = stitch503_err("spreader_release_deg = 290", "upper_release_deg = 290");
-    assert!(e.contains("stitch 503 has no `upper_release_deg`") && e.contains("spreader_release_deg"), "{e}");
+    assert!(
+        e.contains("stitch 503 has no `upper_release_deg`") && e.contains("spreader_release_deg"),
+        "{e}"
+    );
     let e = stitch503_err("spreader_release_deg = 290", "spreader_release_deg = 340");
     assert!(e.contains("stab < spreader_release < draw_in"), "{e}");
-    let e = stitch503_err("[stitch.moments]\nstab_deg = 270\nspreader_release_deg = 290\ndraw_in_deg = 330\n", "");
-    assert!(e.contains("stitch 503 needs its cyclogram moments") && e.contains("spreader_release_deg"), "{e}");
+    let e = stitch503_err(
+        "[stitch.moments]\nstab_deg = 270\nspreader_release_deg = 290\ndraw_in_deg = 330\n",
+        "",
+    );
+    assert!(
+        e.contains("stitch 503 needs its cyclogram moments") && e.contains("spreader_release_deg"),
+        "{e}"
+    );
     let e = stitch503_err("overedge_width_mm = 4\n", "");
     assert!(e.contains("stitch 503 needs the overedge width"), "{e}");
     let e = stitch503_err("[stitch.spreader]\nlaw", "[stitch.spreader]\neye = \"N\"\nlaw");
@@ -472,7 +677,16 @@ fn bad_503_tables_are_rejected_with_the_place_and_the_fix() {
     assert!(e2.contains("stitch 504 has no spreader"), "{e2}");
     // A spreader that enters the material is refused when the cycle runs,
     // naming the organ and φ.
-    let m = Model::from_toml_str(&STITCH_503.replacen("[5.5, 0, 4], [-1, -1, 4]", "[2, 0, 1], [-1, -1, 4]", 1), "in.toml").unwrap();
-    let e = run_cycle(&m, &m.defaults(), &CycleOptions::default()).unwrap_err().to_string();
-    assert!(e.contains("spreader") && e.contains("inside the material") && e.contains("φ_c"), "{e}");
+    let m = Model::from_toml_str(
+        &STITCH_503.replacen("[5.5, 0, 4], [-1, -1, 4]", "[2, 0, 1], [-1, -1, 4]", 1),
+        "in.toml",
+    )
+    .unwrap();
+    let e = run_cycle(&m, &m.defaults(), &CycleOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("spreader") && e.contains("inside the material") && e.contains("φ_c"),
+        "{e}"
+    );
 }

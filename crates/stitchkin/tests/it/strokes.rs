@@ -39,7 +39,11 @@ fn extended_dead_point(m: &Model, p: &Params) -> (f64, [f64; 2]) {
 }
 
 fn needle(m: &Model) -> StrokeOptions {
-    StrokeOptions { point: point_slot(m, "G", "--point", true).unwrap(), axis: Axis::World(1), step_deg: 1.0 }
+    StrokeOptions {
+        point: point_slot(m, "G", "--point", true).unwrap(),
+        axis: Axis::World(1),
+        step_deg: 1.0,
+    }
 }
 
 /// Seed 002's results for the class 876 mechanism, as `stitchkin stroke
@@ -54,10 +58,18 @@ fn needle876_stroke_table_reproduces_seed_002() {
     // Stroke 18 → 23 mm for α = 0 → 35° (seed 002, conclusion).
     assert!((at(0).stroke_mm - 18.08).abs() < 0.01, "{}", at(0).stroke_mm);
     assert!((at(35).stroke_mm - 22.77).abs() < 0.01, "{}", at(35).stroke_mm);
-    assert!(s.rows.windows(2).all(|w| w[1].stroke.as_ref().unwrap().stroke_mm > w[0].stroke.as_ref().unwrap().stroke_mm));
+    assert!(
+        s.rows
+            .windows(2)
+            .all(|w| w[1].stroke.as_ref().unwrap().stroke_mm > w[0].stroke.as_ref().unwrap().stroke_mm)
+    );
     // The lowest position does not move (107.475 mm). With the published,
     // rounded l_CF = 37.945 mm it moves by the rounding only (< 0.4 µm).
-    let lows: Vec<f64> = s.rows.iter().map(|r| r.stroke.as_ref().unwrap().min.position_mm).collect();
+    let lows: Vec<f64> = s
+        .rows
+        .iter()
+        .map(|r| r.stroke.as_ref().unwrap().min.position_mm)
+        .collect();
     let spread = |v: &[f64]| v.iter().cloned().fold(f64::MIN, f64::max) - v.iter().cloned().fold(f64::MAX, f64::min);
     assert!((lows[0] - 107.475).abs() < 1e-3, "{}", lows[0]);
     assert!(spread(&lows) < 4e-4, "{}", spread(&lows));
@@ -68,14 +80,20 @@ fn needle876_stroke_table_reproduces_seed_002() {
     let x_e = v("x_c") + v("l_ef");
     let y_e = d[1] - (v("l_de").powi(2) - (x_e - d[0]).powi(2)).sqrt();
     let l_cf = v("y_c") - y_e;
-    assert!((l_cf - 37.945).abs() < 1e-3, "the published l_CF is this one rounded: {l_cf}");
+    assert!(
+        (l_cf - 37.945).abs() < 1e-3,
+        "the published l_CF is this one rounded: {l_cf}"
+    );
     let exact = with(&m, &[("l_cf", l_cf)]);
     let lows: Vec<f64> = [0.0, 10.0, 20.0, 30.0, 35.0, 40.0]
         .iter()
         .map(|&a| {
             let mut p = exact.clone();
             m.set(&mut p, "alpha", a).unwrap();
-            stroke(&m, &p, needle(&m).point, &Axis::World(1), 1.0).unwrap().min.position_mm
+            stroke(&m, &p, needle(&m).point, &Axis::World(1), 1.0)
+                .unwrap()
+                .min
+                .position_mm
         })
         .collect();
     assert!(spread(&lows) < 1e-6, "{lows:?}");
@@ -86,10 +104,18 @@ fn needle876_stroke_table_reproduces_seed_002() {
     // μ2 (group 45) leaves the band near α = 37.7°: the only crossing.
     assert_eq!(s.crossings.len(), 1, "{:?}", s.crossings);
     let c = &s.crossings[0];
-    assert_eq!((c.key.as_str(), c.parameter.as_str(), c.bound_deg, c.leaves), ("45", "alpha", 30.0, true));
+    assert_eq!(
+        (c.key.as_str(), c.parameter.as_str(), c.bound_deg, c.leaves),
+        ("45", "alpha", 30.0, true)
+    );
     assert!((c.value - 37.7).abs() < 0.3, "{}", c.value);
     // At the crossing μ2's minimum is 30° to the bisection's precision.
-    let mu45 = |a: f64| stroke(&m, &with(&m, &[("alpha", a)]), needle(&m).point, &Axis::World(1), 1.0).unwrap().mu[1].min_deg;
+    let mu45 = |a: f64| {
+        stroke(&m, &with(&m, &[("alpha", a)]), needle(&m).point, &Axis::World(1), 1.0)
+            .unwrap()
+            .mu[1]
+            .min_deg
+    };
     assert!((mu45(c.value) - 30.0).abs() < 1e-6, "{}", mu45(c.value));
     assert!(!s.rows[38].stroke.as_ref().unwrap().mu[1].ok);
 }
@@ -109,23 +135,52 @@ fn dead_centres_are_zeros_of_the_exact_analog() {
             let y = pose.point(g, 0).y;
             (y.re(), y.d1(), y.d2())
         };
-        let fine = run_cycle(&m, &p, &CycleOptions { step_deg: 0.01, analogs: false, points: Some(vec![g]), ..Default::default() }).unwrap();
+        let fine = run_cycle(
+            &m,
+            &p,
+            &CycleOptions {
+                step_deg: 0.01,
+                analogs: false,
+                points: Some(vec![g]),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let col = fine.column("G.y_mm").unwrap();
         for step in [1.0, 7.0] {
             let s = stroke(&m, &p, g, &Axis::World(1), step).unwrap();
             for (dc, lowest) in [(&s.min, true), (&s.max, false)] {
                 let phi = dc.phi_deg.unwrap();
                 let (y, dy, d2y) = y_at(phi);
-                assert!(dy.abs() < 1e-8, "alpha {alpha}, step {step}: dy/dphi = {dy} mm/rad at {phi}");
+                assert!(
+                    dy.abs() < 1e-8,
+                    "alpha {alpha}, step {step}: dy/dphi = {dy} mm/rad at {phi}"
+                );
                 assert!((y - dc.position_mm).abs() < 1e-12);
                 assert!(if lowest { d2y > 0.0 } else { d2y < 0.0 });
                 // No sample of a 0.01° grid goes beyond the refined extreme.
-                let ext = if lowest { col.iter().cloned().fold(f64::MAX, f64::min) } else { col.iter().cloned().fold(f64::MIN, f64::max) };
-                assert!(if lowest { dc.position_mm <= ext + 1e-12 } else { dc.position_mm >= ext - 1e-12 }, "{} vs {ext}", dc.position_mm);
+                let ext = if lowest {
+                    col.iter().cloned().fold(f64::MAX, f64::min)
+                } else {
+                    col.iter().cloned().fold(f64::MIN, f64::max)
+                };
+                assert!(
+                    if lowest {
+                        dc.position_mm <= ext + 1e-12
+                    } else {
+                        dc.position_mm >= ext - 1e-12
+                    },
+                    "{} vs {ext}",
+                    dc.position_mm
+                );
             }
             // The bottom dead centre is the extended dead point of O-A-B-C.
             let (phi0, _) = extended_dead_point(&m, &p);
-            assert!((s.min.phi_deg.unwrap() - phi0).abs() < 1e-7, "{:?} vs {phi0}", s.min.phi_deg);
+            assert!(
+                (s.min.phi_deg.unwrap() - phi0).abs() < 1e-7,
+                "{:?} vs {phi0}",
+                s.min.phi_deg
+            );
             assert!((phi0 - 90.6).abs() < 0.01, "seed 002: φ0 = 90.6°");
         }
     }
@@ -134,7 +189,10 @@ fn dead_centres_are_zeros_of_the_exact_analog() {
 fn guide(m: &Model, window: Window, step: f64) -> StraightnessOptions {
     StraightnessOptions {
         point: point_slot(m, "E", "--point", true).unwrap(),
-        reference: Reference::Line { through: point_slot(m, "N1", "--line", false).unwrap(), toward: point_slot(m, "N2", "--line", false).unwrap() },
+        reference: Reference::Line {
+            through: point_slot(m, "N1", "--line", false).unwrap(),
+            toward: point_slot(m, "N2", "--line", false).unwrap(),
+        },
         window,
         step_deg: step,
     }
@@ -149,36 +207,90 @@ fn altin_needle_is_straight_to_microns() {
     let s = straightness(&m, &p, &guide(&m, Window::Cycle, 1.0)).unwrap();
     assert!(s.signed);
     assert!((s.max_abs_dev_mm - 0.0024).abs() < 0.0001, "{}", s.max_abs_dev_mm);
-    assert!((s.max_dev_mm - 0.0024).abs() < 0.0001 && (s.min_dev_mm + 0.0018).abs() < 0.0001, "{} {}", s.max_dev_mm, s.min_dev_mm);
+    assert!(
+        (s.max_dev_mm - 0.0024).abs() < 0.0001 && (s.min_dev_mm + 0.0018).abs() < 0.0001,
+        "{} {}",
+        s.max_dev_mm,
+        s.min_dev_mm
+    );
     assert!((s.travel_mm - 25.44).abs() < 0.01, "{}", s.travel_mm);
     assert!((s.line_from_y_deg - 20.0).abs() < 1e-9, "{}", s.line_from_y_deg);
     assert!((s.zone_mm.unwrap() - 0.0041).abs() < 0.0001, "{:?}", s.zone_mm);
     assert!(s.rms_dev_mm > 0.0 && s.rms_dev_mm < s.max_abs_dev_mm);
     // The model's own measure `needle_dev` is the same deviation: its
     // extremes on a 0.05° grid agree with the refined ones.
-    let fine = run_cycle(&m, &p, &CycleOptions { step_deg: 0.05, analogs: false, ..Default::default() }).unwrap();
+    let fine = run_cycle(
+        &m,
+        &p,
+        &CycleOptions {
+            step_deg: 0.05,
+            analogs: false,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let dev = fine.column("needle_dev_mm").unwrap();
     let (lo, hi) = dev.iter().fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
-    assert!((hi - s.max_dev_mm).abs() < 1e-7 && (lo - s.min_dev_mm).abs() < 1e-7, "{lo} {hi} vs {} {}", s.min_dev_mm, s.max_dev_mm);
+    assert!(
+        (hi - s.max_dev_mm).abs() < 1e-7 && (lo - s.min_dev_mm).abs() < 1e-7,
+        "{lo} {hi} vs {} {}",
+        s.min_dev_mm,
+        s.max_dev_mm
+    );
     // The best-fit line is the guide's direction, and no line does better
     // than the minimum zone: max |d| from it is between half the zone and the zone.
-    let fit = straightness(&m, &p, &StraightnessOptions { reference: Reference::Fit, ..guide(&m, Window::Cycle, 1.0) }).unwrap();
+    let fit = straightness(
+        &m,
+        &p,
+        &StraightnessOptions {
+            reference: Reference::Fit,
+            ..guide(&m, Window::Cycle, 1.0)
+        },
+    )
+    .unwrap();
     assert!((fit.line_from_y_deg - 20.0).abs() < 0.01, "{}", fit.line_from_y_deg);
     let zone = fit.zone_mm.unwrap();
-    assert!(fit.max_abs_dev_mm >= zone / 2.0 && fit.max_abs_dev_mm <= zone, "{} {zone}", fit.max_abs_dev_mm);
-    assert!(fit.rms_dev_mm <= s.rms_dev_mm + 1e-12, "least squares: the smallest RMS");
+    assert!(
+        fit.max_abs_dev_mm >= zone / 2.0 && fit.max_abs_dev_mm <= zone,
+        "{} {zone}",
+        fit.max_abs_dev_mm
+    );
+    assert!(
+        fit.rms_dev_mm <= s.rms_dev_mm + 1e-12,
+        "least squares: the smallest RMS"
+    );
     // The working stroke down runs from TDC (174.85°) to BDC (0°).
     let down = straightness(&m, &p, &guide(&m, Window::Down, 1.0)).unwrap();
-    assert!((down.from_deg - 174.85).abs() < 0.01 && (down.to_deg - 360.0).abs() < 0.01, "{} {}", down.from_deg, down.to_deg);
+    assert!(
+        (down.from_deg - 174.85).abs() < 0.01 && (down.to_deg - 360.0).abs() < 0.01,
+        "{} {}",
+        down.from_deg,
+        down.to_deg
+    );
     assert!((down.travel_mm - s.travel_mm).abs() < 1e-9);
-    let part = straightness(&m, &p, &guide(&m, Window::Phi { from_deg: 30.0, to_deg: 90.0 }, 1.0)).unwrap();
+    let part = straightness(
+        &m,
+        &p,
+        &guide(
+            &m,
+            Window::Phi {
+                from_deg: 30.0,
+                to_deg: 90.0,
+            },
+            1.0,
+        ),
+    )
+    .unwrap();
     assert!(part.phi_deg.len() == 61 && part.max_abs_dev_mm < s.max_abs_dev_mm);
 }
 
 fn altin_tolerances(m: &Model, samples: usize, seed: u64, distribution: Distribution) -> ToleranceOptions {
     // The dimensions seed 004 holds to ±0.05 mm (all but the stand
     // coordinates l1…l4 and LM); the guide's reconstructed placement exact.
-    let specs: Vec<String> = ["l_fl", "l_am", "l_ab", "l_bc", "l_be", "l_cd"].iter().map(|n| format!("{n}=±0.05")).collect();
+    let specs: Vec<String> = ["l_fl", "l_am", "l_ab", "l_bc", "l_be", "l_cd"]
+        .iter()
+        .map(|n| format!("{n}=±0.05"))
+        .collect();
     ToleranceOptions {
         straightness: guide(m, Window::Cycle, 2.0),
         limit_mm: 0.05,
@@ -219,7 +331,10 @@ fn tolerance_bisection_agrees_with_the_one_at_a_time_table() {
         assert_eq!(over, r.largest_tol < r.tol, "{r:?}");
         // Within the limit at ± largest, over it just beyond.
         let i = m.param_index(&r.name).unwrap();
-        assert!(dev(i, r.largest_tol).max(dev(i, -r.largest_tol)) <= opts.limit_mm, "{r:?}");
+        assert!(
+            dev(i, r.largest_tol).max(dev(i, -r.largest_tol)) <= opts.limit_mm,
+            "{r:?}"
+        );
         let beyond = r.largest_tol + 2e-3 * r.tol;
         assert!(dev(i, beyond).max(dev(i, -beyond)) > opts.limit_mm, "{r:?}");
     }
@@ -238,7 +353,12 @@ fn monte_carlo_is_reproducible_with_its_seed() {
     assert_eq!(a, run(7, Distribution::Uniform));
     assert_ne!(a.p50_mm, run(8, Distribution::Uniform).p50_mm);
     assert_eq!((a.samples, a.failed), (48, 0));
-    let (p50, p90, p99, max) = (a.p50_mm.unwrap(), a.p90_mm.unwrap(), a.p99_mm.unwrap(), a.max_mm.unwrap());
+    let (p50, p90, p99, max) = (
+        a.p50_mm.unwrap(),
+        a.p90_mm.unwrap(),
+        a.p99_mm.unwrap(),
+        a.max_mm.unwrap(),
+    );
     assert!(p50 <= p90 && p90 <= p99 && p99 <= max, "{a:?}");
     assert!((0.0..=1.0).contains(&a.over_limit));
     // σ = tol/3: the normal draws stay closer to nominal than uniform ones.

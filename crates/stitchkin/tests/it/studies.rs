@@ -5,7 +5,13 @@ use stitchkin::model::Model;
 use stitchkin::study::sweep::{self, Design, Sweep, Vary};
 
 fn opts(analogs: bool, lean: bool) -> CycleOptions {
-    CycleOptions { step_deg: 2.0, rpm: None, analogs, points: None, lean }
+    CycleOptions {
+        step_deg: 2.0,
+        rpm: None,
+        analogs,
+        points: None,
+        lean,
+    }
 }
 
 #[test]
@@ -16,7 +22,9 @@ fn plain_and_dual_cycles_agree_and_lean_keeps_the_figures() {
     let plain = run_cycle(&m, &p, &opts(false, false)).unwrap();
     let lean = run_cycle(&m, &p, &opts(false, true)).unwrap();
     for c in &plain.columns {
-        let d = dual.column(&c.name).unwrap_or_else(|| panic!("{} missing with analogs", c.name));
+        let d = dual
+            .column(&c.name)
+            .unwrap_or_else(|| panic!("{} missing with analogs", c.name));
         let worst = c.values.iter().zip(d).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         assert!(worst < 1e-9, "{}: f64 and dual differ by {worst}", c.name);
     }
@@ -30,17 +38,39 @@ fn plain_and_dual_cycles_agree_and_lean_keeps_the_figures() {
     assert!(lean.column("n1_A.G4_1_wrap_deg").is_none() && plain.column("n1_A.G4_1_wrap_deg").is_some());
     assert_eq!(sweep::figures(&lean), sweep::figures(&plain));
     let st = lean.stitch.as_ref().unwrap();
-    assert!(st.threads.iter().all(|t| t.mismatch.as_ref().unwrap().best_lag_deg.is_none()));
+    assert!(
+        st.threads
+            .iter()
+            .all(|t| t.mismatch.as_ref().unwrap().best_lag_deg.is_none())
+    );
 }
 
 #[test]
 fn p_prime_is_shared_only_when_the_stitch_does_not_change() {
     let m = Model::preset("mf7923d").unwrap();
     let p = m.defaults();
-    let takeup = Sweep::new(vec![Vary::parse(&m, "z=-10:10:5").unwrap(), Vary::parse(&m, "dphi=-20:20:3").unwrap()], Design::Grid).unwrap();
-    let shared = sweep::shared_stitch(&m, &p, &takeup, 2.0).unwrap().expect("z and dphi leave the stitch alone");
+    let takeup = Sweep::new(
+        vec![
+            Vary::parse(&m, "z=-10:10:5").unwrap(),
+            Vary::parse(&m, "dphi=-20:20:3").unwrap(),
+        ],
+        Design::Grid,
+    )
+    .unwrap();
+    let shared = sweep::shared_stitch(&m, &p, &takeup, 2.0)
+        .unwrap()
+        .expect("z and dphi leave the stitch alone");
     // The same rows with and without sharing.
-    let names: Vec<String> = ["n1.score", "n2.rms_D_mm", "score.mean", "n3_A.max_P_B_mm", "checks.ok", "n2.bound_margin_mm"].map(String::from).to_vec();
+    let names: Vec<String> = [
+        "n1.score",
+        "n2.rms_D_mm",
+        "score.mean",
+        "n3_A.max_P_B_mm",
+        "checks.ok",
+        "n2.bound_margin_mm",
+    ]
+    .map(String::from)
+    .to_vec();
     for i in 0..takeup.len() {
         let a = sweep::evaluate(&m, &p, &takeup, &names, &opts(false, true), Some(&shared), i);
         let b = sweep::evaluate(&m, &p, &takeup, &names, &opts(false, true), None, i);
@@ -53,7 +83,15 @@ fn p_prime_is_shared_only_when_the_stitch_does_not_change() {
         assert!(sweep::shared_stitch(&m, &p, &s, 2.0).unwrap().is_none(), "{v}");
     }
     // Sharing with another grid is refused, not silently wrong.
-    let other = run_cycle_with(&m, &p, &CycleOptions { step_deg: 1.0, ..opts(false, true) }, Some(&shared));
+    let other = run_cycle_with(
+        &m,
+        &p,
+        &CycleOptions {
+            step_deg: 1.0,
+            ..opts(false, true)
+        },
+        Some(&shared),
+    );
     assert!(other.unwrap_err().to_string().contains("another φ grid"));
 }
 
@@ -69,7 +107,12 @@ fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
     // (it moves the needle, so P') or the reading switch t1_phase.
     let adjust = default_adjustables(&m, &p).unwrap();
     assert_eq!(adjust, ["r1", "l_o2b", "z", "dphi"]);
-    let opts = TuneOptions { adjust: vec!["z".into(), "dphi".into()], samples: 0, seed: 5, step_deg: 2.0 };
+    let opts = TuneOptions {
+        adjust: vec!["z".into(), "dphi".into()],
+        samples: 0,
+        seed: 5,
+        step_deg: 2.0,
+    };
     let r = tune(&m, &p, &opts).unwrap();
     assert!(r.after_figures.objective < r.before_figures.objective - 0.01, "{r:?}");
     assert!(r.after_figures.score_mean > r.before_figures.score_mean + 1.0);
@@ -82,12 +125,39 @@ fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
     // The same seed, the same answer.
     assert_eq!(tune(&m, &p, &opts).unwrap(), r);
     // Bad requests.
-    let e = tune(&m, &p, &TuneOptions { adjust: vec!["t1_phase".into()], ..opts.clone() }).unwrap_err().to_string();
+    let e = tune(
+        &m,
+        &p,
+        &TuneOptions {
+            adjust: vec!["t1_phase".into()],
+            ..opts.clone()
+        },
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("no adjustable range"), "{e}");
-    let e = tune(&m, &p, &TuneOptions { adjust: vec!["zz".into()], ..opts.clone() }).unwrap_err().to_string();
+    let e = tune(
+        &m,
+        &p,
+        &TuneOptions {
+            adjust: vec!["zz".into()],
+            ..opts.clone()
+        },
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("no parameter `zz`"), "{e}");
     let n = Model::preset("needle876").unwrap();
-    let e = tune(&n, &n.defaults(), &TuneOptions { adjust: vec!["alpha".into()], ..opts }).unwrap_err().to_string();
+    let e = tune(
+        &n,
+        &n.defaults(),
+        &TuneOptions {
+            adjust: vec!["alpha".into()],
+            ..opts
+        },
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("no [stitch]"), "{e}");
 }
 
@@ -106,10 +176,19 @@ fn the_fast_figures_are_the_cycle_tables() {
         let nominal = run_cycle(&m, &p, &o).unwrap();
         let names: Vec<String> = sweep::figures(&nominal).into_iter().map(|(n, _)| n).collect();
         // Every ranged parameter in turn, the last ones together.
-        let ranged: Vec<&str> = m.params.iter().filter(|q| q.range.is_some_and(|[a, b]| a < b) && !q.is_derived()).map(|q| q.name.as_str()).collect();
+        let ranged: Vec<&str> = m
+            .params
+            .iter()
+            .filter(|q| q.range.is_some_and(|[a, b]| a < b) && !q.is_derived())
+            .map(|q| q.name.as_str())
+            .collect();
         for name in ranged.iter().take(3) {
             let [lo, hi] = m.params[m.param_index(name).unwrap()].range.unwrap();
-            let sw = Sweep::new(vec![Vary::parse(&m, &format!("{name}={lo}:{hi}:6")).unwrap()], Design::Grid).unwrap();
+            let sw = Sweep::new(
+                vec![Vary::parse(&m, &format!("{name}={lo}:{hi}:6")).unwrap()],
+                Design::Grid,
+            )
+            .unwrap();
             let shared = sweep::shared_stitch(&m, &p, &sw, o.step_deg).unwrap();
             let mut ev = Evaluator::new(&m, &p, &sw, &names, &o, shared.as_ref());
             fast_presets += usize::from(ev.is_fast());
@@ -120,7 +199,12 @@ fn the_fast_figures_are_the_cycle_tables() {
             }
             // Again in reverse: nothing carries over from one setting to the next.
             for i in (0..sw.len()).rev() {
-                assert_eq!(ev.evaluate(i), sweep::evaluate(&m, &p, &sw, &names, &o, shared.as_ref(), i), "{} {name} setting {i} again", preset.name);
+                assert_eq!(
+                    ev.evaluate(i),
+                    sweep::evaluate(&m, &p, &sw, &names, &o, shared.as_ref(), i),
+                    "{} {name} setting {i} again",
+                    preset.name
+                );
             }
         }
     }
@@ -129,7 +213,10 @@ fn the_fast_figures_are_the_cycle_tables() {
     let mut p = m.defaults();
     m.set(&mut p, "c", 26.0).unwrap();
     let o = opts(false, true);
-    let names: Vec<String> = sweep::figures(&run_cycle(&m, &p, &o).unwrap()).into_iter().map(|(n, _)| n).collect();
+    let names: Vec<String> = sweep::figures(&run_cycle(&m, &p, &o).unwrap())
+        .into_iter()
+        .map(|(n, _)| n)
+        .collect();
     let sw = Sweep::new(vec![Vary::parse(&m, "r=10:20:11").unwrap()], Design::Grid).unwrap();
     let mut ev = Evaluator::new(&m, &p, &sw, &names, &o, None);
     assert!(ev.is_fast());

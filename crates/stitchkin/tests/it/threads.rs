@@ -35,7 +35,15 @@ nodes = {nodes}
 }
 
 fn table(m: &Model, step: f64) -> stitchkin::eval::CycleTable {
-    run_cycle(m, &m.defaults(), &CycleOptions { step_deg: step, ..Default::default() }).unwrap()
+    run_cycle(
+        m,
+        &m.defaults(),
+        &CycleOptions {
+            step_deg: step,
+            ..Default::default()
+        },
+    )
+    .unwrap()
 }
 
 #[test]
@@ -67,7 +75,10 @@ fn pin_engages_and_releases_at_the_computed_angles() {
     // straight thread G1 → T has the pin on its left exactly when T is right
     // of the line G1–O, i.e. for sin(φ − β) < 0 with β the line's angle; the
     // pin (turning clockwise) then catches it.
-    let text = crank_eyelet(r#"["G1", { pin = "PIN", axis = "z", wrap = "cw" }, "T", "G2"]"#, "PIN = [-20, 15]");
+    let text = crank_eyelet(
+        r#"["G1", { pin = "PIN", axis = "z", wrap = "cw" }, "T", "G2"]"#,
+        "PIN = [-20, 15]",
+    );
     let m = Model::from_toml_str(&text, "pin.toml").unwrap();
     let t = table(&m, 1.0);
     let beta = (30.0f64).atan2(40.0).to_degrees(); // direction of G1 → O
@@ -91,12 +102,18 @@ fn pin_engages_and_releases_at_the_computed_angles() {
     assert!(t.column("p.T_wrap_deg").is_some() && t.column("p.PIN_wrap_deg").is_some());
     let iv = &s.engaged[0].1;
     assert_eq!(iv.len(), 1);
-    assert!((iv[0].from_deg - (beta + 180.0)).abs() <= 1.0 && (iv[0].to_deg - (beta + 360.0)).abs() <= 1.0, "{iv:?}");
+    assert!(
+        (iv[0].from_deg - (beta + 180.0)).abs() <= 1.0 && (iv[0].to_deg - (beta + 360.0)).abs() <= 1.0,
+        "{iv:?}"
+    );
 }
 
 #[test]
 fn length_is_continuous_where_a_pin_engages() {
-    let text = crank_eyelet(r#"["G1", { pin = "PIN", axis = "z", wrap = "cw" }, "T", "G2"]"#, "PIN = [-20, 15]");
+    let text = crank_eyelet(
+        r#"["G1", { pin = "PIN", axis = "z", wrap = "cw" }, "T", "G2"]"#,
+        "PIN = [-20, 15]",
+    );
     let m = Model::from_toml_str(&text, "pin.toml").unwrap();
     let t = table(&m, 0.01);
     let xi = t.column("p.xi_mm").unwrap();
@@ -107,7 +124,11 @@ fn length_is_continuous_where_a_pin_engages() {
             switches += 1;
             // A jump would be of the order of millimetres; the slope is about
             // 10 mm/rad, so 0.01° moves ξ by less than 0.002 mm.
-            assert!((xi[k] - xi[k - 1]).abs() < 2e-3, "jump {} at k = {k}", xi[k] - xi[k - 1]);
+            assert!(
+                (xi[k] - xi[k - 1]).abs() < 2e-3,
+                "jump {} at k = {k}",
+                xi[k] - xi[k - 1]
+            );
         }
     }
     assert_eq!(switches, 2);
@@ -117,7 +138,10 @@ fn length_is_continuous_where_a_pin_engages() {
 fn thread_wrapping_a_fixed_roller() {
     // Roller radius 2 on the line from G1 to the crank centre: the thread
     // to the circling eyelet bears on it part of the cycle.
-    let text = crank_eyelet(r#"["G1", { pin = "C", axis = "z", wrap = "cw", radius = 2 }, "T", "G2"]"#, "C = [-20, 15]");
+    let text = crank_eyelet(
+        r#"["G1", { pin = "C", axis = "z", wrap = "cw", radius = 2 }, "T", "G2"]"#,
+        "C = [-20, 15]",
+    );
     let m = Model::from_toml_str(&text, "roller.toml").unwrap();
     let t = table(&m, 3.0);
     let thin = Model::from_toml_str(&text.replace(", radius = 2", ""), "pin.toml").unwrap();
@@ -152,15 +176,22 @@ fn thread_wrapping_a_fixed_roller() {
 
 #[test]
 fn capstan_tension_grows_by_exp_mu_theta() {
-    let text = crank_eyelet(r#"["G1", "T", "G2"]"#, "").replace("[thread]", "[thread]\ntension_n = 0.5\nfriction = 0.2");
+    let text =
+        crank_eyelet(r#"["G1", "T", "G2"]"#, "").replace("[thread]", "[thread]\ntension_n = 0.5\nfriction = 0.2");
     let m = Model::from_toml_str(&text, "cap.toml").unwrap();
     let t = table(&m, 10.0);
     let tension = t.column("p.tension_eye_N").unwrap();
     for (k, phi) in t.column("phi_deg").unwrap().iter().enumerate() {
         let phi = phi.to_radians();
         let tp = (10.0 * phi.cos(), 30.0 + 10.0 * phi.sin());
-        let u = ((tp.0 + 40.0) / (tp.0 + 40.0).hypot(tp.1), tp.1 / (tp.0 + 40.0).hypot(tp.1));
-        let w = ((40.0 - tp.0) / (40.0 - tp.0).hypot(tp.1), -tp.1 / (40.0 - tp.0).hypot(tp.1));
+        let u = (
+            (tp.0 + 40.0) / (tp.0 + 40.0).hypot(tp.1),
+            tp.1 / (tp.0 + 40.0).hypot(tp.1),
+        );
+        let w = (
+            (40.0 - tp.0) / (40.0 - tp.0).hypot(tp.1),
+            -tp.1 / (40.0 - tp.0).hypot(tp.1),
+        );
         let theta = (u.0 * w.0 + u.1 * w.1).acos();
         assert!((tension[k] - 0.5 * (0.2 * theta).exp()).abs() < 1e-12);
         // Every guide between the ends reports the angle the thread turns through.
@@ -170,7 +201,10 @@ fn capstan_tension_grows_by_exp_mu_theta() {
 
 #[test]
 fn feed_convention_with_elongation() {
-    let text = crank_eyelet(r#"["G1", "T", "G2"]"#, "").replace("[thread]", "[thread]\nconvention = \"feed\"\nelongation_mm = 6\nphi0_deg = 90");
+    let text = crank_eyelet(r#"["G1", "T", "G2"]"#, "").replace(
+        "[thread]",
+        "[thread]\nconvention = \"feed\"\nelongation_mm = 6\nphi0_deg = 90",
+    );
     let m = Model::from_toml_str(&text, "feed.toml").unwrap();
     let t = table(&m, 90.0);
     let (xi, p) = (t.column("p.xi_mm").unwrap(), t.column("p.P_mm").unwrap());
@@ -190,15 +224,25 @@ fn bad_thread_tables_are_rejected() {
     assert!(e.message.contains("starts and ends at an eyelet"), "{e}");
     let e = bad(r#"["G1", { pin = "PIN", axis = "z" }, "T"]"#, "PIN = [0, 0]");
     assert!(e.message.contains("wrap"), "{e}");
-    let e = bad(r#"["G1", { pin = "PIN", axis = "z", wrap = "cw" }, { pin = "PIN2", axis = "z", wrap = "cw" }, "T"]"#, "PIN = [0, 0]\nPIN2 = [1, 1]");
+    let e = bad(
+        r#"["G1", { pin = "PIN", axis = "z", wrap = "cw" }, { pin = "PIN2", axis = "z", wrap = "cw" }, "T"]"#,
+        "PIN = [0, 0]\nPIN2 = [1, 1]",
+    );
     assert!(e.message.contains("follow each other"), "{e}");
     let e = bad(r#"["G1", { at = "T", wrap = "cw" }, "G2"]"#, "");
     assert!(e.message.contains("eyelet"), "{e}");
     let e = bad(r#"["G1"]"#, "");
     assert!(e.message.contains("at least two nodes"), "{e}");
     let e = bad(r#"["G1", { at = "T", frction = 0.2 }, "G2"]"#, "");
-    assert!(e.message.contains("frction") || e.message.contains("did not match"), "{e}");
-    let e = Model::from_toml_str(&crank_eyelet(r#"["G1", "T"]"#, "").replace("[thread]", "[thread]\nfriction = -1"), "bad.toml").unwrap_err();
+    assert!(
+        e.message.contains("frction") || e.message.contains("did not match"),
+        "{e}"
+    );
+    let e = Model::from_toml_str(
+        &crank_eyelet(r#"["G1", "T"]"#, "").replace("[thread]", "[thread]\nfriction = -1"),
+        "bad.toml",
+    )
+    .unwrap_err();
     assert!(e.message.contains("friction coefficient -1"), "{e}");
 }
 
@@ -223,18 +267,28 @@ fn thread_invariants_on_presets() {
             let pv: Vec<Dual2_64> = track.xi.iter().map(|x| threads.convention.take_up(*x, xi0)).collect();
             let n = pv.len();
             assert!((pv[n - 1].re - pv[0].re).abs() < 1e-9, "{}: not periodic", path.name);
-            if (threads.phi0_deg - phis[0]).abs() < 1e-12 && matches!(threads.convention, stitchkin::thread::Convention::Release) {
+            if (threads.phi0_deg - phis[0]).abs() < 1e-12
+                && matches!(threads.convention, stitchkin::thread::Convention::Release)
+            {
                 assert_eq!(pv[0].re, 0.0);
             }
             let (first, last) = (*path.nodes.first().unwrap(), *path.nodes.last().unwrap());
             for k in 0..n {
                 let ends = (pose.point(last, k) - pose.point(first, k)).norm().re;
-                assert!(track.xi[k].re >= ends - 1e-9, "{}: ξ shorter than its ends' distance", path.name);
+                assert!(
+                    track.xi[k].re >= ends - 1e-9,
+                    "{}: ξ shorter than its ends' distance",
+                    path.name
+                );
             }
             // Analogs against central differences of the plain evaluation.
             let h: f64 = 1e-5;
             for k in (0..n - 1).step_by(7) {
-                if track.engaged.iter().any(|e| e[k] != e[(k + 1) % n] || e[k] != e[(k + n - 1) % n]) {
+                if track
+                    .engaged
+                    .iter()
+                    .any(|e| e[k] != e[(k + 1) % n] || e[k] != e[(k + n - 1) % n])
+                {
                     continue;
                 }
                 let xi_at = |phi_deg: f64| {
@@ -244,17 +298,29 @@ fn thread_invariants_on_presets() {
                 };
                 let d = (xi_at(phis[k] + h.to_degrees()) - xi_at(phis[k] - h.to_degrees())) / (2.0 * h);
                 let scale = 1.0 + d.abs();
-                assert!((track.xi[k].v1 - d).abs() < 1e-5 * scale, "{} at φ = {}: {} vs {d}", path.name, phis[k], track.xi[k].v1);
+                assert!(
+                    (track.xi[k].v1 - d).abs() < 1e-5 * scale,
+                    "{} at φ = {}: {} vs {d}",
+                    path.name,
+                    phis[k],
+                    track.xi[k].v1
+                );
             }
         }
     }
 }
 
 fn reference() -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/mf7923d/reference_P.csv")).unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/mf7923d/reference_P.csv"
+    ))
+    .unwrap();
     let mut lines = text.lines();
     let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-    let rows = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
     (header, rows)
 }
 
@@ -265,7 +331,15 @@ fn reference() -> (Vec<String>, Vec<Vec<f64>>) {
 fn phase0_table(m: &Model, step: f64) -> stitchkin::eval::CycleTable {
     let mut p = m.defaults();
     m.set(&mut p, "t1_phase", 0.0).unwrap();
-    run_cycle(m, &p, &CycleOptions { step_deg: step, ..Default::default() }).unwrap()
+    run_cycle(
+        m,
+        &p,
+        &CycleOptions {
+            step_deg: step,
+            ..Default::default()
+        },
+    )
+    .unwrap()
 }
 
 /// The reference computes P at the moving eye with `t1_phase = 0`: the
@@ -284,7 +358,12 @@ fn mf7923d_matches_the_independent_reference() {
             let engaged = t.column(&format!("n{j}_{c}.G4_{j}_engaged")).unwrap();
             let eng_ref = col(&format!("g4_engaged_n{j}"));
             for (k, row) in rows.iter().enumerate() {
-                assert!((ours[k] - row[theirs]).abs() < 1e-6, "n{j}_{c} at φ = {k}: {} vs {}", ours[k], row[theirs]);
+                assert!(
+                    (ours[k] - row[theirs]).abs() < 1e-6,
+                    "n{j}_{c} at φ = {k}: {} vs {}",
+                    ours[k],
+                    row[theirs]
+                );
                 assert_eq!(engaged[k], row[eng_ref], "n{j}_{c} G4 at φ = {k}");
             }
         }
@@ -301,15 +380,32 @@ fn mf7923d_published_results() {
     let m = Model::preset("mf7923d").unwrap();
     let t = table(&m, 1.0);
     let top_dwell = |p: &stitchkin::eval::PathSummary| {
-        p.flat.iter().filter(|iv| iv.from_deg < 180.0 && iv.to_deg > 180.0).map(|iv| iv.to_deg - iv.from_deg).fold(0.0, f64::max)
+        p.flat
+            .iter()
+            .filter(|iv| iv.from_deg < 180.0 && iv.to_deg > 180.0)
+            .map(|iv| iv.to_deg - iv.from_deg)
+            .fold(0.0, f64::max)
     };
     for j in 1..=3 {
         let a = t.paths.iter().find(|p| p.path == format!("n{j}_A")).unwrap();
         let b = t.paths.iter().find(|p| p.path == format!("n{j}_B")).unwrap();
-        assert_eq!((a.split, b.split), (stitchkin::thread::SplitPoint::B, stitchkin::thread::SplitPoint::B));
-        assert!(b.max_p_mm > a.max_p_mm + 3.0, "needle {j}: B {} vs A {}", b.max_p_mm, a.max_p_mm);
+        assert_eq!(
+            (a.split, b.split),
+            (stitchkin::thread::SplitPoint::B, stitchkin::thread::SplitPoint::B)
+        );
+        assert!(
+            b.max_p_mm > a.max_p_mm + 3.0,
+            "needle {j}: B {} vs A {}",
+            b.max_p_mm,
+            a.max_p_mm
+        );
         assert_eq!(a.engaged[0].1.len(), 1);
-        assert!(top_dwell(a) > top_dwell(b) + 30.0, "needle {j}: {:?} {:?}", a.flat, b.flat);
+        assert!(
+            top_dwell(a) > top_dwell(b) + 30.0,
+            "needle {j}: {:?} {:?}",
+            a.flat,
+            b.flat
+        );
     }
     let c = compare_2d3d(&m, &m.defaults(), "uvw", 1.0).unwrap();
     let n1a = c.paths.iter().find(|p| p.path == "n1_A").unwrap();
@@ -318,7 +414,11 @@ fn mf7923d_published_results() {
     m.set(&mut p0, "t1_phase", 0.0).unwrap();
     let c0 = compare_2d3d(&m, &p0, "uvw", 1.0).unwrap();
     let n1a0 = c0.paths.iter().find(|p| p.path == "n1_A").unwrap();
-    assert!(n1a0.max_abs_dp_mm > 0.01 && n1a0.max_abs_dp_mm < 0.5, "{}", n1a0.max_abs_dp_mm);
+    assert!(
+        n1a0.max_abs_dp_mm > 0.01 && n1a0.max_abs_dp_mm < 0.5,
+        "{}",
+        n1a0.max_abs_dp_mm
+    );
     let (header, rows) = reference();
     let dcol = header.iter().position(|h| h == "dP_3D_minus_2D_n1_A_mm").unwrap();
     for (k, row) in rows.iter().enumerate() {
@@ -371,9 +471,17 @@ fn exact_cam_contact_is_a_roller_around_the_moving_disc() {
         // The disc centre is 4 mm from the shaft toward the marker.
         let phi = phi.to_radians();
         let c = stitchkin::geometry::V3::new(4.0 * phi.cos(), 4.0 * phi.sin(), 0.0);
-        let (p, q) = (stitchkin::geometry::V3::new(-30.0, 10.0, 0.0), stitchkin::geometry::V3::new(30.0, 10.0, 0.0));
+        let (p, q) = (
+            stitchkin::geometry::V3::new(-30.0, 10.0, 0.0),
+            stitchkin::geometry::V3::new(30.0, 10.0, 0.0),
+        );
         let want = stitchkin::thread::wrap::pin_wrap(p, q, c, stitchkin::geometry::V3::z(), 12.0, -1.0).unwrap();
-        assert!((xi[k] - want.length).abs() < 1e-9, "φ = {phi}: {} vs {}", xi[k], want.length);
+        assert!(
+            (xi[k] - want.length).abs() < 1e-9,
+            "φ = {phi}: {} vs {}",
+            xi[k],
+            want.length
+        );
         assert_eq!(on[k] == 1.0, want.engaged);
     }
     // The cam feeds thread part of the turn and lets it run straight otherwise.
@@ -420,22 +528,43 @@ fn polar_cam_profiles_and_cam_errors() {
         .collect();
     let polar = cam_model(r#"wrap = "cw""#).replace(
         "disc = { radius_mm = 12, eccentricity_mm = 4 }",
-        &format!("polar = {{ angle_deg = [{}], radius_mm = [{}] }}", angles.join(", "), radii.join(", ")),
+        &format!(
+            "polar = {{ angle_deg = [{}], radius_mm = [{}] }}",
+            angles.join(", "),
+            radii.join(", ")
+        ),
     );
-    let (tp, td) = (table(&Model::from_toml_str(&polar, "p.toml").unwrap(), 15.0), table(&Model::from_toml_str(&cam_model(r#"wrap = "cw""#), "d.toml").unwrap(), 15.0));
-    for (a, b) in tp.column("looper.xi_mm").unwrap().iter().zip(td.column("looper.xi_mm").unwrap()) {
+    let (tp, td) = (
+        table(&Model::from_toml_str(&polar, "p.toml").unwrap(), 15.0),
+        table(
+            &Model::from_toml_str(&cam_model(r#"wrap = "cw""#), "d.toml").unwrap(),
+            15.0,
+        ),
+    );
+    for (a, b) in tp
+        .column("looper.xi_mm")
+        .unwrap()
+        .iter()
+        .zip(td.column("looper.xi_mm").unwrap())
+    {
         assert!((a - b).abs() < 0.01, "{a} vs {b}");
     }
     let bad = |text: String| Model::from_toml_str(&text, "bad.toml").unwrap_err();
     let e = bad(cam_model(r#"wrap = "cw""#).replace("cam = \"feed\"", "cam = \"fed\""));
-    assert!(e.message.contains("unknown cam `fed`") && e.help.as_deref().unwrap().contains("feed"), "{e}");
+    assert!(
+        e.message.contains("unknown cam `fed`") && e.help.as_deref().unwrap().contains("feed"),
+        "{e}"
+    );
     let e = bad(cam_model(""));
     assert!(e.message.contains("needs `wrap`"), "{e}");
     let e = bad(cam_model(r#"contact = "offset""#));
     assert!(e.message.contains("gamma_deg"), "{e}");
     let e = bad(cam_model(r#"wrap = "cw""#).replace("eccentricity_mm = 4", "eccentricity_mm = 14"));
     assert!(e.message.contains("eccentricity 14 mm must be smaller"), "{e}");
-    let e = bad(cam_model(r#"wrap = "cw""#).replace("disc = {", "polar = { angle_deg = [0, 90, 180, 270], radius_mm = [10, 10, 10, 10] }\ndisc = {"));
+    let e = bad(cam_model(r#"wrap = "cw""#).replace(
+        "disc = {",
+        "polar = { angle_deg = [0, 90, 180, 270], radius_mm = [10, 10, 10, 10] }\ndisc = {",
+    ));
     assert!(e.message.contains("exactly one profile"), "{e}");
     // A star-shaped (non-convex) profile cannot carry a taut thread exactly.
     let star = cam_model(r#"wrap = "cw""#).replace(
@@ -444,10 +573,19 @@ fn polar_cam_profiles_and_cam_errors() {
     );
     let e = bad(star.clone());
     assert!(e.message.contains("not convex"), "{e}");
-    Model::from_toml_str(&star.replace(r#"wrap = "cw""#, r#"contact = "offset", gamma_deg = 25"#), "ok.toml").unwrap();
+    Model::from_toml_str(
+        &star.replace(r#"wrap = "cw""#, r#"contact = "offset", gamma_deg = 25"#),
+        "ok.toml",
+    )
+    .unwrap();
     let e = bad(cam_model(r#"contact = "tangent""#));
-    assert!(e.help.as_deref().unwrap().contains("contact = \"exact\" | \"offset\""), "{e}");
-    let e = bad(cam_model(r#"wrap = "cw""#).replace("name = \"feed\"", "name = \"G1\"").replace("cam = \"feed\"", "cam = \"G1\""));
+    assert!(
+        e.help.as_deref().unwrap().contains("contact = \"exact\" | \"offset\""),
+        "{e}"
+    );
+    let e = bad(cam_model(r#"wrap = "cw""#)
+        .replace("name = \"feed\"", "name = \"G1\"")
+        .replace("cam = \"feed\"", "cam = \"G1\""));
     assert!(e.message.contains("not a valid, unique cam name"), "{e}");
     // Guides facing each other through the shaft: a clear run-time error.
     let facing = cam_model_at(r#"contact = "offset", gamma_deg = 0"#, 0.0);
@@ -469,12 +607,20 @@ fn a_path_passes_each_guide_once() {
 fn takeup_lever_matches_the_independent_reference() {
     let m = Model::preset("takeup-lever").unwrap();
     let t = table(&m, 1.0);
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/takeup-lever/reference.csv")).unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/takeup-lever/reference.csv"
+    ))
+    .unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
     assert_eq!(rows.len(), 360);
-    let path = &m.mechanism::<f64>(&m.defaults()).unwrap().threads.unwrap().paths[0].name.clone();
+    let path = &m.mechanism::<f64>(&m.defaults()).unwrap().threads.unwrap().paths[0]
+        .name
+        .clone();
     let pairs: Vec<(String, &str)> = vec![
         ("P5.x_mm".into(), "P5_x_mm"),
         ("P6.z_mm".into(), "P6_z_mm"),
@@ -486,7 +632,12 @@ fn takeup_lever_matches_the_independent_reference() {
         let c = header.iter().position(|h| *h == theirs).unwrap();
         let col = t.column(&ours).unwrap_or_else(|| panic!("no column {ours}"));
         for (k, row) in rows.iter().enumerate() {
-            assert!((col[k] - row[c]).abs() < 1e-6, "{ours} at φ = {k}: {} vs {}", col[k], row[c]);
+            assert!(
+                (col[k] - row[c]).abs() < 1e-6,
+                "{ours} at φ = {k}: {} vs {}",
+                col[k],
+                row[c]
+            );
         }
     }
     // P(φ0) = ΔP under the feed convention.
@@ -500,7 +651,17 @@ mod properties {
     use proptest::prelude::*;
 
     fn random_path() -> impl Strategy<Value = String> {
-        (-60.0..-20.0f64, -20.0..20.0f64, 20.0..60.0f64, -20.0..20.0f64, -15.0..15.0f64, -10.0..10.0f64, 0.0..3.0f64, any::<bool>(), -8.0..8.0f64)
+        (
+            -60.0..-20.0f64,
+            -20.0..20.0f64,
+            20.0..60.0f64,
+            -20.0..20.0f64,
+            -15.0..15.0f64,
+            -10.0..10.0f64,
+            0.0..3.0f64,
+            any::<bool>(),
+            -8.0..8.0f64,
+        )
             .prop_map(|(g1x, g1y, g2x, g2y, px, py, r, cw, lift)| {
                 let wrap = if cw { "cw" } else { "ccw" };
                 format!(

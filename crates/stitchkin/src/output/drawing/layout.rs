@@ -16,7 +16,10 @@ pub(super) struct Screen {
 
 impl Screen {
     pub(super) fn px(&self, q: V2<f64>) -> (f64, f64) {
-        (self.cx_px + (q.x - self.cx_mm) * self.scale, self.cy_px - (q.y - self.cy_mm) * self.scale)
+        (
+            self.cx_px + (q.x - self.cx_mm) * self.scale,
+            self.cy_px - (q.y - self.cy_mm) * self.scale,
+        )
     }
 }
 
@@ -48,7 +51,11 @@ pub(super) fn hull(pts: &[V2<f64>]) -> Vec<usize> {
 
 /// Link name for a dimension: `l_AB` for one-letter points, `l_O2–B` otherwise.
 pub(super) fn dim_label(symbol: &str, a: &str, b: &str) -> String {
-    if a.chars().count() == 1 && b.chars().count() == 1 { format!("{symbol}_{a}{b}") } else { format!("{symbol}_{a}–{b}") }
+    if a.chars().count() == 1 && b.chars().count() == 1 {
+        format!("{symbol}_{a}{b}")
+    } else {
+        format!("{symbol}_{a}–{b}")
+    }
 }
 
 /// An axis-aligned box, px.
@@ -135,7 +142,15 @@ const CHAR_W: f64 = 6.3;
 /// Places a label of `text` near the point (x, y): the free spot of eight
 /// around it that covers the fewest labels, links and points. `None` when
 /// `droppable` and every spot covers another label.
-pub(super) fn place_label(text: &str, (x, y): Px, placed: &[Rect], segments: &[Segment], dots: &[Px], droppable: bool, clip: &Rect) -> Option<LabelSpot> {
+pub(super) fn place_label(
+    text: &str,
+    (x, y): Px,
+    placed: &[Rect],
+    segments: &[Segment],
+    dots: &[Px],
+    droppable: bool,
+    clip: &Rect,
+) -> Option<LabelSpot> {
     let w = CHAR_W * text.chars().count() as f64;
     let h = LABEL_PX;
     let gap = 6.0;
@@ -158,11 +173,20 @@ pub(super) fn place_label(text: &str, (x, y): Px, placed: &[Rect], segments: &[S
             "end" => tx - w,
             _ => tx - w / 2.0,
         };
-        let r = Rect { x0, y0: ty - h + 2.0, x1: x0 + w, y1: ty + 2.0 };
+        let r = Rect {
+            x0,
+            y0: ty - h + 2.0,
+            x1: x0 + w,
+            y1: ty + 2.0,
+        };
         let label_hit: f64 = placed.iter().map(|p| r.overlap(p)).sum();
         let seg_hits = segments.iter().filter(|(a, b)| r.hit_by(*a, *b)).count() as f64;
         let dot_hits = dots.iter().filter(|(px, py)| r.contains(*px, *py)).count() as f64;
-        let outside = if r.x0 < clip.x0 || r.x1 > clip.x1 || r.y0 < clip.y0 || r.y1 > clip.y1 { 1.0e4 } else { 0.0 };
+        let outside = if r.x0 < clip.x0 || r.x1 > clip.x1 || r.y0 < clip.y0 || r.y1 > clip.y1 {
+            1.0e4
+        } else {
+            0.0
+        };
         let score = label_hit * 10.0 + seg_hits * 40.0 + dot_hits * 60.0 + outside + k as f64 * 0.5;
         if droppable && label_hit > 0.0 {
             continue;
@@ -173,7 +197,15 @@ pub(super) fn place_label(text: &str, (x, y): Px, placed: &[Rect], segments: &[S
                 "end" => "end",
                 _ => "middle",
             };
-            best = Some((score, LabelSpot { x: tx, y: ty, anchor, rect: r }));
+            best = Some((
+                score,
+                LabelSpot {
+                    x: tx,
+                    y: ty,
+                    anchor,
+                    rect: r,
+                },
+            ));
         }
     }
     best.map(|(_, b)| b)
@@ -185,7 +217,14 @@ mod tests {
 
     #[test]
     fn hull_drops_inner_and_collinear_points() {
-        let p = [V2::new(0.0, 0.0), V2::new(2.0, 0.0), V2::new(1.0, 0.0), V2::new(1.0, 0.5), V2::new(1.0, 3.0), V2::new(0.0, 0.0)];
+        let p = [
+            V2::new(0.0, 0.0),
+            V2::new(2.0, 0.0),
+            V2::new(1.0, 0.0),
+            V2::new(1.0, 0.5),
+            V2::new(1.0, 3.0),
+            V2::new(0.0, 0.0),
+        ];
         let h = hull(&p);
         assert_eq!(h.len(), 3, "{h:?}");
         assert!(h.contains(&1) && h.contains(&4));

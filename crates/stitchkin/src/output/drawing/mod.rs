@@ -68,7 +68,10 @@ impl View {
     pub fn parse(text: &str) -> Result<View, Error> {
         Ok(match text.trim() {
             "" => {
-                return Err(param_error("no view given (in --view)".into(), "give xy, xz, yz, iso or the name of a model frame".into()));
+                return Err(param_error(
+                    "no view given (in --view)".into(),
+                    "give xy, xz, yz, iso or the name of a model frame".into(),
+                ));
             }
             "xy" => View::Plane(Plane::Xy),
             "xz" => View::Plane(Plane::Xz),
@@ -81,14 +84,24 @@ impl View {
     /// The view that shows `model` best: its plane for a planar model, the
     /// isometric drawing for a spatial one.
     pub fn default_for(model: &Model) -> View {
-        if model.planar { View::Plane(Plane::Xy) } else { View::Isometric }
+        if model.planar {
+            View::Plane(Plane::Xy)
+        } else {
+            View::Isometric
+        }
     }
 
     /// The views `model` can be drawn in, as [`View::parse`] reads them:
     /// `xy`, `xz`, `yz`, `iso`, then the model's own frames.
     pub fn choices(model: &Model) -> Vec<String> {
         let mut out: Vec<String> = ["xy", "xz", "yz", "iso"].iter().map(|s| s.to_string()).collect();
-        out.extend(model.frame_names().into_iter().filter(|f| *f != "world").map(String::from));
+        out.extend(
+            model
+                .frame_names()
+                .into_iter()
+                .filter(|f| *f != "world")
+                .map(String::from),
+        );
         out
     }
 
@@ -145,7 +158,10 @@ impl Default for DrawOptions {
 }
 
 fn param_error(message: String, help: String) -> Error {
-    Error::Param(ParamError { message, help: Some(help) })
+    Error::Param(ParamError {
+        message,
+        help: Some(help),
+    })
 }
 
 /// The view's linear map from world coordinates (mm) to drawing
@@ -165,21 +181,33 @@ impl Projection {
             Plane::Xz => (V3::x(), V3::z()),
             Plane::Yz => (V3::y(), V3::z()),
         };
-        Projection { origin: V3::zeros(), right, up }
+        Projection {
+            origin: V3::zeros(),
+            right,
+            up,
+        }
     }
 
     /// Isometric drawing, world y up: x → (cos 30°, −sin 30°), y → (0, 1),
     /// z → (−cos 30°, −sin 30°). Unit vectors along the axes keep unit length.
     pub fn isometric() -> Projection {
         let (s, c) = 30f64.to_radians().sin_cos();
-        Projection { origin: V3::zeros(), right: V3::new(c, 0.0, -c), up: V3::new(-s, 1.0, -s) }
+        Projection {
+            origin: V3::zeros(),
+            right: V3::new(c, 0.0, -c),
+            up: V3::new(-s, 1.0, -s),
+        }
     }
 
     /// The xy-plane of a frame placed by `plane`.
     pub fn of_frame(plane: &FramePlane<f64>) -> Projection {
         match &plane.0 {
             None => Projection::of_plane(Plane::Xy),
-            Some(f) => Projection { origin: f.origin, right: f.dir_to_world(V3::x()), up: f.dir_to_world(V3::y()) },
+            Some(f) => Projection {
+                origin: f.origin,
+                right: f.dir_to_world(V3::x()),
+                up: f.dir_to_world(V3::y()),
+            },
         }
     }
 
@@ -201,40 +229,66 @@ impl Projection {
 fn n(v: f64) -> String {
     let s = format!("{v:.2}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" || s.is_empty() { "0".into() } else { s.to_string() }
+    if s == "-0" || s.is_empty() {
+        "0".into()
+    } else {
+        s.to_string()
+    }
 }
 
 /// A length or angle for text: up to three decimals.
 fn num3(v: f64) -> String {
     let s = format!("{v:.3}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" || s.is_empty() { "0".into() } else { s.to_string() }
+    if s == "-0" || s.is_empty() {
+        "0".into()
+    } else {
+        s.to_string()
+    }
 }
 
 fn check_options(opts: &DrawOptions) -> Result<(), Error> {
     if !opts.phi_deg.is_finite() {
-        return Err(param_error(format!("the angle φ = {} is not a finite number (in --phi)", opts.phi_deg), "give --phi in degrees, e.g. --phi 90".into()));
+        return Err(param_error(
+            format!("the angle φ = {} is not a finite number (in --phi)", opts.phi_deg),
+            "give --phi in degrees, e.g. --phi 90".into(),
+        ));
     }
     if opts.animate {
         if opts.frames < 2 {
             return Err(param_error(
-                format!("an animation needs at least 2 frames per turn, got {} (in --frames)", opts.frames),
+                format!(
+                    "an animation needs at least 2 frames per turn, got {} (in --frames)",
+                    opts.frames
+                ),
                 "give --frames 72 (5° per frame) or 120 (3°)".into(),
             ));
         }
         if opts.frames > 3600 {
-            return Err(param_error(format!("{} frames per turn would make a very large file (in --frames)", opts.frames), "give at most --frames 3600 (0.1° per frame)".into()));
+            return Err(param_error(
+                format!(
+                    "{} frames per turn would make a very large file (in --frames)",
+                    opts.frames
+                ),
+                "give at most --frames 3600 (0.1° per frame)".into(),
+            ));
         }
         if !(opts.duration_s.is_finite() && opts.duration_s > 0.0) {
             return Err(param_error(
-                format!("the duration of one turn must be a positive number of seconds, got {} (in --duration)", opts.duration_s),
+                format!(
+                    "the duration of one turn must be a positive number of seconds, got {} (in --duration)",
+                    opts.duration_s
+                ),
                 "give --duration 4 (seconds per turn of the main shaft)".into(),
             ));
         }
     }
     for (what, v) in [("width", opts.width), ("height", opts.height)] {
         if !(v.is_finite() && (200.0..=20000.0).contains(&v)) {
-            return Err(param_error(format!("the drawing {what} {v} px is out of range"), "give a size between 200 and 20000 px".into()));
+            return Err(param_error(
+                format!("the drawing {what} {v} px is out of range"),
+                "give a size between 200 and 20000 px".into(),
+            ));
         }
     }
     Ok(())
@@ -253,18 +307,36 @@ fn projection(model: &Model, mech: &Mechanism<f64>, view: &View) -> Result<(Proj
             };
             (Projection::of_plane(*p), words.to_string(), axes("x", "y", "z"))
         }
-        View::Isometric => (Projection::isometric(), "isometric drawing (world y up; lengths along x, y, z true)".to_string(), axes("x", "y", "z")),
+        View::Isometric => (
+            Projection::isometric(),
+            "isometric drawing (world y up; lengths along x, y, z true)".to_string(),
+            axes("x", "y", "z"),
+        ),
         View::Frame(name) => {
             let i = model.frame_index(name).ok_or_else(|| {
                 let mut views = vec!["xy", "xz", "yz", "iso"];
                 views.extend(model.frame_names());
-                param_error(format!("the model has no frame `{name}` (in --view)"), format!("views are xy, xz, yz, iso or a model frame; this model offers: {}", views.join(", ")))
+                param_error(
+                    format!("the model has no frame `{name}` (in --view)"),
+                    format!(
+                        "views are xy, xz, yz, iso or a model frame; this model offers: {}",
+                        views.join(", ")
+                    ),
+                )
             })?;
             if i == 0 {
-                (Projection::of_plane(Plane::Xy), "the world xy-plane".to_string(), axes("x", "y", "z"))
+                (
+                    Projection::of_plane(Plane::Xy),
+                    "the world xy-plane".to_string(),
+                    axes("x", "y", "z"),
+                )
             } else {
                 let words = format!("the xy-plane of frame `{name}`");
-                (Projection::of_frame(&mech.frame_plane(i)), words, axes(&format!("{name}.x"), &format!("{name}.y"), &format!("{name}.z")))
+                (
+                    Projection::of_frame(&mech.frame_plane(i)),
+                    words,
+                    axes(&format!("{name}.x"), &format!("{name}.y"), &format!("{name}.z")),
+                )
             }
         }
     })
@@ -289,7 +361,9 @@ impl Timing {
             return String::new();
         }
         if discrete {
-            let kt: Vec<String> = (0..values.len()).map(|k| num3(k as f64 / values.len() as f64)).collect();
+            let kt: Vec<String> = (0..values.len())
+                .map(|k| num3(k as f64 / values.len() as f64))
+                .collect();
             format!(
                 r#"<animate attributeName="{attr}" values="{}" keyTimes="{}" calcMode="discrete" dur="{}s" repeatCount="indefinite"/>"#,
                 values.join(";"),
@@ -297,7 +371,12 @@ impl Timing {
                 num3(self.dur)
             )
         } else {
-            format!(r#"<animate attributeName="{attr}" values="{};{}" dur="{}s" repeatCount="indefinite"/>"#, values.join(";"), values[0], num3(self.dur))
+            format!(
+                r#"<animate attributeName="{attr}" values="{};{}" dur="{}s" repeatCount="indefinite"/>"#,
+                values.join(";"),
+                values[0],
+                num3(self.dur)
+            )
         }
     }
 
@@ -316,7 +395,10 @@ impl Timing {
 }
 
 fn pts_attr(pts: &[(f64, f64)]) -> String {
-    pts.iter().map(|(x, y)| format!("{},{}", n(*x), n(*y))).collect::<Vec<_>>().join(" ")
+    pts.iter()
+        .map(|(x, y)| format!("{},{}", n(*x), n(*y)))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// The drawing of `model` with `params` as an SVG document: at `opts.phi_deg`,
@@ -325,7 +407,11 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     check_options(opts)?;
     let mech = model.mechanism::<f64>(params)?;
     let (proj, view_words, axis_names) = projection(model, &mech, &opts.view)?;
-    let traced = opts.trajectories.iter().map(|p| crate::study::stroke::point_slot(model, p, "--trajectories", true)).collect::<Result<Vec<usize>, Error>>()?;
+    let traced = opts
+        .trajectories
+        .iter()
+        .map(|p| crate::study::stroke::point_slot(model, p, "--trajectories", true))
+        .collect::<Result<Vec<usize>, Error>>()?;
     let nf = if opts.animate { opts.frames } else { 1 };
     let phis: Vec<f64> = (0..nf).map(|k| opts.phi_deg + 360.0 * k as f64 / nf as f64).collect();
     let slots = solve(model, &mech, &phis)?;
@@ -340,13 +426,20 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     let pos: Vec<Vec<V3<f64>>> = slots.iter().map(|s| st.positions(s)).collect();
     let threads = mech.threads.as_ref();
     let path_frames: Vec<Vec<PathFrame>> = match threads {
-        Some(t) => slots.iter().zip(&phis).map(|(s, &phi)| thread_frame(t, s, phi)).collect::<Result<_, _>>()?,
+        Some(t) => slots
+            .iter()
+            .zip(&phis)
+            .map(|(s, &phi)| thread_frame(t, s, phi))
+            .collect::<Result<_, _>>()?,
         None => Vec::new(),
     };
     let np = mech.n_points();
     let names = &model.point_names;
     let name_of = |i: usize| if i < np { names[i].clone() } else { String::new() };
-    let timing = Timing { frames: nf, dur: opts.duration_s };
+    let timing = Timing {
+        frames: nf,
+        dur: opts.duration_s,
+    };
 
     // ---- what is drawn, in drawing coordinates (mm) per frame ----
     let v2 = |p: &V3<f64>| proj.project(p);
@@ -357,15 +450,23 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
             .map(|j| {
                 let path = &t.paths[j];
                 let frames: Vec<PathFrame> = path_frames.iter().map(|f| f[j].clone()).collect();
-                let guide_pts: Vec<V3<f64>> = slots.iter().flat_map(|s| path.nodes.iter().map(|&i| s[i]).collect::<Vec<_>>()).collect();
-                thread_polylines(&frames, &guide_pts, opts.animate).into_iter().map(|l| l.iter().map(v2).collect()).collect()
+                let guide_pts: Vec<V3<f64>> = slots
+                    .iter()
+                    .flat_map(|s| path.nodes.iter().map(|&i| s[i]).collect::<Vec<_>>())
+                    .collect();
+                thread_polylines(&frames, &guide_pts, opts.animate)
+                    .into_iter()
+                    .map(|l| l.iter().map(v2).collect())
+                    .collect()
             })
             .collect(),
         None => Vec::new(),
     };
     // Cam profiles per frame.
     let used_cams: Vec<usize> = match threads {
-        Some(t) => (0..t.cams.len()).filter(|&c| t.spans.iter().any(|s| matches!(s, Span::Cam { cam, .. } if *cam == c))).collect(),
+        Some(t) => (0..t.cams.len())
+            .filter(|&c| t.spans.iter().any(|s| matches!(s, Span::Cam { cam, .. } if *cam == c)))
+            .collect(),
         None => Vec::new(),
     };
     let cam_outlines: Vec<Vec<Vec<V2<f64>>>> = match threads {
@@ -390,7 +491,10 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         None => Vec::new(),
     };
     let trajectories: Vec<(usize, Vec<V2<f64>>)> = match &cycle {
-        Some(c) => traced.iter().map(|&s| (s, c.iter().map(|f| v2(&f[s])).collect())).collect(),
+        Some(c) => traced
+            .iter()
+            .map(|&s| (s, c.iter().map(|f| v2(&f[s])).collect()))
+            .collect(),
         None => Vec::new(),
     };
     // Crank circles (static: their centres are fixed in every preset; a
@@ -398,10 +502,18 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     let circles: Vec<Vec<Vec<V2<f64>>>> = st
         .circles
         .iter()
-        .map(|c| pos.iter().map(|f| (0..=72).map(|k| {
-            let th = k as f64 * std::f64::consts::TAU / 72.0;
-            v2(&(f[c.center] + (c.u * th.cos() + c.v * th.sin()) * c.r))
-        }).collect()).collect())
+        .map(|c| {
+            pos.iter()
+                .map(|f| {
+                    (0..=72)
+                        .map(|k| {
+                            let th = k as f64 * std::f64::consts::TAU / 72.0;
+                            v2(&(f[c.center] + (c.u * th.cos() + c.v * th.sin()) * c.r))
+                        })
+                        .collect()
+                })
+                .collect()
+        })
         .collect();
     // Slider travel along each guide (over the cycle when known).
     let travel: Vec<Option<(f64, f64)>> = st
@@ -450,8 +562,18 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     // Room around the mechanism for labels.
     let pad = 34.0;
     let scale = ((ax1 - ax0 - 2.0 * pad) / span.x).min((ay1 - ay0 - 2.0 * pad) / span.y);
-    let scale = if scale.is_finite() && scale > 0.0 { scale.min(1.0e4) } else { 1.0 };
-    let screen = Screen { scale, cx_mm: (lo.x + hi.x) / 2.0, cy_mm: (lo.y + hi.y) / 2.0, cx_px: (ax0 + ax1) / 2.0, cy_px: (ay0 + ay1) / 2.0 };
+    let scale = if scale.is_finite() && scale > 0.0 {
+        scale.min(1.0e4)
+    } else {
+        1.0
+    };
+    let screen = Screen {
+        scale,
+        cx_mm: (lo.x + hi.x) / 2.0,
+        cy_mm: (lo.y + hi.y) / 2.0,
+        cx_px: (ax0 + ax1) / 2.0,
+        cy_px: (ay0 + ay1) / 2.0,
+    };
     let px = |q: &V2<f64>| screen.px(*q);
 
     // ---- roles of points ----
@@ -464,19 +586,39 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     for s in &st.sliders {
         membership[s.at] += 1;
     }
-    let guide_nodes: BTreeSet<usize> = threads.map_or_else(BTreeSet::new, |t| t.paths.iter().flat_map(|p| (0..p.nodes.len()).filter(|&i| p.pin_span[i].is_none()).map(|i| p.nodes[i])).collect());
+    let guide_nodes: BTreeSet<usize> = threads.map_or_else(BTreeSet::new, |t| {
+        t.paths
+            .iter()
+            .flat_map(|p| {
+                (0..p.nodes.len())
+                    .filter(|&i| p.pin_span[i].is_none())
+                    .map(|i| p.nodes[i])
+            })
+            .collect()
+    });
     let pin_nodes: BTreeSet<usize> = threads.map_or_else(BTreeSet::new, |t| {
-        t.spans.iter().filter_map(|s| if let Span::Pin { c, .. } = s { Some(*c) } else { None }).collect()
+        t.spans
+            .iter()
+            .filter_map(|s| if let Span::Pin { c, .. } = s { Some(*c) } else { None })
+            .collect()
     });
     let pivots: Vec<usize> = (0..np).filter(|&i| model.is_fixed(i) && membership[i] > 0).collect();
-    let joints: Vec<usize> = (0..np).filter(|&i| !model.is_fixed(i) && membership[i] >= 2 && !st.spherical.contains(&i)).collect();
+    let joints: Vec<usize> = (0..np)
+        .filter(|&i| !model.is_fixed(i) && membership[i] >= 2 && !st.spherical.contains(&i))
+        .collect();
     let balls: Vec<usize> = st.spherical.iter().copied().filter(|i| !model.is_fixed(*i)).collect();
-    let dots: Vec<usize> = (0..np).filter(|&i| !model.is_fixed(i) && membership[i] == 1 && !st.spherical.contains(&i)).collect();
+    let dots: Vec<usize> = (0..np)
+        .filter(|&i| !model.is_fixed(i) && membership[i] == 1 && !st.spherical.contains(&i))
+        .collect();
 
     // ---- SVG ----
     let mut s = String::new();
     let title = if opts.animate {
-        format!("{}: mechanism over one turn from φ = {}°", model.file.model.name, num3(opts.phi_deg))
+        format!(
+            "{}: mechanism over one turn from φ = {}°",
+            model.file.model.name,
+            num3(opts.phi_deg)
+        )
     } else {
         format!("{}: mechanism at φ = {}°", model.file.model.name, num3(opts.phi_deg))
     };
@@ -501,9 +643,22 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         h = n(h)
     );
     let _ = writeln!(s, "<title>{}</title>", escape(&title));
-    let _ = writeln!(s, r#"<rect x="0" y="0" width="{}" height="{}" fill="white"/>"#, n(w), n(h));
-    let _ = writeln!(s, r#"<text class="title" x="24" y="24" font-size="16" font-weight="bold">{}</text>"#, escape(&title));
-    let _ = writeln!(s, r##"<text class="subtitle" x="24" y="44" fill="#555">{}</text>"##, escape(&sub));
+    let _ = writeln!(
+        s,
+        r#"<rect x="0" y="0" width="{}" height="{}" fill="white"/>"#,
+        n(w),
+        n(h)
+    );
+    let _ = writeln!(
+        s,
+        r#"<text class="title" x="24" y="24" font-size="16" font-weight="bold">{}</text>"#,
+        escape(&title)
+    );
+    let _ = writeln!(
+        s,
+        r##"<text class="subtitle" x="24" y="44" fill="#555">{}</text>"##,
+        escape(&sub)
+    );
 
     // Trajectories, under everything.
     for (slot, t) in &trajectories {
@@ -521,7 +676,10 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     }
     // Crank circles: the pin's path.
     for (i, c) in circles.iter().enumerate() {
-        let frames: Vec<String> = c.iter().map(|f| pts_attr(&f.iter().map(px).collect::<Vec<_>>())).collect();
+        let frames: Vec<String> = c
+            .iter()
+            .map(|f| pts_attr(&f.iter().map(px).collect::<Vec<_>>()))
+            .collect();
         let _ = writeln!(
             s,
             r##"<polyline class="crank-circle" data-center="{}" fill="none" stroke="#b0b0b0" stroke-width="0.8" stroke-dasharray="5 3 1 3" points="{}">{}</polyline>"##,
@@ -545,22 +703,35 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         let mut rails: Vec<[Vec<(f64, f64)>; 2]> = Vec::new();
         let mut hatch = String::new();
         for (f, p) in pos.iter().enumerate() {
-            let Some((o, u)) = guide_line(&sl.guide, p) else { continue };
+            let Some((o, u)) = guide_line(&sl.guide, p) else {
+                continue;
+            };
             let t_now = (p[sl.at] - o).dot(&u);
             let (a, b) = match travel[k] {
                 Some((a, b)) if fixed => (a.min(t_now), b.max(t_now)),
                 _ => (t_now, t_now),
             };
-            let (p0, p1) = (px(&v2(&(o + u * (a - 1.6 * margin)))), px(&v2(&(o + u * (b + 1.6 * margin)))));
+            let (p0, p1) = (
+                px(&v2(&(o + u * (a - 1.6 * margin)))),
+                px(&v2(&(o + u * (b + 1.6 * margin)))),
+            );
             center.push(vec![p0, p1]);
             if fixed && f == 0 {
-                let (d0, d1) = (px(&v2(&(o + u * (a - 0.7 * margin)))), px(&v2(&(o + u * (b + 0.7 * margin)))));
+                let (d0, d1) = (
+                    px(&v2(&(o + u * (a - 0.7 * margin)))),
+                    px(&v2(&(o + u * (b + 0.7 * margin)))),
+                );
                 let (dx, dy) = (d1.0 - d0.0, d1.1 - d0.1);
                 let len = (dx * dx + dy * dy).sqrt();
                 if len > 1e-9 {
                     let (nx, ny) = (-dy / len, dx / len);
                     let off = block.1 / 2.0 + 1.5;
-                    let r = |sgn: f64| vec![(d0.0 + nx * off * sgn, d0.1 + ny * off * sgn), (d1.0 + nx * off * sgn, d1.1 + ny * off * sgn)];
+                    let r = |sgn: f64| {
+                        vec![
+                            (d0.0 + nx * off * sgn, d0.1 + ny * off * sgn),
+                            (d1.0 + nx * off * sgn, d1.1 + ny * off * sgn),
+                        ]
+                    };
                     rails.push([r(1.0), r(-1.0)]);
                     let hatch_side = r(-1.6);
                     segments.push((hatch_side[0], hatch_side[1]));
@@ -569,7 +740,14 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
                     for j in 0..=steps {
                         let t = j as f64 / steps.max(1) as f64;
                         let (bx, by) = (d0.0 + dx * t - nx * off, d0.1 + dy * t - ny * off);
-                        let _ = write!(hatch, "M{},{} l{},{} ", n(bx), n(by), n(-nx * 5.0 - dx / len * 4.0), n(-ny * 5.0 - dy / len * 4.0));
+                        let _ = write!(
+                            hatch,
+                            "M{},{} l{},{} ",
+                            n(bx),
+                            n(by),
+                            n(-nx * 5.0 - dx / len * 4.0),
+                            n(-ny * 5.0 - dy / len * 4.0)
+                        );
                     }
                 }
             }
@@ -587,17 +765,28 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         for [r1, r2] in &rails {
             for r in [r1, r2] {
                 segments.push((r[0], r[1]));
-                let _ = writeln!(s, r##"<polyline class="guide-rail" fill="none" stroke="#444" stroke-width="1" points="{}"/>"##, pts_attr(r));
+                let _ = writeln!(
+                    s,
+                    r##"<polyline class="guide-rail" fill="none" stroke="#444" stroke-width="1" points="{}"/>"##,
+                    pts_attr(r)
+                );
             }
         }
         if !hatch.is_empty() {
-            let _ = writeln!(s, r##"<path class="ground" fill="none" stroke="#666" stroke-width="0.7" d="{}"/>"##, hatch.trim_end());
+            let _ = writeln!(
+                s,
+                r##"<path class="ground" fill="none" stroke="#666" stroke-width="0.7" d="{}"/>"##,
+                hatch.trim_end()
+            );
         }
     }
     // Cams.
     if let Some(t) = threads {
         for (j, &ci) in used_cams.iter().enumerate() {
-            let frames: Vec<String> = cam_outlines[j].iter().map(|f| pts_attr(&f.iter().map(px).collect::<Vec<_>>())).collect();
+            let frames: Vec<String> = cam_outlines[j]
+                .iter()
+                .map(|f| pts_attr(&f.iter().map(px).collect::<Vec<_>>()))
+                .collect();
             let _ = writeln!(
                 s,
                 r##"<polygon class="cam" data-cam="{}" fill="#f3efe6" stroke="#5a4a2a" stroke-width="1.3" points="{}"><title>cam {}</title>{}</polygon>"##,
@@ -619,8 +808,14 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         let first: Vec<V2<f64>> = b.pts.iter().map(|&p| pts2[0][p]).collect();
         let (outline, closed): (Vec<usize>, bool) = if b.kind == Kind::Plate {
             let hl = hull(&first);
-            let area: f64 = (0..hl.len()).map(|i| first[hl[i]].perp(&first[hl[(i + 1) % hl.len()]])).sum::<f64>() / 2.0;
-            let size = (0..first.len()).flat_map(|i| (0..first.len()).map(move |j| (i, j))).map(|(i, j)| (first[i] - first[j]).norm()).fold(0.0, f64::max);
+            let area: f64 = (0..hl.len())
+                .map(|i| first[hl[i]].perp(&first[hl[(i + 1) % hl.len()]]))
+                .sum::<f64>()
+                / 2.0;
+            let size = (0..first.len())
+                .flat_map(|i| (0..first.len()).map(move |j| (i, j)))
+                .map(|(i, j)| (first[i] - first[j]).norm())
+                .fold(0.0, f64::max);
             if hl.len() >= 3 && area.abs() * scale * scale > 4.0 && size > 0.0 {
                 (hl.into_iter().map(|i| b.pts[i]).collect(), true)
             } else {
@@ -639,7 +834,9 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         } else {
             (b.pts.clone(), false)
         };
-        let frames: Vec<Vec<(f64, f64)>> = (0..nf).map(|k| outline.iter().map(|&p| px(&pts2[k][p])).collect()).collect();
+        let frames: Vec<Vec<(f64, f64)>> = (0..nf)
+            .map(|k| outline.iter().map(|&p| px(&pts2[k][p])).collect())
+            .collect();
         for i in 0..frames[0].len().saturating_sub(1) {
             segments.push((frames[0][i], frames[0][i + 1]));
         }
@@ -648,14 +845,35 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         }
         let values: Vec<String> = frames.iter().map(|f| pts_attr(f)).collect();
         let members: Vec<String> = b.pts.iter().filter(|&&p| p < np).map(|&p| names[p].clone()).collect();
-        let drawn: Vec<String> = outline.iter().map(|&p| if p < np { names[p].clone() } else { "·".into() }).collect();
+        let drawn: Vec<String> = outline
+            .iter()
+            .map(|&p| if p < np { names[p].clone() } else { "·".into() })
+            .collect();
         let (tag, style) = match (closed, b.kind) {
-            (true, _) => ("polygon", r##"fill="#dfe6ef" fill-opacity="0.7" stroke="#2a2a2a" stroke-width="1.6" stroke-linejoin="round""##),
-            (false, Kind::Offset) => ("polyline", r##"fill="none" stroke="#6a6a6a" stroke-width="1.3" stroke-linecap="round""##),
-            (false, Kind::Rod) => ("polyline", r##"fill="none" stroke="#2a2a2a" stroke-width="2.2" stroke-linecap="round" stroke-linejoin="round""##),
-            (false, _) => ("polyline", r##"fill="none" stroke="#2a2a2a" stroke-width="2.6" stroke-linecap="round" stroke-linejoin="round""##),
+            (true, _) => (
+                "polygon",
+                r##"fill="#dfe6ef" fill-opacity="0.7" stroke="#2a2a2a" stroke-width="1.6" stroke-linejoin="round""##,
+            ),
+            (false, Kind::Offset) => (
+                "polyline",
+                r##"fill="none" stroke="#6a6a6a" stroke-width="1.3" stroke-linecap="round""##,
+            ),
+            (false, Kind::Rod) => (
+                "polyline",
+                r##"fill="none" stroke="#2a2a2a" stroke-width="2.2" stroke-linecap="round" stroke-linejoin="round""##,
+            ),
+            (false, _) => (
+                "polyline",
+                r##"fill="none" stroke="#2a2a2a" stroke-width="2.6" stroke-linecap="round" stroke-linejoin="round""##,
+            ),
         };
-        let class = if closed { Kind::Plate.class() } else if b.kind == Kind::Plate { Kind::Bar.class() } else { b.kind.class() };
+        let class = if closed {
+            Kind::Plate.class()
+        } else if b.kind == Kind::Plate {
+            Kind::Bar.class()
+        } else {
+            b.kind.class()
+        };
         let _ = writeln!(
             s,
             r#"<{tag} class="{class}" data-points="{}" data-body="{}" {style} points="{}"><title>{}</title>{}</{tag}>"#,
@@ -672,7 +890,10 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
             let frames: Vec<Vec<(f64, f64)>> = polylines[j].iter().map(|l| l.iter().map(px).collect()).collect();
             let values: Vec<String> = frames.iter().map(|f| pts_attr(f)).collect();
             let same_count = frames.iter().all(|f| f.len() == frames[0].len());
-            let touched: Vec<&str> = (0..path.nodes.len()).filter(|&i| path_frames[0][j].pieces[i].is_some()).map(|i| path.node_names[i].as_str()).collect();
+            let touched: Vec<&str> = (0..path.nodes.len())
+                .filter(|&i| path_frames[0][j].pieces[i].is_some())
+                .map(|i| path.node_names[i].as_str())
+                .collect();
             let _ = writeln!(
                 s,
                 r#"<polyline class="thread" data-path="{}" data-nodes="{}" fill="none" stroke="{}" stroke-width="1.5" stroke-linejoin="round" stroke-opacity="0.95" points="{}"><title>thread path {}{}</title>{}</polyline>"#,
@@ -693,7 +914,10 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         for p in pos.iter() {
             let q = px(&v2(&p[sl.at]));
             at.push(format!("{} {}", n(q.0), n(q.1)));
-            let a = guide_line(&sl.guide, p).map(|(_, u)| proj.direction(&u)).filter(|d| d.norm() > 1e-6).map(|d| (-d.y).atan2(d.x).to_degrees());
+            let a = guide_line(&sl.guide, p)
+                .map(|(_, u)| proj.direction(&u))
+                .filter(|d| d.norm() > 1e-6)
+                .map(|d| (-d.y).atan2(d.x).to_degrees());
             angle.push(a);
         }
         let along = angle.iter().any(Option::is_some);
@@ -740,10 +964,13 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
             n(y + 11.0),
             n(x + 10.0),
             n(y + 11.0),
-            (0..5).map(|j| {
-                let bx = x - 8.0 + 4.5 * j as f64;
-                format!("M{},{} l-4,4", n(bx + 2.0), n(y + 11.0))
-            }).collect::<Vec<_>>().join(" "),
+            (0..5)
+                .map(|j| {
+                    let bx = x - 8.0 + 4.5 * j as f64;
+                    format!("M{},{} l-4,4", n(bx + 2.0), n(y + 11.0))
+                })
+                .collect::<Vec<_>>()
+                .join(" "),
             n(x),
             n(y)
         );
@@ -751,30 +978,59 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     // Fixed points that only place a guide line.
     for &p in &st.guide_points {
         let (x, y) = px(&pts2[0][p]);
-        let _ = writeln!(s, r##"<path class="fixed-point" data-point="{}" d="M{},{} h8 M{},{} v8" stroke="#555" stroke-width="1"/>"##, escape(&names[p]), n(x - 4.0), n(y), n(x), n(y - 4.0));
+        let _ = writeln!(
+            s,
+            r##"<path class="fixed-point" data-point="{}" d="M{},{} h8 M{},{} v8" stroke="#555" stroke-width="1"/>"##,
+            escape(&names[p]),
+            n(x - 4.0),
+            n(y),
+            n(x),
+            n(y - 4.0)
+        );
     }
     // Moving points: a translated group per point.
     let translate = |p: usize| -> (String, String) {
-        let v: Vec<String> = (0..nf).map(|k| {
-            let (x, y) = px(&pts2[k][p]);
-            format!("{} {}", n(x), n(y))
-        }).collect();
+        let v: Vec<String> = (0..nf)
+            .map(|k| {
+                let (x, y) = px(&pts2[k][p]);
+                format!("{} {}", n(x), n(y))
+            })
+            .collect();
         (v[0].clone(), timing.transform("translate", &v))
     };
     for (list, class, shape) in [
         (&dots, "point", r##"<circle r="2.2" fill="#2a2a2a"/>"##),
-        (&joints, "joint", r##"<circle r="3.6" fill="white" stroke="#2a2a2a" stroke-width="1.5"/>"##),
-        (&balls, "joint spherical", r##"<circle r="4.2" fill="white" stroke="#2a2a2a" stroke-width="1.5"/><circle r="1.6" fill="#2a2a2a"/>"##),
+        (
+            &joints,
+            "joint",
+            r##"<circle r="3.6" fill="white" stroke="#2a2a2a" stroke-width="1.5"/>"##,
+        ),
+        (
+            &balls,
+            "joint spherical",
+            r##"<circle r="4.2" fill="white" stroke="#2a2a2a" stroke-width="1.5"/><circle r="1.6" fill="#2a2a2a"/>"##,
+        ),
     ] {
         for &p in list.iter() {
             let (t0, anim) = translate(p);
-            let _ = writeln!(s, r#"<g class="{class}" data-point="{}" transform="translate({t0})">{anim}{shape}</g>"#, escape(&names[p]));
+            let _ = writeln!(
+                s,
+                r#"<g class="{class}" data-point="{}" transform="translate({t0})">{anim}{shape}</g>"#,
+                escape(&names[p])
+            );
         }
     }
     // Thread guides: eyelets (rings) and one-sided guides (filled while the
     // thread bears on them, dashed while free), in their path's colour.
     if let Some(t) = threads {
-        let path_of_node = |slot: usize| -> Vec<usize> { t.paths.iter().enumerate().filter(|(_, p)| p.nodes.contains(&slot)).map(|(j, _)| j).collect() };
+        let path_of_node = |slot: usize| -> Vec<usize> {
+            t.paths
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.nodes.contains(&slot))
+                .map(|(j, _)| j)
+                .collect()
+        };
         for &g in &guide_nodes {
             let users = path_of_node(g);
             let c = if users.len() == 1 { color(users[0]) } else { "#333333" };
@@ -798,12 +1054,28 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
                     }
                 }
             }
-            let engaged: Vec<bool> = (0..nf).map(|k| users.iter().any(|&(j, i)| path_frames[k][j].guides[i].is_some_and(|g| g.engaged))).collect();
-            let c = if users.iter().map(|u| u.0).collect::<BTreeSet<_>>().len() == 1 { color(users[0].0) } else { "#333333" };
+            let engaged: Vec<bool> = (0..nf)
+                .map(|k| {
+                    users
+                        .iter()
+                        .any(|&(j, i)| path_frames[k][j].guides[i].is_some_and(|g| g.engaged))
+                })
+                .collect();
+            let c = if users.iter().map(|u| u.0).collect::<BTreeSet<_>>().len() == 1 {
+                color(users[0].0)
+            } else {
+                "#333333"
+            };
             let r_px = (radius * scale).max(3.4);
             let state = if engaged[0] { "engaged" } else { "free" };
-            let fill: Vec<String> = engaged.iter().map(|e| if *e { c.to_string() } else { "white".to_string() }).collect();
-            let dash: Vec<String> = engaged.iter().map(|e| if *e { "none".to_string() } else { "2 1.5".to_string() }).collect();
+            let fill: Vec<String> = engaged
+                .iter()
+                .map(|e| if *e { c.to_string() } else { "white".to_string() })
+                .collect();
+            let dash: Vec<String> = engaged
+                .iter()
+                .map(|e| if *e { "none".to_string() } else { "2 1.5".to_string() })
+                .collect();
             let (t0, anim) = translate(g);
             let _ = writeln!(
                 s,
@@ -821,7 +1093,12 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     // Labels: moving points (coincident ones share a label), then fixed
     // pivots and guide-line points, then fixed thread guides (dropped where
     // no free spot is left).
-    let clip = Rect { x0: 4.0, y0: 52.0, x1: w - legend_w - 4.0, y1: h - 64.0 };
+    let clip = Rect {
+        x0: 4.0,
+        y0: 52.0,
+        x1: w - legend_w - 4.0,
+        y1: h - 64.0,
+    };
     let mut all_dots: Vec<(f64, f64)> = (0..np).map(|p| px(&pts2[0][p])).collect();
     // The ground under each fixed pivot.
     all_dots.extend(pivots.iter().flat_map(|&p| {
@@ -831,7 +1108,10 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     let mut placed: Vec<Rect> = Vec::new();
     let coincide = |a: usize, b: usize| (0..nf).all(|k| (pts2[k][a] - pts2[k][b]).norm() * scale < 0.8);
     let mut groups: Vec<(Vec<usize>, &'static str, bool)> = Vec::new();
-    let add_groups = |members: Vec<usize>, class: &'static str, droppable: bool, groups: &mut Vec<(Vec<usize>, &'static str, bool)>| {
+    let add_groups = |members: Vec<usize>,
+                      class: &'static str,
+                      droppable: bool,
+                      groups: &mut Vec<(Vec<usize>, &'static str, bool)>| {
         let mut left = members;
         while let Some(first) = left.first().copied() {
             let (same, rest): (Vec<usize>, Vec<usize>) = left.into_iter().partition(|&q| coincide(first, q));
@@ -839,19 +1119,54 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
             left = rest;
         }
     };
-    add_groups((0..np).filter(|&p| !model.is_fixed(p)).collect(), "label", false, &mut groups);
-    add_groups((0..np).filter(|&p| model.is_fixed(p) && (pivots.contains(&p) || st.guide_points.contains(&p))).collect(), "label fixed", false, &mut groups);
     add_groups(
-        (0..np).filter(|&p| model.is_fixed(p) && !pivots.contains(&p) && !st.guide_points.contains(&p) && (guide_nodes.contains(&p) || pin_nodes.contains(&p))).collect(),
+        (0..np).filter(|&p| !model.is_fixed(p)).collect(),
+        "label",
+        false,
+        &mut groups,
+    );
+    add_groups(
+        (0..np)
+            .filter(|&p| model.is_fixed(p) && (pivots.contains(&p) || st.guide_points.contains(&p)))
+            .collect(),
+        "label fixed",
+        false,
+        &mut groups,
+    );
+    add_groups(
+        (0..np)
+            .filter(|&p| {
+                model.is_fixed(p)
+                    && !pivots.contains(&p)
+                    && !st.guide_points.contains(&p)
+                    && (guide_nodes.contains(&p) || pin_nodes.contains(&p))
+            })
+            .collect(),
         "label guide",
         true,
         &mut groups,
     );
     for (members, class, droppable) in groups {
-        let text = members.iter().map(|&p| names[p].as_str()).collect::<Vec<_>>().join(", ");
+        let text = members
+            .iter()
+            .map(|&p| names[p].as_str())
+            .collect::<Vec<_>>()
+            .join(", ");
         let at = px(&pts2[0][members[0]]);
-        let others: Vec<(f64, f64)> = all_dots.iter().copied().filter(|d| (d.0 - at.0).abs() + (d.1 - at.1).abs() > 1.0).collect();
-        let Some(LabelSpot { x: tx, y: ty, anchor, rect }) = place_label(&text, at, &placed, &segments, &others, droppable, &clip) else { continue };
+        let others: Vec<(f64, f64)> = all_dots
+            .iter()
+            .copied()
+            .filter(|d| (d.0 - at.0).abs() + (d.1 - at.1).abs() > 1.0)
+            .collect();
+        let Some(LabelSpot {
+            x: tx,
+            y: ty,
+            anchor,
+            rect,
+        }) = place_label(&text, at, &placed, &segments, &others, droppable, &clip)
+        else {
+            continue;
+        };
         placed.push(rect);
         let (fill, weight) = match class {
             "label" => ("#111", "bold"),
@@ -880,7 +1195,14 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
                 continue;
             }
             // An arm's centre on its axis is named after the rocker's pivot.
-            let an = if d.a < np { names[d.a].clone() } else { st.bodies.iter().find(|b| b.pts.contains(&d.a)).map_or(String::new(), |b| name_of(b.pts[0])) };
+            let an = if d.a < np {
+                names[d.a].clone()
+            } else {
+                st.bodies
+                    .iter()
+                    .find(|b| b.pts.contains(&d.a))
+                    .map_or(String::new(), |b| name_of(b.pts[0]))
+            };
             let text = format!("{} = {} mm", dim_label(d.symbol, &an, &name_of(d.b)), num3(d.length));
             let tw = 5.6 * text.chars().count() as f64;
             // Upright angle of the link at frame k, continuous over frames.
@@ -888,7 +1210,11 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
             for frame in &pts2 {
                 let (a, b) = (px(&frame[d.a]), px(&frame[d.b]));
                 let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-                let mut ang = if dx.hypot(dy) > 1e-9 { dy.atan2(dx).to_degrees() } else { 0.0 };
+                let mut ang = if dx.hypot(dy) > 1e-9 {
+                    dy.atan2(dx).to_degrees()
+                } else {
+                    0.0
+                };
                 if ang > 90.0 {
                     ang -= 180.0;
                 } else if ang <= -90.0 {
@@ -910,15 +1236,35 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
             };
             let mut best: Option<(f64, (f64, f64, f64), RotBox)> = None;
             let own = (px(&pts2[0][d.a]), px(&pts2[0][d.b]));
-            for (tier, t, side) in [0.0, 7.0].iter().flat_map(|&tier| [0.5, 0.35, 0.65, 0.2, 0.8].into_iter().flat_map(move |t| [(tier, t, 1.0), (tier, t, -1.0)])) {
+            for (tier, t, side) in [0.0, 7.0].iter().flat_map(|&tier| {
+                [0.5, 0.35, 0.65, 0.2, 0.8]
+                    .into_iter()
+                    .flat_map(move |t| [(tier, t, 1.0), (tier, t, -1.0)])
+            }) {
                 let (x, y) = spot(0, t, side, tier);
-                let bx = RotBox { x, y, ang: angles[0].to_radians(), hw: tw / 2.0, top: -8.5, bottom: 2.5 };
+                let bx = RotBox {
+                    x,
+                    y,
+                    ang: angles[0].to_radians(),
+                    hw: tw / 2.0,
+                    top: -8.5,
+                    bottom: 2.5,
+                };
                 let samples = bx.samples();
-                let covered = |hit: &dyn Fn(f64, f64) -> bool| samples.iter().filter(|(x, y)| hit(*x, *y)).count() as f64;
+                let covered =
+                    |hit: &dyn Fn(f64, f64) -> bool| samples.iter().filter(|(x, y)| hit(*x, *y)).count() as f64;
                 // Labels are small: also test their corners and centres.
                 let label_corners = placed
                     .iter()
-                    .flat_map(|r| [(r.x0, r.y0), (r.x1, r.y0), (r.x0, r.y1), (r.x1, r.y1), ((r.x0 + r.x1) / 2.0, (r.y0 + r.y1) / 2.0)])
+                    .flat_map(|r| {
+                        [
+                            (r.x0, r.y0),
+                            (r.x1, r.y0),
+                            (r.x0, r.y1),
+                            (r.x1, r.y1),
+                            ((r.x0 + r.x1) / 2.0, (r.y0 + r.y1) / 2.0),
+                        ]
+                    })
                     .filter(|(x, y)| bx.contains(*x, *y))
                     .count() as f64;
                 let mut score = covered(&|x, y| placed.iter().any(|r| r.contains(x, y))) * 5.0
@@ -931,10 +1277,13 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
                     if (*p, *q) == own || (*q, *p) == own {
                         continue;
                     }
-                    score += (0..=16).filter(|j| {
-                        let u = *j as f64 / 16.0;
-                        bx.contains(p.0 + (q.0 - p.0) * u, p.1 + (q.1 - p.1) * u)
-                    }).count() as f64 * 3.0;
+                    score += (0..=16)
+                        .filter(|j| {
+                            let u = *j as f64 / 16.0;
+                            bx.contains(p.0 + (q.0 - p.0) * u, p.1 + (q.1 - p.1) * u)
+                        })
+                        .count() as f64
+                        * 3.0;
                 }
                 if samples.iter().any(|(x, y)| !clip.contains(*x, *y)) {
                     score += 1.0e4;
@@ -945,10 +1294,12 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
             }
             let Some((_, (t, side, tier), bx)) = best else { continue };
             dim_boxes.push(bx);
-            let at: Vec<String> = (0..nf).map(|k| {
-                let (x, y) = spot(k, t, side, tier);
-                format!("{} {}", n(x), n(y))
-            }).collect();
+            let at: Vec<String> = (0..nf)
+                .map(|k| {
+                    let (x, y) = spot(k, t, side, tier);
+                    format!("{} {}", n(x), n(y))
+                })
+                .collect();
             let rot: Vec<String> = angles.iter().map(|a| n(*a)).collect();
             let _ = writeln!(
                 s,
@@ -966,23 +1317,69 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     if let Some(t) = threads.filter(|_| has_legend) {
         let lx = w - legend_w + 8.0;
         let mut y = 74.0;
-        let _ = writeln!(s, r#"<text class="legend-title" x="{}" y="{}" font-weight="bold">thread paths</text>"#, n(lx), n(y));
+        let _ = writeln!(
+            s,
+            r#"<text class="legend-title" x="{}" y="{}" font-weight="bold">thread paths</text>"#,
+            n(lx),
+            n(y)
+        );
         for (j, p) in t.paths.iter().enumerate() {
             y += 17.0;
-            let _ = writeln!(s, r#"<line class="legend-sample" x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="{}" stroke-width="2"/>"#, n(lx), n(lx + 24.0), color(j), y = n(y - 4.0));
-            let _ = writeln!(s, r#"<text class="legend" x="{}" y="{}">{}</text>"#, n(lx + 30.0), n(y), escape(&p.name));
+            let _ = writeln!(
+                s,
+                r#"<line class="legend-sample" x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="{}" stroke-width="2"/>"#,
+                n(lx),
+                n(lx + 24.0),
+                color(j),
+                y = n(y - 4.0)
+            );
+            let _ = writeln!(
+                s,
+                r#"<text class="legend" x="{}" y="{}">{}</text>"#,
+                n(lx + 30.0),
+                n(y),
+                escape(&p.name)
+            );
         }
         y += 24.0;
-        let _ = writeln!(s, r##"<circle cx="{}" cy="{}" r="2.6" fill="white" stroke="#333" stroke-width="1.3"/><text class="legend" x="{}" y="{}">eyelet, guide</text>"##, n(lx + 12.0), n(y - 4.0), n(lx + 30.0), n(y));
+        let _ = writeln!(
+            s,
+            r##"<circle cx="{}" cy="{}" r="2.6" fill="white" stroke="#333" stroke-width="1.3"/><text class="legend" x="{}" y="{}">eyelet, guide</text>"##,
+            n(lx + 12.0),
+            n(y - 4.0),
+            n(lx + 30.0),
+            n(y)
+        );
         if !pin_nodes.is_empty() {
             y += 17.0;
-            let _ = writeln!(s, r##"<circle cx="{}" cy="{}" r="3.4" fill="#333" stroke="#333" stroke-width="1.4"/><text class="legend" x="{}" y="{}">one-sided guide, bearing</text>"##, n(lx + 12.0), n(y - 4.0), n(lx + 30.0), n(y));
+            let _ = writeln!(
+                s,
+                r##"<circle cx="{}" cy="{}" r="3.4" fill="#333" stroke="#333" stroke-width="1.4"/><text class="legend" x="{}" y="{}">one-sided guide, bearing</text>"##,
+                n(lx + 12.0),
+                n(y - 4.0),
+                n(lx + 30.0),
+                n(y)
+            );
             y += 17.0;
-            let _ = writeln!(s, r##"<circle cx="{}" cy="{}" r="3.4" fill="white" stroke="#333" stroke-width="1.4" stroke-dasharray="2 1.5"/><text class="legend" x="{}" y="{}">one-sided guide, free</text>"##, n(lx + 12.0), n(y - 4.0), n(lx + 30.0), n(y));
+            let _ = writeln!(
+                s,
+                r##"<circle cx="{}" cy="{}" r="3.4" fill="white" stroke="#333" stroke-width="1.4" stroke-dasharray="2 1.5"/><text class="legend" x="{}" y="{}">one-sided guide, free</text>"##,
+                n(lx + 12.0),
+                n(y - 4.0),
+                n(lx + 30.0),
+                n(y)
+            );
         }
         if !used_cams.is_empty() {
             y += 17.0;
-            let _ = writeln!(s, r##"<rect x="{}" y="{}" width="12" height="8" fill="#f3efe6" stroke="#5a4a2a"/><text class="legend" x="{}" y="{}">feed cam</text>"##, n(lx + 6.0), n(y - 9.0), n(lx + 30.0), n(y));
+            let _ = writeln!(
+                s,
+                r##"<rect x="{}" y="{}" width="12" height="8" fill="#f3efe6" stroke="#5a4a2a"/><text class="legend" x="{}" y="{}">feed cam</text>"##,
+                n(lx + 6.0),
+                n(y - 9.0),
+                n(lx + 30.0),
+                n(y)
+            );
         }
     }
     // Scale bar: a round length of about 120 px, in mm.
@@ -1012,7 +1409,11 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
             Some(i) if i > 0 => {
                 let pl = mech.frame_plane(i);
                 match &pl.0 {
-                    Some(f) => [f.dir_to_world(V3::x()), f.dir_to_world(V3::y()), f.dir_to_world(V3::z())],
+                    Some(f) => [
+                        f.dir_to_world(V3::x()),
+                        f.dir_to_world(V3::y()),
+                        f.dir_to_world(V3::z()),
+                    ],
                     None => [V3::x(), V3::y(), V3::z()],
                 }
             }
@@ -1026,8 +1427,18 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         if d.norm() < 0.2 {
             // Toward or away from the viewer: a dot or a cross.
             let toward = a.dot(&proj.right.cross(&proj.up)) > 0.0;
-            let mark = if toward { r##"<circle cx="0" cy="0" r="1.6" fill="#444"/>"## } else { r##"<path d="M-2,-2 L2,2 M-2,2 L2,-2" stroke="#444"/>"## };
-            let _ = write!(s, r##"<g transform="translate({} {})"><circle r="4" fill="none" stroke="#444"/>{mark}<text x="6" y="12" font-size="10" fill="#444">{}</text></g>"##, n(ox), n(oy), escape(name));
+            let mark = if toward {
+                r##"<circle cx="0" cy="0" r="1.6" fill="#444"/>"##
+            } else {
+                r##"<path d="M-2,-2 L2,2 M-2,2 L2,-2" stroke="#444"/>"##
+            };
+            let _ = write!(
+                s,
+                r##"<g transform="translate({} {})"><circle r="4" fill="none" stroke="#444"/>{mark}<text x="6" y="12" font-size="10" fill="#444">{}</text></g>"##,
+                n(ox),
+                n(oy),
+                escape(name)
+            );
             continue;
         }
         let (ex, ey) = (ox + d.x * 24.0, oy - d.y * 24.0);
@@ -1062,7 +1473,11 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     } else {
         String::new()
     };
-    let phi_text = if opts.animate { format!("φ from {}°", num3(wrap_deg(opts.phi_deg))) } else { format!("φ = {}°", num3(opts.phi_deg)) };
+    let phi_text = if opts.animate {
+        format!("φ from {}°", num3(wrap_deg(opts.phi_deg)))
+    } else {
+        format!("φ = {}°", num3(opts.phi_deg))
+    };
     let _ = writeln!(
         s,
         r##"<g class="phi-dial"><circle cx="{x}" cy="{y}" r="14" fill="white" stroke="#444"/><line x1="{x}" y1="{y}" x2="{}" y2="{y}" stroke="#bbb"/><g transform="rotate({})">{turn}<line x1="{x}" y1="{y}" x2="{}" y2="{y}" stroke="#c0392b" stroke-width="2" stroke-linecap="round"/></g><text x="{}" y="{}" text-anchor="end">{}</text></g>"##,
@@ -1094,7 +1509,11 @@ mod tests {
     #[test]
     fn isometric_keeps_axis_lengths_at_120_degrees() {
         let iso = Projection::isometric();
-        let axes = [iso.direction(&V3::x()), iso.direction(&V3::y()), iso.direction(&V3::z())];
+        let axes = [
+            iso.direction(&V3::x()),
+            iso.direction(&V3::y()),
+            iso.direction(&V3::z()),
+        ];
         for a in &axes {
             assert_relative_eq!(a.norm(), 1.0, epsilon = 1e-12);
         }
@@ -1117,7 +1536,10 @@ mod tests {
         let yz = Projection::of_plane(Plane::Yz);
         assert_eq!(yz.project(&a), V2::new(-4.0, 7.0));
         // A frame turned about x by 90°: its y is the world z.
-        let f = crate::geometry::Placement { rot: crate::geometry::axis_rotation(0, std::f64::consts::FRAC_PI_2), origin: V3::new(1.0, 2.0, 3.0) };
+        let f = crate::geometry::Placement {
+            rot: crate::geometry::axis_rotation(0, std::f64::consts::FRAC_PI_2),
+            origin: V3::new(1.0, 2.0, 3.0),
+        };
         let fr = Projection::of_frame(&FramePlane(Some(f)));
         assert_relative_eq!(fr.project(&V3::new(1.0, 2.0, 8.0)), V2::new(0.0, 5.0), epsilon = 1e-12);
     }
@@ -1127,11 +1549,49 @@ mod tests {
         let model = Model::preset("needle876").unwrap();
         let p = model.defaults();
         let err = |o: DrawOptions| render(&model, &p, &o).unwrap_err().to_string();
-        assert!(err(DrawOptions { phi_deg: f64::NAN, ..Default::default() }).contains("--phi"));
-        assert!(err(DrawOptions { animate: true, frames: 1, ..Default::default() }).contains("--frames"));
-        assert!(err(DrawOptions { animate: true, duration_s: 0.0, ..Default::default() }).contains("--duration"));
-        assert!(err(DrawOptions { view: View::Frame("nope".into()), ..Default::default() }).contains("no frame `nope`"));
-        assert!(err(DrawOptions { trajectories: vec!["Q".into()], ..Default::default() }).contains("no point `Q`"));
-        assert!(err(DrawOptions { trajectories: vec!["O".into()], ..Default::default() }).contains("fixed"));
+        assert!(
+            err(DrawOptions {
+                phi_deg: f64::NAN,
+                ..Default::default()
+            })
+            .contains("--phi")
+        );
+        assert!(
+            err(DrawOptions {
+                animate: true,
+                frames: 1,
+                ..Default::default()
+            })
+            .contains("--frames")
+        );
+        assert!(
+            err(DrawOptions {
+                animate: true,
+                duration_s: 0.0,
+                ..Default::default()
+            })
+            .contains("--duration")
+        );
+        assert!(
+            err(DrawOptions {
+                view: View::Frame("nope".into()),
+                ..Default::default()
+            })
+            .contains("no frame `nope`")
+        );
+        assert!(
+            err(DrawOptions {
+                trajectories: vec!["Q".into()],
+                ..Default::default()
+            })
+            .contains("no point `Q`")
+        );
+        assert!(
+            err(DrawOptions {
+                trajectories: vec!["O".into()],
+                ..Default::default()
+            })
+            .contains("fixed")
+        );
     }
 }

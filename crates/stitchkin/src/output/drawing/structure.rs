@@ -26,7 +26,11 @@ pub(super) fn solve(model: &Model, mech: &Mechanism<f64>, phis: &[f64]) -> Resul
     };
     for (i, &phi) in phis.iter().enumerate() {
         if continuation {
-            let from = if i == 0 { phi - (phi - model.phi_start_deg()).rem_euclid(360.0) } else { phis[i - 1] };
+            let from = if i == 0 {
+                phi - (phi - model.phi_start_deg()).rem_euclid(360.0)
+            } else {
+                phis[i - 1]
+            };
             if i == 0 {
                 grid.push(from);
             }
@@ -41,7 +45,10 @@ pub(super) fn solve(model: &Model, mech: &Mechanism<f64>, phis: &[f64]) -> Resul
     }
     let mut pose = mech.new_pose(grid.len());
     mech.solve(&Phi::table(&grid), &mut pose)?;
-    Ok(pick.into_iter().map(|k| (0..mech.n_points()).map(|s| pose.point(s, k)).collect()).collect())
+    Ok(pick
+        .into_iter()
+        .map(|k| (0..mech.n_points()).map(|s| pose.point(s, k)).collect())
+        .collect())
 }
 
 /// A point added to the drawing that is not a model point: a rocker's
@@ -49,7 +56,12 @@ pub(super) fn solve(model: &Model, mech: &Mechanism<f64>, phis: &[f64]) -> Resul
 #[derive(Debug, Clone)]
 enum Extra {
     At(V3<f64>),
-    SlotFoot { from: usize, pivot: usize, e: f64, plane: FramePlane<f64> },
+    SlotFoot {
+        from: usize,
+        pivot: usize,
+        e: f64,
+        plane: FramePlane<f64>,
+    },
 }
 
 /// How a link is drawn.
@@ -86,11 +98,26 @@ pub(super) struct Body {
 pub(super) enum Guide {
     /// Planar: through `through` shifted by `offset` to the left, toward
     /// `toward` or along `dir` in `plane`.
-    Planar { through: usize, toward: Option<usize>, dir: V2<f64>, offset: f64, plane: FramePlane<f64> },
+    Planar {
+        through: usize,
+        toward: Option<usize>,
+        dir: V2<f64>,
+        offset: f64,
+        plane: FramePlane<f64>,
+    },
     /// Spatial: through `through` toward `toward` or along `dir`.
-    Spatial { through: usize, toward: Option<usize>, dir: V3<f64> },
+    Spatial {
+        through: usize,
+        toward: Option<usize>,
+        dir: V3<f64>,
+    },
     /// A slotted lever's slot: the block rides on the pin `from`.
-    Slot { from: usize, pivot: usize, e: f64, plane: FramePlane<f64> },
+    Slot {
+        from: usize,
+        pivot: usize,
+        e: f64,
+        plane: FramePlane<f64>,
+    },
 }
 
 #[derive(Debug, Clone)]
@@ -139,37 +166,107 @@ impl Structure {
         let bar = |st: &mut Structure, a: usize, b: usize, kind: Kind| st.bodies.push(Body { pts: vec![a, b], kind });
         for step in &mech.steps {
             match step {
-                Step::Crank { center, out, r, u, v, .. } => {
+                Step::Crank {
+                    center, out, r, u, v, ..
+                } => {
                     bar(&mut st, *center, *out, Kind::Crank);
-                    st.dims.push(Dim { a: *center, b: *out, length: *r, symbol: "r" });
-                    st.circles.push(Circle { center: *center, u: *u, v: *v, r: *r });
+                    st.dims.push(Dim {
+                        a: *center,
+                        b: *out,
+                        length: *r,
+                        symbol: "r",
+                    });
+                    st.circles.push(Circle {
+                        center: *center,
+                        u: *u,
+                        v: *v,
+                        r: *r,
+                    });
                 }
-                Step::Rrr { p1, p2, l1, l2, out, .. } => {
+                Step::Rrr {
+                    p1, p2, l1, l2, out, ..
+                } => {
                     bar(&mut st, *p1, *out, Kind::Bar);
                     bar(&mut st, *p2, *out, Kind::Bar);
-                    st.dims.push(Dim { a: *p1, b: *out, length: *l1, symbol: "l" });
-                    st.dims.push(Dim { a: *p2, b: *out, length: *l2, symbol: "l" });
+                    st.dims.push(Dim {
+                        a: *p1,
+                        b: *out,
+                        length: *l1,
+                        symbol: "l",
+                    });
+                    st.dims.push(Dim {
+                        a: *p2,
+                        b: *out,
+                        length: *l2,
+                        symbol: "l",
+                    });
                 }
-                Step::Rrp { from, through, toward, dir, offset, l, plane, out, .. } => {
+                Step::Rrp {
+                    from,
+                    through,
+                    toward,
+                    dir,
+                    offset,
+                    l,
+                    plane,
+                    out,
+                    ..
+                } => {
                     bar(&mut st, *from, *out, Kind::Bar);
-                    st.dims.push(Dim { a: *from, b: *out, length: *l, symbol: "l" });
-                    st.sliders.push(Slider { at: *out, guide: Guide::Planar { through: *through, toward: *toward, dir: *dir, offset: *offset, plane: *plane } });
+                    st.dims.push(Dim {
+                        a: *from,
+                        b: *out,
+                        length: *l,
+                        symbol: "l",
+                    });
+                    st.sliders.push(Slider {
+                        at: *out,
+                        guide: Guide::Planar {
+                            through: *through,
+                            toward: *toward,
+                            dir: *dir,
+                            offset: *offset,
+                            plane: *plane,
+                        },
+                    });
                     st.guide_points.insert(*through);
                     st.guide_points.extend(*toward);
                 }
-                Step::Rpr { from, pivot, e, plane, out, .. } => {
+                Step::Rpr {
+                    from,
+                    pivot,
+                    e,
+                    plane,
+                    out,
+                    ..
+                } => {
                     // The lever: pivot, the pivot's foot on the slot (when
                     // the slot is offset), the lever point.
                     let mut pts = vec![*pivot];
                     if e.abs() > 1e-9 {
-                        st.extras.push(Extra::SlotFoot { from: *from, pivot: *pivot, e: *e, plane: *plane });
+                        st.extras.push(Extra::SlotFoot {
+                            from: *from,
+                            pivot: *pivot,
+                            e: *e,
+                            plane: *plane,
+                        });
                         pts.push(np + st.extras.len() - 1);
                     }
                     pts.push(*out);
                     st.bodies.push(Body { pts, kind: Kind::Bar });
-                    st.sliders.push(Slider { at: *from, guide: Guide::Slot { from: *from, pivot: *pivot, e: *e, plane: *plane } });
+                    st.sliders.push(Slider {
+                        at: *from,
+                        guide: Guide::Slot {
+                            from: *from,
+                            pivot: *pivot,
+                            e: *e,
+                            plane: *plane,
+                        },
+                    });
                 }
-                Step::Rssr { from, rocker, l, out, .. } => {
+                Step::Rssr {
+                    from, rocker, l, out, ..
+                } => {
                     // The rocker turns about its axis: from the fixed point
                     // on the axis (its pivot) to the arm's centre, then out.
                     let c = rocker.c;
@@ -194,14 +291,44 @@ impl Structure {
                     pts.push(*out);
                     st.bodies.push(Body { pts, kind: Kind::Bar });
                     bar(&mut st, *from, *out, Kind::Rod);
-                    st.dims.push(Dim { a: centre, b: *out, length: rocker.r, symbol: "r" });
-                    st.dims.push(Dim { a: *from, b: *out, length: *l, symbol: "l" });
+                    st.dims.push(Dim {
+                        a: centre,
+                        b: *out,
+                        length: rocker.r,
+                        symbol: "r",
+                    });
+                    st.dims.push(Dim {
+                        a: *from,
+                        b: *out,
+                        length: *l,
+                        symbol: "l",
+                    });
                     st.spherical.extend([*from, *out]);
                 }
-                Step::PointOnLine { from, through, toward, dir, l, out, .. } => {
+                Step::PointOnLine {
+                    from,
+                    through,
+                    toward,
+                    dir,
+                    l,
+                    out,
+                    ..
+                } => {
                     bar(&mut st, *from, *out, Kind::Rod);
-                    st.dims.push(Dim { a: *from, b: *out, length: *l, symbol: "l" });
-                    st.sliders.push(Slider { at: *out, guide: Guide::Spatial { through: *through, toward: *toward, dir: *dir } });
+                    st.dims.push(Dim {
+                        a: *from,
+                        b: *out,
+                        length: *l,
+                        symbol: "l",
+                    });
+                    st.sliders.push(Slider {
+                        at: *out,
+                        guide: Guide::Spatial {
+                            through: *through,
+                            toward: *toward,
+                            dir: *dir,
+                        },
+                    });
                     st.guide_points.insert(*through);
                     st.guide_points.extend(*toward);
                 }
@@ -217,10 +344,22 @@ impl Structure {
                         match c {
                             Closure::Distance { a, b, l } => {
                                 bar(&mut st, slot(a), slot(b), Kind::Bar);
-                                st.dims.push(Dim { a: slot(a), b: slot(b), length: *l, symbol: "l" });
+                                st.dims.push(Dim {
+                                    a: slot(a),
+                                    b: slot(b),
+                                    length: *l,
+                                    symbol: "l",
+                                });
                             }
                             Closure::OnLine { p, h, t } => {
-                                st.sliders.push(Slider { at: *p, guide: Guide::Spatial { through: *h, toward: Some(*t), dir: V3::x() } });
+                                st.sliders.push(Slider {
+                                    at: *p,
+                                    guide: Guide::Spatial {
+                                        through: *h,
+                                        toward: Some(*t),
+                                        dir: V3::x(),
+                                    },
+                                });
                                 st.guide_points.extend([*h, *t]);
                             }
                         }
@@ -239,7 +378,11 @@ impl Structure {
     /// them, or the bar between two of them made a plate, or a new plate.
     fn attach(&mut self, base: &[usize], out: usize) {
         let holds = |b: &Body| base.iter().filter(|p| b.pts.contains(p)).count() >= 2.min(base.len());
-        let found = self.bodies.iter().position(|b| b.kind == Kind::Plate && holds(b)).or_else(|| self.bodies.iter().position(|b| b.kind != Kind::Offset && holds(b)));
+        let found = self
+            .bodies
+            .iter()
+            .position(|b| b.kind == Kind::Plate && holds(b))
+            .or_else(|| self.bodies.iter().position(|b| b.kind != Kind::Offset && holds(b)));
         match found {
             Some(i) => {
                 let b = &mut self.bodies[i];
@@ -276,7 +419,13 @@ impl Structure {
                     if j <= i {
                         continue;
                     }
-                    let third = if c == a || c == b { *d } else if d == a || d == b { *c } else { continue };
+                    let third = if c == a || c == b {
+                        *d
+                    } else if d == a || d == b {
+                        *c
+                    } else {
+                        continue;
+                    };
                     let shared = if c == a || d == a { *b } else { *a };
                     if third == *a || third == *b {
                         continue;
@@ -293,7 +442,10 @@ impl Structure {
             for i in idx.into_iter().rev() {
                 self.bodies.remove(i);
             }
-            self.bodies.push(Body { pts: pts.to_vec(), kind: Kind::Plate });
+            self.bodies.push(Body {
+                pts: pts.to_vec(),
+                kind: Kind::Plate,
+            });
         }
     }
 
@@ -319,7 +471,13 @@ impl Structure {
 /// A guide line at one φ: a point on it and its unit direction (world).
 pub(super) fn guide_line(g: &Guide, p: &[V3<f64>]) -> Option<(V3<f64>, V3<f64>)> {
     match g {
-        Guide::Planar { through, toward, dir, offset, plane } => {
+        Guide::Planar {
+            through,
+            toward,
+            dir,
+            offset,
+            plane,
+        } => {
             let h = plane.project(&p[*through]);
             let u = match toward {
                 Some(t) => {
@@ -358,7 +516,9 @@ pub(super) fn guide_line(g: &Guide, p: &[V3<f64>]) -> Option<(V3<f64>, V3<f64>)>
 /// ground hatch).
 pub(super) fn guide_is_fixed(g: &Guide, model: &Model) -> bool {
     match g {
-        Guide::Planar { through, toward, .. } | Guide::Spatial { through, toward, .. } => model.is_fixed(*through) && toward.is_none_or(|t| model.is_fixed(t)),
+        Guide::Planar { through, toward, .. } | Guide::Spatial { through, toward, .. } => {
+            model.is_fixed(*through) && toward.is_none_or(|t| model.is_fixed(t))
+        }
         Guide::Slot { .. } => false,
     }
 }

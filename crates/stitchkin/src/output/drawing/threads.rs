@@ -33,7 +33,11 @@ fn roller_arc(c: V3<f64>, a: V3<f64>, r: f64, s: f64, t0: V3<f64>, t1: V3<f64>) 
     let e2 = a.cross(&e1);
     let d1 = (t1 - c) - a * h1;
     let ang = d1.dot(&e2).atan2(d1.dot(&e1));
-    let sweep = if s > 0.0 { ang.rem_euclid(std::f64::consts::TAU) } else { -(-ang).rem_euclid(std::f64::consts::TAU) };
+    let sweep = if s > 0.0 {
+        ang.rem_euclid(std::f64::consts::TAU)
+    } else {
+        -(-ang).rem_euclid(std::f64::consts::TAU)
+    };
     let k = (sweep.abs() / 10f64.to_radians()).ceil().max(1.0) as usize;
     (0..=k)
         .map(|j| {
@@ -51,7 +55,11 @@ fn cam_arc(profile: &cam::Profile, at: &cam::CamPlacement<f64>, s: f64, t0: V3<f
         (d.dot(&at.v).atan2(d.dot(&at.u)), d.dot(&at.w))
     };
     let ((a0, h0), (a1, h1)) = (local(t0), local(t1));
-    let sweep = if s > 0.0 { (a1 - a0).rem_euclid(std::f64::consts::TAU) } else { -(a0 - a1).rem_euclid(std::f64::consts::TAU) };
+    let sweep = if s > 0.0 {
+        (a1 - a0).rem_euclid(std::f64::consts::TAU)
+    } else {
+        -(a0 - a1).rem_euclid(std::f64::consts::TAU)
+    };
     let k = (sweep.abs() / 6f64.to_radians()).ceil().max(1.0) as usize;
     let mut out = vec![t0];
     for j in 1..k {
@@ -78,12 +86,33 @@ pub(super) fn thread_frame(threads: &Threads<f64>, p: &[V3<f64>], phi_deg: f64) 
                 continue;
             };
             let (a, b) = (p[path.nodes[i - 1]], p[path.nodes[i + 1]]);
-            let inside = |message: String| path_error(PathError { path: path.name.clone(), k: 0, message }, phi_deg);
+            let inside = |message: String| {
+                path_error(
+                    PathError {
+                        path: path.name.clone(),
+                        k: 0,
+                        message,
+                    },
+                    phi_deg,
+                )
+            };
             let piece = match &threads.spans[s] {
-                Span::Pin { c, axis, r, sense, name, .. } => {
-                    let w = wrap::pin_wrap(a, b, p[*c], *axis, *r, *sense).ok_or_else(|| inside(format!("a thread end lies inside the guide at `{name}`")))?;
+                Span::Pin {
+                    c,
+                    axis,
+                    r,
+                    sense,
+                    name,
+                    ..
+                } => {
+                    let w = wrap::pin_wrap(a, b, p[*c], *axis, *r, *sense)
+                        .ok_or_else(|| inside(format!("a thread end lies inside the guide at `{name}`")))?;
                     match w.touch {
-                        Some([t0, t1]) if w.engaged => Some(if *r > 0.0 { roller_arc(p[*c], *axis, *r, *sense, t0, t1) } else { vec![t0, t1] }),
+                        Some([t0, t1]) if w.engaged => Some(if *r > 0.0 {
+                            roller_arc(p[*c], *axis, *r, *sense, t0, t1)
+                        } else {
+                            vec![t0, t1]
+                        }),
                         _ => None,
                     }
                 }
@@ -97,14 +126,18 @@ pub(super) fn thread_frame(threads: &Threads<f64>, p: &[V3<f64>], phi_deg: f64) 
                     };
                     let w = w.ok_or_else(no_lay)?;
                     match (w.touch, contact) {
-                        (Some([t0, t1]), CamModel::Exact { .. }) if w.engaged => Some(cam_arc(&c.profile, &at, sense, t0, t1)),
+                        (Some([t0, t1]), CamModel::Exact { .. }) if w.engaged => {
+                            Some(cam_arc(&c.profile, &at, sense, t0, t1))
+                        }
                         (Some([t0, _]), CamModel::Offset { .. }) => Some(vec![t0]),
                         _ => None,
                     }
                 }
                 Span::Straight { .. } => Some(vec![p[path.nodes[i]]]),
             };
-            guides.push(Some(GuideState { engaged: piece.is_some() }));
+            guides.push(Some(GuideState {
+                engaged: piece.is_some(),
+            }));
             pieces.push(piece.map(dedup));
         }
         out.push(PathFrame { pieces, guides });
@@ -129,7 +162,10 @@ fn dedup(v: Vec<V3<f64>>) -> Vec<V3<f64>> {
 /// polyline morphs smoothly.
 pub(super) fn thread_polylines(frames: &[PathFrame], guide_pts: &[V3<f64>], animate: bool) -> Vec<Vec<V3<f64>>> {
     if !animate {
-        return frames.iter().map(|f| f.pieces.iter().flatten().flatten().copied().collect()).collect();
+        return frames
+            .iter()
+            .map(|f| f.pieces.iter().flatten().flatten().copied().collect())
+            .collect();
     }
     let m = frames.first().map_or(0, |f| f.pieces.len());
     let mut filled: Vec<Vec<Vec<V3<f64>>>> = frames
@@ -140,12 +176,27 @@ pub(super) fn thread_polylines(frames: &[PathFrame], guide_pts: &[V3<f64>], anim
                 .map(|i| match &f.pieces[i] {
                     Some(v) => v.clone(),
                     None => {
-                        let before = f.pieces[..i].iter().rev().flatten().next().and_then(|v| v.last()).copied();
-                        let after = f.pieces[i + 1..].iter().flatten().next().and_then(|v| v.first()).copied();
+                        let before = f.pieces[..i]
+                            .iter()
+                            .rev()
+                            .flatten()
+                            .next()
+                            .and_then(|v| v.last())
+                            .copied();
+                        let after = f.pieces[i + 1..]
+                            .iter()
+                            .flatten()
+                            .next()
+                            .and_then(|v| v.first())
+                            .copied();
                         match (before, after) {
                             (Some(a), Some(b)) => {
                                 let d = b - a;
-                                let t = if d.norm_squared() > 0.0 { ((guide_pts[k * m + i] - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0) } else { 0.0 };
+                                let t = if d.norm_squared() > 0.0 {
+                                    ((guide_pts[k * m + i] - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+                                } else {
+                                    0.0
+                                };
                                 vec![a + d * t]
                             }
                             _ => Vec::new(),
@@ -177,7 +228,14 @@ mod tests {
     fn arcs_run_the_wrap_sense() {
         // A roller of radius 1 about z through the origin, thread from
         // (1, 0) counter-clockwise to (0, 1): a quarter turn.
-        let arc = roller_arc(V3::zeros(), V3::z(), 1.0, 1.0, V3::new(1.0, 0.0, 0.0), V3::new(0.0, 1.0, 2.0));
+        let arc = roller_arc(
+            V3::zeros(),
+            V3::z(),
+            1.0,
+            1.0,
+            V3::new(1.0, 0.0, 0.0),
+            V3::new(0.0, 1.0, 2.0),
+        );
         assert!(arc.len() >= 3);
         for p in &arc {
             assert_relative_eq!(p.xy().norm(), 1.0, epsilon = 1e-12);
@@ -185,7 +243,14 @@ mod tests {
         }
         assert_relative_eq!(arc.last().unwrap().z, 2.0, epsilon = 1e-12);
         // Clockwise the other way round: three quarters.
-        let cw = roller_arc(V3::zeros(), V3::z(), 1.0, -1.0, V3::new(1.0, 0.0, 0.0), V3::new(0.0, 1.0, 0.0));
+        let cw = roller_arc(
+            V3::zeros(),
+            V3::z(),
+            1.0,
+            -1.0,
+            V3::new(1.0, 0.0, 0.0),
+            V3::new(0.0, 1.0, 0.0),
+        );
         assert!(cw.iter().any(|p| p.x < -0.9));
     }
 }

@@ -6,7 +6,9 @@
 
 use rayon::prelude::*;
 
-use super::{check_vary, closed, column, number_text, param_unit, phi_axis, select_paths, title, unit_label, value_text};
+use super::{
+    check_vary, closed, column, number_text, param_unit, phi_axis, select_paths, title, unit_label, value_text,
+};
 use crate::error::Error;
 use crate::eval::{CycleOptions, CycleTable, run_cycle};
 use crate::model::{Model, Params};
@@ -33,7 +35,11 @@ pub struct VaryGrid {
 impl VaryGrid {
     /// The grid spacing of the values.
     fn spacing(&self) -> f64 {
-        if self.values.len() > 1 { (self.values[self.values.len() - 1] - self.values[0]) / (self.values.len() - 1) as f64 } else { 1.0 }
+        if self.values.len() > 1 {
+            (self.values[self.values.len() - 1] - self.values[0]) / (self.values.len() - 1) as f64
+        } else {
+            1.0
+        }
     }
 
     /// `r1 = 4.5 mm` for value `k`.
@@ -44,14 +50,23 @@ impl VaryGrid {
     /// `r1 from 4.0 to 6.0 mm`.
     pub(super) fn range_text(&self) -> String {
         let n = self.values.len();
-        format!("{} from {} to {}", self.name, number_text(self.values[0], self.spacing(), self.unit), number_text(self.values[n - 1], self.spacing(), self.unit))
+        format!(
+            "{} from {} to {}",
+            self.name,
+            number_text(self.values[0], self.spacing(), self.unit),
+            number_text(self.values[n - 1], self.spacing(), self.unit)
+        )
     }
 
     pub(super) fn failure_note(&self) -> String {
         if self.failures.is_empty() {
             return String::new();
         }
-        let at: Vec<String> = self.failures.iter().map(|(v, _)| value_text(&self.name, *v, self.spacing(), self.unit)).collect();
+        let at: Vec<String> = self
+            .failures
+            .iter()
+            .map(|(v, _)| value_text(&self.name, *v, self.spacing(), self.unit))
+            .collect();
         format!("; no cycle at {}", at.join(", "))
     }
 }
@@ -60,9 +75,19 @@ impl VaryGrid {
 /// parallel, ascending; `vary` checked by the caller). A value whose cycle
 /// fails is `None` in the runs, its reason kept in the grid; when all
 /// fail, the first error is returned.
-pub(super) fn run_grid(model: &Model, params: &Params, vary: &Vary, opts: &CycleOptions) -> Result<(VaryGrid, Vec<Option<CycleTable>>), Error> {
+pub(super) fn run_grid(
+    model: &Model,
+    params: &Params,
+    vary: &Vary,
+    opts: &CycleOptions,
+) -> Result<(VaryGrid, Vec<Option<CycleTable>>), Error> {
     let (lo, hi) = (vary.lo.min(vary.hi), vary.lo.max(vary.hi));
-    let ascending = Vary { name: vary.name.clone(), lo, hi, n: vary.n };
+    let ascending = Vary {
+        name: vary.name.clone(),
+        lo,
+        hi,
+        n: vary.n,
+    };
     let values: Vec<f64> = (0..vary.n).map(|k| ascending.grid_value(k)).collect();
     let runs: Vec<Result<CycleTable, Error>> = values
         .par_iter()
@@ -89,7 +114,14 @@ pub(super) fn run_grid(model: &Model, params: &Params, vary: &Vary, opts: &Cycle
             Err(e) => failures.push((v, e.to_string().replace('\n', " "))),
         }
     }
-    let grid = VaryGrid { name: vary.name.clone(), unit: param_unit(model, &vary.name), values, phis, failures, step_deg: opts.step_deg };
+    let grid = VaryGrid {
+        name: vary.name.clone(),
+        unit: param_unit(model, &vary.name),
+        values,
+        phis,
+        failures,
+        step_deg: opts.step_deg,
+    };
     Ok((grid, runs.into_iter().map(Result::ok).collect()))
 }
 
@@ -124,12 +156,22 @@ impl FamilyData {
     fn common_pprime(&self) -> Option<&Vec<f64>> {
         let mut it = self.pprime.iter().flatten();
         let first = it.next()?;
-        it.all(|q| q.len() == first.len() && q.iter().zip(first).all(|(a, b)| (a - b).abs() <= 1e-9 * (1.0 + b.abs()))).then_some(first)
+        it.all(|q| {
+            q.len() == first.len()
+                && q.iter()
+                    .zip(first)
+                    .all(|(a, b)| (a - b).abs() <= 1e-9 * (1.0 + b.abs()))
+        })
+        .then_some(first)
     }
 
     /// The take-up P of the path, as a surface draws it.
     pub fn quantity(&self) -> Quantity {
-        Quantity { symbol: "P".into(), unit: "mm".into(), what: format!("take-up P of {}", self.path) }
+        Quantity {
+            symbol: "P".into(),
+            unit: "mm".into(),
+            what: format!("take-up P of {}", self.path),
+        }
     }
 }
 
@@ -137,22 +179,49 @@ impl FamilyData {
 /// keeps P of `path` (`None`: the model's first thread path) and the P' of
 /// the stitch thread compared with it. A value whose cycle fails is kept
 /// as a gap with its reason; when all fail, the first error is returned.
-pub fn family_data(model: &Model, params: &Params, vary: &Vary, path: Option<&str>, step_deg: f64) -> Result<FamilyData, Error> {
+pub fn family_data(
+    model: &Model,
+    params: &Params,
+    vary: &Vary,
+    path: Option<&str>,
+    step_deg: f64,
+) -> Result<FamilyData, Error> {
     check_vary(model, vary)?;
     let wanted: Vec<String> = path.map(|p| vec![p.to_string()]).unwrap_or_default();
     let path = select_paths(model, &wanted)?.remove(0);
-    let opts = CycleOptions { step_deg, analogs: false, points: Some(Vec::new()), lean: true, ..Default::default() };
+    let opts = CycleOptions {
+        step_deg,
+        analogs: false,
+        points: Some(Vec::new()),
+        lean: true,
+        ..Default::default()
+    };
     let (grid, runs) = run_grid(model, params, vary, &opts)?;
-    let thread = runs.iter().flatten().find_map(|t| t.stitch.as_ref()?.threads.iter().find(|th| th.path.as_deref() == Some(path.as_str())).map(|th| th.thread.clone()));
+    let thread = runs.iter().flatten().find_map(|t| {
+        t.stitch
+            .as_ref()?
+            .threads
+            .iter()
+            .find(|th| th.path.as_deref() == Some(path.as_str()))
+            .map(|th| th.thread.clone())
+    });
     let (mut p, mut pprime) = (Vec::new(), Vec::new());
     for run in &runs {
         match run {
             Some(t) => {
                 let ph = column(t, "phi_deg")?;
-                let p_column = t.paths.iter().find(|q| q.path == path).map_or(format!("{path}.P_mm"), |q| q.p_column.clone());
+                let p_column = t
+                    .paths
+                    .iter()
+                    .find(|q| q.path == path)
+                    .map_or(format!("{path}.P_mm"), |q| q.p_column.clone());
                 let pts = closed(ph, column(t, &p_column)?);
                 p.push(Some(pts.iter().map(|q| q.1).collect()));
-                let pprime_column = t.stitch.as_ref().and_then(|s| s.threads.iter().find(|x| Some(&x.thread) == thread.as_ref())).map(|x| x.pprime_column());
+                let pprime_column = t
+                    .stitch
+                    .as_ref()
+                    .and_then(|s| s.threads.iter().find(|x| Some(&x.thread) == thread.as_ref()))
+                    .map(|x| x.pprime_column());
                 pprime.push(match pprime_column {
                     Some(c) => t.column(&c).map(|c| closed(ph, c).iter().map(|q| q.1).collect()),
                     None => None,
@@ -164,7 +233,13 @@ pub fn family_data(model: &Model, params: &Params, vary: &Vary, path: Option<&st
             }
         }
     }
-    Ok(FamilyData { grid, path, p, thread, pprime })
+    Ok(FamilyData {
+        grid,
+        path,
+        p,
+        thread,
+        pprime,
+    })
 }
 
 /// The line family: P(φ) per value in a colour ramp (dark: the low end),
@@ -172,22 +247,43 @@ pub fn family_data(model: &Model, params: &Params, vary: &Vary, path: Option<&st
 /// else one per value in its colour.
 pub fn family(model: &Model, d: &FamilyData) -> Result<Chart, Error> {
     let g = &d.grid;
-    let mut chart = Chart::new(title(model, &format!("take-up P(φ) of {} as {} varies", d.path, g.name)), phi_axis(model), Axis::new("P, mm"));
+    let mut chart = Chart::new(
+        title(model, &format!("take-up P(φ) of {} as {} varies", d.path, g.name)),
+        phi_axis(model),
+        Axis::new("P, mm"),
+    );
     let n = g.values.len();
     for k in 0..n {
         if let Some(p) = &d.p[k] {
-            chart.series.push(Series::new(g.value_text(k), g.phis.iter().copied().zip(p.iter().copied()).collect(), family_color(k, n)));
+            chart.series.push(Series::new(
+                g.value_text(k),
+                g.phis.iter().copied().zip(p.iter().copied()).collect(),
+                family_color(k, n),
+            ));
         }
     }
     let mut sub = format!("{n} values of {}, the rest as set", g.range_text());
     let rows: Vec<&Vec<f64>> = d.p.iter().flatten().collect();
-    if rows.len() > 1 && rows.iter().all(|r| r.iter().zip(rows[0]).all(|(a, b)| (a - b).abs() <= 1e-9 * (1.0 + b.abs()))) {
-        sub += &format!(" (P is the same for every value: {} does not move the thread path)", g.name);
+    if rows.len() > 1
+        && rows.iter().all(|r| {
+            r.iter()
+                .zip(rows[0])
+                .all(|(a, b)| (a - b).abs() <= 1e-9 * (1.0 + b.abs()))
+        })
+    {
+        sub += &format!(
+            " (P is the same for every value: {} does not move the thread path)",
+            g.name
+        );
     }
     if let Some(th) = &d.thread {
         match d.common_pprime() {
             Some(q) => {
-                let mut s = Series::new(format!("{th} P′ (required)"), g.phis.iter().copied().zip(q.iter().copied()).collect(), "#555555");
+                let mut s = Series::new(
+                    format!("{th} P′ (required)"),
+                    g.phis.iter().copied().zip(q.iter().copied()).collect(),
+                    "#555555",
+                );
                 s.dashed = true;
                 chart.series.push(s);
                 sub += &format!("; dashed: P′ of thread {th}, the same for every value");
@@ -195,7 +291,11 @@ pub fn family(model: &Model, d: &FamilyData) -> Result<Chart, Error> {
             None => {
                 for k in 0..n {
                     if let Some(q) = &d.pprime[k] {
-                        let mut s = Series::new(format!("{th} P′, {}", g.value_text(k)), g.phis.iter().copied().zip(q.iter().copied()).collect(), family_color(k, n));
+                        let mut s = Series::new(
+                            format!("{th} P′, {}", g.value_text(k)),
+                            g.phis.iter().copied().zip(q.iter().copied()).collect(),
+                            family_color(k, n),
+                        );
                         s.dashed = true;
                         chart.series.push(s);
                     }
@@ -210,7 +310,9 @@ pub fn family(model: &Model, d: &FamilyData) -> Result<Chart, Error> {
 
 /// The rows as a matrix over (value, φ), NaN where the cycle failed.
 fn z_rows(g: &VaryGrid, rows: &[Option<Vec<f64>>]) -> Vec<Vec<f64>> {
-    rows.iter().map(|r| r.clone().unwrap_or_else(|| vec![f64::NAN; g.phis.len()])).collect()
+    rows.iter()
+        .map(|r| r.clone().unwrap_or_else(|| vec![f64::NAN; g.phis.len()]))
+        .collect()
 }
 
 /// The heat map of a quantity over φ (x) and the parameter (y), with a
@@ -218,19 +320,50 @@ fn z_rows(g: &VaryGrid, rows: &[Option<Vec<f64>>]) -> Vec<Vec<f64>> {
 pub fn surface_heat(model: &Model, g: &VaryGrid, q: &Quantity, rows: &[Option<Vec<f64>>]) -> Chart {
     let (lo, hi) = (g.values[0], g.values[g.values.len() - 1]);
     let half = g.spacing() / 2.0;
-    let y = Axis { label: unit_label(&g.name, g.unit), range: Some((lo - half, hi + half)), step: Some(nice_step(hi - lo, 6)) };
-    let mut chart = Chart::new(title(model, &format!("{} over φ and {}", q.what, g.name)), phi_axis(model), y);
+    let y = Axis {
+        label: unit_label(&g.name, g.unit),
+        range: Some((lo - half, hi + half)),
+        step: Some(nice_step(hi - lo, 6)),
+    };
+    let mut chart = Chart::new(
+        title(model, &format!("{} over φ and {}", q.what, g.name)),
+        phi_axis(model),
+        y,
+    );
     let z = z_rows(g, rows);
     let tips = z
         .iter()
         .enumerate()
-        .map(|(k, row)| row.iter().zip(&g.phis).map(|(v, phi)| {
-                    let v = if v.is_finite() { format!("{} = {v:.2} {}", q.symbol, q.unit) } else { "no cycle".into() };
+        .map(|(k, row)| {
+            row.iter()
+                .zip(&g.phis)
+                .map(|(v, phi)| {
+                    let v = if v.is_finite() {
+                        format!("{} = {v:.2} {}", q.symbol, q.unit)
+                    } else {
+                        "no cycle".into()
+                    };
                     format!("φ = {}°, {}: {v}", crate::output::fmt_num(*phi), g.value_text(k))
-                }).collect())
+                })
+                .collect()
+        })
         .collect();
-    chart.heat = Some(Heat { xs: g.phis.clone(), ys: g.values.clone(), z, label: unit_label(&q.symbol, &q.unit), tips, missing: "no cycle (does not assemble)".into() });
-    chart.subtitle = Some(format!("colour: {}; one row per value of {} ({} values), φ every {}°{}", q.what, g.name, g.values.len(), g.step_deg, g.failure_note()));
+    chart.heat = Some(Heat {
+        xs: g.phis.clone(),
+        ys: g.values.clone(),
+        z,
+        label: unit_label(&q.symbol, &q.unit),
+        tips,
+        missing: "no cycle (does not assemble)".into(),
+    });
+    chart.subtitle = Some(format!(
+        "colour: {}; one row per value of {} ({} values), φ every {}°{}",
+        q.what,
+        g.name,
+        g.values.len(),
+        g.step_deg,
+        g.failure_note()
+    ));
     chart
 }
 
@@ -239,7 +372,13 @@ pub fn surface_wireframe(model: &Model, g: &VaryGrid, q: &Quantity, rows: &[Opti
     let x = phi_axis(model);
     Surface {
         title: title(model, &format!("{} over φ and {}", q.what, g.name)),
-        subtitle: Some(format!("surface {}(φ, {}), one line along φ per value ({} values), across every 30°{}", q.symbol, g.name, g.values.len(), g.failure_note())),
+        subtitle: Some(format!(
+            "surface {}(φ, {}), one line along φ per value ({} values), across every 30°{}",
+            q.symbol,
+            g.name,
+            g.values.len(),
+            g.failure_note()
+        )),
         x,
         y: Axis::new(unit_label(&g.name, g.unit)),
         z: Axis::new(unit_label(&q.symbol, &q.unit)),

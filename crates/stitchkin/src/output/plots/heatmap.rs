@@ -32,17 +32,35 @@ pub fn heatmap(model: &Model, params: &Params, vary: &[Vary], figure: &str, step
     if vary.len() != 2 {
         return Err(param_error(
             format!("`plot heatmap` needs exactly 2 --vary, got {}", vary.len()),
-            "give two parameters, e.g. --vary z=-10:10:11 --vary dphi=-20:20:11 (the first across, the second up)".into(),
+            "give two parameters, e.g. --vary z=-10:10:11 --vary dphi=-20:20:11 (the first across, the second up)"
+                .into(),
         ));
     }
     if vary[0].name == vary[1].name {
-        return Err(param_error(format!("`{}` is varied twice (in --vary)", vary[0].name), "vary two different parameters".into()));
+        return Err(param_error(
+            format!("`{}` is varied twice (in --vary)", vary[0].name),
+            "vary two different parameters".into(),
+        ));
     }
-    let vary: Vec<Vary> = vary.iter().map(|v| Vary { name: v.name.clone(), lo: v.lo.min(v.hi), hi: v.lo.max(v.hi), n: v.n }).collect();
+    let vary: Vec<Vary> = vary
+        .iter()
+        .map(|v| Vary {
+            name: v.name.clone(),
+            lo: v.lo.min(v.hi),
+            hi: v.lo.max(v.hi),
+            n: v.n,
+        })
+        .collect();
     for v in &vary {
         check_vary(model, v)?;
     }
-    let opts = CycleOptions { step_deg, analogs: false, points: None, lean: true, ..Default::default() };
+    let opts = CycleOptions {
+        step_deg,
+        analogs: false,
+        points: None,
+        lean: true,
+        ..Default::default()
+    };
     let nominal = run_cycle(model, params, &opts)?;
     let names = select_figures(&figures(&nominal), &[figure.to_string()]).map_err(|e| match e {
         Error::Param(mut p) => {
@@ -55,7 +73,10 @@ pub fn heatmap(model: &Model, params: &Params, vary: &[Vary], figure: &str, step
         [one] => one.clone(),
         many => {
             return Err(param_error(
-                format!("--figure `{figure}` matches {} figures of merit; a heat map shows one", many.len()),
+                format!(
+                    "--figure `{figure}` matches {} figures of merit; a heat map shows one",
+                    many.len()
+                ),
                 format!("name one of: {}", many.join(", ")),
             ));
         }
@@ -63,20 +84,41 @@ pub fn heatmap(model: &Model, params: &Params, vary: &[Vary], figure: &str, step
     let sw = Sweep::new(vary.clone(), Design::Grid)?;
     let shared = sweep::shared_stitch(model, params, &sw, step_deg)?;
     let mut rows = Vec::with_capacity(sw.len());
-    sweep::run(model, params, &sw, std::slice::from_ref(&name), &opts, shared.as_ref(), 0..sw.len(), |r| -> Result<(), Error> {
-        rows.push(r.clone());
-        Ok(())
-    }, |_| {})?;
+    sweep::run(
+        model,
+        params,
+        &sw,
+        std::slice::from_ref(&name),
+        &opts,
+        shared.as_ref(),
+        0..sw.len(),
+        |r| -> Result<(), Error> {
+            rows.push(r.clone());
+            Ok(())
+        },
+        |_| {},
+    )?;
     let (a, b) = (&vary[0], &vary[1]);
     let (ua, ub) = (param_unit(model, &a.name), param_unit(model, &b.name));
     let xs: Vec<f64> = (0..a.n).map(|i| a.grid_value(i)).collect();
     let ys: Vec<f64> = (0..b.n).map(|j| b.grid_value(j)).collect();
     let (da, db) = ((a.hi - a.lo) / (a.n - 1) as f64, (b.hi - b.lo) / (b.n - 1) as f64);
-    let at = |i: usize, j: usize| format!("{}, {}", value_text(&a.name, xs[i], da, ua), value_text(&b.name, ys[j], db, ub));
+    let at = |i: usize, j: usize| {
+        format!(
+            "{}, {}",
+            value_text(&a.name, xs[i], da, ua),
+            value_text(&b.name, ys[j], db, ub)
+        )
+    };
     // The grid runs the last parameter fastest: setting i·n_b + j.
     let cell = |i: usize, j: usize| &rows[i * b.n + j];
-    let z: Vec<Vec<f64>> = (0..b.n).map(|j| (0..a.n).map(|i| cell(i, j).figures[0].unwrap_or(f64::NAN)).collect()).collect();
-    let unit = figure_label(&name).rsplit_once(", ").map(|(_, u)| format!(" {u}")).unwrap_or_default();
+    let z: Vec<Vec<f64>> = (0..b.n)
+        .map(|j| (0..a.n).map(|i| cell(i, j).figures[0].unwrap_or(f64::NAN)).collect())
+        .collect();
+    let unit = figure_label(&name)
+        .rsplit_once(", ")
+        .map(|(_, u)| format!(" {u}"))
+        .unwrap_or_default();
     let fmt = |v: f64| format!("{}{unit}", number_text(v, 0.001, ""));
     let tips = (0..b.n)
         .map(|j| {
@@ -90,22 +132,50 @@ pub fn heatmap(model: &Model, params: &Params, vary: &[Vary], figure: &str, step
         })
         .collect();
     let half = |d: f64| d / 2.0;
-    let x = Axis { label: unit_label(&a.name, ua), range: Some((a.lo - half(da), a.hi + half(da))), step: Some(nice_step(a.hi - a.lo, 8)) };
-    let y = Axis { label: unit_label(&b.name, ub), range: Some((b.lo - half(db), b.hi + half(db))), step: Some(nice_step(b.hi - b.lo, 6)) };
+    let x = Axis {
+        label: unit_label(&a.name, ua),
+        range: Some((a.lo - half(da), a.hi + half(da))),
+        step: Some(nice_step(a.hi - a.lo, 8)),
+    };
+    let y = Axis {
+        label: unit_label(&b.name, ub),
+        range: Some((b.lo - half(db), b.hi + half(db))),
+        step: Some(nice_step(b.hi - b.lo, 6)),
+    };
     let mut chart = Chart::new(title(model, &format!("{name} over {} and {}", a.name, b.name)), x, y);
     let missing = z.iter().flatten().filter(|v| !v.is_finite()).count();
     // The extremes, marked.
-    let cells = || (0..a.n).flat_map(|i| (0..b.n).map(move |j| (i, j))).filter(|&(i, j)| z[j][i].is_finite());
+    let cells = || {
+        (0..a.n)
+            .flat_map(|i| (0..b.n).map(move |j| (i, j)))
+            .filter(|&(i, j)| z[j][i].is_finite())
+    };
     let lowest = cells().min_by(|p, q| z[p.1][p.0].total_cmp(&z[q.1][q.0]));
     let highest = cells().max_by(|p, q| z[p.1][p.0].total_cmp(&z[q.1][q.0]));
     for (what, c, colour) in [("max", highest, "#e15759"), ("min", lowest, "#ffffff")] {
         if let Some((i, j)) = c {
             let v = z[j][i];
-            chart.markers.push(Marker { x: xs[i], y: ys[j], color: colour.into(), label: format!("{what}: {}, at {}", fmt(v), at(i, j)), legend: Some(format!("{what} {}", fmt(v))) });
+            chart.markers.push(Marker {
+                x: xs[i],
+                y: ys[j],
+                color: colour.into(),
+                label: format!("{what}: {}, at {}", fmt(v), at(i, j)),
+                legend: Some(format!("{what} {}", fmt(v))),
+            });
         }
     }
-    chart.heat = Some(Heat { xs, ys, z, label: figure_label(&name), tips, missing: "no value".into() });
-    let mut sub = format!("{} × {} settings, φ every {step_deg}°, the rest as set; colour: {name}", a.n, b.n);
+    chart.heat = Some(Heat {
+        xs,
+        ys,
+        z,
+        label: figure_label(&name),
+        tips,
+        missing: "no value".into(),
+    });
+    let mut sub = format!(
+        "{} × {} settings, φ every {step_deg}°, the rest as set; colour: {name}",
+        a.n, b.n
+    );
     if missing > 0 {
         sub += &format!("; grey: {missing} without a value");
     }
@@ -116,6 +186,15 @@ pub fn heatmap(model: &Model, params: &Params, vary: &[Vary], figure: &str, step
 /// The names of the figures of merit the model offers at `params` (what
 /// `--figure` may name).
 pub fn figure_names(model: &Model, params: &Params, step_deg: f64) -> Result<Vec<String>, Error> {
-    let opts = CycleOptions { step_deg, analogs: false, points: None, lean: true, ..Default::default() };
-    Ok(figures(&run_cycle(model, params, &opts)?).into_iter().map(|(n, _)| n).collect())
+    let opts = CycleOptions {
+        step_deg,
+        analogs: false,
+        points: None,
+        lean: true,
+        ..Default::default()
+    };
+    Ok(figures(&run_cycle(model, params, &opts)?)
+        .into_iter()
+        .map(|(n, _)| n)
+        .collect())
 }

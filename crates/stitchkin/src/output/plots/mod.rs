@@ -24,12 +24,12 @@ pub mod heatmap;
 pub mod motion;
 pub mod nomogram;
 
+pub use crate::study::nomogram::default_thickness;
 pub use analogs::analogs;
 pub use delta::delta_2d3d;
 pub use family::{FamilyData, Quantity, VaryGrid, family, family_data, surface_heat, surface_wireframe};
 pub use heatmap::{figure_label, figure_names, heatmap};
 pub use motion::{MotionSeries, motion_chart, motion_cycle, motion_family, motion_family_chart};
-pub use crate::study::nomogram::default_thickness;
 pub use nomogram::nomogram_chart;
 
 /// What to plot.
@@ -55,7 +55,11 @@ pub enum Plot {
     /// The same data as [`Plot::Family`] as a heat map of P over (φ, the
     /// parameter) with a colour bar, or with `wireframe` as a projected
     /// surface (seed 000 Fig. 7 a, c, e, g, i, the spatial charts).
-    Surface { vary: Vary, thread: Option<String>, wireframe: bool },
+    Surface {
+        vary: Vary,
+        thread: Option<String>,
+        wireframe: bool,
+    },
     /// The motion law of each series over φ: a column of the cycle table
     /// (`G.y_mm`, `angle_O2_B_deg`, `needle_y_mm`, `mu_23_deg`,
     /// `G.dy_dphi_mm_per_rad`; the unit ending may be left off), one panel
@@ -64,7 +68,11 @@ pub enum Plot {
     Motion { series: Vec<String>, vary: Option<Vary> },
     /// One motion-law series over (φ, a varied parameter) as a heat map
     /// or, with `wireframe`, a projected surface (seed 000 Fig. 6).
-    MotionSurface { series: String, vary: Vary, wireframe: bool },
+    MotionSurface {
+        series: String,
+        vary: Vary,
+        wireframe: bool,
+    },
     /// One figure of merit of [`crate::study::sweep::figures`] (a pattern
     /// matching exactly one) over the grid of two varied parameters, as a
     /// heat map with a colour bar.
@@ -98,7 +106,10 @@ impl Plot {
 }
 
 fn param_error(message: String, help: String) -> Error {
-    Error::Param(ParamError { message, help: Some(help) })
+    Error::Param(ParamError {
+        message,
+        help: Some(help),
+    })
 }
 
 /// Draws `plot` of the model at `params`, φ every `step_deg`, as an SVG
@@ -106,12 +117,23 @@ fn param_error(message: String, help: String) -> Error {
 /// parameter range outside the adjustable one, …) is an error naming the
 /// option at fault and what to do instead.
 pub fn render(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Result<String, Error> {
-    crate::eval::check_options(&CycleOptions { step_deg, ..Default::default() })?;
+    crate::eval::check_options(&CycleOptions {
+        step_deg,
+        ..Default::default()
+    })?;
     match plot {
-        Plot::TakeUp | Plot::Mu | Plot::Trajectory { .. } => cycle_chart(model, params, plot, step_deg).map(|c| c.render()),
+        Plot::TakeUp | Plot::Mu | Plot::Trajectory { .. } => {
+            cycle_chart(model, params, plot, step_deg).map(|c| c.render())
+        }
         Plot::Analogs { points, threads } => analogs(model, params, points, threads, step_deg).map(|f| f.render()),
-        Plot::Family { vary, thread } => family(model, &family_data(model, params, vary, thread.as_deref(), step_deg)?).map(|c| c.render()),
-        Plot::Surface { vary, thread, wireframe } => {
+        Plot::Family { vary, thread } => {
+            family(model, &family_data(model, params, vary, thread.as_deref(), step_deg)?).map(|c| c.render())
+        }
+        Plot::Surface {
+            vary,
+            thread,
+            wireframe,
+        } => {
             let data = family_data(model, params, vary, thread.as_deref(), step_deg)?;
             Ok(surface(model, &data.grid, &data.quantity(), &data.p, *wireframe))
         }
@@ -119,13 +141,22 @@ pub fn render(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Res
             let (phis, series) = motion_cycle(model, params, series, step_deg)?;
             Ok(motion_chart(model, &phis, &series).render())
         }
-        Plot::Motion { series, vary: Some(vary) } => {
+        Plot::Motion {
+            series,
+            vary: Some(vary),
+        } => {
             let (grid, series) = motion_family(model, params, series, vary, step_deg)?;
             Ok(motion_family_chart(model, &grid, &series).render())
         }
-        Plot::MotionSurface { series: name, vary, wireframe } => {
+        Plot::MotionSurface {
+            series: name,
+            vary,
+            wireframe,
+        } => {
             let (grid, series) = motion_family(model, params, std::slice::from_ref(name), vary, step_deg)?;
-            let s = series.first().ok_or_else(|| Error::Io(format!("no rows for series `{name}` (a bug: please report it)")))?;
+            let s = series
+                .first()
+                .ok_or_else(|| Error::Io(format!("no rows for series `{name}` (a bug: please report it)")))?;
             Ok(surface(model, &grid, &s.quantity(), &s.rows, *wireframe))
         }
         Plot::Heatmap { vary, figure } => heatmap(model, params, vary, figure, step_deg).map(|c| c.render()),
@@ -141,12 +172,21 @@ pub fn render(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Res
 /// The heat map or, with `wireframe`, the projected surface of a quantity
 /// over φ and a varied parameter, as SVG.
 fn surface(model: &Model, grid: &VaryGrid, q: &Quantity, rows: &[Option<Vec<f64>>], wireframe: bool) -> String {
-    if wireframe { surface_wireframe(model, grid, q, rows).render() } else { surface_heat(model, grid, q, rows).render() }
+    if wireframe {
+        surface_wireframe(model, grid, q, rows).render()
+    } else {
+        surface_heat(model, grid, q, rows).render()
+    }
 }
 
 /// The charts of one cycle: take-up, transmission angles, trajectories.
 fn cycle_chart(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Result<Chart, Error> {
-    let mut opts = CycleOptions { step_deg, analogs: false, points: Some(Vec::new()), ..Default::default() };
+    let mut opts = CycleOptions {
+        step_deg,
+        analogs: false,
+        points: Some(Vec::new()),
+        ..Default::default()
+    };
     if let Plot::Trajectory { points, .. } = plot {
         opts.points = Some(point_slots(model, points)?);
     }
@@ -165,7 +205,10 @@ fn cycle_chart(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Re
                 Some(name) => Some((
                     name.as_str(),
                     model.frame_index(name).ok_or_else(|| {
-                        param_error(format!("the model has no frame `{name}` (in --plane)"), format!("its frames are: {}", model.frame_names().join(", ")))
+                        param_error(
+                            format!("the model has no frame `{name}` (in --plane)"),
+                            format!("its frames are: {}", model.frame_names().join(", ")),
+                        )
                     })?,
                 )),
             };
@@ -182,14 +225,27 @@ fn cycle_chart(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Re
 /// The cycle slots of the named moving points (`--points`).
 fn point_slots(model: &Model, points: &[String]) -> Result<Vec<usize>, Error> {
     if points.is_empty() {
-        return Err(param_error("no points to trace".into(), format!("name them with --points A,B; the moving points are: {}", moving_points(model))));
+        return Err(param_error(
+            "no points to trace".into(),
+            format!(
+                "name them with --points A,B; the moving points are: {}",
+                moving_points(model)
+            ),
+        ));
     }
-    points.iter().map(|p| crate::study::stroke::point_slot(model, p, "--points", true)).collect()
+    points
+        .iter()
+        .map(|p| crate::study::stroke::point_slot(model, p, "--points", true))
+        .collect()
 }
 
 /// The names of the model's thread paths, in order.
 fn path_names(model: &Model) -> Vec<String> {
-    model.file.thread.as_ref().map_or_else(Vec::new, |t| t.paths.iter().map(|p| p.name.clone()).collect())
+    model
+        .file
+        .thread
+        .as_ref()
+        .map_or_else(Vec::new, |t| t.paths.iter().map(|p| p.name.clone()).collect())
 }
 
 /// The thread paths `wanted` (`--thread`; empty: all), checked against the
@@ -221,7 +277,11 @@ fn param_unit(model: &Model, name: &str) -> &'static str {
 
 /// An axis label `name, unit` (just `name` without a unit).
 fn unit_label(name: &str, unit: &str) -> String {
-    if unit.is_empty() { name.to_string() } else { format!("{name}, {unit}") }
+    if unit.is_empty() {
+        name.to_string()
+    } else {
+        format!("{name}, {unit}")
+    }
 }
 
 /// `4.5 mm`: a value with the decimals a grid `step` needs (at most 3).
@@ -232,8 +292,15 @@ fn number_text(v: f64, step: f64, unit: &str) -> String {
             (m - m.round()).abs() < 1e-6 * m.max(1.0)
         })
         .unwrap_or(3);
-    let text = super::svg::tick_label((v * 10f64.powi(decimals)).round() / 10f64.powi(decimals), 10f64.powi(-decimals));
-    if unit.is_empty() { text } else { format!("{text} {unit}") }
+    let text = super::svg::tick_label(
+        (v * 10f64.powi(decimals)).round() / 10f64.powi(decimals),
+        10f64.powi(-decimals),
+    );
+    if unit.is_empty() {
+        text
+    } else {
+        format!("{text} {unit}")
+    }
 }
 
 /// `r1 = 4.5 mm`: [`number_text`] with the parameter's name.
@@ -252,14 +319,22 @@ fn check_vary(model: &Model, vary: &Vary) -> Result<(), Error> {
         ));
     }
     if vary.n > 1001 {
-        return Err(param_error(format!("--vary {spec} gives {} values", vary.n), "at most 1001 values per parameter in a chart".into()));
+        return Err(param_error(
+            format!("--vary {spec} gives {} values", vary.n),
+            "at most 1001 values per parameter in a chart".into(),
+        ));
     }
     if !(vary.lo.is_finite() && vary.hi.is_finite()) || vary.lo == vary.hi {
-        return Err(param_error(format!("--vary {spec}: the range is empty"), "give two different ends, LO:HI:N".into()));
+        return Err(param_error(
+            format!("--vary {spec}: the range is empty"),
+            "give two different ends, LO:HI:N".into(),
+        ));
     }
     let mut p = model.defaults();
     for v in [vary.lo, vary.hi] {
-        model.set(&mut p, &vary.name, v).map_err(|e| in_flag(e, &format!("--vary {spec}")))?;
+        model
+            .set(&mut p, &vary.name, v)
+            .map_err(|e| in_flag(e, &format!("--vary {spec}")))?;
     }
     Ok(())
 }
@@ -290,7 +365,10 @@ fn moving_points(model: &Model) -> String {
 
 fn no_threads(model: &Model) -> Error {
     param_error(
-        format!("model `{}` has no thread paths, so it has no take-up to plot", model.file.model.name),
+        format!(
+            "model `{}` has no thread paths, so it has no take-up to plot",
+            model.file.model.name
+        ),
         "add a [thread] table with [[thread.paths]] (docs/model-format.md §13), or plot a model with threads \
          (e.g. --preset mf7923d); `plot mu` and `plot trajectory --points …` work for any model"
             .into(),
@@ -305,7 +383,9 @@ fn no_dyads(model: &Model) -> Error {
 }
 
 fn column<'a>(table: &'a CycleTable, name: &str) -> Result<&'a [f64], Error> {
-    table.column(name).ok_or_else(|| Error::Io(format!("the cycle has no column `{name}` (a bug: please report it)")))
+    table
+        .column(name)
+        .ok_or_else(|| Error::Io(format!("the cycle has no column `{name}` (a bug: please report it)")))
 }
 
 /// (φ, v) over the cycle, closed at φ_start + 360° (the motion is periodic).
@@ -319,7 +399,11 @@ fn closed(phis: &[f64], values: &[f64]) -> Vec<(f64, f64)> {
 
 fn phi_axis(model: &Model) -> Axis {
     let start = model.phi_start_deg();
-    Axis { label: "φ, deg".into(), range: Some((start, start + 360.0)), step: Some(45.0) }
+    Axis {
+        label: "φ, deg".into(),
+        range: Some((start, start + 360.0)),
+        step: Some(45.0),
+    }
 }
 
 fn title(model: &Model, what: &str) -> String {
@@ -345,13 +429,22 @@ pub fn take_up_with_measured(model: &Model, table: &CycleTable, measured: &[Meas
     let mut chart = Chart::new(title(model, "thread take-up P(φ)"), phi_axis(model), Axis::new("P, mm"));
     let mut sub = table.take_up.clone().unwrap_or_default();
     if let Some(st) = &table.stitch {
-        sub = format!("solid: P (take-up), dashed: P′ (required, stitch {}, m = {} mm, t = {} mm); shaded: one-sided guide engaged", st.stitch_type, st.m_mm, st.t_mm);
+        sub = format!(
+            "solid: P (take-up), dashed: P′ (required, stitch {}, m = {} mm, t = {} mm); shaded: one-sided guide engaged",
+            st.stitch_type, st.m_mm, st.t_mm
+        );
         if at_b {
             sub += "; needle threads at B, the eye's top position";
         }
         if let Some([a, b]) = st.threads.iter().find_map(|t| t.regulator_window_deg) {
             let end = if b > 360.0 + 1e-9 { wrap_deg(b) } else { b };
-            sub += &format!("; regulator window {a:.0}°…{end:.0}° of {} left out of the match", st.threads.iter().find(|t| t.regulator_window_deg.is_some()).map_or("", |t| t.thread.as_str()));
+            sub += &format!(
+                "; regulator window {a:.0}°…{end:.0}° of {} left out of the match",
+                st.threads
+                    .iter()
+                    .find(|t| t.regulator_window_deg.is_some())
+                    .map_or("", |t| t.thread.as_str())
+            );
         }
     } else if table.paths.iter().any(|p| !p.engaged.is_empty()) {
         sub += "; shaded: one-sided guide engaged";
@@ -360,7 +453,13 @@ pub fn take_up_with_measured(model: &Model, table: &CycleTable, measured: &[Meas
     let mut engaged = Vec::new();
     for (i, p) in table.paths.iter().enumerate() {
         let c = color(i).to_string();
-        chart.series.push(Series { name: p.path.clone(), points: closed(phis, column(table, &p.p_column)?), color: c, dashed: false, mark_start: false });
+        chart.series.push(Series {
+            name: p.path.clone(),
+            points: closed(phis, column(table, &p.p_column)?),
+            color: c,
+            dashed: false,
+            mark_start: false,
+        });
         for (guide, ivs) in &p.engaged {
             for iv in ivs {
                 engaged.push((iv.from_deg, iv.to_deg, format!("{} {guide}", p.path), i));
@@ -371,18 +470,35 @@ pub fn take_up_with_measured(model: &Model, table: &CycleTable, measured: &[Meas
     // interval (grey when shared), so the shading stays light.
     let mut merged: Vec<(f64, f64, Vec<String>, usize)> = Vec::new();
     for (a, b, who, i) in engaged {
-        match merged.iter_mut().find(|m| (m.0 - a).abs() < 1e-9 && (m.1 - b).abs() < 1e-9) {
+        match merged
+            .iter_mut()
+            .find(|m| (m.0 - a).abs() < 1e-9 && (m.1 - b).abs() < 1e-9)
+        {
             Some(m) => m.2.push(who),
             None => merged.push((a, b, vec![who], i)),
         }
     }
     for (a, b, who, i) in merged {
-        let c = if who.len() == 1 { color(i).to_string() } else { "#7f7f7f".to_string() };
+        let c = if who.len() == 1 {
+            color(i).to_string()
+        } else {
+            "#7f7f7f".to_string()
+        };
         let label = format!("engaged {:.0}°…{:.0}°: {}", wrap_deg(a), wrap_deg(b), who.join(", "));
         // A stretch past the cycle's end continues at its start.
-        chart.x_shades.push(XShade { from: a, to: b.min(start + 360.0), color: c.clone(), label: label.clone() });
+        chart.x_shades.push(XShade {
+            from: a,
+            to: b.min(start + 360.0),
+            color: c.clone(),
+            label: label.clone(),
+        });
         if b > start + 360.0 {
-            chart.x_shades.push(XShade { from: start, to: b - 360.0, color: c, label });
+            chart.x_shades.push(XShade {
+                from: start,
+                to: b - 360.0,
+                color: c,
+                label,
+            });
         }
     }
     if let Some(st) = &table.stitch {
@@ -426,13 +542,39 @@ pub fn transmission(model: &Model, table: &CycleTable) -> Result<Chart, Error> {
         return Err(no_dyads(model));
     }
     let phis = column(table, "phi_deg")?;
-    let mut chart = Chart::new(title(model, "transmission angles μ(φ)"), phi_axis(model), Axis { label: "μ, deg".into(), range: Some((0.0, 180.0)), step: Some(30.0) });
-    chart.subtitle = Some(format!("shaded: outside {MU_MIN_DEG}°…{MU_MAX_DEG}°, where the mechanism risks jamming (seed 002 eq. 15)"));
+    let mut chart = Chart::new(
+        title(model, "transmission angles μ(φ)"),
+        phi_axis(model),
+        Axis {
+            label: "μ, deg".into(),
+            range: Some((0.0, 180.0)),
+            step: Some(30.0),
+        },
+    );
+    chart.subtitle = Some(format!(
+        "shaded: outside {MU_MIN_DEG}°…{MU_MAX_DEG}°, where the mechanism risks jamming (seed 002 eq. 15)"
+    ));
     for (i, t) in table.transmission.iter().enumerate() {
-        chart.series.push(Series { name: t.key.clone(), points: closed(phis, column(table, &format!("mu_{}_deg", t.key))?), color: color(i).into(), dashed: false, mark_start: false });
+        chart.series.push(Series {
+            name: t.key.clone(),
+            points: closed(phis, column(table, &format!("mu_{}_deg", t.key))?),
+            color: color(i).into(),
+            dashed: false,
+            mark_start: false,
+        });
     }
-    chart.y_bands.push(YBand { from: f64::NEG_INFINITY, to: MU_MIN_DEG, color: "#c0392b".into(), label: format!("μ < {MU_MIN_DEG}°") });
-    chart.y_bands.push(YBand { from: MU_MAX_DEG, to: f64::INFINITY, color: "#c0392b".into(), label: format!("μ > {MU_MAX_DEG}°") });
+    chart.y_bands.push(YBand {
+        from: f64::NEG_INFINITY,
+        to: MU_MIN_DEG,
+        color: "#c0392b".into(),
+        label: format!("μ < {MU_MIN_DEG}°"),
+    });
+    chart.y_bands.push(YBand {
+        from: MU_MAX_DEG,
+        to: f64::INFINITY,
+        color: "#c0392b".into(),
+        label: format!("μ > {MU_MAX_DEG}°"),
+    });
     chart.y_lines = vec![MU_MIN_DEG, MU_MAX_DEG];
     Ok(chart)
 }
@@ -440,13 +582,30 @@ pub fn transmission(model: &Model, table: &CycleTable) -> Result<Chart, Error> {
 /// The trajectory chart: each point's path over the cycle in the xy-plane
 /// of `frame` (its name and plane; `None`: the world's), a spatial model's
 /// paths projected onto it, equal scales, a dot where the cycle starts.
-pub fn trajectory(model: &Model, table: &CycleTable, points: &[String], frame: Option<(&str, Plane<f64>)>) -> Result<Chart, Error> {
+pub fn trajectory(
+    model: &Model,
+    table: &CycleTable,
+    points: &[String],
+    frame: Option<(&str, Plane<f64>)>,
+) -> Result<Chart, Error> {
     let (ax, ay, on) = match &frame {
-        Some((name, _)) if *name != "world" => (format!("{name}.x, mm"), format!("{name}.y, mm"), format!("the xy-plane of frame `{name}`")),
-        _ => ("x, mm".to_string(), "y, mm".to_string(), "the world xy-plane".to_string()),
+        Some((name, _)) if *name != "world" => (
+            format!("{name}.x, mm"),
+            format!("{name}.y, mm"),
+            format!("the xy-plane of frame `{name}`"),
+        ),
+        _ => (
+            "x, mm".to_string(),
+            "y, mm".to_string(),
+            "the world xy-plane".to_string(),
+        ),
     };
     let plane = frame.map_or(Plane::WORLD, |f| f.1);
-    let mut chart = Chart::new(title(model, format!("trajectories of {}", points.join(", ")).as_str()), Axis::new(ax), Axis::new(ay));
+    let mut chart = Chart::new(
+        title(model, format!("trajectories of {}", points.join(", ")).as_str()),
+        Axis::new(ax),
+        Axis::new(ay),
+    );
     chart.equal_scale = true;
     let projected = !model.planar;
     chart.subtitle = Some(format!(
@@ -467,7 +626,13 @@ pub fn trajectory(model: &Model, table: &CycleTable, points: &[String], frame: O
         if let Some(&first) = pts.first() {
             pts.push(first);
         }
-        chart.series.push(Series { name: p.clone(), points: pts, color: color(i).into(), dashed: false, mark_start: true });
+        chart.series.push(Series {
+            name: p.clone(),
+            points: pts,
+            color: color(i).into(),
+            dashed: false,
+            mark_start: true,
+        });
     }
     Ok(chart)
 }

@@ -15,7 +15,20 @@ use crate::output::svg::{Axis, Chart, Figure, Series, color, family_color};
 use crate::study::sweep::Vary;
 
 /// The unit endings of the cycle table's column names, longest first.
-const UNITS: [&str; 12] = ["mm_per_rad2", "mm_per_rad", "rad_per_rad2", "rad_per_rad", "mm_per_s2", "mm_per_s", "rad_per_s2", "rad_per_s", "mm", "deg", "rad", "N"];
+const UNITS: [&str; 12] = [
+    "mm_per_rad2",
+    "mm_per_rad",
+    "rad_per_rad2",
+    "rad_per_rad",
+    "mm_per_s2",
+    "mm_per_s",
+    "rad_per_s2",
+    "rad_per_s",
+    "mm",
+    "deg",
+    "rad",
+    "N",
+];
 
 /// Height of a figure's only panel, and of each of several.
 const ONE_PANEL_H: f64 = 480.0;
@@ -46,12 +59,22 @@ impl MotionSeries {
     fn new(column: &str, mut rows: Vec<Option<Vec<f64>>>) -> MotionSeries {
         let (name, unit) = split_unit(column);
         let unwrapped = unit == "deg" && unwrap_rows(&mut rows);
-        MotionSeries { column: column.to_string(), name: name.to_string(), unit: unit_text(unit), rows, unwrapped }
+        MotionSeries {
+            column: column.to_string(),
+            name: name.to_string(),
+            unit: unit_text(unit),
+            rows,
+            unwrapped,
+        }
     }
 
     /// The series as a surface draws it.
     pub fn quantity(&self) -> Quantity {
-        Quantity { symbol: self.name.clone(), unit: self.unit.clone(), what: format!("motion law {}", self.name) }
+        Quantity {
+            symbol: self.name.clone(),
+            unit: self.unit.clone(),
+            what: format!("motion law {}", self.name),
+        }
     }
 }
 
@@ -61,17 +84,36 @@ impl MotionSeries {
 /// `G.dy_dphi_mm_per_rad`) or that name without its unit ending (`G.y`);
 /// one named twice is drawn once. A name that matches nothing is an error
 /// listing what the model offers.
-pub fn motion_cycle(model: &Model, params: &Params, wanted: &[String], step_deg: f64) -> Result<(Vec<f64>, Vec<MotionSeries>), Error> {
+pub fn motion_cycle(
+    model: &Model,
+    params: &Params,
+    wanted: &[String],
+    step_deg: f64,
+) -> Result<(Vec<f64>, Vec<MotionSeries>), Error> {
     let (columns, _, table) = resolve(model, params, wanted, step_deg)?;
     let phis = column(&table, "phi_deg")?;
-    let series = columns.iter().map(|c| Ok(MotionSeries::new(c, vec![Some(closed_values(phis, column(&table, c)?))]))).collect::<Result<_, Error>>()?;
+    let series = columns
+        .iter()
+        .map(|c| {
+            Ok(MotionSeries::new(
+                c,
+                vec![Some(closed_values(phis, column(&table, c)?))],
+            ))
+        })
+        .collect::<Result<_, Error>>()?;
     Ok((closed(phis, phis).into_iter().map(|q| q.0).collect(), series))
 }
 
 /// The series `wanted` (as for [`motion_cycle`]) over one cycle for each
 /// of the N values of `vary`, the cycles run in parallel; a value whose
 /// cycle fails is a gap (`None`) noted in the grid.
-pub fn motion_family(model: &Model, params: &Params, wanted: &[String], vary: &Vary, step_deg: f64) -> Result<(VaryGrid, Vec<MotionSeries>), Error> {
+pub fn motion_family(
+    model: &Model,
+    params: &Params,
+    wanted: &[String],
+    vary: &Vary,
+    step_deg: f64,
+) -> Result<(VaryGrid, Vec<MotionSeries>), Error> {
     check_vary(model, vary)?;
     // The names are resolved on a one-row cycle at the parameters as set.
     let (columns, mut opts, _) = resolve(model, params, wanted, 360.0)?;
@@ -80,7 +122,14 @@ pub fn motion_family(model: &Model, params: &Params, wanted: &[String], vary: &V
     let series = columns
         .iter()
         .map(|c| {
-            let rows = runs.iter().map(|run| run.as_ref().map(|t| Ok(closed_values(column(t, "phi_deg")?, column(t, c)?))).transpose()).collect::<Result<_, Error>>()?;
+            let rows = runs
+                .iter()
+                .map(|run| {
+                    run.as_ref()
+                        .map(|t| Ok(closed_values(column(t, "phi_deg")?, column(t, c)?)))
+                        .transpose()
+                })
+                .collect::<Result<_, Error>>()?;
             Ok(MotionSeries::new(c, rows))
         })
         .collect::<Result<_, Error>>()?;
@@ -100,19 +149,29 @@ pub fn motion_chart(model: &Model, phis: &[f64], series: &[MotionSeries]) -> Fig
     let panels = units
         .iter()
         .map(|u| {
-            let members: Vec<(usize, &MotionSeries)> = series.iter().enumerate().filter(|(_, s)| s.unit == *u).collect();
+            let members: Vec<(usize, &MotionSeries)> =
+                series.iter().enumerate().filter(|(_, s)| s.unit == *u).collect();
             let names: Vec<&str> = members.iter().map(|(_, s)| s.name.as_str()).collect();
-            let mut chart = Chart::new(names.join(", "), phi_axis(model), Axis::new(unit_label(&label_names(&names), u)));
+            let mut chart = Chart::new(
+                names.join(", "),
+                phi_axis(model),
+                Axis::new(unit_label(&label_names(&names), u)),
+            );
             for (i, s) in members {
                 if let Some(Some(row)) = s.rows.first() {
-                    chart.series.push(Series::new(s.name.clone(), pairs(phis, row), color(i)));
+                    chart
+                        .series
+                        .push(Series::new(s.name.clone(), pairs(phis, row), color(i)));
                 }
             }
             chart
         })
         .collect();
     let mut fig = figure(model, &laws_of(series), panels);
-    fig.subtitle = Some(format!("over one cycle at the parameters as set, one panel per unit{}", unwrap_note(series)));
+    fig.subtitle = Some(format!(
+        "over one cycle at the parameters as set, one panel per unit{}",
+        unwrap_note(series)
+    ));
     fig
 }
 
@@ -126,21 +185,34 @@ pub fn motion_family_chart(model: &Model, grid: &VaryGrid, series: &[MotionSerie
             let mut chart = Chart::new(s.name.clone(), phi_axis(model), Axis::new(unit_label(&s.name, &s.unit)));
             for (k, row) in s.rows.iter().enumerate() {
                 if let Some(row) = row {
-                    chart.series.push(Series::new(grid.value_text(k), pairs(&grid.phis, row), family_color(k, n)));
+                    chart.series.push(Series::new(
+                        grid.value_text(k),
+                        pairs(&grid.phis, row),
+                        family_color(k, n),
+                    ));
                 }
             }
             chart
         })
         .collect();
     let mut fig = figure(model, &format!("{} as {} varies", laws_of(series), grid.name), panels);
-    fig.subtitle = Some(format!("{n} values of {}, the rest as set; one panel per series{}{}", grid.range_text(), unwrap_note(series), grid.failure_note()));
+    fig.subtitle = Some(format!(
+        "{n} values of {}, the rest as set; one panel per series{}{}",
+        grid.range_text(),
+        unwrap_note(series),
+        grid.failure_note()
+    ));
     fig
 }
 
 /// `motion law G.y`, `motion laws of G.y, E.y`: the title's words.
 fn laws_of(series: &[MotionSeries]) -> String {
     let names: Vec<&str> = series.iter().map(|s| s.name.as_str()).collect();
-    format!("motion {} {}", if names.len() == 1 { "law" } else { "laws of" }, names.join(", "))
+    format!(
+        "motion {} {}",
+        if names.len() == 1 { "law" } else { "laws of" },
+        names.join(", ")
+    )
 }
 
 /// The figure of `panels` under the model's title.
@@ -167,7 +239,14 @@ fn closed_values(phis: &[f64], values: &[f64]) -> Vec<f64> {
 /// The subtitle's note on the angles drawn continuously.
 fn unwrap_note(series: &[MotionSeries]) -> String {
     let moved: Vec<&str> = series.iter().filter(|s| s.unwrapped).map(|s| s.name.as_str()).collect();
-    if moved.is_empty() { String::new() } else { format!("; {} drawn continuously past ±180° (whole turns added)", moved.join(", ")) }
+    if moved.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; {} drawn continuously past ±180° (whole turns added)",
+            moved.join(", ")
+        )
+    }
 }
 
 /// The names a y label gives: all, or as many as fit in about
@@ -189,7 +268,10 @@ fn label_names(names: &[&str]) -> String {
 /// `G.y_mm` → (`G.y`, `mm`); a column without a unit ending is its own
 /// name with an empty unit.
 fn split_unit(column: &str) -> (&str, &'static str) {
-    UNITS.iter().find_map(|u| column.strip_suffix(u)?.strip_suffix('_').map(|base| (base, *u))).unwrap_or((column, ""))
+    UNITS
+        .iter()
+        .find_map(|u| column.strip_suffix(u)?.strip_suffix('_').map(|base| (base, *u)))
+        .unwrap_or((column, ""))
 }
 
 /// A unit ending as charts write it: `mm_per_rad2` → `mm/rad²`.
@@ -233,11 +315,22 @@ fn find_column<'a>(columns: &[&'a str], wanted: &str) -> Result<Option<&'a str>,
     if let Some(c) = columns.iter().find(|c| **c == wanted) {
         return Ok(Some(c));
     }
-    let hits: Vec<&str> = columns.iter().copied().filter(|c| matches!(split_unit(c), (base, u) if !u.is_empty() && base == wanted)).collect();
+    let hits: Vec<&str> = columns
+        .iter()
+        .copied()
+        .filter(|c| matches!(split_unit(c), (base, u) if !u.is_empty() && base == wanted))
+        .collect();
     match hits.as_slice() {
         [] => Ok(None),
         [one] => Ok(Some(one)),
-        many => Err(param_error(format!("`{wanted}` (in --series) names {} columns: {}", many.len(), many.join(", ")), "give the whole name with its unit".into())),
+        many => Err(param_error(
+            format!(
+                "`{wanted}` (in --series) names {} columns: {}",
+                many.len(),
+                many.join(", ")
+            ),
+            "give the whole name with its unit".into(),
+        )),
     }
 }
 
@@ -247,15 +340,30 @@ fn find_column<'a>(columns: &[&'a str], wanted: &str) -> Result<Option<&'a str>,
 /// accelerations, as `stitchkin run` writes them.
 fn option_levels(model: &Model, step_deg: f64) -> [CycleOptions; 2] {
     let points: Vec<usize> = (0..model.point_names.len()).filter(|&i| !model.is_fixed(i)).collect();
-    let plain = CycleOptions { step_deg, rpm: None, analogs: false, points: Some(points), lean: false };
-    let full = CycleOptions { rpm: model.file.model.rpm, analogs: true, ..plain.clone() };
+    let plain = CycleOptions {
+        step_deg,
+        rpm: None,
+        analogs: false,
+        points: Some(points),
+        lean: false,
+    };
+    let full = CycleOptions {
+        rpm: model.file.model.rpm,
+        analogs: true,
+        ..plain.clone()
+    };
     [plain, full]
 }
 
 /// Runs the cycle at `params` with the cheapest options whose table has
 /// every series of `wanted`; returns their columns (each once), those
 /// options and the table.
-fn resolve(model: &Model, params: &Params, wanted: &[String], step_deg: f64) -> Result<(Vec<String>, CycleOptions, CycleTable), Error> {
+fn resolve(
+    model: &Model,
+    params: &Params,
+    wanted: &[String],
+    step_deg: f64,
+) -> Result<(Vec<String>, CycleOptions, CycleTable), Error> {
     let [plain, full] = option_levels(model, step_deg);
     if !wanted.is_empty() {
         let table = run_cycle(model, params, &plain)?;
@@ -265,15 +373,30 @@ fn resolve(model: &Model, params: &Params, wanted: &[String], step_deg: f64) -> 
     }
     let table = run_cycle(model, params, &full)?;
     match find_all(&table, wanted)? {
-        _ if wanted.is_empty() => {
-            Err(param_error("no series to draw".into(), format!("name them with --series, e.g. --series {}; {}", example(model), offered(model, &table))))
-        }
+        _ if wanted.is_empty() => Err(param_error(
+            "no series to draw".into(),
+            format!(
+                "name them with --series, e.g. --series {}; {}",
+                example(model),
+                offered(model, &table)
+            ),
+        )),
         (found, None) => Ok((found, full, table)),
         (_, Some(missing)) => {
-            let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).filter(|n| *n != "phi_deg").collect();
+            let names: Vec<&str> = table
+                .columns
+                .iter()
+                .map(|c| c.name.as_str())
+                .filter(|n| *n != "phi_deg")
+                .collect();
             let shorts: Vec<&str> = names.iter().map(|n| split_unit(n).0).collect();
-            let hint = did_you_mean(missing, names.iter().chain(&shorts).copied()).map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default();
-            Err(param_error(format!("the model has no series `{missing}` (in --series){hint}"), offered(model, &table)))
+            let hint = did_you_mean(missing, names.iter().chain(&shorts).copied())
+                .map(|s| format!(" (did you mean `{s}`?)"))
+                .unwrap_or_default();
+            Err(param_error(
+                format!("the model has no series `{missing}` (in --series){hint}"),
+                offered(model, &table),
+            ))
         }
     }
 }
@@ -281,14 +404,25 @@ fn resolve(model: &Model, params: &Params, wanted: &[String], step_deg: f64) -> 
 /// The columns of `table` that `wanted` names (each once, φ not among
 /// them) and the first name that matches none.
 fn find_all<'w>(table: &CycleTable, wanted: &'w [String]) -> Result<(Vec<String>, Option<&'w str>), Error> {
-    let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).filter(|n| *n != "phi_deg").collect();
+    let names: Vec<&str> = table
+        .columns
+        .iter()
+        .map(|c| c.name.as_str())
+        .filter(|n| *n != "phi_deg")
+        .collect();
     let mut found: Vec<String> = Vec::new();
     for w in wanted {
         if w.trim().is_empty() {
-            return Err(param_error("an empty name in --series".into(), "separate the names by single commas, e.g. --series G.y,E.y".into()));
+            return Err(param_error(
+                "an empty name in --series".into(),
+                "separate the names by single commas, e.g. --series G.y,E.y".into(),
+            ));
         }
         if find_column(&["phi_deg"], w)?.is_some() {
-            return Err(param_error(format!("`{w}` is φ itself, the x axis of every motion chart (in --series)"), "name what to draw against φ, e.g. a point coordinate, an angle or a measure".into()));
+            return Err(param_error(
+                format!("`{w}` is φ itself, the x axis of every motion chart (in --series)"),
+                "name what to draw against φ, e.g. a point coordinate, an angle or a measure".into(),
+            ));
         }
         match find_column(&names, w)? {
             Some(c) if found.iter().any(|f| f == c) => {}
@@ -301,14 +435,26 @@ fn find_all<'w>(table: &CycleTable, wanted: &'w [String]) -> Result<(Vec<String>
 
 /// `G.y`: a coordinate of the model's first moving point.
 fn example(model: &Model) -> String {
-    model.moving_point_names().first().map_or_else(|| "NAME".to_string(), |p| format!("{p}.y"))
+    model
+        .moving_point_names()
+        .first()
+        .map_or_else(|| "NAME".to_string(), |p| format!("{p}.y"))
 }
 
 /// What the model offers to draw, for an error's help.
 fn offered(model: &Model, table: &CycleTable) -> String {
     let axes = if model.planar { "x_mm, y_mm" } else { "x_mm, y_mm, z_mm" };
-    let scalars: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).filter(|n| !n.contains('.') && *n != "phi_deg").collect();
-    let scalars = if scalars.is_empty() { String::new() } else { format!("; the angles and measures {}", scalars.join(", ")) };
+    let scalars: Vec<&str> = table
+        .columns
+        .iter()
+        .map(|c| c.name.as_str())
+        .filter(|n| !n.contains('.') && *n != "phi_deg")
+        .collect();
+    let scalars = if scalars.is_empty() {
+        String::new()
+    } else {
+        format!("; the angles and measures {}", scalars.join(", "))
+    };
     let example = example(model);
     format!(
         "its series are the coordinates {axes} of the moving points {} (`{example}_mm`, or without the unit `{example}`){scalars}; and every other column of `stitchkin run` (analogs, thread and stitch columns)",
@@ -325,8 +471,14 @@ mod tests {
         assert_eq!(split_unit("G.y_mm"), ("G.y", "mm"));
         assert_eq!(split_unit("angle_O2_B_deg"), ("angle_O2_B", "deg"));
         assert_eq!(split_unit("G.d2y_dphi2_mm_per_rad2"), ("G.d2y_dphi2", "mm_per_rad2"));
-        assert_eq!(split_unit("angle_A_B.d_dphi_rad_per_rad"), ("angle_A_B.d_dphi", "rad_per_rad"));
-        assert_eq!(split_unit("angle_A_B.omega_rad_per_s"), ("angle_A_B.omega", "rad_per_s"));
+        assert_eq!(
+            split_unit("angle_A_B.d_dphi_rad_per_rad"),
+            ("angle_A_B.d_dphi", "rad_per_rad")
+        );
+        assert_eq!(
+            split_unit("angle_A_B.omega_rad_per_s"),
+            ("angle_A_B.omega", "rad_per_s")
+        );
         assert_eq!(split_unit("n1_A.tension_eye_N"), ("n1_A.tension_eye", "N"));
         assert_eq!(split_unit("n1_A.G4_1_engaged"), ("n1_A.G4_1_engaged", ""));
         assert_eq!(unit_text("mm_per_rad2"), "mm/rad²");
@@ -336,7 +488,14 @@ mod tests {
 
     #[test]
     fn short_names_find_their_column_once() {
-        let cols = ["G.y_mm", "G.dy_dphi_mm_per_rad", "needle_y_mm", "needle_y.d_dphi_mm_per_rad", "twice_mm", "twice_deg"];
+        let cols = [
+            "G.y_mm",
+            "G.dy_dphi_mm_per_rad",
+            "needle_y_mm",
+            "needle_y.d_dphi_mm_per_rad",
+            "twice_mm",
+            "twice_deg",
+        ];
         assert_eq!(find_column(&cols, "G.y").unwrap(), Some("G.y_mm"));
         assert_eq!(find_column(&cols, "G.y_mm").unwrap(), Some("G.y_mm"));
         assert_eq!(find_column(&cols, "G.dy_dphi").unwrap(), Some("G.dy_dphi_mm_per_rad"));
@@ -350,9 +509,16 @@ mod tests {
     #[test]
     fn angles_run_on_past_the_wrap_and_rows_start_alike() {
         // A rocker swinging about 180°: atan2 jumps from +179 to −179.
-        let mut rows = vec![Some(vec![170.0, 179.0, -179.0, -170.0, 179.0, 170.0]), None, Some(vec![-178.0, -175.0, 178.0, 170.0])];
+        let mut rows = vec![
+            Some(vec![170.0, 179.0, -179.0, -170.0, 179.0, 170.0]),
+            None,
+            Some(vec![-178.0, -175.0, 178.0, 170.0]),
+        ];
         assert!(unwrap_rows(&mut rows));
-        assert_eq!(rows[0].as_deref(), Some(&[170.0, 179.0, 181.0, 190.0, 179.0, 170.0][..]));
+        assert_eq!(
+            rows[0].as_deref(),
+            Some(&[170.0, 179.0, 181.0, 190.0, 179.0, 170.0][..])
+        );
         // The third row began on the other side of the wrap: a turn up.
         assert_eq!(rows[2].as_deref(), Some(&[182.0, 185.0, 178.0, 170.0][..]));
         let mut calm = vec![Some(vec![-10.0, 0.0, 10.0, -10.0])];
@@ -363,8 +529,13 @@ mod tests {
     #[test]
     fn long_axis_labels_are_cut_with_an_ellipsis() {
         assert_eq!(label_names(&["G.y", "E.y"]), "G.y, E.y");
-        let many = ["P20.x", "P20.y", "P20.z", "P6.x", "P6.y", "P6.z", "P11.x", "P11.y", "P11.z"];
+        let many = [
+            "P20.x", "P20.y", "P20.z", "P6.x", "P6.y", "P6.z", "P11.x", "P11.y", "P11.z",
+        ];
         let label = label_names(&many);
-        assert!(label.starts_with("P20.x, P20.y") && label.ends_with(", …") && label.chars().count() <= LABEL_CHARS + 3, "{label}");
+        assert!(
+            label.starts_with("P20.x, P20.y") && label.ends_with(", …") && label.chars().count() <= LABEL_CHARS + 3,
+            "{label}"
+        );
     }
 }

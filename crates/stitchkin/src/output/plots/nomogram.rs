@@ -18,7 +18,10 @@ const PANEL_H: f64 = 380.0;
 pub fn nomogram_chart(model: &Model, params: &Params, opts: &NomogramOptions) -> Result<Figure, Error> {
     if opts.thickness.n < 2 {
         return Err(param_error(
-            format!("--thickness gives one value ({} mm); a nomogram chart needs at least 2", opts.thickness.lo),
+            format!(
+                "--thickness gives one value ({} mm); a nomogram chart needs at least 2",
+                opts.thickness.lo
+            ),
             "give a range, e.g. --thickness 1:5:5 (or `stitchkin tune --thickness M` for one thickness)".into(),
         ));
     }
@@ -28,13 +31,25 @@ pub fn nomogram_chart(model: &Model, params: &Params, opts: &NomogramOptions) ->
 /// The chart of a nomogram already computed ([`nomogram_chart`]).
 pub fn nomogram_figure(n: &Nomogram) -> Figure {
     let dm = (n.thickness.hi - n.thickness.lo) / (n.thickness.n - 1).max(1) as f64;
-    let dt = if n.stitch.n > 1 { (n.stitch.hi - n.stitch.lo) / (n.stitch.n - 1) as f64 } else { 0.1 };
+    let dt = if n.stitch.n > 1 {
+        (n.stitch.hi - n.stitch.lo) / (n.stitch.n - 1) as f64
+    } else {
+        0.1
+    };
     let mut panels = Vec::new();
     for (k, (name, unit)) in n.adjust.iter().enumerate() {
-        let mut chart = Chart::new(format!("recommended {name}"), Axis::new("material thickness m, mm"), Axis::new(unit_label(name, unit)));
+        let mut chart = Chart::new(
+            format!("recommended {name}"),
+            Axis::new("material thickness m, mm"),
+            Axis::new(unit_label(name, unit)),
+        );
         chart.height = PANEL_H;
         for j in 0..n.stitch.n {
-            let c = if n.stitch.n > 1 { family_color(j, n.stitch.n) } else { color(0).to_string() };
+            let c = if n.stitch.n > 1 {
+                family_color(j, n.stitch.n)
+            } else {
+                color(0).to_string()
+            };
             let t = n.stitch.value(j);
             let (mut line, mut upper, mut lower) = (Vec::new(), Vec::new(), Vec::new());
             for i in 0..n.thickness.n {
@@ -50,7 +65,13 @@ pub fn nomogram_figure(n: &Nomogram) -> Figure {
                     upper.push((p.m_mm, f.hi));
                     lower.push((p.m_mm, f.lo));
                 }
-                let within = flat.map_or(String::new(), |f| format!(" (within one score point: {} … {})", number_text(f.lo, 0.01, unit), number_text(f.hi, 0.01, unit)));
+                let within = flat.map_or(String::new(), |f| {
+                    format!(
+                        " (within one score point: {} … {})",
+                        number_text(f.lo, 0.01, unit),
+                        number_text(f.hi, 0.01, unit)
+                    )
+                });
                 chart.markers.push(Marker {
                     x: p.m_mm,
                     y: v,
@@ -67,20 +88,34 @@ pub fn nomogram_figure(n: &Nomogram) -> Figure {
                 });
             }
             if upper.len() >= 2 {
-                chart.areas.push(Area { upper, lower, color: c.clone(), label: format!("{name} within one score point, t = {}", number_text(t, dt, "mm")) });
+                chart.areas.push(Area {
+                    upper,
+                    lower,
+                    color: c.clone(),
+                    label: format!("{name} within one score point, t = {}", number_text(t, dt, "mm")),
+                });
             }
-            chart.series.push(Series::new(format!("t = {}", number_text(t, dt, "mm")), line, c));
+            chart
+                .series
+                .push(Series::new(format!("t = {}", number_text(t, dt, "mm")), line, c));
         }
         panels.push(chart);
     }
     let names: Vec<&str> = n.adjust.iter().map(|a| a.0.as_str()).collect();
-    let mut fig = Figure::new(format!("{}: nomogram, the tuned {} for the material", n.model, names.join(", ")));
+    let mut fig = Figure::new(format!(
+        "{}: nomogram, the tuned {} for the material",
+        n.model,
+        names.join(", ")
+    ));
     let scores: Vec<f64> = n.tuned().map(|(_, r)| r.after_figures.score_mean).collect();
     let failed = n.points.iter().filter(|p| p.tuned.is_none()).count();
     let mut sub = if n.all_scores_zero() {
-        "warning: every match score is 0, no setting in the ranges fits this stitch; the lines only minimise J".to_string()
+        "warning: every match score is 0, no setting in the ranges fits this stitch; the lines only minimise J"
+            .to_string()
     } else {
-        let (lo, hi) = scores.iter().fold((f64::MAX, f64::MIN), |(a, b), &s| (a.min(s), b.max(s)));
+        let (lo, hi) = scores
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &s| (a.min(s), b.max(s)));
         format!("shaded: within one point of the best match score; mean score after tuning {lo:.1}…{hi:.1}")
     };
     if failed > 0 {
