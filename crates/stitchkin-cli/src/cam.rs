@@ -165,8 +165,8 @@ fn report(s: &CamSynthesis, written: &[String]) -> String {
     );
     r += &format!(
         "# {n} knots: the contact angles at φ = {}° + k·{}°; radius {:.3}…{:.3} mm (the model's profile: {:.3}…{:.3} mm)\n",
-        stitchkin::output::fmt_num(s.phi0_deg),
-        stitchkin::output::fmt_num(360.0 / n as f64),
+        stitchkin::format::fmt_num(s.phi0_deg),
+        stitchkin::format::fmt_num(360.0 / n as f64),
         s.radius_mm[0],
         s.radius_mm[1],
         s.reference_radius_mm[0],
@@ -176,12 +176,12 @@ fn report(s: &CamSynthesis, written: &[String]) -> String {
         "# anchor: ρ = {:.4} mm at θ = {:.2}°, the contact at φ0 = {}° where P is fixed by its convention\n",
         s.anchor_radius_mm,
         s.anchor_theta_deg,
-        stitchkin::output::fmt_num(s.phi0_deg)
+        stitchkin::format::fmt_num(s.phi0_deg)
     );
     r += &if s.smooth_deg > 0.0 {
         format!(
             "# smoothing: moving average over {}° of profile angle, applied twice\n",
-            stitchkin::output::fmt_num(s.smooth_deg)
+            stitchkin::format::fmt_num(s.smooth_deg)
         )
     } else {
         "# smoothing: none\n".to_string()
@@ -212,7 +212,7 @@ fn report(s: &CamSynthesis, written: &[String]) -> String {
         "#   min radius     {:.3} mm at θ = {:.1}° (limit {} mm): {}\n",
         c.min_radius_mm,
         c.min_radius_at_theta_deg,
-        stitchkin::output::fmt_num(c.min_radius_limit_mm),
+        stitchkin::format::fmt_num(c.min_radius_limit_mm),
         if c.min_radius_ok { "ok" } else { "TOO SMALL" }
     );
     if c.convex {
@@ -241,7 +241,7 @@ fn report(s: &CamSynthesis, written: &[String]) -> String {
         "#   contact angle  max {:.1}° at φ = {:.1}° (limit {}°): {}  (profile normal against the thread's pull on the cam; large: the thread slides along the profile)\n",
         c.max_contact_angle_deg,
         c.max_contact_angle_at_phi_deg,
-        stitchkin::output::fmt_num(c.contact_angle_limit_deg),
+        stitchkin::format::fmt_num(c.contact_angle_limit_deg),
         if c.contact_angle_ok { "ok" } else { "TOO STEEP" }
     );
     for note in &s.notes {

@@ -922,12 +922,12 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
             line += &row.index.to_string();
             for v in &row.values {
                 line.push(',');
-                line += &output::fmt_num(*v);
+                line += &stitchkin::format::fmt_num(*v);
             }
             for f in &row.figures {
                 line.push(',');
                 if let Some(x) = f {
-                    line += &output::fmt_num(*x);
+                    line += &stitchkin::format::fmt_num(*x);
                 }
             }
             match &row.error {
@@ -965,9 +965,9 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
                 .vary
                 .iter()
                 .zip(values)
-                .map(|(v, x)| format!("{} = {}", v.name, output::fmt_num(*x)))
+                .map(|(v, x)| format!("{} = {}", v.name, stitchkin::format::fmt_num(*x)))
                 .collect();
-            s += &format!("# {word} {f} = {} at {}\n", output::fmt_num(*x), setting.join(", "));
+            s += &format!("# {word} {f} = {} at {}\n", stitchkin::format::fmt_num(*x), setting.join(", "));
         }
     }
     eprint!("{s}");
@@ -1168,7 +1168,7 @@ fn consumption(args: ConsumptionArgs) -> Result<(), Error> {
             let mut s = String::from("thread,contour,formula,length_mm\n");
             for t in &c.threads {
                 let contour = t.contour.map_or(String::new(), |n| n.to_string());
-                let value = t.length_mm.map_or(String::new(), output::fmt_num);
+                let value = t.length_mm.map_or(String::new(), stitchkin::format::fmt_num);
                 s += &format!("{},{contour},\"{}\",{value}\n", t.thread, t.formula);
             }
             s

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use stitchkin::error::Error;
-use stitchkin::output::fmt_num;
+use stitchkin::format::fmt_num;
 use stitchkin::study::sensitivity::{Method, RankBy, SensitivityOptions, SensitivityResult, sensitivity};
 
 #[derive(Args)]

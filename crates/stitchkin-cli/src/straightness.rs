@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use stitchkin::error::Error;
 use stitchkin::model::Model;
-use stitchkin::output::fmt_num;
+use stitchkin::format::fmt_num;
 use stitchkin::study::straightness::{
     Distribution, Reference, StraightnessOptions, ToleranceOptions, ToleranceStudy, Window, straightness,
     tolerance_study, tolerances,

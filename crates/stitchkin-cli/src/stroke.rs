@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use stitchkin::error::Error;
-use stitchkin::output::fmt_num;
+use stitchkin::format::fmt_num;
 use stitchkin::study::stroke::{Axis, StrokeOptions, StrokeStudy, point_slot, study};
 use stitchkin::study::sweep::{Design, Sweep, Vary};
 

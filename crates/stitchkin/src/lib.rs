@@ -19,6 +19,7 @@
 
 pub mod error;
 pub mod eval;
+pub mod format;
 pub mod geometry;
 pub mod mechanism;
 pub mod model;

@@ -66,7 +66,7 @@ use crate::eval::{self, wrap_deg};
 use crate::geometry::{V2, V3};
 use crate::mechanism::{Mechanism, Phi};
 use crate::model::{Model, Params};
-use crate::output::fmt_num;
+use crate::format::fmt_num;
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::thread::cam::{CamPlacement, Profile};
 use crate::thread::measured::{MeasuredCurve, SplitPoint, periodic_segment};

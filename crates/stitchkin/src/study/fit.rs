@@ -849,7 +849,7 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
                 .map(|(k, v)| {
                     format!(
                         "{k} = {} {}",
-                        crate::output::fmt_num(*v),
+                        crate::format::fmt_num(*v),
                         model.param_index(k).map_or("", |i| model.params[i].unit_str())
                     )
                 })

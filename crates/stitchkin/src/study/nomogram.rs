@@ -22,7 +22,7 @@ use super::tune::{TuneOptions, TuneResult, default_adjustables, set_stitch_value
 use crate::error::{Error, ParamError};
 use crate::model::file::Value;
 use crate::model::{Model, Params};
-use crate::output::fmt_num;
+use crate::format::fmt_num;
 
 /// The most grid points a nomogram may have (each one is a full tuning).
 pub const MAX_POINTS: usize = 10_000;

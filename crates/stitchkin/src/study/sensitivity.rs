@@ -538,8 +538,8 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
                     notes.push(format!(
                         "the exact slope {} disagrees with the central difference {}: a kink here, or a value the dual numbers do not carry \
                          (a cam profile, the elongation allowance); the central difference is used",
-                        crate::output::fmt_num(e),
-                        crate::output::fmt_num(c)
+                        crate::format::fmt_num(e),
+                        crate::format::fmt_num(c)
                     ));
                     (Some(c), Method::Central)
                 }
@@ -559,7 +559,7 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
                     notes.push(format!(
                         "at {} = {} {}: {w}",
                         p.name,
-                        crate::output::fmt_num(x),
+                        crate::format::fmt_num(x),
                         p.unit_str()
                     ));
                 }

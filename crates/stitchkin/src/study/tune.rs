@@ -452,9 +452,9 @@ fn standing(
         notes.push(format!(
             "{name} = {} {unit} lies on the {end} end of its adjustable range ({}…{} {unit}): the best match may lie beyond what \
              the range allows",
-            crate::output::fmt_num((x * 1e6).round() / 1e6),
-            crate::output::fmt_num(v.lo),
-            crate::output::fmt_num(v.hi)
+            crate::format::fmt_num((x * 1e6).round() / 1e6),
+            crate::format::fmt_num(v.lo),
+            crate::format::fmt_num(v.hi)
         ));
     }
     if best.score_mean <= before.score_mean + 0.05 && best.failed_checks.len() >= before.failed_checks.len() {

@@ -28,7 +28,7 @@ use std::sync::Arc;
 use serde::Serialize;
 
 use crate::error::{Error, ModelError, did_you_mean};
-use crate::output::fmt_num;
+use crate::format::fmt_num;
 
 /// The largest gap between consecutive samples a curve may have, deg, the
 /// gap that closes the turn (from the last sample to the first + 360°)

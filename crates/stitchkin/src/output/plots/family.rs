@@ -343,7 +343,7 @@ pub fn surface_heat(model: &Model, g: &VaryGrid, q: &Quantity, rows: &[Option<Ve
                     } else {
                         "no cycle".into()
                     };
-                    format!("φ = {}°, {}: {v}", crate::output::fmt_num(*phi), g.value_text(k))
+                    format!("φ = {}°, {}: {v}", crate::format::fmt_num(*phi), g.value_text(k))
                 })
                 .collect()
         })
