@@ -53,7 +53,7 @@ pub fn run(args: FitArgs) -> Result<(), Error> {
     let r = fit(&model, &params, &facts, &opts)?;
     let out = match args.format {
         Format::Json => serde_json::to_string_pretty(&r).map_err(|e| Error::Io(e.to_string()))? + "\n",
-        Format::Table => table(&model.file.model.name, &facts, &r),
+        Format::Table => table(&model.name(), &facts, &r),
     };
     crate::emit(out.as_bytes(), args.output.as_ref())
 }

@@ -589,7 +589,7 @@ fn run(args: RunArgs) -> Result<(), Error> {
     };
     let opts = CycleOptions {
         step_deg: args.step,
-        rpm: args.rpm.or(model.file.model.rpm),
+        rpm: args.rpm.or(model.rpm()),
         analogs: !args.no_analogs,
         points,
         lean: false,
@@ -720,7 +720,7 @@ fn summary(model: &Model, table: &eval::CycleTable) -> String {
             s += &format!("# note: {t}\n");
         }
     }
-    for c in &model.file.model.caveats {
+    for c in model.caveats() {
         s += &format!("# note: {c}\n");
     }
     for w in &table.warnings {

@@ -81,7 +81,7 @@ pub fn run(args: MatchArgs) -> Result<(), Error> {
         return Err(Error::Stitch(
             format!(
                 "model `{}` has no [stitch] table, so there is no required take-up to match",
-                model.file.model.name
+                model.name()
             ) + "; add one (docs/model-format.md, \"Stitch process\") or try --preset mf7923d",
         ));
     };
@@ -92,8 +92,8 @@ pub fn run(args: MatchArgs) -> Result<(), Error> {
             // measured curves beside it.
             let json_err = |e: serde_json::Error| Error::Io(e.to_string());
             let mut json = serde_json::to_value(st).map_err(json_err)?;
-            json["model"] = serde_json::json!(model.file.model.name);
-            json["caveats"] = serde_json::json!(model.file.model.caveats);
+            json["model"] = serde_json::json!(model.name());
+            json["caveats"] = serde_json::json!(model.caveats());
             json["measured"] = serde_json::to_value(&measured).map_err(json_err)?;
             serde_json::to_string_pretty(&json).map_err(json_err)? + "\n"
         }

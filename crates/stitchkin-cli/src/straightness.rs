@@ -122,7 +122,7 @@ pub fn run(args: StraightnessArgs) -> Result<(), Error> {
     let s = straightness(&model, &params, &opts)?;
     let mut summary = format!(
         "{}: straightness of {} from {}, {} (φ step {}°)\n",
-        model.file.model.name,
+        model.name(),
         s.point,
         s.reference,
         s.window,
@@ -287,7 +287,7 @@ fn monte_carlo_lines(t: &ToleranceStudy, prefix: &str) -> String {
 fn tolerance_table(model: &Model, t: &ToleranceStudy, step: f64) -> String {
     let mut s = format!(
         "{}: tolerances for the straightness of {} (max |deviation| from {}, {}; φ step {}°)\n",
-        model.file.model.name,
+        model.name(),
         t.point,
         t.reference,
         t.window,

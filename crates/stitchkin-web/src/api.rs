@@ -158,7 +158,7 @@ impl App {
             Some(FileValue::Expr(name)) if model.param_index(name.trim()).is_some() => Some(name.trim().to_string()),
             _ => None,
         };
-        let stitch = model.file.stitch.as_ref();
+        let stitch = model.stitch_spec();
         let m_param = stitch_param(stitch.map(|s| &s.m_mm));
         let t_param = stitch_param(stitch.map(|s| &s.t_mm));
         let parameters: Vec<Value> = model
@@ -194,7 +194,7 @@ impl App {
             .flat_map(|t| t.paths.iter().map(|p| p.name.as_str()))
             .collect();
         json!({
-            "name": model.file.model.name,
+            "name": model.name(),
             "title": model.file.model.title,
             "file": model.file_name,
             "phi_start_deg": model.phi_start_deg(),
@@ -306,7 +306,7 @@ impl App {
                 "chart_svg": chart,
                 "paths": paths,
                 "stitch": stitch,
-                "caveats": self.model.file.model.caveats,
+                "caveats": self.model.caveats(),
                 "transmission": table.transmission,
                 "warnings": warnings,
             }),
@@ -356,7 +356,7 @@ impl App {
 /// The chart the page shows: P/P′ for a model with threads, otherwise its
 /// transmission angles, otherwise none.
 fn chart_kind(model: &Model) -> Option<Plot> {
-    if model.file.thread.is_some() {
+    if model.has_threads() {
         Some(Plot::TakeUp)
     } else if !model.dyads.is_empty() {
         Some(Plot::Mu)

@@ -1343,6 +1343,61 @@ impl Model {
         &self.labels
     }
 
+    /// The model's short name (`[model] name`), as presets are called.
+    pub fn name(&self) -> &str {
+        &self.file.model.name
+    }
+
+    /// The machine's title, when the file gives one.
+    pub fn title(&self) -> Option<&str> {
+        self.file.model.title.as_deref()
+    }
+
+    /// The publication the model follows (`seed`, see docs/references.md).
+    pub fn seed(&self) -> Option<&str> {
+        self.file.model.seed.as_deref()
+    }
+
+    /// Main-shaft speed for real velocities and accelerations, rev/min.
+    pub fn rpm(&self) -> Option<f64> {
+        self.file.model.rpm
+    }
+
+    /// The model's own caveats: reconstructions and transferred results.
+    pub fn caveats(&self) -> &[String] {
+        &self.file.model.caveats
+    }
+
+    /// The model file's free-text notes.
+    pub fn notes(&self) -> Option<&str> {
+        self.file.model.notes.as_deref()
+    }
+
+    /// Whether the model declares thread paths (`[thread]`).
+    pub fn has_threads(&self) -> bool {
+        self.file.thread.is_some()
+    }
+
+    /// The thread paths' names, in file order (empty without `[thread]`).
+    pub fn thread_path_names(&self) -> Vec<&str> {
+        self.file.thread.as_ref().map_or_else(Vec::new, |t| t.paths.iter().map(|p| p.name.as_str()).collect())
+    }
+
+    /// The stitch the machine makes (`[stitch]`), as declared.
+    pub fn stitch_spec(&self) -> Option<&file::StitchFile> {
+        self.file.stitch.as_ref()
+    }
+
+    /// A cam as declared in the file, by name.
+    pub fn cam_spec(&self, name: &str) -> Option<&file::Cam> {
+        self.file.cams.iter().find(|c| c.name == name)
+    }
+
+    /// The file as parsed, in the file's own shape (`schema` documents it).
+    pub fn file(&self) -> &ModelFile {
+        &self.file
+    }
+
     /// Main-shaft angle where a cycle starts, degrees.
     pub fn phi_start_deg(&self) -> f64 {
         self.file.model.phi_start_deg.unwrap_or(0.0)

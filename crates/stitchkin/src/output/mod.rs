@@ -69,9 +69,9 @@ pub fn write_json(model: &Model, params: &Params, table: &CycleTable, out: &mut 
         })
         .collect();
     let run = JsonRun {
-        model: &model.file.model.name,
-        title: model.file.model.title.as_deref(),
-        seed: model.file.model.seed.as_deref(),
+        model: &model.name(),
+        title: model.title(),
+        seed: model.seed(),
         phi_start_deg: model.phi_start_deg(),
         parameters,
         table,

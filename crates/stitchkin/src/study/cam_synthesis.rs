@@ -520,7 +520,7 @@ pub fn take_up_with_profile(
     let mut mech = model.mechanism::<f64>(params)?;
     let threads = mech.threads.as_mut().ok_or_else(|| {
         bad(
-            format!("model `{}` has no thread paths", model.file.model.name),
+            format!("model `{}` has no thread paths", model.name()),
             "add [thread] paths",
         )
     })?;
@@ -582,7 +582,7 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
             "e.g. --anchor-radius 12",
         ));
     }
-    let name = &model.file.model.name;
+    let name = &model.name();
     let mech = model.mechanism::<f64>(params)?;
     let threads = mech.threads.as_ref().ok_or_else(|| {
         bad(
@@ -673,7 +673,7 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
             ));
         }
     };
-    let file_cam = model.file.cams.iter().find(|c| c.name == cam.name);
+    let file_cam = model.cam_spec(&cam.name);
     // --- the grid: knots at even j, midpoints at odd j, from φ0 -------------
     let n = opts.points;
     let phi0 = threads.phi0_deg;

@@ -51,7 +51,7 @@ pub fn compare_2d3d(model: &Model, params: &Params, plane: &str, step_deg: f64) 
     let mech = model.mechanism::<f64>(params)?;
     let Some(threads) = &mech.threads else {
         return Err(Error::Param(ParamError {
-            message: format!("model `{}` has no thread paths to compare", model.file.model.name),
+            message: format!("model `{}` has no thread paths to compare", model.name()),
             help: Some("add a [thread] table with [[thread.paths]] (docs/model-format.md)".into()),
         }));
     };

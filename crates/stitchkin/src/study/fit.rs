@@ -830,11 +830,11 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
         }
     }
     if let Some(name) = &facts.model
-        && *name != model.file.model.name
+        && *name != model.name()
     {
         warnings.push(format!(
             "the facts are stated for model `{name}`, the fit ran on `{}`",
-            model.file.model.name
+            model.name()
         ));
     }
     let m = facts.facts.len();

@@ -132,7 +132,7 @@ pub struct Nomogram {
 /// The parameter that the model's `[stitch] m_mm` (`which` = "m") or `t_mm`
 /// ("t") names, if it names one.
 fn stitch_param(model: &Model, which: &str) -> Option<String> {
-    let s = model.file.stitch.as_ref()?;
+    let s = model.stitch_spec()?;
     match if which == "m" { &s.m_mm } else { &s.t_mm } {
         Value::Expr(name) if model.param_index(name.trim()).is_some() => Some(name.trim().to_string()),
         _ => None,
@@ -165,7 +165,7 @@ pub fn nomogram(
     let nominal = model.stitch_setup(base)?.ok_or_else(|| {
         Error::Stitch(format!(
             "model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504",
-            model.file.model.name
+            model.name()
         ))
     })?;
     // Both ends of each axis must be settable (a parameter, inside its range).
@@ -257,7 +257,7 @@ pub fn nomogram(
         })
         .collect();
     Ok(Nomogram {
-        model: model.file.model.name.clone(),
+        model: model.name().to_string(),
         adjust,
         threads,
         thickness: opts.thickness,
@@ -275,15 +275,15 @@ pub fn default_thickness(model: &Model) -> Result<Axis, Error> {
         Error::Param(ParamError {
             message: format!(
                 "model `{}` gives no thickness range to draw the nomogram over",
-                model.file.model.name
+                model.name()
             ),
             help: Some("give one with --thickness LO:HI:N in mm, e.g. --thickness 1:5:5".into()),
         })
     };
-    let stitch = model.file.stitch.as_ref().ok_or_else(|| {
+    let stitch = model.stitch_spec().ok_or_else(|| {
         Error::Stitch(format!(
             "model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504",
-            model.file.model.name
+            model.name()
         ))
     })?;
     let Value::Expr(name) = &stitch.m_mm else {

@@ -423,7 +423,7 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
         return Err(bad(
             format!(
                 "model `{}` has no parameter with an adjustable range",
-                model.file.model.name
+                model.name()
             ),
             "give a parameter `range = [lo, hi]` in [parameters] to study it".into(),
         ));
@@ -617,7 +617,7 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
         });
     }
     Ok(SensitivityResult {
-        model: model.file.model.name.clone(),
+        model: model.name().to_string(),
         step_deg: opts.step_deg,
         params: params
             .iter()
@@ -649,7 +649,7 @@ pub fn take_up_derivatives(
     let Some(th) = &mech.threads else {
         return Err(Error::Thread(format!(
             "model `{}` has no thread paths",
-            model.file.model.name
+            model.name()
         )));
     };
     let at0 = tracks_at_phi0(&mech, th)?;

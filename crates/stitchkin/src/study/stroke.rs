@@ -661,7 +661,7 @@ pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeO
         crossings = found.into_iter().flatten().collect();
     }
     Ok(StrokeStudy {
-        model: model.file.model.name.clone(),
+        model: model.name().to_string(),
         point: model.point_names[opts.point].clone(),
         axis: opts.axis.label(),
         axis_words: opts.axis.describe(),

@@ -232,7 +232,7 @@ pub fn set_stitch_value(model: &Model, params: &mut Params, which: &str, value: 
         })),
         None => Err(Error::Stitch(format!(
             "model `{}` has no [stitch]",
-            model.file.model.name
+            model.name()
         ))),
     }
 }
@@ -311,7 +311,7 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
     let before_figures = problem.figures(&before).ok_or_else(|| match model.stitch_setup(base) {
         Ok(None) => Error::Stitch(format!(
             "model `{}` has no [stitch] with a take-up path to match",
-            model.file.model.name
+            model.name()
         )),
         _ => problem.table(&before).err().unwrap_or_else(|| {
             Error::Stitch("no thread of the stitch is compared with a take-up path (give `path` in [stitch])".into())

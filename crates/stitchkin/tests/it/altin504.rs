@@ -73,7 +73,7 @@ fn dist_deg(a: f64, b: f64) -> f64 {
 #[test]
 fn loads_solves_and_keeps_every_transmission_angle_in_the_band() {
     let model = Model::preset("altin504").unwrap();
-    assert_eq!(model.file.model.seed.as_deref(), Some("004"));
+    assert_eq!(model.seed(), Some("004"));
     let t = run();
     assert_eq!(t.rows(), 360);
     for c in &t.columns {

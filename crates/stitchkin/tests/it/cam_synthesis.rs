@@ -472,7 +472,7 @@ fn exports_are_well_formed() {
     let start = text.find("[[cams]]\nname = \"cam_u\"").unwrap();
     let end = start + text[start..].find("\n\n").unwrap();
     let model = Model::from_toml_str(&format!("{}{}{}", &text[..start], snippet, &text[end..]), "pasted.toml").unwrap();
-    let cam = model.file.cams.iter().find(|c| c.name == "cam_u").unwrap();
+    let cam = model.cam_spec("cam_u").unwrap();
     assert!(
         cam.disc.is_none()
             && cam.polar.as_ref().unwrap().angle_deg.len() == 90

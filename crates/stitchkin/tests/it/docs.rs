@@ -94,7 +94,7 @@ fn every_toml_block_in_the_model_format_doc_loads_and_runs() {
                     failures.push(format!(
                         "line {} ({}): {} rows instead of 360",
                         b.line,
-                        m.file.model.name,
+                        m.name(),
                         t.rows()
                     ));
                 }
@@ -115,7 +115,7 @@ fn model_names_in_the_doc_are_distinct() {
     let mut names: Vec<String> = models(&doc)
         .iter()
         .filter_map(|b| load(b).ok())
-        .map(|m| m.file.model.name)
+        .map(|m| m.name().to_string())
         .collect();
     let n = names.len();
     names.sort();
@@ -147,7 +147,7 @@ fn example(name: &str) -> (Model, CycleTable) {
     let doc = doc();
     for b in models(&doc) {
         let Ok(m) = load(&b) else { continue };
-        if m.file.model.name == name {
+        if m.name() == name {
             let t = cycle(&m).unwrap_or_else(|e| panic!("example `{name}` (line {}): {e}", b.line));
             return (m, t);
         }
@@ -332,7 +332,7 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
         "Example 8 dP/dφ at 0",
     );
     let opts = stitchkin::eval::CycleOptions {
-        rpm: m.file.model.rpm,
+        rpm: m.rpm(),
         ..Default::default()
     };
     let with_rpm = run_cycle(&m, &m.defaults(), &opts).unwrap();

@@ -137,7 +137,7 @@ fn with(m: &Model, base: &Params, set: &[(&str, f64)]) -> Params {
 }
 
 fn run(m: &Model, p: &Params, step_deg: f64) -> CycleTable {
-    run_cycle(m, p, &opts(step_deg)).unwrap_or_else(|e| panic!("{}: {e}", m.file.model.name))
+    run_cycle(m, p, &opts(step_deg)).unwrap_or_else(|e| panic!("{}: {e}", m.name()))
 }
 
 fn path<'a>(t: &'a CycleTable, name: &str) -> &'a PathSummary {
@@ -1072,7 +1072,7 @@ fn altin504() -> Vec<Fact> {
         format!("{} mm (looper point above the eye at the catch)", f(clearance, 2)),
         vec![clearance],
     ));
-    let feed = &m.file.stitch.as_ref().unwrap().feed;
+    let feed = &m.stitch_spec().unwrap().feed;
     let num = |v: &Option<Value>| match v {
         Some(Value::Number(x)) => *x,
         other => panic!("feed {other:?}"),

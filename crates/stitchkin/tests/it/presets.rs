@@ -23,7 +23,7 @@ fn run(m: &Model, set: &[(&str, f64)], step: f64) -> CycleTable {
 fn every_preset_loads_runs_and_is_traced() {
     for p in stitchkin::presets::ALL {
         let m = Model::preset(p.name).unwrap();
-        assert_eq!(m.file.model.name, p.name);
+        assert_eq!(m.name(), p.name);
         assert!(
             m.file.model.title.is_some() && m.file.model.seed.is_some(),
             "{}",

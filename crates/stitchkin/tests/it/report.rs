@@ -124,7 +124,7 @@ fn mf7923d_report_has_every_section_and_is_self_contained() {
     );
     // Every caveat of the model and every rule carried over from another
     // stitch type is listed.
-    for c in model.file.model.caveats.iter() {
+    for c in model.caveats().iter() {
         assert!(html.contains(&stitchkin::output::svg::escape(c)), "{c}");
     }
     assert!(html.contains("401 two-thread chain stitch"));

@@ -83,7 +83,7 @@ fn check_against_central(m: &Model, p: &Params, param: &str, h: f64, step: f64) 
         assert!(
             (d - c).abs() <= 1e-6 * d.abs().max(c.abs()) + 1e-7,
             "{}: d {name}/d {param}: exact {d} vs central {c}",
-            m.file.model.name
+            m.name()
         );
     }
     exact.len()

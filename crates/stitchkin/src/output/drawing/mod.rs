@@ -616,11 +616,11 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     let title = if opts.animate {
         format!(
             "{}: mechanism over one turn from φ = {}°",
-            model.file.model.name,
+            model.name(),
             num3(opts.phi_deg)
         )
     } else {
-        format!("{}: mechanism at φ = {}°", model.file.model.name, num3(opts.phi_deg))
+        format!("{}: mechanism at φ = {}°", model.name(), num3(opts.phi_deg))
     };
     let projected = !(model.planar && matches!(opts.view, View::Plane(Plane::Xy)));
     let mut sub = match opts.view {
@@ -1494,7 +1494,7 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     if s.contains("NaN") || s.contains("inf") {
         return Err(Error::NotFinite(format!(
             "the drawing of `{}` at φ = {}° came out with a non-finite coordinate; a point may sit on a dead point or a guide line may have no direction there",
-            model.file.model.name,
+            model.name(),
             num3(opts.phi_deg)
         )));
     }

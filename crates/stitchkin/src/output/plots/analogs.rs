@@ -27,11 +27,11 @@ pub fn analogs(
             "leave out one of them: --points A,B for the points' analogs, --thread PATH for dP/dφ".into(),
         ));
     }
-    if points.is_empty() && model.file.thread.is_none() {
+    if points.is_empty() && !model.has_threads() {
         return Err(param_error(
             format!(
                 "model `{}` has no thread paths, so `plot analogs` needs points",
-                model.file.model.name
+                model.name()
             ),
             format!(
                 "name them with --points A,B; the moving points are: {}",

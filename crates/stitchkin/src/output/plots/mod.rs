@@ -192,7 +192,7 @@ fn cycle_chart(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Re
     }
     // Fail before the cycle when there is nothing to plot.
     match plot {
-        Plot::TakeUp if model.file.thread.is_none() => return Err(no_threads(model)),
+        Plot::TakeUp if !model.has_threads() => return Err(no_threads(model)),
         Plot::Mu if model.dyads.is_empty() => return Err(no_dyads(model)),
         _ => {}
     }
@@ -367,7 +367,7 @@ fn no_threads(model: &Model) -> Error {
     param_error(
         format!(
             "model `{}` has no thread paths, so it has no take-up to plot",
-            model.file.model.name
+            model.name()
         ),
         "add a [thread] table with [[thread.paths]] (docs/model-format.md §13), or plot a model with threads \
          (e.g. --preset mf7923d); `plot mu` and `plot trajectory --points …` work for any model"
@@ -377,7 +377,7 @@ fn no_threads(model: &Model) -> Error {
 
 fn no_dyads(model: &Model) -> Error {
     param_error(
-        format!("model `{}` has no dyads, so it has no transmission angles to plot", model.file.model.name),
+        format!("model `{}` has no dyads, so it has no transmission angles to plot", model.name()),
         "transmission angles come from rrr, rrp, rpr and rssr groups; plot this model's `trajectory --points …` instead".into(),
     )
 }
@@ -407,7 +407,7 @@ fn phi_axis(model: &Model) -> Axis {
 }
 
 fn title(model: &Model, what: &str) -> String {
-    format!("{}: {what}", model.file.model.name)
+    format!("{}: {what}", model.name())
 }
 
 /// The take-up chart: P(φ) of every path, P'(φ) of every stitch thread

@@ -348,7 +348,7 @@ fn option_levels(model: &Model, step_deg: f64) -> [CycleOptions; 2] {
         lean: false,
     };
     let full = CycleOptions {
-        rpm: model.file.model.rpm,
+        rpm: model.rpm(),
         analogs: true,
         ..plain.clone()
     };
