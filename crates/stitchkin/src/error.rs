@@ -3,8 +3,6 @@
 use std::ops::Range;
 use std::sync::Arc;
 
-pub use crate::mechanism::AssemblyError;
-
 /// A problem in a model file, pointing at the place in the text; also in
 /// the other files a user writes (facts to fit, measured curves).
 ///
@@ -54,6 +52,20 @@ impl std::fmt::Display for ModelError {
 }
 
 impl std::error::Error for ModelError {}
+
+/// A position with no assembly: which group, where, and by how much.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("no assembly at φ = {phi_deg:.3}°: {group}: {message} (closure fails by {defect_mm:.4} mm)")]
+pub struct AssemblyError {
+    /// The structural group that cannot close (`group "23" (rrr)`).
+    pub group: String,
+    /// Main-shaft angle where it fails, degrees.
+    pub phi_deg: f64,
+    /// By how much the closure fails, mm.
+    pub defect_mm: f64,
+    /// What the group needs that the geometry cannot give.
+    pub message: String,
+}
 
 /// A parameter override that cannot be applied (`--set NAME=VALUE`).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

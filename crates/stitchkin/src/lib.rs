@@ -23,6 +23,7 @@ pub mod format;
 pub mod geometry;
 pub mod mechanism;
 pub mod model;
+mod numeric;
 pub mod output;
 pub mod presets;
 pub mod scalar;

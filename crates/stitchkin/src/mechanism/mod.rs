@@ -16,6 +16,7 @@ pub mod rssr;
 
 use std::sync::Arc;
 
+pub use crate::error::AssemblyError;
 use crate::geometry::{Plane, PlaneMap, V2, V3, perp};
 use crate::scalar::Real;
 use crate::with_plane;
@@ -292,16 +293,6 @@ pub struct Mechanism<T: Real> {
     pub threads: Option<crate::thread::Threads<T>>,
     /// Placements of the model's frames, by frame index (0 = world).
     pub(crate) frames: Vec<crate::geometry::Placement<T>>,
-}
-
-/// A position with no assembly: which group, where, and by how much.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("no assembly at φ = {phi_deg:.3}°: {group}: {message} (closure fails by {defect_mm:.4} mm)")]
-pub struct AssemblyError {
-    pub group: String,
-    pub phi_deg: f64,
-    pub defect_mm: f64,
-    pub message: String,
 }
 
 impl<T: Real> Mechanism<T> {

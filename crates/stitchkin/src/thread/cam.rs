@@ -86,9 +86,9 @@ impl Profile {
             b[i] = (y(i + 1) - y(i)) / hi - (y(i) - y(i + n - 1)) / hp;
         }
         let mut piv = vec![0; n];
-        let ok = crate::mechanism::newton::lu_factor(&mut a, n, &mut piv);
+        let ok = crate::numeric::lu_factor(&mut a, n, &mut piv);
         debug_assert!(ok, "the periodic spline system is diagonally dominant");
-        crate::mechanism::newton::lu_solve(&a, n, &piv, &mut b);
+        crate::numeric::lu_solve(&a, n, &piv, &mut b);
         let m = b;
         // Segment i: ρ(θ_i + t) = c0 + c1 t + c2 t² + c3 t³.
         let coef = (0..n)
