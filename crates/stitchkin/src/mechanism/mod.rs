@@ -361,215 +361,22 @@ impl<T: Real> Mechanism<T> {
         let tracks = &mut pose.tracks;
         let mut newton = 0;
         for (i, step) in self.steps.iter().enumerate() {
-            let out_slot = step.out().unwrap_or(usize::MAX);
-            // The output track is taken out while the inputs are read.
-            let mut o = if out_slot == usize::MAX {
-                Vec::new()
-            } else {
-                std::mem::take(&mut tracks[out_slot])
-            };
-            let t = &*tracks;
-            let tr = |s: usize| &t[s][..n];
             let r = match step {
-                Step::Crank {
-                    center,
-                    r,
-                    u,
-                    v,
-                    speed,
-                    phase,
-                    cos_ph,
-                    sin_ph,
-                    ..
-                } => {
-                    let c0 = tr(*center);
-                    let (ru, rv) = (*u * *r, *v * *r);
-                    if *speed != 1.0 {
-                        each(&mut o, |k| {
-                            let (s, c) = (phis[k].phi * T::cst(*speed) + *phase).sin_cos();
-                            Ok(c0[k] + ru.map(|x| c.times_k(x)) + rv.map(|x| s.times_k(x)))
-                        })
-                    } else if u.z.re() == 0.0 && v.z.re() == 0.0 {
-                        // Shaft along z: a planar crank, cos(φ + ph) and
-                        // sin(φ + ph) from the shared cos φ, sin φ.
-                        let (cx, cy) = (ru.x * *cos_ph + rv.x * *sin_ph, ru.y * *cos_ph + rv.y * *sin_ph);
-                        let (sx, sy) = (rv.x * *cos_ph - ru.x * *sin_ph, rv.y * *cos_ph - ru.y * *sin_ph);
-                        match self.fixed_point(*center) {
-                            // A crank on a fixed shaft (every crank of the
-                            // presets): its centre is read once.
-                            Some(c0) => {
-                                kernels::planar_crank(&mut o[..n], phis, c0, [cx, cy, sx, sy]);
-                                Ok(())
-                            }
-                            None => each(&mut o, |k| {
-                                let (c, s) = (phis[k].cos, phis[k].sin);
-                                Ok(V3::new(
-                                    c0[k].x + c.times_k(cx) + s.times_k(sx),
-                                    c0[k].y + c.times_k(cy) + s.times_k(sy),
-                                    c0[k].z,
-                                ))
-                            }),
-                        }
-                    } else if let Some(c0) = self.fixed_point(*center) {
-                        kernels::crank(&mut o[..n], phis, c0, [ru, rv], [*cos_ph, *sin_ph]);
-                        Ok(())
-                    } else {
-                        each(&mut o, |k| {
-                            let phi = &phis[k];
-                            let (c, s) = (
-                                phi.cos * *cos_ph - phi.sin * *sin_ph,
-                                phi.sin * *cos_ph + phi.cos * *sin_ph,
-                            );
-                            Ok(c0[k] + ru.map(|x| c.times_k(x)) + rv.map(|x| s.times_k(x)))
-                        })
-                    }
-                }
-                Step::Rrr {
-                    p1,
-                    p2,
-                    l1,
-                    l2,
-                    sign,
-                    plane,
-                    ..
-                } => {
-                    let (a, b) = (tr(*p1), tr(*p2));
-                    let (l1sq, l2sq) = (*l1 * *l1, *l2 * *l2);
-                    match self.fixed_point(*p2) {
-                        // A dyad on a fixed pivot (a four-bar's rocker): the
-                        // pivot is projected once, not read at every φ.
-                        Some(c) => with_plane!(plane, pl => {
-                            let c = pl.project(&c);
-                            each(&mut o, |k| rrr::rrr(pl.project(&a[k]), c, l1sq, l2sq, *sign).map(|q| pl.lift(q, T::zero())))
-                        }),
-                        None => with_plane!(plane, pl => each(&mut o, |k| {
-                            rrr::rrr(pl.project(&a[k]), pl.project(&b[k]), l1sq, l2sq, *sign).map(|q| pl.lift(q, T::zero()))
-                        })),
-                    }
-                }
-                Step::Rrp {
-                    from,
-                    through,
-                    toward,
-                    dir,
-                    offset,
-                    l,
-                    sign,
-                    plane,
-                    ..
-                } => {
-                    let (a, h) = (tr(*from), tr(*through));
-                    let l_sq = *l * *l;
-                    match toward.map(tr) {
-                        Some(t) => with_plane!(plane, pl => each(&mut o, |k| {
-                            let hk = pl.project(&h[k]);
-                            let u = unit(pl.project(&t[k]) - hk)?;
-                            line::point_on_line(hk + perp(u) * *offset, u, pl.project(&a[k]), l_sq, *sign)
-                                .map(|q| pl.lift(q, T::zero()))
-                        })),
-                        None => {
-                            // A guide of fixed direction: its offset is the same at every φ.
-                            let off = perp(*dir) * *offset;
-                            with_plane!(plane, pl => each(&mut o, |k| {
-                                line::point_on_line(pl.project(&h[k]) + off, *dir, pl.project(&a[k]), l_sq, *sign)
-                                    .map(|q| pl.lift(q, T::zero()))
-                            }))
-                        }
-                    }
-                }
-                Step::Rpr {
-                    from,
-                    pivot,
-                    e,
-                    d,
-                    plane,
-                    ..
-                } => {
-                    let (a, c) = (tr(*from), tr(*pivot));
-                    with_plane!(plane, pl => each(&mut o, |k| {
-                        let ck = pl.project(&c[k]);
-                        rpr::rpr(pl.project(&a[k]), ck, *e).map(|(u, _)| pl.lift(ck + perp(u) * *e + u * *d, T::zero()))
-                    }))
-                }
-                Step::Rssr {
-                    from, rocker, l, sign, ..
-                } => {
-                    let a = tr(*from);
-                    let rod = rssr::RockerRod::new(*rocker, *l);
-                    // All positions at once; if one has no assembly, the
-                    // checked loop finds it and says why.
-                    if kernels::rssr(&mut o[..n], a, &rod, *sign) {
-                        Ok(())
-                    } else {
-                        each(&mut o, |k| rssr::rssr(&rod, a[k], *sign))
-                    }
-                }
-                Step::PointOnLine {
-                    from,
-                    through,
-                    toward,
-                    dir,
-                    l,
-                    sign,
-                    ..
-                } => {
-                    let (a, h) = (tr(*from), tr(*through));
-                    let t = toward.map(tr);
-                    let l_sq = *l * *l;
-                    // A guide of fixed direction: all positions at once, as
-                    // for RSSR; the checked loop only where one fails.
-                    if t.is_none() && kernels::point_on_line(&mut o[..n], h, a, *dir, l_sq, *sign) {
-                        Ok(())
-                    } else {
-                        each(&mut o, |k| {
-                            let u = match t {
-                                Some(t) => unit(t[k] - h[k])?,
-                                None => *dir,
-                            };
-                            line::point_on_line(h[k], u, a[k], l_sq, *sign)
-                        })
-                    }
-                }
-                Step::Rigid {
-                    base,
-                    dc,
-                    ds,
-                    base_len,
-                    lift,
-                    plane,
-                    ..
-                } => {
-                    let (a, b) = (tr(base[0]), tr(base[1]));
-                    match base_len {
-                        // On a link of known length it cannot fail: a loop
-                        // without branches, which vectorises.
-                        Some(l) => {
-                            let (dcl, dsl) = (*dc / *l, *ds / *l);
-                            with_plane!(plane, pl => kernels::rigid_on_link(&mut o[..n], a, b, pl, dcl, dsl, *lift));
-                            Ok(())
-                        }
-                        None => with_plane!(plane, pl => each(&mut o, |k| {
-                            rigid::rigid_point(pl.project(&a[k]), pl.project(&b[k]), *dc, *ds).map(|q| pl.lift(q, *lift))
-                        })),
-                    }
-                }
-                Step::Rigid3 { frame, at, .. } => {
-                    let (f0, f1, f2) = (tr(frame[0]), tr(frame[1]), tr(frame[2]));
-                    each(&mut o, |k| rigid::rigid_point_3d(f0[k], f1[k], f2[k], *at))
-                }
-                Step::Offset { from, by, .. } => {
-                    kernels::offset(&mut o[..n], tr(*from), *by);
-                    Ok(())
-                }
                 Step::Newton(g) => {
                     let st = &mut pose.newton[newton];
                     newton += 1;
                     g.solve_track(tracks, n, st)
                 }
+                _ => {
+                    // Every closed-form group places one point; its track is
+                    // taken out while the inputs are read.
+                    let out_slot = step.out().expect("a closed-form group has an output point");
+                    let mut o = std::mem::take(&mut tracks[out_slot]);
+                    let r = self.solve_step(step, tracks, phis, &mut o[..n]);
+                    tracks[out_slot] = o;
+                    r
+                }
             };
-            if out_slot != usize::MAX {
-                tracks[out_slot] = o;
-            }
             if let Err((k, e)) = r {
                 return Err(AssemblyError {
                     group: self.labels[i].clone(),
@@ -580,6 +387,230 @@ impl<T: Real> Mechanism<T> {
             }
         }
         Ok(())
+    }
+
+    /// One closed-form group at every φ: its output track `o` from the
+    /// tracks already solved; on failure, the first position without an
+    /// assembly.
+    #[inline(always)]
+    fn solve_step(
+        &self,
+        step: &Step<T>,
+        t: &[Vec<V3<T>>],
+        phis: &[Phi<T>],
+        o: &mut [V3<T>],
+    ) -> Result<(), (usize, NoAssembly)> {
+        let n = phis.len();
+        let tr = |s: usize| &t[s][..n];
+        match step {
+            Step::Crank { .. } => self.solve_crank(step, t, phis, o),
+            Step::Rrr {
+                p1,
+                p2,
+                l1,
+                l2,
+                sign,
+                plane,
+                ..
+            } => {
+                let (a, b) = (tr(*p1), tr(*p2));
+                let (l1sq, l2sq) = (*l1 * *l1, *l2 * *l2);
+                match self.fixed_point(*p2) {
+                    // A dyad on a fixed pivot (a four-bar's rocker): the
+                    // pivot is projected once, not read at every φ.
+                    Some(c) => with_plane!(plane, pl => {
+                        let c = pl.project(&c);
+                        each(o, |k| rrr::rrr(pl.project(&a[k]), c, l1sq, l2sq, *sign).map(|q| pl.lift(q, T::zero())))
+                    }),
+                    None => with_plane!(plane, pl => each(o, |k| {
+                        rrr::rrr(pl.project(&a[k]), pl.project(&b[k]), l1sq, l2sq, *sign).map(|q| pl.lift(q, T::zero()))
+                    })),
+                }
+            }
+            Step::Rrp {
+                from,
+                through,
+                toward,
+                dir,
+                offset,
+                l,
+                sign,
+                plane,
+                ..
+            } => {
+                let (a, h) = (tr(*from), tr(*through));
+                let l_sq = *l * *l;
+                match toward.map(tr) {
+                    Some(t) => with_plane!(plane, pl => each(o, |k| {
+                        let hk = pl.project(&h[k]);
+                        let u = unit(pl.project(&t[k]) - hk)?;
+                        line::point_on_line(hk + perp(u) * *offset, u, pl.project(&a[k]), l_sq, *sign)
+                            .map(|q| pl.lift(q, T::zero()))
+                    })),
+                    None => {
+                        // A guide of fixed direction: its offset is the same at every φ.
+                        let off = perp(*dir) * *offset;
+                        with_plane!(plane, pl => each(o, |k| {
+                            line::point_on_line(pl.project(&h[k]) + off, *dir, pl.project(&a[k]), l_sq, *sign)
+                                .map(|q| pl.lift(q, T::zero()))
+                        }))
+                    }
+                }
+            }
+            Step::Rpr {
+                from,
+                pivot,
+                e,
+                d,
+                plane,
+                ..
+            } => {
+                let (a, c) = (tr(*from), tr(*pivot));
+                with_plane!(plane, pl => each(o, |k| {
+                    let ck = pl.project(&c[k]);
+                    rpr::rpr(pl.project(&a[k]), ck, *e).map(|(u, _)| pl.lift(ck + perp(u) * *e + u * *d, T::zero()))
+                }))
+            }
+            Step::Rssr {
+                from, rocker, l, sign, ..
+            } => {
+                let a = tr(*from);
+                let rod = rssr::RockerRod::new(*rocker, *l);
+                // All positions at once; if one has no assembly, the
+                // checked loop finds it and says why.
+                if kernels::rssr(o, a, &rod, *sign) {
+                    Ok(())
+                } else {
+                    each(o, |k| rssr::rssr(&rod, a[k], *sign))
+                }
+            }
+            Step::PointOnLine {
+                from,
+                through,
+                toward,
+                dir,
+                l,
+                sign,
+                ..
+            } => {
+                let (a, h) = (tr(*from), tr(*through));
+                let t = toward.map(tr);
+                let l_sq = *l * *l;
+                // A guide of fixed direction: all positions at once, as
+                // for RSSR; the checked loop only where one fails.
+                if t.is_none() && kernels::point_on_line(o, h, a, *dir, l_sq, *sign) {
+                    Ok(())
+                } else {
+                    each(o, |k| {
+                        let u = match t {
+                            Some(t) => unit(t[k] - h[k])?,
+                            None => *dir,
+                        };
+                        line::point_on_line(h[k], u, a[k], l_sq, *sign)
+                    })
+                }
+            }
+            Step::Rigid {
+                base,
+                dc,
+                ds,
+                base_len,
+                lift,
+                plane,
+                ..
+            } => {
+                let (a, b) = (tr(base[0]), tr(base[1]));
+                match base_len {
+                    // On a link of known length it cannot fail: a loop
+                    // without branches, which vectorises.
+                    Some(l) => {
+                        let (dcl, dsl) = (*dc / *l, *ds / *l);
+                        with_plane!(plane, pl => kernels::rigid_on_link(o, a, b, pl, dcl, dsl, *lift));
+                        Ok(())
+                    }
+                    None => with_plane!(plane, pl => each(o, |k| {
+                        rigid::rigid_point(pl.project(&a[k]), pl.project(&b[k]), *dc, *ds).map(|q| pl.lift(q, *lift))
+                    })),
+                }
+            }
+            Step::Rigid3 { frame, at, .. } => {
+                let (f0, f1, f2) = (tr(frame[0]), tr(frame[1]), tr(frame[2]));
+                each(o, |k| rigid::rigid_point_3d(f0[k], f1[k], f2[k], *at))
+            }
+            Step::Offset { from, by, .. } => {
+                kernels::offset(o, tr(*from), *by);
+                Ok(())
+            }
+            Step::Newton(_) => unreachable!("numerical groups are solved by `solve`"),
+        }
+    }
+
+    /// A crank's output track: planar cranks on a fixed shaft share
+    /// cos φ, sin φ and the vectorised kernel; others turn at their speed.
+    #[inline(always)]
+    fn solve_crank(
+        &self,
+        step: &Step<T>,
+        t: &[Vec<V3<T>>],
+        phis: &[Phi<T>],
+        o: &mut [V3<T>],
+    ) -> Result<(), (usize, NoAssembly)> {
+        let n = phis.len();
+        let Step::Crank {
+            center,
+            r,
+            u,
+            v,
+            speed,
+            phase,
+            cos_ph,
+            sin_ph,
+            ..
+        } = step
+        else {
+            unreachable!("solve_crank is called on cranks")
+        };
+        let c0 = &t[*center][..n];
+        let (ru, rv) = (*u * *r, *v * *r);
+        if *speed != 1.0 {
+            each(o, |k| {
+                let (s, c) = (phis[k].phi * T::cst(*speed) + *phase).sin_cos();
+                Ok(c0[k] + ru.map(|x| c.times_k(x)) + rv.map(|x| s.times_k(x)))
+            })
+        } else if u.z.re() == 0.0 && v.z.re() == 0.0 {
+            // Shaft along z: a planar crank, cos(φ + ph) and
+            // sin(φ + ph) from the shared cos φ, sin φ.
+            let (cx, cy) = (ru.x * *cos_ph + rv.x * *sin_ph, ru.y * *cos_ph + rv.y * *sin_ph);
+            let (sx, sy) = (rv.x * *cos_ph - ru.x * *sin_ph, rv.y * *cos_ph - ru.y * *sin_ph);
+            match self.fixed_point(*center) {
+                // A crank on a fixed shaft (every crank of the
+                // presets): its centre is read once.
+                Some(c0) => {
+                    kernels::planar_crank(o, phis, c0, [cx, cy, sx, sy]);
+                    Ok(())
+                }
+                None => each(o, |k| {
+                    let (c, s) = (phis[k].cos, phis[k].sin);
+                    Ok(V3::new(
+                        c0[k].x + c.times_k(cx) + s.times_k(sx),
+                        c0[k].y + c.times_k(cy) + s.times_k(sy),
+                        c0[k].z,
+                    ))
+                }),
+            }
+        } else if let Some(c0) = self.fixed_point(*center) {
+            kernels::crank(o, phis, c0, [ru, rv], [*cos_ph, *sin_ph]);
+            Ok(())
+        } else {
+            each(o, |k| {
+                let phi = &phis[k];
+                let (c, s) = (
+                    phi.cos * *cos_ph - phi.sin * *sin_ph,
+                    phi.sin * *cos_ph + phi.cos * *sin_ph,
+                );
+                Ok(c0[k] + ru.map(|x| c.times_k(x)) + rv.map(|x| s.times_k(x)))
+            })
+        }
     }
 
     /// Transmission angle (rad) of every dyad, in the order of the model's dyads.
