@@ -2,6 +2,7 @@
 //! step instead of one per file).
 
 mod altin504;
+mod architecture;
 mod cam_synthesis;
 mod cross_check;
 mod docs;
