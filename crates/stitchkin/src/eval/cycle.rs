@@ -1,0 +1,316 @@
+//! One cycle of a model as a table: the columns' layout, the rows filled
+//! from a solved pose, and the summaries read off the columns.
+
+use crate::error::Error;
+use crate::mechanism::{Mechanism, Pose};
+use crate::model::{Model, Params};
+use crate::scalar::Real;
+
+use super::{
+    Column, CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, RangeSummary, TransmissionSummary, cycle_phis_deg,
+    extremes, paths, stitch, wrap_deg,
+};
+
+/// Columns under construction, each with room for a cycle's rows.
+pub(super) struct Builder {
+    pub(super) columns: Vec<Column>,
+    rows: usize,
+}
+
+impl Builder {
+    fn col(&mut self, name: String) -> usize {
+        self.columns.push(Column {
+            name,
+            values: Vec::with_capacity(self.rows),
+        });
+        self.columns.len() - 1
+    }
+
+    /// A quantity's value column and, with analogs, its first and second
+    /// analogs and (with a speed) its real rates: `[value, d1, d2, v, a]`.
+    fn scalar_cols(
+        &mut self,
+        opts: &CycleOptions,
+        base: &str,
+        unit: &str,
+        d_unit: &str,
+        rates: (&str, &str),
+    ) -> [Option<usize>; 5] {
+        let value = Some(self.col(format!("{base}_{unit}")));
+        if !opts.analogs {
+            return [value, None, None, None, None];
+        }
+        let d1 = Some(self.col(format!("{base}.d_dphi_{d_unit}_per_rad")));
+        let d2 = Some(self.col(format!("{base}.d2_dphi2_{d_unit}_per_rad2")));
+        let (v, a) = if opts.rpm.is_some() {
+            (
+                Some(self.col(format!("{base}.{}", rates.0))),
+                Some(self.col(format!("{base}.{}", rates.1))),
+            )
+        } else {
+            (None, None)
+        };
+        [value, d1, d2, v, a]
+    }
+}
+
+/// A point's columns: coordinates, then analogs, then real velocities and
+/// accelerations (each one per axis, or empty when not asked for).
+struct PointCols {
+    slot: usize,
+    pos: Vec<usize>,
+    d1: Vec<usize>,
+    d2: Vec<usize>,
+    v: Vec<usize>,
+    acc: Vec<usize>,
+}
+
+/// Where every quantity of the mechanism goes in the table.
+struct Layout {
+    phi: usize,
+    points: Vec<PointCols>,
+    angles: Vec<[Option<usize>; 5]>,
+    mus: Vec<usize>,
+    measures: Vec<[Option<usize>; 5]>,
+}
+
+impl Layout {
+    fn new(b: &mut Builder, model: &Model, opts: &CycleOptions) -> Layout {
+        let phi = b.col("phi_deg".into());
+        let axes: &[&str] = if model.planar { &["x", "y"] } else { &["x", "y", "z"] };
+        let slots: Vec<usize> = opts.points.clone().unwrap_or_else(|| model.output_points.clone());
+        let per_axis = |on: bool, b: &mut Builder, name: &str, f: &dyn Fn(&str) -> String| -> Vec<usize> {
+            if on {
+                axes.iter().map(|a| b.col(format!("{name}.{}", f(a)))).collect()
+            } else {
+                Vec::new()
+            }
+        };
+        let rates = opts.analogs && opts.rpm.is_some();
+        let points = slots
+            .into_iter()
+            .map(|slot| {
+                let name = &model.point_names[slot];
+                PointCols {
+                    slot,
+                    pos: per_axis(true, b, name, &|a| format!("{a}_mm")),
+                    d1: per_axis(opts.analogs, b, name, &|a| format!("d{a}_dphi_mm_per_rad")),
+                    d2: per_axis(opts.analogs, b, name, &|a| format!("d2{a}_dphi2_mm_per_rad2")),
+                    v: per_axis(rates, b, name, &|a| format!("v{a}_mm_per_s")),
+                    acc: per_axis(rates, b, name, &|a| format!("a{a}_mm_per_s2")),
+                }
+            })
+            .collect();
+        // Link angles are columns only (no summary or study figure reads
+        // them): a lean run leaves them out.
+        let angles = if opts.lean {
+            Vec::new()
+        } else {
+            let angle = ("omega_rad_per_s", "eps_rad_per_s2");
+            model
+                .link_angle_names
+                .iter()
+                .map(|a| b.scalar_cols(opts, a, "deg", "rad", angle))
+                .collect()
+        };
+        let mus = model.dyads.iter().map(|d| b.col(format!("mu_{}_deg", d.key))).collect();
+        let rates = ("v_mm_per_s", "a_mm_per_s2");
+        let measures = model
+            .measure_names
+            .iter()
+            .map(|m| b.scalar_cols(opts, m, "mm", "mm", rates))
+            .collect();
+        Layout {
+            phi,
+            points,
+            angles,
+            mus,
+            measures,
+        }
+    }
+
+    /// One row per φ from the solved pose.
+    fn fill<T: Real>(&self, cols: &mut [Column], mech: &Mechanism<T>, pose: &Pose<T>, phis: &[f64], w: f64) {
+        let push = |cols: &mut [Column], c: Option<usize>, v: f64| {
+            if let Some(c) = c {
+                cols[c].values.push(v);
+            }
+        };
+        let (mut angles, mut mus, mut measures) = (Vec::new(), Vec::new(), Vec::new());
+        for (k, &phi_deg) in phis.iter().enumerate() {
+            cols[self.phi].values.push(phi_deg);
+            for pc in &self.points {
+                let q = pose.point(pc.slot, k);
+                for j in 0..pc.pos.len() {
+                    cols[pc.pos[j]].values.push(q[j].re());
+                    if !pc.d1.is_empty() {
+                        cols[pc.d1[j]].values.push(q[j].d1());
+                        cols[pc.d2[j]].values.push(q[j].d2());
+                    }
+                    if !pc.v.is_empty() {
+                        cols[pc.v[j]].values.push(q[j].d1() * w);
+                        cols[pc.acc[j]].values.push(q[j].d2() * w * w);
+                    }
+                }
+            }
+            if !self.angles.is_empty() {
+                mech.link_angles(pose, k, &mut angles);
+            }
+            for (a, c) in angles.iter().zip(&self.angles) {
+                let row = [a.re().to_degrees(), a.d1(), a.d2(), a.d1() * w, a.d2() * w * w];
+                for (j, val) in row.into_iter().enumerate() {
+                    push(cols, c[j], val);
+                }
+            }
+            mech.transmission_angles(pose, k, &mut mus);
+            for (m, &c) in mus.iter().zip(&self.mus) {
+                cols[c].values.push(m.re().to_degrees());
+            }
+            mech.measures(pose, k, &mut measures);
+            for (m, c) in measures.iter().zip(&self.measures) {
+                for (j, val) in [m.re(), m.d1(), m.d2(), m.d1() * w, m.d2() * w * w]
+                    .into_iter()
+                    .enumerate()
+                {
+                    push(cols, c[j], val);
+                }
+            }
+        }
+    }
+}
+
+/// A full cycle in scalar type `T` (`f64`, or dual numbers for analogs).
+pub(super) fn cycle<T: Real>(
+    model: &Model,
+    params: &Params,
+    opts: &CycleOptions,
+    prepared: Option<&stitch::Prepared>,
+) -> Result<CycleTable, Error> {
+    let mech = model.mechanism::<T>(params)?;
+    let phis = cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
+    let omega = opts.rpm.map(|r| r * std::f64::consts::TAU / 60.0);
+    let mut b = Builder {
+        columns: Vec::new(),
+        rows: phis.len(),
+    };
+    let layout = Layout::new(&mut b, model, opts);
+    // Analogs in closed form where every group has one (mechanism::analogs):
+    // about 2× faster than dual numbers for the four-bar and needle876. With
+    // thread paths the dual pose feeds the paths' own analogs, and building
+    // it from the closed form costs more than it saves (mf7923d: about 10 %
+    // slower per cycle, docs/benchmarks.md), so those stay dual.
+    let closed_form = opts.analogs && mech.threads.is_none();
+    let plain = if closed_form {
+        Some(model.mechanism::<f64>(params)?)
+    } else {
+        None
+    };
+    let pose = crate::mechanism::analogs::solve_cycle(&mech, plain.as_ref(), &phis)?;
+    layout.fill(&mut b.columns, &mech, &pose, &phis, omega.unwrap_or(0.0));
+    let (paths, take_up) = match &mech.threads {
+        Some(threads) => paths::path_columns(&mech, threads, &pose, &phis, opts, &mut b.columns)?,
+        None => (Vec::new(), None),
+    };
+    let stitch = match prepared {
+        Some(p) => Some(stitch::stitch_columns(p, &phis, opts.lean, &mut b.columns)?),
+        None => match stitch::prepare(model, params, opts.step_deg)? {
+            Some(p) => Some(stitch::stitch_columns(&p, &phis, opts.lean, &mut b.columns)?),
+            None => None,
+        },
+    };
+    let columns = b.columns;
+    check_finite(&columns, &phis)?;
+    let mut warnings: Vec<String> = stitch.iter().flat_map(|s| s.warnings.iter().cloned()).collect();
+    let transmission = transmission_summaries(model, &columns, &layout.mus, &phis, &mut warnings);
+    let ranges = range_summaries(model, &columns, &layout.measures, &phis);
+    Ok(CycleTable {
+        step_deg: opts.step_deg,
+        rpm: opts.rpm,
+        columns,
+        transmission,
+        ranges,
+        paths,
+        take_up,
+        stitch,
+        warnings,
+    })
+}
+
+/// Never NaN or infinity in output.
+fn check_finite(columns: &[Column], phis: &[f64]) -> Result<(), Error> {
+    for c in columns {
+        if let Some(k) = c.values.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NotFinite(format!(
+                "`{}` is {} at φ = {:.3}°: the mechanism passes a dead point there, where analogs are infinite; \
+                 change the geometry or the step so no position lands on the dead point",
+                c.name,
+                c.values[k],
+                wrap_deg(phis[k])
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Each dyad's transmission angle at its extremes, with a warning where it
+/// leaves the band of seed 002 eq. 15.
+fn transmission_summaries(
+    model: &Model,
+    columns: &[Column],
+    mu_cols: &[usize],
+    phis: &[f64],
+    warnings: &mut Vec<String>,
+) -> Vec<TransmissionSummary> {
+    model
+        .dyads
+        .iter()
+        .zip(mu_cols)
+        .map(|(d, &c)| {
+            let v = &columns[c].values;
+            let (i0, i1) = extremes(v);
+            let ok = v[i0] >= MU_MIN_DEG && v[i1] <= MU_MAX_DEG;
+            if !ok {
+                warnings.push(format!(
+                    "transmission angle of {} leaves {MU_MIN_DEG}°…{MU_MAX_DEG}°: {:.2}° at φ = {:.1}° … {:.2}° at φ = {:.1}° (risk of jamming)",
+                    d.label, v[i0], wrap_deg(phis[i0]), v[i1], wrap_deg(phis[i1])
+                ));
+            }
+            TransmissionSummary {
+                key: d.key.clone(),
+                group: d.label.clone(),
+                min_deg: v[i0],
+                phi_at_min_deg: wrap_deg(phis[i0]),
+                max_deg: v[i1],
+                phi_at_max_deg: wrap_deg(phis[i1]),
+                ok,
+            }
+        })
+        .collect()
+}
+
+/// Each measure's range over the cycle.
+fn range_summaries(
+    model: &Model,
+    columns: &[Column],
+    measure_cols: &[[Option<usize>; 5]],
+    phis: &[f64],
+) -> Vec<RangeSummary> {
+    model
+        .measure_names
+        .iter()
+        .zip(measure_cols)
+        .map(|(name, c)| {
+            let v = &columns[c[0].expect("value column always present")].values;
+            let (i0, i1) = extremes(v);
+            RangeSummary {
+                name: name.clone(),
+                unit: "mm",
+                min: v[i0],
+                phi_at_min_deg: wrap_deg(phis[i0]),
+                max: v[i1],
+                phi_at_max_deg: wrap_deg(phis[i1]),
+                range: v[i1] - v[i0],
+            }
+        })
+        .collect()
+}
