@@ -333,92 +333,149 @@ fn column_kind(name: &str) -> Result<(Option<String>, CurveKind, Option<SplitPoi
 /// Every error is an [`Error::Model`] naming `source`, the line (and the
 /// field) and the fix.
 pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error> {
-    let shared: Arc<str> = Arc::from(text);
-    let err = |span: Option<Range<usize>>, message: String, help: &str| -> Error {
-        Error::from(ModelError {
-            file: source.to_string(),
-            text: shared.clone(),
-            span,
-            path: String::new(),
-            message,
-            help: Some(help.to_string()),
-        })
+    let file = CurveFile {
+        source,
+        text: Arc::from(text),
     };
     let mut lines = data_lines(text);
     let Some(header) = lines.next() else {
-        return Err(err(
+        return Err(file.err(
             None,
             "the curve file has no header: it is empty or holds only comments and blank lines".into(),
             HEADER_HELP,
         ));
     };
-    let names: Vec<Field> = header
-        .fields()
-        .into_iter()
-        .map(|f| Field {
-            span: f.span,
-            text: f.text.trim_start_matches('\u{feff}').trim_matches('"').trim(),
+    let head = file.header(&header)?;
+    let mut rows = Rows::default();
+    for line in lines {
+        file.row(&line, &head, &mut rows)?;
+    }
+    file.check_coverage(&header, &rows)?;
+    Ok(MeasuredCurve {
+        phi_deg: rows.phi_deg,
+        values_mm: rows.values_mm,
+        kind: head.kind,
+        split: head.split,
+        thread: head.thread,
+        column: head.column,
+        source: source.to_string(),
+    })
+}
+
+/// A curve file being read: its name and text, for errors that point at
+/// the place.
+struct CurveFile<'a> {
+    source: &'a str,
+    text: Arc<str>,
+}
+
+/// What the header says: which field is φ and what the other column holds.
+struct Header {
+    iphi: usize,
+    column: String,
+    thread: Option<String>,
+    kind: CurveKind,
+    split: Option<SplitPoint>,
+}
+
+/// The rows read so far, with each row's line and φ field.
+#[derive(Default)]
+struct Rows {
+    phi_deg: Vec<f64>,
+    values_mm: Vec<f64>,
+    at: Vec<(usize, Range<usize>)>,
+}
+
+impl CurveFile<'_> {
+    fn err(&self, span: Option<Range<usize>>, message: String, help: &str) -> Error {
+        Error::from(ModelError {
+            file: self.source.to_string(),
+            text: self.text.clone(),
+            span,
+            path: String::new(),
+            message,
+            help: Some(help.to_string()),
         })
-        .collect();
-    let listed = names
-        .iter()
-        .map(|f| format!("`{}`", f.text))
-        .collect::<Vec<_>>()
-        .join(", ");
-    if names.len() == 1 && [';', '\t'].iter().any(|c| header.text.contains(*c)) {
-        return Err(err(
-            Some(header.span()),
-            format!(
-                "the header `{}` is one column: the columns are not separated by commas",
-                header.text.trim()
-            ),
-            "separate the columns with `,` (and write decimals with a point, `0.5`), e.g. `phi_deg,P_mm`",
-        ));
     }
-    if names.len() != 2 {
-        return Err(err(
-            Some(header.span()),
-            format!(
-                "the header names {} column(s), {listed}; a curve has two: `phi_deg` and one take-up column",
-                names.len()
-            ),
-            HEADER_HELP,
-        ));
-    }
-    let iphi = match names.iter().filter(|f| f.text == "phi_deg").count() {
-        1 => usize::from(names[1].text == "phi_deg"),
-        0 => {
-            let guess = names.iter().find_map(|f| did_you_mean(f.text, ["phi_deg"]).map(|_| f));
-            let message = match guess {
-                Some(f) => format!(
-                    "the header has no column `phi_deg` (got {listed}): did you mean `phi_deg` for `{}`?",
-                    f.text
+
+    /// The header: two columns, `phi_deg` and one take-up column.
+    fn header(&self, header: &Line<'_>) -> Result<Header, Error> {
+        let names: Vec<Field> = header
+            .fields()
+            .into_iter()
+            .map(|f| Field {
+                span: f.span,
+                text: f.text.trim_start_matches('\u{feff}').trim_matches('"').trim(),
+            })
+            .collect();
+        let listed = names
+            .iter()
+            .map(|f| format!("`{}`", f.text))
+            .collect::<Vec<_>>()
+            .join(", ");
+        if names.len() == 1 && [';', '\t'].iter().any(|c| header.text.contains(*c)) {
+            return Err(self.err(
+                Some(header.span()),
+                format!(
+                    "the header `{}` is one column: the columns are not separated by commas",
+                    header.text.trim()
                 ),
-                None => format!("the header has no column `phi_deg` (got {listed})"),
-            };
-            return Err(err(
-                Some(guess.map_or(header.span(), |f| f.span.clone())),
-                message,
-                "name the main-shaft angle column `phi_deg` (deg)",
+                "separate the columns with `,` (and write decimals with a point, `0.5`), e.g. `phi_deg,P_mm`",
             ));
         }
-        _ => {
-            return Err(err(
+        if names.len() != 2 {
+            return Err(self.err(
                 Some(header.span()),
-                "the header names `phi_deg` twice".into(),
+                format!(
+                    "the header names {} column(s), {listed}; a curve has two: `phi_deg` and one take-up column",
+                    names.len()
+                ),
                 HEADER_HELP,
             ));
         }
-    };
-    let value = &names[1 - iphi];
-    let (thread, kind, split) = column_kind(value.text).map_err(|m| err(Some(value.span.clone()), m, HEADER_HELP))?;
-    let column = value.text.to_string();
+        let iphi = match names.iter().filter(|f| f.text == "phi_deg").count() {
+            1 => usize::from(names[1].text == "phi_deg"),
+            0 => {
+                let guess = names.iter().find_map(|f| did_you_mean(f.text, ["phi_deg"]).map(|_| f));
+                let message = match guess {
+                    Some(f) => {
+                        format!(
+                            "the header has no column `phi_deg` (got {listed}): did you mean `phi_deg` for `{}`?",
+                            f.text
+                        )
+                    }
+                    None => format!("the header has no column `phi_deg` (got {listed})"),
+                };
+                return Err(self.err(
+                    Some(guess.map_or(header.span(), |f| f.span.clone())),
+                    message,
+                    "name the main-shaft angle column `phi_deg` (deg)",
+                ));
+            }
+            _ => {
+                return Err(self.err(
+                    Some(header.span()),
+                    "the header names `phi_deg` twice".into(),
+                    HEADER_HELP,
+                ));
+            }
+        };
+        let value = &names[1 - iphi];
+        let (thread, kind, split) =
+            column_kind(value.text).map_err(|m| self.err(Some(value.span.clone()), m, HEADER_HELP))?;
+        Ok(Header {
+            iphi,
+            column: value.text.to_string(),
+            thread,
+            kind,
+            split,
+        })
+    }
 
-    let mut phi_deg: Vec<f64> = Vec::new();
-    let mut values_mm: Vec<f64> = Vec::new();
-    // Line and φ field of each row.
-    let mut rows: Vec<(usize, Range<usize>)> = Vec::new();
-    for line in lines {
+    /// One row: two numbers, φ after the previous row's and within a turn
+    /// of the first.
+    fn row(&self, line: &Line<'_>, head: &Header, rows: &mut Rows) -> Result<(), Error> {
+        let column = &head.column;
         let fields = line.fields();
         if fields.len() != 2 {
             let (message, help) = if fields.len() > 2 {
@@ -435,51 +492,20 @@ pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error>
                     format!("add the missing value; {ROW_HELP}"),
                 )
             };
-            return Err(err(Some(line.span()), message, &help));
+            return Err(self.err(Some(line.span()), message, &help));
         }
-        // Field k, the column `name`, holding `what` in `unit`.
-        let number = |k: usize, name: &str, what: &str, unit: &str| -> Result<f64, Error> {
-            let f = &fields[k];
-            if f.text.is_empty() {
-                return Err(err(
-                    Some(line.span()),
-                    format!("the {name} value is missing"),
-                    &format!("write {what} in {unit}; {ROW_HELP}"),
-                ));
-            }
-            match f.text.parse::<f64>() {
-                Ok(v) if v.is_finite() => Ok(v),
-                Ok(_) => Err(err(
-                    Some(f.span.clone()),
-                    format!("`{}` ({name}) is not a finite number", f.text),
-                    &format!(
-                        "write {what} as a finite number in {unit}; leave out a row that was not measured (the curve is linear between rows, at most {}° apart)",
-                        fmt_num(MAX_GAP_DEG)
-                    ),
-                )),
-                Err(_) => Err(err(
-                    Some(f.span.clone()),
-                    format!("`{}` ({name}) is not a number", f.text),
-                    &format!("write {what} as a number in {unit}; {ROW_HELP}"),
-                )),
-            }
+        let what = if head.kind == CurveKind::TakeUp {
+            "the take-up P"
+        } else {
+            "the required take-up P′"
         };
-        let phi = number(iphi, "phi_deg", "φ", "deg")?;
-        let y = number(
-            1 - iphi,
-            &column,
-            if kind == CurveKind::TakeUp {
-                "the take-up P"
-            } else {
-                "the required take-up P′"
-            },
-            "mm",
-        )?;
-        let phi_span = fields[iphi].span.clone();
-        if let (Some(&prev), Some((prev_line, _))) = (phi_deg.last(), rows.last())
+        let phi = self.number(line, &fields[head.iphi], "phi_deg", "φ", "deg")?;
+        let y = self.number(line, &fields[1 - head.iphi], column, what, "mm")?;
+        let phi_span = fields[head.iphi].span.clone();
+        if let (Some(&prev), Some((prev_line, _))) = (rows.phi_deg.last(), rows.at.last())
             && phi <= prev
         {
-            return Err(err(
+            return Err(self.err(
                 Some(phi_span),
                 format!(
                     "φ = {}° does not come after φ = {}° on line {prev_line}: the rows must run in strictly increasing φ",
@@ -489,10 +515,10 @@ pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error>
                 "sort the rows by φ and give each φ once (a turn may start at any φ, e.g. 174.85 … 533.85)",
             ));
         }
-        if let (Some(&first), Some((first_line, _))) = (phi_deg.first(), rows.first())
+        if let (Some(&first), Some((first_line, _))) = (rows.phi_deg.first(), rows.at.first())
             && (phi - first >= 360.0 || first + 360.0 <= phi)
         {
-            return Err(err(
+            return Err(self.err(
                 Some(phi_span),
                 format!(
                     "φ = {}° is a whole turn or more after the first row's φ = {}° (line {first_line}); a curve covers one turn",
@@ -502,70 +528,95 @@ pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error>
                 "give one turn, last φ − first φ < 360°: leave out the row that repeats the first a turn later (the curve closes the turn by itself)",
             ));
         }
-        phi_deg.push(phi);
-        values_mm.push(y);
-        rows.push((line.number, phi_span));
+        rows.phi_deg.push(phi);
+        rows.values_mm.push(y);
+        rows.at.push((line.number, phi_span));
+        Ok(())
     }
-    let gap_help = format!(
-        "give a row at least every {}° of φ, closer where the take-up changes fast: the curve is linear between rows, and across a wider gap the line would invent it",
-        fmt_num(MAX_GAP_DEG)
-    );
-    if phi_deg.len() < MIN_ROWS {
-        return Err(err(
-            Some(header.span()),
-            format!(
-                "the curve has {} row(s) after its header; it needs at least {MIN_ROWS}",
-                phi_deg.len()
-            ),
-            &gap_help,
-        ));
+
+    /// Field `f` of `line`, the column `name`, holding `what` in `unit`.
+    fn number(&self, line: &Line<'_>, f: &Field<'_>, name: &str, what: &str, unit: &str) -> Result<f64, Error> {
+        if f.text.is_empty() {
+            return Err(self.err(
+                Some(line.span()),
+                format!("the {name} value is missing"),
+                &format!("write {what} in {unit}; {ROW_HELP}"),
+            ));
+        }
+        match f.text.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            Ok(_) => Err(self.err(
+                Some(f.span.clone()),
+                format!("`{}` ({name}) is not a finite number", f.text),
+                &format!(
+                    "write {what} as a finite number in {unit}; leave out a row that was not measured (the curve is linear between rows, at most {}° apart)",
+                    fmt_num(MAX_GAP_DEG)
+                ),
+            )),
+            Err(_) => Err(self.err(
+                Some(f.span.clone()),
+                format!("`{}` ({name}) is not a number", f.text),
+                &format!("write {what} as a number in {unit}; {ROW_HELP}"),
+            )),
+        }
     }
-    let n = phi_deg.len();
-    // The widest gap, ending at sample `end` (0: the one closing the turn).
-    let (gap, end) = (0..n)
-        .map(|j| {
-            (
-                if j == 0 {
-                    phi_deg[0] + 360.0 - phi_deg[n - 1]
-                } else {
-                    phi_deg[j] - phi_deg[j - 1]
-                },
-                j,
-            )
-        })
-        .fold((f64::MIN, 0), |best, g| if g.0 > best.0 { g } else { best });
-    if gap > MAX_GAP_DEG {
+
+    /// Enough rows, and no gap wider than MAX_GAP_DEG around the turn.
+    fn check_coverage(&self, header: &Line<'_>, rows: &Rows) -> Result<(), Error> {
+        let (phi_deg, at) = (&rows.phi_deg, &rows.at);
+        let gap_help = format!(
+            "give a row at least every {}° of φ, closer where the take-up changes fast: the curve is linear between rows, and across a wider gap the line would invent it",
+            fmt_num(MAX_GAP_DEG)
+        );
+        if phi_deg.len() < MIN_ROWS {
+            return Err(self.err(
+                Some(header.span()),
+                format!(
+                    "the curve has {} row(s) after its header; it needs at least {MIN_ROWS}",
+                    phi_deg.len()
+                ),
+                &gap_help,
+            ));
+        }
+        let n = phi_deg.len();
+        // The widest gap, ending at sample `end` (0: the one closing the turn).
+        let (gap, end) = (0..n)
+            .map(|j| {
+                (
+                    if j == 0 {
+                        phi_deg[0] + 360.0 - phi_deg[n - 1]
+                    } else {
+                        phi_deg[j] - phi_deg[j - 1]
+                    },
+                    j,
+                )
+            })
+            .fold((f64::MIN, 0), |best, g| if g.0 > best.0 { g } else { best });
+        if gap <= MAX_GAP_DEG {
+            return Ok(());
+        }
         let start = (end + n - 1) % n;
         let (to, to_line) = if end == 0 {
             (
                 phi_deg[0] + 360.0,
-                format!("line {}, the first row a turn later", rows[0].0),
+                format!("line {}, the first row a turn later", at[0].0),
             )
         } else {
-            (phi_deg[end], format!("line {}", rows[end].0))
+            (phi_deg[end], format!("line {}", at[end].0))
         };
-        return Err(err(
-            Some(rows[if end == 0 { start } else { end }].1.clone()),
+        Err(self.err(
+            Some(at[if end == 0 { start } else { end }].1.clone()),
             format!(
                 "no row for {}° of φ, from φ = {}° (line {}) to φ = {}° ({to_line}); rows may be at most {}° apart",
                 fmt_num(gap),
                 fmt_num(phi_deg[start]),
-                rows[start].0,
+                at[start].0,
                 fmt_num(to),
                 fmt_num(MAX_GAP_DEG)
             ),
             &gap_help,
-        ));
+        ))
     }
-    Ok(MeasuredCurve {
-        phi_deg,
-        values_mm,
-        kind,
-        split,
-        thread,
-        column,
-        source: source.to_string(),
-    })
 }
 
 #[cfg(test)]
