@@ -16,8 +16,9 @@
 //! to `d·d′ = 0` and `d·d″ + d′·d′ = 0`: every formula below is that, or
 //! the derivative of a point moving on a fixed line or circle.
 
+use super::rssr::Rocker;
 use super::{AssemblyError, Mechanism, Phi, Pose, Step};
-use crate::geometry::{PlaneMap, V2, V3, perp};
+use crate::geometry::{Plane, PlaneMap, V2, V3, perp};
 use crate::scalar::Real;
 use crate::with_plane;
 
@@ -100,157 +101,211 @@ impl Mechanism<f64> {
         }
         let n = pose.n;
         assert!(phis.len() == n && out.n == n, "one φ per pose position");
-        let x = &pose.tracks;
         for step in &self.steps {
             let o = step.out().expect("closed-form steps place one point");
             // The output's analogs are taken out while the inputs' are read.
             let (mut v, mut a) = (std::mem::take(&mut out.vel[o]), std::mem::take(&mut out.acc[o]));
-            let (vt, at) = (&out.vel, &out.acc);
-            // Input tracks as slices of the cycle's length (no bounds checks
-            // in the loops).
-            let xs = |s: usize| &x[s][..n];
-            let vs = |s: usize| &vt[s][..n];
-            let as_ = |s: usize| &at[s][..n];
-            let (vo, ao) = (&mut v[..n], &mut a[..n]);
-            let xo = xs(o);
-            match step {
-                Step::Crank {
-                    center, speed, u, v: w, ..
-                } => {
-                    // out = c + ρ(θ), ρ = r(cos θ·u + sin θ·w), θ = speed·φ + phase:
-                    // ρ′ = speed·(ρ·u·w − ρ·w·u), ρ″ = −speed²·ρ.
-                    let (c, cv, ca) = (xs(*center), vs(*center), as_(*center));
-                    for k in 0..n {
-                        let rho = xo[k] - c[k];
-                        let (ru, rw) = (rho.dot(u), rho.dot(w));
-                        vo[k] = cv[k] + (w * ru - u * rw) * *speed;
-                        ao[k] = ca[k] - rho * (speed * speed);
-                    }
-                }
-                Step::Rrr { p1, p2, plane, .. } => {
-                    // d1 = B − P1, d2 = B − P2 of constant length:
-                    // d1·B′ = d1·P1′, d2·B′ = d2·P2′ (seed 002 eq. 3–5 differentiated);
-                    // d1·B″ = d1·P1″ − |B′ − P1′|², likewise for d2.
-                    let (x1, x2, v1s, v2s, a1s, a2s) = (xs(*p1), xs(*p2), vs(*p1), vs(*p2), as_(*p1), as_(*p2));
-                    with_plane!(plane, pl => for k in 0..n {
-                        let b = pl.project(&xo[k]);
-                        let (d1, d2) = (b - pl.project(&x1[k]), b - pl.project(&x2[k]));
-                        let (v1, v2) = (pl.project_dir(&v1s[k]), pl.project_dir(&v2s[k]));
-                        let inv_det = 1.0 / (d1.x * d2.y - d1.y * d2.x);
-                        let bv = solve2(d1, d2, inv_det, V2::new(d1.dot(&v1), d2.dot(&v2)));
-                        let (a1, a2) = (pl.project_dir(&a1s[k]), pl.project_dir(&a2s[k]));
-                        let rhs = V2::new(d1.dot(&a1) - (bv - v1).norm_squared(), d2.dot(&a2) - (bv - v2).norm_squared());
-                        vo[k] = pl.lift_dir(bv);
-                        ao[k] = pl.lift_dir(solve2(d1, d2, inv_det, rhs));
-                    })
-                }
-                Step::Rrp {
-                    from,
-                    through,
-                    dir,
-                    plane,
-                    ..
-                } => {
-                    // G = H + off + s·u on a guide of fixed direction u, |G − A| = l:
-                    // w = G − A, s′ = −w·(H′ − A′)/(w·u), s″ = −(|G′ − A′|² + w·(H″ − A″))/(w·u).
-                    let (xa, vh, va, ah, aa) = (xs(*from), vs(*through), vs(*from), as_(*through), as_(*from));
-                    with_plane!(plane, pl => for k in 0..n {
-                        let w = pl.project(&xo[k]) - pl.project(&xa[k]);
-                        let (hv, av) = (pl.project_dir(&vh[k]), pl.project_dir(&va[k]));
-                        let inv_wu = 1.0 / w.dot(dir);
-                        let gv = hv - *dir * (w.dot(&(hv - av)) * inv_wu);
-                        let (ha, aa) = (pl.project_dir(&ah[k]), pl.project_dir(&aa[k]));
-                        let ga = ha - *dir * (((gv - av).norm_squared() + w.dot(&(ha - aa))) * inv_wu);
-                        vo[k] = pl.lift_dir(gv);
-                        ao[k] = pl.lift_dir(ga);
-                    })
-                }
-                Step::PointOnLine { from, through, dir, .. } => {
-                    // The spatial form of the RRP guide above.
-                    let (xa, vh, va, ah, aa) = (xs(*from), vs(*through), vs(*from), as_(*through), as_(*from));
-                    for k in 0..n {
-                        let w = xo[k] - xa[k];
-                        let inv_wu = 1.0 / w.dot(dir);
-                        let gv = vh[k] - *dir * (w.dot(&(vh[k] - va[k])) * inv_wu);
-                        vo[k] = gv;
-                        ao[k] = ah[k] - *dir * (((gv - va[k]).norm_squared() + w.dot(&(ah[k] - aa[k]))) * inv_wu);
-                    }
-                }
-                Step::Rssr { from, rocker, .. } => {
-                    // B = c + r(cos ψ u + sin ψ v) on the fixed rocker circle, |B − A| = l.
-                    // B_ψ = −q·v u + q·u v, B_ψψ = −q (q = B − c, in the rocker's plane);
-                    // w = B − A: ψ′ = w·A′/(w·B_ψ),
-                    // ψ″ = (w·A″ − |B′ − A′|² − w·B_ψψ ψ′²)/(w·B_ψ).
-                    let (xa, va, aa) = (xs(*from), vs(*from), as_(*from));
-                    for k in 0..n {
-                        let q = xo[k] - rocker.c;
-                        let b_psi = rocker.v * q.dot(&rocker.u) - rocker.u * q.dot(&rocker.v);
-                        let w = xo[k] - xa[k];
-                        let inv = 1.0 / w.dot(&b_psi);
-                        let psi1 = w.dot(&va[k]) * inv;
-                        let bv = b_psi * psi1;
-                        let psi2 = (w.dot(&aa[k]) - (bv - va[k]).norm_squared() + w.dot(&q) * psi1 * psi1) * inv;
-                        vo[k] = bv;
-                        ao[k] = b_psi * psi2 - q * (psi1 * psi1);
-                    }
-                }
-                Step::Rigid {
-                    base,
-                    dc,
-                    ds,
-                    base_len,
-                    plane,
-                    ..
-                } => {
-                    let (x0, x1, v0s, v1s, a0s, a1s) = (
-                        xs(base[0]),
-                        xs(base[1]),
-                        vs(base[0]),
-                        vs(base[1]),
-                        as_(base[0]),
-                        as_(base[1]),
-                    );
-                    match base_len {
-                        // P = A + (dc/l)·d + (ds/l)·perp(d), d = B − A: linear in A and B.
-                        Some(l) => {
-                            let (dcl, dsl) = (dc / l, ds / l);
-                            let lin = |pa: V2<f64>, pb: V2<f64>| {
-                                let d = pb - pa;
-                                pa + d * dcl + perp(d) * dsl
-                            };
-                            with_plane!(plane, pl => for k in 0..n {
-                                vo[k] = pl.lift_dir(lin(pl.project_dir(&v0s[k]), pl.project_dir(&v1s[k])));
-                                ao[k] = pl.lift_dir(lin(pl.project_dir(&a0s[k]), pl.project_dir(&a1s[k])));
-                            })
-                        }
-                        // P = A + dc·e + ds·perp(e), e = d/L: with L′ = e·d′ (l_1),
-                        // e′ = (d′ − e L′)/L, L″ = e′·d′ + e·d″ (l_2), e″ = (d″ − L″ e − 2L′ e′)/L.
-                        None => with_plane!(plane, pl => for k in 0..n {
-                            let d = pl.project(&x1[k]) - pl.project(&x0[k]);
-                            let (a0v, a0a) = (pl.project_dir(&v0s[k]), pl.project_dir(&a0s[k]));
-                            let dv = pl.project_dir(&v1s[k]) - a0v;
-                            let da = pl.project_dir(&a1s[k]) - a0a;
-                            let inv_l = 1.0 / d.norm();
-                            let e = d * inv_l;
-                            let l_1 = e.dot(&dv);
-                            let e1 = (dv - e * l_1) * inv_l;
-                            let l_2 = e1.dot(&dv) + e.dot(&da);
-                            let e2 = (da - e * l_2 - e1 * (2.0 * l_1)) * inv_l;
-                            vo[k] = pl.lift_dir(a0v + e1 * *dc + perp(e1) * *ds);
-                            ao[k] = pl.lift_dir(a0a + e2 * *dc + perp(e2) * *ds);
-                        }),
-                    }
-                }
-                Step::Offset { from, .. } => {
-                    vo.copy_from_slice(vs(*from));
-                    ao.copy_from_slice(as_(*from));
-                }
-                Step::Rpr { .. } | Step::Rigid3 { .. } | Step::Newton(_) => unreachable!("checked above"),
-            }
+            let inputs = Inputs {
+                x: &pose.tracks,
+                v: &out.vel,
+                a: &out.acc,
+                n,
+            };
+            step_analogs(step, &inputs, &pose.tracks[o][..n], &mut v[..n], &mut a[..n]);
             out.vel[o] = v;
             out.acc[o] = a;
         }
         Some(())
+    }
+}
+
+/// The tracks a step reads: positions, analogs of the points before it, as
+/// slices of the cycle's length (no bounds checks in the loops).
+struct Inputs<'a> {
+    x: &'a [Vec<V3<f64>>],
+    v: &'a [Vec<V3<f64>>],
+    a: &'a [Vec<V3<f64>>],
+    n: usize,
+}
+
+impl<'a> Inputs<'a> {
+    #[inline(always)]
+    fn x(&self, s: usize) -> &'a [V3<f64>] {
+        &self.x[s][..self.n]
+    }
+    #[inline(always)]
+    fn v(&self, s: usize) -> &'a [V3<f64>] {
+        &self.v[s][..self.n]
+    }
+    #[inline(always)]
+    fn a(&self, s: usize) -> &'a [V3<f64>] {
+        &self.a[s][..self.n]
+    }
+}
+
+/// One closed-form step's output analogs `vo`, `ao` from its position `xo`
+/// and its inputs.
+#[inline(always)]
+fn step_analogs(step: &Step<f64>, t: &Inputs, xo: &[V3<f64>], vo: &mut [V3<f64>], ao: &mut [V3<f64>]) {
+    let n = t.n;
+    match step {
+        Step::Crank {
+            center, speed, u, v: w, ..
+        } => {
+            // out = c + ρ(θ), ρ = r(cos θ·u + sin θ·w), θ = speed·φ + phase:
+            // ρ′ = speed·(ρ·u·w − ρ·w·u), ρ″ = −speed²·ρ.
+            let (c, cv, ca) = (t.x(*center), t.v(*center), t.a(*center));
+            for k in 0..n {
+                let rho = xo[k] - c[k];
+                let (ru, rw) = (rho.dot(u), rho.dot(w));
+                vo[k] = cv[k] + (w * ru - u * rw) * *speed;
+                ao[k] = ca[k] - rho * (speed * speed);
+            }
+        }
+        Step::Rrr { p1, p2, plane, .. } => rrr_analogs(t, [*p1, *p2], plane, xo, vo, ao),
+        Step::Rrp {
+            from,
+            through,
+            dir,
+            plane,
+            ..
+        } => {
+            // G = H + off + s·u on a guide of fixed direction u, |G − A| = l:
+            // w = G − A, s′ = −w·(H′ − A′)/(w·u), s″ = −(|G′ − A′|² + w·(H″ − A″))/(w·u).
+            let (xa, vh, va, ah, aa) = (t.x(*from), t.v(*through), t.v(*from), t.a(*through), t.a(*from));
+            with_plane!(plane, pl => for k in 0..n {
+                let w = pl.project(&xo[k]) - pl.project(&xa[k]);
+                let (hv, av) = (pl.project_dir(&vh[k]), pl.project_dir(&va[k]));
+                let inv_wu = 1.0 / w.dot(dir);
+                let gv = hv - *dir * (w.dot(&(hv - av)) * inv_wu);
+                let (ha, aa) = (pl.project_dir(&ah[k]), pl.project_dir(&aa[k]));
+                let ga = ha - *dir * (((gv - av).norm_squared() + w.dot(&(ha - aa))) * inv_wu);
+                vo[k] = pl.lift_dir(gv);
+                ao[k] = pl.lift_dir(ga);
+            })
+        }
+        Step::PointOnLine { from, through, dir, .. } => {
+            // The spatial form of the RRP guide above.
+            let (xa, vh, va, ah, aa) = (t.x(*from), t.v(*through), t.v(*from), t.a(*through), t.a(*from));
+            for k in 0..n {
+                let w = xo[k] - xa[k];
+                let inv_wu = 1.0 / w.dot(dir);
+                let gv = vh[k] - *dir * (w.dot(&(vh[k] - va[k])) * inv_wu);
+                vo[k] = gv;
+                ao[k] = ah[k] - *dir * (((gv - va[k]).norm_squared() + w.dot(&(ah[k] - aa[k]))) * inv_wu);
+            }
+        }
+        Step::Rssr { from, rocker, .. } => rssr_analogs(t, *from, rocker, xo, vo, ao),
+        Step::Rigid {
+            base,
+            dc,
+            ds,
+            base_len,
+            plane,
+            ..
+        } => rigid_analogs(t, *base, [*dc, *ds], *base_len, plane, vo, ao),
+        Step::Offset { from, .. } => {
+            vo.copy_from_slice(t.v(*from));
+            ao.copy_from_slice(t.a(*from));
+        }
+        Step::Rpr { .. } | Step::Rigid3 { .. } | Step::Newton(_) => unreachable!("checked by has_closed_form_analogs"),
+    }
+}
+
+/// RRR: d1 = B − P1, d2 = B − P2 of constant length:
+/// d1·B′ = d1·P1′, d2·B′ = d2·P2′ (seed 002 eq. 3–5 differentiated);
+/// d1·B″ = d1·P1″ − |B′ − P1′|², likewise for d2.
+#[inline(always)]
+fn rrr_analogs(
+    t: &Inputs,
+    [p1, p2]: [usize; 2],
+    plane: &Plane<f64>,
+    xo: &[V3<f64>],
+    vo: &mut [V3<f64>],
+    ao: &mut [V3<f64>],
+) {
+    let (x1, x2, v1s, v2s, a1s, a2s) = (t.x(p1), t.x(p2), t.v(p1), t.v(p2), t.a(p1), t.a(p2));
+    with_plane!(plane, pl => for k in 0..t.n {
+        let b = pl.project(&xo[k]);
+        let (d1, d2) = (b - pl.project(&x1[k]), b - pl.project(&x2[k]));
+        let (v1, v2) = (pl.project_dir(&v1s[k]), pl.project_dir(&v2s[k]));
+        let inv_det = 1.0 / (d1.x * d2.y - d1.y * d2.x);
+        let bv = solve2(d1, d2, inv_det, V2::new(d1.dot(&v1), d2.dot(&v2)));
+        let (a1, a2) = (pl.project_dir(&a1s[k]), pl.project_dir(&a2s[k]));
+        let rhs = V2::new(d1.dot(&a1) - (bv - v1).norm_squared(), d2.dot(&a2) - (bv - v2).norm_squared());
+        vo[k] = pl.lift_dir(bv);
+        ao[k] = pl.lift_dir(solve2(d1, d2, inv_det, rhs));
+    })
+}
+
+/// RSSR: B = c + r(cos ψ u + sin ψ v) on the fixed rocker circle, |B − A| = l.
+/// B_ψ = −q·v u + q·u v, B_ψψ = −q (q = B − c, in the rocker's plane);
+/// w = B − A: ψ′ = w·A′/(w·B_ψ),
+/// ψ″ = (w·A″ − |B′ − A′|² − w·B_ψψ ψ′²)/(w·B_ψ).
+#[inline(always)]
+fn rssr_analogs(t: &Inputs, from: usize, rocker: &Rocker<f64>, xo: &[V3<f64>], vo: &mut [V3<f64>], ao: &mut [V3<f64>]) {
+    let (xa, va, aa) = (t.x(from), t.v(from), t.a(from));
+    for k in 0..t.n {
+        let q = xo[k] - rocker.c;
+        let b_psi = rocker.v * q.dot(&rocker.u) - rocker.u * q.dot(&rocker.v);
+        let w = xo[k] - xa[k];
+        let inv = 1.0 / w.dot(&b_psi);
+        let psi1 = w.dot(&va[k]) * inv;
+        let bv = b_psi * psi1;
+        let psi2 = (w.dot(&aa[k]) - (bv - va[k]).norm_squared() + w.dot(&q) * psi1 * psi1) * inv;
+        vo[k] = bv;
+        ao[k] = b_psi * psi2 - q * (psi1 * psi1);
+    }
+}
+
+/// A planar rigid point P = A + dc·e + ds·perp(e) on the base A→B.
+#[inline(always)]
+fn rigid_analogs(
+    t: &Inputs,
+    base: [usize; 2],
+    [dc, ds]: [f64; 2],
+    base_len: Option<f64>,
+    plane: &Plane<f64>,
+    vo: &mut [V3<f64>],
+    ao: &mut [V3<f64>],
+) {
+    let (x0, x1, v0s, v1s, a0s, a1s) = (
+        t.x(base[0]),
+        t.x(base[1]),
+        t.v(base[0]),
+        t.v(base[1]),
+        t.a(base[0]),
+        t.a(base[1]),
+    );
+    match base_len {
+        // P = A + (dc/l)·d + (ds/l)·perp(d), d = B − A: linear in A and B.
+        Some(l) => {
+            let (dcl, dsl) = (dc / l, ds / l);
+            let lin = |pa: V2<f64>, pb: V2<f64>| {
+                let d = pb - pa;
+                pa + d * dcl + perp(d) * dsl
+            };
+            with_plane!(plane, pl => for k in 0..t.n {
+                vo[k] = pl.lift_dir(lin(pl.project_dir(&v0s[k]), pl.project_dir(&v1s[k])));
+                ao[k] = pl.lift_dir(lin(pl.project_dir(&a0s[k]), pl.project_dir(&a1s[k])));
+            })
+        }
+        // e = d/L: with L′ = e·d′ (l_1), e′ = (d′ − e L′)/L,
+        // L″ = e′·d′ + e·d″ (l_2), e″ = (d″ − L″ e − 2L′ e′)/L.
+        None => with_plane!(plane, pl => for k in 0..t.n {
+            let d = pl.project(&x1[k]) - pl.project(&x0[k]);
+            let (a0v, a0a) = (pl.project_dir(&v0s[k]), pl.project_dir(&a0s[k]));
+            let dv = pl.project_dir(&v1s[k]) - a0v;
+            let da = pl.project_dir(&a1s[k]) - a0a;
+            let inv_l = 1.0 / d.norm();
+            let e = d * inv_l;
+            let l_1 = e.dot(&dv);
+            let e1 = (dv - e * l_1) * inv_l;
+            let l_2 = e1.dot(&dv) + e.dot(&da);
+            let e2 = (da - e * l_2 - e1 * (2.0 * l_1)) * inv_l;
+            vo[k] = pl.lift_dir(a0v + e1 * dc + perp(e1) * ds);
+            ao[k] = pl.lift_dir(a0a + e2 * dc + perp(e2) * ds);
+        }),
     }
 }
 
