@@ -625,120 +625,113 @@ impl Threads<f64> {
     ) -> Result<(), PathError> {
         let n = pose.len();
         assert_eq!(an.len(), n, "analogs of the same cycle");
-        // A point as a dual vector at the k-th φ.
-        let jet = |slot: usize, k: usize| -> V3<Dual2_64> {
-            let (p, v, a) = (pose.point(slot, k), an.vel(slot, k), an.acc(slot, k));
-            V3::new(
-                Dual2_64::new(p.x, v.x, a.x),
-                Dual2_64::new(p.y, v.y, a.y),
-                Dual2_64::new(p.z, v.z, a.z),
-            )
-        };
-        let dual = |v: V3<f64>| v.map(Dual2_64::from_re);
-        // A point's positions and analogs over the cycle, cut to its length.
-        let tracks = |slot: usize| {
-            [
-                &pose.track(slot)[..n],
-                &an.vel_track(slot)[..n],
-                &an.acc_track(slot)[..n],
-            ]
-        };
+        let j = Jets { pose, an, n };
         work.spans.resize_with(self.spans.len(), SpanBuf::default);
         for (i, span) in self.spans.iter().enumerate() {
             let buf = &mut work.spans[i];
             buf.reset();
-            match span {
-                Span::Straight {
-                    a, b, constant: true, ..
-                } if n > 0 => {
-                    buf.constant = Some(Dual2_64::from_re(
-                        (pose.point(*b, 0) - pose.point(*a, 0)).norm_squared().sqrt(),
-                    ))
-                }
-                Span::Straight { a, b, .. } => {
-                    let [pa, va, aa] = tracks(*a);
-                    let [pb, vb, ab] = tracks(*b);
-                    buf.len.resize(n, Dual2_64::from_re(0.0));
-                    for (k, l) in buf.len.iter_mut().enumerate() {
-                        *l = wrap::straight_jet([pb[k] - pa[k], vb[k] - va[k], ab[k] - aa[k]]);
-                    }
-                }
-                Span::Pin {
-                    a,
-                    b,
-                    c,
-                    axis,
-                    r,
-                    sense,
-                    ..
-                } if *r == 0.0 => {
-                    let (ta, tb, tc) = (tracks(*a), tracks(*b), tracks(*c));
-                    let at = |t: [&[V3<f64>]; 3], k: usize| [t[0][k], t[1][k], t[2][k]];
-                    buf.len.resize(n, Dual2_64::from_re(0.0));
-                    buf.on.resize(n, false);
-                    let mut inside = false;
-                    for (k, (l, on)) in buf.len.iter_mut().zip(buf.on.iter_mut()).enumerate() {
-                        let (len, engaged, bad) = wrap::thin_pin_jet(at(ta, k), at(tb, k), at(tc, k), *axis, *sense);
-                        (*l, *on) = (len, engaged);
-                        inside |= bad;
-                    }
-                    if inside {
-                        let k = (0..n)
-                            .find(|&k| wrap::thin_pin_jets(at(ta, k), at(tb, k), at(tc, k), *axis, *sense).is_none())
-                            .unwrap_or(0);
-                        return Err(self.inside(i, k));
-                    }
-                }
-                Span::Pin {
-                    a,
-                    b,
-                    c,
-                    axis,
-                    r,
-                    sense,
-                    ..
-                } => {
-                    for k in 0..n {
-                        let (l, e) = wrap::pin_length(
-                            jet(*a, k),
-                            jet(*b, k),
-                            jet(*c, k),
-                            dual(*axis),
-                            Dual2_64::from_re(*r),
-                            *sense,
-                        )
-                        .ok_or_else(|| self.inside(i, k))?;
-                        buf.len.push(l);
-                        buf.on.push(e);
-                    }
-                }
-                Span::Cam { a, b, cam, contact } => {
-                    let c = &self.cams[*cam];
-                    for k in 0..n {
-                        let (l, e) = cam_length(
-                            &c.profile,
-                            *contact,
-                            dual(c.axis),
-                            jet(*a, k),
-                            jet(*b, k),
-                            jet(c.center, k),
-                            jet(c.marker, k),
-                        )
-                        .ok_or_else(|| self.inside(i, k))?;
-                        buf.len.push(l);
-                        buf.on.push(e);
-                    }
-                }
-            }
+            self.span_analogs(i, span, &j, buf)?;
         }
         sum_paths(&self.paths, |s| matches!(self.spans[s], Span::Straight { .. }), n, work);
         for ((path, track), up) in self.paths.iter().zip(&mut work.tracks).zip(&self.split_up) {
             track.eye_up.clear();
             if let (Some(up), Some(&eye)) = (up, path.nodes.last()) {
-                let [p, v, a] = tracks(eye);
+                let [p, v, a] = j.tracks(eye);
                 track
                     .eye_up
                     .extend((0..n).map(|k| Dual2_64::new(up.dot(&p[k]), up.dot(&v[k]), up.dot(&a[k]))));
+            }
+        }
+        Ok(())
+    }
+
+    /// Span `i`'s length (and engagement) with its analogs at every φ.
+    #[inline(always)]
+    fn span_analogs(&self, i: usize, span: &Span<f64>, j: &Jets, buf: &mut SpanBuf<Dual2_64>) -> Result<(), PathError> {
+        let n = j.n;
+        let dual = |v: V3<f64>| v.map(Dual2_64::from_re);
+        let pose = j.pose;
+        match span {
+            Span::Straight {
+                a, b, constant: true, ..
+            } if n > 0 => {
+                buf.constant = Some(Dual2_64::from_re(
+                    (pose.point(*b, 0) - pose.point(*a, 0)).norm_squared().sqrt(),
+                ))
+            }
+            Span::Straight { a, b, .. } => {
+                let [pa, va, aa] = j.tracks(*a);
+                let [pb, vb, ab] = j.tracks(*b);
+                buf.len.resize(n, Dual2_64::from_re(0.0));
+                for (k, l) in buf.len.iter_mut().enumerate() {
+                    *l = wrap::straight_jet([pb[k] - pa[k], vb[k] - va[k], ab[k] - aa[k]]);
+                }
+            }
+            Span::Pin {
+                a,
+                b,
+                c,
+                axis,
+                r,
+                sense,
+                ..
+            } if *r == 0.0 => {
+                let (ta, tb, tc) = (j.tracks(*a), j.tracks(*b), j.tracks(*c));
+                let at = |t: [&[V3<f64>]; 3], k: usize| [t[0][k], t[1][k], t[2][k]];
+                buf.len.resize(n, Dual2_64::from_re(0.0));
+                buf.on.resize(n, false);
+                let mut inside = false;
+                for (k, (l, on)) in buf.len.iter_mut().zip(buf.on.iter_mut()).enumerate() {
+                    let (len, engaged, bad) = wrap::thin_pin_jet(at(ta, k), at(tb, k), at(tc, k), *axis, *sense);
+                    (*l, *on) = (len, engaged);
+                    inside |= bad;
+                }
+                if inside {
+                    let k = (0..n)
+                        .find(|&k| wrap::thin_pin_jets(at(ta, k), at(tb, k), at(tc, k), *axis, *sense).is_none())
+                        .unwrap_or(0);
+                    return Err(self.inside(i, k));
+                }
+            }
+            Span::Pin {
+                a,
+                b,
+                c,
+                axis,
+                r,
+                sense,
+                ..
+            } => {
+                for k in 0..n {
+                    let (l, e) = wrap::pin_length(
+                        j.jet(*a, k),
+                        j.jet(*b, k),
+                        j.jet(*c, k),
+                        dual(*axis),
+                        Dual2_64::from_re(*r),
+                        *sense,
+                    )
+                    .ok_or_else(|| self.inside(i, k))?;
+                    buf.len.push(l);
+                    buf.on.push(e);
+                }
+            }
+            Span::Cam { a, b, cam, contact } => {
+                let c = &self.cams[*cam];
+                for k in 0..n {
+                    let (l, e) = cam_length(
+                        &c.profile,
+                        *contact,
+                        dual(c.axis),
+                        j.jet(*a, k),
+                        j.jet(*b, k),
+                        j.jet(c.center, k),
+                        j.jet(c.marker, k),
+                    )
+                    .ok_or_else(|| self.inside(i, k))?;
+                    buf.len.push(l);
+                    buf.on.push(e);
+                }
             }
         }
         Ok(())
@@ -836,6 +829,38 @@ pub fn intervals(flag: &[bool], phis: &[f64]) -> Vec<Interval> {
     }
     out.sort_by(|x, y| x.from_deg.total_cmp(&y.from_deg));
     out
+}
+
+/// Positions and closed-form analogs of a solved cycle, read as dual
+/// numbers (value, d/dφ, d²/dφ²).
+struct Jets<'a> {
+    pose: &'a Pose<f64>,
+    an: &'a PoseAnalogs,
+    n: usize,
+}
+
+impl<'a> Jets<'a> {
+    /// A point as a dual vector at the k-th φ.
+    #[inline(always)]
+    fn jet(&self, slot: usize, k: usize) -> V3<Dual2_64> {
+        let (p, v, a) = (self.pose.point(slot, k), self.an.vel(slot, k), self.an.acc(slot, k));
+        V3::new(
+            Dual2_64::new(p.x, v.x, a.x),
+            Dual2_64::new(p.y, v.y, a.y),
+            Dual2_64::new(p.z, v.z, a.z),
+        )
+    }
+
+    /// A point's positions and analogs over the cycle, cut to its length.
+    #[inline(always)]
+    fn tracks(&self, slot: usize) -> [&'a [V3<f64>]; 3] {
+        let n = self.n;
+        [
+            &self.pose.track(slot)[..n],
+            &self.an.vel_track(slot)[..n],
+            &self.an.acc_track(slot)[..n],
+        ]
+    }
 }
 
 #[cfg(test)]
