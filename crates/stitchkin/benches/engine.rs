@@ -1,6 +1,6 @@
 //! Engine speed, one core, one full cycle (360 positions) per iteration.
 //! `cargo bench -p stitchkin --bench engine` prints time and heap
-//! allocations per cycle. Goals: four-bar ≤ 2 µs positions,
+//! allocations per cycle. Targets: four-bar ≤ 2 µs positions,
 //! ≤ 6 µs with first and second analogs; needle876 with analogs ≤ 10 µs;
 //! no heap allocation per φ step.
 
@@ -152,7 +152,7 @@ fn load_needle876(bencher: Bencher) {
     bencher.bench_local(|| Model::from_toml_str(black_box(text), "needle876").unwrap());
 }
 
-/// Goals: mf7923d, 3 needles × contours A and B, 360 steps: the
+/// Targets: mf7923d, 3 needles × contours A and B, 360 steps: the
 /// mechanism solve plus every path's ξ(φ) (P = ξ(φ0) − ξ(φ) is one
 /// subtraction more) ≤ 15 µs per cycle, ≤ 40 µs with P's analogs.
 fn bench_takeup<T: Real>(bencher: Bencher) {
@@ -198,7 +198,7 @@ fn mf7923d_take_up_with_analogs_dual(bencher: Bencher) {
 }
 
 /// One sweep setting of mf7923d (3 needles × contours A and B, 360
-/// steps, the three match scores), P' shared as the sweep shares it. Goal:
+/// steps, the three match scores), P' shared as the sweep shares it. Target:
 /// ≥ 100 000 settings per second on 2 cores, i.e. ≤ 20 µs per setting per core.
 #[divan::bench]
 fn sweep_setting_mf7923d(bencher: Bencher) {
@@ -226,7 +226,7 @@ fn sweep_setting_mf7923d(bencher: Bencher) {
     });
 }
 
-/// `stitchkin tune` of mf7923d over z and dphi (goal: under a second).
+/// `stitchkin tune` of mf7923d over z and dphi (target: under a second).
 #[divan::bench(sample_count = 5)]
 fn tune_mf7923d(bencher: Bencher) {
     use stitchkin::study::tune::{TuneOptions, tune};

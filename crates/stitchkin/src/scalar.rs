@@ -2,8 +2,8 @@
 //!
 //! Every position routine is generic over [`Real`], so one closed-form code
 //! path yields plain positions (`f64`) and exact first and second analogs
-//! (`Dual2_64`: value, d/dφ, d²/dφ²), and later exact derivatives with
-//! respect to parameters.
+//! (`Dual2_64`: value, d/dφ, d²/dφ²), and exact first derivatives with
+//! respect to parameters (`Dual64`, used by `study::sensitivity`).
 
 use nalgebra::RealField;
 use num_dual::{Dual2_64, Dual64};

@@ -9,6 +9,7 @@ mod docs;
 mod drawing;
 mod facts;
 mod fuzz_regressions;
+mod history;
 mod invariants;
 mod loading;
 mod measured;

@@ -1279,8 +1279,9 @@ def main():
 
     # ---------------- mismatch demo: 407 P' against the MF-7923D actual take-up P (illustrative)
     # P comes from ../mf7923d/generate_reference.py (independent numpy model of
-    # the preset): the preset's phase (dphi = 0, take-up T1 low at TDC) and the
-    # alternative its README rejected (dphi = 180, T1 up at TDC).
+    # the preset), with t1_phase = 0 and the eccentric turned by dphi on top:
+    # dphi = 0 is T1 low at TDC (the reading t1_phase = 0), dphi = 180 is T1 up
+    # at TDC (the preset's reading, t1_phase = 180).
     import sys
     sys.dont_write_bytecode = True          # leave ../mf7923d untouched
     sys.path.insert(0, os.path.join(HERE, "..", "mf7923d"))
@@ -1292,7 +1293,7 @@ def main():
         mrows = []
         SB = np.array([mf.S((g - pm["cyc_zero"]) % 360.0) for g in gridm]) - mf.S(phi0_c)
         for dphi in (0.0, 180.0):
-            pp = dict(mfref.NOMINAL)
+            pp = dict(mfref.NOMINAL, t1_phase=0.0)
             pp["dphi"] = dphi
             for j, name in enumerate(("n1", "n2", "n3"), start=1):
                 for cont in ("A", "B"):
