@@ -967,7 +967,11 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
                 .zip(values)
                 .map(|(v, x)| format!("{} = {}", v.name, stitchkin::format::fmt_num(*x)))
                 .collect();
-            s += &format!("# {word} {f} = {} at {}\n", stitchkin::format::fmt_num(*x), setting.join(", "));
+            s += &format!(
+                "# {word} {f} = {} at {}\n",
+                stitchkin::format::fmt_num(*x),
+                setting.join(", ")
+            );
         }
     }
     eprint!("{s}");

@@ -6,8 +6,8 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use stitchkin::error::Error;
-use stitchkin::model::Model;
 use stitchkin::format::fmt_num;
+use stitchkin::model::Model;
 use stitchkin::study::straightness::{
     Distribution, Reference, StraightnessOptions, ToleranceOptions, ToleranceStudy, Window, straightness,
     tolerance_study, tolerances,

@@ -230,10 +230,7 @@ pub fn set_stitch_value(model: &Model, params: &mut Params, which: &str, value: 
                 "write {which}_mm = \"NAME\" with NAME in [parameters] (with a range), or use --set"
             )),
         })),
-        None => Err(Error::Stitch(format!(
-            "model `{}` has no [stitch]",
-            model.name()
-        ))),
+        None => Err(Error::Stitch(format!("model `{}` has no [stitch]", model.name()))),
     }
 }
 
