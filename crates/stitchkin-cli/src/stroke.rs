@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use clap::Args;
 use stitchkin::error::Error;
 use stitchkin::format::fmt_num;
+use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::stroke::{Axis, StrokeOptions, StrokeStudy, point_slot, study};
-use stitchkin::study::sweep::{Design, Sweep, Vary};
 
 use crate::TableFormat;
 

@@ -29,8 +29,8 @@ use nalgebra::Matrix3;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use super::design::{Design, Sweep, Vary};
 use super::stroke::{NO_STROKE_MM, PoseFn, Refiner, argminmax, cst3, neighbours, point_slot};
-use super::sweep::{Design, Sweep, Vary};
 use crate::error::{Error, ParamError, did_you_mean};
 use crate::eval::{cycle_phis_deg, wrap_deg};
 use crate::geometry::{V3, norm_or_zero};

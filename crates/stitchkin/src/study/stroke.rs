@@ -23,7 +23,7 @@ use num_dual::Dual2_64;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::sweep::Sweep;
+use super::design::Sweep;
 use crate::error::{Error, ParamError, did_you_mean};
 use crate::eval::{MU_MAX_DEG, MU_MIN_DEG, cycle_phis_deg, wrap_deg};
 use crate::geometry::V3;
@@ -559,7 +559,7 @@ pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeO
     let (names, settings): (Vec<String>, Vec<Vec<f64>>) = match sweep {
         None => (Vec::new(), vec![Vec::new()]),
         Some(s) => {
-            if s.design != super::sweep::Design::Grid {
+            if s.design != super::design::Design::Grid {
                 return Err(Error::Param(ParamError {
                     message: "a stroke study runs on a grid of settings".into(),
                     help: Some("give --vary NAME=LO:HI:N without --samples".into()),

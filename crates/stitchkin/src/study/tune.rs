@@ -14,7 +14,8 @@ use argmin::solver::neldermead::NelderMead;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::sweep::{Design, Sweep, Vary};
+use super::design::{Design, Sweep, Vary};
+use super::figures::shared_stitch;
 use crate::error::{Error, ParamError};
 use crate::eval::stitch::Prepared;
 use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle_with};
@@ -205,7 +206,7 @@ pub fn default_adjustables(model: &Model, base: &Params) -> Result<Vec<String>, 
             }],
             Design::Grid,
         )?;
-        if super::sweep::shared_stitch(model, base, &one, 5.0)?.is_some() {
+        if shared_stitch(model, base, &one, 5.0)?.is_some() {
             out.push(p.name.clone());
         }
     }
@@ -293,7 +294,7 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
             seed: opts.seed,
         },
     )?;
-    let shared = super::sweep::shared_stitch(model, base, &design, opts.step_deg)?;
+    let shared = shared_stitch(model, base, &design, opts.step_deg)?;
     let problem = Problem {
         model,
         base,

@@ -22,9 +22,9 @@ use stitchkin::model::{Model, Params};
 use stitchkin::stitch::consumption::{StitchGeometry, consumption};
 use stitchkin::stitch::mismatch::mismatch;
 use stitchkin::study::compare2d3d::compare_2d3d;
+use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::straightness::{Reference, StraightnessOptions, Window, straightness};
 use stitchkin::study::stroke::{Axis, StrokeOptions, point_slot, stroke, study};
-use stitchkin::study::sweep::{Design, Sweep, Vary};
 use stitchkin::study::tune::{TuneOptions, set_stitch_value, tune};
 use stitchkin::verify::cross_check;
 

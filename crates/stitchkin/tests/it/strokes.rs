@@ -5,11 +5,11 @@ use stitchkin::eval::{CycleOptions, run_cycle};
 use stitchkin::mechanism::Phi;
 use stitchkin::model::{Model, Params};
 use stitchkin::scalar::Real;
+use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::straightness::{
     Distribution, Reference, StraightnessOptions, ToleranceOptions, Window, straightness, tolerance_study, tolerances,
 };
 use stitchkin::study::stroke::{Axis, StrokeOptions, point_slot, stroke, study};
-use stitchkin::study::sweep::{Design, Sweep, Vary};
 
 fn with(m: &Model, set: &[(&str, f64)]) -> Params {
     let mut p = m.defaults();
