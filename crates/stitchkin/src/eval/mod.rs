@@ -2,7 +2,11 @@
 //! real velocities and accelerations, link and transmission angles, measures,
 //! collected into a table of named, unit-carrying columns.
 
+mod step;
 pub mod stitch;
+
+pub use step::MAX_STEP_DEG;
+pub(crate) use step::check_step;
 
 use num_dual::Dual2_64;
 use serde::Serialize;

@@ -1428,6 +1428,87 @@ impl Model {
             .map(|i| self.point_names[i].as_str())
             .collect()
     }
+
+    /// The slot of a point by name.
+    pub fn point_slot(&self, name: &str) -> Result<usize, PointError> {
+        self.point_names
+            .iter()
+            .position(|p| p == name)
+            .ok_or_else(|| PointError::Unknown {
+                name: name.to_string(),
+                closest: did_you_mean(name, self.point_names.iter().map(String::as_str)).map(str::to_string),
+                points: self.point_names.clone(),
+            })
+    }
+
+    /// The slot of a point that moves, by name (a fixed point has no path).
+    pub fn moving_point_slot(&self, name: &str) -> Result<usize, PointError> {
+        let slot = self.point_slot(name)?;
+        if self.is_fixed(slot) {
+            return Err(PointError::Fixed {
+                name: name.to_string(),
+                moving: self.moving_point_names().into_iter().map(str::to_string).collect(),
+            });
+        }
+        Ok(slot)
+    }
+}
+
+/// A point name the model cannot take where it was given.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PointError {
+    /// The model has no point of that name.
+    Unknown {
+        name: String,
+        /// The model's point closest to the name, when it looks like a typo.
+        closest: Option<String>,
+        /// Every point of the model, in slot order.
+        points: Vec<String>,
+    },
+    /// The point is fixed where a moving point is needed: it has no path.
+    Fixed {
+        name: String,
+        /// The points that move, in slot order.
+        moving: Vec<String>,
+    },
+}
+
+impl PointError {
+    /// The error, naming `place`: where the name was given (for example
+    /// the option that carried it), with the points to choose from.
+    pub fn given_in(&self, place: &str) -> crate::Error {
+        crate::Error::Param(match self {
+            PointError::Unknown { name, closest, points } => ParamError {
+                message: format!("the model has no point `{name}` (in {place}){}", typo_hint(closest)),
+                help: Some(format!("its points are: {}", points.join(", "))),
+            },
+            PointError::Fixed { name, moving } => ParamError {
+                message: format!("point `{name}` is fixed, so it has no path (in {place})"),
+                help: Some(format!("the moving points are: {}", moving.join(", "))),
+            },
+        })
+    }
+}
+
+impl std::fmt::Display for PointError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PointError::Unknown { name, closest, .. } => {
+                write!(f, "the model has no point `{name}`{}", typo_hint(closest))
+            }
+            PointError::Fixed { name, .. } => write!(f, "point `{name}` is fixed, so it has no path"),
+        }
+    }
+}
+
+impl std::error::Error for PointError {}
+
+/// ` (did you mean `X`?)` for a likely typo, else nothing.
+fn typo_hint(closest: &Option<String>) -> String {
+    closest
+        .as_ref()
+        .map(|s| format!(" (did you mean `{s}`?)"))
+        .unwrap_or_default()
 }
 
 /// The JSON Schema of the model file format, pretty-printed.

@@ -25,7 +25,7 @@ use serde::Serialize;
 
 use super::design::Sweep;
 use crate::error::{Error, ParamError, did_you_mean};
-use crate::eval::{MU_MAX_DEG, MU_MIN_DEG, cycle_phis_deg, wrap_deg};
+use crate::eval::{MU_MAX_DEG, MU_MIN_DEG, check_step, cycle_phis_deg, wrap_deg};
 use crate::geometry::V3;
 use crate::mechanism::{Mechanism, Phi, Pose};
 use crate::model::{Model, Params};
@@ -41,28 +41,6 @@ pub const NO_STROKE_MM: f64 = 1e-9;
 /// Settings tabulated at most by one `stroke` study (all rows are kept in
 /// memory; `stitchkin sweep` streams larger grids).
 pub const MAX_SETTINGS: usize = 100_000;
-
-/// The coarsest φ step of a study that refines extremes: each extremum must
-/// lie between a grid sample's two neighbours, degrees.
-pub const MAX_STEP_DEG: f64 = 45.0;
-
-/// Checks a study's φ step (the cycle's own checks, and at most
-/// [`MAX_STEP_DEG`]).
-pub(crate) fn check_step(step_deg: f64) -> Result<(), Error> {
-    crate::eval::check_options(&crate::eval::CycleOptions {
-        step_deg,
-        ..Default::default()
-    })?;
-    if step_deg > MAX_STEP_DEG {
-        return Err(Error::Param(ParamError {
-            message: format!("the step {step_deg} deg is too coarse to bracket the extremes"),
-            help: Some(format!(
-                "give a step of at most {MAX_STEP_DEG} deg, e.g. --step 1 (extremes are refined below it)"
-            )),
-        }));
-    }
-    Ok(())
-}
 
 /// A scalar function of the mechanism's pose at one φ, computable in any
 /// scalar type: plain `f64` on the cycle grid, second-order dual numbers
@@ -307,30 +285,6 @@ impl Axis {
             Axis::Vector(v) => (V3::zeros(), V3::new(v[0], v[1], v[2])),
         }
     }
-}
-
-/// The slot of a point by name (of a moving point when `moving`); the
-/// error lists the model's points.
-pub fn point_slot(model: &Model, name: &str, option: &str, moving: bool) -> Result<usize, Error> {
-    let slot = model.point_names.iter().position(|p| p == name).ok_or_else(|| {
-        let hint = did_you_mean(name, model.point_names.iter().map(String::as_str))
-            .map(|s| format!(" (did you mean `{s}`?)"))
-            .unwrap_or_default();
-        Error::Param(ParamError {
-            message: format!("the model has no point `{name}` (in {option}){hint}"),
-            help: Some(format!("its points are: {}", model.point_names.join(", "))),
-        })
-    })?;
-    if moving && model.is_fixed(slot) {
-        return Err(Error::Param(ParamError {
-            message: format!("point `{name}` is fixed, so it has no path (in {option})"),
-            help: Some(format!(
-                "the moving points are: {}",
-                model.moving_point_names().join(", ")
-            )),
-        }));
-    }
-    Ok(slot)
 }
 
 /// One extreme position of the point along the axis.
@@ -758,13 +712,8 @@ mod tests {
     #[test]
     fn slider_crank_dead_centres_are_exact_below_the_grid_step() {
         let m = Model::from_toml_str(SLIDER_CRANK, "slider.toml").unwrap();
-        let s = point_slot(&m, "S", "--point", true).unwrap();
-        assert!(
-            point_slot(&m, "O", "--point", true)
-                .unwrap_err()
-                .to_string()
-                .contains("is fixed")
-        );
+        let s = m.moving_point_slot("S").unwrap();
+        assert!(m.moving_point_slot("O").unwrap_err().to_string().contains("is fixed"));
         // A 7° grid misses both dead centres; refinement finds them.
         let r = stroke(&m, &m.defaults(), s, &Axis::World(0), 7.0).unwrap();
         assert!((r.stroke_mm - 20.0).abs() < 1e-12, "{r:?}");

@@ -235,7 +235,7 @@ fn point_slots(model: &Model, points: &[String]) -> Result<Vec<usize>, Error> {
     }
     points
         .iter()
-        .map(|p| crate::study::stroke::point_slot(model, p, "--points", true))
+        .map(|p| model.moving_point_slot(p).map_err(|e| e.given_in("--points")))
         .collect()
 }
 
