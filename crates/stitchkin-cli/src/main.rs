@@ -734,7 +734,7 @@ fn score(s: Option<f64>) -> String {
 }
 
 fn tune_cmd(args: TuneArgs) -> Result<(), Error> {
-    use stitchkin::study::tune::{default_adjustables, set_stitch_value, tune};
+    use stitchkin::study::tune::{set_stitch_value, tune};
     let (model, mut params) = load(&args.model)?;
     if let Some(m) = args.thickness {
         set_stitch_value(&model, &mut params, "m", m)?;
@@ -744,7 +744,7 @@ fn tune_cmd(args: TuneArgs) -> Result<(), Error> {
     }
     let adjust = match &args.search.adjust {
         Some(a) => a.clone(),
-        None => default_adjustables(&model, &params)?,
+        None => model.default_adjustables(&params)?,
     };
     let r = tune(&model, &params, &args.search.options(adjust))?;
     let out = match args.format {

@@ -1452,6 +1452,59 @@ impl Model {
         }
         Ok(slot)
     }
+
+    /// The settings a technician adjusts by default: every parameter with an
+    /// adjustable range that leaves the stitch process alone (not the
+    /// material or the stitch length, not the needle's own motion), in file
+    /// order; none when the model has no stitch process.
+    pub fn default_adjustables(&self, base: &Params) -> Result<Vec<String>, crate::Error> {
+        let ranged: Vec<(&str, f64, f64)> = self
+            .params
+            .iter()
+            .filter_map(|p| match p.range {
+                Some([lo, hi]) if !(p.is_derived() || lo >= hi) => Some((p.name.as_str(), lo, hi)),
+                _ => None,
+            })
+            .collect();
+        if ranged.is_empty() {
+            return Ok(Vec::new());
+        }
+        let Some(nominal) = self.stitch_setup(base)? else {
+            return Ok(Vec::new());
+        };
+        let mut out = Vec::new();
+        for (name, lo, hi) in ranged {
+            if self.leaves_stitch_alone(base, &nominal, name, lo, hi)? {
+                out.push(name.to_string());
+            }
+        }
+        Ok(out)
+    }
+
+    /// Whether parameter `name` anywhere in `lo`…`hi` leaves the stitch
+    /// process as it is at `base` (`nominal`, its [`Model::stitch_setup`]).
+    /// Decided by comparing the stitch's inputs (m, t, every organ's sampled
+    /// motion, the moments) at both ends and a third of the way along:
+    /// identical inputs give identical P'. A setting whose stitch process
+    /// cannot be resolved changes it.
+    pub fn leaves_stitch_alone(
+        &self,
+        base: &Params,
+        nominal: &stitch::StitchSetup,
+        name: &str,
+        lo: f64,
+        hi: f64,
+    ) -> Result<bool, ParamError> {
+        for x in [lo, hi, lo + (hi - lo) / 3.0] {
+            let mut p = base.clone();
+            self.set(&mut p, name, x)?;
+            match self.stitch_setup(&p) {
+                Ok(Some(s)) if &s == nominal => {}
+                _ => return Ok(false),
+            }
+        }
+        Ok(true)
+    }
 }
 
 /// A point name the model cannot take where it was given.

@@ -160,24 +160,16 @@ pub fn select_figures(available: &[(String, f64)], patterns: &[String]) -> Resul
 
 /// P' computed once for the whole sweep, when the varied parameters leave
 /// the stitch process alone (they change only the take-up, as `z`, `dphi`,
-/// `r1` of the MF-7923D do). Decided by comparing the stitch's inputs (m,
-/// t, every organ's sampled motion, the moments) at the nominal setting
-/// with those at each varied parameter's two ends and a third of the way
-/// along: identical inputs give identical P'. `None` when the model has no
-/// stitch process or a varied parameter changes it (P' is then computed per
-/// setting).
+/// `r1` of the MF-7923D do: [`Model::leaves_stitch_alone`] for every varied
+/// parameter). `None` when the model has no stitch process or a varied
+/// parameter changes it (P' is then computed per setting).
 pub fn shared_stitch(model: &Model, base: &Params, sweep: &Sweep, step_deg: f64) -> Result<Option<Prepared>, Error> {
     let Some(nominal) = model.stitch_setup(base)? else {
         return Ok(None);
     };
     for v in &sweep.vary {
-        for x in [v.lo, v.hi, v.lo + (v.hi - v.lo) / 3.0] {
-            let mut p = base.clone();
-            model.set(&mut p, &v.name, x)?;
-            match model.stitch_setup(&p) {
-                Ok(Some(s)) if s == nominal => {}
-                _ => return Ok(None),
-            }
+        if !model.leaves_stitch_alone(base, &nominal, &v.name, v.lo, v.hi)? {
+            return Ok(None);
         }
     }
     prepare(model, base, step_deg)

@@ -187,32 +187,6 @@ impl CostFunction for Cost<'_, '_> {
     }
 }
 
-/// The settings a technician adjusts by default: every parameter with an
-/// adjustable range that leaves the stitch process alone (not the material
-/// or the stitch length, not the needle's own motion), in file order.
-pub fn default_adjustables(model: &Model, base: &Params) -> Result<Vec<String>, Error> {
-    let mut out = Vec::new();
-    for p in &model.params {
-        let Some([lo, hi]) = p.range else { continue };
-        if p.is_derived() || lo >= hi {
-            continue;
-        }
-        let one = Sweep::new(
-            vec![Vary {
-                name: p.name.clone(),
-                lo,
-                hi,
-                n: 2,
-            }],
-            Design::Grid,
-        )?;
-        if shared_stitch(model, base, &one, 5.0)?.is_some() {
-            out.push(p.name.clone());
-        }
-    }
-    Ok(out)
-}
-
 /// Sets the stitch's thickness (`which` = "m") or length ("t") through the
 /// parameter its `[stitch]` value names.
 pub fn set_stitch_value(model: &Model, params: &mut Params, which: &str, value: f64) -> Result<(), Error> {

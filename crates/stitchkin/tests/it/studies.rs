@@ -98,7 +98,7 @@ fn p_prime_is_shared_only_when_the_stitch_does_not_change() {
 
 #[test]
 fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
-    use stitchkin::study::tune::{TuneOptions, default_adjustables, set_stitch_value, tune};
+    use stitchkin::study::tune::{TuneOptions, set_stitch_value, tune};
     let m = Model::preset("mf7923d").unwrap();
     let mut p = m.defaults();
     m.set(&mut p, "t1_phase", 180.0).unwrap();
@@ -106,7 +106,7 @@ fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
     assert_eq!(p.values[m.param_index("m").unwrap()], 4.0);
     // The technician's settings: not m, the stitch length, the needle crank r2
     // (it moves the needle, so P') or the reading switch t1_phase.
-    let adjust = default_adjustables(&m, &p).unwrap();
+    let adjust = m.default_adjustables(&p).unwrap();
     assert_eq!(adjust, ["r1", "l_o2b", "z", "dphi"]);
     let opts = TuneOptions {
         adjust: vec!["z".into(), "dphi".into()],
