@@ -13,10 +13,10 @@ use super::figures::{figures, max_pprime_figure};
 use crate::error::Error;
 use crate::eval::stitch::Prepared;
 use crate::eval::{CycleOptions, path_error, run_cycle_with};
-use crate::mechanism::{Phi, Pose};
+use crate::mechanism::{Mechanism, Phi, Pose};
 use crate::model::{Model, Params};
 use crate::scalar::Real;
-use crate::thread::ThreadWork;
+use crate::thread::{ThreadWork, Threads};
 
 /// One evaluated setting.
 #[derive(Debug, Clone, PartialEq)]
@@ -253,99 +253,13 @@ impl Fast {
         let mech = model.mechanism::<f64>(base).ok()?;
         let threads = mech.threads.as_ref();
         let path_names: Vec<&str> = threads.map_or(Vec::new(), |t| t.paths.iter().map(|p| p.name.as_str()).collect());
-        let path_figure = |p: &str, i: usize, n: &str| {
-            let pn = crate::eval::take_up_name(threads.is_some_and(|t| t.split_up[i].is_some()));
-            n == format!("{p}.max_{pn}_mm") || n == format!("{p}.min_{pn}_mm")
-        };
-        let (mut mu, mut measures, mut strokes, mut stitch) = (false, false, false, false);
-        for n in names {
-            let path_fig = path_names.iter().enumerate().any(|(i, p)| path_figure(p, i, n));
-            if path_fig {
-            } else if n.starts_with("mu.") || n.starts_with("mu_") {
-                mu = true;
-            } else if n.ends_with("_stroke_mm") {
-                strokes = true;
-            } else if model.measure_names.iter().any(|m| {
-                [".range_mm", ".min_mm", ".max_mm"]
-                    .iter()
-                    .any(|s| n == &format!("{m}{s}"))
-            }) {
-                measures = true;
-            } else if n.starts_with("score.")
-                || n == "checks.ok"
-                || [
-                    ".score",
-                    ".rms_D_mm",
-                    ".max_abs_D_mm",
-                    ".max_Pprime_mm",
-                    ".max_Pprime_B_mm",
-                    ".checks_ok",
-                    ".bound_margin_mm",
-                ]
-                .iter()
-                .any(|s| n.ends_with(s))
-            {
-                stitch = true;
-            } else {
-                return None;
-            }
-        }
+        let kinds = Kinds::of(model, threads, &path_names, names)?;
         let phis = crate::eval::cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
-        let mut plans = Vec::new();
-        if stitch {
-            let prepared = shared?;
-            if prepared.phis != phis {
-                return None;
-            }
-            let n = phis.len();
-            let setup = &prepared.setup;
-            let fixed_checks = prepared.needle_checks();
-            for (i, (th, path)) in prepared.required.threads.iter().zip(&setup.paths).enumerate() {
-                let compared = &prepared.compared[i];
-                let pprime = crate::eval::stitch::pprime_at_split(th, n);
-                let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
-                let (hi, lo) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| {
-                    (hi.max(pprime[k]), lo.min(pprime[k]))
-                });
-                let kmax = (0..n)
-                    .max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a)))
-                    .unwrap_or(0);
-                let path = match path {
-                    Some(name) => Some(path_names.iter().position(|p| p == name)?),
-                    None => None,
-                };
-                // The full cycle compares a needle thread at B only when its
-                // path is split there; the fast path takes that case alone.
-                let at_b = th.travel_mm.is_some();
-                if at_b && path.is_some_and(|i| threads.is_none_or(|t| t.split_up[i].is_none())) {
-                    return None;
-                }
-                let bound = match (path, &th.travel_mm, &th.loop_mm) {
-                    (Some(_), Some(s), Some(lp)) => Some(crate::stitch::checks::bound_curve(
-                        &phis,
-                        &s[..n],
-                        &lp[..n],
-                        prepared.phi0_deg,
-                    )),
-                    _ => None,
-                };
-                let weight = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
-                let mine: Vec<_> = fixed_checks.iter().filter(|c| c.thread == th.name).collect();
-                plans.push(StitchPlan {
-                    name: th.name.clone(),
-                    path,
-                    max_pprime_figure: max_pprime_figure(at_b),
-                    max_pprime_mm: pprime[kmax],
-                    pprime,
-                    ks,
-                    weight,
-                    range: hi - lo,
-                    bound,
-                    has_checks: !mine.is_empty(),
-                    fixed_checks_ok: mine.iter().all(|c| c.ok),
-                });
-            }
-        }
+        let plans = if kinds.stitch {
+            StitchPlan::all(shared?, &phis, threads, &path_names)?
+        } else {
+            Vec::new()
+        };
         let phi0 = [Phi::at_deg(threads.map_or(0.0, |t| t.phi0_deg))];
         Some(Fast {
             table: Phi::table(&phis),
@@ -357,9 +271,9 @@ impl Fast {
             work: ThreadWork::default(),
             work0: ThreadWork::default(),
             p: Vec::new(),
-            mu,
-            measures,
-            strokes,
+            mu: kinds.mu,
+            measures: kinds.measures,
+            strokes: kinds.strokes,
             stitch: plans,
             buf: Vec::new(),
             cols: Vec::new(),
@@ -378,168 +292,337 @@ impl Fast {
         out: &mut Figures,
     ) -> Result<(), Error> {
         let mech = model.mechanism::<f64>(&self.params)?;
-        let n = self.phis.len();
-        mech.reset_pose(&mut self.pose, n);
+        mech.reset_pose(&mut self.pose, self.phis.len());
         mech.solve(&self.table, &mut self.pose)?;
         if let Some(threads) = &mech.threads {
-            // ξ(φ0) as `run_cycle` takes it (a pose of its own at φ0),
-            // unless φ0 is on the grid: the same arithmetic there gives
-            // the same bits.
-            let k0 = self.phis.iter().position(|&p| p == threads.phi0_deg);
-            if k0.is_none() {
+            self.take_up_figures(&mech, threads, out)?;
+        }
+        if self.mu && !model.dyads.is_empty() {
+            self.transmission_figures(model, &mech, out)?;
+        }
+        if self.measures && !model.measure_names.is_empty() {
+            self.measure_figures(model, &mech, out)?;
+        }
+        if self.strokes {
+            self.stroke_figures(model, opts, out)?;
+        }
+        if !self.stitch.is_empty() && shared.is_some() {
+            self.stitch_figures(out);
+        }
+        Ok(())
+    }
+
+    /// The take-up P of every path over the cycle (kept in `self.p`) and
+    /// its largest and smallest value.
+    fn take_up_figures(
+        &mut self,
+        mech: &Mechanism<f64>,
+        threads: &Threads<f64>,
+        out: &mut Figures,
+    ) -> Result<(), Error> {
+        let n = self.phis.len();
+        // ξ(φ0) as `run_cycle` takes it (a pose of its own at φ0),
+        // unless φ0 is on the grid: the same arithmetic there gives
+        // the same bits.
+        let k0 = self.phis.iter().position(|&p| p == threads.phi0_deg);
+        if k0.is_none() {
+            mech.reset_pose(&mut self.pose0, 1);
+            mech.solve(&self.phi0, &mut self.pose0)?;
+            threads
+                .evaluate_into(&self.pose0, None, &mut self.work0)
+                .map_err(|e| path_error(e, threads.phi0_deg))?;
+        }
+        if let Err(e) = threads.evaluate_into(&self.pose, None, &mut self.work) {
+            // `run_cycle` reports a path that fails at φ0 first.
+            if k0.is_some() {
                 mech.reset_pose(&mut self.pose0, 1);
                 mech.solve(&self.phi0, &mut self.pose0)?;
                 threads
                     .evaluate_into(&self.pose0, None, &mut self.work0)
                     .map_err(|e| path_error(e, threads.phi0_deg))?;
             }
-            if let Err(e) = threads.evaluate_into(&self.pose, None, &mut self.work) {
-                // `run_cycle` reports a path that fails at φ0 first.
-                if k0.is_some() {
-                    mech.reset_pose(&mut self.pose0, 1);
-                    mech.solve(&self.phi0, &mut self.pose0)?;
-                    threads
-                        .evaluate_into(&self.pose0, None, &mut self.work0)
-                        .map_err(|e| path_error(e, threads.phi0_deg))?;
-                }
-                let phi = self.phis[e.k];
-                return Err(path_error(e, phi));
-            }
-            self.p.resize_with(threads.paths.len(), Vec::new);
-            for (i, (path, track)) in threads.paths.iter().zip(&self.work.tracks).enumerate() {
-                let xi0 = match k0 {
-                    Some(k) => track.xi_at_split(k),
-                    None => self.work0.tracks[i].xi_at_split(0),
-                };
-                let p = &mut self.p[i];
-                p.clear();
-                p.extend((0..n).map(|k| threads.convention.take_up(track.xi_at_split(k), xi0)));
-                let pn = crate::eval::take_up_name(!track.eye_up.is_empty());
-                let (lo, hi) = finite_extremes(p)
-                    .map_err(|k| not_finite(&format!("{}.{pn}_mm", path.name), p[k], self.phis[k]))?;
-                out.push(|| format!("{}.max_{pn}_mm", path.name), hi);
-                out.push(|| format!("{}.min_{pn}_mm", path.name), lo);
-            }
+            let phi = self.phis[e.k];
+            return Err(path_error(e, phi));
         }
-        if self.mu && !model.dyads.is_empty() {
-            // The angles' parts (y, x) only; atan2 at the extremes alone.
-            let pose = &self.pose;
-            per_phi_columns(&mut self.parts, &mut self.part_buf, model.dyads.len(), n, |k, b| {
-                mech.transmission_parts(pose, k, b)
-            });
-            let mut all_ok = true;
-            let (mut lo, mut hi) = (f64::MAX, f64::MIN);
-            let first = out.vals.len();
-            out.push(|| "mu.min_deg".into(), 0.0);
-            out.push(|| "mu.max_deg".into(), 0.0);
-            out.push(|| "mu.ok".into(), 0.0);
-            for (d, v) in model.dyads.iter().zip(&self.parts) {
-                let (mu_min, mu_max) = transmission_extremes_deg(v)
-                    .map_err(|(k, mu)| not_finite(&format!("mu_{}_deg", d.key), mu, self.phis[k]))?;
-                all_ok &= mu_min >= crate::eval::MU_MIN_DEG && mu_max <= crate::eval::MU_MAX_DEG;
-                lo = lo.min(mu_min);
-                hi = hi.max(mu_max);
-                out.push(|| format!("mu_{}.min_deg", d.key), mu_min);
-                out.push(|| format!("mu_{}.max_deg", d.key), mu_max);
-            }
-            out.vals[first..first + 3].copy_from_slice(&[lo, hi, if all_ok { 1.0 } else { 0.0 }]);
+        self.p.resize_with(threads.paths.len(), Vec::new);
+        for (i, (path, track)) in threads.paths.iter().zip(&self.work.tracks).enumerate() {
+            let xi0 = match k0 {
+                Some(k) => track.xi_at_split(k),
+                None => self.work0.tracks[i].xi_at_split(0),
+            };
+            let p = &mut self.p[i];
+            p.clear();
+            p.extend((0..n).map(|k| threads.convention.take_up(track.xi_at_split(k), xi0)));
+            let pn = crate::eval::take_up_name(!track.eye_up.is_empty());
+            let (lo, hi) =
+                finite_extremes(p).map_err(|k| not_finite(&format!("{}.{pn}_mm", path.name), p[k], self.phis[k]))?;
+            out.push(|| format!("{}.max_{pn}_mm", path.name), hi);
+            out.push(|| format!("{}.min_{pn}_mm", path.name), lo);
         }
-        if self.measures && !model.measure_names.is_empty() {
-            let pose = &self.pose;
-            per_phi_columns(&mut self.cols, &mut self.buf, model.measure_names.len(), n, |k, b| {
-                mech.measures(pose, k, b)
-            });
-            for (name, v) in model.measure_names.iter().zip(&self.cols) {
-                if let Some(k) = v.iter().position(|x| !x.is_finite()) {
-                    return Err(not_finite(&format!("{name}_mm"), v[k], self.phis[k]));
-                }
-                let (i0, i1) = crate::eval::extremes(v);
-                out.push(|| format!("{name}.range_mm"), v[i1] - v[i0]);
-                out.push(|| format!("{name}.min_mm"), v[i0]);
-                out.push(|| format!("{name}.max_mm"), v[i1]);
-            }
+        Ok(())
+    }
+
+    /// The extremes of every transmission angle, overall and per dyad, and
+    /// whether all stay in the band.
+    fn transmission_figures(&mut self, model: &Model, mech: &Mechanism<f64>, out: &mut Figures) -> Result<(), Error> {
+        // The angles' parts (y, x) only; atan2 at the extremes alone.
+        let pose = &self.pose;
+        per_phi_columns(
+            &mut self.parts,
+            &mut self.part_buf,
+            model.dyads.len(),
+            self.phis.len(),
+            |k, b| mech.transmission_parts(pose, k, b),
+        );
+        let mut all_ok = true;
+        let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+        let first = out.vals.len();
+        out.push(|| "mu.min_deg".into(), 0.0);
+        out.push(|| "mu.max_deg".into(), 0.0);
+        out.push(|| "mu.ok".into(), 0.0);
+        for (d, v) in model.dyads.iter().zip(&self.parts) {
+            let (mu_min, mu_max) = transmission_extremes_deg(v)
+                .map_err(|(k, mu)| not_finite(&format!("mu_{}_deg", d.key), mu, self.phis[k]))?;
+            all_ok &= mu_min >= crate::eval::MU_MIN_DEG && mu_max <= crate::eval::MU_MAX_DEG;
+            lo = lo.min(mu_min);
+            hi = hi.max(mu_max);
+            out.push(|| format!("mu_{}.min_deg", d.key), mu_min);
+            out.push(|| format!("mu_{}.max_deg", d.key), mu_max);
         }
-        if self.strokes {
-            let points = opts.points.clone().unwrap_or_else(|| model.output_points.clone());
-            let axes = if model.planar { 2 } else { 3 };
-            for &pt in &points {
-                for (c, axis) in ["x", "y", "z"].iter().enumerate().take(axes) {
-                    let (lo, hi) = self
-                        .pose
-                        .track(pt)
-                        .iter()
-                        .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v[c]), b.max(v[c])));
-                    if !(lo.is_finite() && hi.is_finite()) {
-                        return Err(not_finite(
-                            &format!("{}.{axis}_mm", model.point_names[pt]),
-                            f64::NAN,
-                            self.phis[0],
-                        ));
-                    }
-                    out.push(|| format!("{}.{axis}_stroke_mm", model.point_names[pt]), hi - lo);
-                }
+        out.vals[first..first + 3].copy_from_slice(&[lo, hi, if all_ok { 1.0 } else { 0.0 }]);
+        Ok(())
+    }
+
+    /// The range, smallest and largest value of every measure.
+    fn measure_figures(&mut self, model: &Model, mech: &Mechanism<f64>, out: &mut Figures) -> Result<(), Error> {
+        let pose = &self.pose;
+        per_phi_columns(
+            &mut self.cols,
+            &mut self.buf,
+            model.measure_names.len(),
+            self.phis.len(),
+            |k, b| mech.measures(pose, k, b),
+        );
+        for (name, v) in model.measure_names.iter().zip(&self.cols) {
+            if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+                return Err(not_finite(&format!("{name}_mm"), v[k], self.phis[k]));
             }
+            let (i0, i1) = crate::eval::extremes(v);
+            out.push(|| format!("{name}.range_mm"), v[i1] - v[i0]);
+            out.push(|| format!("{name}.min_mm"), v[i0]);
+            out.push(|| format!("{name}.max_mm"), v[i1]);
         }
-        if !self.stitch.is_empty() && shared.is_some() {
-            let mut scores = Vec::new();
-            let mut all_ok = true;
-            let mut any_checks = false;
-            for plan in &self.stitch {
-                out.push(
-                    || format!("{}.{}", plan.name, plan.max_pprime_figure),
-                    plan.max_pprime_mm,
-                );
-                // As `eval::stitch`: the thread bound where P comes
-                // closest to it, and every check of the thread.
-                let margin = match (plan.path, &plan.bound) {
-                    (Some(pi), Some(bound)) => Some(
-                        self.p[pi]
-                            .iter()
-                            .zip(bound)
-                            .map(|(p, b)| b - p)
-                            .fold(f64::INFINITY, f64::min),
-                    ),
-                    _ => None,
-                };
-                if plan.has_checks || margin.is_some() {
-                    let ok = plan.fixed_checks_ok && margin.is_none_or(|m| m >= -1e-9);
-                    all_ok &= ok;
-                    any_checks = true;
-                    out.push(|| format!("{}.checks_ok", plan.name), if ok { 1.0 } else { 0.0 });
+        Ok(())
+    }
+
+    /// The stroke of every tabulated point along each axis.
+    fn stroke_figures(&self, model: &Model, opts: &CycleOptions, out: &mut Figures) -> Result<(), Error> {
+        let points = opts.points.clone().unwrap_or_else(|| model.output_points.clone());
+        let axes = if model.planar { 2 } else { 3 };
+        for &pt in &points {
+            for (c, axis) in ["x", "y", "z"].iter().enumerate().take(axes) {
+                let (lo, hi) = self
+                    .pose
+                    .track(pt)
+                    .iter()
+                    .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v[c]), b.max(v[c])));
+                if !(lo.is_finite() && hi.is_finite()) {
+                    return Err(not_finite(
+                        &format!("{}.{axis}_mm", model.point_names[pt]),
+                        f64::NAN,
+                        self.phis[0],
+                    ));
                 }
-                if let Some(m) = margin {
-                    out.push(|| format!("{}.bound_margin_mm", plan.name), m);
-                }
-                let Some(pi) = plan.path else { continue };
-                if plan.ks.is_empty() {
-                    continue;
-                }
-                // As `stitch::mismatch::mismatch`: D = P − P' over the
-                // compared positions, in order.
-                let p = &self.p[pi];
-                let count = plan.ks.len() as f64;
-                let rms = (crate::stitch::mismatch::sum_sq_diff(p, &plan.pprime, &plan.weight) / count).sqrt();
-                let mut max_abs = 0.0f64;
-                for ((a, b), w) in p.iter().zip(&plan.pprime).zip(&plan.weight) {
-                    max_abs = max_abs.max((a - b).abs() * w);
-                }
-                if plan.range > 1e-12 {
-                    let score = 100.0 * (1.0 - rms / plan.range).max(0.0);
-                    out.push(|| format!("{}.score", plan.name), score);
-                    scores.push(score);
-                }
-                out.push(|| format!("{}.rms_D_mm", plan.name), rms);
-                out.push(|| format!("{}.max_abs_D_mm", plan.name), max_abs);
-            }
-            if !scores.is_empty() {
-                out.push(|| "score.mean".into(), scores.iter().sum::<f64>() / scores.len() as f64);
-                out.push(|| "score.min".into(), scores.iter().cloned().fold(f64::MAX, f64::min));
-            }
-            if any_checks {
-                out.push(|| "checks.ok".into(), if all_ok { 1.0 } else { 0.0 });
+                out.push(|| format!("{}.{axis}_stroke_mm", model.point_names[pt]), hi - lo);
             }
         }
         Ok(())
+    }
+
+    /// Every stitch thread's largest P', checks, bound margin and match of
+    /// P (from `self.p`) against P', then the mean and worst score.
+    fn stitch_figures(&self, out: &mut Figures) {
+        let mut scores = Vec::new();
+        let mut all_ok = true;
+        let mut any_checks = false;
+        for plan in &self.stitch {
+            out.push(
+                || format!("{}.{}", plan.name, plan.max_pprime_figure),
+                plan.max_pprime_mm,
+            );
+            // As `eval::stitch`: the thread bound where P comes
+            // closest to it, and every check of the thread.
+            let margin = match (plan.path, &plan.bound) {
+                (Some(pi), Some(bound)) => Some(
+                    self.p[pi]
+                        .iter()
+                        .zip(bound)
+                        .map(|(p, b)| b - p)
+                        .fold(f64::INFINITY, f64::min),
+                ),
+                _ => None,
+            };
+            if plan.has_checks || margin.is_some() {
+                let ok = plan.fixed_checks_ok && margin.is_none_or(|m| m >= -1e-9);
+                all_ok &= ok;
+                any_checks = true;
+                out.push(|| format!("{}.checks_ok", plan.name), if ok { 1.0 } else { 0.0 });
+            }
+            if let Some(m) = margin {
+                out.push(|| format!("{}.bound_margin_mm", plan.name), m);
+            }
+            let Some(pi) = plan.path else { continue };
+            if plan.ks.is_empty() {
+                continue;
+            }
+            // As `stitch::mismatch::mismatch`: D = P − P' over the
+            // compared positions, in order.
+            let p = &self.p[pi];
+            let count = plan.ks.len() as f64;
+            let rms = (crate::stitch::mismatch::sum_sq_diff(p, &plan.pprime, &plan.weight) / count).sqrt();
+            let mut max_abs = 0.0f64;
+            for ((a, b), w) in p.iter().zip(&plan.pprime).zip(&plan.weight) {
+                max_abs = max_abs.max((a - b).abs() * w);
+            }
+            if plan.range > 1e-12 {
+                let score = 100.0 * (1.0 - rms / plan.range).max(0.0);
+                out.push(|| format!("{}.score", plan.name), score);
+                scores.push(score);
+            }
+            out.push(|| format!("{}.rms_D_mm", plan.name), rms);
+            out.push(|| format!("{}.max_abs_D_mm", plan.name), max_abs);
+        }
+        if !scores.is_empty() {
+            out.push(|| "score.mean".into(), scores.iter().sum::<f64>() / scores.len() as f64);
+            out.push(|| "score.min".into(), scores.iter().cloned().fold(f64::MAX, f64::min));
+        }
+        if any_checks {
+            out.push(|| "checks.ok".into(), if all_ok { 1.0 } else { 0.0 });
+        }
+    }
+}
+
+/// Which kinds of figures beside the take-up extremes are asked for.
+struct Kinds {
+    mu: bool,
+    measures: bool,
+    strokes: bool,
+    stitch: bool,
+}
+
+impl Kinds {
+    /// The kinds of the figures `names`, or `None` when one is of a kind
+    /// the fast path does not compute.
+    fn of(model: &Model, threads: Option<&Threads<f64>>, path_names: &[&str], names: &[String]) -> Option<Kinds> {
+        let path_figure = |p: &str, i: usize, n: &str| {
+            let pn = crate::eval::take_up_name(threads.is_some_and(|t| t.split_up[i].is_some()));
+            n == format!("{p}.max_{pn}_mm") || n == format!("{p}.min_{pn}_mm")
+        };
+        let mut kinds = Kinds {
+            mu: false,
+            measures: false,
+            strokes: false,
+            stitch: false,
+        };
+        for n in names {
+            let path_fig = path_names.iter().enumerate().any(|(i, p)| path_figure(p, i, n));
+            if path_fig {
+            } else if n.starts_with("mu.") || n.starts_with("mu_") {
+                kinds.mu = true;
+            } else if n.ends_with("_stroke_mm") {
+                kinds.strokes = true;
+            } else if model.measure_names.iter().any(|m| {
+                [".range_mm", ".min_mm", ".max_mm"]
+                    .iter()
+                    .any(|s| n == &format!("{m}{s}"))
+            }) {
+                kinds.measures = true;
+            } else if n.starts_with("score.")
+                || n == "checks.ok"
+                || [
+                    ".score",
+                    ".rms_D_mm",
+                    ".max_abs_D_mm",
+                    ".max_Pprime_mm",
+                    ".max_Pprime_B_mm",
+                    ".checks_ok",
+                    ".bound_margin_mm",
+                ]
+                .iter()
+                .any(|s| n.ends_with(s))
+            {
+                kinds.stitch = true;
+            } else {
+                return None;
+            }
+        }
+        Some(kinds)
+    }
+}
+
+impl StitchPlan {
+    /// The plan of every stitch thread from the shared P' (`prepared`, on
+    /// the grid `phis`), or `None` when the fast path cannot reproduce the
+    /// full cycle's figures for one.
+    fn all(
+        prepared: &Prepared,
+        phis: &[f64],
+        threads: Option<&Threads<f64>>,
+        path_names: &[&str],
+    ) -> Option<Vec<StitchPlan>> {
+        if prepared.phis != phis {
+            return None;
+        }
+        let n = phis.len();
+        let setup = &prepared.setup;
+        let fixed_checks = prepared.needle_checks();
+        let mut plans = Vec::new();
+        for (i, (th, path)) in prepared.required.threads.iter().zip(&setup.paths).enumerate() {
+            let compared = &prepared.compared[i];
+            let pprime = crate::eval::stitch::pprime_at_split(th, n);
+            let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
+            let (hi, lo) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| {
+                (hi.max(pprime[k]), lo.min(pprime[k]))
+            });
+            let kmax = (0..n)
+                .max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a)))
+                .unwrap_or(0);
+            let path = match path {
+                Some(name) => Some(path_names.iter().position(|p| p == name)?),
+                None => None,
+            };
+            // The full cycle compares a needle thread at B only when its
+            // path is split there; the fast path takes that case alone.
+            let at_b = th.travel_mm.is_some();
+            if at_b && path.is_some_and(|i| threads.is_none_or(|t| t.split_up[i].is_none())) {
+                return None;
+            }
+            let bound = match (path, &th.travel_mm, &th.loop_mm) {
+                (Some(_), Some(s), Some(lp)) => Some(crate::stitch::checks::bound_curve(
+                    phis,
+                    &s[..n],
+                    &lp[..n],
+                    prepared.phi0_deg,
+                )),
+                _ => None,
+            };
+            let weight = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
+            let mine: Vec<_> = fixed_checks.iter().filter(|c| c.thread == th.name).collect();
+            plans.push(StitchPlan {
+                name: th.name.clone(),
+                path,
+                max_pprime_figure: max_pprime_figure(at_b),
+                max_pprime_mm: pprime[kmax],
+                pprime,
+                ks,
+                weight,
+                range: hi - lo,
+                bound,
+                has_checks: !mine.is_empty(),
+                fixed_checks_ok: mine.iter().all(|c| c.ok),
+            });
+        }
+        Some(plans)
     }
 }
 
