@@ -143,7 +143,7 @@ impl Sweep {
             _ => Vec::new(),
         };
         let s = Sweep { vary, design, perm };
-        if s.len() == 0 || s.len() > 100_000_000 {
+        if s.is_empty() || s.len() > 100_000_000 {
             return Err(Error::Param(ParamError {
                 message: format!("the sweep has {} settings", s.len()),
                 help: Some("between 1 and 100 million settings: fewer grid points, or --samples".into()),

@@ -510,32 +510,7 @@ fn at_setting(
 /// between neighbouring settings.
 pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeOptions) -> Result<StrokeStudy, Error> {
     check_step(opts.step_deg)?;
-    let (names, settings): (Vec<String>, Vec<Vec<f64>>) = match sweep {
-        None => (Vec::new(), vec![Vec::new()]),
-        Some(s) => {
-            if s.design != super::design::Design::Grid {
-                return Err(Error::Param(ParamError {
-                    message: "a stroke study runs on a grid of settings".into(),
-                    help: Some("give --vary NAME=LO:HI:N without --samples".into()),
-                }));
-            }
-            if s.len() > MAX_SETTINGS {
-                return Err(Error::Param(ParamError {
-                    message: format!(
-                        "{} settings are more than a stroke table holds ({MAX_SETTINGS})",
-                        s.len()
-                    ),
-                    help: Some(
-                        "use fewer grid points, or `stitchkin sweep --figures '*_stroke_mm,mu.*'` which streams".into(),
-                    ),
-                }));
-            }
-            (
-                s.vary.iter().map(|v| v.name.clone()).collect(),
-                (0..s.len()).map(|i| s.setting(i)).collect(),
-            )
-        }
-    };
+    let (names, settings) = grid_settings(sweep)?;
     let results: Vec<Result<Stroke, Error>> = settings
         .par_iter()
         .map(|x| at_setting(model, base, &names, x, opts))
@@ -563,57 +538,10 @@ pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeO
         })
         .collect();
     let unit = |n: &str| model.param_index(n).map_or("", |i| model.params[i].unit_str());
-    let mut crossings = Vec::new();
-    if let Some(s) = sweep {
-        let last = s.vary.len() - 1;
-        let n_last = s.vary[last].n;
-        // Neighbouring settings along the last parameter, the others held.
-        let pairs: Vec<(usize, usize)> = (0..rows.len().saturating_sub(1))
-            .filter(|i| (i + 1) % n_last != 0)
-            .map(|i| (i, i + 1))
-            .collect();
-        let found: Vec<Vec<BandCrossing>> = pairs
-            .par_iter()
-            .map(|&(i, j)| {
-                let (Some(a), Some(b)) = (&rows[i].stroke, &rows[j].stroke) else {
-                    return Vec::new();
-                };
-                let mut out = Vec::new();
-                for (dyad, (ma, mb)) in a.mu.iter().zip(&b.mu).enumerate() {
-                    if ma.ok == mb.ok {
-                        continue;
-                    }
-                    let (x, bound) = bisect_band(
-                        model,
-                        base,
-                        &names,
-                        &rows[i].setting,
-                        rows[i].setting[last],
-                        rows[j].setting[last],
-                        dyad,
-                        ma.ok,
-                        opts,
-                    );
-                    out.push(BandCrossing {
-                        key: ma.key.clone(),
-                        group: ma.group.clone(),
-                        parameter: names[last].clone(),
-                        value: x,
-                        unit: unit(&names[last]),
-                        held: names[..last]
-                            .iter()
-                            .cloned()
-                            .zip(rows[i].setting[..last].iter().cloned())
-                            .collect(),
-                        bound_deg: bound,
-                        leaves: ma.ok,
-                    });
-                }
-                out
-            })
-            .collect();
-        crossings = found.into_iter().flatten().collect();
-    }
+    let crossings = match sweep {
+        Some(s) => band_crossings(model, base, s, &names, &rows, opts),
+        None => Vec::new(),
+    };
     Ok(StrokeStudy {
         model: model.name().to_string(),
         point: model.point_names[opts.point].clone(),
@@ -630,6 +558,99 @@ pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeO
         rows,
         crossings,
     })
+}
+
+/// The names of the varied parameters and every setting of the grid
+/// `sweep` (one empty setting without a sweep).
+fn grid_settings(sweep: Option<&Sweep>) -> Result<(Vec<String>, Vec<Vec<f64>>), Error> {
+    Ok(match sweep {
+        None => (Vec::new(), vec![Vec::new()]),
+        Some(s) => {
+            if s.design != super::design::Design::Grid {
+                return Err(Error::Param(ParamError {
+                    message: "a stroke study runs on a grid of settings".into(),
+                    help: Some("give --vary NAME=LO:HI:N without --samples".into()),
+                }));
+            }
+            if s.len() > MAX_SETTINGS {
+                return Err(Error::Param(ParamError {
+                    message: format!(
+                        "{} settings are more than a stroke table holds ({MAX_SETTINGS})",
+                        s.len()
+                    ),
+                    help: Some(
+                        "use fewer grid points, or `stitchkin sweep --figures '*_stroke_mm,mu.*'` which streams".into(),
+                    ),
+                }));
+            }
+            (
+                s.vary.iter().map(|v| v.name.clone()).collect(),
+                (0..s.len()).map(|i| s.setting(i)).collect(),
+            )
+        }
+    })
+}
+
+/// Where a transmission angle enters or leaves the band between
+/// neighbouring settings of the grid `s` along its last parameter (the
+/// others held), each found by bisection.
+fn band_crossings(
+    model: &Model,
+    base: &Params,
+    s: &Sweep,
+    names: &[String],
+    rows: &[StrokeRow],
+    opts: &StrokeOptions,
+) -> Vec<BandCrossing> {
+    let unit = |n: &str| model.param_index(n).map_or("", |i| model.params[i].unit_str());
+    let last = s.vary.len() - 1;
+    let n_last = s.vary[last].n;
+    // Neighbouring settings along the last parameter, the others held.
+    let pairs: Vec<(usize, usize)> = (0..rows.len().saturating_sub(1))
+        .filter(|i| (i + 1) % n_last != 0)
+        .map(|i| (i, i + 1))
+        .collect();
+    let found: Vec<Vec<BandCrossing>> = pairs
+        .par_iter()
+        .map(|&(i, j)| {
+            let (Some(a), Some(b)) = (&rows[i].stroke, &rows[j].stroke) else {
+                return Vec::new();
+            };
+            let mut out = Vec::new();
+            for (dyad, (ma, mb)) in a.mu.iter().zip(&b.mu).enumerate() {
+                if ma.ok == mb.ok {
+                    continue;
+                }
+                let (x, bound) = bisect_band(
+                    model,
+                    base,
+                    names,
+                    &rows[i].setting,
+                    rows[i].setting[last],
+                    rows[j].setting[last],
+                    dyad,
+                    ma.ok,
+                    opts,
+                );
+                out.push(BandCrossing {
+                    key: ma.key.clone(),
+                    group: ma.group.clone(),
+                    parameter: names[last].clone(),
+                    value: x,
+                    unit: unit(&names[last]),
+                    held: names[..last]
+                        .iter()
+                        .cloned()
+                        .zip(rows[i].setting[..last].iter().cloned())
+                        .collect(),
+                    bound_deg: bound,
+                    leaves: ma.ok,
+                });
+            }
+            out
+        })
+        .collect();
+    found.into_iter().flatten().collect()
 }
 
 /// The value of the last varied parameter between `lo` (angle `dyad` in
