@@ -734,7 +734,7 @@ fn score(s: Option<f64>) -> String {
 }
 
 fn tune_cmd(args: TuneArgs) -> Result<(), Error> {
-    use stitchkin::study::tune::{default_adjustables, set_stitch_value, tune};
+    use stitchkin::study::tune::{set_stitch_value, tune};
     let (model, mut params) = load(&args.model)?;
     if let Some(m) = args.thickness {
         set_stitch_value(&model, &mut params, "m", m)?;
@@ -744,7 +744,7 @@ fn tune_cmd(args: TuneArgs) -> Result<(), Error> {
     }
     let adjust = match &args.search.adjust {
         Some(a) => a.clone(),
-        None => default_adjustables(&model, &params)?,
+        None => model.default_adjustables(&params)?,
     };
     let r = tune(&model, &params, &args.search.options(adjust))?;
     let out = match args.format {
@@ -819,7 +819,8 @@ fn tune_cmd(args: TuneArgs) -> Result<(), Error> {
 }
 
 fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
-    use stitchkin::study::sweep::{self, Design, Sweep, Vary};
+    use stitchkin::study::design::{Design, Sweep, Vary};
+    use stitchkin::study::{figures, sweep};
     let (model, params) = load(&args.model)?;
     let vary = args
         .vary
@@ -847,12 +848,12 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
     };
     // The nominal setting says which figures this model has.
     let nominal = eval::run_cycle(&model, &params, &opts)?;
-    let available = sweep::figures(&nominal);
+    let available = figures::figures(&nominal);
     let patterns = args
         .figures
         .clone()
-        .unwrap_or_else(|| sweep::default_figures(&available));
-    let names = sweep::select_figures(&available, &patterns)?;
+        .unwrap_or_else(|| figures::default_figures(&available));
+    let names = figures::select_figures(&available, &patterns)?;
     let (k, n) = match &args.shard {
         None => (1, 1),
         Some(s) => {
@@ -872,7 +873,7 @@ fn sweep_cmd(args: SweepArgs) -> Result<(), Error> {
     };
     let range = sw.shard(k, n);
     let total = range.len();
-    let shared = sweep::shared_stitch(&model, &params, &sw, args.step)?;
+    let shared = figures::shared_stitch(&model, &params, &sw, args.step)?;
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         let b = indicatif::ProgressBar::new(total as u64);
         b.set_style(

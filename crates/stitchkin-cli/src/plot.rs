@@ -267,7 +267,7 @@ fn one_series(args: &PlotArgs) -> Result<Option<String>, Error> {
 }
 
 /// The one --vary of a family or surface, N defaulting to `default_n`.
-fn one_vary(args: &PlotArgs, model: &Model, default_n: usize) -> Result<stitchkin::study::sweep::Vary, Error> {
+fn one_vary(args: &PlotArgs, model: &Model, default_n: usize) -> Result<stitchkin::study::design::Vary, Error> {
     match args.vary.as_slice() {
         [] => Err(bad(
             format!(

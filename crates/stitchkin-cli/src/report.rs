@@ -75,7 +75,7 @@ pub fn run(args: ReportArgs) -> Result<(), Error> {
     let tune = if args.tune {
         let mut t = tune_opts.clone();
         if t.adjust.is_empty() {
-            t.adjust = stitchkin::study::tune::default_adjustables(&model, &params)?;
+            t.adjust = model.default_adjustables(&params)?;
         }
         Some(t)
     } else {

@@ -12,7 +12,6 @@ use stitchkin::study::straightness::{
     Distribution, Reference, StraightnessOptions, ToleranceOptions, ToleranceStudy, Window, straightness,
     tolerance_study, tolerances,
 };
-use stitchkin::study::stroke::point_slot;
 
 use crate::TableFormat;
 use crate::stroke::render_table;
@@ -41,7 +40,9 @@ struct PathArgs {
 impl PathArgs {
     fn options(&self, model: &Model) -> Result<StraightnessOptions, Error> {
         Ok(StraightnessOptions {
-            point: point_slot(model, &self.point, "--point", true)?,
+            point: model
+                .moving_point_slot(&self.point)
+                .map_err(|e| e.given_in("--point"))?,
             reference: match &self.line {
                 Some(l) => Reference::parse_line(model, l)?,
                 None => Reference::Fit,

@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use clap::Args;
 use stitchkin::error::Error;
 use stitchkin::format::fmt_num;
-use stitchkin::study::stroke::{Axis, StrokeOptions, StrokeStudy, point_slot, study};
-use stitchkin::study::sweep::{Design, Sweep, Vary};
+use stitchkin::study::design::{Design, Sweep, Vary};
+use stitchkin::study::stroke::{Axis, StrokeOptions, StrokeStudy, study};
 
 use crate::TableFormat;
 
@@ -75,7 +75,9 @@ pub(crate) fn render_table(header: &[String], rows: &[Vec<String>], names_first:
 
 pub fn run(args: StrokeArgs) -> Result<(), Error> {
     let (model, params) = crate::load(&args.model)?;
-    let point = point_slot(&model, &args.point, "--point", true)?;
+    let point = model
+        .moving_point_slot(&args.point)
+        .map_err(|e| e.given_in("--point"))?;
     let axis = Axis::parse(&model, &args.axis)?;
     let sweep = if args.vary.is_empty() {
         None

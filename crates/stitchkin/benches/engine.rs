@@ -203,11 +203,12 @@ fn mf7923d_take_up_with_analogs_dual(bencher: Bencher) {
 #[divan::bench]
 fn sweep_setting_mf7923d(bencher: Bencher) {
     use stitchkin::eval::CycleOptions;
-    use stitchkin::study::sweep::{self, Design, Sweep, Vary};
+    use stitchkin::study::design::{Design, Sweep, Vary};
+    use stitchkin::study::{figures, sweep};
     let model = Model::preset("mf7923d").unwrap();
     let base = model.defaults();
     let sw = Sweep::new(vec![Vary::parse(&model, "z=-10:10:101").unwrap()], Design::Grid).unwrap();
-    let shared = sweep::shared_stitch(&model, &base, &sw, 1.0).unwrap();
+    let shared = figures::shared_stitch(&model, &base, &sw, 1.0).unwrap();
     let names = vec!["score.mean".to_string()];
     let opts = CycleOptions {
         step_deg: 1.0,

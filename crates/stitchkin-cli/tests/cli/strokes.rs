@@ -148,8 +148,15 @@ fn stroke_rejects_bad_requests_with_the_fix() {
     let base = ["stroke", "--preset", "needle876"];
     let with = |extra: &[&'static str]| -> Vec<&'static str> { base.iter().chain(extra).copied().collect() };
     for (extra, says) in [
-        (&["--point", "Q"][..], "no point `Q`"),
-        (&["--point", "O"][..], "is fixed"),
+        (&["--point", "Q"][..], "the model has no point `Q` (in --point)"),
+        (
+            &["--point", "g"][..],
+            "no point `g` (in --point) (did you mean `G`?)\n  help: its points are: O, C, F, H, A, B, D, E, G",
+        ),
+        (
+            &["--point", "O"][..],
+            "point `O` is fixed, so it has no path (in --point)\n  help: the moving points are: A, B, D, E, G",
+        ),
         (&["--point", "G", "--axis", "w"][..], "FRAME.x|y|z"),
         (&["--point", "G", "--axis", "guide.y"][..], "no frame `guide`"),
         (&["--point", "G", "--axis", "0,0"][..], "zero length"),
@@ -228,7 +235,10 @@ fn straightness_of_the_altin_needle() {
     for (args, says) in [
         (&["--point", "E", "--line", "N1"][..], "H,T"),
         (&["--point", "E", "--line", "N1,N1"][..], "two different points"),
-        (&["--point", "E", "--line", "N1,N9"][..], "no point `N9`"),
+        (
+            &["--point", "E", "--line", "N1,N9"][..],
+            "the model has no point `N9` (in --line) (did you mean `N1`?)",
+        ),
         (
             &["--point", "E", "--over", "sideways"][..],
             "cycle, down, up or FROM:TO",

@@ -4,7 +4,11 @@
 
 mod cycle;
 mod paths;
+mod step;
 pub mod stitch;
+
+pub use step::MAX_STEP_DEG;
+pub(crate) use step::check_step;
 
 use num_dual::Dual2_64;
 use serde::Serialize;

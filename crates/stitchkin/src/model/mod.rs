@@ -1428,6 +1428,140 @@ impl Model {
             .map(|i| self.point_names[i].as_str())
             .collect()
     }
+
+    /// The slot of a point by name.
+    pub fn point_slot(&self, name: &str) -> Result<usize, PointError> {
+        self.point_names
+            .iter()
+            .position(|p| p == name)
+            .ok_or_else(|| PointError::Unknown {
+                name: name.to_string(),
+                closest: did_you_mean(name, self.point_names.iter().map(String::as_str)).map(str::to_string),
+                points: self.point_names.clone(),
+            })
+    }
+
+    /// The slot of a point that moves, by name (a fixed point has no path).
+    pub fn moving_point_slot(&self, name: &str) -> Result<usize, PointError> {
+        let slot = self.point_slot(name)?;
+        if self.is_fixed(slot) {
+            return Err(PointError::Fixed {
+                name: name.to_string(),
+                moving: self.moving_point_names().into_iter().map(str::to_string).collect(),
+            });
+        }
+        Ok(slot)
+    }
+
+    /// The settings a technician adjusts by default: every parameter with an
+    /// adjustable range that leaves the stitch process alone (not the
+    /// material or the stitch length, not the needle's own motion), in file
+    /// order; none when the model has no stitch process.
+    pub fn default_adjustables(&self, base: &Params) -> Result<Vec<String>, crate::Error> {
+        let ranged: Vec<(&str, f64, f64)> = self
+            .params
+            .iter()
+            .filter_map(|p| match p.range {
+                Some([lo, hi]) if !(p.is_derived() || lo >= hi) => Some((p.name.as_str(), lo, hi)),
+                _ => None,
+            })
+            .collect();
+        if ranged.is_empty() {
+            return Ok(Vec::new());
+        }
+        let Some(nominal) = self.stitch_setup(base)? else {
+            return Ok(Vec::new());
+        };
+        let mut out = Vec::new();
+        for (name, lo, hi) in ranged {
+            if self.leaves_stitch_alone(base, &nominal, name, lo, hi)? {
+                out.push(name.to_string());
+            }
+        }
+        Ok(out)
+    }
+
+    /// Whether parameter `name` anywhere in `lo`…`hi` leaves the stitch
+    /// process as it is at `base` (`nominal`, its [`Model::stitch_setup`]).
+    /// Decided by comparing the stitch's inputs (m, t, every organ's sampled
+    /// motion, the moments) at both ends and a third of the way along:
+    /// identical inputs give identical P'. A setting whose stitch process
+    /// cannot be resolved changes it.
+    pub fn leaves_stitch_alone(
+        &self,
+        base: &Params,
+        nominal: &stitch::StitchSetup,
+        name: &str,
+        lo: f64,
+        hi: f64,
+    ) -> Result<bool, ParamError> {
+        for x in [lo, hi, lo + (hi - lo) / 3.0] {
+            let mut p = base.clone();
+            self.set(&mut p, name, x)?;
+            match self.stitch_setup(&p) {
+                Ok(Some(s)) if &s == nominal => {}
+                _ => return Ok(false),
+            }
+        }
+        Ok(true)
+    }
+}
+
+/// A point name the model cannot take where it was given.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PointError {
+    /// The model has no point of that name.
+    Unknown {
+        name: String,
+        /// The model's point closest to the name, when it looks like a typo.
+        closest: Option<String>,
+        /// Every point of the model, in slot order.
+        points: Vec<String>,
+    },
+    /// The point is fixed where a moving point is needed: it has no path.
+    Fixed {
+        name: String,
+        /// The points that move, in slot order.
+        moving: Vec<String>,
+    },
+}
+
+impl PointError {
+    /// The error, naming `place`: where the name was given (for example
+    /// the option that carried it), with the points to choose from.
+    pub fn given_in(&self, place: &str) -> crate::Error {
+        crate::Error::Param(match self {
+            PointError::Unknown { name, closest, points } => ParamError {
+                message: format!("the model has no point `{name}` (in {place}){}", typo_hint(closest)),
+                help: Some(format!("its points are: {}", points.join(", "))),
+            },
+            PointError::Fixed { name, moving } => ParamError {
+                message: format!("point `{name}` is fixed, so it has no path (in {place})"),
+                help: Some(format!("the moving points are: {}", moving.join(", "))),
+            },
+        })
+    }
+}
+
+impl std::fmt::Display for PointError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PointError::Unknown { name, closest, .. } => {
+                write!(f, "the model has no point `{name}`{}", typo_hint(closest))
+            }
+            PointError::Fixed { name, .. } => write!(f, "point `{name}` is fixed, so it has no path"),
+        }
+    }
+}
+
+impl std::error::Error for PointError {}
+
+/// ` (did you mean `X`?)` for a likely typo, else nothing.
+fn typo_hint(closest: &Option<String>) -> String {
+    closest
+        .as_ref()
+        .map(|s| format!(" (did you mean `{s}`?)"))
+        .unwrap_or_default()
 }
 
 /// The JSON Schema of the model file format, pretty-printed.

@@ -2,7 +2,7 @@
 //! stated results.
 //!
 //! A facts file lists results a source states, each a figure of merit (named
-//! as [`super::sweep::figures`] names them) at a setting, with a tolerance
+//! as [`super::figures::figures`] names them) at a setting, with a tolerance
 //! or a weight:
 //!
 //! ```toml
@@ -45,8 +45,8 @@ use indexmap::IndexMap;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::figures::figures;
 use super::sensitivity::{FD_REL_STEP, figure_derivatives, figure_unit};
-use super::sweep::figures;
 use crate::error::{Error, ModelError, ParamError};
 use crate::eval::{CycleOptions, check_options, run_cycle_with};
 use crate::model::spans::{Path, SpanIndex};

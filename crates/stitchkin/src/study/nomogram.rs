@@ -18,7 +18,7 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::tune::{TuneOptions, TuneResult, default_adjustables, set_stitch_value, tune};
+use super::tune::{TuneOptions, TuneResult, set_stitch_value, tune};
 use crate::error::{Error, ParamError};
 use crate::format::fmt_num;
 use crate::model::file::Value;
@@ -96,7 +96,7 @@ pub struct NomogramOptions {
     /// Stitch length t, mm; `None` keeps the model's (or `--set`) value.
     pub stitch: Option<Axis>,
     /// The tuning at every grid point. An empty `adjust` means the default
-    /// adjustables ([`default_adjustables`]) at the nominal setting.
+    /// adjustables ([`Model::default_adjustables`]) at the nominal setting.
     pub tune: TuneOptions,
 }
 
@@ -193,7 +193,7 @@ pub fn nomogram(
     }
     let mut tune_opts = opts.tune.clone();
     if tune_opts.adjust.is_empty() {
-        tune_opts.adjust = default_adjustables(model, base)?;
+        tune_opts.adjust = model.default_adjustables(base)?;
     }
     for (which, flag, what) in [
         ("m", "--thickness", "material thickness"),

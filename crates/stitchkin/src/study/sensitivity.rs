@@ -34,7 +34,8 @@ use num_dual::Dual64;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::sweep::{Design, Sweep, Vary, figures, select_figures, shared_stitch};
+use super::design::{Design, Sweep, Vary};
+use super::figures::{figures, select_figures, shared_stitch};
 use crate::error::{Error, ParamError};
 use crate::eval::stitch::Prepared;
 use crate::eval::{
@@ -353,7 +354,7 @@ pub fn figure_derivatives(
 /// The figures of a plain (f64, lean) cycle with parameter values `values`,
 /// written directly (a central difference may step just past a range end).
 /// With `shared`, P' of the stitch process is taken from it (see
-/// [`super::sweep::shared_stitch`]).
+/// [`super::figures::shared_stitch`]).
 fn plain_figures(
     model: &Model,
     values: &[f64],

@@ -29,8 +29,8 @@ use nalgebra::Matrix3;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::stroke::{NO_STROKE_MM, PoseFn, Refiner, argminmax, cst3, neighbours, point_slot};
-use super::sweep::{Design, Sweep, Vary};
+use super::design::{Design, Sweep, Vary};
+use super::stroke::{NO_STROKE_MM, PoseFn, Refiner, argminmax, cst3, neighbours};
 use crate::error::{Error, ParamError, did_you_mean};
 use crate::eval::{cycle_phis_deg, wrap_deg};
 use crate::geometry::{V3, norm_or_zero};
@@ -64,8 +64,8 @@ impl Reference {
             }));
         }
         Ok(Reference::Line {
-            through: point_slot(model, h, "--line", false)?,
-            toward: point_slot(model, t, "--line", false)?,
+            through: model.point_slot(h).map_err(|e| e.given_in("--line"))?,
+            toward: model.point_slot(t).map_err(|e| e.given_in("--line"))?,
         })
     }
 }
@@ -312,7 +312,7 @@ pub fn straightness(model: &Model, params: &Params, opts: &StraightnessOptions) 
 /// [`straightness`]; without `detail` (for tolerance studies) the travel is
 /// the grid's and the minimum zone is left out.
 fn measure(model: &Model, params: &Params, opts: &StraightnessOptions, detail: bool) -> Result<Straightness, Error> {
-    super::stroke::check_step(opts.step_deg)?;
+    crate::eval::check_step(opts.step_deg)?;
     let mech = model.mechanism::<f64>(params)?;
     let mut refiner = Refiner::new(model, params)?;
     let solve = |phis: &[f64]| -> Result<Pose<f64>, Error> {

@@ -23,9 +23,9 @@ use num_dual::Dual2_64;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::sweep::Sweep;
+use super::design::Sweep;
 use crate::error::{Error, ParamError, did_you_mean};
-use crate::eval::{MU_MAX_DEG, MU_MIN_DEG, cycle_phis_deg, wrap_deg};
+use crate::eval::{MU_MAX_DEG, MU_MIN_DEG, check_step, cycle_phis_deg, wrap_deg};
 use crate::geometry::V3;
 use crate::mechanism::{Mechanism, Phi, Pose};
 use crate::model::{Model, Params};
@@ -41,28 +41,6 @@ pub const NO_STROKE_MM: f64 = 1e-9;
 /// Settings tabulated at most by one `stroke` study (all rows are kept in
 /// memory; `stitchkin sweep` streams larger grids).
 pub const MAX_SETTINGS: usize = 100_000;
-
-/// The coarsest φ step of a study that refines extremes: each extremum must
-/// lie between a grid sample's two neighbours, degrees.
-pub const MAX_STEP_DEG: f64 = 45.0;
-
-/// Checks a study's φ step (the cycle's own checks, and at most
-/// [`MAX_STEP_DEG`]).
-pub(crate) fn check_step(step_deg: f64) -> Result<(), Error> {
-    crate::eval::check_options(&crate::eval::CycleOptions {
-        step_deg,
-        ..Default::default()
-    })?;
-    if step_deg > MAX_STEP_DEG {
-        return Err(Error::Param(ParamError {
-            message: format!("the step {step_deg} deg is too coarse to bracket the extremes"),
-            help: Some(format!(
-                "give a step of at most {MAX_STEP_DEG} deg, e.g. --step 1 (extremes are refined below it)"
-            )),
-        }));
-    }
-    Ok(())
-}
 
 /// A scalar function of the mechanism's pose at one φ, computable in any
 /// scalar type: plain `f64` on the cycle grid, second-order dual numbers
@@ -309,30 +287,6 @@ impl Axis {
     }
 }
 
-/// The slot of a point by name (of a moving point when `moving`); the
-/// error lists the model's points.
-pub fn point_slot(model: &Model, name: &str, option: &str, moving: bool) -> Result<usize, Error> {
-    let slot = model.point_names.iter().position(|p| p == name).ok_or_else(|| {
-        let hint = did_you_mean(name, model.point_names.iter().map(String::as_str))
-            .map(|s| format!(" (did you mean `{s}`?)"))
-            .unwrap_or_default();
-        Error::Param(ParamError {
-            message: format!("the model has no point `{name}` (in {option}){hint}"),
-            help: Some(format!("its points are: {}", model.point_names.join(", "))),
-        })
-    })?;
-    if moving && model.is_fixed(slot) {
-        return Err(Error::Param(ParamError {
-            message: format!("point `{name}` is fixed, so it has no path (in {option})"),
-            help: Some(format!(
-                "the moving points are: {}",
-                model.moving_point_names().join(", ")
-            )),
-        }));
-    }
-    Ok(slot)
-}
-
 /// One extreme position of the point along the axis.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DeadCentre {
@@ -556,32 +510,7 @@ fn at_setting(
 /// between neighbouring settings.
 pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeOptions) -> Result<StrokeStudy, Error> {
     check_step(opts.step_deg)?;
-    let (names, settings): (Vec<String>, Vec<Vec<f64>>) = match sweep {
-        None => (Vec::new(), vec![Vec::new()]),
-        Some(s) => {
-            if s.design != super::sweep::Design::Grid {
-                return Err(Error::Param(ParamError {
-                    message: "a stroke study runs on a grid of settings".into(),
-                    help: Some("give --vary NAME=LO:HI:N without --samples".into()),
-                }));
-            }
-            if s.len() > MAX_SETTINGS {
-                return Err(Error::Param(ParamError {
-                    message: format!(
-                        "{} settings are more than a stroke table holds ({MAX_SETTINGS})",
-                        s.len()
-                    ),
-                    help: Some(
-                        "use fewer grid points, or `stitchkin sweep --figures '*_stroke_mm,mu.*'` which streams".into(),
-                    ),
-                }));
-            }
-            (
-                s.vary.iter().map(|v| v.name.clone()).collect(),
-                (0..s.len()).map(|i| s.setting(i)).collect(),
-            )
-        }
-    };
+    let (names, settings) = grid_settings(sweep)?;
     let results: Vec<Result<Stroke, Error>> = settings
         .par_iter()
         .map(|x| at_setting(model, base, &names, x, opts))
@@ -609,57 +538,10 @@ pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeO
         })
         .collect();
     let unit = |n: &str| model.param_index(n).map_or("", |i| model.params[i].unit_str());
-    let mut crossings = Vec::new();
-    if let Some(s) = sweep {
-        let last = s.vary.len() - 1;
-        let n_last = s.vary[last].n;
-        // Neighbouring settings along the last parameter, the others held.
-        let pairs: Vec<(usize, usize)> = (0..rows.len().saturating_sub(1))
-            .filter(|i| (i + 1) % n_last != 0)
-            .map(|i| (i, i + 1))
-            .collect();
-        let found: Vec<Vec<BandCrossing>> = pairs
-            .par_iter()
-            .map(|&(i, j)| {
-                let (Some(a), Some(b)) = (&rows[i].stroke, &rows[j].stroke) else {
-                    return Vec::new();
-                };
-                let mut out = Vec::new();
-                for (dyad, (ma, mb)) in a.mu.iter().zip(&b.mu).enumerate() {
-                    if ma.ok == mb.ok {
-                        continue;
-                    }
-                    let (x, bound) = bisect_band(
-                        model,
-                        base,
-                        &names,
-                        &rows[i].setting,
-                        rows[i].setting[last],
-                        rows[j].setting[last],
-                        dyad,
-                        ma.ok,
-                        opts,
-                    );
-                    out.push(BandCrossing {
-                        key: ma.key.clone(),
-                        group: ma.group.clone(),
-                        parameter: names[last].clone(),
-                        value: x,
-                        unit: unit(&names[last]),
-                        held: names[..last]
-                            .iter()
-                            .cloned()
-                            .zip(rows[i].setting[..last].iter().cloned())
-                            .collect(),
-                        bound_deg: bound,
-                        leaves: ma.ok,
-                    });
-                }
-                out
-            })
-            .collect();
-        crossings = found.into_iter().flatten().collect();
-    }
+    let crossings = match sweep {
+        Some(s) => band_crossings(model, base, s, &names, &rows, opts),
+        None => Vec::new(),
+    };
     Ok(StrokeStudy {
         model: model.name().to_string(),
         point: model.point_names[opts.point].clone(),
@@ -676,6 +558,99 @@ pub fn study(model: &Model, base: &Params, sweep: Option<&Sweep>, opts: &StrokeO
         rows,
         crossings,
     })
+}
+
+/// The names of the varied parameters and every setting of the grid
+/// `sweep` (one empty setting without a sweep).
+fn grid_settings(sweep: Option<&Sweep>) -> Result<(Vec<String>, Vec<Vec<f64>>), Error> {
+    Ok(match sweep {
+        None => (Vec::new(), vec![Vec::new()]),
+        Some(s) => {
+            if s.design != super::design::Design::Grid {
+                return Err(Error::Param(ParamError {
+                    message: "a stroke study runs on a grid of settings".into(),
+                    help: Some("give --vary NAME=LO:HI:N without --samples".into()),
+                }));
+            }
+            if s.len() > MAX_SETTINGS {
+                return Err(Error::Param(ParamError {
+                    message: format!(
+                        "{} settings are more than a stroke table holds ({MAX_SETTINGS})",
+                        s.len()
+                    ),
+                    help: Some(
+                        "use fewer grid points, or `stitchkin sweep --figures '*_stroke_mm,mu.*'` which streams".into(),
+                    ),
+                }));
+            }
+            (
+                s.vary.iter().map(|v| v.name.clone()).collect(),
+                (0..s.len()).map(|i| s.setting(i)).collect(),
+            )
+        }
+    })
+}
+
+/// Where a transmission angle enters or leaves the band between
+/// neighbouring settings of the grid `s` along its last parameter (the
+/// others held), each found by bisection.
+fn band_crossings(
+    model: &Model,
+    base: &Params,
+    s: &Sweep,
+    names: &[String],
+    rows: &[StrokeRow],
+    opts: &StrokeOptions,
+) -> Vec<BandCrossing> {
+    let unit = |n: &str| model.param_index(n).map_or("", |i| model.params[i].unit_str());
+    let last = s.vary.len() - 1;
+    let n_last = s.vary[last].n;
+    // Neighbouring settings along the last parameter, the others held.
+    let pairs: Vec<(usize, usize)> = (0..rows.len().saturating_sub(1))
+        .filter(|i| (i + 1) % n_last != 0)
+        .map(|i| (i, i + 1))
+        .collect();
+    let found: Vec<Vec<BandCrossing>> = pairs
+        .par_iter()
+        .map(|&(i, j)| {
+            let (Some(a), Some(b)) = (&rows[i].stroke, &rows[j].stroke) else {
+                return Vec::new();
+            };
+            let mut out = Vec::new();
+            for (dyad, (ma, mb)) in a.mu.iter().zip(&b.mu).enumerate() {
+                if ma.ok == mb.ok {
+                    continue;
+                }
+                let (x, bound) = bisect_band(
+                    model,
+                    base,
+                    names,
+                    &rows[i].setting,
+                    rows[i].setting[last],
+                    rows[j].setting[last],
+                    dyad,
+                    ma.ok,
+                    opts,
+                );
+                out.push(BandCrossing {
+                    key: ma.key.clone(),
+                    group: ma.group.clone(),
+                    parameter: names[last].clone(),
+                    value: x,
+                    unit: unit(&names[last]),
+                    held: names[..last]
+                        .iter()
+                        .cloned()
+                        .zip(rows[i].setting[..last].iter().cloned())
+                        .collect(),
+                    bound_deg: bound,
+                    leaves: ma.ok,
+                });
+            }
+            out
+        })
+        .collect();
+    found.into_iter().flatten().collect()
 }
 
 /// The value of the last varied parameter between `lo` (angle `dyad` in
@@ -758,13 +733,8 @@ mod tests {
     #[test]
     fn slider_crank_dead_centres_are_exact_below_the_grid_step() {
         let m = Model::from_toml_str(SLIDER_CRANK, "slider.toml").unwrap();
-        let s = point_slot(&m, "S", "--point", true).unwrap();
-        assert!(
-            point_slot(&m, "O", "--point", true)
-                .unwrap_err()
-                .to_string()
-                .contains("is fixed")
-        );
+        let s = m.moving_point_slot("S").unwrap();
+        assert!(m.moving_point_slot("O").unwrap_err().to_string().contains("is fixed"));
         // A 7° grid misses both dead centres; refinement finds them.
         let r = stroke(&m, &m.defaults(), s, &Axis::World(0), 7.0).unwrap();
         assert!((r.stroke_mm - 20.0).abs() < 1e-12, "{r:?}");

@@ -1,386 +1,22 @@
-//! Parameter sweeps: evaluate a model over many settings of its adjustable
-//! parameters and report figures of merit for each.
+//! Parameter sweeps: evaluate a model over every setting of a
+//! [`Sweep`] design and report the selected figures of merit for each.
 //!
-//! A sweep is a [`Design`] over one or more [`Vary`] ranges: a full grid, or
-//! `n` random or Latin-hypercube samples drawn from a seed. Settings are
-//! numbered 0…len−1 and each one's values depend only on its number and the
-//! seed, so a sweep split into shards ([`Sweep::shard`]) and concatenated is
-//! the same sweep. [`run`] evaluates settings in parallel (rayon), in chunks,
-//! handing rows to a sink in setting order, so memory stays flat however many
-//! settings there are.
+//! [`run`] evaluates settings in parallel (rayon), in chunks, handing rows
+//! to a sink in setting order, so memory stays flat however many settings
+//! there are. An [`Evaluator`] gives each worker the figures of one setting
+//! after another without building a cycle table.
 
 use rayon::prelude::*;
 
-use crate::error::{Error, ParamError};
-use crate::eval::stitch::{Prepared, prepare};
-use crate::eval::{CycleOptions, CycleTable, glob_match, path_error, run_cycle_with};
-use crate::mechanism::{Phi, Pose};
+use super::design::Sweep;
+use super::figures::{figures, max_pprime_figure};
+use crate::error::Error;
+use crate::eval::stitch::Prepared;
+use crate::eval::{CycleOptions, path_error, run_cycle_with};
+use crate::mechanism::{Mechanism, Phi, Pose};
 use crate::model::{Model, Params};
 use crate::scalar::Real;
-use crate::thread::ThreadWork;
-
-/// One swept parameter: `NAME=LO:HI:N` (N values from LO to HI, both
-/// included; for sampled designs only LO and HI matter).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Vary {
-    pub name: String,
-    pub lo: f64,
-    pub hi: f64,
-    pub n: usize,
-}
-
-impl Vary {
-    /// Parses `NAME=LO:HI:N` (or `NAME=LO:HI`, N = 11) and checks it against
-    /// the model: a settable parameter, both ends inside its adjustable range.
-    pub fn parse(model: &Model, spec: &str) -> Result<Vary, Error> {
-        let bad = |message: String| {
-            Error::Param(ParamError {
-                message,
-                help: Some("write NAME=LO:HI:N, e.g. --vary z=-10:10:41 (N values, ends included)".into()),
-            })
-        };
-        let (name, range) = spec
-            .split_once('=')
-            .ok_or_else(|| bad(format!("`{spec}` is not NAME=LO:HI:N")))?;
-        let parts: Vec<&str> = range.split(':').collect();
-        if !(2..=3).contains(&parts.len()) {
-            return Err(bad(format!("`{range}` is not LO:HI:N (in --vary {spec})")));
-        }
-        let num = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
-        let (Some(lo), Some(hi)) = (num(parts[0]), num(parts[1])) else {
-            return Err(bad(format!("the ends of `{range}` must be numbers (in --vary {spec})")));
-        };
-        let n = match parts.get(2) {
-            Some(s) => s
-                .trim()
-                .parse::<usize>()
-                .ok()
-                .filter(|&n| n >= 1)
-                .ok_or_else(|| bad(format!("N = `{s}` must be a whole number ≥ 1 (in --vary {spec})")))?,
-            None => 11,
-        };
-        if n > 1 && lo == hi {
-            return Err(bad(format!(
-                "--vary {spec}: LO = HI gives {n} equal values; use N = 1 or widen the range"
-            )));
-        }
-        let name = name.trim().to_string();
-        // Both ends must be accepted by the parameter (existence, range).
-        let mut p = model.defaults();
-        model.set(&mut p, &name, lo)?;
-        model.set(&mut p, &name, hi)?;
-        Ok(Vary { name, lo, hi, n })
-    }
-
-    /// The k-th of the N grid values.
-    pub fn grid_value(&self, k: usize) -> f64 {
-        if self.n == 1 {
-            self.lo
-        } else {
-            self.lo + (self.hi - self.lo) * k as f64 / (self.n - 1) as f64
-        }
-    }
-}
-
-/// How settings are chosen.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Design {
-    /// Every combination of the grid values; the last `--vary` changes fastest.
-    Grid,
-    /// `samples` independent uniform draws in the box LO…HI of every parameter.
-    Random { samples: usize, seed: u64 },
-    /// `samples` Latin-hypercube draws: each parameter's range cut into
-    /// `samples` equal strata, each stratum used exactly once.
-    Lhs { samples: usize, seed: u64 },
-}
-
-/// A sweep: what varies and how.
-#[derive(Debug, Clone)]
-pub struct Sweep {
-    pub vary: Vec<Vary>,
-    pub design: Design,
-    /// Latin-hypercube strata: `perm[d][i]` is the stratum of setting i in
-    /// parameter d.
-    perm: Vec<Vec<u32>>,
-}
-
-/// SplitMix64 (Steele, Lea & Flood 2014): a tiny, well-studied generator whose
-/// stream is fixed forever, so a seed gives the same samples in every
-/// stitchkin version (general-purpose RNG crates do not promise that).
-fn splitmix64(x: u64) -> u64 {
-    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
-/// A uniform number in [0, 1) from the seed, the setting and the parameter.
-fn uniform(seed: u64, setting: usize, dim: usize) -> f64 {
-    let h = splitmix64(splitmix64(seed ^ 0x5151_5151) ^ splitmix64((setting as u64) << 8 | dim as u64));
-    (h >> 11) as f64 / (1u64 << 53) as f64
-}
-
-impl Sweep {
-    pub fn new(vary: Vec<Vary>, design: Design) -> Result<Sweep, Error> {
-        if vary.is_empty() {
-            return Err(Error::Param(ParamError {
-                message: "a sweep needs at least one --vary".into(),
-                help: Some("e.g. --vary z=-10:10:41".into()),
-            }));
-        }
-        if let Some(d) = vary
-            .iter()
-            .position(|v| vary.iter().filter(|w| w.name == v.name).count() > 1)
-        {
-            return Err(Error::Param(ParamError {
-                message: format!("`{}` is varied twice", vary[d].name),
-                help: None,
-            }));
-        }
-        let perm = match design {
-            Design::Lhs { samples, seed } => (0..vary.len())
-                .map(|d| {
-                    // Fisher–Yates with the seeded generator.
-                    let mut p: Vec<u32> = (0..samples as u32).collect();
-                    for i in (1..samples).rev() {
-                        let j = (splitmix64(seed.wrapping_mul(31).wrapping_add((d as u64) << 40 | i as u64))
-                            % (i as u64 + 1)) as usize;
-                        p.swap(i, j);
-                    }
-                    p
-                })
-                .collect(),
-            _ => Vec::new(),
-        };
-        let s = Sweep { vary, design, perm };
-        if s.len() == 0 || s.len() > 100_000_000 {
-            return Err(Error::Param(ParamError {
-                message: format!("the sweep has {} settings", s.len()),
-                help: Some("between 1 and 100 million settings: fewer grid points, or --samples".into()),
-            }));
-        }
-        Ok(s)
-    }
-
-    /// Number of settings.
-    pub fn len(&self) -> usize {
-        match self.design {
-            Design::Grid => self.vary.iter().map(|v| v.n).fold(1usize, |a, n| a.saturating_mul(n)),
-            Design::Random { samples, .. } | Design::Lhs { samples, .. } => samples,
-        }
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// The values of the varied parameters at setting `i`, in `vary` order.
-    pub fn setting(&self, i: usize) -> Vec<f64> {
-        match self.design {
-            Design::Grid => {
-                let mut rest = i;
-                let mut out = vec![0.0; self.vary.len()];
-                for (d, v) in self.vary.iter().enumerate().rev() {
-                    out[d] = v.grid_value(rest % v.n);
-                    rest /= v.n;
-                }
-                out
-            }
-            Design::Random { seed, .. } => self
-                .vary
-                .iter()
-                .enumerate()
-                .map(|(d, v)| v.lo + (v.hi - v.lo) * uniform(seed, i, d))
-                .collect(),
-            Design::Lhs { samples, seed } => self
-                .vary
-                .iter()
-                .enumerate()
-                .map(|(d, v)| v.lo + (v.hi - v.lo) * (self.perm[d][i] as f64 + uniform(seed, i, d)) / samples as f64)
-                .collect(),
-        }
-    }
-
-    /// The settings of shard `k` of `n` (1-based): a contiguous block, so
-    /// the shards' outputs concatenated in order are the whole sweep.
-    pub fn shard(&self, k: usize, n: usize) -> std::ops::Range<usize> {
-        let len = self.len();
-        (len * (k - 1) / n)..(len * k / n)
-    }
-}
-
-/// Every figure of merit a cycle offers, by name (with its unit): take-up
-/// extremes per path, transmission-angle extremes (per dyad and overall),
-/// measure ranges, point strokes along each axis (`POINT.y_stroke_mm`),
-/// and per stitch thread the match
-/// score, RMS and largest |D|, plus the mean and worst score.
-pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
-    let mut out = Vec::new();
-    for p in &table.paths {
-        let pn = crate::eval::take_up_name(p.split == crate::thread::SplitPoint::B);
-        out.push((format!("{}.max_{pn}_mm", p.path), p.max_p_mm));
-        out.push((format!("{}.min_{pn}_mm", p.path), p.min_p_mm));
-    }
-    if !table.transmission.is_empty() {
-        out.push((
-            "mu.min_deg".into(),
-            table.transmission.iter().map(|t| t.min_deg).fold(f64::MAX, f64::min),
-        ));
-        out.push((
-            "mu.max_deg".into(),
-            table.transmission.iter().map(|t| t.max_deg).fold(f64::MIN, f64::max),
-        ));
-        out.push((
-            "mu.ok".into(),
-            if table.transmission.iter().all(|t| t.ok) {
-                1.0
-            } else {
-                0.0
-            },
-        ));
-        for t in &table.transmission {
-            out.push((format!("mu_{}.min_deg", t.key), t.min_deg));
-            out.push((format!("mu_{}.max_deg", t.key), t.max_deg));
-        }
-    }
-    for r in &table.ranges {
-        out.push((format!("{}.range_mm", r.name), r.range));
-        out.push((format!("{}.min_mm", r.name), r.min));
-        out.push((format!("{}.max_mm", r.name), r.max));
-    }
-    for c in &table.columns {
-        let coord = [".x_mm", ".y_mm", ".z_mm"]
-            .iter()
-            .find_map(|s| c.name.strip_suffix(s).map(|p| (p, &s[1..2])));
-        if let Some((point, axis)) = coord
-            && !c.name.contains("Pprime")
-        {
-            let (lo, hi) = c
-                .values
-                .iter()
-                .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
-            out.push((format!("{point}.{axis}_stroke_mm"), hi - lo));
-        }
-    }
-    if let Some(st) = &table.stitch {
-        let mut scores = Vec::new();
-        for t in &st.threads {
-            out.push((
-                format!(
-                    "{}.{}",
-                    t.thread,
-                    max_pprime_figure(t.split == crate::thread::SplitPoint::B)
-                ),
-                t.max_pprime_mm,
-            ));
-            let checks: Vec<_> = st.checks.iter().filter(|c| c.thread == t.thread).collect();
-            if !checks.is_empty() {
-                out.push((
-                    format!("{}.checks_ok", t.thread),
-                    if checks.iter().all(|c| c.ok) { 1.0 } else { 0.0 },
-                ));
-            }
-            if let Some(c) = checks.iter().find(|c| c.name == "thread_bound") {
-                out.push((
-                    format!("{}.bound_margin_mm", t.thread),
-                    c.limit[1].unwrap_or(f64::INFINITY) - c.value,
-                ));
-            }
-            if let Some(m) = &t.mismatch {
-                if let Some(s) = m.score {
-                    out.push((format!("{}.score", t.thread), s));
-                    scores.push(s);
-                }
-                out.push((format!("{}.rms_D_mm", t.thread), m.rms_d_mm));
-                out.push((format!("{}.max_abs_D_mm", t.thread), m.max_abs_d_mm));
-            }
-        }
-        if !scores.is_empty() {
-            out.push(("score.mean".into(), scores.iter().sum::<f64>() / scores.len() as f64));
-            out.push(("score.min".into(), scores.iter().cloned().fold(f64::MAX, f64::min)));
-        }
-        if !st.checks.is_empty() {
-            out.push(("checks.ok".into(), if st.checks_ok() { 1.0 } else { 0.0 }));
-        }
-    }
-    out
-}
-
-/// The figure of a stitch thread's largest P': `max_Pprime_B_mm` for a
-/// needle thread (at B), `max_Pprime_mm` for a looper thread.
-fn max_pprime_figure(at_b: bool) -> &'static str {
-    if at_b { "max_Pprime_B_mm" } else { "max_Pprime_mm" }
-}
-
-/// Figures a sweep writes by default (those the model has): every match
-/// score and their mean and worst, the take-up maximum of every path (at B
-/// for a needle-eye path), whether every physical check passes, the
-/// transmission-angle extremes, the measures' ranges and the point strokes.
-pub const DEFAULT_FIGURES: &[&str] = &[
-    "*.score",
-    "score.*",
-    "*.max_P_B_mm",
-    "*.max_P_mm",
-    "checks.ok",
-    "mu.min_deg",
-    "mu.max_deg",
-    "*.range_mm",
-    "*_stroke_mm",
-];
-
-/// The [`DEFAULT_FIGURES`] patterns that match a figure of `available`.
-pub fn default_figures(available: &[(String, f64)]) -> Vec<String> {
-    DEFAULT_FIGURES
-        .iter()
-        .filter(|p| available.iter().any(|(n, _)| crate::eval::glob_match(p, n)))
-        .map(|p| p.to_string())
-        .collect()
-}
-
-/// The figure names matching `patterns` (`*` matches any run), in the order
-/// [`figures`] gives them; an error lists what there is when a pattern
-/// matches nothing.
-pub fn select_figures(available: &[(String, f64)], patterns: &[String]) -> Result<Vec<String>, Error> {
-    for p in patterns {
-        if !available.iter().any(|(n, _)| glob_match(p, n)) {
-            let names: Vec<&str> = available.iter().map(|(n, _)| n.as_str()).collect();
-            return Err(Error::Param(ParamError {
-                message: format!("no figure of merit matches `{p}`"),
-                help: Some(format!("this model offers: {}", names.join(", "))),
-            }));
-        }
-    }
-    Ok(available
-        .iter()
-        .filter(|(n, _)| patterns.iter().any(|p| glob_match(p, n)))
-        .map(|(n, _)| n.clone())
-        .collect())
-}
-
-/// P' computed once for the whole sweep, when the varied parameters leave
-/// the stitch process alone (they change only the take-up, as `z`, `dphi`,
-/// `r1` of the MF-7923D do). Decided by comparing the stitch's inputs (m,
-/// t, every organ's sampled motion, the moments) at the nominal setting
-/// with those at each varied parameter's two ends and a third of the way
-/// along: identical inputs give identical P'. `None` when the model has no
-/// stitch process or a varied parameter changes it (P' is then computed per
-/// setting).
-pub fn shared_stitch(model: &Model, base: &Params, sweep: &Sweep, step_deg: f64) -> Result<Option<Prepared>, Error> {
-    let Some(nominal) = model.stitch_setup(base)? else {
-        return Ok(None);
-    };
-    for v in &sweep.vary {
-        for x in [v.lo, v.hi, v.lo + (v.hi - v.lo) / 3.0] {
-            let mut p = base.clone();
-            model.set(&mut p, &v.name, x)?;
-            match model.stitch_setup(&p) {
-                Ok(Some(s)) if s == nominal => {}
-                _ => return Ok(None),
-            }
-        }
-    }
-    prepare(model, base, step_deg)
-}
+use crate::thread::{ThreadWork, Threads};
 
 /// One evaluated setting.
 #[derive(Debug, Clone, PartialEq)]
@@ -517,7 +153,8 @@ struct StitchPlan {
 
 impl<'a> Evaluator<'a> {
     /// An evaluator of `sweep`'s settings for the figures `names` (as
-    /// [`select_figures`] gives them), with P' from `shared` when given.
+    /// [`select_figures`](super::figures::select_figures) gives them), with
+    /// P' from `shared` when given.
     pub fn new(
         model: &'a Model,
         base: &'a Params,
@@ -616,99 +253,13 @@ impl Fast {
         let mech = model.mechanism::<f64>(base).ok()?;
         let threads = mech.threads.as_ref();
         let path_names: Vec<&str> = threads.map_or(Vec::new(), |t| t.paths.iter().map(|p| p.name.as_str()).collect());
-        let path_figure = |p: &str, i: usize, n: &str| {
-            let pn = crate::eval::take_up_name(threads.is_some_and(|t| t.split_up[i].is_some()));
-            n == format!("{p}.max_{pn}_mm") || n == format!("{p}.min_{pn}_mm")
-        };
-        let (mut mu, mut measures, mut strokes, mut stitch) = (false, false, false, false);
-        for n in names {
-            let path_fig = path_names.iter().enumerate().any(|(i, p)| path_figure(p, i, n));
-            if path_fig {
-            } else if n.starts_with("mu.") || n.starts_with("mu_") {
-                mu = true;
-            } else if n.ends_with("_stroke_mm") {
-                strokes = true;
-            } else if model.measure_names.iter().any(|m| {
-                [".range_mm", ".min_mm", ".max_mm"]
-                    .iter()
-                    .any(|s| n == &format!("{m}{s}"))
-            }) {
-                measures = true;
-            } else if n.starts_with("score.")
-                || n == "checks.ok"
-                || [
-                    ".score",
-                    ".rms_D_mm",
-                    ".max_abs_D_mm",
-                    ".max_Pprime_mm",
-                    ".max_Pprime_B_mm",
-                    ".checks_ok",
-                    ".bound_margin_mm",
-                ]
-                .iter()
-                .any(|s| n.ends_with(s))
-            {
-                stitch = true;
-            } else {
-                return None;
-            }
-        }
+        let kinds = Kinds::of(model, threads, &path_names, names)?;
         let phis = crate::eval::cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
-        let mut plans = Vec::new();
-        if stitch {
-            let prepared = shared?;
-            if prepared.phis != phis {
-                return None;
-            }
-            let n = phis.len();
-            let setup = &prepared.setup;
-            let fixed_checks = prepared.needle_checks();
-            for (i, (th, path)) in prepared.required.threads.iter().zip(&setup.paths).enumerate() {
-                let compared = &prepared.compared[i];
-                let pprime = crate::eval::stitch::pprime_at_split(th, n);
-                let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
-                let (hi, lo) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| {
-                    (hi.max(pprime[k]), lo.min(pprime[k]))
-                });
-                let kmax = (0..n)
-                    .max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a)))
-                    .unwrap_or(0);
-                let path = match path {
-                    Some(name) => Some(path_names.iter().position(|p| p == name)?),
-                    None => None,
-                };
-                // The full cycle compares a needle thread at B only when its
-                // path is split there; the fast path takes that case alone.
-                let at_b = th.travel_mm.is_some();
-                if at_b && path.is_some_and(|i| threads.is_none_or(|t| t.split_up[i].is_none())) {
-                    return None;
-                }
-                let bound = match (path, &th.travel_mm, &th.loop_mm) {
-                    (Some(_), Some(s), Some(lp)) => Some(crate::stitch::checks::bound_curve(
-                        &phis,
-                        &s[..n],
-                        &lp[..n],
-                        prepared.phi0_deg,
-                    )),
-                    _ => None,
-                };
-                let weight = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
-                let mine: Vec<_> = fixed_checks.iter().filter(|c| c.thread == th.name).collect();
-                plans.push(StitchPlan {
-                    name: th.name.clone(),
-                    path,
-                    max_pprime_figure: max_pprime_figure(at_b),
-                    max_pprime_mm: pprime[kmax],
-                    pprime,
-                    ks,
-                    weight,
-                    range: hi - lo,
-                    bound,
-                    has_checks: !mine.is_empty(),
-                    fixed_checks_ok: mine.iter().all(|c| c.ok),
-                });
-            }
-        }
+        let plans = if kinds.stitch {
+            StitchPlan::all(shared?, &phis, threads, &path_names)?
+        } else {
+            Vec::new()
+        };
         let phi0 = [Phi::at_deg(threads.map_or(0.0, |t| t.phi0_deg))];
         Some(Fast {
             table: Phi::table(&phis),
@@ -720,9 +271,9 @@ impl Fast {
             work: ThreadWork::default(),
             work0: ThreadWork::default(),
             p: Vec::new(),
-            mu,
-            measures,
-            strokes,
+            mu: kinds.mu,
+            measures: kinds.measures,
+            strokes: kinds.strokes,
             stitch: plans,
             buf: Vec::new(),
             cols: Vec::new(),
@@ -741,168 +292,337 @@ impl Fast {
         out: &mut Figures,
     ) -> Result<(), Error> {
         let mech = model.mechanism::<f64>(&self.params)?;
-        let n = self.phis.len();
-        mech.reset_pose(&mut self.pose, n);
+        mech.reset_pose(&mut self.pose, self.phis.len());
         mech.solve(&self.table, &mut self.pose)?;
         if let Some(threads) = &mech.threads {
-            // ξ(φ0) as `run_cycle` takes it (a pose of its own at φ0),
-            // unless φ0 is on the grid: the same arithmetic there gives
-            // the same bits.
-            let k0 = self.phis.iter().position(|&p| p == threads.phi0_deg);
-            if k0.is_none() {
+            self.take_up_figures(&mech, threads, out)?;
+        }
+        if self.mu && !model.dyads.is_empty() {
+            self.transmission_figures(model, &mech, out)?;
+        }
+        if self.measures && !model.measure_names.is_empty() {
+            self.measure_figures(model, &mech, out)?;
+        }
+        if self.strokes {
+            self.stroke_figures(model, opts, out)?;
+        }
+        if !self.stitch.is_empty() && shared.is_some() {
+            self.stitch_figures(out);
+        }
+        Ok(())
+    }
+
+    /// The take-up P of every path over the cycle (kept in `self.p`) and
+    /// its largest and smallest value.
+    fn take_up_figures(
+        &mut self,
+        mech: &Mechanism<f64>,
+        threads: &Threads<f64>,
+        out: &mut Figures,
+    ) -> Result<(), Error> {
+        let n = self.phis.len();
+        // ξ(φ0) as `run_cycle` takes it (a pose of its own at φ0),
+        // unless φ0 is on the grid: the same arithmetic there gives
+        // the same bits.
+        let k0 = self.phis.iter().position(|&p| p == threads.phi0_deg);
+        if k0.is_none() {
+            mech.reset_pose(&mut self.pose0, 1);
+            mech.solve(&self.phi0, &mut self.pose0)?;
+            threads
+                .evaluate_into(&self.pose0, None, &mut self.work0)
+                .map_err(|e| path_error(e, threads.phi0_deg))?;
+        }
+        if let Err(e) = threads.evaluate_into(&self.pose, None, &mut self.work) {
+            // `run_cycle` reports a path that fails at φ0 first.
+            if k0.is_some() {
                 mech.reset_pose(&mut self.pose0, 1);
                 mech.solve(&self.phi0, &mut self.pose0)?;
                 threads
                     .evaluate_into(&self.pose0, None, &mut self.work0)
                     .map_err(|e| path_error(e, threads.phi0_deg))?;
             }
-            if let Err(e) = threads.evaluate_into(&self.pose, None, &mut self.work) {
-                // `run_cycle` reports a path that fails at φ0 first.
-                if k0.is_some() {
-                    mech.reset_pose(&mut self.pose0, 1);
-                    mech.solve(&self.phi0, &mut self.pose0)?;
-                    threads
-                        .evaluate_into(&self.pose0, None, &mut self.work0)
-                        .map_err(|e| path_error(e, threads.phi0_deg))?;
-                }
-                let phi = self.phis[e.k];
-                return Err(path_error(e, phi));
-            }
-            self.p.resize_with(threads.paths.len(), Vec::new);
-            for (i, (path, track)) in threads.paths.iter().zip(&self.work.tracks).enumerate() {
-                let xi0 = match k0 {
-                    Some(k) => track.xi_at_split(k),
-                    None => self.work0.tracks[i].xi_at_split(0),
-                };
-                let p = &mut self.p[i];
-                p.clear();
-                p.extend((0..n).map(|k| threads.convention.take_up(track.xi_at_split(k), xi0)));
-                let pn = crate::eval::take_up_name(!track.eye_up.is_empty());
-                let (lo, hi) = finite_extremes(p)
-                    .map_err(|k| not_finite(&format!("{}.{pn}_mm", path.name), p[k], self.phis[k]))?;
-                out.push(|| format!("{}.max_{pn}_mm", path.name), hi);
-                out.push(|| format!("{}.min_{pn}_mm", path.name), lo);
-            }
+            let phi = self.phis[e.k];
+            return Err(path_error(e, phi));
         }
-        if self.mu && !model.dyads.is_empty() {
-            // The angles' parts (y, x) only; atan2 at the extremes alone.
-            let pose = &self.pose;
-            per_phi_columns(&mut self.parts, &mut self.part_buf, model.dyads.len(), n, |k, b| {
-                mech.transmission_parts(pose, k, b)
-            });
-            let mut all_ok = true;
-            let (mut lo, mut hi) = (f64::MAX, f64::MIN);
-            let first = out.vals.len();
-            out.push(|| "mu.min_deg".into(), 0.0);
-            out.push(|| "mu.max_deg".into(), 0.0);
-            out.push(|| "mu.ok".into(), 0.0);
-            for (d, v) in model.dyads.iter().zip(&self.parts) {
-                let (mu_min, mu_max) = transmission_extremes_deg(v)
-                    .map_err(|(k, mu)| not_finite(&format!("mu_{}_deg", d.key), mu, self.phis[k]))?;
-                all_ok &= mu_min >= crate::eval::MU_MIN_DEG && mu_max <= crate::eval::MU_MAX_DEG;
-                lo = lo.min(mu_min);
-                hi = hi.max(mu_max);
-                out.push(|| format!("mu_{}.min_deg", d.key), mu_min);
-                out.push(|| format!("mu_{}.max_deg", d.key), mu_max);
-            }
-            out.vals[first..first + 3].copy_from_slice(&[lo, hi, if all_ok { 1.0 } else { 0.0 }]);
+        self.p.resize_with(threads.paths.len(), Vec::new);
+        for (i, (path, track)) in threads.paths.iter().zip(&self.work.tracks).enumerate() {
+            let xi0 = match k0 {
+                Some(k) => track.xi_at_split(k),
+                None => self.work0.tracks[i].xi_at_split(0),
+            };
+            let p = &mut self.p[i];
+            p.clear();
+            p.extend((0..n).map(|k| threads.convention.take_up(track.xi_at_split(k), xi0)));
+            let pn = crate::eval::take_up_name(!track.eye_up.is_empty());
+            let (lo, hi) =
+                finite_extremes(p).map_err(|k| not_finite(&format!("{}.{pn}_mm", path.name), p[k], self.phis[k]))?;
+            out.push(|| format!("{}.max_{pn}_mm", path.name), hi);
+            out.push(|| format!("{}.min_{pn}_mm", path.name), lo);
         }
-        if self.measures && !model.measure_names.is_empty() {
-            let pose = &self.pose;
-            per_phi_columns(&mut self.cols, &mut self.buf, model.measure_names.len(), n, |k, b| {
-                mech.measures(pose, k, b)
-            });
-            for (name, v) in model.measure_names.iter().zip(&self.cols) {
-                if let Some(k) = v.iter().position(|x| !x.is_finite()) {
-                    return Err(not_finite(&format!("{name}_mm"), v[k], self.phis[k]));
-                }
-                let (i0, i1) = crate::eval::extremes(v);
-                out.push(|| format!("{name}.range_mm"), v[i1] - v[i0]);
-                out.push(|| format!("{name}.min_mm"), v[i0]);
-                out.push(|| format!("{name}.max_mm"), v[i1]);
-            }
+        Ok(())
+    }
+
+    /// The extremes of every transmission angle, overall and per dyad, and
+    /// whether all stay in the band.
+    fn transmission_figures(&mut self, model: &Model, mech: &Mechanism<f64>, out: &mut Figures) -> Result<(), Error> {
+        // The angles' parts (y, x) only; atan2 at the extremes alone.
+        let pose = &self.pose;
+        per_phi_columns(
+            &mut self.parts,
+            &mut self.part_buf,
+            model.dyads.len(),
+            self.phis.len(),
+            |k, b| mech.transmission_parts(pose, k, b),
+        );
+        let mut all_ok = true;
+        let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+        let first = out.vals.len();
+        out.push(|| "mu.min_deg".into(), 0.0);
+        out.push(|| "mu.max_deg".into(), 0.0);
+        out.push(|| "mu.ok".into(), 0.0);
+        for (d, v) in model.dyads.iter().zip(&self.parts) {
+            let (mu_min, mu_max) = transmission_extremes_deg(v)
+                .map_err(|(k, mu)| not_finite(&format!("mu_{}_deg", d.key), mu, self.phis[k]))?;
+            all_ok &= mu_min >= crate::eval::MU_MIN_DEG && mu_max <= crate::eval::MU_MAX_DEG;
+            lo = lo.min(mu_min);
+            hi = hi.max(mu_max);
+            out.push(|| format!("mu_{}.min_deg", d.key), mu_min);
+            out.push(|| format!("mu_{}.max_deg", d.key), mu_max);
         }
-        if self.strokes {
-            let points = opts.points.clone().unwrap_or_else(|| model.output_points.clone());
-            let axes = if model.planar { 2 } else { 3 };
-            for &pt in &points {
-                for (c, axis) in ["x", "y", "z"].iter().enumerate().take(axes) {
-                    let (lo, hi) = self
-                        .pose
-                        .track(pt)
-                        .iter()
-                        .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v[c]), b.max(v[c])));
-                    if !(lo.is_finite() && hi.is_finite()) {
-                        return Err(not_finite(
-                            &format!("{}.{axis}_mm", model.point_names[pt]),
-                            f64::NAN,
-                            self.phis[0],
-                        ));
-                    }
-                    out.push(|| format!("{}.{axis}_stroke_mm", model.point_names[pt]), hi - lo);
-                }
+        out.vals[first..first + 3].copy_from_slice(&[lo, hi, if all_ok { 1.0 } else { 0.0 }]);
+        Ok(())
+    }
+
+    /// The range, smallest and largest value of every measure.
+    fn measure_figures(&mut self, model: &Model, mech: &Mechanism<f64>, out: &mut Figures) -> Result<(), Error> {
+        let pose = &self.pose;
+        per_phi_columns(
+            &mut self.cols,
+            &mut self.buf,
+            model.measure_names.len(),
+            self.phis.len(),
+            |k, b| mech.measures(pose, k, b),
+        );
+        for (name, v) in model.measure_names.iter().zip(&self.cols) {
+            if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+                return Err(not_finite(&format!("{name}_mm"), v[k], self.phis[k]));
             }
+            let (i0, i1) = crate::eval::extremes(v);
+            out.push(|| format!("{name}.range_mm"), v[i1] - v[i0]);
+            out.push(|| format!("{name}.min_mm"), v[i0]);
+            out.push(|| format!("{name}.max_mm"), v[i1]);
         }
-        if !self.stitch.is_empty() && shared.is_some() {
-            let mut scores = Vec::new();
-            let mut all_ok = true;
-            let mut any_checks = false;
-            for plan in &self.stitch {
-                out.push(
-                    || format!("{}.{}", plan.name, plan.max_pprime_figure),
-                    plan.max_pprime_mm,
-                );
-                // As `eval::stitch`: the thread bound where P comes
-                // closest to it, and every check of the thread.
-                let margin = match (plan.path, &plan.bound) {
-                    (Some(pi), Some(bound)) => Some(
-                        self.p[pi]
-                            .iter()
-                            .zip(bound)
-                            .map(|(p, b)| b - p)
-                            .fold(f64::INFINITY, f64::min),
-                    ),
-                    _ => None,
-                };
-                if plan.has_checks || margin.is_some() {
-                    let ok = plan.fixed_checks_ok && margin.is_none_or(|m| m >= -1e-9);
-                    all_ok &= ok;
-                    any_checks = true;
-                    out.push(|| format!("{}.checks_ok", plan.name), if ok { 1.0 } else { 0.0 });
+        Ok(())
+    }
+
+    /// The stroke of every tabulated point along each axis.
+    fn stroke_figures(&self, model: &Model, opts: &CycleOptions, out: &mut Figures) -> Result<(), Error> {
+        let points = opts.points.clone().unwrap_or_else(|| model.output_points.clone());
+        let axes = if model.planar { 2 } else { 3 };
+        for &pt in &points {
+            for (c, axis) in ["x", "y", "z"].iter().enumerate().take(axes) {
+                let (lo, hi) = self
+                    .pose
+                    .track(pt)
+                    .iter()
+                    .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v[c]), b.max(v[c])));
+                if !(lo.is_finite() && hi.is_finite()) {
+                    return Err(not_finite(
+                        &format!("{}.{axis}_mm", model.point_names[pt]),
+                        f64::NAN,
+                        self.phis[0],
+                    ));
                 }
-                if let Some(m) = margin {
-                    out.push(|| format!("{}.bound_margin_mm", plan.name), m);
-                }
-                let Some(pi) = plan.path else { continue };
-                if plan.ks.is_empty() {
-                    continue;
-                }
-                // As `stitch::mismatch::mismatch`: D = P − P' over the
-                // compared positions, in order.
-                let p = &self.p[pi];
-                let count = plan.ks.len() as f64;
-                let rms = (crate::stitch::mismatch::sum_sq_diff(p, &plan.pprime, &plan.weight) / count).sqrt();
-                let mut max_abs = 0.0f64;
-                for ((a, b), w) in p.iter().zip(&plan.pprime).zip(&plan.weight) {
-                    max_abs = max_abs.max((a - b).abs() * w);
-                }
-                if plan.range > 1e-12 {
-                    let score = 100.0 * (1.0 - rms / plan.range).max(0.0);
-                    out.push(|| format!("{}.score", plan.name), score);
-                    scores.push(score);
-                }
-                out.push(|| format!("{}.rms_D_mm", plan.name), rms);
-                out.push(|| format!("{}.max_abs_D_mm", plan.name), max_abs);
-            }
-            if !scores.is_empty() {
-                out.push(|| "score.mean".into(), scores.iter().sum::<f64>() / scores.len() as f64);
-                out.push(|| "score.min".into(), scores.iter().cloned().fold(f64::MAX, f64::min));
-            }
-            if any_checks {
-                out.push(|| "checks.ok".into(), if all_ok { 1.0 } else { 0.0 });
+                out.push(|| format!("{}.{axis}_stroke_mm", model.point_names[pt]), hi - lo);
             }
         }
         Ok(())
+    }
+
+    /// Every stitch thread's largest P', checks, bound margin and match of
+    /// P (from `self.p`) against P', then the mean and worst score.
+    fn stitch_figures(&self, out: &mut Figures) {
+        let mut scores = Vec::new();
+        let mut all_ok = true;
+        let mut any_checks = false;
+        for plan in &self.stitch {
+            out.push(
+                || format!("{}.{}", plan.name, plan.max_pprime_figure),
+                plan.max_pprime_mm,
+            );
+            // As `eval::stitch`: the thread bound where P comes
+            // closest to it, and every check of the thread.
+            let margin = match (plan.path, &plan.bound) {
+                (Some(pi), Some(bound)) => Some(
+                    self.p[pi]
+                        .iter()
+                        .zip(bound)
+                        .map(|(p, b)| b - p)
+                        .fold(f64::INFINITY, f64::min),
+                ),
+                _ => None,
+            };
+            if plan.has_checks || margin.is_some() {
+                let ok = plan.fixed_checks_ok && margin.is_none_or(|m| m >= -1e-9);
+                all_ok &= ok;
+                any_checks = true;
+                out.push(|| format!("{}.checks_ok", plan.name), if ok { 1.0 } else { 0.0 });
+            }
+            if let Some(m) = margin {
+                out.push(|| format!("{}.bound_margin_mm", plan.name), m);
+            }
+            let Some(pi) = plan.path else { continue };
+            if plan.ks.is_empty() {
+                continue;
+            }
+            // As `stitch::mismatch::mismatch`: D = P − P' over the
+            // compared positions, in order.
+            let p = &self.p[pi];
+            let count = plan.ks.len() as f64;
+            let rms = (crate::stitch::mismatch::sum_sq_diff(p, &plan.pprime, &plan.weight) / count).sqrt();
+            let mut max_abs = 0.0f64;
+            for ((a, b), w) in p.iter().zip(&plan.pprime).zip(&plan.weight) {
+                max_abs = max_abs.max((a - b).abs() * w);
+            }
+            if plan.range > 1e-12 {
+                let score = 100.0 * (1.0 - rms / plan.range).max(0.0);
+                out.push(|| format!("{}.score", plan.name), score);
+                scores.push(score);
+            }
+            out.push(|| format!("{}.rms_D_mm", plan.name), rms);
+            out.push(|| format!("{}.max_abs_D_mm", plan.name), max_abs);
+        }
+        if !scores.is_empty() {
+            out.push(|| "score.mean".into(), scores.iter().sum::<f64>() / scores.len() as f64);
+            out.push(|| "score.min".into(), scores.iter().cloned().fold(f64::MAX, f64::min));
+        }
+        if any_checks {
+            out.push(|| "checks.ok".into(), if all_ok { 1.0 } else { 0.0 });
+        }
+    }
+}
+
+/// Which kinds of figures beside the take-up extremes are asked for.
+struct Kinds {
+    mu: bool,
+    measures: bool,
+    strokes: bool,
+    stitch: bool,
+}
+
+impl Kinds {
+    /// The kinds of the figures `names`, or `None` when one is of a kind
+    /// the fast path does not compute.
+    fn of(model: &Model, threads: Option<&Threads<f64>>, path_names: &[&str], names: &[String]) -> Option<Kinds> {
+        let path_figure = |p: &str, i: usize, n: &str| {
+            let pn = crate::eval::take_up_name(threads.is_some_and(|t| t.split_up[i].is_some()));
+            n == format!("{p}.max_{pn}_mm") || n == format!("{p}.min_{pn}_mm")
+        };
+        let mut kinds = Kinds {
+            mu: false,
+            measures: false,
+            strokes: false,
+            stitch: false,
+        };
+        for n in names {
+            let path_fig = path_names.iter().enumerate().any(|(i, p)| path_figure(p, i, n));
+            if path_fig {
+            } else if n.starts_with("mu.") || n.starts_with("mu_") {
+                kinds.mu = true;
+            } else if n.ends_with("_stroke_mm") {
+                kinds.strokes = true;
+            } else if model.measure_names.iter().any(|m| {
+                [".range_mm", ".min_mm", ".max_mm"]
+                    .iter()
+                    .any(|s| n == &format!("{m}{s}"))
+            }) {
+                kinds.measures = true;
+            } else if n.starts_with("score.")
+                || n == "checks.ok"
+                || [
+                    ".score",
+                    ".rms_D_mm",
+                    ".max_abs_D_mm",
+                    ".max_Pprime_mm",
+                    ".max_Pprime_B_mm",
+                    ".checks_ok",
+                    ".bound_margin_mm",
+                ]
+                .iter()
+                .any(|s| n.ends_with(s))
+            {
+                kinds.stitch = true;
+            } else {
+                return None;
+            }
+        }
+        Some(kinds)
+    }
+}
+
+impl StitchPlan {
+    /// The plan of every stitch thread from the shared P' (`prepared`, on
+    /// the grid `phis`), or `None` when the fast path cannot reproduce the
+    /// full cycle's figures for one.
+    fn all(
+        prepared: &Prepared,
+        phis: &[f64],
+        threads: Option<&Threads<f64>>,
+        path_names: &[&str],
+    ) -> Option<Vec<StitchPlan>> {
+        if prepared.phis != phis {
+            return None;
+        }
+        let n = phis.len();
+        let setup = &prepared.setup;
+        let fixed_checks = prepared.needle_checks();
+        let mut plans = Vec::new();
+        for (i, (th, path)) in prepared.required.threads.iter().zip(&setup.paths).enumerate() {
+            let compared = &prepared.compared[i];
+            let pprime = crate::eval::stitch::pprime_at_split(th, n);
+            let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
+            let (hi, lo) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| {
+                (hi.max(pprime[k]), lo.min(pprime[k]))
+            });
+            let kmax = (0..n)
+                .max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a)))
+                .unwrap_or(0);
+            let path = match path {
+                Some(name) => Some(path_names.iter().position(|p| p == name)?),
+                None => None,
+            };
+            // The full cycle compares a needle thread at B only when its
+            // path is split there; the fast path takes that case alone.
+            let at_b = th.travel_mm.is_some();
+            if at_b && path.is_some_and(|i| threads.is_none_or(|t| t.split_up[i].is_none())) {
+                return None;
+            }
+            let bound = match (path, &th.travel_mm, &th.loop_mm) {
+                (Some(_), Some(s), Some(lp)) => Some(crate::stitch::checks::bound_curve(
+                    phis,
+                    &s[..n],
+                    &lp[..n],
+                    prepared.phi0_deg,
+                )),
+                _ => None,
+            };
+            let weight = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
+            let mine: Vec<_> = fixed_checks.iter().filter(|c| c.thread == th.name).collect();
+            plans.push(StitchPlan {
+                name: th.name.clone(),
+                path,
+                max_pprime_figure: max_pprime_figure(at_b),
+                max_pprime_mm: pprime[kmax],
+                pprime,
+                ks,
+                weight,
+                range: hi - lo,
+                bound,
+                has_checks: !mine.is_empty(),
+                fixed_checks_ok: mine.iter().all(|c| c.ok),
+            });
+        }
+        Some(plans)
     }
 }
 
@@ -1049,80 +769,4 @@ pub fn run<E: Send>(
         start = end;
     }
     pending.iter().try_for_each(&mut sink)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn vary(name: &str, lo: f64, hi: f64, n: usize) -> Vary {
-        Vary {
-            name: name.into(),
-            lo,
-            hi,
-            n,
-        }
-    }
-
-    #[test]
-    fn grid_runs_the_last_parameter_fastest() {
-        let s = Sweep::new(vec![vary("a", 0.0, 1.0, 2), vary("b", 10.0, 30.0, 3)], Design::Grid).unwrap();
-        assert_eq!(s.len(), 6);
-        let all: Vec<Vec<f64>> = (0..6).map(|i| s.setting(i)).collect();
-        assert_eq!(all[0], vec![0.0, 10.0]);
-        assert_eq!(all[1], vec![0.0, 20.0]);
-        assert_eq!(all[3], vec![1.0, 10.0]);
-        assert_eq!(all[5], vec![1.0, 30.0]);
-    }
-
-    #[test]
-    fn latin_hypercube_uses_every_stratum_once() {
-        let n = 50;
-        let s = Sweep::new(
-            vec![vary("a", 0.0, 1.0, 2), vary("b", -5.0, 5.0, 2)],
-            Design::Lhs { samples: n, seed: 7 },
-        )
-        .unwrap();
-        for (d, (lo, hi)) in [(0.0, 1.0), (-5.0, 5.0)].into_iter().enumerate() {
-            let mut strata: Vec<usize> = (0..n)
-                .map(|i| ((s.setting(i)[d] - lo) / (hi - lo) * n as f64) as usize)
-                .collect();
-            strata.sort();
-            assert_eq!(strata, (0..n).collect::<Vec<_>>());
-        }
-        // The same seed gives the same samples; another seed others.
-        let again = Sweep::new(s.vary.clone(), Design::Lhs { samples: n, seed: 7 }).unwrap();
-        let other = Sweep::new(s.vary.clone(), Design::Lhs { samples: n, seed: 8 }).unwrap();
-        assert_eq!(s.setting(13), again.setting(13));
-        assert_ne!(s.setting(13), other.setting(13));
-    }
-
-    #[test]
-    fn random_samples_stay_in_the_box_and_look_uniform() {
-        let s = Sweep::new(
-            vec![vary("a", 2.0, 4.0, 2)],
-            Design::Random {
-                samples: 20_000,
-                seed: 1,
-            },
-        )
-        .unwrap();
-        let xs: Vec<f64> = (0..20_000).map(|i| s.setting(i)[0]).collect();
-        assert!(xs.iter().all(|x| (2.0..4.0).contains(x)));
-        let mean = xs.iter().sum::<f64>() / xs.len() as f64;
-        assert!((mean - 3.0).abs() < 0.02, "{mean}");
-        let below = xs.iter().filter(|x| **x < 2.5).count() as f64 / xs.len() as f64;
-        assert!((below - 0.25).abs() < 0.02, "{below}");
-    }
-
-    #[test]
-    fn shards_tile_the_sweep() {
-        let s = Sweep::new(vec![vary("a", 0.0, 1.0, 7), vary("b", 0.0, 1.0, 3)], Design::Grid).unwrap();
-        let parts: Vec<std::ops::Range<usize>> = (1..=4).map(|k| s.shard(k, 4)).collect();
-        assert_eq!(parts[0].start, 0);
-        assert_eq!(parts[3].end, 21);
-        for w in parts.windows(2) {
-            assert_eq!(w[0].end, w[1].start);
-        }
-    }
 }

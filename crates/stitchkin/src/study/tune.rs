@@ -9,12 +9,15 @@
 //! Latin-hypercube sample on all cores (global), then Nelder–Mead (argmin)
 //! from the best few samples (local). The same seed gives the same answer.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use argmin::core::{CostFunction, Executor, State};
 use argmin::solver::neldermead::NelderMead;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::sweep::{Design, Sweep, Vary};
+use super::design::{Design, Sweep, Vary};
+use super::figures::shared_stitch;
 use crate::error::{Error, ParamError};
 use crate::eval::stitch::Prepared;
 use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle_with};
@@ -173,43 +176,88 @@ impl Problem<'_> {
         let outside: f64 = u.iter().map(|&u| (u - u.clamp(0.0, 1.0)).abs()).sum();
         self.figures(&self.values(u)).map_or(FAILED, |f| f.objective) + 10.0 * outside
     }
+
+    /// Nelder–Mead from the best three starts of `scored` (objective and
+    /// setting in u, best first): the best setting found, with its
+    /// objective.
+    fn local_search(&self, scored: &[(f64, Vec<f64>)], count: &AtomicUsize) -> Result<(f64, Vec<f64>), Error> {
+        let d = self.vary.len();
+        let starts: Vec<Vec<f64>> = scored.iter().take(3).map(|s| s.1.clone()).collect();
+        let mut best = scored[0].clone();
+        for s in starts {
+            let mut simplex = vec![s.clone()];
+            for k in 0..d {
+                let mut v = s.clone();
+                v[k] += if v[k] > 0.5 { -0.08 } else { 0.08 };
+                simplex.push(v);
+            }
+            let solver = NelderMead::new(simplex)
+                .with_sd_tolerance(1e-7)
+                .map_err(|e| Error::Stitch(format!("tuning: {e}")))?;
+            let res = Executor::new(Cost(self, count), solver)
+                .configure(|st| st.max_iters(60 * d as u64))
+                .run()
+                .map_err(|e| Error::Stitch(format!("tuning: {e}")))?;
+            let st = res.state();
+            if let Some(p) = st.get_best_param()
+                && st.get_best_cost() < best.0
+            {
+                best = (st.get_best_cost(), p.iter().map(|u| u.clamp(0.0, 1.0)).collect());
+            }
+        }
+        Ok(best)
+    }
+
+    /// How flat the optimum `after` (with figures `best`) is: each
+    /// parameter alone across its range (see [`Flatness`]).
+    fn flatness(&self, after: &[f64], best: &MatchFigures, count: &AtomicUsize) -> Vec<Flatness> {
+        self.vary
+            .iter()
+            .enumerate()
+            .map(|(k, v)| {
+                let xs: Vec<f64> = (0..=40).map(|j| v.lo + (v.hi - v.lo) * j as f64 / 40.0).collect();
+                let ok: Vec<bool> = xs
+                    .par_iter()
+                    .map(|&x| {
+                        let mut s = after.to_vec();
+                        s[k] = x;
+                        self.figures(&s)
+                            .is_some_and(|f| f.feasible && f.objective <= best.objective + 0.01)
+                    })
+                    .collect();
+                count.fetch_add(xs.len(), Ordering::Relaxed);
+                // The run of acceptable values around the optimum.
+                let j0 = xs
+                    .iter()
+                    .enumerate()
+                    .min_by(|a, b| (a.1 - after[k]).abs().total_cmp(&(b.1 - after[k]).abs()))
+                    .map_or(0, |(j, _)| j);
+                let (mut a, mut b) = (j0, j0);
+                while a > 0 && ok[a - 1] {
+                    a -= 1;
+                }
+                while b + 1 < xs.len() && ok[b + 1] {
+                    b += 1;
+                }
+                Flatness {
+                    name: v.name.clone(),
+                    lo: xs[a].min(after[k]),
+                    hi: xs[b].max(after[k]),
+                }
+            })
+            .collect()
+    }
 }
 
-struct Cost<'a, 'b>(&'b Problem<'a>, &'b std::sync::atomic::AtomicUsize);
+struct Cost<'a, 'b>(&'b Problem<'a>, &'b AtomicUsize);
 
 impl CostFunction for Cost<'_, '_> {
     type Param = Vec<f64>;
     type Output = f64;
     fn cost(&self, u: &Self::Param) -> Result<f64, argmin::core::Error> {
-        self.1.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        self.1.fetch_add(1, Ordering::Relaxed);
         Ok(self.0.objective(u))
     }
-}
-
-/// The settings a technician adjusts by default: every parameter with an
-/// adjustable range that leaves the stitch process alone (not the material
-/// or the stitch length, not the needle's own motion), in file order.
-pub fn default_adjustables(model: &Model, base: &Params) -> Result<Vec<String>, Error> {
-    let mut out = Vec::new();
-    for p in &model.params {
-        let Some([lo, hi]) = p.range else { continue };
-        if p.is_derived() || lo >= hi {
-            continue;
-        }
-        let one = Sweep::new(
-            vec![Vary {
-                name: p.name.clone(),
-                lo,
-                hi,
-                n: 2,
-            }],
-            Design::Grid,
-        )?;
-        if super::sweep::shared_stitch(model, base, &one, 5.0)?.is_some() {
-            out.push(p.name.clone());
-        }
-    }
-    Ok(out)
 }
 
 /// Sets the stitch's thickness (`which` = "m") or length ("t") through the
@@ -237,43 +285,11 @@ pub fn set_stitch_value(model: &Model, params: &mut Params, which: &str, value: 
 /// Tunes `model` (with `base`, where the stitch's thickness and length are
 /// already set) over `opts.adjust`.
 pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResult, Error> {
-    let bad = |message: String, help: &str| {
-        Error::Param(ParamError {
-            message,
-            help: Some(help.into()),
-        })
-    };
     crate::eval::check_options(&CycleOptions {
         step_deg: opts.step_deg,
         ..Default::default()
     })?;
-    if opts.adjust.is_empty() {
-        return Err(bad(
-            "nothing to adjust".into(),
-            "name the settings, e.g. --adjust z,dphi (parameters with an adjustable range)",
-        ));
-    }
-    let mut vary = Vec::new();
-    for name in &opts.adjust {
-        let i = model.param_index(name).ok_or_else(|| {
-            bad(
-                format!("the model has no parameter `{name}`"),
-                "see `stitchkin check` for its parameters",
-            )
-        })?;
-        let Some([lo, hi]) = model.params[i].range else {
-            return Err(bad(
-                format!("`{name}` has no adjustable range to tune in"),
-                "give it `range = [lo, hi]` in [parameters]",
-            ));
-        };
-        vary.push(Vary {
-            name: name.clone(),
-            lo,
-            hi,
-            n: 2,
-        });
-    }
+    let vary = tuned_ranges(model, &opts.adjust)?;
     let cycle = CycleOptions {
         step_deg: opts.step_deg,
         rpm: None,
@@ -293,7 +309,7 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
             seed: opts.seed,
         },
     )?;
-    let shared = super::sweep::shared_stitch(model, base, &design, opts.step_deg)?;
+    let shared = shared_stitch(model, base, &design, opts.step_deg)?;
     let problem = Problem {
         model,
         base,
@@ -314,7 +330,7 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
             Error::Stitch("no thread of the stitch is compared with a take-up path (give `path` in [stitch])".into())
         }),
     })?;
-    let count = std::sync::atomic::AtomicUsize::new(0);
+    let count = AtomicUsize::new(0);
     // Global: the Latin-hypercube sample, in parallel.
     let unit = |i: usize| -> Vec<f64> {
         design
@@ -328,7 +344,7 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
         .into_par_iter()
         .map(|i| {
             let u = unit(i);
-            count.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            count.fetch_add(1, Ordering::Relaxed);
             (problem.objective(&u), u)
         })
         .collect();
@@ -340,72 +356,12 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
         .collect();
     scored.push((before_figures.objective, u0));
     scored.sort_by(|a, b| a.0.total_cmp(&b.0));
-    // Local: Nelder–Mead from the best three starts.
-    let d = vary.len();
-    let starts: Vec<Vec<f64>> = scored.iter().take(3).map(|s| s.1.clone()).collect();
-    let mut best = scored[0].clone();
-    for s in starts {
-        let mut simplex = vec![s.clone()];
-        for k in 0..d {
-            let mut v = s.clone();
-            v[k] += if v[k] > 0.5 { -0.08 } else { 0.08 };
-            simplex.push(v);
-        }
-        let solver = NelderMead::new(simplex)
-            .with_sd_tolerance(1e-7)
-            .map_err(|e| Error::Stitch(format!("tuning: {e}")))?;
-        let res = Executor::new(Cost(&problem, &count), solver)
-            .configure(|st| st.max_iters(60 * d as u64))
-            .run()
-            .map_err(|e| Error::Stitch(format!("tuning: {e}")))?;
-        let st = res.state();
-        if let Some(p) = st.get_best_param()
-            && st.get_best_cost() < best.0
-        {
-            best = (st.get_best_cost(), p.iter().map(|u| u.clamp(0.0, 1.0)).collect());
-        }
-    }
+    let best = problem.local_search(&scored, &count)?;
     let after = problem.values(&best.1);
     let after_figures = problem
         .figures(&after)
         .ok_or_else(|| Error::Stitch("tuning: the optimum does not evaluate".into()))?;
-    // Flatness: each parameter alone across its range.
-    let flatness = vary
-        .iter()
-        .enumerate()
-        .map(|(k, v)| {
-            let xs: Vec<f64> = (0..=40).map(|j| v.lo + (v.hi - v.lo) * j as f64 / 40.0).collect();
-            let ok: Vec<bool> = xs
-                .par_iter()
-                .map(|&x| {
-                    let mut s = after.clone();
-                    s[k] = x;
-                    problem
-                        .figures(&s)
-                        .is_some_and(|f| f.feasible && f.objective <= after_figures.objective + 0.01)
-                })
-                .collect();
-            count.fetch_add(xs.len(), std::sync::atomic::Ordering::Relaxed);
-            // The run of acceptable values around the optimum.
-            let j0 = xs
-                .iter()
-                .enumerate()
-                .min_by(|a, b| (a.1 - after[k]).abs().total_cmp(&(b.1 - after[k]).abs()))
-                .map_or(0, |(j, _)| j);
-            let (mut a, mut b) = (j0, j0);
-            while a > 0 && ok[a - 1] {
-                a -= 1;
-            }
-            while b + 1 < xs.len() && ok[b + 1] {
-                b += 1;
-            }
-            Flatness {
-                name: v.name.clone(),
-                lo: xs[a].min(after[k]),
-                hi: xs[b].max(after[k]),
-            }
-        })
-        .collect();
+    let flatness = problem.flatness(&after, &after_figures, &count);
     let names: Vec<(String, &'static str)> = vary
         .iter()
         .map(|v| {
@@ -426,6 +382,45 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
         notes,
         evaluations: count.into_inner(),
     })
+}
+
+/// The ranges of the parameters `adjust` names, each checked: a
+/// parameter of the model with an adjustable range.
+fn tuned_ranges(model: &Model, adjust: &[String]) -> Result<Vec<Vary>, Error> {
+    let bad = |message: String, help: &str| {
+        Error::Param(ParamError {
+            message,
+            help: Some(help.into()),
+        })
+    };
+    if adjust.is_empty() {
+        return Err(bad(
+            "nothing to adjust".into(),
+            "name the settings, e.g. --adjust z,dphi (parameters with an adjustable range)",
+        ));
+    }
+    let mut vary = Vec::new();
+    for name in adjust {
+        let i = model.param_index(name).ok_or_else(|| {
+            bad(
+                format!("the model has no parameter `{name}`"),
+                "see `stitchkin check` for its parameters",
+            )
+        })?;
+        let Some([lo, hi]) = model.params[i].range else {
+            return Err(bad(
+                format!("`{name}` has no adjustable range to tune in"),
+                "give it `range = [lo, hi]` in [parameters]",
+            ));
+        };
+        vary.push(Vary {
+            name: name.clone(),
+            lo,
+            hi,
+            n: 2,
+        });
+    }
+    Ok(vary)
 }
 
 /// Where a tuning's result stands (see [`TuneResult::notes`]).

@@ -22,9 +22,9 @@ use stitchkin::model::{Model, Params};
 use stitchkin::stitch::consumption::{StitchGeometry, consumption};
 use stitchkin::stitch::mismatch::mismatch;
 use stitchkin::study::compare2d3d::compare_2d3d;
+use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::straightness::{Reference, StraightnessOptions, Window, straightness};
-use stitchkin::study::stroke::{Axis, StrokeOptions, point_slot, stroke, study};
-use stitchkin::study::sweep::{Design, Sweep, Vary};
+use stitchkin::study::stroke::{Axis, StrokeOptions, stroke, study};
 use stitchkin::study::tune::{TuneOptions, set_stitch_value, tune};
 use stitchkin::verify::cross_check;
 
@@ -796,7 +796,7 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
 fn needle876() -> Vec<Fact> {
     let m = Model::preset("needle876").unwrap();
     let d = m.defaults();
-    let g = point_slot(&m, "G", "--point", true).unwrap();
+    let g = m.moving_point_slot("G").unwrap();
     let at = |alpha: f64| stroke(&m, &with(&m, &d, &[("alpha", alpha)]), g, &Axis::World(1), 2.0).unwrap();
     let alphas: Vec<f64> = (0..=7).map(|i| 5.0 * i as f64).collect();
     let rows: Vec<_> = alphas.iter().map(|&a| at(a)).collect();
@@ -839,7 +839,7 @@ fn needle876() -> Vec<Fact> {
     let mech = m.mechanism::<f64>(&d).unwrap();
     let mut pose = mech.new_pose(1);
     mech.solve(&[Phi::at_deg(phi0)], &mut pose).unwrap();
-    let dd = pose.point(point_slot(&m, "D", "--point", true).unwrap(), 0);
+    let dd = pose.point(m.moving_point_slot("D").unwrap(), 0);
     let x_e = v("x_c") + v("l_ef");
     let l_cf = v("y_c") - (dd[1] - (v("l_de").powi(2) - (x_e - dd[0]).powi(2)).sqrt());
     out.push(fact(
@@ -960,9 +960,9 @@ fn needle876() -> Vec<Fact> {
 fn altin_needle() -> Vec<Fact> {
     let m = Model::preset("altin-needle").unwrap();
     let d = m.defaults();
-    let slot = |n: &str| point_slot(&m, n, "--line", false).unwrap();
+    let slot = |n: &str| m.point_slot(n).unwrap();
     let o = StraightnessOptions {
-        point: point_slot(&m, "E", "--point", true).unwrap(),
+        point: m.moving_point_slot("E").unwrap(),
         reference: Reference::Line {
             through: slot("N1"),
             toward: slot("N2"),

@@ -332,8 +332,8 @@ fn bad_input_gets_a_clear_error() {
 // ---- The charts over a varied parameter, a sweep, a nomogram, 2D/3D ----
 
 use stitchkin::output::plots::parse_vary;
+use stitchkin::study::design::Vary;
 use stitchkin::study::nomogram::{Axis as GridAxis, NomogramOptions};
-use stitchkin::study::sweep::Vary;
 use stitchkin::study::tune::TuneOptions;
 
 /// The panels of a stacked figure: the text from each `panel-title` to the next.

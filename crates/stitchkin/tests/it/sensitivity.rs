@@ -3,11 +3,11 @@
 
 use stitchkin::eval::{CycleOptions, run_cycle};
 use stitchkin::model::{Model, Params};
+use stitchkin::study::figures::figures;
 use stitchkin::study::fit::{Facts, FitOptions, fit};
 use stitchkin::study::sensitivity::{
     Method, RankBy, SensitivityOptions, figure_derivatives, sensitivity, take_up_derivatives,
 };
-use stitchkin::study::sweep::figures;
 
 fn plain(m: &Model, p: &Params, step: f64) -> Vec<(String, f64)> {
     figures(

@@ -5,11 +5,11 @@ use stitchkin::eval::{CycleOptions, run_cycle};
 use stitchkin::mechanism::Phi;
 use stitchkin::model::{Model, Params};
 use stitchkin::scalar::Real;
+use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::straightness::{
     Distribution, Reference, StraightnessOptions, ToleranceOptions, Window, straightness, tolerance_study, tolerances,
 };
-use stitchkin::study::stroke::{Axis, StrokeOptions, point_slot, stroke, study};
-use stitchkin::study::sweep::{Design, Sweep, Vary};
+use stitchkin::study::stroke::{Axis, StrokeOptions, stroke, study};
 
 fn with(m: &Model, set: &[(&str, f64)]) -> Params {
     let mut p = m.defaults();
@@ -40,7 +40,7 @@ fn extended_dead_point(m: &Model, p: &Params) -> (f64, [f64; 2]) {
 
 fn needle(m: &Model) -> StrokeOptions {
     StrokeOptions {
-        point: point_slot(m, "G", "--point", true).unwrap(),
+        point: m.moving_point_slot("G").unwrap(),
         axis: Axis::World(1),
         step_deg: 1.0,
     }
@@ -188,10 +188,10 @@ fn dead_centres_are_zeros_of_the_exact_analog() {
 
 fn guide(m: &Model, window: Window, step: f64) -> StraightnessOptions {
     StraightnessOptions {
-        point: point_slot(m, "E", "--point", true).unwrap(),
+        point: m.moving_point_slot("E").unwrap(),
         reference: Reference::Line {
-            through: point_slot(m, "N1", "--line", false).unwrap(),
-            toward: point_slot(m, "N2", "--line", false).unwrap(),
+            through: m.point_slot("N1").unwrap(),
+            toward: m.point_slot("N2").unwrap(),
         },
         window,
         step_deg: step,

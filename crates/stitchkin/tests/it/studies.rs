@@ -2,7 +2,8 @@
 
 use stitchkin::eval::{CycleOptions, run_cycle, run_cycle_with};
 use stitchkin::model::Model;
-use stitchkin::study::sweep::{self, Design, Sweep, Vary};
+use stitchkin::study::design::{Design, Sweep, Vary};
+use stitchkin::study::{figures, sweep};
 
 fn opts(analogs: bool, lean: bool) -> CycleOptions {
     CycleOptions {
@@ -36,7 +37,7 @@ fn plain_and_dual_cycles_agree_and_lean_keeps_the_figures() {
     // Lean drops the wrap and tension columns and the best lag, nothing else.
     assert!(lean.columns.len() < plain.columns.len());
     assert!(lean.column("n1_A.G4_1_wrap_deg").is_none() && plain.column("n1_A.G4_1_wrap_deg").is_some());
-    assert_eq!(sweep::figures(&lean), sweep::figures(&plain));
+    assert_eq!(figures::figures(&lean), figures::figures(&plain));
     let st = lean.stitch.as_ref().unwrap();
     assert!(
         st.threads
@@ -57,7 +58,7 @@ fn p_prime_is_shared_only_when_the_stitch_does_not_change() {
         Design::Grid,
     )
     .unwrap();
-    let shared = sweep::shared_stitch(&m, &p, &takeup, 2.0)
+    let shared = figures::shared_stitch(&m, &p, &takeup, 2.0)
         .unwrap()
         .expect("z and dphi leave the stitch alone");
     // The same rows with and without sharing.
@@ -80,7 +81,7 @@ fn p_prime_is_shared_only_when_the_stitch_does_not_change() {
     // m changes P' (and the needle crank radius r2 the needle's motion).
     for v in ["m=2:4:3", "r2=15.5:16.5:3"] {
         let s = Sweep::new(vec![Vary::parse(&m, v).unwrap()], Design::Grid).unwrap();
-        assert!(sweep::shared_stitch(&m, &p, &s, 2.0).unwrap().is_none(), "{v}");
+        assert!(figures::shared_stitch(&m, &p, &s, 2.0).unwrap().is_none(), "{v}");
     }
     // Sharing with another grid is refused, not silently wrong.
     let other = run_cycle_with(
@@ -97,7 +98,7 @@ fn p_prime_is_shared_only_when_the_stitch_does_not_change() {
 
 #[test]
 fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
-    use stitchkin::study::tune::{TuneOptions, default_adjustables, set_stitch_value, tune};
+    use stitchkin::study::tune::{TuneOptions, set_stitch_value, tune};
     let m = Model::preset("mf7923d").unwrap();
     let mut p = m.defaults();
     m.set(&mut p, "t1_phase", 180.0).unwrap();
@@ -105,7 +106,7 @@ fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
     assert_eq!(p.values[m.param_index("m").unwrap()], 4.0);
     // The technician's settings: not m, the stitch length, the needle crank r2
     // (it moves the needle, so P') or the reading switch t1_phase.
-    let adjust = default_adjustables(&m, &p).unwrap();
+    let adjust = m.default_adjustables(&p).unwrap();
     assert_eq!(adjust, ["r1", "l_o2b", "z", "dphi"]);
     let opts = TuneOptions {
         adjust: vec!["z".into(), "dphi".into()],
@@ -174,7 +175,7 @@ fn the_fast_figures_are_the_cycle_tables() {
         let p = m.defaults();
         let o = opts(false, true);
         let nominal = run_cycle(&m, &p, &o).unwrap();
-        let names: Vec<String> = sweep::figures(&nominal).into_iter().map(|(n, _)| n).collect();
+        let names: Vec<String> = figures::figures(&nominal).into_iter().map(|(n, _)| n).collect();
         // Every ranged parameter in turn, the last ones together.
         let ranged: Vec<&str> = m
             .params
@@ -189,7 +190,7 @@ fn the_fast_figures_are_the_cycle_tables() {
                 Design::Grid,
             )
             .unwrap();
-            let shared = sweep::shared_stitch(&m, &p, &sw, o.step_deg).unwrap();
+            let shared = figures::shared_stitch(&m, &p, &sw, o.step_deg).unwrap();
             let mut ev = Evaluator::new(&m, &p, &sw, &names, &o, shared.as_ref());
             fast_presets += usize::from(ev.is_fast());
             for i in 0..sw.len() {
@@ -213,7 +214,7 @@ fn the_fast_figures_are_the_cycle_tables() {
     let mut p = m.defaults();
     m.set(&mut p, "c", 26.0).unwrap();
     let o = opts(false, true);
-    let names: Vec<String> = sweep::figures(&run_cycle(&m, &p, &o).unwrap())
+    let names: Vec<String> = figures::figures(&run_cycle(&m, &p, &o).unwrap())
         .into_iter()
         .map(|(n, _)| n)
         .collect();

@@ -410,7 +410,7 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     let traced = opts
         .trajectories
         .iter()
-        .map(|p| crate::study::stroke::point_slot(model, p, "--trajectories", true))
+        .map(|p| model.moving_point_slot(p).map_err(|e| e.given_in("--trajectories")))
         .collect::<Result<Vec<usize>, Error>>()?;
     let nf = if opts.animate { opts.frames } else { 1 };
     let phis: Vec<f64> = (0..nf).map(|k| opts.phi_deg + 360.0 * k as f64 / nf as f64).collect();

@@ -13,7 +13,7 @@ use crate::error::Error;
 use crate::eval::{CycleOptions, CycleTable, run_cycle};
 use crate::model::{Model, Params};
 use crate::output::svg::{Axis, Chart, Heat, Series, Surface, family_color, nice_step};
-use crate::study::sweep::Vary;
+use crate::study::design::Vary;
 
 /// The values of a varied parameter and the φ of one cycle: the grid the
 /// lines of a family and the rows of a surface share.

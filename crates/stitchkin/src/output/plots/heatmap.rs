@@ -6,7 +6,9 @@ use crate::error::Error;
 use crate::eval::{CycleOptions, run_cycle};
 use crate::model::{Model, Params};
 use crate::output::svg::{Axis, Chart, Heat, Marker, nice_step};
-use crate::study::sweep::{self, Design, Sweep, Vary, figures, select_figures};
+use crate::study::design::{Design, Sweep, Vary};
+use crate::study::figures::{figures, select_figures, shared_stitch};
+use crate::study::sweep;
 
 /// The colour-bar label of a figure of merit: its name with the unit split
 /// off (`n1_A.max_P, mm`), a score's scale (`n1.score (0…100)`).
@@ -82,7 +84,7 @@ pub fn heatmap(model: &Model, params: &Params, vary: &[Vary], figure: &str, step
         }
     };
     let sw = Sweep::new(vary.clone(), Design::Grid)?;
-    let shared = sweep::shared_stitch(model, params, &sw, step_deg)?;
+    let shared = shared_stitch(model, params, &sw, step_deg)?;
     let mut rows = Vec::with_capacity(sw.len());
     sweep::run(
         model,

@@ -12,9 +12,9 @@ use crate::error::{Error, ParamError};
 use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle, wrap_deg};
 use crate::geometry::{Plane, V3};
 use crate::model::{Model, Params};
+use crate::study::design::Vary;
 use crate::study::measured::MeasuredMatch;
 use crate::study::nomogram::NomogramOptions;
-use crate::study::sweep::Vary;
 use crate::thread::measured::CurveKind;
 
 pub mod analogs;
@@ -73,7 +73,7 @@ pub enum Plot {
         vary: Vary,
         wireframe: bool,
     },
-    /// One figure of merit of [`crate::study::sweep::figures`] (a pattern
+    /// One figure of merit of [`crate::study::figures::figures`] (a pattern
     /// matching exactly one) over the grid of two varied parameters, as a
     /// heat map with a colour bar.
     Heatmap { vary: Vec<Vary>, figure: String },
@@ -235,7 +235,7 @@ fn point_slots(model: &Model, points: &[String]) -> Result<Vec<usize>, Error> {
     }
     points
         .iter()
-        .map(|p| crate::study::stroke::point_slot(model, p, "--points", true))
+        .map(|p| model.moving_point_slot(p).map_err(|e| e.given_in("--points")))
         .collect()
 }
 

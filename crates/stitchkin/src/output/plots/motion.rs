@@ -12,7 +12,7 @@ use crate::error::{Error, did_you_mean};
 use crate::eval::{CycleOptions, CycleTable, run_cycle};
 use crate::model::{Model, Params};
 use crate::output::svg::{Axis, Chart, Figure, Series, color, family_color};
-use crate::study::sweep::Vary;
+use crate::study::design::Vary;
 
 /// The unit endings of the cycle table's column names, longest first.
 const UNITS: [&str; 12] = [

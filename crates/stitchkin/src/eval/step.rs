@@ -1,0 +1,26 @@
+//! The φ step of a study that refines extremes below the cycle grid.
+
+use super::{CycleOptions, check_options};
+use crate::error::{Error, ParamError};
+
+/// The coarsest φ step of a study that refines extremes: each extremum must
+/// lie between a grid sample's two neighbours, degrees.
+pub const MAX_STEP_DEG: f64 = 45.0;
+
+/// Checks a refining study's φ step: the cycle's own checks
+/// ([`check_options`]), and at most [`MAX_STEP_DEG`].
+pub(crate) fn check_step(step_deg: f64) -> Result<(), Error> {
+    check_options(&CycleOptions {
+        step_deg,
+        ..Default::default()
+    })?;
+    if step_deg > MAX_STEP_DEG {
+        return Err(Error::Param(ParamError {
+            message: format!("the step {step_deg} deg is too coarse to bracket the extremes"),
+            help: Some(format!(
+                "give a step of at most {MAX_STEP_DEG} deg, e.g. --step 1 (extremes are refined below it)"
+            )),
+        }));
+    }
+    Ok(())
+}
