@@ -1380,7 +1380,10 @@ impl Model {
 
     /// The thread paths' names, in file order (empty without `[thread]`).
     pub fn thread_path_names(&self) -> Vec<&str> {
-        self.file.thread.as_ref().map_or_else(Vec::new, |t| t.paths.iter().map(|p| p.name.as_str()).collect())
+        self.file
+            .thread
+            .as_ref()
+            .map_or_else(Vec::new, |t| t.paths.iter().map(|p| p.name.as_str()).collect())
     }
 
     /// The stitch the machine makes (`[stitch]`), as declared.

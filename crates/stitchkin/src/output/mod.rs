@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use crate::error::Error;
-use crate::format::fmt_num;
 use crate::eval::CycleTable;
+use crate::format::fmt_num;
 use crate::model::{Model, Params};
 
 /// The table as CSV: a header of unit-carrying column names, one row per φ.

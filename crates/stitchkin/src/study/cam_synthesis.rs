@@ -63,10 +63,10 @@ use serde::Serialize;
 
 use crate::error::{Error, ParamError};
 use crate::eval::{self, wrap_deg};
+use crate::format::fmt_num;
 use crate::geometry::{V2, V3};
 use crate::mechanism::{Mechanism, Phi};
 use crate::model::{Model, Params};
-use crate::format::fmt_num;
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::thread::cam::{CamPlacement, Profile};
 use crate::thread::measured::{MeasuredCurve, SplitPoint, periodic_segment};

@@ -20,9 +20,9 @@ use serde::Serialize;
 
 use super::tune::{TuneOptions, TuneResult, default_adjustables, set_stitch_value, tune};
 use crate::error::{Error, ParamError};
+use crate::format::fmt_num;
 use crate::model::file::Value;
 use crate::model::{Model, Params};
-use crate::format::fmt_num;
 
 /// The most grid points a nomogram may have (each one is a full tuning).
 pub const MAX_POINTS: usize = 10_000;

@@ -421,10 +421,7 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
     };
     if names.is_empty() {
         return Err(bad(
-            format!(
-                "model `{}` has no parameter with an adjustable range",
-                model.name()
-            ),
+            format!("model `{}` has no parameter with an adjustable range", model.name()),
             "give a parameter `range = [lo, hi]` in [parameters] to study it".into(),
         ));
     }
@@ -647,10 +644,7 @@ pub fn take_up_derivatives(
 ) -> Result<(Vec<f64>, Vec<(String, Vec<f64>, Vec<f64>)>), Error> {
     let (mech, pose, phis) = seeded_cycle(model, base, param, step_deg)?;
     let Some(th) = &mech.threads else {
-        return Err(Error::Thread(format!(
-            "model `{}` has no thread paths",
-            model.name()
-        )));
+        return Err(Error::Thread(format!("model `{}` has no thread paths", model.name())));
     };
     let at0 = tracks_at_phi0(&mech, th)?;
     let tracks = th.evaluate(&pose, None).map_err(|e| {

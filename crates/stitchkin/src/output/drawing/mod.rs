@@ -23,6 +23,7 @@ use std::fmt::Write;
 use super::svg::{color, escape, nice_step};
 use crate::error::{Error, ParamError};
 use crate::eval::{cycle_phis_deg, wrap_deg};
+use crate::format::{fmt_decimals, svg_num as n};
 use crate::geometry::{Plane as FramePlane, V2, V3};
 use crate::mechanism::Mechanism;
 use crate::model::{Model, Params};
@@ -225,28 +226,6 @@ impl Projection {
     }
 }
 
-/// A coordinate with two decimals, never `-0` (callers keep values finite).
-fn n(v: f64) -> String {
-    let s = format!("{v:.2}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" || s.is_empty() {
-        "0".into()
-    } else {
-        s.to_string()
-    }
-}
-
-/// A length or angle for text: up to three decimals.
-fn num3(v: f64) -> String {
-    let s = format!("{v:.3}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" || s.is_empty() {
-        "0".into()
-    } else {
-        s.to_string()
-    }
-}
-
 fn check_options(opts: &DrawOptions) -> Result<(), Error> {
     if !opts.phi_deg.is_finite() {
         return Err(param_error(
@@ -362,20 +341,20 @@ impl Timing {
         }
         if discrete {
             let kt: Vec<String> = (0..values.len())
-                .map(|k| num3(k as f64 / values.len() as f64))
+                .map(|k| fmt_decimals(k as f64 / values.len() as f64, 3))
                 .collect();
             format!(
                 r#"<animate attributeName="{attr}" values="{}" keyTimes="{}" calcMode="discrete" dur="{}s" repeatCount="indefinite"/>"#,
                 values.join(";"),
                 kt.join(";"),
-                num3(self.dur)
+                fmt_decimals(self.dur, 3)
             )
         } else {
             format!(
                 r#"<animate attributeName="{attr}" values="{};{}" dur="{}s" repeatCount="indefinite"/>"#,
                 values.join(";"),
                 values[0],
-                num3(self.dur)
+                fmt_decimals(self.dur, 3)
             )
         }
     }
@@ -389,7 +368,7 @@ impl Timing {
             r#"<animateTransform attributeName="transform" type="{kind}" values="{};{}" dur="{}s" repeatCount="indefinite"/>"#,
             values.join(";"),
             values[0],
-            num3(self.dur)
+            fmt_decimals(self.dur, 3)
         )
     }
 }
@@ -617,10 +596,10 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         format!(
             "{}: mechanism over one turn from φ = {}°",
             model.name(),
-            num3(opts.phi_deg)
+            fmt_decimals(opts.phi_deg, 3)
         )
     } else {
-        format!("{}: mechanism at φ = {}°", model.name(), num3(opts.phi_deg))
+        format!("{}: mechanism at φ = {}°", model.name(), fmt_decimals(opts.phi_deg, 3))
     };
     let projected = !(model.planar && matches!(opts.view, View::Plane(Plane::Xy)));
     let mut sub = match opts.view {
@@ -629,7 +608,11 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         _ => format!("in {view_words}, to scale"),
     };
     if opts.animate {
-        sub += &format!("; {} frames per turn, {} s per turn", nf, num3(opts.duration_s));
+        sub += &format!(
+            "; {} frames per turn, {} s per turn",
+            nf,
+            fmt_decimals(opts.duration_s, 3)
+        );
     }
     if !traced.is_empty() {
         sub += "; thin lines: paths over the cycle";
@@ -638,7 +621,7 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         s,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="11" data-px-per-mm="{}" data-phi-deg="{}" data-frames="{nf}">"#,
         scale,
-        num3(opts.phi_deg),
+        fmt_decimals(opts.phi_deg, 3),
         w = n(w),
         h = n(h)
     );
@@ -1203,7 +1186,11 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
                     .find(|b| b.pts.contains(&d.a))
                     .map_or(String::new(), |b| name_of(b.pts[0]))
             };
-            let text = format!("{} = {} mm", dim_label(d.symbol, &an, &name_of(d.b)), num3(d.length));
+            let text = format!(
+                "{} = {} mm",
+                dim_label(d.symbol, &an, &name_of(d.b)),
+                fmt_decimals(d.length, 3)
+            );
             let tw = 5.6 * text.chars().count() as f64;
             // Upright angle of the link at frame k, continuous over frames.
             let mut angles: Vec<f64> = Vec::with_capacity(nf);
@@ -1304,7 +1291,7 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
             let _ = writeln!(
                 s,
                 r##"<g class="dimension" data-length-mm="{}" transform="translate({})">{}<g transform="rotate({})">{}<text x="0" y="0" text-anchor="middle" font-size="10" fill="#1f4e79" stroke="white" stroke-width="3" paint-order="stroke">{}</text></g></g>"##,
-                num3(d.length),
+                fmt_decimals(d.length, 3),
                 at[0],
                 timing.transform("translate", &at),
                 rot[0],
@@ -1389,7 +1376,7 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
     let _ = writeln!(
         s,
         r##"<g class="scale-bar" data-mm="{}"><rect x="{}" y="{}" width="{}" height="5" fill="white" stroke="#2a2a2a" stroke-width="1"/><rect x="{}" y="{}" width="{}" height="5" fill="#2a2a2a"/><text x="{}" y="{}" text-anchor="middle">0</text><text x="{}" y="{}" text-anchor="middle">{} mm</text></g>"##,
-        num3(bar_mm),
+        fmt_decimals(bar_mm, 3),
         n(bx),
         n(by),
         n(bar_px),
@@ -1400,7 +1387,7 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         n(by + 18.0),
         n(bx + bar_px),
         n(by + 18.0),
-        escape(&num3(bar_mm))
+        escape(&fmt_decimals(bar_mm, 3))
     );
     // Axes of the view, bottom left.
     let (ox, oy) = (44.0, h - 30.0);
@@ -1468,15 +1455,15 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
             n(-opts.phi_deg - 360.0),
             n(dx),
             n(dy),
-            num3(opts.duration_s)
+            fmt_decimals(opts.duration_s, 3)
         )
     } else {
         String::new()
     };
     let phi_text = if opts.animate {
-        format!("φ from {}°", num3(wrap_deg(opts.phi_deg)))
+        format!("φ from {}°", fmt_decimals(wrap_deg(opts.phi_deg), 3))
     } else {
-        format!("φ = {}°", num3(opts.phi_deg))
+        format!("φ = {}°", fmt_decimals(opts.phi_deg, 3))
     };
     let _ = writeln!(
         s,
@@ -1495,7 +1482,7 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
         return Err(Error::NotFinite(format!(
             "the drawing of `{}` at φ = {}° came out with a non-finite coordinate; a point may sit on a dead point or a guide line may have no direction there",
             model.name(),
-            num3(opts.phi_deg)
+            fmt_decimals(opts.phi_deg, 3)
         )));
     }
     Ok(s)
