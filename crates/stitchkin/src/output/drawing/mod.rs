@@ -27,8 +27,10 @@ use crate::format::{fmt_decimals, svg_num as n};
 use crate::geometry::{Plane as FramePlane, V2, V3};
 use crate::mechanism::Mechanism;
 use crate::model::{Model, Params};
-use crate::thread::{Span, cam};
+use crate::thread::Span;
+use crate::thread::cam::CamPlacement;
 
+pub mod cam;
 mod layout;
 mod structure;
 mod threads;
@@ -455,7 +457,7 @@ pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Stri
                 let c = &t.cams[ci];
                 slots
                     .iter()
-                    .map(|s| match cam::CamPlacement::new(s[c.center], s[c.marker], c.axis) {
+                    .map(|s| match CamPlacement::new(s[c.center], s[c.marker], c.axis) {
                         Some(at) => (0..120)
                             .map(|k| {
                                 let th = k as f64 * std::f64::consts::TAU / 120.0;
