@@ -107,10 +107,10 @@ pub fn run(args: CamArgs) -> Result<(), Error> {
     opts.anchor_radius_mm = args.anchor_radius;
     let s = synthesise(&model, &params, &opts)?;
     let render = |f: CamFormat| match f {
-        CamFormat::Csv => s.csv(),
-        CamFormat::Svg => s.svg(),
-        CamFormat::Dxf => s.dxf(),
-        CamFormat::Toml | CamFormat::All => s.toml_snippet(),
+        CamFormat::Csv => stitchkin::output::text::cam::csv(&s),
+        CamFormat::Svg => stitchkin::output::drawing::cam::svg(&s),
+        CamFormat::Dxf => stitchkin::output::drawing::cam::dxf(&s),
+        CamFormat::Toml | CamFormat::All => stitchkin::output::text::cam::toml_snippet(&s),
     };
     let ext = |f: CamFormat| match f {
         CamFormat::Csv => "csv",

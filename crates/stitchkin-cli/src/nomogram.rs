@@ -68,8 +68,8 @@ pub fn run(args: NomogramArgs) -> Result<(), Error> {
     bar.finish_and_clear();
     let n = result?;
     let out = match args.format {
-        NomogramFormat::Table => n.table(),
-        NomogramFormat::Csv => n.csv(),
+        NomogramFormat::Table => stitchkin::output::text::nomogram::table(&n),
+        NomogramFormat::Csv => stitchkin::output::text::nomogram::csv(&n),
         NomogramFormat::Json => serde_json::to_string_pretty(&n).map_err(|e| Error::Io(e.to_string()))? + "\n",
     };
     crate::emit(out.as_bytes(), args.output.as_ref())?;

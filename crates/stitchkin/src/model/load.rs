@@ -651,6 +651,77 @@ impl<'a> Loader<'a> {
             None => format!("{kind} group → {}", group_out(g)),
         };
         let step = match g {
+            Group::RigidPoint {
+                base,
+                distance,
+                angle_deg,
+                lift,
+                out,
+                plane,
+                ..
+            } => {
+                let a = self.point(&base[0], &path.key("base").index(0))?;
+                let b = self.point(&base[1], &path.key("base").index(1))?;
+                let d = self.length(distance, path.key("distance"))?;
+                let angle = match angle_deg {
+                    Some(v) => self.angle(v, path.key("angle_deg"))?,
+                    None => self.zero(),
+                };
+                let lift = match lift {
+                    Some(v) => self.length(v, path.key("lift"))?,
+                    None => self.zero(),
+                };
+                let plane = self.opt_frame(plane, path.key("plane"))?;
+                StepDef::Rigid {
+                    base: [a, b],
+                    d,
+                    angle,
+                    lift,
+                    plane,
+                    out: self.point_index[out],
+                }
+            }
+            Group::Offset {
+                from, by, frame, out, ..
+            } => {
+                let from = self.point(from, &path.key("from"))?;
+                let frame = self.opt_frame(frame, path.key("frame"))?;
+                let by = self.coords(by, &path.key("by"), 2..=3)?;
+                StepDef::Offset {
+                    from,
+                    by,
+                    frame,
+                    out: self.point_index[out],
+                }
+            }
+            Group::RigidPoint3d { frame, at, out, .. } => {
+                let mut fr = [0; 3];
+                for (k, n) in frame.iter().enumerate() {
+                    fr[k] = self.point(n, &path.key("frame").index(k))?;
+                }
+                let at = self.coords(at, &path.key("at"), 3..=3)?;
+                StepDef::Rigid3 {
+                    frame: fr,
+                    at,
+                    out: self.point_index[out],
+                }
+            }
+            Group::Newton {
+                unknowns,
+                constraints,
+                plane,
+                planar,
+                ..
+            } => self.newton_group(unknowns, constraints, plane, *planar, path)?,
+            dyad => self.dyad_group(dyad, path)?,
+        };
+        Ok((step, label))
+    }
+
+    /// A planar dyad: RRR, RRP or RPR; the spatial ones go on to
+    /// [`Self::spatial_group`].
+    fn dyad_group(&mut self, g: &Group, path: &Path) -> R<StepDef> {
+        Ok(match g {
             Group::Rrr {
                 joints,
                 lengths,
@@ -745,6 +816,13 @@ impl<'a> Loader<'a> {
                     out: self.point_index[out],
                 }
             }
+            spatial => self.spatial_group(spatial, path)?,
+        })
+    }
+
+    /// A spatial dyad: RSSR or a point on a line.
+    fn spatial_group(&mut self, g: &Group, path: &Path) -> R<StepDef> {
+        Ok(match g {
             Group::Rssr {
                 from,
                 rod,
@@ -824,190 +902,156 @@ impl<'a> Loader<'a> {
                     out: self.point_index[out],
                 }
             }
-            Group::RigidPoint {
-                base,
-                distance,
-                angle_deg,
-                lift,
-                out,
-                plane,
-                ..
-            } => {
-                let a = self.point(&base[0], &path.key("base").index(0))?;
-                let b = self.point(&base[1], &path.key("base").index(1))?;
-                let d = self.length(distance, path.key("distance"))?;
-                let angle = match angle_deg {
-                    Some(v) => self.angle(v, path.key("angle_deg"))?,
-                    None => self.zero(),
-                };
-                let lift = match lift {
-                    Some(v) => self.length(v, path.key("lift"))?,
-                    None => self.zero(),
-                };
-                let plane = self.opt_frame(plane, path.key("plane"))?;
-                StepDef::Rigid {
-                    base: [a, b],
-                    d,
-                    angle,
-                    lift,
-                    plane,
-                    out: self.point_index[out],
-                }
+            _ => unreachable!("read by group and dyad_group"),
+        })
+    }
+
+    /// A numerical (Newton) group: its unknowns with their guesses, and as
+    /// many closure equations as unknown coordinates.
+    fn newton_group(
+        &mut self,
+        unknowns: &indexmap::IndexMap<String, Vec<Value>>,
+        constraints: &[file::Constraint],
+        plane: &Option<String>,
+        planar: Option<bool>,
+        path: &Path,
+    ) -> R<StepDef> {
+        let dims: Vec<usize> = unknowns.values().map(Vec::len).collect();
+        let dim = match planar {
+            Some(true) => 2,
+            Some(false) => 3,
+            None => dims.first().copied().unwrap_or(2),
+        };
+        if unknowns.is_empty() {
+            return Err(self.err(
+                &path.key("unknowns"),
+                "a newton group needs at least one unknown point",
+                Some("e.g. `unknowns = { B = [10, 20] }`".into()),
+            ));
+        }
+        let mut outs = Vec::new();
+        let mut guess = Vec::new();
+        let mut local: BTreeMap<&str, usize> = BTreeMap::new();
+        for (i, (name, g)) in unknowns.iter().enumerate() {
+            let gp = path.key("unknowns").key(name);
+            if g.len() != dim {
+                return Err(self.err(
+                    &gp,
+                    format!("expected {dim} coordinates for the guess, got {}", g.len()),
+                    Some(if dim == 2 {
+                        "a planar group's guesses are [x, y] in its plane".into()
+                    } else {
+                        "a spatial group's guesses are [x, y, z]".into()
+                    }),
+                ));
             }
-            Group::Offset {
-                from, by, frame, out, ..
-            } => {
-                let from = self.point(from, &path.key("from"))?;
-                let frame = self.opt_frame(frame, path.key("frame"))?;
-                let by = self.coords(by, &path.key("by"), 2..=3)?;
-                StepDef::Offset {
-                    from,
-                    by,
-                    frame,
-                    out: self.point_index[out],
-                }
+            for (k, v) in g.iter().enumerate() {
+                guess.push(self.length(v, gp.index(k))?);
             }
-            Group::RigidPoint3d { frame, at, out, .. } => {
-                let mut fr = [0; 3];
-                for (k, n) in frame.iter().enumerate() {
-                    fr[k] = self.point(n, &path.key("frame").index(k))?;
-                }
-                let at = self.coords(at, &path.key("at"), 3..=3)?;
-                StepDef::Rigid3 {
-                    frame: fr,
-                    at,
-                    out: self.point_index[out],
-                }
-            }
-            Group::Newton {
-                unknowns,
-                constraints,
-                plane,
-                planar,
-                ..
+            outs.push(self.point_index[name.as_str()]);
+            local.insert(name, i);
+        }
+        let mut closures = Vec::new();
+        let mut equations = 0;
+        for (k, c) in constraints.iter().enumerate() {
+            let (closure, n) = self.constraint(c, &path.key("constraints").index(k), &local, dim)?;
+            closures.push(closure);
+            equations += n;
+        }
+        let n = outs.len() * dim;
+        if equations != n {
+            return Err(self.err(
+                &path.key("constraints"),
+                format!("{equations} closure equation(s) for {n} unknown coordinates"),
+                Some(if equations < n {
+                    "add constraints: the group can still move".into()
+                } else {
+                    "remove a redundant constraint (keep its length as a `distance` measure to watch it)".into()
+                }),
+            ));
+        }
+        if dim == 3 && plane.is_some() {
+            return Err(self.err(
+                &path.key("plane"),
+                "a spatial newton group (3 coordinates per unknown) has no plane",
+                Some("remove `plane`, or give 2-coordinate guesses for a planar group".into()),
+            ));
+        }
+        let plane = self.opt_frame(plane, path.key("plane"))?;
+        Ok(StepDef::Newton {
+            dim,
+            plane,
+            outs,
+            guess,
+            closures,
+        })
+    }
+
+    /// One closure of a newton group and the equations it gives: a distance
+    /// (one) or a point held on a line (one per coordinate across it).
+    fn constraint(
+        &mut self,
+        c: &file::Constraint,
+        cp: &Path,
+        local: &BTreeMap<&str, usize>,
+        dim: usize,
+    ) -> R<(ClosureDef, usize)> {
+        match c {
+            file::Constraint {
+                distance: Some(distance),
+                length: Some(length),
+                on_line: None,
+                through: None,
+                toward: None,
             } => {
-                let dims: Vec<usize> = unknowns.values().map(Vec::len).collect();
-                let dim = match planar {
-                    Some(true) => 2,
-                    Some(false) => 3,
-                    None => dims.first().copied().unwrap_or(2),
-                };
-                if unknowns.is_empty() {
+                let mut r = [ClosureRef::Known(0); 2];
+                for j in 0..2 {
+                    let n = &distance[j];
+                    r[j] = match local.get(n.as_str()) {
+                        Some(&u) => ClosureRef::Unknown(u),
+                        None => ClosureRef::Known(self.point(n, &cp.key("distance").index(j))?),
+                    };
+                }
+                let l = self.positive_length(length, cp.key("length"), "a distance")?;
+                Ok((ClosureDef::Distance { a: r[0], b: r[1], l }, 1))
+            }
+            file::Constraint {
+                distance: None,
+                length: None,
+                on_line: Some(on_line),
+                through: Some(through),
+                toward: Some(toward),
+            } => {
+                let Some(&p) = local.get(on_line.as_str()) else {
                     return Err(self.err(
-                        &path.key("unknowns"),
-                        "a newton group needs at least one unknown point",
-                        Some("e.g. `unknowns = { B = [10, 20] }`".into()),
+                        &cp.key("on_line"),
+                        format!("`{on_line}` is not an unknown of this group"),
+                        Some("the point on the line must be one of the group's unknowns".into()),
                     ));
-                }
-                let mut outs = Vec::new();
-                let mut guess = Vec::new();
-                let mut local: BTreeMap<&str, usize> = BTreeMap::new();
-                for (i, (name, g)) in unknowns.iter().enumerate() {
-                    let gp = path.key("unknowns").key(name);
-                    if g.len() != dim {
+                };
+                let h = self.point(through, &cp.key("through"))?;
+                let t = self.point(toward, &cp.key("toward"))?;
+                for n in [through, toward] {
+                    if local.contains_key(n.as_str()) {
                         return Err(self.err(
-                            &gp,
-                            format!("expected {dim} coordinates for the guess, got {}", g.len()),
-                            Some(if dim == 2 {
-                                "a planar group's guesses are [x, y] in its plane".into()
-                            } else {
-                                "a spatial group's guesses are [x, y, z]".into()
-                            }),
+                            &cp,
+                            format!(
+                                "the line's points must be solved before this group, but `{n}` is one of its unknowns"
+                            ),
+                            Some("define the line by points solved earlier".into()),
                         ));
                     }
-                    for (k, v) in g.iter().enumerate() {
-                        guess.push(self.length(v, gp.index(k))?);
-                    }
-                    outs.push(self.point_index[name.as_str()]);
-                    local.insert(name, i);
                 }
-                let mut closures = Vec::new();
-                let mut equations = 0;
-                for (k, c) in constraints.iter().enumerate() {
-                    let cp = path.key("constraints").index(k);
-                    match c {
-                        file::Constraint {
-                            distance: Some(distance),
-                            length: Some(length),
-                            on_line: None,
-                            through: None,
-                            toward: None,
-                        } => {
-                            let mut r = [ClosureRef::Known(0); 2];
-                            for j in 0..2 {
-                                let n = &distance[j];
-                                r[j] = match local.get(n.as_str()) {
-                                    Some(&u) => ClosureRef::Unknown(u),
-                                    None => ClosureRef::Known(self.point(n, &cp.key("distance").index(j))?),
-                                };
-                            }
-                            let l = self.positive_length(length, cp.key("length"), "a distance")?;
-                            closures.push(ClosureDef::Distance { a: r[0], b: r[1], l });
-                            equations += 1;
-                        }
-                        file::Constraint {
-                            distance: None,
-                            length: None,
-                            on_line: Some(on_line),
-                            through: Some(through),
-                            toward: Some(toward),
-                        } => {
-                            let Some(&p) = local.get(on_line.as_str()) else {
-                                return Err(self.err(
-                                    &cp.key("on_line"),
-                                    format!("`{on_line}` is not an unknown of this group"),
-                                    Some("the point on the line must be one of the group's unknowns".into()),
-                                ));
-                            };
-                            let h = self.point(through, &cp.key("through"))?;
-                            let t = self.point(toward, &cp.key("toward"))?;
-                            for n in [through, toward] {
-                                if local.contains_key(n.as_str()) {
-                                    return Err(self.err(&cp, format!("the line's points must be solved before this group, but `{n}` is one of its unknowns"), Some("define the line by points solved earlier".into())));
-                                }
-                            }
-                            closures.push(ClosureDef::OnLine { p, h, t });
-                            equations += dim - 1;
-                        }
-                        _ => {
-                            return Err(self.err(
-                                &cp,
-                                "a constraint is either a distance or a point on a line",
-                                Some("write `{ distance = [\"A\", \"B\"], length = 20 }` or `{ on_line = \"P\", through = \"H\", toward = \"T\" }`".into()),
-                            ));
-                        }
-                    }
-                }
-                let n = outs.len() * dim;
-                if equations != n {
-                    return Err(self.err(
-                        &path.key("constraints"),
-                        format!("{equations} closure equation(s) for {n} unknown coordinates"),
-                        Some(if equations < n {
-                            "add constraints: the group can still move".into()
-                        } else {
-                            "remove a redundant constraint (keep its length as a `distance` measure to watch it)".into()
-                        }),
-                    ));
-                }
-                if dim == 3 && plane.is_some() {
-                    return Err(self.err(
-                        &path.key("plane"),
-                        "a spatial newton group (3 coordinates per unknown) has no plane",
-                        Some("remove `plane`, or give 2-coordinate guesses for a planar group".into()),
-                    ));
-                }
-                let plane = self.opt_frame(plane, path.key("plane"))?;
-                StepDef::Newton {
-                    dim,
-                    plane,
-                    outs,
-                    guess,
-                    closures,
-                }
+                Ok((ClosureDef::OnLine { p, h, t }, dim - 1))
             }
-        };
-        Ok((step, label))
+            _ => {
+                return Err(self.err(
+                    &cp,
+                    "a constraint is either a distance or a point on a line",
+                    Some("write `{ distance = [\"A\", \"B\"], length = 20 }` or `{ on_line = \"P\", through = \"H\", toward = \"T\" }`".into()),
+                ));
+            }
+        }
     }
 
     fn side(&self, b: Branch, path: &Path) -> R<f64> {
@@ -1182,17 +1226,7 @@ impl<'a> Loader<'a> {
         };
         let cams = self.cams(f)?;
         let path = Path::root().key("thread");
-        let check_mu = |ld: &Self, mu: Option<f64>, p: Path| -> R<Option<f64>> {
-            match mu {
-                Some(m) if !(m.is_finite() && (0.0..=5.0).contains(&m)) => Err(ld.err(
-                    &p,
-                    format!("friction coefficient {m} is out of range"),
-                    Some("give μ between 0 and 5 (thread on steel is about 0.1–0.3)".into()),
-                )),
-                m => Ok(m),
-            }
-        };
-        let default_mu = check_mu(self, t.friction, path.key("friction"))?.unwrap_or(0.0);
+        let default_mu = self.friction(t.friction, path.key("friction"))?.unwrap_or(0.0);
         if let Some(tn) = t.tension_n
             && !(tn.is_finite() && tn > 0.0)
         {
@@ -1231,270 +1265,15 @@ impl<'a> Loader<'a> {
         let mut paths: Vec<PathDef> = Vec::new();
         for (k, tp) in t.paths.iter().enumerate() {
             let pp = path.key("paths").index(k);
-            if !is_ident(&tp.name) {
-                return Err(self.err(
-                    &pp.key("name"),
-                    format!("`{}` is not a valid path name", tp.name),
-                    Some("path names use letters, digits and `_` (they prefix column names like `n1_A.P_mm`)".into()),
-                ));
-            }
-            if paths.iter().any(|p| p.name == tp.name) {
+            if paths.iter().any(|p| p.name == tp.name) && is_ident(&tp.name) {
                 return Err(self.err(
                     &pp.key("name"),
                     format!("two thread paths are named `{}`", tp.name),
                     Some("give every path its own name".into()),
                 ));
             }
-            let path_mu = check_mu(self, tp.friction, pp.key("friction"))?.unwrap_or(default_mu);
-            if tp.nodes.len() < 2 {
-                return Err(self.err(
-                    &pp.key("nodes"),
-                    "a thread path needs at least two nodes",
-                    Some("list the nodes from the tension regulator to the eye".into()),
-                ));
-            }
-            let mut nodes = Vec::new();
-            let mut names = Vec::new();
-            let mut friction = Vec::new();
-            // Guides between two eyelets: (node index, span).
-            let mut pins: Vec<(usize, SpanDef)> = Vec::new();
-            for (i, node) in tp.nodes.iter().enumerate() {
-                let np = pp.key("nodes").index(i);
-                let (name, mu, guide) = match node {
-                    file::Node::Point(name) => (name.clone(), path_mu, None),
-                    file::Node::Guide(g) => {
-                        let mu = check_mu(self, g.friction, np.key("friction"))?.unwrap_or(path_mu);
-                        let cam_fields = g.contact.is_some() || g.gamma_deg.is_some();
-                        match (&g.at, &g.pin, &g.cam) {
-                            (Some(at), None, None) => {
-                                if g.axis.is_some()
-                                    || g.wrap.is_some()
-                                    || g.radius.is_some()
-                                    || g.frame.is_some()
-                                    || cam_fields
-                                {
-                                    return Err(self.err(
-                                        &np,
-                                        "an eyelet (`at`) has no axis, wrap, radius, frame or cam contact",
-                                        Some("for a one-sided guide write `pin = \"NAME\"` instead of `at`".into()),
-                                    ));
-                                }
-                                (at.clone(), mu, None)
-                            }
-                            (None, Some(pin), None) => {
-                                if cam_fields {
-                                    return Err(self.err(
-                                        &np,
-                                        "`contact` and `gamma_deg` belong to cams, not pins",
-                                        None,
-                                    ));
-                                }
-                                let Some(axis) = &g.axis else {
-                                    return Err(self.err(
-                                        &np,
-                                        "a pin needs its `axis`",
-                                        Some("e.g. `axis = \"z\"`: the direction of the pin".into()),
-                                    ));
-                                };
-                                let Some(wrap) = g.wrap else {
-                                    return Err(self.err(
-                                        &np,
-                                        "a pin needs `wrap`: the sense the thread turns around it",
-                                        Some(
-                                            "write wrap = \"ccw\" or wrap = \"cw\" (about the axis, right-hand rule)"
-                                                .into(),
-                                        ),
-                                    ));
-                                };
-                                let frame = self.opt_frame(&g.frame, np.key("frame"))?;
-                                let axis = self.axis(axis, np.key("axis"))?;
-                                let r = match &g.radius {
-                                    Some(v) => self.length(v, np.key("radius"))?,
-                                    None => self.zero(),
-                                };
-                                let sense = if wrap == file::Wrap::Ccw { 1.0 } else { -1.0 };
-                                let c = self.point(pin, &np.key("pin"))?;
-                                (
-                                    pin.clone(),
-                                    mu,
-                                    Some(SpanDef::Pin {
-                                        a: 0,
-                                        b: 0,
-                                        c,
-                                        axis,
-                                        frame,
-                                        r,
-                                        sense,
-                                        node: i,
-                                    }),
-                                )
-                            }
-                            (None, None, Some(cam)) => {
-                                if g.axis.is_some() || g.radius.is_some() || g.frame.is_some() {
-                                    return Err(self.err(
-                                        &np,
-                                        "a cam node takes its axis and profile from [[cams]]",
-                                        Some("remove `axis`, `radius` and `frame` here".into()),
-                                    ));
-                                }
-                                let Some(ci) = cams.iter().position(|c| &c.name == cam) else {
-                                    let names: Vec<&str> = cams.iter().map(|c| c.name.as_str()).collect();
-                                    let help = match did_you_mean(cam, names.iter().copied()) {
-                                        Some(n) => format!("did you mean `{n}`?"),
-                                        None => "define it in [[cams]]".into(),
-                                    };
-                                    return Err(self.err(&np.key("cam"), format!("unknown cam `{cam}`"), Some(help)));
-                                };
-                                let contact = match g.contact.unwrap_or(file::CamContactModel::Exact) {
-                                    file::CamContactModel::Exact => {
-                                        if g.gamma_deg.is_some() {
-                                            return Err(self.err(
-                                                &np.key("gamma_deg"),
-                                                "`gamma_deg` belongs to `contact = \"offset\"`",
-                                                None,
-                                            ));
-                                        }
-                                        let Some(wrap) = g.wrap else {
-                                            return Err(self.err(&np, "an exact cam contact needs `wrap`: the sense the thread turns around the cam", Some("write wrap = \"ccw\" or wrap = \"cw\" (about the cam's axis)".into())));
-                                        };
-                                        if cams[ci].convex_min <= 0.0 {
-                                            return Err(self.err(&np.key("cam"), format!("cam `{cam}` is not convex, so a taut thread does not follow its profile"), Some("use contact = \"offset\" or smooth the profile".into())));
-                                        }
-                                        CamContactDef::Exact {
-                                            sense: if wrap == file::Wrap::Ccw { 1.0 } else { -1.0 },
-                                        }
-                                    }
-                                    file::CamContactModel::Offset => {
-                                        if g.wrap.is_some() {
-                                            return Err(self.err(
-                                                &np.key("wrap"),
-                                                "an offset cam contact has no wrap sense",
-                                                Some("remove `wrap`, or use contact = \"exact\"".into()),
-                                            ));
-                                        }
-                                        let Some(gamma) = &g.gamma_deg else {
-                                            return Err(self.err(
-                                                &np,
-                                                "an offset cam contact needs `gamma_deg`",
-                                                Some("seed 004 uses γ = 0.4–0.8 rad, i.e. 23–46 degrees".into()),
-                                            ));
-                                        };
-                                        CamContactDef::Offset {
-                                            gamma: self.angle(gamma, np.key("gamma_deg"))?,
-                                        }
-                                    }
-                                };
-                                (
-                                    cam.clone(),
-                                    mu,
-                                    Some(SpanDef::Cam {
-                                        a: 0,
-                                        b: 0,
-                                        cam: ci,
-                                        contact,
-                                        node: i,
-                                    }),
-                                )
-                            }
-                            _ => {
-                                return Err(self.err(&np, "a guide table has one of `at` (an eyelet), `pin` (a one-sided guide) or `cam`", Some("e.g. `{ at = \"G1\", friction = 0.2 }`, `{ pin = \"G4\", axis = \"z\", wrap = \"ccw\" }` or `{ cam = \"C\", wrap = \"cw\" }`".into())));
-                            }
-                        }
-                    }
-                };
-                let slot = match &guide {
-                    // A cam node names the cam, not a point: its slot is the cam centre.
-                    Some(SpanDef::Cam { cam, .. }) => cams[*cam].center,
-                    _ => self.point(
-                        &name,
-                        &if matches!(node, file::Node::Point(_)) {
-                            np.clone()
-                        } else {
-                            np.key("at")
-                        },
-                    )?,
-                };
-                if let Some(span) = guide {
-                    if i == 0 || i + 1 == tp.nodes.len() {
-                        return Err(self.err(
-                            &np,
-                            "a path starts and ends at an eyelet, not at a pin or cam",
-                            Some("put the guide between two eyelets".into()),
-                        ));
-                    }
-                    if pins.last().is_some_and(|p| p.0 + 1 == i) {
-                        return Err(self.err(
-                            &np,
-                            "two pins or cams follow each other",
-                            Some("put an eyelet or guide between them".into()),
-                        ));
-                    }
-                    pins.push((i, span));
-                }
-                if names.contains(&name) {
-                    return Err(self.err(
-                        &np,
-                        format!("`{name}` appears twice in path `{}`", tp.name),
-                        Some("a path passes each guide once (its columns are named after the nodes)".into()),
-                    ));
-                }
-                nodes.push(slot);
-                names.push(name);
-                friction.push(mu);
-            }
-            // Spans between consecutive contact nodes.
-            let mut spans = Vec::new();
-            let mut i = 0;
-            while i + 1 < nodes.len() {
-                if let Some((_, guide)) = pins.iter().find(|p| p.0 == i + 1) {
-                    let (a0, b0) = (nodes[i], nodes[i + 2]);
-                    spans.push(match guide.clone() {
-                        SpanDef::Pin {
-                            c,
-                            axis,
-                            frame,
-                            r,
-                            sense,
-                            node,
-                            ..
-                        } => SpanDef::Pin {
-                            a: a0,
-                            b: b0,
-                            c,
-                            axis,
-                            frame,
-                            r,
-                            sense,
-                            node,
-                        },
-                        SpanDef::Cam { cam, contact, node, .. } => SpanDef::Cam {
-                            a: a0,
-                            b: b0,
-                            cam,
-                            contact,
-                            node,
-                        },
-                        s => s,
-                    });
-                    i += 2;
-                } else {
-                    let (a, b) = (nodes[i], nodes[i + 1]);
-                    spans.push(SpanDef::Straight {
-                        a,
-                        b,
-                        constant: same_body(a, b),
-                    });
-                    i += 1;
-                }
-            }
-            paths.push(PathDef {
-                name: tp.name.clone(),
-                label: tp.thread.clone(),
-                nodes,
-                node_names: names,
-                friction,
-                spans,
-            });
+            let def = self.path_def(tp, &pp, default_mu, &cams, same_body)?;
+            paths.push(def);
         }
         let layout = std::sync::Arc::new(super::ThreadLayout::new(&paths));
         Ok(Some(ThreadsDef {
@@ -1506,6 +1285,264 @@ impl<'a> Loader<'a> {
             cams,
             layout,
         }))
+    }
+
+    /// A friction coefficient μ, when given, within 0…5.
+    fn friction(&self, mu: Option<f64>, p: Path) -> R<Option<f64>> {
+        match mu {
+            Some(m) if !(m.is_finite() && (0.0..=5.0).contains(&m)) => Err(self.err(
+                &p,
+                format!("friction coefficient {m} is out of range"),
+                Some("give μ between 0 and 5 (thread on steel is about 0.1–0.3)".into()),
+            )),
+            m => Ok(m),
+        }
+    }
+
+    /// One thread path: its nodes from the regulator to the eye, each
+    /// passed once, pins and cams between eyelets, and the spans between.
+    fn path_def(
+        &mut self,
+        tp: &file::ThreadPath,
+        pp: &Path,
+        default_mu: f64,
+        cams: &[CamDef],
+        same_body: &impl Fn(usize, usize) -> bool,
+    ) -> R<PathDef> {
+        if !is_ident(&tp.name) {
+            return Err(self.err(
+                &pp.key("name"),
+                format!("`{}` is not a valid path name", tp.name),
+                Some("path names use letters, digits and `_` (they prefix column names like `n1_A.P_mm`)".into()),
+            ));
+        }
+        let path_mu = self.friction(tp.friction, pp.key("friction"))?.unwrap_or(default_mu);
+        if tp.nodes.len() < 2 {
+            return Err(self.err(
+                &pp.key("nodes"),
+                "a thread path needs at least two nodes",
+                Some("list the nodes from the tension regulator to the eye".into()),
+            ));
+        }
+        let mut nodes = Vec::new();
+        let mut names = Vec::new();
+        let mut friction = Vec::new();
+        // Guides between two eyelets: (node index, span).
+        let mut pins: Vec<(usize, SpanDef)> = Vec::new();
+        for (i, node) in tp.nodes.iter().enumerate() {
+            let np = pp.key("nodes").index(i);
+            let (name, mu, guide) = match node {
+                file::Node::Point(name) => (name.clone(), path_mu, None),
+                file::Node::Guide(g) => self.guide_node(g, i, &np, path_mu, cams)?,
+            };
+            let slot = match &guide {
+                // A cam node names the cam, not a point: its slot is the cam centre.
+                Some(SpanDef::Cam { cam, .. }) => cams[*cam].center,
+                _ => self.point(
+                    &name,
+                    &if matches!(node, file::Node::Point(_)) {
+                        np.clone()
+                    } else {
+                        np.key("at")
+                    },
+                )?,
+            };
+            if let Some(span) = guide {
+                if i == 0 || i + 1 == tp.nodes.len() {
+                    return Err(self.err(
+                        &np,
+                        "a path starts and ends at an eyelet, not at a pin or cam",
+                        Some("put the guide between two eyelets".into()),
+                    ));
+                }
+                if pins.last().is_some_and(|p| p.0 + 1 == i) {
+                    return Err(self.err(
+                        &np,
+                        "two pins or cams follow each other",
+                        Some("put an eyelet or guide between them".into()),
+                    ));
+                }
+                pins.push((i, span));
+            }
+            if names.contains(&name) {
+                return Err(self.err(
+                    &np,
+                    format!("`{name}` appears twice in path `{}`", tp.name),
+                    Some("a path passes each guide once (its columns are named after the nodes)".into()),
+                ));
+            }
+            nodes.push(slot);
+            names.push(name);
+            friction.push(mu);
+        }
+        let spans = spans_between(&nodes, &pins, same_body);
+        Ok(PathDef {
+            name: tp.name.clone(),
+            label: tp.thread.clone(),
+            nodes,
+            node_names: names,
+            friction,
+            spans,
+        })
+    }
+
+    /// A guide table's node: an eyelet (`at`), a pin or a cam, with its
+    /// name, friction and (for a pin or cam) its span, ends filled in later.
+    fn guide_node(
+        &mut self,
+        g: &file::GuideNode,
+        i: usize,
+        np: &Path,
+        path_mu: f64,
+        cams: &[CamDef],
+    ) -> R<(String, f64, Option<SpanDef>)> {
+        let mu = self.friction(g.friction, np.key("friction"))?.unwrap_or(path_mu);
+        let cam_fields = g.contact.is_some() || g.gamma_deg.is_some();
+        let (name, span) = match (&g.at, &g.pin, &g.cam) {
+            (Some(at), None, None) => {
+                if g.axis.is_some() || g.wrap.is_some() || g.radius.is_some() || g.frame.is_some() || cam_fields {
+                    return Err(self.err(
+                        &np,
+                        "an eyelet (`at`) has no axis, wrap, radius, frame or cam contact",
+                        Some("for a one-sided guide write `pin = \"NAME\"` instead of `at`".into()),
+                    ));
+                }
+                (at.clone(), None)
+            }
+            (None, Some(pin), None) => {
+                if cam_fields {
+                    return Err(self.err(np, "`contact` and `gamma_deg` belong to cams, not pins", None));
+                }
+                self.pin_guide(g, pin, i, np)?
+            }
+            (None, None, Some(cam)) => self.cam_guide(g, cam, i, np, cams)?,
+            _ => {
+                return Err(self.err(&np, "a guide table has one of `at` (an eyelet), `pin` (a one-sided guide) or `cam`", Some("e.g. `{ at = \"G1\", friction = 0.2 }`, `{ pin = \"G4\", axis = \"z\", wrap = \"ccw\" }` or `{ cam = \"C\", wrap = \"cw\" }`".into())));
+            }
+        };
+        Ok((name, mu, span))
+    }
+
+    /// A one-sided guide: a pin the thread wraps in a given sense.
+    fn pin_guide(&mut self, g: &file::GuideNode, pin: &str, i: usize, np: &Path) -> R<(String, Option<SpanDef>)> {
+        let Some(axis) = &g.axis else {
+            return Err(self.err(
+                &np,
+                "a pin needs its `axis`",
+                Some("e.g. `axis = \"z\"`: the direction of the pin".into()),
+            ));
+        };
+        let Some(wrap) = g.wrap else {
+            return Err(self.err(
+                &np,
+                "a pin needs `wrap`: the sense the thread turns around it",
+                Some("write wrap = \"ccw\" or wrap = \"cw\" (about the axis, right-hand rule)".into()),
+            ));
+        };
+        let frame = self.opt_frame(&g.frame, np.key("frame"))?;
+        let axis = self.axis(axis, np.key("axis"))?;
+        let r = match &g.radius {
+            Some(v) => self.length(v, np.key("radius"))?,
+            None => self.zero(),
+        };
+        let sense = if wrap == file::Wrap::Ccw { 1.0 } else { -1.0 };
+        let c = self.point(pin, &np.key("pin"))?;
+        Ok((
+            pin.to_string(),
+            Some(SpanDef::Pin {
+                a: 0,
+                b: 0,
+                c,
+                axis,
+                frame,
+                r,
+                sense,
+                node: i,
+            }),
+        ))
+    }
+
+    /// A cam node: a `[[cams]]` cam with an exact or an offset contact.
+    fn cam_guide(
+        &mut self,
+        g: &file::GuideNode,
+        cam: &str,
+        i: usize,
+        np: &Path,
+        cams: &[CamDef],
+    ) -> R<(String, Option<SpanDef>)> {
+        if g.axis.is_some() || g.radius.is_some() || g.frame.is_some() {
+            return Err(self.err(
+                &np,
+                "a cam node takes its axis and profile from [[cams]]",
+                Some("remove `axis`, `radius` and `frame` here".into()),
+            ));
+        }
+        let Some(ci) = cams.iter().position(|c| &c.name == cam) else {
+            let names: Vec<&str> = cams.iter().map(|c| c.name.as_str()).collect();
+            let help = match did_you_mean(cam, names.iter().copied()) {
+                Some(n) => format!("did you mean `{n}`?"),
+                None => "define it in [[cams]]".into(),
+            };
+            return Err(self.err(&np.key("cam"), format!("unknown cam `{cam}`"), Some(help)));
+        };
+        let contact = match g.contact.unwrap_or(file::CamContactModel::Exact) {
+            file::CamContactModel::Exact => {
+                if g.gamma_deg.is_some() {
+                    return Err(self.err(
+                        &np.key("gamma_deg"),
+                        "`gamma_deg` belongs to `contact = \"offset\"`",
+                        None,
+                    ));
+                }
+                let Some(wrap) = g.wrap else {
+                    return Err(self.err(
+                        &np,
+                        "an exact cam contact needs `wrap`: the sense the thread turns around the cam",
+                        Some("write wrap = \"ccw\" or wrap = \"cw\" (about the cam's axis)".into()),
+                    ));
+                };
+                if cams[ci].convex_min <= 0.0 {
+                    return Err(self.err(
+                        &np.key("cam"),
+                        format!("cam `{cam}` is not convex, so a taut thread does not follow its profile"),
+                        Some("use contact = \"offset\" or smooth the profile".into()),
+                    ));
+                }
+                CamContactDef::Exact {
+                    sense: if wrap == file::Wrap::Ccw { 1.0 } else { -1.0 },
+                }
+            }
+            file::CamContactModel::Offset => {
+                if g.wrap.is_some() {
+                    return Err(self.err(
+                        &np.key("wrap"),
+                        "an offset cam contact has no wrap sense",
+                        Some("remove `wrap`, or use contact = \"exact\"".into()),
+                    ));
+                }
+                let Some(gamma) = &g.gamma_deg else {
+                    return Err(self.err(
+                        &np,
+                        "an offset cam contact needs `gamma_deg`",
+                        Some("seed 004 uses γ = 0.4–0.8 rad, i.e. 23–46 degrees".into()),
+                    ));
+                };
+                CamContactDef::Offset {
+                    gamma: self.angle(gamma, np.key("gamma_deg"))?,
+                }
+            }
+        };
+        Ok((
+            cam.to_string(),
+            Some(SpanDef::Cam {
+                a: 0,
+                b: 0,
+                cam: ci,
+                contact,
+                node: i,
+            }),
+        ))
     }
 
     fn cams(&mut self, f: &ModelFile) -> R<Vec<CamDef>> {
@@ -1603,6 +1640,61 @@ impl<'a> Loader<'a> {
 }
 
 use super::ClosureRef;
+
+/// The spans between consecutive contact nodes of a path: straight between
+/// eyelets (constant when both ride on one body), or over the pin or cam
+/// between two eyelets.
+fn spans_between(
+    nodes: &[usize],
+    pins: &[(usize, SpanDef)],
+    same_body: &impl Fn(usize, usize) -> bool,
+) -> Vec<SpanDef> {
+    let mut spans = Vec::new();
+    let mut i = 0;
+    while i + 1 < nodes.len() {
+        if let Some((_, guide)) = pins.iter().find(|p| p.0 == i + 1) {
+            let (a0, b0) = (nodes[i], nodes[i + 2]);
+            spans.push(match guide.clone() {
+                SpanDef::Pin {
+                    c,
+                    axis,
+                    frame,
+                    r,
+                    sense,
+                    node,
+                    ..
+                } => SpanDef::Pin {
+                    a: a0,
+                    b: b0,
+                    c,
+                    axis,
+                    frame,
+                    r,
+                    sense,
+                    node,
+                },
+                SpanDef::Cam { cam, contact, node, .. } => SpanDef::Cam {
+                    a: a0,
+                    b: b0,
+                    cam,
+                    contact,
+                    node,
+                },
+                s => s,
+            });
+            i += 2;
+        } else {
+            let (a, b) = (nodes[i], nodes[i + 1]);
+            spans.push(SpanDef::Straight {
+                a,
+                b,
+                constant: same_body(a, b),
+            });
+            i += 1;
+        }
+    }
+    spans
+}
 
 pub(super) fn is_ident(s: &str) -> bool {
     let mut c = s.chars();

@@ -4,13 +4,13 @@
 
 use std::sync::Arc;
 
-use super::file::{ModelFile, PolylineLawFile, Value};
+use super::file::{ModelFile, PolylineLawFile, StitchFile, Value};
 use super::load::Loader;
 use super::spans::Path;
 use super::{Model, Params, Q, ThreadsDef};
 use crate::error::{Error, ModelError};
-use crate::geometry::V3;
-use crate::mechanism::Phi;
+use crate::geometry::{Placement, V3};
+use crate::mechanism::{Phi, Pose};
 use crate::stitch::spec::{
     DEFAULT_REGULATOR_WIDTH_DEG, FeedLaw, LooperSpec, Moments, Motion, NeedleSpec, Regulator, SpreaderSpec, StitchSpec,
     StitchType, UpperLooperSpec,
@@ -187,20 +187,7 @@ impl Loader<'_> {
     pub(super) fn stitch(&mut self, f: &ModelFile, threads: Option<&ThreadsDef>) -> R<Option<StitchDef>> {
         let Some(s) = &f.stitch else { return Ok(None) };
         let path = Path::root().key("stitch");
-        let stitch_type = match s.stitch_type.as_str() {
-            "401" => StitchType::S401,
-            "406" => StitchType::S406,
-            "407" => StitchType::S407,
-            "503" => StitchType::S503,
-            "504" => StitchType::S504,
-            other => {
-                return Err(self.err(
-                    &path.key("type"),
-                    format!("unknown or unsupported stitch type `{other}`"),
-                    Some("write \"401\", \"406\", \"407\", \"503\" or \"504\"".into()),
-                ));
-            }
-        };
+        let stitch_type = self.stitch_type(s, &path)?;
         let m = self.positive_length(&s.m_mm, path.key("m_mm"), "the material thickness m")?;
         let t = self.positive_length(&s.t_mm, path.key("t_mm"), "the stitch length t")?;
         let tilt = s
@@ -234,8 +221,57 @@ impl Loader<'_> {
                 None,
             ));
         }
+        let regulator = self.regulator(f, s, &path)?;
+        let feed = self.feed(s, &path)?;
+        let needles = self.needles(s, stitch_type, &path, threads)?;
+        let looper = self.looper(s, &path, threads)?;
+        let upper = self.upper_looper(s, stitch_type, &path, threads)?;
+        let spreader = self.spreader(s, stitch_type, &path)?;
+        let moments = self.moments(s, stitch_type, &path)?;
+        Ok(Some(StitchDef {
+            stitch_type,
+            m,
+            t,
+            tilt,
+            a_e,
+            edge_split,
+            frame,
+            cyclogram_zero_deg,
+            tolerance_mm,
+            regulator,
+            feed,
+            needles,
+            looper,
+            upper,
+            spreader,
+            moments,
+        }))
+    }
+
+    /// The stitch type: 401, 406, 407, 503 or 504.
+    fn stitch_type(&self, s: &StitchFile, path: &Path) -> R<StitchType> {
+        Ok(match s.stitch_type.as_str() {
+            "401" => StitchType::S401,
+            "406" => StitchType::S406,
+            "407" => StitchType::S407,
+            "503" => StitchType::S503,
+            "504" => StitchType::S504,
+            other => {
+                return Err(self.err(
+                    &path.key("type"),
+                    format!("unknown or unsupported stitch type `{other}`"),
+                    Some("write \"401\", \"406\", \"407\", \"503\" or \"504\"".into()),
+                ));
+            }
+        })
+    }
+
+    /// Where the thread passes the regulator: a window of φ (that must not
+    /// hold φ0, where P' = 0), the last degrees before tightening, or at
+    /// the lock.
+    fn regulator(&mut self, f: &ModelFile, s: &StitchFile, path: &Path) -> R<RegulatorDef> {
         let rp = path.key("regulator");
-        let regulator = match &s.regulator {
+        Ok(match &s.regulator {
             None => RegulatorDef::BeforeTightening(None),
             Some(r) => match (r.window_deg, &r.width_deg, r.at_lock) {
                 (Some(w), None, None | Some(false)) => {
@@ -276,37 +312,54 @@ impl Loader<'_> {
                     return Err(self.err(&rp, "give exactly one of `window_deg`, `width_deg` or `at_lock = true`", Some("e.g. regulator = { width_deg = 60 } (the default), or regulator = { window_deg = [300, 360] }".into())));
                 }
             },
-        };
+        })
+    }
+
+    /// The material feed: harmonic, or a feed-dog tooth of the mechanism.
+    fn feed(&mut self, s: &StitchFile, path: &Path) -> R<FeedDef> {
         let fp = path.key("feed");
-        let feed = match (
-            s.feed.law.as_str(),
-            &s.feed.start_deg,
-            &s.feed.duration_deg,
-            &s.feed.point,
-        ) {
-            ("harmonic", Some(a), Some(d), None) => FeedDef::Harmonic(
-                self.angle(a, fp.key("start_deg"))?,
-                self.angle(d, fp.key("duration_deg"))?,
-            ),
-            ("harmonic", ..) => {
-                return Err(self.err(
-                    &fp,
-                    "the harmonic feed takes `start_deg` and `duration_deg` (and no `point`)",
-                    Some("e.g. feed = { law = \"harmonic\", start_deg = 134, duration_deg = 100 }".into()),
-                ));
-            }
-            ("point", None, None, Some(p)) => FeedDef::Point(self.point(p, &fp.key("point"))?),
-            ("point", ..) => {
-                return Err(self.err(
+        Ok(
+            match (
+                s.feed.law.as_str(),
+                &s.feed.start_deg,
+                &s.feed.duration_deg,
+                &s.feed.point,
+            ) {
+                ("harmonic", Some(a), Some(d), None) => FeedDef::Harmonic(
+                    self.angle(a, fp.key("start_deg"))?,
+                    self.angle(d, fp.key("duration_deg"))?,
+                ),
+                ("harmonic", ..) => {
+                    return Err(self.err(
+                        &fp,
+                        "the harmonic feed takes `start_deg` and `duration_deg` (and no `point`)",
+                        Some("e.g. feed = { law = \"harmonic\", start_deg = 134, duration_deg = 100 }".into()),
+                    ));
+                }
+                ("point", None, None, Some(p)) => FeedDef::Point(self.point(p, &fp.key("point"))?),
+                ("point", ..) => {
+                    return Err(self.err(
                     &fp,
                     "the point feed takes `point`, the feed dog's tooth (and no angles: they follow from its motion)",
                     Some("e.g. feed = { law = \"point\", point = \"DOG\" }".into()),
                 ));
-            }
-            (other, ..) => {
-                return Err(self.err(&fp.key("law"), format!("unknown feed law `{other}`"), Some("write law = \"harmonic\" (seed 004 §2.2.3) or law = \"point\" (a feed-dog tooth of the mechanism)".into())));
-            }
-        };
+                }
+                (other, ..) => {
+                    return Err(self.err(&fp.key("law"), format!("unknown feed law `{other}`"), Some("write law = \"harmonic\" (seed 004 §2.2.3) or law = \"point\" (a feed-dog tooth of the mechanism)".into())));
+                }
+            },
+        )
+    }
+
+    /// The needles: as many as the stitch type has, each with a unique
+    /// thread name, its eye (a point or a law) and its thread path.
+    fn needles(
+        &mut self,
+        s: &StitchFile,
+        stitch_type: StitchType,
+        path: &Path,
+        threads: Option<&ThreadsDef>,
+    ) -> R<Vec<NeedleDef>> {
         let want = stitch_type.needles();
         if s.needles.len() != want {
             return Err(self.err(
@@ -319,25 +372,6 @@ impl Loader<'_> {
                 Some(format!("give {want} [[stitch.needles]] tables")),
             ));
         }
-        let path_names: Vec<&str> = threads
-            .map(|t| t.paths.iter().map(|p| p.name.as_str()).collect())
-            .unwrap_or_default();
-        let check_path = |ld: &Self, p: &Option<String>, at: Path| -> R<Option<String>> {
-            match p {
-                Some(name) if !path_names.contains(&name.as_str()) => Err(ld.err(
-                    &at,
-                    format!("unknown thread path `{name}`"),
-                    Some(match crate::error::did_you_mean(name, path_names.iter().copied()) {
-                        Some(s) => format!("did you mean `{s}`? Paths are the [[thread.paths]] names"),
-                        None if path_names.is_empty() => {
-                            "the model has no [[thread.paths]]; add one or remove `path`".into()
-                        }
-                        None => format!("paths are: {}", path_names.join(", ")),
-                    }),
-                )),
-                _ => Ok(p.clone()),
-            }
-        };
         let mut names: Vec<String> = Vec::new();
         let mut needles = Vec::new();
         for (k, n) in s.needles.iter().enumerate() {
@@ -392,11 +426,21 @@ impl Loader<'_> {
                 eye,
                 eye_above_plate,
                 point_below_eye,
-                path: check_path(self, &n.path, np.key("path"))?,
+                path: self.thread_path(&n.path, np.key("path"), threads)?,
                 catch_deg: n.catch_deg,
                 drop_deg: n.drop_deg,
             });
         }
+        Ok(needles)
+    }
+
+    /// The looper: its eye (a point or a law), body and thread path.
+    fn looper(
+        &mut self,
+        s: &StitchFile,
+        path: &Path,
+        threads: Option<&ThreadsDef>,
+    ) -> R<(OrganDef, [Q; 4], Option<String>)> {
         let lp = path.key("looper");
         let l = &s.looper;
         let looper_eye = match (self.organ_point(&l.eye, l.law.is_some(), &lp, "looper")?, &l.law) {
@@ -421,13 +465,23 @@ impl Loader<'_> {
             self.length(&l.b_mm, lp.key("b_mm"))?,
             self.angle(&l.gamma_max_deg, lp.key("gamma_max_deg"))?,
         ];
-        let looper = (looper_eye, body, check_path(self, &l.path, lp.key("path"))?);
-        let upper = match (&s.upper_looper, stitch_type) {
+        Ok((looper_eye, body, self.thread_path(&l.path, lp.key("path"), threads)?))
+    }
+
+    /// The upper looper, which 504 has and no other stitch.
+    fn upper_looper(
+        &mut self,
+        s: &StitchFile,
+        stitch_type: StitchType,
+        path: &Path,
+        threads: Option<&ThreadsDef>,
+    ) -> R<Option<(OrganDef, [f64; 2], Option<String>)>> {
+        Ok(match (&s.upper_looper, stitch_type) {
             (Some(u), StitchType::S504) => {
                 let up = path.key("upper_looper");
                 let eye = self.polyline_organ(&u.eye, &u.law, &up, "upper looper")?;
                 let w = self.pick_window(u.pick_window_deg, &up.key("pick_window_deg"))?;
-                Some((eye, w, check_path(self, &u.path, up.key("path"))?))
+                Some((eye, w, self.thread_path(&u.path, up.key("path"), threads)?))
             }
             (None, StitchType::S504) => {
                 return Err(self.err(
@@ -447,8 +501,12 @@ impl Loader<'_> {
                 ));
             }
             (None, _) => None,
-        };
-        let spreader = match (&s.spreader, stitch_type) {
+        })
+    }
+
+    /// The spreader, which 503 has and no other stitch.
+    fn spreader(&mut self, s: &StitchFile, stitch_type: StitchType, path: &Path) -> R<Option<(OrganDef, [f64; 2])>> {
+        Ok(match (&s.spreader, stitch_type) {
             (Some(sp), StitchType::S503) => {
                 let at = path.key("spreader");
                 let eye = self.polyline_organ(&sp.eye, &sp.law, &at, "spreader")?;
@@ -469,8 +527,12 @@ impl Loader<'_> {
                 ));
             }
             (None, _) => None,
-        };
-        let moments = match (&s.moments, stitch_type) {
+        })
+    }
+
+    /// The cyclogram moments of an overedge stitch (503, 504), in order.
+    fn moments(&mut self, s: &StitchFile, stitch_type: StitchType, path: &Path) -> R<Option<Moments>> {
+        Ok(match (&s.moments, stitch_type) {
             (Some(mo), StitchType::S503 | StitchType::S504) => {
                 let mp = path.key("moments");
                 // 504: the upper looper lets go of the lower thread's bight;
@@ -534,25 +596,60 @@ impl Loader<'_> {
                 ));
             }
             (_, _) => None,
-        };
-        Ok(Some(StitchDef {
-            stitch_type,
-            m,
-            t,
-            tilt,
-            a_e,
-            edge_split,
-            frame,
-            cyclogram_zero_deg,
-            tolerance_mm,
-            regulator,
-            feed,
-            needles,
-            looper,
-            upper,
-            spreader,
-            moments,
-        }))
+        })
+    }
+
+    /// A `path` naming one of the model's thread paths.
+    fn thread_path(&self, p: &Option<String>, at: Path, threads: Option<&ThreadsDef>) -> R<Option<String>> {
+        let path_names: Vec<&str> = threads
+            .map(|t| t.paths.iter().map(|p| p.name.as_str()).collect())
+            .unwrap_or_default();
+        match p {
+            Some(name) if !path_names.contains(&name.as_str()) => Err(self.err(
+                &at,
+                format!("unknown thread path `{name}`"),
+                Some(match crate::error::did_you_mean(name, path_names.iter().copied()) {
+                    Some(s) => format!("did you mean `{s}`? Paths are the [[thread.paths]] names"),
+                    None if path_names.is_empty() => {
+                        "the model has no [[thread.paths]]; add one or remove `path`".into()
+                    }
+                    None => format!("paths are: {}", path_names.join(", ")),
+                }),
+            )),
+            _ => Ok(p.clone()),
+        }
+    }
+}
+
+/// Mechanism points sampled over one cycle from φ_c = 0 in steps of
+/// [`MOTION_STEP_DEG`], in the stitch frame: the organs' motions.
+struct OrganSamples {
+    pose: Option<Pose<f64>>,
+    /// The stitch frame's placement (`None`: the world).
+    placement: Option<Placement<f64>>,
+}
+
+impl OrganSamples {
+    /// The track of point `slot` in the stitch frame.
+    fn track(&self, slot: usize) -> Vec<V3<f64>> {
+        let pose = self.pose.as_ref().expect("sampled when a point is used");
+        pose.track(slot)
+            .iter()
+            .map(|p| self.placement.map_or(*p, |pl| pl.to_local(*p)))
+            .collect()
+    }
+
+    /// Point `slot`'s motion as a table over the cycle.
+    fn table(&self, slot: usize) -> Motion {
+        motion_table(self.track(slot))
+    }
+}
+
+fn motion_table(points: Vec<V3<f64>>) -> Motion {
+    Motion::Table {
+        start_deg: 0.0,
+        step_deg: MOTION_STEP_DEG,
+        points: Arc::from(points),
     }
 }
 
@@ -565,99 +662,15 @@ impl Model {
         let base: Vec<f64> = params.values.clone();
         let q = self.quantities(&base)?;
         let tilt_deg = d.tilt.map_or(0.0, |i| q[i]);
-        let needs_mechanism = d.needles.iter().any(|n| matches!(n.eye, OrganDef::Point(_)))
-            || matches!(d.looper.0, OrganDef::Point(_))
-            || matches!(&d.upper, Some((OrganDef::Point(_), ..)))
-            || matches!(&d.spreader, Some((OrganDef::Point(_), _)))
-            || matches!(d.feed, FeedDef::Point(_));
-        // Sample the mechanism once over the cycle, φ_c = 0, step, …
-        let n = (360.0 / MOTION_STEP_DEG).round() as usize;
-        // One mechanism, from the quantities already resolved, gives both the
-        // samples and the stitch frame's placement.
-        let mech = if needs_mechanism || d.frame != 0 {
-            Some(self.mechanism_from(&q)?)
-        } else {
-            None
-        };
-        let pose = match &mech {
-            Some(mech) if needs_mechanism => {
-                let phis: Vec<f64> = (0..n)
-                    .map(|k| d.cyclogram_zero_deg + k as f64 * MOTION_STEP_DEG)
-                    .collect();
-                let mut pose = mech.new_pose(n);
-                mech.solve(&Phi::table(&phis), &mut pose)?;
-                Some(pose)
-            }
-            _ => None,
-        };
-        let placement = mech.as_ref().filter(|_| d.frame != 0).map(|m| m.frames[d.frame]);
-        let table = |slot: usize| -> Motion {
-            let pose = pose.as_ref().expect("sampled when a point is used");
-            let pts: Vec<V3<f64>> = pose
-                .track(slot)
-                .iter()
-                .map(|p| placement.map_or(*p, |pl| pl.to_local(*p)))
-                .collect();
-            Motion::Table {
-                start_deg: 0.0,
-                step_deg: MOTION_STEP_DEG,
-                points: Arc::from(pts),
-            }
-        };
-        let b = tilt_deg.to_radians();
-        let u_n = V3::new(0.0, -b.sin(), b.cos());
+        let samples = self.sample_organs(d, &q)?;
         let (k, a, bb, gmax) = (q[d.looper.1[0]], q[d.looper.1[1]], q[d.looper.1[2]], q[d.looper.1[3]]);
-        let mut needles = Vec::new();
-        for nd in &d.needles {
-            let eye = match &nd.eye {
-                OrganDef::Point(slot) => {
-                    let Motion::Table {
-                        start_deg,
-                        step_deg,
-                        points,
-                    } = table(*slot)
-                    else {
-                        unreachable!()
-                    };
-                    match nd.eye_above_plate {
-                        // Set the needle in its bar: shift the eye along the
-                        // needle so that it stands s_B above the plate at TDC.
-                        Some(sb) => {
-                            let s_b_now = points.iter().map(|p| p.z).fold(f64::MIN, f64::max) / b.cos();
-                            let shift = u_n * (q[sb] - s_b_now);
-                            let moved: Vec<V3<f64>> = points.iter().map(|p| p + shift).collect();
-                            Motion::Table {
-                                start_deg,
-                                step_deg,
-                                points: Arc::from(moved),
-                            }
-                        }
-                        None => Motion::Table {
-                            start_deg,
-                            step_deg,
-                            points,
-                        },
-                    }
-                }
-                OrganDef::NeedleLaw { x, s_b, stroke, bdc } => Motion::NeedleLaw {
-                    x_mm: q[*x],
-                    eye_above_plate_mm: q[*s_b],
-                    stroke_mm: q[*stroke],
-                    bdc_deg: bdc.map_or(0.0, |i| q[i]),
-                    tilt_deg,
-                },
-                _ => unreachable!("needles take a point or a needle law"),
-            };
-            needles.push(NeedleSpec {
-                name: nd.name.clone(),
-                eye,
-                point_below_eye_mm: nd.point_below_eye.map_or(2.0, |i| q[i]),
-                catch_deg: nd.catch_deg,
-                drop_deg: nd.drop_deg,
-            });
-        }
+        let needles = d
+            .needles
+            .iter()
+            .map(|nd| needle_spec(nd, &q, &samples, tilt_deg))
+            .collect();
         let looper_eye = match &d.looper.0 {
-            OrganDef::Point(slot) => table(*slot),
+            OrganDef::Point(slot) => samples.table(*slot),
             OrganDef::LooperLaw {
                 stroke,
                 far,
@@ -671,32 +684,18 @@ impl Model {
                 far_deg: q[*far],
                 catch_deg: q[*catch],
                 catch_x_mm: catch_x.map_or(0.0, |i| q[i]),
-                y0_mm: y0.map_or((k + bb) * b.tan(), |i| q[i]),
+                y0_mm: y0.map_or((k + bb) * tilt_deg.to_radians().tan(), |i| q[i]),
                 avoid_mm: avoid.map_or(0.0, |i| q[i]),
                 depth_mm: q[*depth],
             },
             _ => unreachable!("the looper takes a point or a looper law"),
         };
-        // The upper looper and the spreader: a point or a polyline law.
-        let polyline_motion = |o: &OrganDef| match o {
-            OrganDef::Point(slot) => table(*slot),
-            OrganDef::Polyline { points, low, high } => Motion::PolylineLaw {
-                points: points
-                    .iter()
-                    .map(|p| V3::new(p[0], p[1], p[2]))
-                    .collect::<Vec<_>>()
-                    .into(),
-                low_deg: *low,
-                high_deg: *high,
-            },
-            _ => unreachable!("the upper looper and the spreader take a point or a polyline law"),
-        };
         let upper_looper = d.upper.as_ref().map(|(o, w, _)| UpperLooperSpec {
-            eye: polyline_motion(o),
+            eye: polyline_motion(o, &samples),
             pick_window_deg: *w,
         });
         let spreader = d.spreader.as_ref().map(|(o, w)| SpreaderSpec {
-            eye: polyline_motion(o),
+            eye: polyline_motion(o, &samples),
             pick_window_deg: *w,
         });
         let spec = StitchSpec {
@@ -711,7 +710,9 @@ impl Model {
                     start_deg: q[start],
                     duration_deg: q[duration],
                 },
-                FeedDef::Point(slot) => FeedLaw::Point { dog: table(slot) },
+                FeedDef::Point(slot) => FeedLaw::Point {
+                    dog: samples.table(slot),
+                },
             },
             needles,
             looper: LooperSpec {
@@ -740,18 +741,111 @@ impl Model {
                 RegulatorDef::AtLock => Regulator::AtLock,
             },
         };
-        let mut paths: Vec<Option<String>> = d.needles.iter().map(|n| n.path.clone()).collect();
-        if matches!(d.stitch_type, StitchType::S503 | StitchType::S504) {
-            paths.push(d.looper.2.clone());
-        }
-        if d.stitch_type == StitchType::S504 {
-            paths.push(d.upper.as_ref().and_then(|u| u.2.clone()));
-        }
         Ok(Some(StitchSetup {
             spec,
             cyclogram_zero_deg: d.cyclogram_zero_deg,
             tolerance_mm: d.tolerance_mm,
-            paths,
+            paths: compared_paths(d),
         }))
     }
+
+    /// The organs that are mechanism points, sampled over the cycle; the
+    /// mechanism is solved only when some organ is a point.
+    fn sample_organs(&self, d: &StitchDef, q: &[f64]) -> Result<OrganSamples, Error> {
+        let needs_mechanism = d.needles.iter().any(|n| matches!(n.eye, OrganDef::Point(_)))
+            || matches!(d.looper.0, OrganDef::Point(_))
+            || matches!(&d.upper, Some((OrganDef::Point(_), ..)))
+            || matches!(&d.spreader, Some((OrganDef::Point(_), _)))
+            || matches!(d.feed, FeedDef::Point(_));
+        // Sample the mechanism once over the cycle, φ_c = 0, step, …
+        let n = (360.0 / MOTION_STEP_DEG).round() as usize;
+        // One mechanism, from the quantities already resolved, gives both the
+        // samples and the stitch frame's placement.
+        let mech = if needs_mechanism || d.frame != 0 {
+            Some(self.mechanism_from(q)?)
+        } else {
+            None
+        };
+        let pose = match &mech {
+            Some(mech) if needs_mechanism => {
+                let phis: Vec<f64> = (0..n)
+                    .map(|k| d.cyclogram_zero_deg + k as f64 * MOTION_STEP_DEG)
+                    .collect();
+                let mut pose = mech.new_pose(n);
+                mech.solve(&Phi::table(&phis), &mut pose)?;
+                Some(pose)
+            }
+            _ => None,
+        };
+        let placement = mech.as_ref().filter(|_| d.frame != 0).map(|m| m.frames[d.frame]);
+        Ok(OrganSamples { pose, placement })
+    }
+}
+
+/// A needle's motion: its eye point set in the bar so that it stands s_B
+/// above the plate at TDC (when given), or its law.
+fn needle_spec(nd: &NeedleDef, q: &[f64], samples: &OrganSamples, tilt_deg: f64) -> NeedleSpec {
+    let b = tilt_deg.to_radians();
+    let eye = match &nd.eye {
+        OrganDef::Point(slot) => {
+            let points = samples.track(*slot);
+            match nd.eye_above_plate {
+                // Set the needle in its bar: shift the eye along the
+                // needle so that it stands s_B above the plate at TDC.
+                Some(sb) => {
+                    let u_n = V3::new(0.0, -b.sin(), b.cos());
+                    let s_b_now = points.iter().map(|p| p.z).fold(f64::MIN, f64::max) / b.cos();
+                    let shift = u_n * (q[sb] - s_b_now);
+                    motion_table(points.iter().map(|p| p + shift).collect())
+                }
+                None => motion_table(points),
+            }
+        }
+        OrganDef::NeedleLaw { x, s_b, stroke, bdc } => Motion::NeedleLaw {
+            x_mm: q[*x],
+            eye_above_plate_mm: q[*s_b],
+            stroke_mm: q[*stroke],
+            bdc_deg: bdc.map_or(0.0, |i| q[i]),
+            tilt_deg,
+        },
+        _ => unreachable!("needles take a point or a needle law"),
+    };
+    NeedleSpec {
+        name: nd.name.clone(),
+        eye,
+        point_below_eye_mm: nd.point_below_eye.map_or(2.0, |i| q[i]),
+        catch_deg: nd.catch_deg,
+        drop_deg: nd.drop_deg,
+    }
+}
+
+/// The upper looper and the spreader: a point or a polyline law.
+fn polyline_motion(o: &OrganDef, samples: &OrganSamples) -> Motion {
+    match o {
+        OrganDef::Point(slot) => samples.table(*slot),
+        OrganDef::Polyline { points, low, high } => Motion::PolylineLaw {
+            points: points
+                .iter()
+                .map(|p| V3::new(p[0], p[1], p[2]))
+                .collect::<Vec<_>>()
+                .into(),
+            low_deg: *low,
+            high_deg: *high,
+        },
+        _ => unreachable!("the upper looper and the spreader take a point or a polyline law"),
+    }
+}
+
+/// For each thread of the spec (needles in order, then the looper threads:
+/// `lower` and `upper` for 504, `looper` for 503), the thread path it is
+/// compared with.
+fn compared_paths(d: &StitchDef) -> Vec<Option<String>> {
+    let mut paths: Vec<Option<String>> = d.needles.iter().map(|n| n.path.clone()).collect();
+    if matches!(d.stitch_type, StitchType::S503 | StitchType::S504) {
+        paths.push(d.looper.2.clone());
+    }
+    if d.stitch_type == StitchType::S504 {
+        paths.push(d.upper.as_ref().and_then(|u| u.2.clone()));
+    }
+    paths
 }

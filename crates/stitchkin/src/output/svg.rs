@@ -14,6 +14,8 @@
 
 use std::fmt::Write;
 
+use crate::format::svg_num as n;
+
 /// Line colours, distinguishable and print-safe (Tableau 10).
 pub const PALETTE: [&str; 10] = [
     "#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f", "#edc948", "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac",
@@ -240,17 +242,6 @@ pub fn escape(text: &str) -> String {
         }
     }
     out
-}
-
-/// A coordinate with two decimals (sub-pixel), never NaN (callers filter).
-fn n(v: f64) -> String {
-    let s = format!("{v:.2}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" || s.is_empty() {
-        "0".into()
-    } else {
-        s.to_string()
-    }
 }
 
 /// The viridis colour map at `t` ∈ [0, 1] (dark violet → yellow),

@@ -1,4 +1,8 @@
-//! Text for a terminal: curves as one-line sparklines.
+//! Results as text: curves as one-line sparklines for a terminal, and one
+//! module per study for its tables and CSV.
+
+pub mod cam;
+pub mod nomogram;
 
 /// The eight heights of a sparkline, lowest first.
 const BARS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];

@@ -65,12 +65,12 @@ use crate::error::{Error, ParamError};
 use crate::eval::{self, wrap_deg};
 use crate::format::fmt_num;
 use crate::geometry::{V2, V3};
-use crate::mechanism::{Mechanism, Phi};
+use crate::mechanism::{Mechanism, Phi, Pose};
 use crate::model::{Model, Params};
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::thread::cam::{CamPlacement, Profile};
 use crate::thread::measured::{MeasuredCurve, SplitPoint, periodic_segment};
-use crate::thread::{CamModel, Convention, Span, Threads};
+use crate::thread::{Cam, CamModel, Convention, Span, Threads};
 
 const TAU: f64 = std::f64::consts::TAU;
 
@@ -493,7 +493,7 @@ fn turn_deg(x: f64) -> f64 {
 fn take_up(
     mech: &Mechanism<f64>,
     threads: &Threads<f64>,
-    pose: &crate::mechanism::Pose<f64>,
+    pose: &Pose<f64>,
     phis: &[f64],
     pi: usize,
 ) -> Result<Vec<f64>, Error> {
@@ -541,9 +541,167 @@ pub fn take_up_with_profile(
     take_up(&mech, threads, &pose, phis, pi)
 }
 
+/// The cam piece of the path being synthesised: the guides before and after
+/// the cam (slots), the cam, and its contact angle γ, rad.
+struct CamPiece {
+    a: usize,
+    b: usize,
+    ci: usize,
+    gamma: f64,
+}
+
+/// The stitch thread compared with the path: its name, P' over the grid
+/// (mm), the compared mask and the tolerance of the match, mm.
+struct StitchThread {
+    name: String,
+    pprime: Vec<f64>,
+    compared: Vec<bool>,
+    tolerance_mm: f64,
+}
+
 /// Synthesises the profile of the cam on `opts.path` (module docs).
 pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<CamSynthesis, Error> {
     // --- the inputs ---------------------------------------------------------
+    check_options(opts)?;
+    let name = &model.name();
+    let mech = model.mechanism::<f64>(params)?;
+    let threads = mech.threads.as_ref().ok_or_else(|| {
+        bad(
+            format!("model `{name}` has no thread paths, so there is no cam to synthesise"),
+            "add [thread] paths with a cam node (docs/model-format.md §13.5)",
+        )
+    })?;
+    let pi = threads.paths.iter().position(|p| p.name == opts.path).ok_or_else(|| {
+        let all: Vec<&str> = threads.paths.iter().map(|p| p.name.as_str()).collect();
+        bad(
+            format!("model `{name}` has no thread path `{}`", opts.path),
+            &format!("its paths are: {}", all.join(", ")),
+        )
+    })?;
+    let piece = cam_piece(threads, pi, opts)?;
+    let (ci, cam) = (piece.ci, &threads.cams[piece.ci]);
+    // --- the grid: knots at even j, midpoints at odd j, from φ0 -------------
+    let n = opts.points;
+    let phi0 = threads.phi0_deg;
+    let phis: Vec<f64> = (0..2 * n).map(|j| phi0 + j as f64 * 180.0 / n as f64).collect();
+    let mut pose = mech.new_pose(phis.len());
+    mech.solve(&Phi::table(&phis), &mut pose)?;
+    let rays = contact_rays(&pose, &phis, &piece, cam)?;
+    check_single_sweep(&rays, &phis, &cam.name)?;
+    // --- ξ_rest and the anchor ------------------------------------------------
+    let tracks = threads.evaluate(&pose, None).map_err(|e| {
+        let phi = phis[e.k];
+        eval::path_error(e, phi)
+    })?;
+    let xi_ref: Vec<f64> = (0..tracks[pi].xi.len()).map(|k| tracks[pi].xi_at_split(k)).collect();
+    let l_ref: Vec<f64> = rays.iter().map(|r| r.length(cam.profile.rho(r.beta))).collect();
+    let xi_rest: Vec<f64> = xi_ref.iter().zip(&l_ref).map(|(x, l)| x - l).collect();
+    let xi0_ref = eval::tracks_at_phi0(&mech, threads)?[pi].xi_at_split(0);
+    let anchor_rho = opts.anchor_radius_mm.unwrap_or_else(|| cam.profile.rho(rays[0].beta));
+    // ξ(φ0): the model's, or with the anchor radius at φ0's contact (j = 0 is φ0).
+    let xi0 = match opts.anchor_radius_mm {
+        None => xi0_ref,
+        Some(r) => xi_rest[0] + rays[0].length(r),
+    };
+    let p_conv0 = threads.convention.take_up(xi0, xi0);
+    // --- the target -------------------------------------------------------------
+    let (label, raw, stitch_thread) = target_on_grid(model, params, opts, &phis)?;
+    // Take-up is p_conv0 at φ0 by definition: shift the target to it.
+    let shift = raw[0] - p_conv0;
+    let target: Vec<f64> = raw.iter().map(|v| v - shift).collect();
+    let mut notes = Vec::new();
+    if shift.abs() > 1e-9 {
+        notes.push(shift_note(raw[0], phi0, p_conv0));
+    }
+    // ξ the target asks for: release ξ = ξ0 − P, feed ξ = ξ0 + P − ΔP.
+    let xi_of = |p: f64| match threads.convention {
+        Convention::Release => xi0 - p,
+        Convention::Feed { elongation_mm } => xi0 + p - elongation_mm,
+    };
+    // --- radius by radius --------------------------------------------------------
+    let l_t: Vec<f64> = (0..n).map(|k| xi_of(target[2 * k]) - xi_rest[2 * k]).collect();
+    let mut knots = solve_radii(&rays, &l_t, &phis, anchor_rho, cam)?;
+    // --- smoothing: a periodic moving average over `smooth_deg`, twice -------
+    if opts.smooth_deg > 0.0 {
+        smooth(&mut knots, opts.smooth_deg);
+    }
+    let theta: Vec<f64> = knots.iter().map(|k| k.theta_deg.to_radians()).collect();
+    let rho: Vec<f64> = knots.iter().map(|k| k.radius_mm).collect();
+    let profile = Profile::spline(&theta, &rho);
+    if !(0..720).all(|i| profile.rho(i as f64 * TAU / 720.0).is_finite()) {
+        return Err(Error::NotFinite("the synthesised profile is not finite".into()));
+    }
+    // --- verify: the model again with the new profile --------------------------
+    let p_after = take_up_with(&mech, ci, &profile, &pose, &phis, pi)?;
+    let p_before: Vec<f64> = xi_ref.iter().map(|x| threads.convention.take_up(*x, xi0_ref)).collect();
+    let verify = verification(phis, target, p_before, p_after, stitch_thread.as_ref());
+    // --- checks -------------------------------------------------------------
+    let checks = check(&profile, &rays, &verify.phi_deg, opts);
+    let shared_with = paths_sharing(threads, ci, &opts.path);
+    if !shared_with.is_empty() {
+        notes.push(format!(
+            "cam `{}` also feeds path(s) {}: their take-up changes with the new profile too",
+            cam.name,
+            shared_with.join(", ")
+        ));
+    }
+    let file_cam = model.cam_spec(&cam.name);
+    Ok(CamSynthesis {
+        path: opts.path.clone(),
+        cam: cam.name.clone(),
+        center: file_cam.map_or_else(|| model.point_names[cam.center].clone(), |c| c.center.clone()),
+        marker: file_cam.map_or_else(|| model.point_names[cam.marker].clone(), |c| c.marker.clone()),
+        axis_toml: file_cam.and_then(|c| c.axis.as_ref()).map(axis_toml),
+        frame: file_cam.and_then(|c| c.frame.clone()),
+        gamma_deg: piece.gamma.to_degrees(),
+        target: label,
+        thread: stitch_thread.map(|t| t.name),
+        phi0_deg: wrap_deg(phi0),
+        knots,
+        smooth_deg: opts.smooth_deg,
+        target_shift_mm: -shift,
+        anchor_radius_mm: anchor_rho,
+        anchor_theta_deg: wrap_deg(rays[0].beta.to_degrees()),
+        reference_radius_mm: radius_range(&cam.profile),
+        radius_mm: radius_range(&profile),
+        checks,
+        verify,
+        shared_with,
+        notes,
+        profile,
+    })
+}
+
+/// P of path `pi` at every φ of `pose` with cam `ci`'s profile replaced.
+fn take_up_with(
+    mech: &Mechanism<f64>,
+    ci: usize,
+    profile: &Profile,
+    pose: &Pose<f64>,
+    phis: &[f64],
+    pi: usize,
+) -> Result<Vec<f64>, Error> {
+    let mut mech = mech.clone();
+    if let Some(t) = mech.threads.as_mut() {
+        t.cams[ci].profile = profile.clone();
+    }
+    let threads = mech.threads.as_ref().expect("cloned with its threads");
+    take_up(&mech, threads, pose, phis, pi)
+}
+
+/// The note on a target shifted to the convention's take-up at φ0.
+fn shift_note(raw0: f64, phi0: f64, p_conv0: f64) -> String {
+    format!(
+        "the target is {} mm at φ0 = {}°, where every take-up is {} mm by definition: it is matched up to that constant (shifted by {} mm)",
+        fmt_num(raw0),
+        fmt_num(wrap_deg(phi0)),
+        fmt_num(p_conv0),
+        fmt_num(-(raw0 - p_conv0))
+    )
+}
+
+/// The options in range, each refused with the flag that sets it.
+fn check_options(opts: &CamOptions) -> Result<(), Error> {
     if !(8..=1440).contains(&opts.points) {
         return Err(bad(
             format!("{} profile points is out of range", opts.points),
@@ -582,31 +740,13 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
             "e.g. --anchor-radius 12",
         ));
     }
-    let name = &model.name();
-    let mech = model.mechanism::<f64>(params)?;
-    let threads = mech.threads.as_ref().ok_or_else(|| {
-        bad(
-            format!("model `{name}` has no thread paths, so there is no cam to synthesise"),
-            "add [thread] paths with a cam node (docs/model-format.md §13.5)",
-        )
-    })?;
-    let all_paths = || {
-        threads
-            .paths
-            .iter()
-            .map(|p| p.name.as_str())
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let pi = threads.paths.iter().position(|p| p.name == opts.path).ok_or_else(|| {
-        bad(
-            format!("model `{name}` has no thread path `{}`", opts.path),
-            &format!("its paths are: {}", all_paths()),
-        )
-    })?;
-    let path = &threads.paths[pi];
-    // The path's cam pieces.
-    let cams: Vec<(usize, usize, usize, CamModel)> = path
+    Ok(())
+}
+
+/// The cam piece of path `pi` to synthesise: its only one, or the one
+/// `opts.cam` names; an offset contact.
+fn cam_piece(threads: &Threads<f64>, pi: usize, opts: &CamOptions) -> Result<CamPiece, Error> {
+    let cams: Vec<(usize, usize, usize, CamModel)> = threads.paths[pi]
         .spans
         .iter()
         .filter_map(|&s| match &threads.spans[s] {
@@ -658,32 +798,31 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
             ));
         }
     };
-    let cam = &threads.cams[ci];
-    let gamma = match contact {
-        CamModel::Offset { gamma_rad } => gamma_rad,
-        CamModel::Exact { .. } => {
-            return Err(bad(
-                format!(
-                    "cam `{}` on path `{}` has contact = \"exact\": cam synthesis supports contact = \"offset\" only. Under the exact \
-                     (taut-thread) contact the length depends on the whole wrapped arc of the profile, through its tangent points and \
-                     the arc integral, not on one radius, so there is no radius-by-radius inverse",
-                    cam.name, opts.path
-                ),
-                "synthesise with the seed-004 model on this node, `contact = \"offset\", gamma_deg = 23` (0.4-0.8 rad), then check the profile",
-            ));
-        }
-    };
-    let file_cam = model.cam_spec(&cam.name);
-    // --- the grid: knots at even j, midpoints at odd j, from φ0 -------------
-    let n = opts.points;
-    let phi0 = threads.phi0_deg;
-    let phis: Vec<f64> = (0..2 * n).map(|j| phi0 + j as f64 * 180.0 / n as f64).collect();
-    let mut pose = mech.new_pose(phis.len());
-    mech.solve(&Phi::table(&phis), &mut pose)?;
+    match contact {
+        CamModel::Offset { gamma_rad } => Ok(CamPiece {
+            a,
+            b,
+            ci,
+            gamma: gamma_rad,
+        }),
+        CamModel::Exact { .. } => Err(bad(
+            format!(
+                "cam `{}` on path `{}` has contact = \"exact\": cam synthesis supports contact = \"offset\" only. Under the exact \
+                 (taut-thread) contact the length depends on the whole wrapped arc of the profile, through its tangent points and \
+                 the arc integral, not on one radius, so there is no radius-by-radius inverse",
+                threads.cams[ci].name, opts.path
+            ),
+            "synthesise with the seed-004 model on this node, `contact = \"offset\", gamma_deg = 23` (0.4-0.8 rad), then check the profile",
+        )),
+    }
+}
+
+/// The contact ray at every φ of the grid.
+fn contact_rays(pose: &Pose<f64>, phis: &[f64], piece: &CamPiece, cam: &Cam<f64>) -> Result<Vec<Ray>, Error> {
     let mut rays = Vec::with_capacity(phis.len());
     for (j, &phi) in phis.iter().enumerate() {
         let pt = |s: usize| pose.point(s, j);
-        let r = Ray::new(pt(a), pt(b), pt(cam.center), pt(cam.marker), cam.axis, gamma).ok_or_else(|| {
+        let r = Ray::new(pt(piece.a), pt(piece.b), pt(cam.center), pt(cam.marker), cam.axis, piece.gamma).ok_or_else(|| {
             bad(
                 format!(
                     "at φ = {:.3}° the contact on cam `{}` is not defined: a guide on the shaft axis, the marker on the axis, or the two guides facing each other through the shaft",
@@ -695,7 +834,11 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
         })?;
         rays.push(r);
     }
-    // The contact must sweep the profile exactly once per cycle, one way.
+    Ok(rays)
+}
+
+/// The contact must sweep the profile exactly once per cycle, one way.
+fn check_single_sweep(rays: &[Ray], phis: &[f64], cam: &str) -> Result<(), Error> {
     let mut turn = 0.0;
     let mut sign = 0.0;
     for j in 0..rays.len() {
@@ -704,9 +847,8 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
         if d == 0.0 || (sign != 0.0 && d.signum() != sign) {
             return Err(bad(
                 format!(
-                    "the contact on cam `{}` does not turn steadily over the profile (it stops or turns back near φ = {:.1}°), so one \
+                    "the contact on cam `{cam}` does not turn steadily over the profile (it stops or turns back near φ = {:.1}°), so one \
                      profile angle would have to serve two take-ups",
-                    cam.name,
                     wrap_deg(phis[j])
                 ),
                 "cam synthesis needs a cam turning once per cycle relative to its guides (a cam on the main shaft)",
@@ -718,64 +860,56 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
     if (turn.abs() - TAU).abs() > 1e-6 {
         return Err(bad(
             format!(
-                "the contact sweeps cam `{}` {:.3} turns per cycle; a profile can be synthesised only for exactly one",
-                cam.name,
+                "the contact sweeps cam `{cam}` {:.3} turns per cycle; a profile can be synthesised only for exactly one",
                 turn.abs() / TAU
             ),
             "cam synthesis needs a cam turning once per main-shaft cycle relative to its guides",
         ));
     }
-    // --- ξ_rest and the anchor ------------------------------------------------
-    let tracks = threads.evaluate(&pose, None).map_err(|e| {
-        let phi = phis[e.k];
-        eval::path_error(e, phi)
-    })?;
-    let xi_ref: Vec<f64> = (0..tracks[pi].xi.len()).map(|k| tracks[pi].xi_at_split(k)).collect();
-    let l_ref: Vec<f64> = rays.iter().map(|r| r.length(cam.profile.rho(r.beta))).collect();
-    let xi_rest: Vec<f64> = xi_ref.iter().zip(&l_ref).map(|(x, l)| x - l).collect();
-    let xi0_ref = eval::tracks_at_phi0(&mech, threads)?[pi].xi_at_split(0);
-    let anchor_rho = opts.anchor_radius_mm.unwrap_or_else(|| cam.profile.rho(rays[0].beta));
-    // ξ(φ0): the model's, or with the anchor radius at φ0's contact (j = 0 is φ0).
-    let xi0 = match opts.anchor_radius_mm {
-        None => xi0_ref,
-        Some(r) => xi_rest[0] + rays[0].length(r),
-    };
-    let p_conv0 = threads.convention.take_up(xi0, xi0);
-    // --- the target -------------------------------------------------------------
+    Ok(())
+}
+
+/// The target over the grid, unshifted, with what it is in words, and the
+/// stitch thread compared with the path (for the match report).
+fn target_on_grid(
+    model: &Model,
+    params: &Params,
+    opts: &CamOptions,
+    phis: &[f64],
+) -> Result<(String, Vec<f64>, Option<StitchThread>), Error> {
     // The stitch process: needed for `required`; for a curve only for the
     // match report, so a stitch that does not evaluate just leaves it out.
     let required = matches!(opts.target, Target::Required);
-    let prepared = match eval::stitch::prepare_on(model, params, phis.clone()) {
+    let prepared = match eval::stitch::prepare_on(model, params, phis.to_vec()) {
         Ok(p) => p,
         Err(e) if required => return Err(e),
         Err(_) => None,
     };
+    let setup = prepared.as_ref().map(|p| &p.setup);
+    // P' of the thread on this path over the grid, and the compared mask.
     let stitch_thread = prepared.as_ref().and_then(|s| {
-        s.setup
+        let t = s
+            .setup
             .paths
             .iter()
-            .position(|p| p.as_deref() == Some(opts.path.as_str()))
+            .position(|p| p.as_deref() == Some(opts.path.as_str()))?;
+        let th = &s.required.threads[t];
+        Some(StitchThread {
+            name: th.name.clone(),
+            pprime: eval::stitch::pprime_at_split(th, phis.len()),
+            compared: s.compared[t].clone(),
+            tolerance_mm: s.setup.tolerance_mm,
+        })
     });
-    // P' of the thread on this path over the grid, and the compared mask.
-    let pprime: Option<(String, Vec<f64>, Vec<bool>, f64)> = match (&prepared, stitch_thread) {
-        (Some(s), Some(t)) => {
-            let th = &s.required.threads[t];
-            Some((
-                th.name.clone(),
-                eval::stitch::pprime_at_split(th, phis.len()),
-                s.compared[t].clone(),
-                s.setup.tolerance_mm,
-            ))
-        }
-        _ => None,
-    };
-    let setup = prepared.as_ref().map(|p| &p.setup);
-    let (label, raw): (String, Vec<f64>) = match &opts.target {
-        Target::Required => match &pprime {
-            Some((t, pp, ..)) => (format!("required take-up P' of thread `{t}`"), pp.clone()),
+    let (label, raw) = match &opts.target {
+        Target::Required => match &stitch_thread {
+            Some(t) => (format!("required take-up P' of thread `{}`", t.name), t.pprime.clone()),
             None if setup.is_none() => {
                 return Err(bad(
-                    format!("model `{name}` has no [stitch], so there is no required take-up P' to match"),
+                    format!(
+                        "model `{}` has no [stitch], so there is no required take-up P' to match",
+                        model.name()
+                    ),
                     "give the target as a curve instead: --target FILE.csv with columns phi_deg,P_mm",
                 ));
             }
@@ -797,47 +931,37 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
                 ));
             }
         },
-        Target::Curve { source, phi_deg, p_mm } => {
-            let ok = phi_deg.len() >= 4
-                && phi_deg.len() == p_mm.len()
-                && phi_deg.iter().chain(p_mm).all(|v| v.is_finite())
-                && phi_deg.windows(2).all(|w| w[1] > w[0])
-                && phi_deg[phi_deg.len() - 1] - phi_deg[0] < 360.0;
-            if !ok {
-                return Err(bad(
-                    format!(
-                        "the target curve from {source} is not at least 4 finite points with φ increasing within one turn"
-                    ),
-                    "read it with thread::measured::read_curve and make the target with Target::from_curve",
-                ));
-            }
-            let sp = PeriodicSpline::new(phi_deg, p_mm);
-            (
-                format!("curve from {source} ({} points)", phi_deg.len()),
-                phis.iter().map(|&p| sp.at(p)).collect(),
-            )
-        }
+        Target::Curve { source, phi_deg, p_mm } => curve_on_grid(source, phi_deg, p_mm, phis)?,
     };
-    // Take-up is p_conv0 at φ0 by definition: shift the target to it.
-    let shift = raw[0] - p_conv0;
-    let target: Vec<f64> = raw.iter().map(|v| v - shift).collect();
-    let mut notes = Vec::new();
-    if shift.abs() > 1e-9 {
-        notes.push(format!(
-            "the target is {} mm at φ0 = {}°, where every take-up is {} mm by definition: it is matched up to that constant (shifted by {} mm)",
-            fmt_num(raw[0]),
-            fmt_num(wrap_deg(phi0)),
-            fmt_num(p_conv0),
-            fmt_num(-shift)
+    Ok((label, raw, stitch_thread))
+}
+
+/// A target curve through its points, on the grid: the periodic spline.
+fn curve_on_grid(source: &str, phi_deg: &[f64], p_mm: &[f64], phis: &[f64]) -> Result<(String, Vec<f64>), Error> {
+    let ok = phi_deg.len() >= 4
+        && phi_deg.len() == p_mm.len()
+        && phi_deg.iter().chain(p_mm).all(|v| v.is_finite())
+        && phi_deg.windows(2).all(|w| w[1] > w[0])
+        && phi_deg[phi_deg.len() - 1] - phi_deg[0] < 360.0;
+    if !ok {
+        return Err(bad(
+            format!("the target curve from {source} is not at least 4 finite points with φ increasing within one turn"),
+            "read it with thread::measured::read_curve and make the target with Target::from_curve",
         ));
     }
-    // ξ the target asks for: release ξ = ξ0 − P, feed ξ = ξ0 + P − ΔP.
-    let xi_of = |p: f64| match threads.convention {
-        Convention::Release => xi0 - p,
-        Convention::Feed { elongation_mm } => xi0 + p - elongation_mm,
-    };
-    // --- radius by radius --------------------------------------------------------
-    let l_t: Vec<f64> = (0..n).map(|k| xi_of(target[2 * k]) - xi_rest[2 * k]).collect();
+    let sp = PeriodicSpline::new(phi_deg, p_mm);
+    Ok((
+        format!("curve from {source} ({} points)", phi_deg.len()),
+        phis.iter().map(|&p| sp.at(p)).collect(),
+    ))
+}
+
+/// One knot per contact ray at the knots' φ (even grid points), the radius
+/// that makes the cam's piece `l_t[k]` long, sorted by profile angle. An
+/// error when some are out of reach (naming the worst and the anchor
+/// radius that reaches them all) or two fall on one angle.
+fn solve_radii(rays: &[Ray], l_t: &[f64], phis: &[f64], anchor_rho: f64, cam: &Cam<f64>) -> Result<Vec<Knot>, Error> {
+    let n = l_t.len();
     let mut knots = Vec::with_capacity(n);
     // Positions out of reach: (k, the shortest L along the radius).
     let mut short: Vec<(usize, f64)> = Vec::new();
@@ -903,70 +1027,82 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
             ));
         }
     }
-    // --- smoothing: a periodic moving average over `smooth_deg`, twice -------
-    if opts.smooth_deg > 0.0 {
-        smooth(&mut knots, opts.smooth_deg);
-    }
-    let theta: Vec<f64> = knots.iter().map(|k| k.theta_deg.to_radians()).collect();
-    let rho: Vec<f64> = knots.iter().map(|k| k.radius_mm).collect();
-    let profile = Profile::spline(&theta, &rho);
-    if !(0..720).all(|i| profile.rho(i as f64 * TAU / 720.0).is_finite()) {
-        return Err(Error::NotFinite("the synthesised profile is not finite".into()));
-    }
-    // --- verify: the model again with the new profile --------------------------
-    let mut mech2 = mech.clone();
-    if let Some(t) = mech2.threads.as_mut() {
-        t.cams[ci].profile = profile.clone();
-    }
-    let threads2 = mech2.threads.as_ref().expect("cloned with its threads");
-    let p_after = take_up(&mech2, threads2, &pose, &phis, pi)?;
-    let p_before: Vec<f64> = xi_ref.iter().map(|x| threads.convention.take_up(*x, xi0_ref)).collect();
+    Ok(knots)
+}
+
+/// The take-up before and after against the target over the grid: the
+/// largest errors at the knots and between them, and the match with the
+/// stitch thread's P'.
+fn verification(
+    phis: Vec<f64>,
+    target: Vec<f64>,
+    p_before: Vec<f64>,
+    p_after: Vec<f64>,
+    stitch_thread: Option<&StitchThread>,
+) -> Verification {
+    let n2 = phis.len();
     let worst = |js: &mut dyn Iterator<Item = usize>, p: &[f64]| {
         js.map(|j| ((p[j] - target[j]).abs(), wrap_deg(phis[j])))
             .fold((0.0f64, phis[0]), |m, x| if x.0 > m.0 { x } else { m })
     };
-    let (ek, ek_at) = worst(&mut (0..2 * n).step_by(2), &p_after);
-    let (eb, eb_at) = worst(&mut (1..2 * n).step_by(2), &p_after);
-    let (e0, _) = worst(&mut (0..2 * n), &p_before);
-    let (match_before, match_after, match_after_all) = match &pprime {
-        Some((_, pp, compared, tol)) => {
+    let (ek, ek_at) = worst(&mut (0..n2).step_by(2), &p_after);
+    let (eb, eb_at) = worst(&mut (1..n2).step_by(2), &p_after);
+    let (e0, _) = worst(&mut (0..n2), &p_before);
+    let (match_before, match_after, match_after_all) = match stitch_thread {
+        Some(t) => {
+            let (pp, compared, tol) = (&t.pprime, &t.compared, t.tolerance_mm);
             let even = |v: &[f64]| v.iter().step_by(2).copied().collect::<Vec<f64>>();
             let ce: Vec<bool> = compared.iter().step_by(2).copied().collect();
             let (ph, ppe) = (even(&phis), even(pp));
             (
-                mismatch(&ph, &even(&p_before), &ppe, &ce, *tol, false),
-                mismatch(&ph, &even(&p_after), &ppe, &ce, *tol, false),
-                mismatch(&phis, &p_after, pp, compared, *tol, false),
+                mismatch(&ph, &even(&p_before), &ppe, &ce, tol, false),
+                mismatch(&ph, &even(&p_after), &ppe, &ce, tol, false),
+                mismatch(&phis, &p_after, pp, compared, tol, false),
             )
         }
         None => (None, None, None),
     };
-    // --- checks -------------------------------------------------------------
-    let checks = check(&profile, &rays, &phis, opts);
-    let range = |p: &Profile| {
-        (0..3600)
-            .map(|i| p.rho(i as f64 * TAU / 3600.0))
-            .fold([f64::MAX, f64::MIN], |m, r| [m[0].min(r), m[1].max(r)])
-    };
-    let shared_with: Vec<String> = threads
+    Verification {
+        phi_deg: phis,
+        target_mm: target,
+        p_before_mm: p_before,
+        p_after_mm: p_after,
+        max_err_knots_mm: ek,
+        max_err_knots_at_deg: ek_at,
+        max_err_between_mm: eb,
+        max_err_between_at_deg: eb_at,
+        max_err_before_mm: e0,
+        match_before,
+        match_after,
+        match_after_all,
+    }
+}
+
+/// A profile's smallest and largest radius (3600 samples a turn), mm.
+fn radius_range(p: &Profile) -> [f64; 2] {
+    (0..3600)
+        .map(|i| p.rho(i as f64 * TAU / 3600.0))
+        .fold([f64::MAX, f64::MIN], |m, r| [m[0].min(r), m[1].max(r)])
+}
+
+/// The other paths over cam `ci`: their take-up changes too.
+fn paths_sharing(threads: &Threads<f64>, ci: usize, path: &str) -> Vec<String> {
+    threads
         .paths
         .iter()
         .filter(|p| {
-            p.name != opts.path
+            p.name != path
                 && p.spans
                     .iter()
                     .any(|&s| matches!(threads.spans[s], Span::Cam { cam, .. } if cam == ci))
         })
         .map(|p| p.name.clone())
-        .collect();
-    if !shared_with.is_empty() {
-        notes.push(format!(
-            "cam `{}` also feeds path(s) {}: their take-up changes with the new profile too",
-            cam.name,
-            shared_with.join(", ")
-        ));
-    }
-    let axis_toml = file_cam.and_then(|c| c.axis.as_ref()).map(|ax| match ax {
+        .collect()
+}
+
+/// A cam's axis as the model file writes it.
+fn axis_toml(ax: &crate::model::file::Axis) -> String {
+    match ax {
         crate::model::file::Axis::Named(s) => format!("{s:?}"),
         crate::model::file::Axis::Vector(v) => format!(
             "[{}]",
@@ -978,44 +1114,7 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
                 .collect::<Vec<_>>()
                 .join(", ")
         ),
-    });
-    Ok(CamSynthesis {
-        path: opts.path.clone(),
-        cam: cam.name.clone(),
-        center: file_cam.map_or_else(|| model.point_names[cam.center].clone(), |c| c.center.clone()),
-        marker: file_cam.map_or_else(|| model.point_names[cam.marker].clone(), |c| c.marker.clone()),
-        axis_toml,
-        frame: file_cam.and_then(|c| c.frame.clone()),
-        gamma_deg: gamma.to_degrees(),
-        target: label,
-        thread: pprime.as_ref().map(|p| p.0.clone()),
-        phi0_deg: wrap_deg(phi0),
-        knots,
-        smooth_deg: opts.smooth_deg,
-        target_shift_mm: -shift,
-        anchor_radius_mm: anchor_rho,
-        anchor_theta_deg: wrap_deg(rays[0].beta.to_degrees()),
-        reference_radius_mm: range(&cam.profile),
-        radius_mm: range(&profile),
-        checks,
-        verify: Verification {
-            phi_deg: phis.clone(),
-            target_mm: target,
-            p_before_mm: p_before,
-            p_after_mm: p_after,
-            max_err_knots_mm: ek,
-            max_err_knots_at_deg: ek_at,
-            max_err_between_mm: eb,
-            max_err_between_at_deg: eb_at,
-            max_err_before_mm: e0,
-            match_before,
-            match_after,
-            match_after_all,
-        },
-        shared_with,
-        notes,
-        profile,
-    })
+    }
 }
 
 /// Periodic moving average of the knot radii over `width_deg` of profile
@@ -1095,54 +1194,9 @@ fn check(profile: &Profile, rays: &[Ray], phis: &[f64], opts: &CamOptions) -> Ch
 }
 
 impl CamSynthesis {
-    /// Every knot as `theta_deg,radius_mm`.
-    pub fn csv(&self) -> String {
-        let mut s = String::from("theta_deg,radius_mm\n");
-        for k in &self.knots {
-            s += &format!("{},{}\n", fmt_num(k.theta_deg), fmt_num(k.radius_mm));
-        }
-        s
-    }
-
-    /// A `[[cams]]` entry with the polar profile, to paste over the model's.
-    pub fn toml_snippet(&self) -> String {
-        let list = |v: Vec<f64>| {
-            let items: Vec<String> = v.iter().map(|x| fmt_num(*x)).collect();
-            let rows: Vec<String> = items.chunks(8).map(|c| format!("    {}", c.join(", "))).collect();
-            format!("[\n{},\n  ]", rows.join(",\n"))
-        };
-        let mut s = format!(
-            "# Cam `{}` synthesised by `stitchkin cam` for thread path `{}`: {}.\n\
-             # {} knots, radius {:.3}…{:.3} mm; replace the [[cams]] entry named `{}` with this one.\n",
-            self.cam,
-            self.path,
-            self.target,
-            self.knots.len(),
-            self.radius_mm[0],
-            self.radius_mm[1],
-            self.cam
-        );
-        s += "[[cams]]\n";
-        s += &format!(
-            "name = {:?}\ncenter = {:?}\nmarker = {:?}\n",
-            self.cam, self.center, self.marker
-        );
-        if let Some(a) = &self.axis_toml {
-            s += &format!("axis = {a}\n");
-        }
-        if let Some(f) = &self.frame {
-            s += &format!("frame = {f:?}\n");
-        }
-        s += &format!(
-            "polar = {{ angle_deg = {}, radius_mm = {} }}\n",
-            list(self.knots.iter().map(|k| k.theta_deg).collect()),
-            list(self.knots.iter().map(|k| k.radius_mm).collect())
-        );
-        s
-    }
-
-    /// The profile sampled densely (θ rad, point in the cam frame, mm).
-    fn outline(&self) -> Vec<(f64, f64)> {
+    /// The profile sampled densely, at least 1440 points a turn from θ = 0:
+    /// (x, y) in the cam frame (x toward the marker), mm.
+    pub fn outline(&self) -> Vec<(f64, f64)> {
         let m = (4 * self.knots.len()).max(1440);
         (0..m)
             .map(|i| {
@@ -1152,204 +1206,6 @@ impl CamSynthesis {
             })
             .collect()
     }
-
-    /// The profile drawn to scale (1 user unit = 1 mm) with its centre, the
-    /// marker direction (θ = 0) and a scale bar, seen from the tip of the
-    /// shaft axis (profile angles counter-clockwise).
-    pub fn svg(&self) -> String {
-        let pts = self.outline();
-        let r = pts.iter().map(|(x, y)| x.hypot(*y)).fold(1.0f64, f64::max);
-        let margin = 0.25 * r + 4.0;
-        let half = r + margin;
-        let bar = nice_length(0.5 * r);
-        let (w, h) = (2.0 * half, 2.0 * half + 12.0);
-        let f = |x: f64| format!("{x:.4}");
-        let mut d = String::new();
-        for (i, (x, y)) in pts.iter().enumerate() {
-            d += &format!("{}{} {} ", if i == 0 { "M" } else { "L" }, f(*x), f(-*y));
-        }
-        d += "Z";
-        let font = (0.06 * r).clamp(1.5, 6.0);
-        let mut s = String::new();
-        s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-        s += &format!(
-            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}mm\" height=\"{}mm\" viewBox=\"{} {} {} {}\">\n",
-            f(w),
-            f(h),
-            f(-half),
-            f(-half),
-            f(w),
-            f(h)
-        );
-        s += &format!(
-            "  <title>cam {} for thread path {}: {} (stitchkin cam); 1 unit = 1 mm, seen from the tip of the shaft axis</title>\n",
-            xml(&self.cam),
-            xml(&self.path),
-            xml(&self.target)
-        );
-        s += &format!(
-            "  <path id=\"profile\" d=\"{d}\" fill=\"none\" stroke=\"black\" stroke-width=\"{}\"/>\n",
-            f(0.01 * r)
-        );
-        let c = 0.06 * r;
-        s += &format!(
-            "  <g id=\"centre\" stroke=\"black\" stroke-width=\"{}\"><line x1=\"{}\" y1=\"0\" x2=\"{}\" y2=\"0\"/><line x1=\"0\" y1=\"{}\" x2=\"0\" y2=\"{}\"/><circle cx=\"0\" cy=\"0\" r=\"{}\" fill=\"none\"/></g>\n",
-            f(0.004 * r),
-            f(-c),
-            f(c),
-            f(-c),
-            f(c),
-            f(0.4 * c)
-        );
-        s += &format!(
-            "  <g id=\"marker\" stroke=\"blue\" stroke-width=\"{}\" stroke-dasharray=\"{} {}\"><line x1=\"0\" y1=\"0\" x2=\"{}\" y2=\"0\"/></g>\n",
-            f(0.006 * r),
-            f(0.04 * r),
-            f(0.02 * r),
-            f(r + 0.5 * margin)
-        );
-        s += &format!(
-            "  <text x=\"{}\" y=\"{}\" font-size=\"{}\" fill=\"blue\" text-anchor=\"end\">θ = 0 (toward {})</text>\n",
-            f(r + 0.5 * margin),
-            f(-0.4 * font),
-            f(font),
-            xml(&self.marker)
-        );
-        let (y0, x0) = (half + 4.0, -half + 2.0);
-        s += &format!(
-            "  <g id=\"scale\" stroke=\"black\" stroke-width=\"{}\"><line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\"/><line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\"/><line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\"/></g>\n",
-            f(0.3),
-            f(x0),
-            f(y0),
-            f(x0 + bar),
-            f(y0),
-            f(x0),
-            f(y0 - 1.0),
-            f(x0),
-            f(y0 + 1.0),
-            f(x0 + bar),
-            f(y0 - 1.0),
-            f(x0 + bar),
-            f(y0 + 1.0)
-        );
-        s += &format!(
-            "  <text x=\"{}\" y=\"{}\" font-size=\"{}\">{} mm</text>\n",
-            f(x0 + bar + 1.5),
-            f(y0 + 1.2),
-            f(3.0),
-            fmt_num(bar)
-        );
-        s += &format!(
-            "  <text x=\"{}\" y=\"{}\" font-size=\"{}\">cam {} (centre {}), radius {:.2}…{:.2} mm</text>\n",
-            f(x0),
-            f(y0 + 6.0),
-            f(3.0),
-            xml(&self.cam),
-            xml(&self.center),
-            self.radius_mm[0],
-            self.radius_mm[1]
-        );
-        s += "</svg>\n";
-        s
-    }
-
-    /// The profile as an R12 ASCII DXF (units mm): a closed POLYLINE on
-    /// layer PROFILE, the centre as a POINT and the marker direction as a
-    /// LINE on layer MARKER.
-    pub fn dxf(&self) -> String {
-        let mut s = String::new();
-        let mut g = |code: i32, v: &str| {
-            s += &format!("{code}\n{v}\n");
-        };
-        g(
-            999,
-            &format!(
-                "stitchkin cam: cam {} for thread path {}; units mm",
-                self.cam, self.path
-            ),
-        );
-        for (c, v) in [
-            (0, "SECTION"),
-            (2, "HEADER"),
-            (9, "$ACADVER"),
-            (1, "AC1009"),
-            (9, "$INSUNITS"),
-            (70, "4"),
-            (0, "ENDSEC"),
-        ] {
-            g(c, v);
-        }
-        for (c, v) in [
-            (0, "SECTION"),
-            (2, "ENTITIES"),
-            (0, "POLYLINE"),
-            (8, "PROFILE"),
-            (66, "1"),
-            (70, "1"),
-            (10, "0.0"),
-            (20, "0.0"),
-            (30, "0.0"),
-        ] {
-            g(c, v);
-        }
-        let pts = self.outline();
-        for (x, y) in &pts {
-            for (c, v) in [
-                (0, "VERTEX".to_string()),
-                (8, "PROFILE".into()),
-                (10, format!("{x:.6}")),
-                (20, format!("{y:.6}")),
-                (30, "0.0".into()),
-            ] {
-                g(c, &v);
-            }
-        }
-        let r = pts.iter().map(|(x, y)| x.hypot(*y)).fold(0.0f64, f64::max);
-        for (c, v) in [
-            (0, "SEQEND".to_string()),
-            (8, "PROFILE".into()),
-            (0, "POINT".into()),
-            (8, "CENTER".into()),
-            (10, "0.0".into()),
-            (20, "0.0".into()),
-            (30, "0.0".into()),
-        ] {
-            g(c, &v);
-        }
-        for (c, v) in [
-            (0, "LINE".to_string()),
-            (8, "MARKER".into()),
-            (10, "0.0".into()),
-            (20, "0.0".into()),
-            (30, "0.0".into()),
-            (11, format!("{:.6}", 1.15 * r)),
-            (21, "0.0".into()),
-            (31, "0.0".into()),
-            (0, "ENDSEC".into()),
-            (0, "EOF".into()),
-        ] {
-            g(c, &v);
-        }
-        s
-    }
-}
-
-/// 1, 2 or 5 × 10^k, at most `x` (at least 1 mm).
-fn nice_length(x: f64) -> f64 {
-    let x = x.max(1.0);
-    let p = 10f64.powf(x.log10().floor());
-    [5.0, 2.0, 1.0]
-        .into_iter()
-        .map(|m| m * p)
-        .find(|&v| v <= x)
-        .unwrap_or(p)
-}
-
-fn xml(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 #[cfg(test)]
@@ -1499,12 +1355,5 @@ mod tests {
                 && k[35].radius_mm > 10.0
                 && (k[18].radius_mm - 10.0).abs() < 1e-12
         );
-    }
-
-    #[test]
-    fn nice_scale_bars() {
-        assert_eq!(nice_length(8.6), 5.0);
-        assert_eq!(nice_length(23.0), 20.0);
-        assert_eq!(nice_length(0.3), 1.0);
     }
 }

@@ -5,6 +5,7 @@
 
 use stitchkin::eval::{CycleOptions, run_cycle};
 use stitchkin::model::{Model, Params};
+use stitchkin::output::{drawing, text};
 use stitchkin::study::cam_synthesis::{CamOptions, CamSynthesis, Target, synthesise, take_up_with_profile};
 use stitchkin::thread::cam::Profile;
 use stitchkin::thread::measured::parse_curve_csv;
@@ -227,7 +228,7 @@ fn the_required_take_up_is_matched_and_the_checks_are_honest() {
     assert!(c.min_radius_ok && c.min_radius_mm > 6.0);
     // The snippet pasted over the preset's disc gives the same match in a
     // plain model run (the loader's polar profile, `stitchkin match`).
-    let snippet = s.toml_snippet();
+    let snippet = text::cam::toml_snippet(&s);
     let polar = &snippet[snippet.find("polar = ").unwrap()..];
     let text = stitchkin::presets::find("altin504").unwrap().toml;
     let disc_line = "disc = { radius_mm = \"cam_r\", eccentricity_mm = \"e_l\" }\n";
@@ -438,7 +439,7 @@ fn exports_are_well_formed() {
     assert!(e.contains("--anchor-radius 15.72 (or larger)"), "{e}");
     o.anchor_radius_mm = Some(21.0);
     let s = synth(&m, &o);
-    let csv = s.csv();
+    let csv = text::cam::csv(&s);
     let mut lines = csv.lines();
     assert_eq!(lines.next(), Some("theta_deg,radius_mm"));
     let rows: Vec<(f64, f64)> = lines
@@ -450,7 +451,7 @@ fn exports_are_well_formed() {
     assert_eq!(rows.len(), 90);
     assert!(rows.windows(2).all(|w| w[1].0 > w[0].0) && rows[0].0 >= 0.0 && rows[89].0 < 360.0);
     assert!(rows.iter().all(|r| r.1 > 0.0 && r.1.is_finite()));
-    let svg = s.svg();
+    let svg = drawing::cam::svg(&s);
     assert!(
         svg.starts_with("<?xml")
             && svg.contains("<svg xmlns=\"http://www.w3.org/2000/svg\"")
@@ -458,7 +459,7 @@ fn exports_are_well_formed() {
     );
     assert!(svg.contains("<path id=\"profile\" d=\"M") && svg.contains("mm\" height=") && svg.contains(" mm</text>"));
     assert!(!svg.contains("NaN") && !svg.contains("inf"));
-    let dxf = s.dxf();
+    let dxf = drawing::cam::dxf(&s);
     let codes: Vec<&str> = dxf.lines().collect();
     assert!(codes.len().is_multiple_of(2), "group code / value pairs");
     for w in ["SECTION", "ENTITIES", "POLYLINE", "VERTEX", "SEQEND", "ENDSEC", "EOF"] {
@@ -467,7 +468,7 @@ fn exports_are_well_formed() {
     assert_eq!(codes.last(), Some(&"EOF"));
     assert!(!dxf.contains("NaN"));
     // The [[cams]] snippet replaces the preset's entry and loads.
-    let snippet = s.toml_snippet();
+    let snippet = text::cam::toml_snippet(&s);
     let text = stitchkin::presets::find("altin504").unwrap().toml;
     let start = text.find("[[cams]]\nname = \"cam_u\"").unwrap();
     let end = start + text[start..].find("\n\n").unwrap();

@@ -1,6 +1,7 @@
 //! Nomograms: tune over a grid of material thickness and stitch length.
 
 use stitchkin::model::{Model, Params};
+use stitchkin::output::text;
 use stitchkin::study::nomogram::{Axis, Nomogram, NomogramOptions, nomogram};
 use stitchkin::study::tune::{TuneOptions, set_stitch_value, tune};
 
@@ -156,7 +157,11 @@ fn seed000_z_finding_at_the_default_setting() {
     set_stitch_value(&m, &mut q, "m", 4.0).unwrap();
     assert_eq!(&tune(&m, &q, &o.tune).unwrap(), n.points[1].tuned.as_ref().unwrap());
     assert!(!n.all_scores_zero());
-    assert!(n.table().contains("z within 1 pt"), "{}", n.table());
+    assert!(
+        text::nomogram::table(&n).contains("z within 1 pt"),
+        "{}",
+        text::nomogram::table(&n)
+    );
 }
 
 /// A grid over m and t, with the other reading of the take-up phase
@@ -187,7 +192,7 @@ fn a_grid_over_thickness_and_stitch_runs_stitch_fastest() {
     // of stitch 407 is t + 2m, so P' differs between the points.
     let before: Vec<f64> = n.tuned().map(|(_, r)| r.before_figures.threads[0].2).collect();
     assert!(before.windows(2).all(|w| w[0] != w[1]), "{before:?}");
-    let csv = n.csv();
+    let csv = text::nomogram::csv(&n);
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 5);
     let header: Vec<&str> = lines[0].split(',').collect();
@@ -209,7 +214,7 @@ fn a_grid_over_thickness_and_stitch_runs_stitch_fastest() {
     }
     assert!(lines[2].starts_with("1,4,"), "{}", lines[2]);
     // Both axes varied: the table adds the matrix of each setting.
-    let t = n.table();
+    let t = text::nomogram::table(&n);
     assert!(t.contains("recommended z (mm): rows m (mm), columns t (mm)"), "{t}");
     assert!(t.contains("Every match score is 0"), "{t}");
 }

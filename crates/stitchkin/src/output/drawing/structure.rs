@@ -6,7 +6,8 @@ use std::collections::BTreeSet;
 
 use crate::error::Error;
 use crate::geometry::{Plane as FramePlane, V2, V3, perp};
-use crate::mechanism::newton::{Closure, PointRef};
+use crate::mechanism::newton::{Closure, NewtonGroup, PointRef};
+use crate::mechanism::rssr::Rocker;
 use crate::mechanism::{Mechanism, Phi, Step, rpr};
 use crate::model::Model;
 
@@ -162,216 +163,179 @@ pub(super) struct Structure {
 impl Structure {
     pub(super) fn of(mech: &Mechanism<f64>, model: &Model) -> Structure {
         let mut st = Structure::default();
-        let np = mech.n_points();
-        let bar = |st: &mut Structure, a: usize, b: usize, kind: Kind| st.bodies.push(Body { pts: vec![a, b], kind });
         for step in &mech.steps {
-            match step {
-                Step::Crank {
-                    center, out, r, u, v, ..
-                } => {
-                    bar(&mut st, *center, *out, Kind::Crank);
-                    st.dims.push(Dim {
-                        a: *center,
-                        b: *out,
-                        length: *r,
-                        symbol: "r",
-                    });
-                    st.circles.push(Circle {
-                        center: *center,
-                        u: *u,
-                        v: *v,
-                        r: *r,
-                    });
-                }
-                Step::Rrr {
-                    p1, p2, l1, l2, out, ..
-                } => {
-                    bar(&mut st, *p1, *out, Kind::Bar);
-                    bar(&mut st, *p2, *out, Kind::Bar);
-                    st.dims.push(Dim {
-                        a: *p1,
-                        b: *out,
-                        length: *l1,
-                        symbol: "l",
-                    });
-                    st.dims.push(Dim {
-                        a: *p2,
-                        b: *out,
-                        length: *l2,
-                        symbol: "l",
-                    });
-                }
-                Step::Rrp {
-                    from,
-                    through,
-                    toward,
-                    dir,
-                    offset,
-                    l,
-                    plane,
-                    out,
-                    ..
-                } => {
-                    bar(&mut st, *from, *out, Kind::Bar);
-                    st.dims.push(Dim {
-                        a: *from,
-                        b: *out,
-                        length: *l,
-                        symbol: "l",
-                    });
-                    st.sliders.push(Slider {
-                        at: *out,
-                        guide: Guide::Planar {
-                            through: *through,
-                            toward: *toward,
-                            dir: *dir,
-                            offset: *offset,
-                            plane: *plane,
-                        },
-                    });
-                    st.guide_points.insert(*through);
-                    st.guide_points.extend(*toward);
-                }
-                Step::Rpr {
-                    from,
-                    pivot,
-                    e,
-                    plane,
-                    out,
-                    ..
-                } => {
-                    // The lever: pivot, the pivot's foot on the slot (when
-                    // the slot is offset), the lever point.
-                    let mut pts = vec![*pivot];
-                    if e.abs() > 1e-9 {
-                        st.extras.push(Extra::SlotFoot {
-                            from: *from,
-                            pivot: *pivot,
-                            e: *e,
-                            plane: *plane,
-                        });
-                        pts.push(np + st.extras.len() - 1);
-                    }
-                    pts.push(*out);
-                    st.bodies.push(Body { pts, kind: Kind::Bar });
-                    st.sliders.push(Slider {
-                        at: *from,
-                        guide: Guide::Slot {
-                            from: *from,
-                            pivot: *pivot,
-                            e: *e,
-                            plane: *plane,
-                        },
-                    });
-                }
-                Step::Rssr {
-                    from, rocker, l, out, ..
-                } => {
-                    // The rocker turns about its axis: from the fixed point
-                    // on the axis (its pivot) to the arm's centre, then out.
-                    let c = rocker.c;
-                    let on_axis = mech
-                        .fixed
-                        .iter()
-                        .filter(|(_, p)| (p - c).cross(&rocker.w).norm() < 1e-6 * (1.0 + (p - c).norm()))
-                        .min_by(|a, b| (a.1 - c).norm().total_cmp(&(b.1 - c).norm()));
-                    let mut pts = Vec::new();
-                    match on_axis {
-                        Some((slot, p)) if (p - c).norm() < 1e-9 => pts.push(*slot),
-                        Some((slot, _)) => {
-                            st.extras.push(Extra::At(c));
-                            pts.extend([*slot, np + st.extras.len() - 1]);
-                        }
-                        None => {
-                            st.extras.push(Extra::At(c));
-                            pts.push(np + st.extras.len() - 1);
-                        }
-                    }
-                    let centre = *pts.last().expect("the arm has its centre");
-                    pts.push(*out);
-                    st.bodies.push(Body { pts, kind: Kind::Bar });
-                    bar(&mut st, *from, *out, Kind::Rod);
-                    st.dims.push(Dim {
-                        a: centre,
-                        b: *out,
-                        length: rocker.r,
-                        symbol: "r",
-                    });
-                    st.dims.push(Dim {
-                        a: *from,
-                        b: *out,
-                        length: *l,
-                        symbol: "l",
-                    });
-                    st.spherical.extend([*from, *out]);
-                }
-                Step::PointOnLine {
-                    from,
-                    through,
-                    toward,
-                    dir,
-                    l,
-                    out,
-                    ..
-                } => {
-                    bar(&mut st, *from, *out, Kind::Rod);
-                    st.dims.push(Dim {
-                        a: *from,
-                        b: *out,
-                        length: *l,
-                        symbol: "l",
-                    });
-                    st.sliders.push(Slider {
-                        at: *out,
-                        guide: Guide::Spatial {
-                            through: *through,
-                            toward: *toward,
-                            dir: *dir,
-                        },
-                    });
-                    st.guide_points.insert(*through);
-                    st.guide_points.extend(*toward);
-                }
-                Step::Rigid { base, out, .. } => st.attach(&base[..], *out),
-                Step::Rigid3 { frame, out, .. } => st.attach(&frame[..], *out),
-                Step::Offset { from, out, .. } => bar(&mut st, *from, *out, Kind::Offset),
-                Step::Newton(g) => {
-                    let slot = |r: &PointRef| match r {
-                        PointRef::Unknown(u) => g.outs[*u],
-                        PointRef::Known(k) => *k,
-                    };
-                    for c in &g.closures {
-                        match c {
-                            Closure::Distance { a, b, l } => {
-                                bar(&mut st, slot(a), slot(b), Kind::Bar);
-                                st.dims.push(Dim {
-                                    a: slot(a),
-                                    b: slot(b),
-                                    length: *l,
-                                    symbol: "l",
-                                });
-                            }
-                            Closure::OnLine { p, h, t } => {
-                                st.sliders.push(Slider {
-                                    at: *p,
-                                    guide: Guide::Spatial {
-                                        through: *h,
-                                        toward: Some(*t),
-                                        dir: V3::x(),
-                                    },
-                                });
-                                st.guide_points.extend([*h, *t]);
-                            }
-                        }
-                    }
-                }
-            }
+            st.add(step, mech);
         }
         st.merge_triangles();
         // A guide-line point that is also a joint or a thread guide is drawn as such.
         let in_body: BTreeSet<usize> = st.bodies.iter().flat_map(|b| b.pts.iter().copied()).collect();
         st.guide_points.retain(|p| model.is_fixed(*p) && !in_body.contains(p));
         st
+    }
+
+    fn bar(&mut self, a: usize, b: usize, kind: Kind) {
+        self.bodies.push(Body { pts: vec![a, b], kind });
+    }
+
+    fn dim(&mut self, a: usize, b: usize, length: f64, symbol: &'static str) {
+        self.dims.push(Dim { a, b, length, symbol });
+    }
+
+    /// A point of the drawing's own after the model's `np`, at `extra`.
+    fn extra(&mut self, np: usize, extra: Extra) -> usize {
+        self.extras.push(extra);
+        np + self.extras.len() - 1
+    }
+
+    /// The links, sliders, dimensions and circles of one solve step.
+    fn add(&mut self, step: &Step<f64>, mech: &Mechanism<f64>) {
+        match step {
+            Step::Crank {
+                center, out, r, u, v, ..
+            } => {
+                self.bar(*center, *out, Kind::Crank);
+                self.dim(*center, *out, *r, "r");
+                self.circles.push(Circle {
+                    center: *center,
+                    u: *u,
+                    v: *v,
+                    r: *r,
+                });
+            }
+            Step::Rrr {
+                p1, p2, l1, l2, out, ..
+            } => {
+                self.bar(*p1, *out, Kind::Bar);
+                self.bar(*p2, *out, Kind::Bar);
+                self.dim(*p1, *out, *l1, "l");
+                self.dim(*p2, *out, *l2, "l");
+            }
+            Step::Rrp {
+                from,
+                through,
+                toward,
+                dir,
+                offset,
+                l,
+                plane,
+                out,
+                ..
+            } => {
+                self.bar(*from, *out, Kind::Bar);
+                self.dim(*from, *out, *l, "l");
+                let guide = Guide::Planar {
+                    through: *through,
+                    toward: *toward,
+                    dir: *dir,
+                    offset: *offset,
+                    plane: *plane,
+                };
+                self.sliders.push(Slider { at: *out, guide });
+                self.guide_points.insert(*through);
+                self.guide_points.extend(*toward);
+            }
+            Step::Rpr {
+                from,
+                pivot,
+                e,
+                plane,
+                out,
+                ..
+            } => self.add_lever(mech.n_points(), *from, *pivot, *e, *plane, *out),
+            Step::Rssr {
+                from, rocker, l, out, ..
+            } => self.add_rocker(mech, *from, rocker, *l, *out),
+            Step::PointOnLine {
+                from,
+                through,
+                toward,
+                dir,
+                l,
+                out,
+                ..
+            } => {
+                self.bar(*from, *out, Kind::Rod);
+                self.dim(*from, *out, *l, "l");
+                let guide = Guide::Spatial {
+                    through: *through,
+                    toward: *toward,
+                    dir: *dir,
+                };
+                self.sliders.push(Slider { at: *out, guide });
+                self.guide_points.insert(*through);
+                self.guide_points.extend(*toward);
+            }
+            Step::Rigid { base, out, .. } => self.attach(&base[..], *out),
+            Step::Rigid3 { frame, out, .. } => self.attach(&frame[..], *out),
+            Step::Offset { from, out, .. } => self.bar(*from, *out, Kind::Offset),
+            Step::Newton(g) => self.add_newton(g),
+        }
+    }
+
+    /// A slotted lever (RPR): the lever from its pivot through the pivot's
+    /// foot on the slot (when the slot is offset) to the lever point, and
+    /// the slider `from` in the slot.
+    fn add_lever(&mut self, np: usize, from: usize, pivot: usize, e: f64, plane: FramePlane<f64>, out: usize) {
+        let mut pts = vec![pivot];
+        if e.abs() > 1e-9 {
+            pts.push(self.extra(np, Extra::SlotFoot { from, pivot, e, plane }));
+        }
+        pts.push(out);
+        self.bodies.push(Body { pts, kind: Kind::Bar });
+        let guide = Guide::Slot { from, pivot, e, plane };
+        self.sliders.push(Slider { at: from, guide });
+    }
+
+    /// A spatial rocker (RSSR): it turns about its axis, drawn from the
+    /// fixed point on the axis (its pivot) to the arm's centre, then out;
+    /// the rod from `from` to `out` is ball-ended.
+    fn add_rocker(&mut self, mech: &Mechanism<f64>, from: usize, rocker: &Rocker<f64>, l: f64, out: usize) {
+        let np = mech.n_points();
+        let c = rocker.c;
+        let on_axis = mech
+            .fixed
+            .iter()
+            .filter(|(_, p)| (p - c).cross(&rocker.w).norm() < 1e-6 * (1.0 + (p - c).norm()))
+            .min_by(|a, b| (a.1 - c).norm().total_cmp(&(b.1 - c).norm()));
+        let mut pts = Vec::new();
+        match on_axis {
+            Some((slot, p)) if (p - c).norm() < 1e-9 => pts.push(*slot),
+            Some((slot, _)) => pts.extend([*slot, self.extra(np, Extra::At(c))]),
+            None => pts.push(self.extra(np, Extra::At(c))),
+        }
+        let centre = *pts.last().expect("the arm has its centre");
+        pts.push(out);
+        self.bodies.push(Body { pts, kind: Kind::Bar });
+        self.bar(from, out, Kind::Rod);
+        self.dim(centre, out, rocker.r, "r");
+        self.dim(from, out, l, "l");
+        self.spherical.extend([from, out]);
+    }
+
+    /// A numerical group: a bar per distance closure, a slider per point
+    /// held on a line.
+    fn add_newton(&mut self, g: &NewtonGroup<f64>) {
+        let slot = |r: &PointRef| match r {
+            PointRef::Unknown(u) => g.outs[*u],
+            PointRef::Known(k) => *k,
+        };
+        for c in &g.closures {
+            match c {
+                Closure::Distance { a, b, l } => {
+                    self.bar(slot(a), slot(b), Kind::Bar);
+                    self.dim(slot(a), slot(b), *l, "l");
+                }
+                Closure::OnLine { p, h, t } => {
+                    let guide = Guide::Spatial {
+                        through: *h,
+                        toward: Some(*t),
+                        dir: V3::x(),
+                    };
+                    self.sliders.push(Slider { at: *p, guide });
+                    self.guide_points.extend([*h, *t]);
+                }
+            }
+        }
     }
 
     /// `out` rides on the body of `base`: the plate holding at least two of
