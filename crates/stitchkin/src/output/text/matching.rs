@@ -1,0 +1,394 @@
+//! The match of the take-up P with the thread the stitch needs, P′
+//! ([`crate::eval::stitch`]), as one screen of text: per thread the score
+//! and the figures, P against P′ as sparklines, the physical checks,
+//! measured curves, notes and, in detail, every metric.
+
+use crate::eval::CycleTable;
+use crate::eval::stitch::{StitchSummary, StitchThreadSummary};
+use crate::format::score;
+use crate::model::Model;
+use crate::output::text::{sparkline, window_marks};
+use crate::stitch::checks::Check;
+use crate::stitch::spec::EventKind;
+use crate::study::measured::MeasuredMatch;
+use crate::thread::SplitPoint;
+use crate::thread::measured::CurveKind;
+
+/// Columns of the sparklines: 6° each over a turn.
+const SPARK_COLS: usize = 60;
+
+/// The match on one screen: the setting, one row per thread, P against P′
+/// as sparklines, the checks, the caveats; with `details` every metric.
+pub fn screen(
+    model: &Model,
+    table: &CycleTable,
+    st: &StitchSummary,
+    measured: &[MeasuredMatch],
+    details: bool,
+) -> String {
+    let mut s = format!(
+        "{} — stitch {}, material m = {} mm, stitch length t = {} mm\n",
+        model.title().unwrap_or(model.name()),
+        st.stitch_type,
+        st.m_mm,
+        st.t_mm
+    );
+    if st.threads.iter().any(|t| t.split == SplitPoint::B) {
+        s += "needle threads measured at B, the eye's top position (seed 004 §2.3); ";
+    }
+    s += &format!(
+        "P = P′ = 0 at φ = {}°; needle BDC at φ = {}°\n",
+        st.phi0_deg, st.cyclogram_zero_deg
+    );
+    s += &format!("regulator: {}\n", st.regulator);
+    s += "D = P − P′: D > 0 thread given but not needed (slack), D < 0 needed but not given (strain)\n\n";
+
+    s += &format!(
+        "{:<8} {:<8} {:>6} {:>10} {:>10} {:>10} {:>11}  {}\n",
+        "thread", "path", "score", "RMS(D)", "max P", "max P′", "per stitch", "checks"
+    );
+    for t in &st.threads {
+        let mm = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.2} mm"));
+        let max_p = t
+            .path
+            .as_ref()
+            .and_then(|p| table.paths.iter().find(|q| &q.path == p))
+            .map(|q| q.max_p_mm);
+        let checks: Vec<&Check> = st.checks.iter().filter(|c| c.thread == t.thread).collect();
+        let passed = checks.iter().filter(|c| c.ok).count();
+        let verdict = match checks.len() {
+            0 => "—".to_string(),
+            n if passed == n => format!("{n} of {n} pass"),
+            n => format!("{} of {n} FAIL", n - passed),
+        };
+        s += &format!(
+            "{:<8} {:<8} {:>6} {:>10} {:>10} {:>10} {:>11}  {verdict}\n",
+            t.thread,
+            t.path.as_deref().unwrap_or("—"),
+            score(t.mismatch.as_ref().and_then(|m| m.score)),
+            mm(t.mismatch.as_ref().map(|m| m.rms_d_mm)),
+            mm(max_p),
+            mm(Some(t.max_pprime_mm)),
+            mm(Some(t.per_stitch_mm)),
+        );
+    }
+    s += &sparklines(table, st, measured);
+    s += &checks_block(table, st, details);
+    for mm in measured {
+        s += &measured_line(mm);
+    }
+    s += &notes(st);
+    if details {
+        for t in &st.threads {
+            s += &thread_details(t);
+        }
+        if !st.moments.is_empty() {
+            s += "\nmoments (φ): ";
+            s += &st
+                .moments
+                .iter()
+                .map(|(n, p)| format!("{n} {p:.1}°"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            s += "\n";
+        }
+    } else {
+        s += "\n(every metric, the jumps of P′ and the moments: stitchkin match --details; all of it: --format json)\n";
+    }
+    for c in model.caveats().iter().chain(&st.transfers) {
+        s += &format!("note: {c}\n");
+    }
+    for w in &table.warnings {
+        s += &format!("warning: {w}\n");
+    }
+    s
+}
+
+/// P against P′ of each thread as two sparklines on one scale, the
+/// regulator window marked below.
+fn sparklines(table: &CycleTable, st: &StitchSummary, measured: &[MeasuredMatch]) -> String {
+    let Some(phis) = table.column("phi_deg") else {
+        return String::new();
+    };
+    let start = phis.first().copied().unwrap_or(0.0);
+    let mut s = format!(
+        "\nP (upper line) against P′ (lower line) over one turn from φ = {start}°, {}° a character, each thread on its own scale\n",
+        360 / SPARK_COLS
+    );
+    let axis: String = (0..SPARK_COLS)
+        .map(|c| if c % (SPARK_COLS / 4) == 0 { '|' } else { ' ' })
+        .collect();
+    s += &format!(
+        "{:<12}{axis}  ({}°, {}°, {}°, {}°)\n",
+        "",
+        start,
+        start + 90.0,
+        start + 180.0,
+        start + 270.0
+    );
+    for t in &st.threads {
+        let p = t
+            .path
+            .as_ref()
+            .and_then(|p| table.paths.iter().find(|q| &q.path == p))
+            .and_then(|q| table.column(&q.p_column));
+        let pprime = table.column(&t.pprime_column());
+        let Some(pprime) = pprime else { continue };
+        let extra: Vec<&MeasuredMatch> = measured.iter().filter(|m| m.thread == t.thread).collect();
+        let all = pprime
+            .iter()
+            .chain(p.into_iter().flatten())
+            .chain(extra.iter().flat_map(|m| m.values_mm.iter()));
+        let (lo, hi) = all.fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+        // No "-0.0" in the scale.
+        let (lo, hi) = (lo + 0.0, hi + 0.0);
+        if let Some(p) = p {
+            let scale = |x: f64| {
+                if x.abs() < 0.05 {
+                    "0.0".to_string()
+                } else {
+                    format!("{x:.1}")
+                }
+            };
+            s += &format!(
+                "{:<6}{:<6}{}  {}…{} mm\n",
+                t.thread,
+                "P",
+                sparkline(p, lo, hi, SPARK_COLS),
+                scale(lo),
+                scale(hi)
+            );
+        }
+        s += &format!(
+            "{:<6}{:<6}{}\n",
+            if p.is_some() { "" } else { t.thread.as_str() },
+            "P′",
+            sparkline(pprime, lo, hi, SPARK_COLS)
+        );
+        for m in extra {
+            let what = match m.kind {
+                CurveKind::TakeUp => "P meas",
+                CurveKind::Required => "P′ meas",
+            };
+            s += &format!("{:<6}{:<6}{}\n", "", what, sparkline(&m.values_mm, lo, hi, SPARK_COLS));
+        }
+    }
+    // The regulator windows, one line per distinct window.
+    let mut windows: Vec<([f64; 2], Vec<&str>)> = Vec::new();
+    for t in &st.threads {
+        if let Some(w) = t.regulator_window_deg {
+            match windows
+                .iter_mut()
+                .find(|(v, _)| (v[0] - w[0]).abs() < 1e-9 && (v[1] - w[1]).abs() < 1e-9)
+            {
+                Some((_, names)) => names.push(&t.thread),
+                None => windows.push((w, vec![&t.thread])),
+            }
+        }
+    }
+    for (w, names) in &windows {
+        let whose = if windows.len() > 1 {
+            format!(" of {}", names.join(", "))
+        } else {
+            String::new()
+        };
+        s += &format!(
+            "{:<12}{}  regulator window{whose} (left out of the metrics)\n",
+            "",
+            window_marks(start, SPARK_COLS, *w, '~')
+        );
+    }
+    s
+}
+
+/// The physical checks: one line each, in full when one fails (or with
+/// `details`). `thread_bound` is shown as the least to spare over the cycle
+/// (the sweep figure `THR.bound_margin_mm`) beside P_B's peak.
+fn checks_block(table: &CycleTable, st: &StitchSummary, details: bool) -> String {
+    if st.checks.is_empty() {
+        return String::new();
+    }
+    let mut s = "\nchecks (what no machine can do):\n".to_string();
+    for c in &st.checks {
+        let limit = match c.limit {
+            [Some(a), Some(b)] => format!("{a}…{b} mm"),
+            [None, Some(b)] => format!("≤ {b:.2} mm"),
+            [Some(a), None] => format!("≥ {a:.2} mm"),
+            [None, None] => "—".into(),
+        };
+        let figure = match (c.name, c.limit[1]) {
+            ("thread_bound", Some(bound)) => {
+                let peak = st
+                    .threads
+                    .iter()
+                    .find(|t| t.thread == c.thread)
+                    .and_then(|t| t.path.as_ref())
+                    .and_then(|p| table.paths.iter().find(|s| &s.path == p))
+                    .map_or(String::new(), |s| format!("; P_B peaks at {:.2} mm", s.max_p_mm));
+                if c.ok {
+                    format!(
+                        "{:>8.2} mm  to spare at the least (φ = {:.1}°{peak})",
+                        bound - c.value,
+                        c.at_deg
+                    )
+                } else {
+                    format!(
+                        "{:>8.2} mm  more than the needle can take through B (φ = {:.1}°{peak})",
+                        c.value - bound,
+                        c.at_deg
+                    )
+                }
+            }
+            _ => format!("{:>8.2} mm  (allowed {limit}; φ = {:.1}°)", c.value, c.at_deg),
+        };
+        s += &format!(
+            "  {:<5} {:<6} {:<17} {figure}\n",
+            if c.ok { "ok" } else { "FAIL" },
+            c.thread,
+            c.name
+        );
+        if !c.ok || details {
+            s += &format!("        {}\n", c.message);
+        }
+    }
+    s
+}
+
+/// A measured curve against the model's other curve and against the model's own.
+fn measured_line(m: &MeasuredMatch) -> String {
+    let (what, other) = match m.kind {
+        CurveKind::TakeUp => ("measured P", "P′"),
+        CurveKind::Required => ("measured P′", "the model's P"),
+    };
+    let split = if m.split_declared {
+        format!("at {}", m.split)
+    } else {
+        format!("taken at {}", m.split)
+    };
+    let mut s = format!("\n{what} of {} ({}, {split}):\n", m.thread, m.source);
+    if let Some(a) = &m.against_other {
+        s += &format!(
+            "  against {other}: RMS(D) {:.2} mm, max |D| {:.2} mm at φ = {:.1}°, score {}\n",
+            a.rms_d_mm,
+            a.max_abs_d_mm,
+            a.max_abs_d_at_deg,
+            score(a.score)
+        );
+    }
+    if let Some(b) = &m.against_model {
+        s += &format!(
+            "  the model's {} against it: RMS {:.2} mm, max |difference| {:.2} mm at φ = {:.1}°, score {}\n",
+            if m.kind == CurveKind::TakeUp { "P" } else { "P′" },
+            b.rms_d_mm,
+            b.max_abs_d_mm,
+            b.max_abs_d_at_deg,
+            score(b.score)
+        );
+    }
+    s
+}
+
+/// Notes that read the numbers for the user.
+fn notes(st: &StitchSummary) -> String {
+    let mut s = String::new();
+    let failed: Vec<&Check> = st.checks.iter().filter(|c| !c.ok).collect();
+    if !failed.is_empty() {
+        s += &format!(
+            "\nnote: {} physical check(s) fail: this setting cannot work on a real machine, whatever its score\n",
+            failed.len()
+        );
+    }
+    for t in &st.threads {
+        if let Some(m) = &t.mismatch
+            && m.score.is_some_and(|x| x < 20.0)
+            && m.phase_shift_max_deg.abs() > 90.0
+        {
+            s += &format!(
+                "note: {}: P peaks {:.0}° away from P′: the take-up works against the stitch; check the take-up's phase\n",
+                t.thread,
+                m.phase_shift_max_deg.abs()
+            );
+        }
+    }
+    s
+}
+
+/// Every metric of one thread.
+fn thread_details(t: &StitchThreadSummary) -> String {
+    let iv = |v: &[[f64; 2]]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.iter()
+                .map(|i| format!("{:.0}–{:.0}°", i[0], i[1]))
+                .collect::<Vec<_>>()
+                .join(", ")
+        }
+    };
+    let mut s = format!(
+        "\n{} (contour {}){}, measured at {}\n",
+        t.thread,
+        t.contour,
+        t.path
+            .as_ref()
+            .map(|p| format!(", take-up path {p}"))
+            .unwrap_or_default(),
+        t.split
+    );
+    s += &format!(
+        "  per stitch          {:>9.3} mm (cut from P′ at its lock, φ = {:.1}°: {:.3} mm)\n",
+        t.per_stitch_mm, t.lock_phi_deg, t.locked_mm
+    );
+    if t.released_mm > 0.0 {
+        s += &format!(
+            "  loop released       {:>9.3} mm when it drops off the looper\n",
+            t.released_mm
+        );
+    }
+    s += &format!(
+        "  max P′              {:>9.3} mm at φ = {:.1}°\n",
+        t.max_pprime_mm, t.phi_at_max_pprime_deg
+    );
+    if let Some(b) = t.max_pprime_eye_mm {
+        s += &format!("  max P′ at the eye   {b:>9.3} mm (the same thread measured at the moving eye)\n");
+    }
+    match &t.mismatch {
+        Some(m) => {
+            s += &format!(
+                "  RMS(D)              {:>9.3} mm   (std {:.3} mm)\n",
+                m.rms_d_mm, m.std_d_mm
+            );
+            s += &format!(
+                "  max |D|             {:>9.3} mm at φ = {:.1}°   (max D {:.3}, min D {:.3} mm)\n",
+                m.max_abs_d_mm, m.max_abs_d_at_deg, m.max_d_mm, m.min_d_mm
+            );
+            s += &format!(
+                "  excess / deficit    {:>9.1} / {:.1} mm·deg\n",
+                m.excess_area_mm_deg, m.deficit_area_mm_deg
+            );
+            s += &format!("  slack  (D > ε)      {}\n", iv(&m.excess_intervals_deg));
+            s += &format!("  strain (D < −ε)     {}\n", iv(&m.deficit_intervals_deg));
+            let lag = m
+                .best_lag_deg
+                .map_or(String::new(), |l| format!("  (best lag {l:.1}°)"));
+            s += &format!("  phase of maxima     {:>9.1}°{lag}\n", m.phase_shift_max_deg);
+            s += &format!(
+                "  match score         {:>9}   (offset-free {}; scale: P′ swings {:.3} mm)\n",
+                score(m.score),
+                score(m.score_offset_free),
+                m.range_pprime_mm
+            );
+        }
+        None => s += "  no take-up path to compare (give `path` in [stitch])\n",
+    }
+    let jumps: Vec<String> = t
+        .events
+        .iter()
+        .filter(|e| e.kind != EventKind::Cont)
+        .map(|e| format!("{} at φ = {:.1}°: {:+.3} mm", e.name, e.phi_deg, e.jump_mm))
+        .collect();
+    if !jumps.is_empty() {
+        s += &format!("  jumps of P′         {}\n", jumps.join("; "));
+    }
+    s
+}
