@@ -1,23 +1,21 @@
 //! `stitchkin sensitivity`: how much each adjustable parameter moves each
 //! figure of merit, ranked (stitchkin::study::sensitivity).
 
-use std::path::PathBuf;
-
 use clap::ValueEnum;
 use stitchkin::error::Error;
 use stitchkin::output::text;
 use stitchkin::study::sensitivity::{RankBy, SensitivityOptions, sensitivity};
 
-use crate::common::{ModelArgs, TableFormat, emit, json, load};
+use crate::common::{ModelArgs, OutputArgs, TableFormat, json, load};
 
 /// Rank the adjustable parameters by their effect on each figure of
 /// merit: the exact derivative (dual numbers) times the range width, and
 /// the change over the whole range.
 #[derive(clap::Args)]
 #[command(after_help = "Examples:\n  stitchkin sensitivity\n  \
-    stitchkin sensitivity --preset mf7923d --output 'n1_A.max_P_B_mm,mu.*' --params r1,z\n  \
+    stitchkin sensitivity --preset mf7923d --figures 'n1_A.max_P_B_mm,mu.*' --params r1,z\n  \
     stitchkin sensitivity --preset needle876 --step 0.5 --format csv -o needle876-sensitivity.csv\n  \
-    stitchkin sensitivity --output '*.score' --rank range --format json\n\n\
+    stitchkin sensitivity --figures '*.score' --rank range --format json\n\n\
     Per figure (names as in `stitchkin sweep --figures`) and parameter: d/dp at the setting, exact by\n\
     dual numbers for smooth figures (take-up, measure, coordinate and transmission-angle extremes) and a\n\
     central difference (c) for the match figures; effect = d/dp × range width (figure unit); at lo, at hi\n\
@@ -25,18 +23,16 @@ use crate::common::{ModelArgs, TableFormat, emit, json, load};
     range (9 settings). Ranked by |effect| (by span for the match figures, or for all with --rank range).\n\
     Units: mm/mm, mm/deg, deg/mm, pts/mm (score points); CSV columns figure, figure_unit, nominal, rank,\n\
     parameter, parameter_unit, range_lo, range_hi, derivative, derivative_unit, method, ..., span, note.")]
+#[command(mut_arg("format", |a| a.help(
+    "Output format: a readable table, CSV (one row per figure and parameter) or JSON"
+)))]
 pub(crate) struct Args {
     #[command(flatten)]
     model: ModelArgs,
     /// Figures of merit, comma-separated patterns with `*` (names as in
     /// `stitchkin sweep --figures`; default: max P per path, match score per
     /// thread, transmission-angle extremes, measure ranges, point strokes).
-    #[arg(
-        long = "output",
-        visible_alias = "figures",
-        value_delimiter = ',',
-        value_name = "FIGURE,…"
-    )]
+    #[arg(long, value_delimiter = ',', value_name = "FIGURE,…")]
     figures: Option<Vec<String>>,
     /// Parameters to study, comma-separated (default: every parameter with
     /// an adjustable range).
@@ -50,13 +46,8 @@ pub(crate) struct Args {
     /// Step of the main-shaft angle φ, degrees.
     #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
     step: f64,
-    /// Output format: a readable table, CSV (one row per figure and
-    /// parameter) or JSON.
-    #[arg(long, value_enum, default_value_t = TableFormat::Table)]
-    format: TableFormat,
-    /// Write to FILE instead of stdout (written completely or not at all).
-    #[arg(short = 'o', value_name = "FILE")]
-    file: Option<PathBuf>,
+    #[command(flatten)]
+    output: OutputArgs,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -77,10 +68,10 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         },
     };
     let r = sensitivity(&model, &params, &opts)?;
-    let out = match args.format {
+    let out = match args.output.format {
         TableFormat::Json => json(&r)?,
         TableFormat::Csv => text::sensitivity::csv(&r),
         TableFormat::Table => text::sensitivity::table(&r),
     };
-    emit(out.as_bytes(), args.file.as_ref())
+    args.output.emit(&out)
 }
