@@ -158,7 +158,7 @@ mod tests {
     fn hundredths_score_and_units() {
         assert_eq!(hundredths(2.499), "2.5");
         assert_eq!(hundredths(-0.001), "0");
-        assert_eq!(hundredths(-3.14159), "-3.14");
+        assert_eq!(hundredths(-1.23456), "-1.23");
         assert_eq!(score(Some(87.26)), "87.3");
         assert_eq!(score(None), "—");
         assert_eq!(per_unit("mm", "deg"), "mm/deg");

@@ -38,3 +38,35 @@ pub fn summary(c: &Comparison) -> String {
     }
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::compare2d3d::PathComparison;
+
+    #[test]
+    fn csv_has_three_columns_per_path_and_the_summary_its_largest_error() {
+        let c = Comparison {
+            plane: "uvw".into(),
+            phi_deg: vec![0.0, 180.0],
+            paths: vec![PathComparison {
+                path: "n1".into(),
+                p3d_mm: vec![1.0, 2.5],
+                p2d_mm: vec![1.0, 2.0],
+                dp_mm: vec![0.0, 0.5],
+                max_abs_dp_mm: 0.5,
+                phi_at_max_deg: 180.0,
+                max_rel_percent: 20.0,
+            }],
+        };
+        assert_eq!(
+            csv(&c),
+            "phi_deg,n1.P3D_mm,n1.P2D_mm,n1.dP_mm\n0,1,1,0\n180,2.5,2,0.5\n"
+        );
+        assert_eq!(
+            summary(&c),
+            "# 2D model: every node projected onto the xy-plane of `uvw`; ΔP = P3D − P2D\n\
+             # n1 max |ΔP| 0.5000 mm at φ = 180.0° (20.00 % of max P)\n"
+        );
+    }
+}

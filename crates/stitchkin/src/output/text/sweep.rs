@@ -107,3 +107,55 @@ impl Tally {
         s
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::sweep::{Design, Vary};
+
+    fn row(index: usize, values: Vec<f64>, figures: Vec<Option<f64>>, error: Option<&str>) -> Row {
+        Row {
+            index,
+            values,
+            figures,
+            error: error.map(String::from),
+        }
+    }
+
+    #[test]
+    fn rows_leave_missing_figures_empty_and_quote_errors() {
+        assert_eq!(
+            super::row(&row(3, vec![1.5], vec![Some(2.0), None], None)),
+            "3,1.5,2,,ok\n"
+        );
+        let failed = row(4, vec![-2.0], vec![None, None], Some("no \"assembly\""));
+        assert_eq!(super::row(&failed), "4,-2,,,\"no 'assembly'\"\n");
+    }
+
+    #[test]
+    fn the_tally_follows_the_mean_score_and_counts_failures() {
+        let vary = Vary {
+            name: "z".into(),
+            lo: -1.0,
+            hi: 1.0,
+            n: 3,
+        };
+        let sweep = Sweep::new(vec![vary], Design::Grid).unwrap();
+        let figures = ["mu.min_deg".to_string(), "score.mean".to_string()];
+        let mut tally = Tally::new(&figures);
+        tally.add(&row(0, vec![-1.0], vec![Some(40.0), Some(70.0)], None));
+        tally.add(&row(1, vec![0.0], vec![Some(50.0), Some(90.0)], None));
+        tally.add(&row(2, vec![1.0], vec![None, None], Some("no assembly")));
+        assert_eq!(
+            tally.summary(&sweep, &figures, 3, (1, 1)),
+            "# sweep: 3 settings (2 evaluated, 1 without assembly or with errors)\n\
+             # largest score.mean = 90 at z = 0\n\
+             # smallest score.mean = 70 at z = -1\n"
+        );
+        assert!(
+            tally
+                .summary(&sweep, &figures, 2, (2, 2))
+                .contains(", shard 2/2 of 3\n")
+        );
+    }
+}
