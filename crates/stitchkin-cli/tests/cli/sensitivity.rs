@@ -14,7 +14,7 @@ fn sensitivity_ranks_the_parameters_of_each_figure() {
         "sensitivity",
         "--params",
         "r1,l_o2b,z",
-        "--output",
+        "--figures",
         "n1_A.max_P_B_mm,mu.max_deg",
         "--step",
         "5",
@@ -54,7 +54,7 @@ fn sensitivity_ranks_the_parameters_of_each_figure() {
         "sensitivity",
         "--params",
         "r1,l_o2b",
-        "--output",
+        "--figures",
         "n1_A.max_P_B_mm",
         "--step",
         "10",
@@ -106,13 +106,49 @@ fn sensitivity_ranks_the_parameters_of_each_figure() {
 }
 
 #[test]
+fn sensitivity_output_writes_the_file() {
+    let d = scratch("sensitivity-output");
+    let f = d.join("s.csv");
+    let (out, _) = ok(&[
+        "sensitivity",
+        "--preset",
+        "needle876",
+        "--figures",
+        "needle_y.range_mm",
+        "--step",
+        "10",
+        "--format",
+        "csv",
+        "--output",
+        f.to_str().unwrap(),
+    ]);
+    assert!(out.is_empty(), "the table went to stdout:\n{out}");
+    let csv = std::fs::read_to_string(&f).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert!(
+        lines[0].starts_with("figure,figure_unit,nominal,rank,parameter,"),
+        "{csv}"
+    );
+    assert_eq!(lines.len(), 2, "{csv}");
+    assert!(
+        lines[1].starts_with("needle_y.range_mm,mm,") && lines[1].contains(",1,alpha,deg,0,45,"),
+        "{csv}"
+    );
+    assert_eq!(
+        std::fs::read_dir(&d).unwrap().count(),
+        1,
+        "no temporary file left behind"
+    );
+}
+
+#[test]
 fn sensitivity_rejects_bad_requests_with_the_fix() {
     let e = fails(&["sensitivity", "--params", "t1_phase", "--step", "10"]);
     assert!(
         e.contains("`t1_phase` has no adjustable range") && e.contains("help"),
         "{e}"
     );
-    let e = fails(&["sensitivity", "--params", "r1", "--output", "nope", "--step", "10"]);
+    let e = fails(&["sensitivity", "--params", "r1", "--figures", "nope", "--step", "10"]);
     assert!(
         e.contains("no figure of merit matches `nope`") && e.contains("n1_A.max_P_B_mm"),
         "{e}"

@@ -4,6 +4,19 @@
 pub mod cam;
 pub mod nomogram;
 
+pub mod cam_summary;
+pub mod columns;
+pub mod compare2d3d;
+pub mod consumption;
+pub mod cycle;
+pub mod fit;
+pub mod matching;
+pub mod sensitivity;
+pub mod straightness;
+pub mod stroke;
+pub mod sweep;
+pub mod tune;
+
 /// The eight heights of a sparkline, lowest first.
 const BARS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
 

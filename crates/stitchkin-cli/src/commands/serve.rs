@@ -3,14 +3,23 @@
 use std::io::Write;
 use std::net::IpAddr;
 
-use clap::Args;
 use stitchkin::error::{Error, ParamError};
 use stitchkin_web::{App, Server};
 
-#[derive(Args)]
-pub struct ServeArgs {
+use crate::common::{ModelArgs, load};
+
+/// A local web page: a slider per adjustable parameter, thickness and
+/// stitch length inputs, and live P/P′, mismatch and mechanism drawing.
+#[derive(clap::Args)]
+#[command(
+    after_help = "Examples:\n  stitchkin serve\n  stitchkin serve --preset altin504 --port 8081\n  \
+    stitchkin serve my-machine.toml --set r1=5 --port 0\n\n\
+    Open the address it prints in a browser; Ctrl-C stops it. It listens on 127.0.0.1 only, unless\n\
+    --bind says otherwise, and answers requests for this machine's host names only (docs/web.md)."
+)]
+pub(crate) struct Args {
     #[command(flatten)]
-    model: crate::ModelArgs,
+    model: ModelArgs,
     /// TCP port to listen on (0: any free port, printed at start).
     #[arg(long, default_value_t = 8080, value_name = "PORT")]
     port: u16,
@@ -23,14 +32,14 @@ pub struct ServeArgs {
     threads: usize,
 }
 
-pub fn run(args: ServeArgs) -> Result<(), Error> {
+pub(crate) fn run(args: Args) -> Result<(), Error> {
     if !(1..=64).contains(&args.threads) {
         return Err(Error::Param(ParamError {
             message: format!("--threads {} is outside 1…64", args.threads),
             help: Some("one thread per core is plenty (the default is 2)".into()),
         }));
     }
-    let (model, params) = crate::load(&args.model)?;
+    let (model, params) = load(&args.model)?;
     let addr = std::net::SocketAddr::new(args.bind, args.port);
     let server = Server::start(App::new(model, params), &addr.to_string(), args.threads).map_err(|e| match e {
         Error::Io(m) => Error::Param(ParamError {

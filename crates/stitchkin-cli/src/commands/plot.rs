@@ -3,15 +3,15 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, ValueEnum};
+use clap::ValueEnum;
 use stitchkin::error::{Error, ParamError};
-use stitchkin::model::Model;
+use stitchkin::model::{Model, Params};
 use stitchkin::output::plots::{self, Plot};
 use stitchkin::study::nomogram::{Axis, NomogramOptions};
 use stitchkin::study::tune::TuneOptions;
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum What {
+enum What {
     /// P(φ) of every thread path and P'(φ) of every stitch thread (dashed),
     /// one-sided guides' engaged intervals shaded.
     Takeup,
@@ -55,13 +55,33 @@ impl What {
     }
 }
 
-#[derive(Args)]
-pub struct PlotArgs {
+use crate::common::{ModelArgs, load};
+
+/// Plot a cycle as SVG: the take-up P(φ) with the required P'(φ), the
+/// transmission angles, the trajectories of points, the motion law of
+/// any coordinate, angle or measure, and charts over varied parameters.
+#[derive(clap::Args)]
+#[command(after_help = "Examples:\n  stitchkin plot takeup -o mf7923d-takeup.svg\n  \
+    stitchkin plot takeup --measured n1=n1-measured.csv -o measured.svg\n  \
+    stitchkin plot takeup --preset altin504 --set m=2 --step 2 -o altin504.svg\n  \
+    stitchkin plot mu --preset needle876 --set alpha=38 -o mu.svg\n  \
+    stitchkin plot trajectory --preset needle876 --points G,E -o paths.svg\n  \
+    stitchkin plot trajectory --preset altin-needle --points E --plane guide -o altin-guide.svg\n  \
+    stitchkin plot motion --preset needle876 --series G.y,angle_C_B --vary alpha=0:35:6 -o motion.svg\n  \
+    stitchkin plot surface --series angle_O2_B --vary r1=4:6:9 --wireframe -o psi-r1.svg\n\n\
+    takeup: P of every thread path (solid) and P' of every stitch thread (dashed, its path's colour),\n\
+    needle threads at B, where a one-sided guide bears on the thread shaded lightly; --measured adds a\n\
+    measured curve. mu: every transmission angle, the band 30°…150° marked and the outside shaded.\n\
+    trajectory: each point's path in the world xy-plane (or --plane FRAME's), equal scales, a dot at the\n\
+    cycle's start. motion: each --series (a column of `stitchkin run`, the unit ending optional) against φ,\n\
+    one panel per unit; with --vary one panel per series, a line per value. φ runs over one cycle from the\n\
+    model's start (docs/plots.md).")]
+pub(crate) struct Args {
     /// What to plot.
     #[arg(value_enum)]
     what: What,
     #[command(flatten)]
-    model: crate::ModelArgs,
+    model: ModelArgs,
     /// Trajectory, analogs: points to draw, comma-separated.
     #[arg(long, value_delimiter = ',', value_name = "A,B,…")]
     points: Vec<String>,
@@ -146,7 +166,7 @@ fn list(kinds: &[What]) -> String {
 }
 
 /// Rejects options that belong to another kind of plot.
-fn check_options(args: &PlotArgs) -> Result<(), Error> {
+fn check_options(args: &Args) -> Result<(), Error> {
     use What::*;
     let nomogram_example = "stitchkin plot nomogram --set t1_phase=180 --thickness 3:5:3 --adjust z";
     let owners: [(&str, bool, &[What], &str); 13] = [
@@ -235,7 +255,7 @@ fn ranged(model: &Model) -> String {
 }
 
 /// The one path of a family or surface.
-fn one_thread(args: &PlotArgs) -> Result<Option<String>, Error> {
+fn one_thread(args: &Args) -> Result<Option<String>, Error> {
     match args.thread.as_slice() {
         [] => Ok(None),
         [one] => Ok(Some(one.clone())),
@@ -251,7 +271,7 @@ fn one_thread(args: &PlotArgs) -> Result<Option<String>, Error> {
 }
 
 /// The one series of a surface (`None`: the take-up of a thread path).
-fn one_series(args: &PlotArgs) -> Result<Option<String>, Error> {
+fn one_series(args: &Args) -> Result<Option<String>, Error> {
     match args.series.as_slice() {
         [] => Ok(None),
         [_] if !args.thread.is_empty() => Err(bad(
@@ -267,7 +287,7 @@ fn one_series(args: &PlotArgs) -> Result<Option<String>, Error> {
 }
 
 /// The one --vary of a family or surface, N defaulting to `default_n`.
-fn one_vary(args: &PlotArgs, model: &Model, default_n: usize) -> Result<stitchkin::study::design::Vary, Error> {
+fn one_vary(args: &Args, model: &Model, default_n: usize) -> Result<stitchkin::study::design::Vary, Error> {
     match args.vary.as_slice() {
         [] => Err(bad(
             format!(
@@ -288,14 +308,9 @@ fn one_vary(args: &PlotArgs, model: &Model, default_n: usize) -> Result<stitchki
     }
 }
 
-pub fn run(args: PlotArgs) -> Result<(), Error> {
-    check_options(&args)?;
-    crate::image::check_output(args.output.as_ref(), false)?;
-    let (model, params) = crate::load(&args.model)?;
-    let many_cycles = matches!(args.what, What::Family | What::Surface | What::Heatmap | What::Nomogram)
-        || (args.what == What::Motion && !args.vary.is_empty());
-    let step = args.step.unwrap_or(if many_cycles { 2.0 } else { 1.0 });
-    let plot = match args.what {
+/// The plot the arguments ask for, its cycles at `step` degrees.
+fn plot_of(args: &Args, model: &Model, params: &Params, step: f64) -> Result<Plot, Error> {
+    Ok(match args.what {
         What::Takeup => Plot::TakeUp,
         What::Mu => Plot::Mu,
         What::Trajectory => Plot::Trajectory {
@@ -307,29 +322,29 @@ pub fn run(args: PlotArgs) -> Result<(), Error> {
             threads: args.thread.clone(),
         },
         What::Family => Plot::Family {
-            vary: one_vary(&args, &model, 5)?,
-            thread: one_thread(&args)?,
+            vary: one_vary(args, model, 5)?,
+            thread: one_thread(args)?,
         },
         What::Motion => {
             let vary = if args.vary.is_empty() {
                 None
             } else {
-                Some(one_vary(&args, &model, 5)?)
+                Some(one_vary(args, model, 5)?)
             };
             Plot::Motion {
                 series: args.series.clone(),
                 vary,
             }
         }
-        What::Surface => match one_series(&args)? {
+        What::Surface => match one_series(args)? {
             Some(series) => Plot::MotionSurface {
                 series,
-                vary: one_vary(&args, &model, 11)?,
+                vary: one_vary(args, model, 11)?,
                 wireframe: args.wireframe,
             },
             None => Plot::Surface {
-                vary: one_vary(&args, &model, 11)?,
-                thread: one_thread(&args)?,
+                vary: one_vary(args, model, 11)?,
+                thread: one_thread(args)?,
                 wireframe: args.wireframe,
             },
         },
@@ -337,19 +352,19 @@ pub fn run(args: PlotArgs) -> Result<(), Error> {
             let vary = args
                 .vary
                 .iter()
-                .map(|v| plots::parse_vary(&model, v, 11))
+                .map(|v| plots::parse_vary(model, v, 11))
                 .collect::<Result<Vec<_>, _>>()?;
             if vary.len() != 2 {
                 return Err(bad(
                     format!("`plot heatmap` needs exactly 2 --vary, got {}", vary.len()),
                     format!(
                         "e.g. --vary z=-10:10:11 --vary dphi=-20:20:11 (the first across, the second up); {}",
-                        ranged(&model)
+                        ranged(model)
                     ),
                 ));
             }
             let Some(figure) = args.figure.clone() else {
-                let names = plots::figure_names(&model, &params, step)?;
+                let names = plots::figure_names(model, params, step)?;
                 return Err(bad(
                     "`plot heatmap` needs the figure of merit to draw: --figure NAME".into(),
                     format!("this model offers: {}", names.join(", ")),
@@ -360,7 +375,7 @@ pub fn run(args: PlotArgs) -> Result<(), Error> {
         What::Nomogram => {
             let thickness = match &args.thickness {
                 Some(s) => Axis::parse(s, "--thickness")?,
-                None => plots::default_thickness(&model)?,
+                None => plots::default_thickness(model)?,
             };
             let stitch = args.stitch.as_deref().map(|s| Axis::parse(s, "--stitch")).transpose()?;
             let tune = TuneOptions {
@@ -379,7 +394,17 @@ pub fn run(args: PlotArgs) -> Result<(), Error> {
             plane: args.plane.clone().unwrap_or_else(|| "world".into()),
             threads: args.thread.clone(),
         },
-    };
+    })
+}
+
+pub(crate) fn run(args: Args) -> Result<(), Error> {
+    check_options(&args)?;
+    crate::picture::check_output(args.output.as_ref(), false)?;
+    let (model, params) = load(&args.model)?;
+    let many_cycles = matches!(args.what, What::Family | What::Surface | What::Heatmap | What::Nomogram)
+        || (args.what == What::Motion && !args.vary.is_empty());
+    let step = args.step.unwrap_or(if many_cycles { 2.0 } else { 1.0 });
+    let plot = plot_of(&args, &model, &params, step)?;
     let svg = if args.measured.is_empty() {
         plots::render(&model, &params, &plot, step)?
     } else {
@@ -390,8 +415,8 @@ pub fn run(args: PlotArgs) -> Result<(), Error> {
             ..Default::default()
         };
         let table = stitchkin::eval::run_cycle(&model, &params, &opts)?;
-        let measured = crate::matching::measured(&args.measured, &table)?;
+        let measured = crate::common::measured(&args.measured, &table)?;
         plots::take_up_with_measured(&model, &table, &measured)?.render()
     };
-    crate::image::emit_picture(&svg, args.output.as_ref(), false)
+    crate::picture::emit_picture(&svg, args.output.as_ref(), false)
 }

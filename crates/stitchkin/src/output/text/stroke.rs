@@ -1,123 +1,19 @@
-//! `stitchkin stroke`: a point's stroke along an axis, both dead centres and
-//! the transmission angles, per setting (stitchkin::study::stroke).
+//! A stroke study ([`crate::study::stroke`]) as text: the table a person
+//! reads, the CSV with one row per setting, and the band crossings.
 
-use std::path::PathBuf;
-
-use clap::Args;
-use stitchkin::error::Error;
-use stitchkin::format::fmt_num;
-use stitchkin::study::design::{Design, Sweep, Vary};
-use stitchkin::study::stroke::{Axis, StrokeOptions, StrokeStudy, study};
-
-use crate::TableFormat;
-
-#[derive(Args)]
-pub struct StrokeArgs {
-    #[command(flatten)]
-    model: crate::ModelArgs,
-    /// The point whose stroke is measured (e.g. G, the needle of needle876).
-    #[arg(long, value_name = "POINT")]
-    point: String,
-    /// The axis: x, y or z (world), FRAME.x|y|z (an axis of a model frame,
-    /// measured from its origin, e.g. guide.y), or a world direction X,Y[,Z].
-    #[arg(long, default_value = "y", value_name = "AXIS", allow_hyphen_values = true)]
-    axis: String,
-    /// A swept parameter: NAME=LO:HI:N (N values, ends included; default N
-    /// 11). Repeatable: a grid, the last fastest; band crossings are found
-    /// along the last.
-    #[arg(long = "vary", value_name = "NAME=LO:HI:N")]
-    vary: Vec<String>,
-    /// Step of the main-shaft angle φ, degrees (dead centres and angle
-    /// extremes are refined below it).
-    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
-    step: f64,
-    /// Output format: a readable table, CSV (one row per setting) or JSON.
-    #[arg(long, value_enum, default_value_t = TableFormat::Table)]
-    format: TableFormat,
-    /// Write to FILE instead of stdout (written completely or not at all).
-    #[arg(short, long, value_name = "FILE")]
-    output: Option<PathBuf>,
-}
-
-/// Columns under a header, widths in characters: the first left-aligned
-/// when `names_first` (parameter names), the others right-aligned.
-pub(crate) fn render_table(header: &[String], rows: &[Vec<String>], names_first: bool) -> String {
-    let width = |c: usize| {
-        rows.iter()
-            .map(|r| r[c].chars().count())
-            .chain([header[c].chars().count()])
-            .max()
-            .unwrap_or(0)
-    };
-    let widths: Vec<usize> = (0..header.len()).map(width).collect();
-    let line = |cells: &[String]| {
-        let s: Vec<String> = cells
-            .iter()
-            .zip(&widths)
-            .enumerate()
-            .map(|(i, (c, w))| {
-                let pad = " ".repeat(w - c.chars().count());
-                if i == 0 && names_first {
-                    format!("{c}{pad}")
-                } else {
-                    format!("{pad}{c}")
-                }
-            })
-            .collect();
-        s.join("  ").trim_end().to_string() + "\n"
-    };
-    let mut out = line(header);
-    for r in rows {
-        out += &line(r);
-    }
-    out
-}
-
-pub fn run(args: StrokeArgs) -> Result<(), Error> {
-    let (model, params) = crate::load(&args.model)?;
-    let point = model
-        .moving_point_slot(&args.point)
-        .map_err(|e| e.given_in("--point"))?;
-    let axis = Axis::parse(&model, &args.axis)?;
-    let sweep = if args.vary.is_empty() {
-        None
-    } else {
-        let vary = args
-            .vary
-            .iter()
-            .map(|v| Vary::parse(&model, v))
-            .collect::<Result<Vec<_>, _>>()?;
-        Some(Sweep::new(vary, Design::Grid)?)
-    };
-    let s = study(
-        &model,
-        &params,
-        sweep.as_ref(),
-        &StrokeOptions {
-            point,
-            axis,
-            step_deg: args.step,
-        },
-    )?;
-    let planar = model.planar;
-    let out = match args.format {
-        TableFormat::Json => serde_json::to_string_pretty(&s).map_err(|e| Error::Io(e.to_string()))? + "\n",
-        TableFormat::Csv => csv(&s, planar),
-        TableFormat::Table => table(&s),
-    };
-    crate::emit(out.as_bytes(), args.output.as_ref())?;
-    if !matches!(args.format, TableFormat::Table) {
-        eprint!("{}", footer(&s, "# "));
-    }
-    Ok(())
-}
+use crate::format::fmt_num;
+use crate::output::text::columns;
+use crate::study::stroke::StrokeStudy;
 
 /// A value or an empty cell.
 fn cell(x: Option<f64>) -> String {
     x.map_or(String::new(), fmt_num)
 }
 
-fn csv(s: &StrokeStudy, planar: bool) -> String {
+/// One row per setting: the varied parameters, the stroke and both dead
+/// centres (with the point's position at each, `x, y` for a planar model),
+/// each transmission angle's extremes, and `ok` or why the setting failed.
+pub fn csv(s: &StrokeStudy, planar: bool) -> String {
     let (p, a) = (&s.point, &s.axis);
     let axes: &[&str] = if planar { &["x", "y"] } else { &["x", "y", "z"] };
     let mut head: Vec<String> = s.vary.iter().map(|v| format!("{}_{}", v.name, v.unit)).collect();
@@ -182,8 +78,9 @@ fn csv(s: &StrokeStudy, planar: bool) -> String {
     out
 }
 
-/// The band crossings (and a note on failed settings), one per line.
-fn footer(s: &StrokeStudy, prefix: &str) -> String {
+/// The band crossings (and a note on failed settings), one per line, each
+/// line starting with `prefix` (`# ` beside a CSV).
+pub fn footer(s: &StrokeStudy, prefix: &str) -> String {
     let mut out = String::new();
     for c in &s.crossings {
         let held: Vec<String> = c.held.iter().map(|(n, x)| format!("{n} = {}", fmt_num(*x))).collect();
@@ -221,7 +118,10 @@ fn footer(s: &StrokeStudy, prefix: &str) -> String {
     out + &failed.concat()
 }
 
-fn table(s: &StrokeStudy) -> String {
+/// The readable table: one row per setting with the stroke, both dead
+/// centres and the range of each transmission angle (`*` outside
+/// 30°…150°), then the crossings.
+pub fn table(s: &StrokeStudy) -> String {
     let (p, a) = (&s.point, &s.axis);
     let mut out = format!(
         "{}: stroke of {p} along {}, φ step {}°\n",
@@ -269,7 +169,7 @@ fn table(s: &StrokeStudy) -> String {
             cells
         })
         .collect();
-    out += &render_table(&head, &rows, false);
+    out += &columns::table(&head, &rows, false);
     out += "\n";
     let any_out = s
         .rows

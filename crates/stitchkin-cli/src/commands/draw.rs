@@ -3,14 +3,16 @@
 
 use std::path::PathBuf;
 
-use clap::Args;
 use stitchkin::error::{Error, ParamError};
 use stitchkin::output::drawing::{self, DrawOptions, View};
 
-#[derive(Args)]
-pub struct DrawArgs {
+use crate::common::{ModelArgs, load};
+
+/// Draw the mechanism as SVG at a main-shaft angle, or animated over the cycle (docs/drawing.md).
+#[derive(clap::Args)]
+pub(crate) struct Args {
     #[command(flatten)]
-    model: crate::ModelArgs,
+    model: ModelArgs,
     /// Main-shaft angle φ to draw, degrees (the first frame of an animation).
     #[arg(long, default_value_t = 0.0, value_name = "DEG", allow_negative_numbers = true)]
     phi: f64,
@@ -48,9 +50,9 @@ fn bad(message: String, help: &str) -> Error {
     })
 }
 
-pub fn run(args: DrawArgs) -> Result<(), Error> {
+pub(crate) fn run(args: Args) -> Result<(), Error> {
     let defaults = DrawOptions::default();
-    crate::image::check_output(args.output.as_ref(), args.animate)?;
+    crate::picture::check_output(args.output.as_ref(), args.animate)?;
     if !args.animate && (args.frames.is_some() || args.duration.is_some()) {
         return Err(bad(
             "--frames and --duration are for an animation".into(),
@@ -82,7 +84,7 @@ pub fn run(args: DrawArgs) -> Result<(), Error> {
         dimensions: args.dimensions,
         ..defaults
     };
-    let (model, params) = crate::load(&args.model)?;
+    let (model, params) = load(&args.model)?;
     let opts = DrawOptions {
         view: if args.view.is_none() {
             View::default_for(&model)
@@ -92,5 +94,5 @@ pub fn run(args: DrawArgs) -> Result<(), Error> {
         ..opts
     };
     let svg = drawing::render(&model, &params, &opts)?;
-    crate::image::emit_picture(&svg, args.output.as_ref(), args.animate)
+    crate::picture::emit_picture(&svg, args.output.as_ref(), args.animate)
 }

@@ -1,123 +1,34 @@
-//! `stitchkin match`: the take-up P against the thread the stitch needs,
-//! P′, per thread, with the match scores and the physical checks, in one
-//! screen (`--details` for every metric, `--format json` for all of it).
+//! The match of the take-up P with the thread the stitch needs, P′
+//! ([`crate::eval::stitch`]), as one screen of text: per thread the score
+//! and the figures, P against P′ as sparklines, the physical checks,
+//! measured curves, notes and, in detail, every metric.
 
-use std::path::PathBuf;
-
-use clap::Args;
-use stitchkin::error::Error;
-use stitchkin::eval::stitch::{StitchSummary, StitchThreadSummary};
-use stitchkin::eval::{self, CycleOptions, CycleTable};
-use stitchkin::model::Model;
-use stitchkin::output::text::{sparkline, window_marks};
-use stitchkin::stitch::checks::Check;
-use stitchkin::stitch::spec::EventKind;
-use stitchkin::study::measured::{MeasuredMatch, measured_match};
-use stitchkin::thread::SplitPoint;
-use stitchkin::thread::measured::{CurveKind, MeasuredCurve, read_curve};
-
-use crate::{MatchFormat, score};
-
-#[derive(Args)]
-pub struct MatchArgs {
-    #[command(flatten)]
-    model: crate::ModelArgs,
-    /// Step of the main-shaft angle φ, degrees.
-    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
-    step: f64,
-    /// A measured take-up P or required P′ to set beside the model: a CSV
-    /// file with columns phi_deg and one of P_mm, P_B_mm, P_eye_mm,
-    /// Pprime_mm, Pprime_B_mm, Pprime_eye_mm (optionally THREAD.P_B_mm), any
-    /// φ step (docs/studies.md, "Measured curves"). THREAD=FILE names the
-    /// thread. Repeatable.
-    #[arg(long, value_name = "[THREAD=]FILE")]
-    measured: Vec<String>,
-    /// Every metric of every thread: areas, intervals, phase, best lag, the
-    /// jumps of P′, the moments, each check in full.
-    #[arg(long)]
-    details: bool,
-    /// Output format: a readable table or JSON.
-    #[arg(long, value_enum, default_value_t = MatchFormat::Table)]
-    format: MatchFormat,
-    /// Write to FILE instead of stdout (written completely or not at all).
-    #[arg(short, long, value_name = "FILE")]
-    output: Option<PathBuf>,
-}
-
-/// Reads the `--measured` curves, `[THREAD=]FILE` each: the thread (when
-/// given) and the curve.
-pub(crate) fn read_measured(specs: &[String]) -> Result<Vec<(Option<String>, MeasuredCurve)>, Error> {
-    specs
-        .iter()
-        .map(|spec| {
-            let (thread, file) = match spec.split_once('=') {
-                Some((t, f)) if !t.is_empty() && !t.contains(['/', '\\', '.']) => (Some(t.to_string()), f),
-                _ => (None, spec.as_str()),
-            };
-            Ok((thread, read_curve(std::path::Path::new(file))?))
-        })
-        .collect()
-}
-
-/// Reads the `--measured` curves and sets each beside its thread.
-pub(crate) fn measured(specs: &[String], table: &CycleTable) -> Result<Vec<MeasuredMatch>, Error> {
-    read_measured(specs)?
-        .iter()
-        .map(|(thread, curve)| measured_match(table, curve, thread.as_deref()))
-        .collect()
-}
-
-pub fn run(args: MatchArgs) -> Result<(), Error> {
-    let (model, params) = crate::load(&args.model)?;
-    let opts = CycleOptions {
-        step_deg: args.step,
-        rpm: None,
-        analogs: false,
-        points: Some(Vec::new()),
-        lean: false,
-    };
-    let table = eval::run_cycle(&model, &params, &opts)?;
-    let Some(st) = &table.stitch else {
-        return Err(Error::Stitch(
-            format!(
-                "model `{}` has no [stitch] table, so there is no required take-up to match",
-                model.name()
-            ) + "; add one (docs/model-format.md, \"Stitch process\") or try --preset mf7923d",
-        ));
-    };
-    let measured = measured(&args.measured, &table)?;
-    let out = match args.format {
-        MatchFormat::Json => {
-            // The stitch summary, with the model's name and caveats and the
-            // measured curves beside it.
-            let json_err = |e: serde_json::Error| Error::Io(e.to_string());
-            let mut json = serde_json::to_value(st).map_err(json_err)?;
-            json["model"] = serde_json::json!(model.name());
-            json["caveats"] = serde_json::json!(model.caveats());
-            json["measured"] = serde_json::to_value(&measured).map_err(json_err)?;
-            serde_json::to_string_pretty(&json).map_err(json_err)? + "\n"
-        }
-        MatchFormat::Table => screen(&model, &table, st, &measured, args.details),
-    };
-    crate::emit(out.as_bytes(), args.output.as_ref())
-}
+use crate::eval::CycleTable;
+use crate::eval::stitch::{StitchSummary, StitchThreadSummary};
+use crate::format::score;
+use crate::model::Model;
+use crate::output::text::{sparkline, window_marks};
+use crate::stitch::checks::Check;
+use crate::stitch::spec::EventKind;
+use crate::study::measured::MeasuredMatch;
+use crate::thread::SplitPoint;
+use crate::thread::measured::CurveKind;
 
 /// Columns of the sparklines: 6° each over a turn.
 const SPARK_COLS: usize = 60;
 
 /// The match on one screen: the setting, one row per thread, P against P′
 /// as sparklines, the checks, the caveats; with `details` every metric.
-pub(crate) fn screen(
+pub fn screen(
     model: &Model,
     table: &CycleTable,
     st: &StitchSummary,
     measured: &[MeasuredMatch],
     details: bool,
 ) -> String {
-    let m = &model.file.model;
     let mut s = format!(
         "{} — stitch {}, material m = {} mm, stitch length t = {} mm\n",
-        m.title.as_deref().unwrap_or(&m.name),
+        model.title().unwrap_or(model.name()),
         st.stitch_type,
         st.m_mm,
         st.t_mm
@@ -184,7 +95,7 @@ pub(crate) fn screen(
     } else {
         s += "\n(every metric, the jumps of P′ and the moments: stitchkin match --details; all of it: --format json)\n";
     }
-    for c in m.caveats.iter().chain(&st.transfers) {
+    for c in model.caveats().iter().chain(&st.transfers) {
         s += &format!("note: {c}\n");
     }
     for w in &table.warnings {
@@ -343,6 +254,7 @@ fn checks_block(table: &CycleTable, st: &StitchSummary, details: bool) -> String
     s
 }
 
+/// A measured curve against the model's other curve and against the model's own.
 fn measured_line(m: &MeasuredMatch) -> String {
     let (what, other) = match m.kind {
         CurveKind::TakeUp => ("measured P", "P′"),

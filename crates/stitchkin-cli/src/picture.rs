@@ -12,14 +12,14 @@ use stitchkin::error::{Error, ParamError};
 
 /// What a picture file is, from its extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Format {
+pub(crate) enum Format {
     Svg,
     Png,
 }
 
 /// The format of `-o PATH`: `.svg` or `.png` (any case); no `-o` is SVG on
 /// stdout.
-pub fn format_of(out: Option<&PathBuf>) -> Result<Format, Error> {
+pub(crate) fn format_of(out: Option<&PathBuf>) -> Result<Format, Error> {
     let Some(path) = out else { return Ok(Format::Svg) };
     match path
         .extension()
@@ -39,7 +39,7 @@ pub fn format_of(out: Option<&PathBuf>) -> Result<Format, Error> {
 /// The format `-o` asks for, checked before any work: a known extension,
 /// an existing folder, and no PNG of an animation (a PNG would show one
 /// frame and silently drop the motion).
-pub fn check_output(out: Option<&PathBuf>, animated: bool) -> Result<Format, Error> {
+pub(crate) fn check_output(out: Option<&PathBuf>, animated: bool) -> Result<Format, Error> {
     if let Some(path) = out {
         stitchkin::output::check_folder(path)?;
     }
@@ -54,13 +54,13 @@ pub fn check_output(out: Option<&PathBuf>, animated: bool) -> Result<Format, Err
 
 /// Writes `svg` to `out` (stdout when `None`) as SVG or, for a `.png` name,
 /// as PNG (see [`check_output`]).
-pub fn emit_picture(svg: &str, out: Option<&PathBuf>, animated: bool) -> Result<(), Error> {
+pub(crate) fn emit_picture(svg: &str, out: Option<&PathBuf>, animated: bool) -> Result<(), Error> {
     match check_output(out, animated)? {
-        Format::Svg => crate::emit(svg.as_bytes(), out),
+        Format::Svg => crate::common::emit(svg.as_bytes(), out),
         Format::Png => {
             let path = out.expect("PNG is only chosen for a file");
             let png = svg_to_png(svg, path)?;
-            crate::emit(&png, out)
+            crate::common::emit(&png, out)
         }
     }
 }
@@ -68,7 +68,7 @@ pub fn emit_picture(svg: &str, out: Option<&PathBuf>, animated: bool) -> Result<
 /// Pixels per SVG unit of the PNG: 2, crisp on high-density screens and in
 /// print at the charts' 900 px width.
 #[cfg(feature = "png")]
-pub const PNG_SCALE: f32 = 2.0;
+pub(crate) const PNG_SCALE: f32 = 2.0;
 
 #[cfg(feature = "png")]
 fn svg_to_png(svg: &str, path: &Path) -> Result<Vec<u8>, Error> {

@@ -3,16 +3,25 @@
 
 use std::path::PathBuf;
 
-use clap::Args;
 use stitchkin::error::{Error, ParamError};
 use stitchkin::output::drawing::View;
 use stitchkin::output::report::{self, ReportOptions};
 use stitchkin::study::nomogram::{Axis, NomogramOptions};
 
-#[derive(Args)]
-pub struct ReportArgs {
+use crate::common::{ModelArgs, SearchArgs, emit, load};
+
+/// One self-contained HTML report: parameters, mechanism drawing (still
+/// and animated), P/P′ chart, mismatch, transmission angles and, when
+/// asked, the tuning result and a nomogram.
+#[derive(clap::Args)]
+#[command(after_help = "Examples:\n  stitchkin report -o report.html\n  \
+    stitchkin report --preset altin504 --set m=2 -o altin504.html\n  \
+    stitchkin report --tune --nomogram-thickness 1:5:3 -o tuned.html\n  \
+    stitchkin report --measured n1=n1-measured.csv -o measured.html\n\n\
+    The file holds everything (styles, every picture as inline SVG, no script) and opens in any browser (docs/report.md).")]
+pub(crate) struct Args {
     #[command(flatten)]
-    model: crate::ModelArgs,
+    model: ModelArgs,
     /// Main-shaft angle of the still mechanism drawing, degrees (default:
     /// the model's start).
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
@@ -48,15 +57,15 @@ pub struct ReportArgs {
     /// Tuning settings (--tune and the nomogram), and the φ step of every
     /// cycle in the report.
     #[command(flatten)]
-    search: crate::SearchArgs,
+    search: SearchArgs,
     /// Write the report to FILE.html (written completely or not at all)
     /// instead of stdout.
     #[arg(short, long, value_name = "FILE.html")]
     output: Option<PathBuf>,
 }
 
-pub fn run(args: ReportArgs) -> Result<(), Error> {
-    let (model, params) = crate::load(&args.model)?;
+pub(crate) fn run(args: Args) -> Result<(), Error> {
+    let (model, params) = load(&args.model)?;
     if let Some(path) = &args.output {
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         if !matches!(ext.as_deref(), Some("html" | "htm")) {
@@ -100,11 +109,11 @@ pub fn run(args: ReportArgs) -> Result<(), Error> {
         animate: !args.no_animation,
         tune,
         nomogram,
-        measured: crate::matching::read_measured(&args.measured)?,
+        measured: crate::common::read_measured(&args.measured)?,
     };
     if opts.tune.is_some() || opts.nomogram.is_some() {
         eprintln!("# report: tuning (this takes a few seconds per tuning)…");
     }
     let html = report::render(&model, &params, &opts)?;
-    crate::emit(html.as_bytes(), args.output.as_ref())
+    emit(html.as_bytes(), args.output.as_ref())
 }

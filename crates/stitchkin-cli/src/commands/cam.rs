@@ -4,15 +4,32 @@
 use std::ffi::OsString;
 use std::path::PathBuf;
 
-use clap::{Args, ValueEnum};
+use clap::ValueEnum;
 use stitchkin::error::{Error, ParamError};
-use stitchkin::study::cam_synthesis::{CamOptions, CamSynthesis, Target, synthesise};
+use stitchkin::output::text;
+use stitchkin::study::cam_synthesis::{CamOptions, Target, synthesise};
 use stitchkin::thread::measured::parse_curve_csv;
 
-#[derive(Args)]
-pub struct CamArgs {
+use crate::common::{ModelArgs, emit, load};
+
+/// Synthesise a thread feed cam: the polar profile ρ(θ) that makes a
+/// path's take-up P(φ) equal the stitch's required P'(φ) or a given
+/// curve (the inverse of seed 004 §2.5's cam feed, offset contact), with
+/// checks, and CSV, SVG, DXF and a [[cams]] snippet to paste.
+#[derive(clap::Args)]
+#[command(
+    after_help = "Examples:\n  stitchkin cam --preset altin504 --path lower --target required -o lower-cam\n  \
+    stitchkin cam --preset altin504 --path upper --target required --anchor-radius 21 --smooth 20 --format svg -o upper-cam.svg\n  \
+    stitchkin cam my-machine.toml --path looper --target wanted.csv --points 72 --min-radius 5 --format toml\n\n\
+    The profile: one radius per position φ = φ0 + k·360/N, solved from the target by seed 004 §2.5's\n\
+    offset contact (a quadratic in ρ); the rest of the path from the solved mechanism. Checks (reported,\n\
+    not fixed): minimum radius, convexity, profile slope and the thread's contact angle. Files: PREFIX.csv\n\
+    (theta_deg,radius_mm), PREFIX.svg (to scale, mm), PREFIX.dxf (R12, mm), PREFIX.toml ([[cams]] entry).\n\
+    Target CSV: columns phi_deg,P_mm. The summary goes to stderr."
+)]
+pub(crate) struct Args {
     #[command(flatten)]
-    model: crate::ModelArgs,
+    model: ModelArgs,
     /// The thread path whose take-up P(φ) the cam is to give.
     #[arg(long, value_name = "NAME")]
     path: String,
@@ -74,8 +91,8 @@ enum CamFormat {
     All,
 }
 
-pub fn run(args: CamArgs) -> Result<(), Error> {
-    let (model, params) = crate::load(&args.model)?;
+pub(crate) fn run(args: Args) -> Result<(), Error> {
+    let (model, params) = load(&args.model)?;
     let target = if args.target == "required" {
         Target::Required
     } else {
@@ -120,7 +137,7 @@ pub fn run(args: CamArgs) -> Result<(), Error> {
     };
     let mut written = Vec::new();
     match &args.output {
-        None => crate::emit(render(format).as_bytes(), None)?,
+        None => emit(render(format).as_bytes(), None)?,
         Some(prefix) => {
             let formats = if format == CamFormat::All {
                 vec![CamFormat::Csv, CamFormat::Svg, CamFormat::Dxf, CamFormat::Toml]
@@ -141,117 +158,6 @@ pub fn run(args: CamArgs) -> Result<(), Error> {
             }
         }
     }
-    eprint!("{}", report(&s, &written));
+    eprint!("{}", text::cam_summary::summary(&s, &written));
     Ok(())
-}
-
-/// A length for the summary: fixed point, or scientific when tiny.
-fn mm(x: f64) -> String {
-    if x != 0.0 && x.abs() < 1e-3 {
-        format!("{x:.1e}")
-    } else {
-        format!("{x:.4}")
-    }
-}
-
-/// The summary on stderr.
-fn report(s: &CamSynthesis, written: &[String]) -> String {
-    let v = &s.verify;
-    let c = &s.checks;
-    let n = s.knots.len();
-    let mut r = format!(
-        "# cam synthesis: thread path `{}`, cam `{}` (contact = \"offset\", γ = {:.2}°, seed 004 §2.5)\n# target: {}\n",
-        s.path, s.cam, s.gamma_deg, s.target
-    );
-    r += &format!(
-        "# {n} knots: the contact angles at φ = {}° + k·{}°; radius {:.3}…{:.3} mm (the model's profile: {:.3}…{:.3} mm)\n",
-        stitchkin::format::fmt_num(s.phi0_deg),
-        stitchkin::format::fmt_num(360.0 / n as f64),
-        s.radius_mm[0],
-        s.radius_mm[1],
-        s.reference_radius_mm[0],
-        s.reference_radius_mm[1]
-    );
-    r += &format!(
-        "# anchor: ρ = {:.4} mm at θ = {:.2}°, the contact at φ0 = {}° where P is fixed by its convention\n",
-        s.anchor_radius_mm,
-        s.anchor_theta_deg,
-        stitchkin::format::fmt_num(s.phi0_deg)
-    );
-    r += &if s.smooth_deg > 0.0 {
-        format!(
-            "# smoothing: moving average over {}° of profile angle, applied twice\n",
-            stitchkin::format::fmt_num(s.smooth_deg)
-        )
-    } else {
-        "# smoothing: none\n".to_string()
-    };
-    r += "# verify (the model evaluated again with the new profile as a polar cam):\n";
-    r += &format!(
-        "#   max |P − target| {} mm at the knots (φ = {:.1}°), {} mm between them (φ = {:.1}°); the model's own cam: {} mm\n",
-        mm(v.max_err_knots_mm),
-        v.max_err_knots_at_deg,
-        mm(v.max_err_between_mm),
-        v.max_err_between_at_deg,
-        mm(v.max_err_before_mm)
-    );
-    if let (Some(t), Some(b), Some(a), Some(f)) = (&s.thread, &v.match_before, &v.match_after, &v.match_after_all) {
-        let sc = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.1}"));
-        r += &format!(
-            "#   match of thread `{t}` (docs/stitch-formation.md §8, on the knots' φ): score {} → {}, RMS(P − P') {:.4} → {:.4} mm; with the midpoints: score {}, RMS {:.4} mm\n",
-            sc(b.score),
-            sc(a.score),
-            b.rms_d_mm,
-            a.rms_d_mm,
-            sc(f.score),
-            f.rms_d_mm
-        );
-    }
-    r += "# checks (reported, not fixed):\n";
-    r += &format!(
-        "#   min radius     {:.3} mm at θ = {:.1}° (limit {} mm): {}\n",
-        c.min_radius_mm,
-        c.min_radius_at_theta_deg,
-        stitchkin::format::fmt_num(c.min_radius_limit_mm),
-        if c.min_radius_ok { "ok" } else { "TOO SMALL" }
-    );
-    if c.convex {
-        r += "#   convex         yes (what contact = \"exact\" would need)\n";
-    } else {
-        let total: f64 = c.not_convex_deg.iter().map(|i| i[1] - i[0]).sum();
-        let list: Vec<String> = c
-            .not_convex_deg
-            .iter()
-            .take(4)
-            .map(|i| format!("{:.1}°…{:.1}°", i[0], i[1].rem_euclid(360.0)))
-            .collect();
-        r += &format!(
-            "#   convex         NO: {} stretch(es) of θ, {:.1}° in all ({}{}); the offset contact does not need it, a taut thread (contact = \"exact\") would bridge them\n",
-            c.not_convex_deg.len(),
-            total,
-            list.join(", "),
-            if c.not_convex_deg.len() > 4 { ", …" } else { "" }
-        );
-    }
-    r += &format!(
-        "#   profile slope  max {:.1}° at θ = {:.1}° (atan(|ρ'|/ρ): the angle between the radius and the profile normal)\n",
-        c.max_slope_deg, c.max_slope_at_theta_deg
-    );
-    r += &format!(
-        "#   contact angle  max {:.1}° at φ = {:.1}° (limit {}°): {}  (profile normal against the thread's pull on the cam; large: the thread slides along the profile)\n",
-        c.max_contact_angle_deg,
-        c.max_contact_angle_at_phi_deg,
-        stitchkin::format::fmt_num(c.contact_angle_limit_deg),
-        if c.contact_angle_ok { "ok" } else { "TOO STEEP" }
-    );
-    for note in &s.notes {
-        r += &format!("# note: {note}\n");
-    }
-    if !(c.min_radius_ok && c.contact_angle_ok) && s.smooth_deg == 0.0 {
-        r += "# hint: --smooth DEG rounds off steps of the target (such as the thread drawn in at a lock) at the cost of the match\n";
-    }
-    if !written.is_empty() {
-        r += &format!("# written: {}\n", written.join(", "));
-    }
-    r
 }

@@ -1,0 +1,62 @@
+//! `stitchkin check`: a model file loaded, validated and solved over a full
+//! cycle, with its report; a failed physical check fails the command.
+
+use stitchkin::error::Error;
+use stitchkin::eval::{self, CycleOptions};
+use stitchkin::output::text;
+
+use crate::common::{ModelArgs, emit, load};
+
+/// Check a model file: load, validate, solve a full cycle, and report
+/// its parameters, solve order, transmission angles and the stitch's
+/// physical checks (a failed one makes the command fail).
+#[derive(clap::Args)]
+#[command(
+    after_help = "Examples:\n  stitchkin check my-machine.toml\n  stitchkin check --preset needle876 --set alpha=30 --cross-check"
+)]
+pub(crate) struct Args {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// φ step of the assembly check, degrees.
+    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
+    step: f64,
+    /// Also solve the whole mechanism's closure equations with an
+    /// independent Newton solver and report the largest disagreement with
+    /// the closed-form groups.
+    #[arg(long)]
+    cross_check: bool,
+}
+
+pub(crate) fn run(args: Args) -> Result<(), Error> {
+    let (model, params) = load(&args.model)?;
+    let opts = CycleOptions {
+        step_deg: args.step,
+        ..Default::default()
+    };
+    let table = eval::run_cycle(&model, &params, &opts)?;
+    let mechanism = model.mechanism::<f64>(&params)?;
+    let mut out = text::cycle::model_check(&model, &params, mechanism.threads.as_ref(), args.step);
+    out += &text::cycle::summary(&model, &table);
+    if args.cross_check {
+        let c = stitchkin::verify::cross_check(&model, &params, args.step)?;
+        out += &text::cycle::cross_check(&c);
+    }
+    emit(out.as_bytes(), None)?;
+    // A setting no machine can realise does not pass the check.
+    let failed: Vec<String> = table
+        .stitch
+        .iter()
+        .flat_map(|s| s.checks.iter().filter(|c| !c.ok))
+        .map(|c| format!("{} {}", c.thread, c.name))
+        .collect();
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::Physical(format!(
+            "{} physical check(s) fail ({}): the model loads and assembles, but this setting cannot work on a real machine; \
+             the `# check FAIL` lines above say why and what to change",
+            failed.len(),
+            failed.join(", ")
+        )))
+    }
+}

@@ -1,0 +1,81 @@
+//! `stitchkin match`: the take-up P against the thread the stitch needs,
+//! P′, per thread, with the match scores and the physical checks, in one
+//! screen (`--details` for every metric, `--format json` for all of it).
+
+use stitchkin::error::Error;
+use stitchkin::eval::{self, CycleOptions};
+use stitchkin::output::text;
+
+use crate::common::{ModelArgs, OutputArgs, TABLE_OR_JSON_HELP, TableOrJson, load, measured};
+
+/// Compare the take-up P(φ) with the thread the stitch needs, P'(φ), for
+/// every thread of the model's `[stitch]`: per-stitch consumption, the
+/// mismatch D = P − P' and the match score.
+#[derive(clap::Args)]
+#[command(
+    after_help = "Examples:\n  stitchkin match\n  stitchkin match --preset mf7923d --set m=4 --set stitch=2.5\n  \
+    stitchkin match --details\n  stitchkin match --measured n1=n1-measured.csv\n  \
+    stitchkin match my-machine.toml --format json -o match.json\n\n\
+    One screen: per thread the score, RMS(D), max P, max P', the thread per stitch and the physical checks\n\
+    passed; P against P' as sparklines; the checks; the model's caveats. Needle threads are measured at B,\n\
+    the eye's top position; each thread's regulator window is left out of the metrics.\n\
+    D > 0 is thread given but not needed (slack), D < 0 thread needed but not given (strain).\n\
+    Score s = 100·max(0, 1 − RMS(D)/range(P')): 100 is a perfect match (docs/stitch-formation.md §8).\n\
+    The P' columns themselves come with `stitchkin run` (THR.Pprime_B_mm, THR.Pprime_mm, THR.D_mm, ...)."
+)]
+#[command(mut_arg("format", |a| a.help(TABLE_OR_JSON_HELP)))]
+pub(crate) struct Args {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Step of the main-shaft angle φ, degrees.
+    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
+    step: f64,
+    /// A measured take-up P or required P′ to set beside the model: a CSV
+    /// file with columns phi_deg and one of P_mm, P_B_mm, P_eye_mm,
+    /// Pprime_mm, Pprime_B_mm, Pprime_eye_mm (optionally THREAD.P_B_mm), any
+    /// φ step (docs/studies.md, "Measured curves"). THREAD=FILE names the
+    /// thread. Repeatable.
+    #[arg(long, value_name = "[THREAD=]FILE")]
+    measured: Vec<String>,
+    /// Every metric of every thread: areas, intervals, phase, best lag, the
+    /// jumps of P′, the moments, each check in full.
+    #[arg(long)]
+    details: bool,
+    #[command(flatten)]
+    output: OutputArgs<TableOrJson>,
+}
+
+pub(crate) fn run(args: Args) -> Result<(), Error> {
+    let (model, params) = load(&args.model)?;
+    let opts = CycleOptions {
+        step_deg: args.step,
+        rpm: None,
+        analogs: false,
+        points: Some(Vec::new()),
+        lean: false,
+    };
+    let table = eval::run_cycle(&model, &params, &opts)?;
+    let Some(st) = &table.stitch else {
+        return Err(Error::Stitch(
+            format!(
+                "model `{}` has no [stitch] table, so there is no required take-up to match",
+                model.name()
+            ) + "; add one (docs/model-format.md, \"Stitch process\") or try --preset mf7923d",
+        ));
+    };
+    let measured = measured(&args.measured, &table)?;
+    let out = match args.output.format {
+        TableOrJson::Json => {
+            // The stitch summary, with the model's name and caveats and the
+            // measured curves beside it.
+            let json_err = |e: serde_json::Error| Error::Io(e.to_string());
+            let mut json = serde_json::to_value(st).map_err(json_err)?;
+            json["model"] = serde_json::json!(model.name());
+            json["caveats"] = serde_json::json!(model.caveats());
+            json["measured"] = serde_json::to_value(&measured).map_err(json_err)?;
+            crate::common::json(&json)?
+        }
+        TableOrJson::Table => text::matching::screen(&model, &table, st, &measured, args.details),
+    };
+    args.output.emit(&out)
+}

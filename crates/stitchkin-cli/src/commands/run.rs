@@ -1,0 +1,107 @@
+//! `stitchkin run`: a model evaluated over one main-shaft cycle, as CSV or
+//! JSON, with its summary.
+
+use std::path::PathBuf;
+
+use stitchkin::error::{Error, ParamError};
+use stitchkin::eval::{self, CycleOptions};
+use stitchkin::model::Model;
+use stitchkin::output::{self, text};
+
+use crate::common::{CsvOrJson, ModelArgs, emit, load};
+
+/// Evaluate a model over one main-shaft cycle: positions, analogs,
+/// velocities, link and transmission angles, measures.
+#[derive(clap::Args)]
+#[command(after_help = "Examples:\n  stitchkin run\n  \
+    stitchkin run --preset needle876 --set alpha=35 --step 0.5 --rpm 3000\n  \
+    stitchkin run my-machine.toml --points G,E --format json -o out.json\n  \
+    stitchkin run --columns '*.P_B_mm,*.G4_*_engaged'\n\n\
+    Columns carry their units: phi_deg, G.y_mm, G.dy_dphi_mm_per_rad, G.d2y_dphi2_mm_per_rad2,\n\
+    G.vy_mm_per_s (with --rpm), angle_A_B_deg, mu_23_deg, needle_y_mm, ...; a thread path's take-up\n\
+    PATH.P_mm, or PATH.P_B_mm and PATH.P_eye_mm for a needle thread split at B (the eye's top position);\n\
+    a stitch thread's THR.Pprime_B_mm (needle) or THR.Pprime_mm (looper) and THR.D_mm.\n\
+    A summary (transmission angles, measure ranges, take-up, match, physical checks, notes, warnings)\n\
+    goes to stderr; on a terminal without --format or -o, run shows the summary alone.")]
+pub(crate) struct Args {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Step of the main-shaft angle φ, degrees.
+    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
+    step: f64,
+    /// Main-shaft speed, rev/min: adds real velocities and accelerations
+    /// (default: the model's `rpm`, if any).
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    rpm: Option<f64>,
+    /// Points to tabulate, comma-separated (default: the model's output points).
+    #[arg(long, value_delimiter = ',', value_name = "A,B,…")]
+    points: Option<Vec<String>>,
+    /// Columns to print, comma-separated patterns where `*` matches anything
+    /// (e.g. `*.P_B_mm,mu_*`); phi_deg is always printed.
+    #[arg(long, value_delimiter = ',', value_name = "PATTERN,…")]
+    columns: Option<Vec<String>>,
+    /// Positions only, without analogs.
+    #[arg(long)]
+    no_analogs: bool,
+    /// Output format of the table (default CSV). On a terminal, without
+    /// --format or -o, `run` shows its summary instead of the table.
+    #[arg(long, value_enum)]
+    format: Option<CsvOrJson>,
+    /// Write to FILE instead of stdout (written completely or not at all).
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<PathBuf>,
+}
+
+/// The indices of the `--points`, by name.
+fn point_indices(model: &Model, names: &[String]) -> Result<Vec<usize>, Error> {
+    names
+        .iter()
+        .map(|n| {
+            model.point_names.iter().position(|p| p == n).ok_or_else(|| {
+                Error::Param(ParamError {
+                    message: format!("the model has no point `{n}` (in --points)"),
+                    help: Some(format!("its points are: {}", model.point_names.join(", "))),
+                })
+            })
+        })
+        .collect()
+}
+
+pub(crate) fn run(args: Args) -> Result<(), Error> {
+    let (model, params) = load(&args.model)?;
+    let points = args.points.as_deref().map(|p| point_indices(&model, p)).transpose()?;
+    let opts = CycleOptions {
+        step_deg: args.step,
+        rpm: args.rpm.or(model.rpm()),
+        analogs: !args.no_analogs,
+        points,
+        lean: false,
+    };
+    let mut table = eval::run_cycle(&model, &params, &opts)?;
+    if let Some(patterns) = &args.columns {
+        table.select(patterns)?;
+    }
+    // A person at a terminal gets the summary: 360 rows of a few hundred
+    // columns read nowhere but in a file or a pipe.
+    if args.format.is_none() && args.output.is_none() && std::io::IsTerminal::is_terminal(&std::io::stdout()) {
+        let mut s = text::cycle::summary(&model, &table);
+        s += &format!(
+            "(the full table, {} rows × {} columns: `stitchkin run --format csv`, `-o FILE.csv`, or pipe it; how P matches P′: `stitchkin match`)\n",
+            table.rows(),
+            table.columns.len()
+        );
+        return emit(s.as_bytes(), None);
+    }
+    let format = args.format.unwrap_or(CsvOrJson::Csv);
+    let mut buf = Vec::new();
+    match format {
+        CsvOrJson::Csv => output::write_csv(&table, &mut buf),
+        CsvOrJson::Json => output::write_json(&model, &params, &table, &mut buf),
+    }
+    .map_err(|e| Error::Io(e.to_string()))?;
+    emit(&buf, args.output.as_ref())?;
+    if matches!(format, CsvOrJson::Csv) || args.output.is_some() {
+        eprint!("{}", text::cycle::summary(&model, &table));
+    }
+    Ok(())
+}

@@ -1,0 +1,288 @@
+//! What the subcommands share: the model, output and path arguments, loading the
+//! model, writing a result, reading measured curves, and the diagnostic a
+//! failed command prints.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+use miette::{Diagnostic, LabeledSpan, NamedSource, SourceCode};
+use stitchkin::error::{Error, ModelError};
+use stitchkin::eval::CycleTable;
+use stitchkin::model::{Model, Params};
+use stitchkin::presets;
+use stitchkin::study::measured::{MeasuredMatch, measured_match};
+use stitchkin::study::straightness::{Reference, StraightnessOptions, Window};
+use stitchkin::thread::measured::{MeasuredCurve, read_curve};
+
+/// The model a command works on: a file, a preset or the default preset,
+/// with parameter overrides.
+#[derive(Args)]
+pub(crate) struct ModelArgs {
+    /// Model file (TOML). Without it, --preset or the default preset is used.
+    model: Option<PathBuf>,
+    /// A shipped preset by name (see `stitchkin presets`).
+    #[arg(long, conflicts_with = "model")]
+    preset: Option<String>,
+    /// Override a parameter: NAME=VALUE in the parameter's unit (mm or deg).
+    /// Repeatable. Values outside the parameter's adjustable range are rejected.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    set: Vec<String>,
+}
+
+/// The formats of a result that is a table: readable text, CSV or JSON.
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum TableFormat {
+    Table,
+    Csv,
+    Json,
+}
+
+/// The formats of a result read as a whole: readable text or JSON.
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum TableOrJson {
+    Table,
+    Json,
+}
+
+/// The `--format` help of a command with [`TableOrJson`] (`mut_arg`).
+pub(crate) const TABLE_OR_JSON_HELP: &str = "Output format: a readable table or JSON";
+
+/// The formats of a cycle's columns: CSV or JSON.
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum CsvOrJson {
+    Csv,
+    Json,
+}
+
+/// `--format` (readable text by default) and `-o/--output`. A command whose
+/// formats are not a table's, CSV and JSON says which in its `--format`
+/// help (`mut_arg`).
+#[derive(Args)]
+pub(crate) struct OutputArgs<F: ValueEnum + Clone + Send + Sync + 'static = TableFormat> {
+    /// Output format: a readable table, CSV or JSON.
+    #[arg(long, value_enum, default_value = "table")]
+    pub format: F,
+    /// Write to FILE instead of stdout (written completely or not at all).
+    #[arg(short, long, value_name = "FILE")]
+    pub output: Option<PathBuf>,
+}
+
+impl<F: ValueEnum + Clone + Send + Sync + 'static> OutputArgs<F> {
+    /// Writes `text` to the file or to stdout.
+    pub fn emit(&self, text: &str) -> Result<(), Error> {
+        emit(text.as_bytes(), self.output.as_ref())
+    }
+}
+
+/// The search of `tune`, `nomogram` and `report`: what to adjust, how hard
+/// to look.
+#[derive(Args)]
+pub(crate) struct SearchArgs {
+    /// Settings to adjust, comma-separated (default: every ranged parameter
+    /// that leaves the stitch alone).
+    #[arg(long, value_delimiter = ',', value_name = "NAME,…")]
+    pub adjust: Option<Vec<String>>,
+    /// Global samples of each tuning (default 32 per setting, at least 64).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub samples: usize,
+    /// Seed of the global search (the same seed, the same answer).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Step of the main-shaft angle φ, degrees.
+    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
+    pub step: f64,
+}
+
+impl SearchArgs {
+    /// The tuning options with the settings to `adjust`.
+    pub fn options(&self, adjust: Vec<String>) -> stitchkin::study::tune::TuneOptions {
+        stitchkin::study::tune::TuneOptions {
+            adjust,
+            samples: self.samples,
+            seed: self.seed,
+            step_deg: self.step,
+        }
+    }
+}
+
+/// The point, the line and the part of the cycle of `straightness` and
+/// `tolerance`.
+#[derive(Args)]
+pub(crate) struct PathArgs {
+    /// The point whose path is measured (e.g. E, the needle of altin-needle).
+    #[arg(long, value_name = "POINT")]
+    point: String,
+    /// Measure from the line through two model points H → T (e.g. a guide's N1,N2).
+    #[arg(long, value_name = "H,T", conflicts_with = "fit")]
+    line: Option<String>,
+    /// Measure from the least-squares line of the path (the default).
+    #[arg(long)]
+    fit: bool,
+    /// Part of the cycle: cycle, down (the working stroke, from the far dead
+    /// centre along the line to the near one), up, or FROM:TO in degrees of φ.
+    #[arg(long, default_value = "cycle", value_name = "PART")]
+    over: String,
+    /// Step of the main-shaft angle φ, degrees (the extremes are refined below it).
+    #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
+    step: f64,
+}
+
+impl PathArgs {
+    /// The straightness options on `model`.
+    pub fn options(&self, model: &Model) -> Result<StraightnessOptions, Error> {
+        Ok(StraightnessOptions {
+            point: model
+                .moving_point_slot(&self.point)
+                .map_err(|e| e.given_in("--point"))?,
+            reference: match &self.line {
+                Some(l) => Reference::parse_line(model, l)?,
+                None => Reference::Fit,
+            },
+            window: Window::parse(&self.over)?,
+            step_deg: self.step,
+        })
+    }
+}
+
+/// The model and its parameters with the overrides applied; impossible
+/// geometry with the overrides is reported here, before any evaluation.
+pub(crate) fn load(args: &ModelArgs) -> Result<(Model, Params), Error> {
+    let model = match (&args.model, &args.preset) {
+        (Some(path), _) => Model::from_path(path)?,
+        (None, Some(name)) => Model::preset(name)?,
+        (None, None) => Model::preset(presets::DEFAULT)?,
+    };
+    let mut params = model.defaults();
+    for s in &args.set {
+        model.set_str(&mut params, s)?;
+    }
+    model.mechanism::<f64>(&params)?;
+    Ok((model, params))
+}
+
+/// Writes `bytes` to `out` (completely or not at all) or to stdout.
+pub(crate) fn emit(bytes: &[u8], out: Option<&PathBuf>) -> Result<(), Error> {
+    match out {
+        Some(path) => stitchkin::output::write_atomic(path, bytes),
+        None => {
+            let mut stdout = std::io::stdout().lock();
+            match stdout.write_all(bytes).and_then(|_| stdout.flush()) {
+                Ok(()) => Ok(()),
+                // A closed pipe (`| head`) is not an error.
+                Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+                Err(e) => Err(Error::Io(format!("cannot write to stdout: {e}"))),
+            }
+        }
+    }
+}
+
+/// `value` as pretty JSON ending in a newline.
+pub(crate) fn json(value: &impl serde::Serialize) -> Result<String, Error> {
+    Ok(serde_json::to_string_pretty(value).map_err(|e| Error::Io(e.to_string()))? + "\n")
+}
+
+/// A progress bar on stderr when it is a terminal (hidden otherwise), of
+/// `len` steps drawn by `template`.
+pub(crate) fn progress_bar(len: usize, template: &str) -> indicatif::ProgressBar {
+    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(len as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(template).unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// Reads the `--measured` curves, `[THREAD=]FILE` each: the thread (when
+/// given) and the curve.
+pub(crate) fn read_measured(specs: &[String]) -> Result<Vec<(Option<String>, MeasuredCurve)>, Error> {
+    specs
+        .iter()
+        .map(|spec| {
+            let (thread, file) = match spec.split_once('=') {
+                Some((t, f)) if !t.is_empty() && !t.contains(['/', '\\', '.']) => (Some(t.to_string()), f),
+                _ => (None, spec.as_str()),
+            };
+            Ok((thread, read_curve(std::path::Path::new(file))?))
+        })
+        .collect()
+}
+
+/// Reads the `--measured` curves and sets each beside its thread.
+pub(crate) fn measured(specs: &[String], table: &CycleTable) -> Result<Vec<MeasuredMatch>, Error> {
+    read_measured(specs)?
+        .iter()
+        .map(|(thread, curve)| measured_match(table, curve, thread.as_deref()))
+        .collect()
+}
+
+/// Into a pipe or a log, a diagnostic keeps each message on one line:
+/// wrapping at an assumed 80 columns splits messages at places that depend
+/// on the file's path, which makes logs hard to search.
+pub(crate) fn unwrapped_diagnostics_off_terminal() {
+    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        let _ = miette::set_hook(Box::new(|_| {
+            Box::new(miette::MietteHandlerOpts::new().width(100_000).build())
+        }));
+    }
+}
+
+/// The diagnostic of a failed command: a model-file error with its place in
+/// the file, any other with its help.
+pub(crate) fn diagnostic(e: Error) -> miette::Report {
+    match e {
+        Error::Model(m) => {
+            let src = NamedSource::new(m.file.clone(), m.text.to_string());
+            miette::Report::new(FileDiagnostic { err: *m, src })
+        }
+        other => match other.help() {
+            Some(h) => miette::miette!(help = h.to_string(), "{other}"),
+            None => miette::miette!("{other}"),
+        },
+    }
+}
+
+/// A model-file error shown with its place in the file.
+#[derive(Debug)]
+struct FileDiagnostic {
+    err: ModelError,
+    src: NamedSource<String>,
+}
+
+impl std::fmt::Display for FileDiagnostic {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.err.line_col() {
+            Some((l, c)) => write!(f, "{}:{l}:{c}: ", self.err.file)?,
+            None => write!(f, "{}: ", self.err.file)?,
+        }
+        if !self.err.path.is_empty() {
+            write!(f, "{}: ", self.err.path)?;
+        }
+        write!(f, "{}", self.err.message)
+    }
+}
+
+impl std::error::Error for FileDiagnostic {}
+
+impl Diagnostic for FileDiagnostic {
+    fn help<'a>(&'a self) -> Option<Box<dyn std::fmt::Display + 'a>> {
+        self.err
+            .help
+            .as_ref()
+            .map(|h| Box::new(h) as Box<dyn std::fmt::Display>)
+    }
+    fn source_code(&self) -> Option<&dyn SourceCode> {
+        self.err.span.as_ref().map(|_| &self.src as &dyn SourceCode)
+    }
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        let span = self.err.span.clone()?;
+        let len = span.len().max(1);
+        Some(Box::new(std::iter::once(LabeledSpan::new(
+            Some("here".into()),
+            span.start,
+            len,
+        ))))
+    }
+}
