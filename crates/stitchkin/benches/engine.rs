@@ -159,7 +159,7 @@ fn bench_takeup<T: Real>(bencher: Bencher) {
     let model = Model::preset("mf7923d").unwrap();
     let (mech, phis) = cycle::<T>(&model);
     let mut pose = mech.new_pose(phis.len());
-    let threads = mech.threads.clone().unwrap();
+    let threads = model.machine::<T>(&model.defaults()).unwrap().threads.unwrap();
     let mut work = ThreadWork::default();
     bencher.bench_local(|| {
         mech.solve(black_box(&phis), &mut pose).unwrap();
@@ -180,7 +180,7 @@ fn mf7923d_take_up(bencher: Bencher) {
 fn mf7923d_take_up_with_analogs(bencher: Bencher) {
     let model = Model::preset("mf7923d").unwrap();
     let (plain, phis) = cycle::<f64>(&model);
-    let threads = plain.threads.clone().unwrap();
+    let threads = model.machine::<f64>(&model.defaults()).unwrap().threads.unwrap();
     let mut pose = plain.new_pose(phis.len());
     let mut an = PoseAnalogs::new(plain.n_points(), phis.len());
     let mut work = ThreadWork::default();

@@ -34,8 +34,8 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         ..Default::default()
     };
     let table = eval::run_cycle(&model, &params, &opts)?;
-    let mechanism = model.mechanism::<f64>(&params)?;
-    let mut out = text::cycle::model_check(&model, &params, mechanism.threads.as_ref(), args.step);
+    let machine = model.machine::<f64>(&params)?;
+    let mut out = text::cycle::model_check(&model, &params, machine.threads.as_ref(), args.step);
     out += &text::cycle::summary(&model, &table);
     if args.cross_check {
         let c = stitchkin::verify::cross_check(&model, &params, args.step)?;

@@ -3,7 +3,7 @@
 
 use crate::error::Error;
 use crate::mechanism::{Mechanism, Pose};
-use crate::model::{Model, Params};
+use crate::model::{Machine, Model, Params};
 use crate::scalar::Real;
 
 use super::{
@@ -186,7 +186,10 @@ pub(super) fn cycle<T: Real>(
     opts: &CycleOptions,
     prepared: Option<&stitch::Prepared>,
 ) -> Result<CycleTable, Error> {
-    let mech = model.mechanism::<T>(params)?;
+    let Machine {
+        mechanism: mech,
+        threads,
+    } = model.machine::<T>(params)?;
     let phis = cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
     let omega = opts.rpm.map(|r| r * std::f64::consts::TAU / 60.0);
     let mut b = Builder {
@@ -199,7 +202,7 @@ pub(super) fn cycle<T: Real>(
     // thread paths the dual pose feeds the paths' own analogs, and building
     // it from the closed form costs more than it saves (mf7923d: about 10 %
     // slower per cycle, docs/benchmarks.md), so those stay dual.
-    let closed_form = opts.analogs && mech.threads.is_none();
+    let closed_form = opts.analogs && threads.is_none();
     let plain = if closed_form {
         Some(model.mechanism::<f64>(params)?)
     } else {
@@ -207,7 +210,7 @@ pub(super) fn cycle<T: Real>(
     };
     let pose = crate::mechanism::analogs::solve_cycle(&mech, plain.as_ref(), &phis)?;
     layout.fill(&mut b.columns, &mech, &pose, &phis, omega.unwrap_or(0.0));
-    let (paths, take_up) = match &mech.threads {
+    let (paths, take_up) = match &threads {
         Some(threads) => paths::path_columns(&mech, threads, &pose, &phis, opts, &mut b.columns)?,
         None => (Vec::new(), None),
     };

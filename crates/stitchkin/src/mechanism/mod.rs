@@ -289,8 +289,6 @@ pub struct Mechanism<T: Real> {
     pub(crate) n_points: usize,
     /// A label per step, for messages (`group "23" (rrr)`).
     pub(crate) labels: Arc<[String]>,
-    /// Thread paths, when the model has any.
-    pub threads: Option<crate::thread::Threads<T>>,
     /// Placements of the model's frames, by frame index (0 = world).
     pub(crate) frames: Vec<crate::geometry::Placement<T>>,
 }

@@ -522,6 +522,15 @@ pub struct Params {
     pub values: Vec<f64>,
 }
 
+/// A model resolved with one setting: the mechanism and, when the model
+/// has thread paths, the paths it moves. The mechanism knows nothing of
+/// the threads; the threads read the mechanism's solved points.
+#[derive(Debug, Clone)]
+pub struct Machine<T: Real> {
+    pub mechanism: Mechanism<T>,
+    pub threads: Option<crate::thread::Threads<T>>,
+}
+
 /// A checked, compiled model. Cheap to resolve with new parameter values.
 #[derive(Debug, Clone)]
 pub struct Model {
@@ -772,7 +781,8 @@ impl Model {
         self.set(params, name, v)
     }
 
-    /// Resolves every parameter with `params` into a solvable mechanism.
+    /// Resolves every parameter with `params` into a solvable mechanism
+    /// (without the thread paths: see [`Self::machine`]).
     pub fn mechanism<T: Real>(&self, params: &Params) -> Result<Mechanism<T>, Box<ModelError>> {
         let base: Vec<T> = params.values.iter().map(|&v| T::cst(v)).collect();
         self.mechanism_with(&base)
@@ -782,7 +792,20 @@ impl Model {
     /// result carries derivatives with respect to seeded parameters.
     pub fn mechanism_with<T: Real>(&self, base: &[T]) -> Result<Mechanism<T>, Box<ModelError>> {
         let q = self.quantities(base)?;
-        self.mechanism_from(&q)
+        Ok(resolve::machine(self, &q, false)?.mechanism)
+    }
+
+    /// Resolves every parameter with `params` into the mechanism and the
+    /// thread paths it moves.
+    pub fn machine<T: Real>(&self, params: &Params) -> Result<Machine<T>, Box<ModelError>> {
+        let base: Vec<T> = params.values.iter().map(|&v| T::cst(v)).collect();
+        self.machine_with(&base)
+    }
+
+    /// Like [`Self::machine`] with parameter values of type `T`.
+    pub fn machine_with<T: Real>(&self, base: &[T]) -> Result<Machine<T>, Box<ModelError>> {
+        let q = self.quantities(base)?;
+        resolve::machine(self, &q, true)
     }
 
     /// Every parameter's value with `params`, derived ones evaluated (in
@@ -843,10 +866,6 @@ impl Model {
             }
         }
         Ok(q)
-    }
-
-    fn mechanism_from<T: Real>(&self, q: &[T]) -> Result<Mechanism<T>, Box<ModelError>> {
-        resolve::mechanism(self, q)
     }
 
     fn error_at(&self, path: &Path, message: impl Into<String>, help: Option<String>) -> Box<ModelError> {

@@ -4,8 +4,8 @@
 //! only looks values up; every name was checked when the model was loaded.
 
 use super::{
-    AxisDef, CamContactDef, CamDef, ClosureDef, ClosureRef, MeasureDef, Model, PathDef, PointKind, ProfileDef, SpanDef,
-    StepDef, ThreadsDef, file, stitch,
+    AxisDef, CamContactDef, CamDef, ClosureDef, ClosureRef, Machine, MeasureDef, Model, PathDef, PointKind, ProfileDef,
+    SpanDef, StepDef, ThreadsDef, file, stitch,
 };
 use crate::error::ModelError;
 use crate::geometry::{Placement, Plane, V2, V3, axis_rotation};
@@ -18,8 +18,9 @@ use crate::thread::{Cam, CamModel, Convention, Span, ThreadPath, Threads};
 
 type Resolved<T> = Result<T, Box<ModelError>>;
 
-/// The mechanism of `model` with the values `q` of its expressions.
-pub(super) fn mechanism<T: Real>(model: &Model, q: &[T]) -> Resolved<Mechanism<T>> {
+/// The mechanism of `model` with the values `q` of its expressions and,
+/// with `with_threads` and a model that has them, its thread paths.
+pub(super) fn machine<T: Real>(model: &Model, q: &[T], with_threads: bool) -> Resolved<Machine<T>> {
     let r = Resolver {
         model,
         q,
@@ -30,18 +31,18 @@ pub(super) fn mechanism<T: Real>(model: &Model, q: &[T]) -> Resolved<Mechanism<T
     let steps = r.resolve_steps(&fixed)?;
     let measures = r.resolve_measures()?;
     let threads = match &model.threads {
-        None => None,
-        Some(t) => Some(r.resolve_threads(t, &fixed)?),
+        Some(t) if with_threads => Some(r.resolve_threads(t, &fixed)?),
+        _ => None,
     };
-    Ok(Mechanism {
+    let mechanism = Mechanism {
         fixed,
         steps,
         measures,
         n_points: model.point_names.len(),
         labels: model.labels.clone(),
-        threads,
         frames: r.frames,
-    })
+    };
+    Ok(Machine { mechanism, threads })
 }
 
 /// Every frame placed in the world, parents first.

@@ -762,7 +762,7 @@ impl Model {
         // One mechanism, from the quantities already resolved, gives both the
         // samples and the stitch frame's placement.
         let mech = if needs_mechanism || d.frame != 0 {
-            Some(self.mechanism_from(q)?)
+            Some(super::resolve::machine(self, q, false)?.mechanism)
         } else {
             None
         };

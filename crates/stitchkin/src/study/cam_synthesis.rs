@@ -66,7 +66,7 @@ use crate::eval::{self, wrap_deg};
 use crate::format::fmt_num;
 use crate::geometry::{V2, V3};
 use crate::mechanism::{Mechanism, Phi, Pose};
-use crate::model::{Model, Params};
+use crate::model::{Machine, Model, Params};
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::thread::cam::{CamPlacement, Profile};
 use crate::thread::measured::{MeasuredCurve, SplitPoint, periodic_segment};
@@ -517,8 +517,11 @@ pub fn take_up_with_profile(
     profile: &Profile,
     phis: &[f64],
 ) -> Result<Vec<f64>, Error> {
-    let mut mech = model.mechanism::<f64>(params)?;
-    let threads = mech.threads.as_mut().ok_or_else(|| {
+    let Machine {
+        mechanism: mech,
+        mut threads,
+    } = model.machine::<f64>(params)?;
+    let threads = threads.as_mut().ok_or_else(|| {
         bad(
             format!("model `{}` has no thread paths", model.name()),
             "add [thread] paths",
@@ -537,7 +540,6 @@ pub fn take_up_with_profile(
     threads.cams[ci].profile = profile.clone();
     let mut pose = mech.new_pose(phis.len());
     mech.solve(&Phi::table(phis), &mut pose)?;
-    let threads = mech.threads.as_ref().expect("checked above");
     take_up(&mech, threads, &pose, phis, pi)
 }
 
@@ -564,8 +566,11 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
     // --- the inputs ---------------------------------------------------------
     check_options(opts)?;
     let name = &model.name();
-    let mech = model.mechanism::<f64>(params)?;
-    let threads = mech.threads.as_ref().ok_or_else(|| {
+    let Machine {
+        mechanism: mech,
+        threads,
+    } = model.machine::<f64>(params)?;
+    let threads = threads.as_ref().ok_or_else(|| {
         bad(
             format!("model `{name}` has no thread paths, so there is no cam to synthesise"),
             "add [thread] paths with a cam node (docs/model-format.md §13.5)",
@@ -632,7 +637,7 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
         return Err(Error::NotFinite("the synthesised profile is not finite".into()));
     }
     // --- verify: the model again with the new profile --------------------------
-    let p_after = take_up_with(&mech, ci, &profile, &pose, &phis, pi)?;
+    let p_after = take_up_with(&mech, threads, ci, &profile, &pose, &phis, pi)?;
     let p_before: Vec<f64> = xi_ref.iter().map(|x| threads.convention.take_up(*x, xi0_ref)).collect();
     let verify = verification(phis, target, p_before, p_after, stitch_thread.as_ref());
     // --- checks -------------------------------------------------------------
@@ -675,18 +680,16 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
 /// P of path `pi` at every φ of `pose` with cam `ci`'s profile replaced.
 fn take_up_with(
     mech: &Mechanism<f64>,
+    threads: &Threads<f64>,
     ci: usize,
     profile: &Profile,
     pose: &Pose<f64>,
     phis: &[f64],
     pi: usize,
 ) -> Result<Vec<f64>, Error> {
-    let mut mech = mech.clone();
-    if let Some(t) = mech.threads.as_mut() {
-        t.cams[ci].profile = profile.clone();
-    }
-    let threads = mech.threads.as_ref().expect("cloned with its threads");
-    take_up(&mech, threads, pose, phis, pi)
+    let mut threads = threads.clone();
+    threads.cams[ci].profile = profile.clone();
+    take_up(mech, &threads, pose, phis, pi)
 }
 
 /// The note on a target shifted to the convention's take-up at φ0.

@@ -8,7 +8,7 @@ use serde::Serialize;
 use crate::error::{Error, ParamError};
 use crate::eval::{check_options, cycle_phis_deg, path_error, wrap_deg};
 use crate::mechanism::Phi;
-use crate::model::{Model, Params};
+use crate::model::{Machine, Model, Params};
 
 /// One path compared.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -48,8 +48,11 @@ pub fn compare_2d3d(model: &Model, params: &Params, plane: &str, step_deg: f64) 
             help: Some(format!("frames: {}", model.frame_names().join(", "))),
         })
     })?;
-    let mech = model.mechanism::<f64>(params)?;
-    let Some(threads) = &mech.threads else {
+    let Machine {
+        mechanism: mech,
+        threads,
+    } = model.machine::<f64>(params)?;
+    let Some(threads) = &threads else {
         return Err(Error::Param(ParamError {
             message: format!("model `{}` has no thread paths to compare", model.name()),
             help: Some("add a [thread] table with [[thread.paths]] (docs/model-format.md)".into()),

@@ -42,7 +42,7 @@ use crate::eval::{
     CycleOptions, check_options, cycle_phis_deg, path_error, run_cycle_with, take_up_name, tracks_at_phi0,
 };
 use crate::mechanism::{Mechanism, Phi, Pose};
-use crate::model::{Model, Params};
+use crate::model::{Machine, Model, Params};
 
 /// Central differences step, as a fraction of the parameter's range width.
 pub const FD_REL_STEP: f64 = 1e-5;
@@ -210,7 +210,7 @@ fn seeded_cycle(
     base: &Params,
     param: usize,
     step_deg: f64,
-) -> Result<(Mechanism<Dual64>, Pose<Dual64>, Vec<f64>), Error> {
+) -> Result<(Machine<Dual64>, Pose<Dual64>, Vec<f64>), Error> {
     check_options(&CycleOptions {
         step_deg,
         ..Default::default()
@@ -228,13 +228,14 @@ fn seeded_cycle(
         .enumerate()
         .map(|(i, &v)| Dual64::new(v, if i == param { 1.0 } else { 0.0 }))
         .collect();
-    let mech = model.mechanism_with::<Dual64>(&seeded)?;
+    let machine = model.machine_with::<Dual64>(&seeded)?;
+    let mech = &machine.mechanism;
     let phis = cycle_phis_deg(model.phi_start_deg(), step_deg);
     // φ is a plain constant here: the ε part is d/dp, not d/dφ.
     let table: Vec<Phi<Dual64>> = phis.iter().map(|p| Phi::new(Dual64::from_re(p.to_radians()))).collect();
     let mut pose = mech.new_pose(phis.len());
     mech.solve(&table, &mut pose)?;
-    Ok((mech, pose, phis))
+    Ok((machine, pose, phis))
 }
 
 /// The smooth figures of a cycle with their exact derivatives with respect
@@ -249,7 +250,14 @@ pub fn figure_derivatives(
     param: usize,
     step_deg: f64,
 ) -> Result<Vec<(String, f64, f64)>, Error> {
-    let (mech, pose, phis) = seeded_cycle(model, base, param, step_deg)?;
+    let (
+        Machine {
+            mechanism: mech,
+            threads,
+        },
+        pose,
+        phis,
+    ) = seeded_cycle(model, base, param, step_deg)?;
     let n = phis.len();
     let mut out = Vec::new();
     // A derivative that is not finite (a square root at 0: a transmission
@@ -261,7 +269,7 @@ pub fn figure_derivatives(
         }
     };
     // Take-up extremes: P = ξ(φ0) − ξ(φ) (or the feed convention).
-    if let Some(th) = &mech.threads {
+    if let Some(th) = &threads {
         let at0 = tracks_at_phi0(&mech, th)?;
         let tracks = th.evaluate(&pose, None).map_err(|e| {
             let phi = phis[e.k];
@@ -643,8 +651,15 @@ pub fn take_up_derivatives(
     param: usize,
     step_deg: f64,
 ) -> Result<(Vec<f64>, Vec<(String, Vec<f64>, Vec<f64>)>), Error> {
-    let (mech, pose, phis) = seeded_cycle(model, base, param, step_deg)?;
-    let Some(th) = &mech.threads else {
+    let (
+        Machine {
+            mechanism: mech,
+            threads,
+        },
+        pose,
+        phis,
+    ) = seeded_cycle(model, base, param, step_deg)?;
+    let Some(th) = &threads else {
         return Err(Error::Thread(format!("model `{}` has no thread paths", model.name())));
     };
     let at0 = tracks_at_phi0(&mech, th)?;

@@ -14,7 +14,7 @@ use crate::error::Error;
 use crate::eval::stitch::Prepared;
 use crate::eval::{CycleOptions, path_error, run_cycle_with};
 use crate::mechanism::{Mechanism, Phi, Pose};
-use crate::model::{Model, Params};
+use crate::model::{Machine, Model, Params};
 use crate::scalar::Real;
 use crate::thread::{ThreadWork, Threads};
 
@@ -250,8 +250,11 @@ impl Fast {
         if opts.analogs || opts.rpm.is_some() || crate::eval::check_options(opts).is_err() {
             return None;
         }
-        let mech = model.mechanism::<f64>(base).ok()?;
-        let threads = mech.threads.as_ref();
+        let Machine {
+            mechanism: mech,
+            threads,
+        } = model.machine::<f64>(base).ok()?;
+        let threads = threads.as_ref();
         let path_names: Vec<&str> = threads.map_or(Vec::new(), |t| t.paths.iter().map(|p| p.name.as_str()).collect());
         let kinds = Kinds::of(model, threads, &path_names, names)?;
         let phis = crate::eval::cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
@@ -291,10 +294,13 @@ impl Fast {
         shared: Option<&Prepared>,
         out: &mut Figures,
     ) -> Result<(), Error> {
-        let mech = model.mechanism::<f64>(&self.params)?;
+        let Machine {
+            mechanism: mech,
+            threads,
+        } = model.machine::<f64>(&self.params)?;
         mech.reset_pose(&mut self.pose, self.phis.len());
         mech.solve(&self.table, &mut self.pose)?;
-        if let Some(threads) = &mech.threads {
+        if let Some(threads) = &threads {
             self.take_up_figures(&mech, threads, out)?;
         }
         if self.mu && !model.dyads.is_empty() {

@@ -893,8 +893,11 @@ mod tests {
         for preset in crate::presets::ALL {
             let model = Model::preset(preset.name).unwrap();
             let params = model.defaults();
-            let mech = model.mechanism::<f64>(&params).unwrap();
-            let Some(threads) = &mech.threads else { continue };
+            let crate::model::Machine {
+                mechanism: mech,
+                threads,
+            } = model.machine::<f64>(&params).unwrap();
+            let Some(threads) = &threads else { continue };
             if !mech.has_closed_form_analogs() {
                 continue;
             }
@@ -910,10 +913,13 @@ mod tests {
             let mut work = ThreadWork::default();
             threads.evaluate_analogs(&pose, &an, &mut work).unwrap();
 
-            let dual = model.mechanism::<Dual2_64>(&params).unwrap();
+            let crate::model::Machine {
+                mechanism: dual,
+                threads: dual_threads,
+            } = model.machine::<Dual2_64>(&params).unwrap();
             let mut dpose = dual.new_pose(phis.len());
             dual.solve(&Phi::table(&phis_deg), &mut dpose).unwrap();
-            let reference = dual.threads.as_ref().unwrap().evaluate(&dpose, None).unwrap();
+            let reference = dual_threads.as_ref().unwrap().evaluate(&dpose, None).unwrap();
             for (p, (got, want)) in threads.paths.iter().zip(work.tracks.iter().zip(&reference)) {
                 assert_eq!(got.engaged, want.engaged, "{} {}", preset.name, p.name);
                 for (k, (x, y)) in got.xi.iter().zip(&want.xi).enumerate() {

@@ -253,13 +253,19 @@ fn bad_thread_tables_are_rejected() {
 fn thread_invariants_on_presets() {
     for p in stitchkin::presets::ALL {
         let m = Model::preset(p.name).unwrap();
-        let mech = m.mechanism::<Dual2_64>(&m.defaults()).unwrap();
-        let Some(threads) = &mech.threads else { continue };
+        let stitchkin::model::Machine {
+            mechanism: mech,
+            threads,
+        } = m.machine::<Dual2_64>(&m.defaults()).unwrap();
+        let Some(threads) = &threads else { continue };
         let mut phis = cycle_phis_deg(m.phi_start_deg(), 2.0);
         phis.push(m.phi_start_deg() + 360.0);
         let mut pose = mech.new_pose(phis.len());
         mech.solve(&Phi::table(&phis), &mut pose).unwrap();
-        let plain = m.mechanism::<f64>(&m.defaults()).unwrap();
+        let stitchkin::model::Machine {
+            mechanism: plain,
+            threads: plain_threads,
+        } = m.machine::<f64>(&m.defaults()).unwrap();
         let tracks = threads.evaluate(&pose, None).unwrap();
         for (pi, path) in threads.paths.iter().enumerate() {
             let track = &tracks[pi];
@@ -294,7 +300,7 @@ fn thread_invariants_on_presets() {
                 let xi_at = |phi_deg: f64| {
                     let mut ps = plain.new_pose(1);
                     plain.solve(&[Phi::at_deg(phi_deg)], &mut ps).unwrap();
-                    plain.threads.as_ref().unwrap().evaluate_at(&ps, 0).unwrap()[pi].xi[0]
+                    plain_threads.as_ref().unwrap().evaluate_at(&ps, 0).unwrap()[pi].xi[0]
                 };
                 let d = (xi_at(phis[k] + h.to_degrees()) - xi_at(phis[k] - h.to_degrees())) / (2.0 * h);
                 let scale = 1.0 + d.abs();
@@ -618,7 +624,7 @@ fn takeup_lever_matches_the_independent_reference() {
         .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
         .collect();
     assert_eq!(rows.len(), 360);
-    let path = &m.mechanism::<f64>(&m.defaults()).unwrap().threads.unwrap().paths[0]
+    let path = &m.machine::<f64>(&m.defaults()).unwrap().threads.unwrap().paths[0]
         .name
         .clone();
     let pairs: Vec<(String, &str)> = vec![

@@ -14,7 +14,7 @@ use crate::error::Error;
 use crate::eval::cycle_phis_deg;
 use crate::geometry::{V2, V3};
 use crate::mechanism::Mechanism;
-use crate::model::{Model, Params};
+use crate::model::{Machine, Model, Params};
 use crate::thread::cam::CamPlacement;
 use crate::thread::{Span, Threads};
 
@@ -26,6 +26,8 @@ pub(super) struct Scene<'a> {
     pub(super) model: &'a Model,
     pub(super) opts: &'a DrawOptions,
     pub(super) mech: Mechanism<f64>,
+    /// The thread paths the mechanism moves, when the model has any.
+    threads: Option<Threads<f64>>,
     pub(super) proj: Projection,
     /// The view in words (subtitle) and the names of its three axes.
     pub(super) view_words: String,
@@ -61,7 +63,10 @@ impl<'a> Scene<'a> {
     /// Solves `model` at the frames of `opts` (and over the cycle, for
     /// trajectories and slider travel) and projects what is drawn.
     pub(super) fn build(model: &'a Model, params: &Params, opts: &'a DrawOptions) -> Result<Scene<'a>, Error> {
-        let mech = model.mechanism::<f64>(params)?;
+        let Machine {
+            mechanism: mech,
+            threads,
+        } = model.machine::<f64>(params)?;
         let (proj, view_words, axis_names) = projection(model, &mech, &opts.view)?;
         let traced = opts
             .trajectories
@@ -80,8 +85,8 @@ impl<'a> Scene<'a> {
         };
         let st = Structure::of(&mech, model);
         let pos: Vec<Vec<V3<f64>>> = slots.iter().map(|s| st.positions(s)).collect();
-        let threads = mech.threads.as_ref();
-        let path_frames: Vec<Vec<PathFrame>> = match threads {
+        let threads_ref = threads.as_ref();
+        let path_frames: Vec<Vec<PathFrame>> = match threads_ref {
             Some(t) => slots
                 .iter()
                 .zip(&phis)
@@ -93,7 +98,7 @@ impl<'a> Scene<'a> {
             .iter()
             .map(|f| f.iter().map(|p| proj.project(p)).collect())
             .collect();
-        let (polylines, used_cams, cam_outlines) = match threads {
+        let (polylines, used_cams, cam_outlines) = match threads_ref {
             Some(t) => {
                 let used = used_cams(t);
                 let outlines = cam_outlines(t, &used, &slots, &proj);
@@ -138,11 +143,12 @@ impl<'a> Scene<'a> {
             circles,
             travel,
             mech,
+            threads,
         })
     }
 
     pub(super) fn threads(&self) -> Option<&Threads<f64>> {
-        self.mech.threads.as_ref()
+        self.threads.as_ref()
     }
 
     /// The number of the model's points (the structure's own come after).
