@@ -13,7 +13,7 @@ use stitchkin::model::{Model, Params};
 use stitchkin::presets;
 use stitchkin::study::measured::{MeasuredMatch, measured_match};
 use stitchkin::study::straightness::{Reference, StraightnessOptions, Window};
-use stitchkin::thread::measured::{MeasuredCurve, read_curve};
+use stitchkin::{MeasuredCurve, read_curve};
 
 /// The model a command works on: a file, a preset or the default preset,
 /// with parameter overrides.

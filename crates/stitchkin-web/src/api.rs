@@ -18,7 +18,6 @@
 use serde_json::{Value, json};
 use stitchkin::error::Error;
 use stitchkin::eval::{CycleOptions, run_cycle};
-use stitchkin::model::file::Value as FileValue;
 use stitchkin::model::{Model, Params};
 use stitchkin::output::plots::{self, Plot};
 
@@ -154,13 +153,8 @@ impl App {
     /// `/api/model`: what the page needs to build its controls.
     pub fn describe(&self) -> Value {
         let model = &self.model;
-        let stitch_param = |v: Option<&FileValue>| match v {
-            Some(FileValue::Expr(name)) if model.param_index(name.trim()).is_some() => Some(name.trim().to_string()),
-            _ => None,
-        };
-        let stitch = model.stitch_spec();
-        let m_param = stitch_param(stitch.map(|s| &s.m_mm));
-        let t_param = stitch_param(stitch.map(|s| &s.t_mm));
+        let m_param = model.stitch_param("m").map(str::to_string);
+        let t_param = model.stitch_param("t").map(str::to_string);
         let parameters: Vec<Value> = model
             .params
             .iter()
@@ -195,11 +189,11 @@ impl App {
             .collect();
         json!({
             "name": model.name(),
-            "title": model.file.model.title,
+            "title": model.title(),
             "file": model.file_name,
             "phi_start_deg": model.phi_start_deg(),
             "parameters": parameters,
-            "stitch": stitch.map(|s| json!({ "type": s.stitch_type, "m_param": m_param, "t_param": t_param })),
+            "stitch": model.stitch_type().map(|t| json!({ "type": t, "m_param": m_param, "t_param": t_param })),
             "threads": threads,
             "chart": chart_kind(model).map(|p| match p { Plot::TakeUp => "takeup", _ => "mu" }),
             "views": view::names(model),

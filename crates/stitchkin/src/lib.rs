@@ -32,4 +32,10 @@ pub mod study;
 pub mod thread;
 pub mod verify;
 
-pub use error::Error;
+// The vocabulary a user of the library works with, from the crate root.
+pub use error::{AssemblyError, Error, ModelError, ParamError};
+pub use eval::{CycleOptions, CycleTable, run_cycle};
+pub use model::{Machine, Model, ParamDef, Params};
+pub use presets::Preset;
+pub use stitch::consumption::{Consumption, StitchGeometry, ThreadConsumption, consumption};
+pub use thread::measured::{CurveKind, MeasuredCurve, parse_curve_csv, read_curve};

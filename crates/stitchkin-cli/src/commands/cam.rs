@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use clap::ValueEnum;
 use stitchkin::error::{Error, ParamError};
 use stitchkin::output::text;
+use stitchkin::parse_curve_csv;
 use stitchkin::study::cam_synthesis::{CamOptions, Target, synthesise};
-use stitchkin::thread::measured::parse_curve_csv;
 
 use crate::common::{ModelArgs, emit, load};
 

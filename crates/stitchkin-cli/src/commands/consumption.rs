@@ -1,9 +1,9 @@
 //! `stitchkin consumption`: the thread one finished stitch consumes, from
-//! the stitch's geometry (stitchkin::stitch::consumption).
+//! the stitch's geometry ([`stitchkin::consumption`]).
 
 use stitchkin::error::{Error, ParamError};
 use stitchkin::output::text;
-use stitchkin::stitch::consumption::{StitchGeometry, consumption};
+use stitchkin::{StitchGeometry, consumption};
 
 use crate::common::{OutputArgs, TableFormat, json};
 

@@ -522,6 +522,19 @@ pub struct Params {
     pub values: Vec<f64>,
 }
 
+/// A cam as the model file declares it, in the file's own words.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CamDeclaration {
+    /// The shaft's centre point.
+    pub center: String,
+    /// The point that turns with the shaft.
+    pub marker: String,
+    /// The shaft's axis as TOML (`"z"`, `[0, 0, 1]`), when declared.
+    pub axis_toml: Option<String>,
+    /// The frame the axis is given in, when declared.
+    pub frame: Option<String>,
+}
+
 /// A model resolved with one setting: the mechanism and, when the model
 /// has thread paths, the paths it moves. The mechanism knows nothing of
 /// the threads; the threads read the mechanism's solved points.
@@ -931,6 +944,49 @@ impl Model {
     /// The stitch the machine makes (`[stitch]`), as declared.
     pub fn stitch_spec(&self) -> Option<&file::StitchFile> {
         self.file.stitch.as_ref()
+    }
+
+    /// Whether the model describes the stitch it makes (`[stitch]`).
+    pub fn has_stitch(&self) -> bool {
+        self.file.stitch.is_some()
+    }
+
+    /// The stitch type as the file names it (`"401"`, `"504"`, …), when
+    /// the model has `[stitch]`.
+    pub fn stitch_type(&self) -> Option<&str> {
+        self.file.stitch.as_ref().map(|s| s.stitch_type.as_str())
+    }
+
+    /// The parameter the stitch's material thickness (`which` = `"m"`,
+    /// `[stitch] m_mm`) or stitch length (`"t"`, `t_mm`) is set through;
+    /// `None` without `[stitch]` or where the value is a fixed number.
+    pub fn stitch_param(&self, which: &str) -> Option<&str> {
+        let s = self.file.stitch.as_ref()?;
+        match if which == "m" { &s.m_mm } else { &s.t_mm } {
+            file::Value::Expr(name) if self.param_index(name.trim()).is_some() => Some(name.trim()),
+            _ => None,
+        }
+    }
+
+    /// A cam's declaration as the model file writes it (centre, marker,
+    /// axis and frame), for writing a synthesised profile back into the
+    /// file.
+    pub fn cam_declaration(&self, name: &str) -> Option<CamDeclaration> {
+        let c = self.file.cams.iter().find(|c| c.name == name)?;
+        let value = |v: &file::Value| match v {
+            file::Value::Number(x) => crate::format::fmt_num(*x),
+            file::Value::Expr(e) => format!("{e:?}"),
+        };
+        let axis_toml = c.axis.as_ref().map(|ax| match ax {
+            file::Axis::Named(s) => format!("{s:?}"),
+            file::Axis::Vector(v) => format!("[{}]", v.iter().map(value).collect::<Vec<_>>().join(", ")),
+        });
+        Some(CamDeclaration {
+            center: c.center.clone(),
+            marker: c.marker.clone(),
+            axis_toml,
+            frame: c.frame.clone(),
+        })
     }
 
     /// A cam as declared in the file, by name.

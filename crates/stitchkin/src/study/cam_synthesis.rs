@@ -650,14 +650,18 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
             shared_with.join(", ")
         ));
     }
-    let file_cam = model.cam_spec(&cam.name);
+    let declared = model.cam_declaration(&cam.name);
     Ok(CamSynthesis {
         path: opts.path.clone(),
         cam: cam.name.clone(),
-        center: file_cam.map_or_else(|| model.point_names[cam.center].clone(), |c| c.center.clone()),
-        marker: file_cam.map_or_else(|| model.point_names[cam.marker].clone(), |c| c.marker.clone()),
-        axis_toml: file_cam.and_then(|c| c.axis.as_ref()).map(axis_toml),
-        frame: file_cam.and_then(|c| c.frame.clone()),
+        center: declared
+            .as_ref()
+            .map_or_else(|| model.point_names[cam.center].clone(), |c| c.center.clone()),
+        marker: declared
+            .as_ref()
+            .map_or_else(|| model.point_names[cam.marker].clone(), |c| c.marker.clone()),
+        axis_toml: declared.as_ref().and_then(|c| c.axis_toml.clone()),
+        frame: declared.and_then(|c| c.frame),
         gamma_deg: piece.gamma.to_degrees(),
         target: label,
         thread: stitch_thread.map(|t| t.name),
@@ -1101,23 +1105,6 @@ fn paths_sharing(threads: &Threads<f64>, ci: usize, path: &str) -> Vec<String> {
         })
         .map(|p| p.name.clone())
         .collect()
-}
-
-/// A cam's axis as the model file writes it.
-fn axis_toml(ax: &crate::model::file::Axis) -> String {
-    match ax {
-        crate::model::file::Axis::Named(s) => format!("{s:?}"),
-        crate::model::file::Axis::Vector(v) => format!(
-            "[{}]",
-            v.iter()
-                .map(|x| match x {
-                    crate::model::file::Value::Number(x) => fmt_num(*x),
-                    crate::model::file::Value::Expr(e) => format!("{e:?}"),
-                })
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-    }
 }
 
 /// Periodic moving average of the knot radii over `width_deg` of profile

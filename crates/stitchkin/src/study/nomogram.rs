@@ -21,7 +21,6 @@ use serde::Serialize;
 use super::tune::{TuneOptions, TuneResult, set_stitch_value, tune};
 use crate::error::{Error, ParamError};
 use crate::format::fmt_num;
-use crate::model::file::Value;
 use crate::model::{Model, Params};
 
 /// The most grid points a nomogram may have (each one is a full tuning).
@@ -132,11 +131,7 @@ pub struct Nomogram {
 /// The parameter that the model's `[stitch] m_mm` (`which` = "m") or `t_mm`
 /// ("t") names, if it names one.
 fn stitch_param(model: &Model, which: &str) -> Option<String> {
-    let s = model.stitch_spec()?;
-    match if which == "m" { &s.m_mm } else { &s.t_mm } {
-        Value::Expr(name) if model.param_index(name.trim()).is_some() => Some(name.trim().to_string()),
-        _ => None,
-    }
+    model.stitch_param(which).map(str::to_string)
 }
 
 /// Tunes `model` at every point of the grid. `progress` is called once per
@@ -280,16 +275,14 @@ pub fn default_thickness(model: &Model) -> Result<Axis, Error> {
             help: Some("give one with --thickness LO:HI:N in mm, e.g. --thickness 1:5:5".into()),
         })
     };
-    let stitch = model.stitch_spec().ok_or_else(|| {
-        Error::Stitch(format!(
+    if !model.has_stitch() {
+        return Err(Error::Stitch(format!(
             "model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504",
             model.name()
-        ))
-    })?;
-    let Value::Expr(name) = &stitch.m_mm else {
-        return Err(no_range());
-    };
-    let i = model.param_index(name.trim()).ok_or_else(no_range)?;
+        )));
+    }
+    let name = model.stitch_param("m").ok_or_else(no_range)?;
+    let i = model.param_index(name).ok_or_else(no_range)?;
     match model.params[i].range {
         Some([lo, hi]) if hi > lo => Ok(Axis { lo, hi, n: 5 }),
         _ => Err(no_range()),

@@ -41,7 +41,7 @@ use crate::eval::stitch::Prepared;
 use crate::eval::{
     CycleOptions, check_options, cycle_phis_deg, path_error, run_cycle_with, take_up_name, tracks_at_phi0,
 };
-use crate::mechanism::{Mechanism, Phi, Pose};
+use crate::mechanism::{Phi, Pose};
 use crate::model::{Machine, Model, Params};
 
 /// Central differences step, as a fraction of the parameter's range width.

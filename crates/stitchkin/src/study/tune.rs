@@ -263,22 +263,17 @@ impl CostFunction for Cost<'_, '_> {
 /// Sets the stitch's thickness (`which` = "m") or length ("t") through the
 /// parameter its `[stitch]` value names.
 pub fn set_stitch_value(model: &Model, params: &mut Params, which: &str, value: f64) -> Result<(), Error> {
-    let v = model
-        .file
-        .stitch
-        .as_ref()
-        .map(|s| if which == "m" { &s.m_mm } else { &s.t_mm });
-    match v {
-        Some(crate::model::file::Value::Expr(name)) if model.param_index(name.trim()).is_some() => {
-            model.set(params, name.trim(), value).map_err(Error::Param)
-        }
-        Some(_) => Err(Error::Param(ParamError {
+    if !model.has_stitch() {
+        return Err(Error::Stitch(format!("model `{}` has no [stitch]", model.name())));
+    }
+    match model.stitch_param(which) {
+        Some(name) => model.set(params, name, value).map_err(Error::Param),
+        None => Err(Error::Param(ParamError {
             message: format!("[stitch] {}_mm is not a parameter, so it cannot be set", which),
             help: Some(format!(
                 "write {which}_mm = \"NAME\" with NAME in [parameters] (with a range), or use --set"
             )),
         })),
-        None => Err(Error::Stitch(format!("model `{}` has no [stitch]", model.name()))),
     }
 }
 
