@@ -14,7 +14,7 @@ use nalgebra::{DMatrix, DVector};
 use crate::error::Error;
 use crate::eval::cycle_phis_deg;
 use crate::geometry::{Plane, V2, V3};
-use crate::mechanism::newton::{Closure, PointRef};
+use crate::mechanism::newton::{Closure, NewtonGroup, PointRef};
 use crate::mechanism::{Mechanism, Phi, Step};
 use crate::model::{Model, Params};
 
@@ -71,185 +71,224 @@ fn in_plane(plane: &Plane<f64>, p: &V3<f64>) -> (V2<f64>, f64) {
     }
 }
 
+/// The unknowns `x` laid over the mechanism's points: a moving point's
+/// position is three of them, a fixed point is where the mechanism puts it.
+struct Unknowns<'a> {
+    mech: &'a Mechanism<f64>,
+    lay: &'a Layout,
+    x: &'a DVector<f64>,
+}
+
+impl Unknowns<'_> {
+    fn pt(&self, s: usize) -> V3<f64> {
+        match self.lay.slot_of[s] {
+            Some(k) => V3::new(self.x[3 * k], self.x[3 * k + 1], self.x[3 * k + 2]),
+            None => self
+                .mech
+                .fixed
+                .iter()
+                .find(|(i, _)| *i == s)
+                .map(|(_, p)| *p)
+                .unwrap_or_else(V3::zeros),
+        }
+    }
+}
+
 /// Residuals of every closure equation at unknowns `x`.
 fn residuals(mech: &Mechanism<f64>, lay: &Layout, phi: f64, x: &DVector<f64>, out: &mut Vec<f64>) {
     out.clear();
-    let fixed = |s: usize| mech.fixed.iter().find(|(i, _)| *i == s).map(|(_, p)| *p);
-    let pt = |s: usize| -> V3<f64> {
-        match lay.slot_of[s] {
-            Some(k) => V3::new(x[3 * k], x[3 * k + 1], x[3 * k + 2]),
-            None => fixed(s).unwrap_or_else(V3::zeros),
-        }
-    };
+    let vars = Unknowns { mech, lay, x };
     for (i, step) in mech.steps.iter().enumerate() {
-        match step {
-            Step::Crank {
-                center,
-                out: o,
-                r,
-                u,
-                v,
-                speed,
-                phase,
-                ..
-            } => {
-                let th = speed * phi + phase;
-                let d = pt(*o) - (pt(*center) + (u * th.cos() + v * th.sin()) * *r);
-                out.extend([d.x, d.y, d.z]);
-            }
-            Step::Rrr {
-                p1,
-                p2,
-                l1,
-                l2,
-                plane,
-                out: b,
-                ..
-            } => {
-                let (q, h) = in_plane(plane, &pt(*b));
-                let (a, _) = in_plane(plane, &pt(*p1));
-                let (c, _) = in_plane(plane, &pt(*p2));
-                out.extend([(q - a).norm() - l1, (q - c).norm() - l2, h]);
-            }
-            Step::Rrp {
-                from,
-                through,
-                toward,
-                dir,
-                offset,
-                l,
-                plane,
-                out: g,
-                ..
-            } => {
-                let (q, h) = in_plane(plane, &pt(*g));
-                let (a, _) = in_plane(plane, &pt(*from));
-                let (hh, _) = in_plane(plane, &pt(*through));
-                let u = match toward {
-                    Some(t) => (in_plane(plane, &pt(*t)).0 - hh).normalize(),
-                    None => *dir,
-                };
-                // Signed distance of the slider from the guide line = offset.
-                let side = u.x * (q - hh).y - u.y * (q - hh).x;
-                out.extend([side - offset, (q - a).norm() - l, h]);
-            }
-            Step::Rpr {
-                from,
-                pivot,
-                e,
-                d,
-                plane,
-                out: o,
-                ..
-            } => {
-                let th = x[lay.aux[i]];
-                let (u, n) = (V2::new(th.cos(), th.sin()), V2::new(-th.sin(), th.cos()));
-                let (a, _) = in_plane(plane, &pt(*from));
-                let (c, _) = in_plane(plane, &pt(*pivot));
-                let (q, h) = in_plane(plane, &pt(*o));
-                let dq = q - (c + n * *e + u * *d);
-                // The slot line (through c + e·n along u) holds the pin, ahead of the foot.
-                out.extend([n.dot(&(a - c)) - e, dq.x, dq.y, h]);
-            }
-            Step::Rssr {
-                from,
-                rocker,
-                l,
-                out: b,
-                ..
-            } => {
-                let q = pt(*b);
-                out.extend([
-                    (q - pt(*from)).norm() - l,
-                    (q - rocker.c).norm() - rocker.r,
-                    (q - rocker.c).dot(&rocker.w),
-                ]);
-            }
-            Step::PointOnLine {
-                from,
-                through,
-                toward,
-                dir,
-                l,
-                out: p,
-                ..
-            } => {
-                let h = pt(*through);
-                let u = match toward {
-                    Some(t) => (pt(*t) - h).normalize(),
-                    None => *dir,
-                };
-                let [o1, o2] = off_line(u, pt(*p) - h);
-                out.extend([o1, o2, (pt(*p) - pt(*from)).norm() - l]);
-            }
-            Step::Rigid {
-                base,
-                dc,
-                ds,
-                lift,
-                plane,
-                out: o,
-                ..
-            } => {
-                let (a, _) = in_plane(plane, &pt(base[0]));
-                let (b, _) = in_plane(plane, &pt(base[1]));
-                let (q, h) = in_plane(plane, &pt(*o));
-                let e = b - a;
-                let n = e.norm();
-                let w = q - a;
-                // Projections of the point on the link and across it.
-                out.extend([w.dot(&e) / n - dc, (e.x * w.y - e.y * w.x) / n - ds, h - lift]);
-            }
-            Step::Rigid3 { frame, at, out: o } => {
-                let (o0, x1, y1) = (pt(frame[0]), pt(frame[1]), pt(frame[2]));
-                let e1 = (x1 - o0).normalize();
-                let e3 = e1.cross(&(y1 - o0)).normalize();
-                let e2 = e3.cross(&e1);
-                let w = pt(*o) - o0;
-                out.extend([w.dot(&e1) - at.x, w.dot(&e2) - at.y, w.dot(&e3) - at.z]);
-            }
-            Step::Offset { from, by, out: o } => {
-                let d = pt(*o) - pt(*from) - by;
-                out.extend([d.x, d.y, d.z]);
-            }
-            Step::Newton(g) => {
-                for c in &g.closures {
-                    let p = |r: &PointRef| match r {
-                        PointRef::Unknown(k) => pt(g.outs[*k]),
-                        PointRef::Known(s) => pt(*s),
-                    };
-                    match c {
-                        Closure::Distance { a, b, l } => {
-                            if g.dim == 2 {
-                                let (pa, _) = in_plane(&g.plane, &p(a));
-                                let (pb, _) = in_plane(&g.plane, &p(b));
-                                out.push((pa - pb).norm() - l);
-                            } else {
-                                out.push((p(a) - p(b)).norm() - l);
-                            }
-                        }
-                        Closure::OnLine { p: k, h, t } => {
-                            let q = pt(g.outs[*k]);
-                            if g.dim == 2 {
-                                let (q, _) = in_plane(&g.plane, &q);
-                                let (h, _) = in_plane(&g.plane, &pt(*h));
-                                let (t, _) = in_plane(&g.plane, &pt(*t));
-                                let u = (t - h).normalize();
-                                out.push(u.x * (q - h).y - u.y * (q - h).x);
-                            } else {
-                                let (h, t) = (pt(*h), pt(*t));
-                                let u = (t - h).normalize();
-                                out.extend(off_line(u, q - h));
-                            }
-                        }
-                    }
-                }
+        step_residuals(step, i, &vars, phi, out);
+    }
+}
+
+/// The equations of step `i`: a crank's place on its circle, the planar
+/// dyads' distances and lines; the other steps go on to
+/// [`spatial_residuals`].
+fn step_residuals(step: &Step<f64>, i: usize, vars: &Unknowns, phi: f64, out: &mut Vec<f64>) {
+    match step {
+        Step::Crank {
+            center,
+            out: o,
+            r,
+            u,
+            v,
+            speed,
+            phase,
+            ..
+        } => {
+            let th = speed * phi + phase;
+            let d = vars.pt(*o) - (vars.pt(*center) + (u * th.cos() + v * th.sin()) * *r);
+            out.extend([d.x, d.y, d.z]);
+        }
+        Step::Rrr {
+            p1,
+            p2,
+            l1,
+            l2,
+            plane,
+            out: b,
+            ..
+        } => {
+            let (q, h) = in_plane(plane, &vars.pt(*b));
+            let (a, _) = in_plane(plane, &vars.pt(*p1));
+            let (c, _) = in_plane(plane, &vars.pt(*p2));
+            out.extend([(q - a).norm() - l1, (q - c).norm() - l2, h]);
+        }
+        Step::Rrp {
+            from,
+            through,
+            toward,
+            dir,
+            offset,
+            l,
+            plane,
+            out: g,
+            ..
+        } => {
+            let (q, h) = in_plane(plane, &vars.pt(*g));
+            let (a, _) = in_plane(plane, &vars.pt(*from));
+            let (hh, _) = in_plane(plane, &vars.pt(*through));
+            let u = match toward {
+                Some(t) => (in_plane(plane, &vars.pt(*t)).0 - hh).normalize(),
+                None => *dir,
+            };
+            // Signed distance of the slider from the guide line = offset.
+            let side = u.x * (q - hh).y - u.y * (q - hh).x;
+            out.extend([side - offset, (q - a).norm() - l, h]);
+        }
+        Step::Rpr {
+            from,
+            pivot,
+            e,
+            d,
+            plane,
+            out: o,
+            ..
+        } => {
+            let th = vars.x[vars.lay.aux[i]];
+            let (u, n) = (V2::new(th.cos(), th.sin()), V2::new(-th.sin(), th.cos()));
+            let (a, _) = in_plane(plane, &vars.pt(*from));
+            let (c, _) = in_plane(plane, &vars.pt(*pivot));
+            let (q, h) = in_plane(plane, &vars.pt(*o));
+            let dq = q - (c + n * *e + u * *d);
+            // The slot line (through c + e·n along u) holds the pin, ahead of the foot.
+            out.extend([n.dot(&(a - c)) - e, dq.x, dq.y, h]);
+        }
+        other => spatial_residuals(other, vars, out),
+    }
+}
+
+/// The equations of the spatial dyads, the points carried by links and
+/// the numerical groups.
+fn spatial_residuals(step: &Step<f64>, vars: &Unknowns, out: &mut Vec<f64>) {
+    match step {
+        Step::Rssr {
+            from,
+            rocker,
+            l,
+            out: b,
+            ..
+        } => {
+            let q = vars.pt(*b);
+            out.extend([
+                (q - vars.pt(*from)).norm() - l,
+                (q - rocker.c).norm() - rocker.r,
+                (q - rocker.c).dot(&rocker.w),
+            ]);
+        }
+        Step::PointOnLine {
+            from,
+            through,
+            toward,
+            dir,
+            l,
+            out: p,
+            ..
+        } => {
+            let h = vars.pt(*through);
+            let u = match toward {
+                Some(t) => (vars.pt(*t) - h).normalize(),
+                None => *dir,
+            };
+            let [o1, o2] = off_line(u, vars.pt(*p) - h);
+            out.extend([o1, o2, (vars.pt(*p) - vars.pt(*from)).norm() - l]);
+        }
+        Step::Rigid {
+            base,
+            dc,
+            ds,
+            lift,
+            plane,
+            out: o,
+            ..
+        } => {
+            let (a, _) = in_plane(plane, &vars.pt(base[0]));
+            let (b, _) = in_plane(plane, &vars.pt(base[1]));
+            let (q, h) = in_plane(plane, &vars.pt(*o));
+            let e = b - a;
+            let n = e.norm();
+            let w = q - a;
+            // Projections of the point on the link and across it.
+            out.extend([w.dot(&e) / n - dc, (e.x * w.y - e.y * w.x) / n - ds, h - lift]);
+        }
+        Step::Rigid3 { frame, at, out: o } => {
+            let (o0, x1, y1) = (vars.pt(frame[0]), vars.pt(frame[1]), vars.pt(frame[2]));
+            let e1 = (x1 - o0).normalize();
+            let e3 = e1.cross(&(y1 - o0)).normalize();
+            let e2 = e3.cross(&e1);
+            let w = vars.pt(*o) - o0;
+            out.extend([w.dot(&e1) - at.x, w.dot(&e2) - at.y, w.dot(&e3) - at.z]);
+        }
+        Step::Offset { from, by, out: o } => {
+            let d = vars.pt(*o) - vars.pt(*from) - by;
+            out.extend([d.x, d.y, d.z]);
+        }
+        Step::Newton(g) => newton_residuals(g, vars, out),
+        Step::Crank { .. } | Step::Rrr { .. } | Step::Rrp { .. } | Step::Rpr { .. } => {
+            unreachable!("residuals of step_residuals")
+        }
+    }
+}
+
+/// A numerical group's closures, and for a planar one every unknown point
+/// in its plane.
+fn newton_residuals(g: &NewtonGroup<f64>, vars: &Unknowns, out: &mut Vec<f64>) {
+    for c in &g.closures {
+        let p = |r: &PointRef| match r {
+            PointRef::Unknown(k) => vars.pt(g.outs[*k]),
+            PointRef::Known(s) => vars.pt(*s),
+        };
+        match c {
+            Closure::Distance { a, b, l } => {
                 if g.dim == 2 {
-                    for &o in &g.outs {
-                        out.push(in_plane(&g.plane, &pt(o)).1);
-                    }
+                    let (pa, _) = in_plane(&g.plane, &p(a));
+                    let (pb, _) = in_plane(&g.plane, &p(b));
+                    out.push((pa - pb).norm() - l);
+                } else {
+                    out.push((p(a) - p(b)).norm() - l);
                 }
             }
+            Closure::OnLine { p: k, h, t } => {
+                let q = vars.pt(g.outs[*k]);
+                if g.dim == 2 {
+                    let (q, _) = in_plane(&g.plane, &q);
+                    let (h, _) = in_plane(&g.plane, &vars.pt(*h));
+                    let (t, _) = in_plane(&g.plane, &vars.pt(*t));
+                    let u = (t - h).normalize();
+                    out.push(u.x * (q - h).y - u.y * (q - h).x);
+                } else {
+                    let (h, t) = (vars.pt(*h), vars.pt(*t));
+                    let u = (t - h).normalize();
+                    out.extend(off_line(u, q - h));
+                }
+            }
+        }
+    }
+    if g.dim == 2 {
+        for &o in &g.outs {
+            out.push(in_plane(&g.plane, &vars.pt(o)).1);
         }
     }
 }

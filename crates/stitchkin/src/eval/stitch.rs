@@ -303,6 +303,52 @@ fn transfers(ty: StitchType) -> Vec<String> {
     }
 }
 
+/// A thread's columns: per needle thread (split at B) η_B, P'_B and
+/// P'_eye; per looper thread η and P'; the needle loop's carry angle γ.
+fn thread_columns(th: &RequiredThread, pprime: &[f64], n: usize, columns: &mut Vec<Column>) {
+    let push = |columns: &mut Vec<Column>, col: &str, values: Vec<f64>| {
+        columns.push(Column {
+            name: format!("{}.{col}", th.name),
+            values,
+        });
+    };
+    match &th.travel_mm {
+        Some(s) => {
+            push(columns, "eta_B_mm", (0..n).map(|k| th.eta_mm[k] + s[k]).collect());
+            push(columns, "Pprime_B_mm", pprime.to_vec());
+            push(columns, "Pprime_eye_mm", th.pprime_mm[..n].to_vec());
+        }
+        None => {
+            push(columns, "eta_mm", th.eta_mm[..n].to_vec());
+            push(columns, "Pprime_mm", pprime.to_vec());
+        }
+    }
+    if let Some(g) = &th.gamma_deg {
+        push(columns, "gamma_deg", g[..n].to_vec());
+    }
+}
+
+/// A thread's events at model φ (φ_c + `cyclogram_zero_deg`) with the jump
+/// of η at each.
+fn events(th: &RequiredThread, cyclogram_zero_deg: f64) -> Vec<StitchEvent> {
+    // At the lock P' gives back the stitch's thread when the regulator
+    // draws it in its own window.
+    let lock_back = if th.regulator_window_deg.is_some() {
+        th.per_stitch_mm
+    } else {
+        0.0
+    };
+    th.events
+        .iter()
+        .map(|e| StitchEvent {
+            name: e.name.clone(),
+            phi_deg: wrap_deg(e.phi_c_deg + cyclogram_zero_deg),
+            kind: e.kind,
+            jump_mm: e.eta_right_mm - e.eta_left_mm + if e.kind == EventKind::Lock { lock_back } else { 0.0 },
+        })
+        .collect()
+}
+
 /// Adds the stitch columns and returns the summary. Per needle thread THR
 /// (split at B): `THR.eta_B_mm`, `THR.Pprime_B_mm`, `THR.Pprime_eye_mm`,
 /// `THR.gamma_deg`; per looper thread: `THR.eta_mm`, `THR.Pprime_mm`; and
@@ -328,30 +374,11 @@ pub(crate) fn stitch_columns(
     for (i, (th, path)) in req.threads.iter().zip(&setup.paths).enumerate() {
         let name = &th.name;
         let compared = &prepared.compared[i];
-        let push = |columns: &mut Vec<Column>, col: &str, values: Vec<f64>| {
-            columns.push(Column {
-                name: format!("{name}.{col}"),
-                values,
-            });
-        };
         // A needle thread is measured at B: P'_B = P'_eye + S − S(φ0).
         let at_b = th.travel_mm.is_some();
         let pprime = pprime_at_split(th, n);
         let split = if at_b { SplitPoint::B } else { SplitPoint::Eye };
-        match &th.travel_mm {
-            Some(s) => {
-                push(columns, "eta_B_mm", (0..n).map(|k| th.eta_mm[k] + s[k]).collect());
-                push(columns, "Pprime_B_mm", pprime.clone());
-                push(columns, "Pprime_eye_mm", th.pprime_mm[..n].to_vec());
-            }
-            None => {
-                push(columns, "eta_mm", th.eta_mm[..n].to_vec());
-                push(columns, "Pprime_mm", pprime.clone());
-            }
-        }
-        if let Some(g) = &th.gamma_deg {
-            push(columns, "gamma_deg", g[..n].to_vec());
-        }
+        thread_columns(th, &pprime, n, columns);
         let mut m = None;
         if let Some(path) = path {
             // The path's take-up at its split: B for a path that ends at
@@ -370,7 +397,10 @@ pub(crate) fn stitch_columns(
                 }
             };
             let d: Vec<f64> = (0..n).map(|k| p[k] - pprime[k]).collect();
-            push(columns, "D_mm", d);
+            columns.push(Column {
+                name: format!("{name}.D_mm"),
+                values: d,
+            });
             m = mismatch_on_cycle(phis, &p, &pprime, compared, setup.tolerance_mm, !lean);
             if let (true, Some(s), Some(lp)) = (p_at_b, &th.travel_mm, &th.loop_mm) {
                 let bound = bound_curve(phis, &s[..n], &lp[..n], phi0_deg);
@@ -381,13 +411,6 @@ pub(crate) fn stitch_columns(
         let kmax = (0..n)
             .max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a)))
             .unwrap_or(0);
-        // At the lock P' gives back the stitch's thread when the regulator
-        // draws it in its own window.
-        let lock_back = if th.regulator_window_deg.is_some() {
-            th.per_stitch_mm
-        } else {
-            0.0
-        };
         threads.push(StitchThreadSummary {
             thread: name.clone(),
             role: th.role,
@@ -402,16 +425,7 @@ pub(crate) fn stitch_columns(
             max_pprime_mm: pprime[kmax],
             phi_at_max_pprime_deg: wrap_deg(phis[kmax]),
             max_pprime_eye_mm: at_b.then(|| th.pprime_mm[..n].iter().cloned().fold(f64::MIN, f64::max)),
-            events: th
-                .events
-                .iter()
-                .map(|e| StitchEvent {
-                    name: e.name.clone(),
-                    phi_deg: from_c(e.phi_c_deg),
-                    kind: e.kind,
-                    jump_mm: e.eta_right_mm - e.eta_left_mm + if e.kind == EventKind::Lock { lock_back } else { 0.0 },
-                })
-                .collect(),
+            events: events(th, setup.cyclogram_zero_deg),
             mismatch: m,
         });
     }

@@ -484,10 +484,10 @@ impl Chart {
         s
     }
 
-    /// Draws the plot area from `py0` down to `bottom` (the x-axis label
-    /// included) with a legend column `legend_w` wide; `id` names its clip
-    /// path and gradient (unique within a document).
-    fn draw(&self, s: &mut String, py0: f64, bottom: f64, legend_w: f64, id: &str) {
+    /// The plot area from `py0` down to `bottom` less the axis label, left
+    /// of a legend column `legend_w` wide, and the axes' ranges and ticks:
+    /// the data's (or the fixed ranges), or one scale for both axes.
+    fn plot_area(&self, py0: f64, bottom: f64, legend_w: f64) -> Plot {
         let w = self.width;
         let (px0, px1) = (MARGIN_L, w - legend_w - MARGIN_R);
         let py1 = bottom - MARGIN_B;
@@ -524,11 +524,28 @@ impl Chart {
                 (_, None) => nice_axis(ylo, yhi, 6),
             };
         }
-        let sx = |x: f64| px0 + (x - x0) / (x1 - x0) * (px1 - px0);
-        let sy = |y: f64| py1 - (y - y0) / (y1 - y0) * (py1 - py0);
-        let clamp_x = |x: f64| x.clamp(x0, x1);
-        let clamp_y = |y: f64| y.clamp(y0, y1);
+        Plot {
+            px0,
+            px1,
+            py0,
+            py1,
+            x0,
+            x1,
+            y0,
+            y1,
+            xs,
+            xt,
+            ys,
+            yt,
+        }
+    }
 
+    /// Draws the plot area from `py0` down to `bottom` (the x-axis label
+    /// included) with a legend column `legend_w` wide; `id` names its clip
+    /// path and gradient (unique within a document).
+    fn draw(&self, s: &mut String, py0: f64, bottom: f64, legend_w: f64, id: &str) {
+        let p = self.plot_area(py0, bottom, legend_w);
+        let (px0, px1, py1) = (p.px0, p.px1, p.py1);
         let _ = writeln!(
             s,
             r##"<rect class="plot-area" x="{}" y="{}" width="{}" height="{}" fill="none" stroke="#999"/>"##,
@@ -537,7 +554,31 @@ impl Chart {
             n(px1 - px0),
             n(py1 - py0)
         );
-        // Shading under everything else.
+        self.draw_shading(s, &p);
+        self.draw_grid(s, &p);
+        let _ = writeln!(
+            s,
+            r#"<clipPath id="{id}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>"#,
+            n(px0),
+            n(py0),
+            n(px1 - px0),
+            n(py1 - py0)
+        );
+        let z_range = self.heat.as_ref().and_then(Heat::z_range);
+        self.draw_heat(s, &p, id, z_range);
+        self.draw_areas(s, &p, id);
+        self.draw_axis_labels(s, &p, bottom);
+        self.draw_data(s, &p, id);
+        self.draw_legend(s, &p, id, z_range);
+    }
+
+    /// Shading under everything else: y bands, then x stretches.
+    fn draw_shading(&self, s: &mut String, p: &Plot) {
+        let (px0, px1, py0, py1) = (p.px0, p.px1, p.py0, p.py1);
+        let sx = |x: f64| p.sx(x);
+        let sy = |y: f64| p.sy(y);
+        let clamp_x = |x: f64| x.clamp(p.x0, p.x1);
+        let clamp_y = |y: f64| y.clamp(p.y0, p.y1);
         for b in &self.y_bands {
             let (a, c) = (clamp_y(b.from.min(b.to)), clamp_y(b.from.max(b.to)));
             if !(a.is_finite() && c.is_finite()) || c <= a {
@@ -572,8 +613,14 @@ impl Chart {
                 escape(&sh.label)
             );
         }
-        // Grid, ticks and tick labels.
-        for &t in &xt {
+    }
+
+    /// Grid lines, ticks and tick labels.
+    fn draw_grid(&self, s: &mut String, p: &Plot) {
+        let (px0, px1, py0, py1) = (p.px0, p.px1, p.py0, p.py1);
+        let sx = |x: f64| p.sx(x);
+        let sy = |y: f64| p.sy(y);
+        for &t in &p.xt {
             let x = sx(t);
             let _ = writeln!(
                 s,
@@ -587,10 +634,10 @@ impl Chart {
                 r##"<text class="tick x" x="{}" y="{}" text-anchor="middle" fill="#333">{}</text>"##,
                 n(x),
                 n(py1 + 16.0),
-                escape(&tick_label(t, xs))
+                escape(&tick_label(t, p.xs))
             );
         }
-        for &t in &yt {
+        for &t in &p.yt {
             let y = sy(t);
             let _ = writeln!(
                 s,
@@ -604,19 +651,15 @@ impl Chart {
                 r##"<text class="tick y" x="{}" y="{}" text-anchor="end" fill="#333">{}</text>"##,
                 n(px0 - 6.0),
                 n(y + 4.0),
-                escape(&tick_label(t, ys))
+                escape(&tick_label(t, p.ys))
             );
         }
-        let _ = writeln!(
-            s,
-            r#"<clipPath id="{id}"><rect x="{}" y="{}" width="{}" height="{}"/></clipPath>"#,
-            n(px0),
-            n(py0),
-            n(px1 - px0),
-            n(py1 - py0)
-        );
-        // The heat map covers the grid.
-        let z_range = self.heat.as_ref().and_then(Heat::z_range);
+    }
+
+    /// The heat map, covering the grid.
+    fn draw_heat(&self, s: &mut String, p: &Plot, id: &str, z_range: Option<(f64, f64)>) {
+        let sx = |x: f64| p.sx(x);
+        let sy = |y: f64| p.sy(y);
         if let (Some(h), Some((zlo, zhi))) = (&self.heat, z_range) {
             let (ex, ey) = (cell_edges(&h.xs), cell_edges(&h.ys));
             let _ = writeln!(s, r#"<g clip-path="url(#{id})" shape-rendering="crispEdges">"#);
@@ -645,6 +688,13 @@ impl Chart {
             }
             s.push_str("</g>\n");
         }
+    }
+
+    /// Filled areas and the dashed reference lines.
+    fn draw_areas(&self, s: &mut String, p: &Plot, id: &str) {
+        let (px0, px1) = (p.px0, p.px1);
+        let sx = |x: f64| p.sx(x);
+        let sy = |y: f64| p.sy(y);
         for a in &self.areas {
             let pts: Vec<String> = a
                 .upper
@@ -664,7 +714,7 @@ impl Chart {
             }
         }
         for &v in &self.y_lines {
-            if v.is_finite() && v >= y0 && v <= y1 {
+            if v.is_finite() && v >= p.y0 && v <= p.y1 {
                 let _ = writeln!(
                     s,
                     r##"<line class="ref" x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="#c0392b" stroke-dasharray="2 3"/>"##,
@@ -674,6 +724,11 @@ impl Chart {
                 );
             }
         }
+    }
+
+    /// The axes' labels.
+    fn draw_axis_labels(&self, s: &mut String, p: &Plot, bottom: f64) {
+        let (px0, px1, py0, py1) = (p.px0, p.px1, p.py0, p.py1);
         let _ = writeln!(
             s,
             r#"<text class="axis-label x" x="{}" y="{}" text-anchor="middle">{}</text>"#,
@@ -688,7 +743,12 @@ impl Chart {
             x = n(22.0),
             y = n((py0 + py1) / 2.0)
         );
-        // Data, clipped to the plot area.
+    }
+
+    /// Data, clipped to the plot area: the series, then the marked points.
+    fn draw_data(&self, s: &mut String, p: &Plot, id: &str) {
+        let sx = |x: f64| p.sx(x);
+        let sy = |y: f64| p.sy(y);
         for se in &self.series {
             let pts: Vec<String> = se
                 .points
@@ -726,7 +786,11 @@ impl Chart {
                 escape(&m.label)
             );
         }
-        // Legend, right of the plot: the colour bar, then the entries.
+    }
+
+    /// Legend, right of the plot: the colour bar, then the entries.
+    fn draw_legend(&self, s: &mut String, p: &Plot, id: &str, z_range: Option<(f64, f64)>) {
+        let (px1, py0, py1) = (p.px1, p.py0, p.py1);
         let lx = px1 + 16.0;
         let mut ly = py0 + 8.0;
         let missing = self.heat.as_ref().filter(|h| h.has_missing());
@@ -811,6 +875,35 @@ impl Chart {
     }
 }
 
+/// A chart's plot area on the page (px) and its axes: ranges, tick steps
+/// and ticks (data units).
+struct Plot {
+    px0: f64,
+    px1: f64,
+    py0: f64,
+    py1: f64,
+    x0: f64,
+    x1: f64,
+    y0: f64,
+    y1: f64,
+    xs: f64,
+    xt: Vec<f64>,
+    ys: f64,
+    yt: Vec<f64>,
+}
+
+impl Plot {
+    /// Data x to px.
+    fn sx(&self, x: f64) -> f64 {
+        self.px0 + (x - self.x0) / (self.x1 - self.x0) * (self.px1 - self.px0)
+    }
+
+    /// Data y to px (up).
+    fn sy(&self, y: f64) -> f64 {
+        self.py1 - (y - self.y0) / (self.y1 - self.y0) * (self.py1 - self.py0)
+    }
+}
+
 /// Charts stacked as panels of one figure, under one title: each panel's
 /// own title heads it, and the panels share the legend column's width so
 /// their plot areas line up.
@@ -883,6 +976,53 @@ pub struct Surface {
     pub height: f64,
 }
 
+/// A surface's axis: its range, tick step and ticks.
+type SurfaceAxis = (f64, f64, f64, Vec<f64>);
+
+/// The oblique view of a surface's box [x0, x1]×[y0, y1]×[z0, z1]: x to
+/// the right, y back and up to the right, z up, filling the page from
+/// `left` to the colour bar and from the titles to `bottom`.
+struct Oblique {
+    x: SurfaceAxis,
+    y: SurfaceAxis,
+    z: SurfaceAxis,
+    left: f64,
+    bottom: f64,
+    span_x: f64,
+    span_z: f64,
+    depth_x: f64,
+    depth_y: f64,
+}
+
+impl Oblique {
+    /// The page point of (x, y, z), px.
+    fn at(&self, x: f64, y: f64, z: f64) -> (f64, f64) {
+        let (x0, x1, y0, y1, z0, z1) = (self.x.0, self.x.1, self.y.0, self.y.1, self.z.0, self.z.1);
+        let (u, v, t) = ((x - x0) / (x1 - x0), (y - y0) / (y1 - y0), (z - z0) / (z1 - z0));
+        (
+            self.left + u * self.span_x + v * self.depth_x,
+            self.bottom - t * self.span_z - v * self.depth_y,
+        )
+    }
+}
+
+/// A page point as SVG `x,y`.
+fn pt(q: (f64, f64)) -> String {
+    format!("{},{}", n(q.0), n(q.1))
+}
+
+/// A line from `a` to `b`, px.
+fn line(s: &mut String, class: &str, a: (f64, f64), b: (f64, f64), stroke: &str) {
+    let _ = writeln!(
+        s,
+        r#"<line class="{class}" x1="{}" y1="{}" x2="{}" y2="{}" stroke="{stroke}"/>"#,
+        n(a.0),
+        n(a.1),
+        n(b.0),
+        n(b.1)
+    );
+}
+
 impl Surface {
     /// The SVG document.
     pub fn render(&self) -> String {
@@ -897,7 +1037,52 @@ impl Surface {
                 .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)))
         };
         let all: Vec<f64> = self.z_values.iter().flatten().copied().collect();
-        let ((zl, zh), (xl, xh), (yl, yh)) = (fin(&all), fin(&self.xs), fin(&self.ys));
+        let (zl, zh) = fin(&all);
+        // The projection: the box fills the area left of the colour bar.
+        let (left, right, bottom) = (MARGIN_L + 10.0, w - 150.0 - 70.0, h - 50.0);
+        let (depth_x, depth_y) = (0.30 * (right - left), 0.32 * (bottom - top));
+        let (x, y, z) = self.axes((zl, zh), fin(&self.xs), fin(&self.ys));
+        let o = Oblique {
+            x,
+            y,
+            z,
+            left,
+            bottom,
+            span_x: right - left - depth_x,
+            span_z: bottom - top - depth_y,
+            depth_x,
+            depth_y,
+        };
+        self.draw_box(&mut s, &o);
+        self.draw_tick_labels(&mut s, &o);
+        self.draw_mesh(&mut s, &o, (zl, zh));
+        if zh >= zl {
+            let (lo, hi) = if zh - zl > 1e-12 {
+                (zl, zh)
+            } else {
+                (zl - 0.5, zh + 0.5)
+            };
+            colorbar(
+                &mut s,
+                "surface-ramp",
+                w - 150.0,
+                top,
+                (bottom - top) * 0.7,
+                (lo, hi),
+                &self.z.label,
+            );
+        }
+        s.push_str("</svg>\n");
+        s
+    }
+
+    /// The x, y and z axes over the data's ranges (or the fixed ones).
+    fn axes(
+        &self,
+        (zl, zh): (f64, f64),
+        (xl, xh): (f64, f64),
+        (yl, yh): (f64, f64),
+    ) -> (SurfaceAxis, SurfaceAxis, SurfaceAxis) {
         let axis = |a: &Axis, lo: f64, hi: f64, target: usize| match (a.range, a.step) {
             (Some(r), Some(s)) => (r.0, r.1, s, ticks_in(r.0, r.1, s)),
             (Some(r), None) => {
@@ -906,38 +1091,26 @@ impl Surface {
             }
             _ => nice_axis(lo, hi, target),
         };
-        let (x0, x1, xs_, xt) = axis(&self.x, xl, xh, 8);
-        let (y0, y1, ys_, yt) = match self.y.range {
-            Some(_) => axis(&self.y, yl, yh, 5),
-            // The depth axis spans the grid exactly, ticks inside.
-            None if yh > yl => {
-                let s = nice_step(yh - yl, 5);
-                (yl, yh, s, ticks_in(yl, yh, s))
-            }
-            None => nice_axis(yl, yh, 5),
-        };
-        let (z0, z1, zs_, zt) = axis(&self.z, zl, zh, 5);
-        // The projection: the box [x0,x1]×[y0,y1]×[z0,z1] fills the area
-        // left of the colour bar.
-        let (left, right, bottom) = (MARGIN_L + 10.0, w - 150.0 - 70.0, h - 50.0);
-        let (depth_x, depth_y) = (0.30 * (right - left), 0.32 * (bottom - top));
-        let (span_x, span_z) = (right - left - depth_x, bottom - top - depth_y);
-        let p = |x: f64, y: f64, z: f64| {
-            let (u, v, t) = ((x - x0) / (x1 - x0), (y - y0) / (y1 - y0), (z - z0) / (z1 - z0));
-            (left + u * span_x + v * depth_x, bottom - t * span_z - v * depth_y)
-        };
-        let pt = |q: (f64, f64)| format!("{},{}", n(q.0), n(q.1));
-        let line = |s: &mut String, class: &str, a: (f64, f64), b: (f64, f64), stroke: &str| {
-            let _ = writeln!(
-                s,
-                r#"<line class="{class}" x1="{}" y1="{}" x2="{}" y2="{}" stroke="{stroke}"/>"#,
-                n(a.0),
-                n(a.1),
-                n(b.0),
-                n(b.1)
-            );
-        };
-        // The floor and the two back walls, with grid lines.
+        (
+            axis(&self.x, xl, xh, 8),
+            match self.y.range {
+                Some(_) => axis(&self.y, yl, yh, 5),
+                // The depth axis spans the grid exactly, ticks inside.
+                None if yh > yl => {
+                    let s = nice_step(yh - yl, 5);
+                    (yl, yh, s, ticks_in(yl, yh, s))
+                }
+                None => nice_axis(yl, yh, 5),
+            },
+            axis(&self.z, zl, zh, 5),
+        )
+    }
+
+    /// The floor and the two back walls, with grid lines.
+    fn draw_box(&self, s: &mut String, o: &Oblique) {
+        let (x0, x1, y0, y1, z0, z1) = (o.x.0, o.x.1, o.y.0, o.y.1, o.z.0, o.z.1);
+        let p = |x: f64, y: f64, z: f64| o.at(x, y, z);
+        let (x, y, z) = (&o.x, &o.y, &o.z);
         for (class, corners) in [
             ("floor", [p(x0, y0, z0), p(x1, y0, z0), p(x1, y1, z0), p(x0, y1, z0)]),
             ("wall", [p(x0, y1, z0), p(x1, y1, z0), p(x1, y1, z1), p(x0, y1, z1)]),
@@ -950,48 +1123,54 @@ impl Surface {
                 pts.join(" ")
             );
         }
-        for &t in &xt {
-            line(&mut s, "grid", p(t, y0, z0), p(t, y1, z0), "#e4e4e4");
-            line(&mut s, "grid", p(t, y1, z0), p(t, y1, z1), "#e4e4e4");
+        for &t in &x.3 {
+            line(s, "grid", p(t, y0, z0), p(t, y1, z0), "#e4e4e4");
+            line(s, "grid", p(t, y1, z0), p(t, y1, z1), "#e4e4e4");
         }
-        for &t in &yt {
-            line(&mut s, "grid", p(x0, t, z0), p(x1, t, z0), "#e4e4e4");
-            line(&mut s, "grid", p(x0, t, z0), p(x0, t, z1), "#e4e4e4");
+        for &t in &y.3 {
+            line(s, "grid", p(x0, t, z0), p(x1, t, z0), "#e4e4e4");
+            line(s, "grid", p(x0, t, z0), p(x0, t, z1), "#e4e4e4");
         }
-        for &t in &zt {
-            line(&mut s, "grid", p(x0, y0, t), p(x0, y1, t), "#e4e4e4");
-            line(&mut s, "grid", p(x0, y1, t), p(x1, y1, t), "#e4e4e4");
+        for &t in &z.3 {
+            line(s, "grid", p(x0, y0, t), p(x0, y1, t), "#e4e4e4");
+            line(s, "grid", p(x0, y1, t), p(x1, y1, t), "#e4e4e4");
         }
-        // Tick labels on the front edge (x), the right floor edge (y) and
-        // the front left edge (z).
-        for &t in &xt {
+    }
+
+    /// Tick labels on the front edge (x), the right floor edge (y) and
+    /// the front left edge (z), and the axis labels.
+    fn draw_tick_labels(&self, s: &mut String, o: &Oblique) {
+        let (x0, x1, y0, y1, z0, z1) = (o.x.0, o.x.1, o.y.0, o.y.1, o.z.0, o.z.1);
+        let p = |x: f64, y: f64, z: f64| o.at(x, y, z);
+        let (x, y, z) = (&o.x, &o.y, &o.z);
+        for &t in &x.3 {
             let (a, b) = p(t, y0, z0);
             let _ = writeln!(
                 s,
                 r##"<text class="tick x" x="{}" y="{}" text-anchor="middle" fill="#333">{}</text>"##,
                 n(a),
                 n(b + 16.0),
-                escape(&tick_label(t, xs_))
+                escape(&tick_label(t, x.2))
             );
         }
-        for &t in &yt {
+        for &t in &y.3 {
             let (a, b) = p(x1, t, z0);
             let _ = writeln!(
                 s,
                 r##"<text class="tick y" x="{}" y="{}" fill="#333">{}</text>"##,
                 n(a + 14.0),
                 n(b + 8.0),
-                escape(&tick_label(t, ys_))
+                escape(&tick_label(t, y.2))
             );
         }
-        for &t in &zt {
+        for &t in &z.3 {
             let (a, b) = p(x0, y0, t);
             let _ = writeln!(
                 s,
                 r##"<text class="tick z" x="{}" y="{}" text-anchor="end" fill="#333">{}</text>"##,
                 n(a - 6.0),
                 n(b + 4.0),
-                escape(&tick_label(t, zs_))
+                escape(&tick_label(t, z.2))
             );
         }
         let (ax, ay) = p((x0 + x1) / 2.0, y0, z0);
@@ -1018,7 +1197,12 @@ impl Surface {
             x = n(cx),
             y = n(cy)
         );
-        // The surface, back to front.
+    }
+
+    /// The surface, back to front: facets filled by z on [`ramp`] from
+    /// `zl` to `zh`, with the mesh over them.
+    fn draw_mesh(&self, s: &mut String, o: &Oblique, (zl, zh): (f64, f64)) {
+        let p = |x: f64, y: f64, z: f64| o.at(x, y, z);
         let z = |i: usize, j: usize| self.z_values.get(j).and_then(|r| r.get(i)).copied().unwrap_or(f64::NAN);
         let (ni, nj) = (self.xs.len(), self.ys.len().min(self.z_values.len()));
         let edge = |s: &mut String, j: usize| {
@@ -1070,7 +1254,7 @@ impl Surface {
                     let (a, b) = (z(i, j), z(i, j + 1));
                     if a.is_finite() && b.is_finite() {
                         line(
-                            &mut s,
+                            s,
                             "mesh",
                             p(self.xs[i], self.ys[j], a),
                             p(self.xs[i], self.ys[j + 1], b),
@@ -1078,28 +1262,10 @@ impl Surface {
                         );
                     }
                 }
-                edge(&mut s, j + 1);
+                edge(s, j + 1);
             }
-            edge(&mut s, 0);
+            edge(s, 0);
         }
-        if zh >= zl {
-            let (lo, hi) = if zh - zl > 1e-12 {
-                (zl, zh)
-            } else {
-                (zl - 0.5, zh + 0.5)
-            };
-            colorbar(
-                &mut s,
-                "surface-ramp",
-                w - 150.0,
-                top,
-                (bottom - top) * 0.7,
-                (lo, hi),
-                &self.z.label,
-            );
-        }
-        s.push_str("</svg>\n");
-        s
     }
 }
 

@@ -381,6 +381,138 @@ impl NeedlePiece {
     }
 }
 
+/// An error of needle `name`.
+fn needle_err<T>(name: &str, msg: String) -> Result<T, Error> {
+    Err(Error::Stitch(format!("needle {name}: {msg}")))
+}
+
+/// The needle's line and when its eye leaves and reaches the material top
+/// (φ_out, φ_in), warning when φ_c = 0 is not the needle's BDC or the eye
+/// leaves its line.
+fn needle_line(
+    needle: &NeedleSpec,
+    tilt_deg: f64,
+    m: f64,
+    warnings: &mut Vec<String>,
+) -> Result<(NeedleLine, f64, f64), Error> {
+    let name = &needle.name;
+    let line = NeedleLine::new(&needle.eye, tilt_deg, m);
+    if ![line.s_b, line.x_j, line.s_max, line.n0.y]
+        .iter()
+        .all(|v| v.is_finite())
+    {
+        return needle_err(name, "the eye motion gives non-finite positions".into());
+    }
+    let Some((phi_out, phi_in)) = line.crossings() else {
+        return needle_err(
+            name,
+            format!(
+                "the eye never leaves the material: at TDC it is {:.3} mm along the needle above the plate top \
+                 (s_B), the material top is at {:.3} mm (l_m); raise the eye at TDC or give thinner material",
+                line.s_b, line.l_m
+            ),
+        );
+    };
+    // φ_c = 0 is the needle's BDC (§2); N1 and the periodicity rely on it.
+    let s0 = line.travel(0.0);
+    if line.s_max - s0 > 1e-3 {
+        warnings.push(format!(
+            "needle {name}: φ_c = 0 is not the needle's BDC (S(0) = {s0:.3} mm, stroke {:.3} mm); set \
+             cyclogram_zero_deg to the needle BDC",
+            line.s_max
+        ));
+    }
+    if line.off_line_mm > 0.01 {
+        warnings.push(format!(
+            "needle {name}: the eye leaves its line by up to {:.3} mm; the needle tilt β = {tilt_deg}° does not \
+             match the eye's motion",
+            line.off_line_mm
+        ));
+    }
+    Ok((line, phi_out, phi_in))
+}
+
+/// The catch φ1, declared or derived (the looper's catching point crosses
+/// the needle line x_j going up), and the derived one.
+fn catch_angle(
+    needle: &NeedleSpec,
+    looper: &LooperSpec,
+    x_j: f64,
+    warnings: &mut Vec<String>,
+) -> Result<(f64, Option<f64>), Error> {
+    let name = &needle.name;
+    let l = |phi: f64| looper.eye.at(phi).x;
+    let phi_catch_derived = derived_catch(&looper.eye, x_j);
+    let phi_catch = match (needle.catch_deg, phi_catch_derived) {
+        (Some(c), _) if !(c.is_finite() && (0.0..360.0).contains(&c)) => {
+            return needle_err(name, format!("the declared catch φ1 = {c}° is not in [0°, 360°)"));
+        }
+        (Some(c), _) => {
+            let miss = l(c) - x_j;
+            if miss.abs() > 0.5 {
+                warnings.push(format!(
+                    "needle {name}: at the declared catch φ1 = {c}° the looper's catching point is {miss:.3} mm \
+                     from the needle line (x = {x_j:.3} mm)"
+                ));
+            }
+            c
+        }
+        (None, Some(c)) => c,
+        (None, None) => {
+            let (lo, hi) = (0..GRID_N)
+                .map(|k| l(grid_deg(k)))
+                .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
+            return needle_err(
+                name,
+                format!(
+                    "the looper never reaches the needle: its catching point moves in x = {lo:.3} … {hi:.3} mm and \
+                     the needle line is at x = {x_j:.3} mm; move the looper or the needle, or declare catch_deg"
+                ),
+            );
+        }
+    };
+    Ok((phi_catch, phi_catch_derived))
+}
+
+/// The drop φ4 (the lock): declared (checked against the derived one,
+/// §4.4), or derived from the carry.
+fn drop_angle(
+    needle: &NeedleSpec,
+    derived: Option<f64>,
+    phi_far: f64,
+    warnings: &mut Vec<String>,
+) -> Result<f64, Error> {
+    let name = &needle.name;
+    match (needle.drop_deg, derived) {
+        (Some(d), _) if !(d.is_finite() && (0.0..360.0).contains(&d)) => {
+            needle_err(name, format!("the declared drop φ4 = {d}° is not in [0°, 360°)"))
+        }
+        (Some(d), derived) => {
+            match derived {
+                Some(dd) if (d - dd).abs() > 10.0 => warnings.push(format!(
+                    "needle {name}: the declared drop φ4 = {d:.2}° differs from the derived drop {dd:.2}° by \
+                     {:.2}° (§4.4)",
+                    (d - dd).abs()
+                )),
+                None => warnings.push(format!(
+                    "needle {name}: the looper's nose does not come back to the loop within the cycle; the \
+                     declared drop φ4 = {d:.2}° cannot be checked (§4.4)"
+                )),
+                _ => {}
+            }
+            Ok(d)
+        }
+        (None, Some(d)) => Ok(d),
+        (None, None) => needle_err(
+            name,
+            format!(
+                "the looper's nose never comes back to the held loop after its far extreme (φ_c = {phi_far:.2}°), \
+                 so the drop cannot be derived; declare drop_deg or raise γmax"
+            ),
+        ),
+    }
+}
+
 /// One needle thread's consumption contour (§5.1, §5.2).
 #[derive(Debug, Clone)]
 pub struct NeedleThread {
@@ -418,7 +550,6 @@ impl NeedleThread {
         feed: Feed,
     ) -> Result<NeedleThread, Error> {
         let name = &needle.name;
-        let err = |msg: String| Err(Error::Stitch(format!("needle {name}: {msg}")));
         let section = LooperSection {
             k: looper.k_mm,
             a: looper.a_mm,
@@ -429,143 +560,76 @@ impl NeedleThread {
             .all(|v| v.is_finite() && *v >= 0.0)
             || section.d_l() <= 0.0
         {
-            return err(format!(
-                "the looper section k = {}, a = {}, b = {} mm must be ≥ 0 with k + b + a > 0 (seed 004: 4, 1, 2.5)",
-                section.k, section.a, section.b
-            ));
+            return needle_err(
+                name,
+                format!(
+                    "the looper section k = {}, a = {}, b = {} mm must be ≥ 0 with k + b + a > 0 (seed 004: 4, 1, 2.5)",
+                    section.k, section.a, section.b
+                ),
+            );
         }
         let gamma_max = looper.gamma_max_rad;
         if !(gamma_max.is_finite() && gamma_max > 0.0 && gamma_max < 0.5 * PI) {
-            return err(format!(
-                "γmax = {gamma_max} rad is out of range; give 0 < γmax < π/2 (seed 004: 0.4–0.8 rad)"
-            ));
+            return needle_err(
+                name,
+                format!("γmax = {gamma_max} rad is out of range; give 0 < γmax < π/2 (seed 004: 0.4–0.8 rad)"),
+            );
         }
-        let line = NeedleLine::new(&needle.eye, tilt_deg, m);
-        if ![line.s_b, line.x_j, line.s_max, line.n0.y]
-            .iter()
-            .all(|v| v.is_finite())
-        {
-            return err("the eye motion gives non-finite positions".into());
-        }
-        let Some((phi_out, phi_in)) = line.crossings() else {
-            return err(format!(
-                "the eye never leaves the material: at TDC it is {:.3} mm along the needle above the plate top \
-                 (s_B), the material top is at {:.3} mm (l_m); raise the eye at TDC or give thinner material",
-                line.s_b, line.l_m
-            ));
-        };
         let mut warnings = Vec::new();
-        // φ_c = 0 is the needle's BDC (§2); N1 and the periodicity rely on it.
-        let s0 = line.travel(0.0);
-        if line.s_max - s0 > 1e-3 {
-            warnings.push(format!(
-                "needle {name}: φ_c = 0 is not the needle's BDC (S(0) = {s0:.3} mm, stroke {:.3} mm); set \
-                 cyclogram_zero_deg to the needle BDC",
-                line.s_max
-            ));
-        }
-        if line.off_line_mm > 0.01 {
-            warnings.push(format!(
-                "needle {name}: the eye leaves its line by up to {:.3} mm; the needle tilt β = {tilt_deg}° does not \
-                 match the eye's motion",
-                line.off_line_mm
-            ));
-        }
-
-        // Catch φ1: declared, or derived.
-        let l = |phi: f64| looper.eye.at(phi).x;
+        let (line, phi_out, phi_in) = needle_line(needle, tilt_deg, m, &mut warnings)?;
         let x_j = line.x_j;
-        let phi_catch_derived = derived_catch(&looper.eye, x_j);
-        let phi_catch = match (needle.catch_deg, phi_catch_derived) {
-            (Some(c), _) if !(c.is_finite() && (0.0..360.0).contains(&c)) => {
-                return err(format!("the declared catch φ1 = {c}° is not in [0°, 360°)"));
-            }
-            (Some(c), _) => {
-                let miss = l(c) - x_j;
-                if miss.abs() > 0.5 {
-                    warnings.push(format!(
-                        "needle {name}: at the declared catch φ1 = {c}° the looper's catching point is {miss:.3} mm \
-                         from the needle line (x = {x_j:.3} mm)"
-                    ));
-                }
-                c
-            }
-            (None, Some(c)) => c,
-            (None, None) => {
-                let (lo, hi) = (0..GRID_N)
-                    .map(|k| l(grid_deg(k)))
-                    .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
-                return err(format!(
-                    "the looper never reaches the needle: its catching point moves in x = {lo:.3} … {hi:.3} mm and \
-                     the needle line is at x = {x_j:.3} mm; move the looper or the needle, or declare catch_deg"
-                ));
-            }
-        };
+        let (phi_catch, phi_catch_derived) = catch_angle(needle, looper, x_j, &mut warnings)?;
         let z_catch = line.eye_at_travel(line.travel(phi_catch)).z;
         if z_catch >= 0.0 {
-            return err(format!(
-                "the eye is {z_catch:.3} mm above the plate top at the catch φ1 = {phi_catch:.2}°, so the looper finds \
-                 no loop; catch earlier (before φ_out = {phi_out:.2}°) or lower the needle"
-            ));
+            return needle_err(
+                name,
+                format!(
+                    "the eye is {z_catch:.3} mm above the plate top at the catch φ1 = {phi_catch:.2}°, so the looper \
+                     finds no loop; catch earlier (before φ_out = {phi_out:.2}°) or lower the needle"
+                ),
+            );
         }
         if phi_catch >= phi_out {
-            return err(format!(
-                "the catch φ1 = {phi_catch:.2}° is not before the eye leaves the material (φ_out = {phi_out:.2}°); \
-                 catch earlier"
-            ));
+            return needle_err(
+                name,
+                format!(
+                    "the catch φ1 = {phi_catch:.2}° is not before the eye leaves the material (φ_out = \
+                     {phi_out:.2}°); catch earlier"
+                ),
+            );
         }
-
-        let (phi_far, _) = max_on_cycle(l, !is_table(&looper.eye));
+        let (phi_far, _) = max_on_cycle(|phi: f64| looper.eye.at(phi).x, !is_table(&looper.eye));
         if phi_far <= phi_catch {
-            return err(format!(
-                "the looper reaches its far extreme (φ_c = {phi_far:.2}°) before it catches the loop \
-                 (φ1 = {phi_catch:.2}°); the catch must be on the carrying stroke (+x)"
-            ));
+            return needle_err(
+                name,
+                format!(
+                    "the looper reaches its far extreme (φ_c = {phi_far:.2}°) before it catches the loop \
+                     (φ1 = {phi_catch:.2}°); the catch must be on the carrying stroke (+x)"
+                ),
+            );
         }
         let carry = LoopCarry::new(&looper.eye, x_j, phi_catch, phi_far, section.d_l(), gamma_max);
         let phi_drop_derived = carry.derived_drop();
-        let phi_drop = match (needle.drop_deg, phi_drop_derived) {
-            (Some(d), _) if !(d.is_finite() && (0.0..360.0).contains(&d)) => {
-                return err(format!("the declared drop φ4 = {d}° is not in [0°, 360°)"));
-            }
-            (Some(d), derived) => {
-                match derived {
-                    Some(dd) if (d - dd).abs() > 10.0 => warnings.push(format!(
-                        "needle {name}: the declared drop φ4 = {d:.2}° differs from the derived drop {dd:.2}° by \
-                         {:.2}° (§4.4)",
-                        (d - dd).abs()
-                    )),
-                    None => warnings.push(format!(
-                        "needle {name}: the looper's nose does not come back to the loop within the cycle; the \
-                         declared drop φ4 = {d:.2}° cannot be checked (§4.4)"
-                    )),
-                    _ => {}
-                }
-                d
-            }
-            (None, Some(d)) => d,
-            (None, None) => {
-                return err(format!(
-                    "the looper's nose never comes back to the held loop after its far extreme (φ_c = {phi_far:.2}°), \
-                     so the drop cannot be derived; declare drop_deg or raise γmax"
-                ));
-            }
-        };
+        let phi_drop = drop_angle(needle, phi_drop_derived, phi_far, &mut warnings)?;
         if phi_drop <= phi_out {
-            return err(format!(
-                "the drop φ4 = {phi_drop:.2}° is not after the eye leaves the material (φ_out = {phi_out:.2}°): the \
-                 loop must hang from hole c when it drops (§5.1); drop later"
-            ));
+            return needle_err(
+                name,
+                format!(
+                    "the drop φ4 = {phi_drop:.2}° is not after the eye leaves the material (φ_out = {phi_out:.2}°): \
+                     the loop must hang from hole c when it drops (§5.1); drop later"
+                ),
+            );
         }
         if phi_drop <= phi_catch {
-            return err(format!(
-                "the drop φ4 = {phi_drop:.2}° is not after the catch φ1 = {phi_catch:.2}°"
-            ));
+            return needle_err(
+                name,
+                format!("the drop φ4 = {phi_drop:.2}° is not after the catch φ1 = {phi_catch:.2}°"),
+            );
         }
         // The needle point must be out of the material while it is fed (§4.1).
         let d_p = needle.point_below_eye_mm;
         if !(d_p.is_finite() && d_p >= 0.0) {
-            return err(format!("point_below_eye_mm = {d_p} must be ≥ 0"));
+            return needle_err(name, format!("point_below_eye_mm = {d_p} must be ≥ 0"));
         }
         let (phi, z) = lowest_point_in_transport(&line, d_p, &feed);
         if z <= m {

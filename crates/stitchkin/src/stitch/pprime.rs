@@ -114,60 +114,15 @@ fn wrap(phi: f64) -> f64 {
 /// locked at φ5. At an event the right limit is given; the events list both
 /// limits.
 pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) -> Result<RequiredTakeUp, Error> {
+    check_spec(spec, phis_c_deg, phi0_c_deg)?;
     let ty = spec.stitch_type;
     let (m, t, tilt) = (spec.m_mm, spec.t_mm, spec.tilt_deg);
-    if !(m.is_finite() && m > 0.0) {
-        return Err(Error::Stitch(format!(
-            "the material thickness m = {m} mm must be > 0 (e.g. 2.5)"
-        )));
-    }
-    if !(tilt.is_finite() && tilt.abs() < 80.0) {
-        return Err(Error::Stitch(format!(
-            "the needle tilt β = {tilt}° must be between −80° and 80° (Altin: 20°)"
-        )));
-    }
-    if let Some(bad) = phis_c_deg.iter().chain([&phi0_c_deg]).find(|p| !p.is_finite()) {
-        return Err(Error::Stitch(format!(
-            "the angle φ_c = {bad} is not a number; give finite angles in degrees"
-        )));
-    }
-    if spec.needles.len() != ty.needles() {
-        return Err(Error::Stitch(format!(
-            "stitch {} has {} needle(s) but {} were given; give one [[stitch.needles]] entry per needle",
-            ty.number(),
-            ty.needles(),
-            spec.needles.len()
-        )));
-    }
     let feed = Feed::new(&spec.feed, t)?;
-    for n in &spec.needles {
-        check_motion(&format!("needle {}: the eye", n.name), &n.eye)?;
-    }
-    check_motion("the looper's catching point", &spec.looper.eye)?;
-    if let Some(u) = spec.upper_looper.as_ref().filter(|_| ty == StitchType::S504) {
-        check_motion("the upper looper's eye", &u.eye)?;
-    }
-    if let Some(sp) = spec.spreader.as_ref().filter(|_| ty == StitchType::S503) {
-        check_motion("the spreader", &sp.eye)?;
-    }
+    check_organs(spec)?;
 
     // Per-stitch consumption by the contour formulas (§6). Chain stitches
     // do not use the overedge width or the edge split.
     let overedge = matches!(ty, StitchType::S503 | StitchType::S504);
-    if overedge && !(spec.a_e_mm.is_finite() && spec.a_e_mm > 0.0) {
-        return Err(Error::Stitch(format!(
-            "stitch {}: the overedge width a_e = {} mm must be > 0 (e.g. 4)",
-            ty.number(),
-            spec.a_e_mm
-        )));
-    }
-    if overedge && !(0.0..=1.0).contains(&spec.edge_split) {
-        return Err(Error::Stitch(format!(
-            "stitch {}: the edge split e = {} must be in [0, 1] (0.5: the looper threads meet mid-edge)",
-            ty.number(),
-            spec.edge_split
-        )));
-    }
     let geometry = StitchGeometry {
         thickness_mm: m,
         stitch_mm: t,
@@ -220,79 +175,29 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
     let phis: Vec<f64> = phis_c_deg.iter().map(|&p| wrap(p)).collect();
     let phi0 = wrap(phi0_c_deg);
     let mut threads = Vec::new();
-    for (name, role, contour, c) in &contours {
+    for entry in &contours {
+        let (name, role, contour, c) = entry;
         let per_stitch_mm = match role {
             ThreadRole::Needle => formula("needle 1"),
             ThreadRole::LowerLooper => formula("lower looper"),
             ThreadRole::UpperLooper => formula("upper looper"),
         }
         .ok_or_else(|| Error::Stitch(format!("thread {name}: no per-stitch formula for contour {contour}")))?;
-        let eta_mm = phis
-            .iter()
-            .map(|&p| c.eta(p, Side::Right))
-            .collect::<Result<Vec<_>, _>>()?;
-        let eta0 = c.eta(phi0, Side::Right)?;
-        let lock = c.lock();
         // A needle thread's stitch is pulled tight as the needle reaches
         // TDC, a looper thread's at its draw-in (its lock).
         let tight = if *role == ThreadRole::Needle {
             needles[0].line.phi_tdc
         } else {
-            lock
+            c.lock()
         };
-        let window =
-            regulator_window(spec.regulator, tight, phi0).map_err(|e| Error::Stitch(format!("thread {name}: {e}")))?;
-        let pprime_mm: Vec<f64> = eta_mm
-            .iter()
-            .zip(&phis)
-            .map(|(e, &p)| e - eta0 + regulator_shift(window, per_stitch_mm, lock, phi0, p))
-            .collect();
-        let events = c
-            .events()
-            .into_iter()
-            .map(|(ev, phi, kind)| {
-                Ok(Event {
-                    name: ev,
-                    phi_c_deg: phi,
-                    kind,
-                    eta_left_mm: c.eta(phi, Side::Left)?,
-                    eta_right_mm: c.eta(phi, Side::Right)?,
-                })
-            })
-            .collect::<Result<Vec<_>, Error>>()?;
-        let (cut_mm, released_mm) = (c.cut(), c.released());
-        // σ_snap: J_L = −L_s − ρ + σ_snap (§3.3).
-        let snap_mm = c.eta(lock, Side::Right)? - c.eta(lock, Side::Left)? + cut_mm + released_mm;
-        let (travel_mm, gamma_deg, loop_mm, needle_moments) = match c.needle() {
-            Some(n) => (
-                Some(phis.iter().map(|&p| n.travel(p)).collect()),
-                Some(phis.iter().map(|&p| n.carry.gamma(p).to_degrees()).collect()),
-                Some(phis.iter().map(|&p| n.loop_on_looper(p)).collect()),
-                Some(n.moments_for_checks()),
-            ),
-            None => (None, None, None, None),
-        };
-        let thread = RequiredThread {
-            name: name.clone(),
-            role: *role,
-            contour: *contour,
+        threads.push(required_thread(
+            entry,
             per_stitch_mm,
-            lock_deg: lock,
-            cut_mm,
-            released_mm,
-            snap_mm,
-            piece: phis.iter().map(|&p| c.piece(p)).collect(),
-            eta_mm,
-            pprime_mm,
-            travel_mm,
-            gamma_deg,
-            loop_mm,
-            needle_moments,
-            regulator_window_deg: window,
-            events,
-        };
-        check_finite(&thread, &phis)?;
-        threads.push(thread);
+            tight,
+            spec.regulator,
+            &phis,
+            phi0,
+        )?);
     }
 
     let mut moments: Vec<(String, f64)> = match &ov503 {
@@ -313,6 +218,140 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
         moments,
         warnings,
     })
+}
+
+/// The spec's numbers in range (each refused with what to give instead).
+fn check_spec(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) -> Result<(), Error> {
+    let ty = spec.stitch_type;
+    let (m, tilt) = (spec.m_mm, spec.tilt_deg);
+    if !(m.is_finite() && m > 0.0) {
+        return Err(Error::Stitch(format!(
+            "the material thickness m = {m} mm must be > 0 (e.g. 2.5)"
+        )));
+    }
+    if !(tilt.is_finite() && tilt.abs() < 80.0) {
+        return Err(Error::Stitch(format!(
+            "the needle tilt β = {tilt}° must be between −80° and 80° (Altin: 20°)"
+        )));
+    }
+    if let Some(bad) = phis_c_deg.iter().chain([&phi0_c_deg]).find(|p| !p.is_finite()) {
+        return Err(Error::Stitch(format!(
+            "the angle φ_c = {bad} is not a number; give finite angles in degrees"
+        )));
+    }
+    if spec.needles.len() != ty.needles() {
+        return Err(Error::Stitch(format!(
+            "stitch {} has {} needle(s) but {} were given; give one [[stitch.needles]] entry per needle",
+            ty.number(),
+            ty.needles(),
+            spec.needles.len()
+        )));
+    }
+    Ok(())
+}
+
+/// The organs' motions usable, and an overedge stitch's width and edge
+/// split in range.
+fn check_organs(spec: &StitchSpec) -> Result<(), Error> {
+    let ty = spec.stitch_type;
+    for n in &spec.needles {
+        check_motion(&format!("needle {}: the eye", n.name), &n.eye)?;
+    }
+    check_motion("the looper's catching point", &spec.looper.eye)?;
+    if let Some(u) = spec.upper_looper.as_ref().filter(|_| ty == StitchType::S504) {
+        check_motion("the upper looper's eye", &u.eye)?;
+    }
+    if let Some(sp) = spec.spreader.as_ref().filter(|_| ty == StitchType::S503) {
+        check_motion("the spreader", &sp.eye)?;
+    }
+    // Chain stitches do not use the overedge width or the edge split.
+    let overedge = matches!(ty, StitchType::S503 | StitchType::S504);
+    if overedge && !(spec.a_e_mm.is_finite() && spec.a_e_mm > 0.0) {
+        return Err(Error::Stitch(format!(
+            "stitch {}: the overedge width a_e = {} mm must be > 0 (e.g. 4)",
+            ty.number(),
+            spec.a_e_mm
+        )));
+    }
+    if overedge && !(0.0..=1.0).contains(&spec.edge_split) {
+        return Err(Error::Stitch(format!(
+            "stitch {}: the edge split e = {} must be in [0, 1] (0.5: the looper threads meet mid-edge)",
+            ty.number(),
+            spec.edge_split
+        )));
+    }
+    Ok(())
+}
+
+/// One thread's required take-up over `phis` (φ_c, wrapped) from its
+/// contour `c`: η, P' = η − η(φ0) shifted by the regulator's draw, the
+/// events, and for a needle thread its travel, carry angle and loop.
+fn required_thread(
+    (name, role, contour, c): &(String, ThreadRole, u8, Contour),
+    per_stitch_mm: f64,
+    tight: f64,
+    regulator: Regulator,
+    phis: &[f64],
+    phi0: f64,
+) -> Result<RequiredThread, Error> {
+    let eta_mm = phis
+        .iter()
+        .map(|&p| c.eta(p, Side::Right))
+        .collect::<Result<Vec<_>, _>>()?;
+    let eta0 = c.eta(phi0, Side::Right)?;
+    let lock = c.lock();
+    let window = regulator_window(regulator, tight, phi0).map_err(|e| Error::Stitch(format!("thread {name}: {e}")))?;
+    let pprime_mm: Vec<f64> = eta_mm
+        .iter()
+        .zip(phis)
+        .map(|(e, &p)| e - eta0 + regulator_shift(window, per_stitch_mm, lock, phi0, p))
+        .collect();
+    let events = c
+        .events()
+        .into_iter()
+        .map(|(ev, phi, kind)| {
+            Ok(Event {
+                name: ev,
+                phi_c_deg: phi,
+                kind,
+                eta_left_mm: c.eta(phi, Side::Left)?,
+                eta_right_mm: c.eta(phi, Side::Right)?,
+            })
+        })
+        .collect::<Result<Vec<_>, Error>>()?;
+    let (cut_mm, released_mm) = (c.cut(), c.released());
+    // σ_snap: J_L = −L_s − ρ + σ_snap (§3.3).
+    let snap_mm = c.eta(lock, Side::Right)? - c.eta(lock, Side::Left)? + cut_mm + released_mm;
+    let (travel_mm, gamma_deg, loop_mm, needle_moments) = match c.needle() {
+        Some(n) => (
+            Some(phis.iter().map(|&p| n.travel(p)).collect()),
+            Some(phis.iter().map(|&p| n.carry.gamma(p).to_degrees()).collect()),
+            Some(phis.iter().map(|&p| n.loop_on_looper(p)).collect()),
+            Some(n.moments_for_checks()),
+        ),
+        None => (None, None, None, None),
+    };
+    let thread = RequiredThread {
+        name: name.clone(),
+        role: *role,
+        contour: *contour,
+        per_stitch_mm,
+        lock_deg: lock,
+        cut_mm,
+        released_mm,
+        snap_mm,
+        piece: phis.iter().map(|&p| c.piece(p)).collect(),
+        eta_mm,
+        pprime_mm,
+        travel_mm,
+        gamma_deg,
+        loop_mm,
+        needle_moments,
+        regulator_window_deg: window,
+        events,
+    };
+    check_finite(&thread, phis)?;
+    Ok(thread)
 }
 
 /// A thread's regulator window, φ_c [from, to] deg with from in [0, 360)

@@ -628,6 +628,82 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
         step_deg,
         ..Default::default()
     })?;
+    let adjusted = adjusted_params(model, facts, opts)?;
+    let start: Vec<f64> = adjusted.iter().map(|a| base.values[a.index]).collect();
+    check_start(&adjusted, &start)?;
+    let (settings, of_fact) = settings(model, facts, &adjusted)?;
+    let problem = Problem {
+        model,
+        base,
+        facts,
+        adjusted: &adjusted,
+        settings,
+        of_fact,
+        step_deg,
+        cycles: Default::default(),
+    };
+    check_figures(&problem, &start)?;
+    let e0 = problem.evaluate(&start, true)?;
+    let (r, cost) = problem.residuals(&e0.values);
+    let (cost_start, start_values) = (cost, e0.values.clone());
+    let mut lm = Marquardt {
+        x: start.clone(),
+        r,
+        cost,
+        values: e0.values,
+        jac: e0.jacobian.expect("asked for"),
+        lambda: 1e-3,
+    };
+    let mut iterations = 0;
+    let (mut converged, mut stop) = (false, String::from("the iteration limit was reached"));
+    while iterations < opts.max_iterations {
+        iterations += 1;
+        if let Some((done, why)) = lm.iterate(&problem)? {
+            (converged, stop) = (done, why.to_string());
+            break;
+        }
+    }
+    // Standard errors at the optimum: √((JᵀJ)⁻¹)_jj of the weighted Jacobian.
+    let n = lm.x.len();
+    let jac = problem.evaluate(&lm.x, true)?.jacobian.expect("asked for");
+    let (a, _) = weighted_normal(&jac, &lm.r, facts);
+    let std_error: Vec<Option<f64>> = match invert_spd(&a) {
+        Some(inv) => (0..n).map(|j| Some(inv[j][j].max(0.0).sqrt())).collect(),
+        None => vec![None; n],
+    };
+    let warnings = fit_warnings(model, facts, &adjusted, &std_error);
+    let params = adjusted
+        .iter()
+        .zip(&lm.x)
+        .zip(&start)
+        .zip(&std_error)
+        .map(|(((b, &xf), &x0), s)| FittedParam {
+            name: b.name.clone(),
+            unit: b.unit,
+            lo: b.lo,
+            hi: b.hi,
+            start: x0,
+            fitted: xf,
+            std_error: *s,
+            at_bound: xf <= b.lo || xf >= b.hi,
+        })
+        .collect();
+    Ok(FitResult {
+        params,
+        facts: fact_results(model, facts, &start_values, &lm.values),
+        cost_start,
+        cost: lm.cost,
+        iterations,
+        cycles: problem.cycles.into_inner(),
+        converged,
+        stop,
+        warnings,
+    })
+}
+
+/// The parameters to fit: `opts.adjust`, else the facts file's `adjust`,
+/// each once.
+fn adjusted_params(model: &Model, facts: &Facts, opts: &FitOptions) -> Result<Vec<Bounded>, Error> {
     let specs = if opts.adjust.is_empty() {
         &facts.adjust
     } else {
@@ -664,8 +740,12 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
             }));
         }
     }
-    let start: Vec<f64> = adjusted.iter().map(|a| base.values[a.index]).collect();
-    for (a, &x) in adjusted.iter().zip(&start) {
+    Ok(adjusted)
+}
+
+/// The start inside every parameter's bounds.
+fn check_start(adjusted: &[Bounded], start: &[f64]) -> Result<(), Error> {
+    for (a, &x) in adjusted.iter().zip(start) {
         if x < a.lo || x > a.hi {
             return Err(Error::Param(ParamError {
                 message: format!(
@@ -679,19 +759,13 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
             }));
         }
     }
-    let (settings, of_fact) = settings(model, facts, &adjusted)?;
-    // Every figure must exist (checked at the start setting, naming the fact).
-    let problem = Problem {
-        model,
-        base,
-        facts,
-        adjusted: &adjusted,
-        settings,
-        of_fact,
-        step_deg,
-        cycles: Default::default(),
-    };
-    let start_figures = problem.plain(&problem.params_at(&start, 0))?;
+    Ok(())
+}
+
+/// Every figure must exist (checked at the start setting, naming the fact).
+fn check_figures(problem: &Problem, start: &[f64]) -> Result<(), Error> {
+    let facts = problem.facts;
+    let start_figures = problem.plain(&problem.params_at(start, 0))?;
     for (i, f) in facts.facts.iter().enumerate() {
         if !start_figures.iter().any(|(n, _)| *n == f.figure) {
             let hint = crate::error::did_you_mean(&f.figure, start_figures.iter().map(|(n, _)| n.as_str()));
@@ -708,120 +782,113 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
             ));
         }
     }
-    let e0 = problem.evaluate(&start, true)?;
-    let (mut r, mut cost) = problem.residuals(&e0.values);
-    let cost_start = cost;
-    let start_values = e0.values.clone();
-    let mut values = e0.values;
-    let mut jac = e0.jacobian.expect("asked for");
-    let mut x = start.clone();
-    let n = x.len();
-    // Levenberg–Marquardt with Marquardt's scaling: (JᵀJ + λ diag JᵀJ) δ = −Jᵀr.
-    let mut lambda = 1e-3;
-    let mut iterations = 0;
-    let mut converged = false;
-    let mut stop = String::from("the iteration limit was reached");
-    'outer: while iterations < opts.max_iterations {
-        iterations += 1;
+    Ok(())
+}
+
+/// Levenberg–Marquardt with Marquardt's scaling, projected onto the
+/// bounds: (JᵀJ + λ diag JᵀJ) δ = −Jᵀr.
+struct Marquardt {
+    x: Vec<f64>,
+    /// Weighted residuals at `x`, their cost Σ r², the facts' values and
+    /// their (unweighted) Jacobian.
+    r: Vec<f64>,
+    cost: f64,
+    values: Vec<f64>,
+    jac: Vec<Vec<f64>>,
+    lambda: f64,
+}
+
+impl Marquardt {
+    /// One iteration: a step that lowers the cost (λ raised until one
+    /// does), or why the iteration stops and whether it converged.
+    fn iterate(&mut self, problem: &Problem) -> Result<Option<(bool, &'static str)>, Error> {
+        let (adjusted, n) = (problem.adjusted, self.x.len());
         // J is of the facts' values; the normal equations weigh it.
-        let (a, g) = weighted_normal(&jac, &r, facts);
-        if cost <= 1e-24
+        let (a, g) = weighted_normal(&self.jac, &self.r, problem.facts);
+        if self.cost <= 1e-24
             || g.iter()
-                .zip(&adjusted)
-                .all(|(g, b)| (g * (b.hi - b.lo)).abs() <= 1e-12 * (1.0 + cost))
+                .zip(adjusted)
+                .all(|(g, b)| (g * (b.hi - b.lo)).abs() <= 1e-12 * (1.0 + self.cost))
         {
-            converged = true;
-            stop = "the gradient vanishes".into();
-            break;
+            return Ok(Some((true, "the gradient vanishes")));
         }
         loop {
             let mut m = a.clone();
             let floor = 1e-12 * (0..n).map(|j| a[j][j]).fold(0.0, f64::max).max(1e-300);
             for j in 0..n {
-                m[j][j] += lambda * a[j][j].max(floor);
+                m[j][j] += self.lambda * a[j][j].max(floor);
             }
             let neg: Vec<f64> = g.iter().map(|v| -v).collect();
             let Some(delta) = solve_spd(&m, &neg) else {
-                lambda *= 10.0;
-                if lambda > 1e12 {
-                    stop = "no step lowers the cost (the system is singular)".into();
-                    break 'outer;
+                self.lambda *= 10.0;
+                if self.lambda > 1e12 {
+                    return Ok(Some((false, "no step lowers the cost (the system is singular)")));
                 }
                 continue;
             };
             // Project the step onto the box.
-            let trial: Vec<f64> = x
+            let trial: Vec<f64> = self
+                .x
                 .iter()
                 .zip(&delta)
-                .zip(&adjusted)
+                .zip(adjusted)
                 .map(|((x, d), b)| (x + d).clamp(b.lo, b.hi))
                 .collect();
             let moved = trial
                 .iter()
-                .zip(&x)
-                .zip(&adjusted)
+                .zip(&self.x)
+                .zip(adjusted)
                 .map(|((t, x), b)| (t - x).abs() / (b.hi - b.lo))
                 .fold(0.0, f64::max);
             if moved <= 1e-12 {
-                converged = true;
-                let pressed = x
+                let pressed = self
+                    .x
                     .iter()
                     .zip(&delta)
-                    .zip(&adjusted)
+                    .zip(adjusted)
                     .any(|((x, d), b)| (*x <= b.lo && *d < 0.0) || (*x >= b.hi && *d > 0.0));
-                stop = if pressed {
-                    "the step vanishes: pressed against a bound"
-                } else {
-                    "the step vanishes"
-                }
-                .into();
-                break 'outer;
+                return Ok(Some((
+                    true,
+                    if pressed {
+                        "the step vanishes: pressed against a bound"
+                    } else {
+                        "the step vanishes"
+                    },
+                )));
             }
-            let tried = problem.evaluate(&trial, false);
-            let better = match &tried {
+            let better = match problem.evaluate(&trial, false) {
                 Ok(e) => {
                     let (rt, ct) = problem.residuals(&e.values);
-                    (ct < cost).then_some((rt, ct, e.values.clone()))
+                    (ct < self.cost).then_some((rt, ct, e.values))
                 }
                 // A setting that does not assemble counts as no better.
                 Err(_) => None,
             };
-            match better {
-                Some((rt, ct, vt)) => {
-                    let drop = (cost - ct) / cost.max(1e-300);
-                    x = trial;
-                    r = rt;
-                    cost = ct;
-                    values = vt;
-                    lambda = (lambda / 10.0).max(1e-12);
-                    if drop < 1e-12 || moved < 1e-10 {
-                        converged = true;
-                        stop = "the cost no longer decreases".into();
-                        break 'outer;
-                    }
-                    jac = problem.evaluate(&x, true)?.jacobian.expect("asked for");
-                    break;
+            let Some((rt, ct, vt)) = better else {
+                self.lambda *= 10.0;
+                if self.lambda > 1e12 {
+                    return Ok(Some((true, "no step lowers the cost (a local minimum)")));
                 }
-                None => {
-                    lambda *= 10.0;
-                    if lambda > 1e12 {
-                        converged = true;
-                        stop = "no step lowers the cost (a local minimum)".into();
-                        break 'outer;
-                    }
-                }
+                continue;
+            };
+            let drop = (self.cost - ct) / self.cost.max(1e-300);
+            (self.x, self.r, self.cost, self.values) = (trial, rt, ct, vt);
+            self.lambda = (self.lambda / 10.0).max(1e-12);
+            if drop < 1e-12 || moved < 1e-10 {
+                return Ok(Some((true, "the cost no longer decreases")));
             }
+            self.jac = problem.evaluate(&self.x, true)?.jacobian.expect("asked for");
+            return Ok(None);
         }
     }
-    // Standard errors at the optimum: √((JᵀJ)⁻¹)_jj of the weighted Jacobian.
-    let jac = problem.evaluate(&x, true)?.jacobian.expect("asked for");
-    let (a, _) = weighted_normal(&jac, &r, facts);
+}
+
+/// What the fit cannot tell or was not asked: parameters the facts leave
+/// undetermined, facts stated for another model, fewer facts than
+/// parameters.
+fn fit_warnings(model: &Model, facts: &Facts, adjusted: &[Bounded], std_error: &[Option<f64>]) -> Vec<String> {
     let mut warnings = Vec::new();
-    let std_error: Vec<Option<f64>> = match invert_spd(&a) {
-        Some(inv) => (0..n).map(|j| Some(inv[j][j].max(0.0).sqrt())).collect(),
-        None => vec![None; n],
-    };
-    for (b, s) in adjusted.iter().zip(&std_error) {
+    for (b, s) in adjusted.iter().zip(std_error) {
         if s.is_none() {
             warnings.push(format!(
                 "the facts do not determine `{}` (JᵀJ is singular): its fitted value is one of many",
@@ -837,10 +904,15 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
             model.name()
         ));
     }
-    let m = facts.facts.len();
+    let (m, n) = (facts.facts.len(), adjusted.len());
     if m < n {
         warnings.push(format!("{m} facts for {n} parameters: the fit is underdetermined"));
     }
+    warnings
+}
+
+/// Each fact at the start and fitted, with its setting in words.
+fn fact_results(model: &Model, facts: &Facts, start_values: &[f64], values: &[f64]) -> Vec<FactResult> {
     let words = |s: &[(String, f64)]| {
         if s.is_empty() {
             "nominal".to_string()
@@ -857,7 +929,7 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
                 .join(", ")
         }
     };
-    let facts_out = facts
+    facts
         .facts
         .iter()
         .enumerate()
@@ -880,34 +952,7 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
                 source: f.source.clone(),
             }
         })
-        .collect();
-    let params = adjusted
-        .iter()
-        .zip(&x)
-        .zip(&start)
-        .zip(&std_error)
-        .map(|(((b, &xf), &x0), s)| FittedParam {
-            name: b.name.clone(),
-            unit: b.unit,
-            lo: b.lo,
-            hi: b.hi,
-            start: x0,
-            fitted: xf,
-            std_error: *s,
-            at_bound: xf <= b.lo || xf >= b.hi,
-        })
-        .collect();
-    Ok(FitResult {
-        params,
-        facts: facts_out,
-        cost_start,
-        cost,
-        iterations,
-        cycles: problem.cycles.into_inner(),
-        converged,
-        stop,
-        warnings,
-    })
+        .collect()
 }
 
 /// JᵀWᵀWJ and JᵀW r for the unweighted Jacobian `jac` of the facts' values

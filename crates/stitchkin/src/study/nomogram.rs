@@ -186,23 +186,7 @@ pub fn nomogram(
             format!("at most {MAX_POINTS}: each point is a full tuning; use fewer values per axis"),
         ));
     }
-    let mut tune_opts = opts.tune.clone();
-    if tune_opts.adjust.is_empty() {
-        tune_opts.adjust = model.default_adjustables(base)?;
-    }
-    for (which, flag, what) in [
-        ("m", "--thickness", "material thickness"),
-        ("t", "--stitch", "stitch length"),
-    ] {
-        if let Some(p) = stitch_param(model, which)
-            && tune_opts.adjust.contains(&p)
-        {
-            return Err(bad(
-                format!("`{p}` is the {what} the nomogram is drawn over, so it cannot also be adjusted"),
-                format!("leave it out of --adjust (give its values with {flag})"),
-            ));
-        }
-    }
+    let tune_opts = tune_options(model, base, opts)?;
     let grid: Vec<(f64, f64)> = (0..opts.thickness.n)
         .flat_map(|i| (0..stitch.n).map(move |j| (i, j)))
         .map(|(i, j)| (opts.thickness.value(i), stitch.value(j)))
@@ -236,20 +220,7 @@ pub fn nomogram(
     let points = grid
         .iter()
         .zip(results)
-        .map(|(&(m_mm, t_mm), r)| match r {
-            Ok(r) => NomogramPoint {
-                m_mm,
-                t_mm,
-                tuned: Some(r),
-                error: None,
-            },
-            Err(e) => NomogramPoint {
-                m_mm,
-                t_mm,
-                tuned: None,
-                error: Some(e.to_string().replace('\n', " ")),
-            },
-        })
+        .map(|(&(m_mm, t_mm), r)| grid_point(m_mm, t_mm, r))
         .collect();
     Ok(Nomogram {
         model: model.name().to_string(),
@@ -261,6 +232,48 @@ pub fn nomogram(
         step_deg: opts.tune.step_deg,
         points,
     })
+}
+
+/// The tuning of each grid point: `opts.tune` with the default settings
+/// to adjust when it names none; never the thickness or stitch length the
+/// nomogram is drawn over.
+fn tune_options(model: &Model, base: &Params, opts: &NomogramOptions) -> Result<TuneOptions, Error> {
+    let mut tune_opts = opts.tune.clone();
+    if tune_opts.adjust.is_empty() {
+        tune_opts.adjust = model.default_adjustables(base)?;
+    }
+    for (which, flag, what) in [
+        ("m", "--thickness", "material thickness"),
+        ("t", "--stitch", "stitch length"),
+    ] {
+        if let Some(p) = stitch_param(model, which)
+            && tune_opts.adjust.contains(&p)
+        {
+            return Err(Error::Param(ParamError {
+                message: format!("`{p}` is the {what} the nomogram is drawn over, so it cannot also be adjusted"),
+                help: Some(format!("leave it out of --adjust (give its values with {flag})")),
+            }));
+        }
+    }
+    Ok(tune_opts)
+}
+
+/// A grid point, tuned or with why it did not tune.
+fn grid_point(m_mm: f64, t_mm: f64, r: Result<TuneResult, Error>) -> NomogramPoint {
+    match r {
+        Ok(r) => NomogramPoint {
+            m_mm,
+            t_mm,
+            tuned: Some(r),
+            error: None,
+        },
+        Err(e) => NomogramPoint {
+            m_mm,
+            t_mm,
+            tuned: None,
+            error: Some(e.to_string().replace('\n', " ")),
+        },
+    }
 }
 
 /// The default thickness axis: 5 values over the adjustable range of the

@@ -413,16 +413,89 @@ fn why(r: &Figures) -> Option<String> {
 
 /// The sensitivity of `opts.figures` to `opts.params` at the setting `base`.
 pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> Result<SensitivityResult, Error> {
+    check_options(&CycleOptions {
+        step_deg: opts.step_deg,
+        ..Default::default()
+    })?;
+    let params = studied_params(model, opts)?;
+    let nominal = plain_figures(model, &base.values, opts.step_deg, None)?;
+    let patterns: Vec<String> = if opts.figures.is_empty() {
+        DEFAULT_FIGURES
+            .iter()
+            .filter(|p| nominal.iter().any(|(n, _)| crate::eval::glob_match(p, n)))
+            .map(|p| p.to_string())
+            .collect()
+    } else {
+        opts.figures.clone()
+    };
+    let selected = select_figures(&nominal, &patterns)?;
+    // Every plain cycle, in parallel: per parameter p0 ± h (the central
+    // difference) and RANGE_SAMPLES settings over its range.
+    let h: Vec<f64> = params.iter().map(|&(_, lo, hi)| FD_REL_STEP * (hi - lo)).collect();
+    let mut jobs: Vec<(usize, f64)> = Vec::new();
+    for (j, &(i, lo, hi)) in params.iter().enumerate() {
+        let x0 = base.values[i];
+        jobs.push((j, x0 + h[j]));
+        jobs.push((j, x0 - h[j]));
+        jobs.extend((0..RANGE_SAMPLES).map(|k| (j, lo + (hi - lo) * k as f64 / (RANGE_SAMPLES - 1) as f64)));
+    }
+    let shared = stitch_per_param(model, base, &params, &selected, opts.step_deg)?;
+    let plain: Vec<Figures> = jobs
+        .par_iter()
+        .map(|&(j, x)| {
+            let mut v = base.values.clone();
+            v[params[j].0] = x;
+            plain_figures(model, &v, opts.step_deg, shared[j].as_ref())
+        })
+        .collect();
+    let exact: Vec<Vec<(String, f64, f64)>> = params
+        .par_iter()
+        .map(|&(i, ..)| figure_derivatives(model, base, i, opts.step_deg))
+        .collect::<Result<_, _>>()?;
+    let runs = Runs {
+        model,
+        base,
+        params: &params,
+        h,
+        plain,
+        exact,
+    };
+    let mut out = Vec::new();
+    let mut insensitive = Vec::new();
+    for fig in &selected {
+        match runs.figure(fig, lookup(&nominal, fig).unwrap_or(f64::NAN), opts.rank) {
+            Some(f) => out.push(f),
+            None => insensitive.push(fig.clone()),
+        }
+    }
+    Ok(SensitivityResult {
+        model: model.name().to_string(),
+        step_deg: opts.step_deg,
+        params: params
+            .iter()
+            .map(|&(i, lo, hi)| StudiedParam {
+                name: model.params[i].name.clone(),
+                unit: model.params[i].unit_str(),
+                nominal: base.values[i],
+                lo,
+                hi,
+            })
+            .collect(),
+        figures: out,
+        insensitive,
+        cycles: 1 + params.len() * (2 + RANGE_SAMPLES + 1),
+    })
+}
+
+/// The parameters studied (`opts.params`, else every one with an
+/// adjustable range), each once: (index, lo, hi).
+fn studied_params(model: &Model, opts: &SensitivityOptions) -> Result<Vec<(usize, f64, f64)>, Error> {
     let bad = |message: String, help: String| {
         Error::Param(ParamError {
             message,
             help: Some(help),
         })
     };
-    check_options(&CycleOptions {
-        step_deg: opts.step_deg,
-        ..Default::default()
-    })?;
     let names = if opts.params.is_empty() {
         adjustable(model)
     } else {
@@ -460,152 +533,67 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
         }
         params.push((i, lo, hi));
     }
-    let nominal = plain_figures(model, &base.values, opts.step_deg, None)?;
-    let patterns: Vec<String> = if opts.figures.is_empty() {
-        DEFAULT_FIGURES
-            .iter()
-            .filter(|p| nominal.iter().any(|(n, _)| crate::eval::glob_match(p, n)))
-            .map(|p| p.to_string())
-            .collect()
-    } else {
-        opts.figures.clone()
-    };
-    let selected = select_figures(&nominal, &patterns)?;
-    // Every plain cycle, in parallel: per parameter p0 ± h (the central
-    // difference) and RANGE_SAMPLES settings over its range.
-    let h: Vec<f64> = params.iter().map(|&(_, lo, hi)| FD_REL_STEP * (hi - lo)).collect();
-    let mut jobs: Vec<(usize, f64)> = Vec::new();
-    for (j, &(i, lo, hi)) in params.iter().enumerate() {
-        let x0 = base.values[i];
-        jobs.push((j, x0 + h[j]));
-        jobs.push((j, x0 - h[j]));
-        jobs.extend((0..RANGE_SAMPLES).map(|k| (j, lo + (hi - lo) * k as f64 / (RANGE_SAMPLES - 1) as f64)));
-    }
-    let per = 2 + RANGE_SAMPLES;
-    // P' once per parameter that leaves the stitch process alone; once for
-    // all when no selected figure involves P' (its figures are then unused).
+    Ok(params)
+}
+
+/// P' once per parameter that leaves the stitch process alone; once for
+/// all when no selected figure involves P' (its figures are then unused).
+fn stitch_per_param(
+    model: &Model,
+    base: &Params,
+    params: &[(usize, f64, f64)],
+    selected: &[String],
+    step_deg: f64,
+) -> Result<Vec<Option<Prepared>>, Error> {
     let stitch_figure = |f: &str| {
         f.starts_with("score.")
             || [".score", ".rms_D_mm", ".max_abs_D_mm", ".max_Pprime_mm"]
                 .iter()
                 .any(|s| f.ends_with(s))
     };
-    let shared: Vec<Option<Prepared>> = if selected.iter().any(|f| stitch_figure(f)) {
-        params
-            .iter()
-            .map(|&(i, lo, hi)| {
-                let one = Sweep::new(
-                    vec![Vary {
-                        name: model.params[i].name.clone(),
-                        lo,
-                        hi,
-                        n: 2,
-                    }],
-                    Design::Grid,
-                )?;
-                shared_stitch(model, base, &one, opts.step_deg)
-            })
-            .collect::<Result<_, _>>()?
-    } else {
-        vec![crate::eval::stitch::prepare(model, base, opts.step_deg)?; params.len()]
-    };
-    let plain: Vec<Figures> = jobs
-        .par_iter()
-        .map(|&(j, x)| {
-            let mut v = base.values.clone();
-            v[params[j].0] = x;
-            plain_figures(model, &v, opts.step_deg, shared[j].as_ref())
+    if !selected.iter().any(|f| stitch_figure(f)) {
+        return Ok(vec![crate::eval::stitch::prepare(model, base, step_deg)?; params.len()]);
+    }
+    params
+        .iter()
+        .map(|&(i, lo, hi)| {
+            let one = Sweep::new(
+                vec![Vary {
+                    name: model.params[i].name.clone(),
+                    lo,
+                    hi,
+                    n: 2,
+                }],
+                Design::Grid,
+            )?;
+            shared_stitch(model, base, &one, step_deg)
         })
-        .collect();
-    let exact: Vec<Vec<(String, f64, f64)>> = params
-        .par_iter()
-        .map(|&(i, ..)| figure_derivatives(model, base, i, opts.step_deg))
-        .collect::<Result<_, _>>()?;
-    let mut out = Vec::new();
-    let mut insensitive = Vec::new();
-    for fig in &selected {
-        let f0 = lookup(&nominal, fig).unwrap_or(f64::NAN);
-        // Below this a change is rounding.
-        let tiny = 1e-10 * (1.0 + f0.abs());
-        let snap = |x: f64| if x.abs() <= tiny { 0.0 } else { x };
-        let exact_figure = exact.iter().all(|e| e.iter().any(|(n, ..)| n == fig));
-        let mut effects = Vec::new();
-        for (j, &(i, lo, hi)) in params.iter().enumerate() {
-            let p = &model.params[i];
-            let runs = &plain[j * per..(j + 1) * per];
-            let value = |r: &Figures| r.as_ref().ok().and_then(|v| lookup(v, fig)).filter(|x| x.is_finite());
-            let mut notes = Vec::new();
-            let d_exact = exact[j].iter().find(|(n, ..)| n == fig).map(|e| e.2);
-            let central = value(&runs[0])
-                .zip(value(&runs[1]))
-                .map(|(a, b)| (a - b) / (2.0 * h[j]));
-            let (derivative, method) = match (d_exact, central) {
-                (Some(e), Some(c)) if !agrees(e, c, f0, h[j]) => {
-                    notes.push(format!(
-                        "the exact slope {} disagrees with the central difference {}: a kink here, or a value the dual numbers do not carry \
-                         (a cam profile, the elongation allowance); the central difference is used",
-                        crate::format::fmt_num(e),
-                        crate::format::fmt_num(c)
-                    ));
-                    (Some(c), Method::Central)
-                }
-                (Some(e), _) => (Some(e), Method::Exact),
-                (None, c) => (c, Method::Central),
-            };
-            if derivative.is_none() {
-                notes.extend(why(&runs[0]).or(why(&runs[1])).map(|w| format!("no derivative: {w}")));
-            }
-            let width = hi - lo;
-            let derivative = derivative.map(|d| if (d * width).abs() <= tiny { 0.0 } else { d });
-            let samples = &runs[2..];
-            let (at_lo, at_hi) = (value(&samples[0]), value(&samples[RANGE_SAMPLES - 1]));
-            for (k, r) in samples.iter().enumerate() {
-                if let Some(w) = why(r) {
-                    let x = lo + width * k as f64 / (RANGE_SAMPLES - 1) as f64;
-                    notes.push(format!(
-                        "at {} = {} {}: {w}",
-                        p.name,
-                        crate::format::fmt_num(x),
-                        p.unit_str()
-                    ));
-                }
-            }
-            // The span over the range: the samples and the nominal setting.
-            let vals: Vec<f64> = samples
-                .iter()
-                .filter_map(value)
-                .chain(std::iter::once(f0).filter(|_| (lo..=hi).contains(&base.values[i])))
-                .collect();
-            let span = if vals.len() >= 2 {
-                Some(snap(
-                    vals.iter().cloned().fold(f64::MIN, f64::max) - vals.iter().cloned().fold(f64::MAX, f64::min),
-                ))
-            } else {
-                None
-            };
-            effects.push(Effect {
-                param: p.name.clone(),
-                param_unit: p.unit_str(),
-                lo,
-                hi,
-                rank: 0,
-                derivative,
-                method,
-                central,
-                effect: derivative.map(|d| d * width),
-                at_lo,
-                at_hi,
-                whole_range: at_lo.zip(at_hi).map(|(a, b)| snap(b - a)),
-                span,
-                note: if notes.is_empty() { None } else { Some(notes.join("; ")) },
-            });
-        }
+        .collect()
+}
+
+/// The cycles run for a sensitivity study: per parameter (in `params`'
+/// order), p0 + h, p0 − h and the RANGE_SAMPLES settings over its range,
+/// and the exact derivatives of every smooth figure.
+struct Runs<'a> {
+    model: &'a Model,
+    base: &'a Params,
+    params: &'a [(usize, f64, f64)],
+    h: Vec<f64>,
+    plain: Vec<Figures>,
+    exact: Vec<Vec<(String, f64, f64)>>,
+}
+
+impl Runs<'_> {
+    /// Figure `fig` (nominal value `f0`) with every parameter's effect,
+    /// ranked; `None` when no parameter changes it.
+    fn figure(&self, fig: &str, f0: f64, rank: RankBy) -> Option<FigureSensitivity> {
+        let exact_figure = self.exact.iter().all(|e| e.iter().any(|(n, ..)| n == fig));
+        let mut effects: Vec<Effect> = (0..self.params.len()).map(|j| self.effect(fig, f0, j)).collect();
         if effects.iter().all(|e| e.effect == Some(0.0) && e.span == Some(0.0)) {
-            insensitive.push(fig.clone());
-            continue;
+            return None;
         }
         // Rank: the larger |key| first; what has no key goes last.
-        let by_effect = exact_figure && opts.rank == RankBy::Local;
+        let by_effect = exact_figure && rank == RankBy::Local;
         // (Ties, as between parameters with no local effect, go by the span.)
         let key = |e: &Effect| if by_effect { e.effect } else { e.span.or(e.effect) }.map_or(-1.0, f64::abs);
         let span = |e: &Effect| e.span.map_or(-1.0, f64::abs);
@@ -613,32 +601,94 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
         for (k, e) in effects.iter_mut().enumerate() {
             e.rank = k + 1;
         }
-        out.push(FigureSensitivity {
-            figure: fig.clone(),
+        Some(FigureSensitivity {
+            figure: fig.to_string(),
             unit: figure_unit(fig),
             nominal: f0,
             exact: exact_figure,
             ranked_by: if by_effect { "effect" } else { "span" },
             effects,
-        });
+        })
     }
-    Ok(SensitivityResult {
-        model: model.name().to_string(),
-        step_deg: opts.step_deg,
-        params: params
+
+    /// The effect of parameter `j` on figure `fig`: its derivative (exact,
+    /// or the central difference where they disagree or only that exists),
+    /// the figure at the range's ends and its span over the range.
+    fn effect(&self, fig: &str, f0: f64, j: usize) -> Effect {
+        let (i, lo, hi) = self.params[j];
+        let p = &self.model.params[i];
+        let per = 2 + RANGE_SAMPLES;
+        let runs = &self.plain[j * per..(j + 1) * per];
+        // Below this a change is rounding.
+        let tiny = 1e-10 * (1.0 + f0.abs());
+        let snap = |x: f64| if x.abs() <= tiny { 0.0 } else { x };
+        let value = |r: &Figures| r.as_ref().ok().and_then(|v| lookup(v, fig)).filter(|x| x.is_finite());
+        let mut notes = Vec::new();
+        let d_exact = self.exact[j].iter().find(|(n, ..)| n == fig).map(|e| e.2);
+        let central = value(&runs[0])
+            .zip(value(&runs[1]))
+            .map(|(a, b)| (a - b) / (2.0 * self.h[j]));
+        let (derivative, method) = match (d_exact, central) {
+            (Some(e), Some(c)) if !agrees(e, c, f0, self.h[j]) => {
+                notes.push(format!(
+                    "the exact slope {} disagrees with the central difference {}: a kink here, or a value the dual numbers do not carry \
+                     (a cam profile, the elongation allowance); the central difference is used",
+                    crate::format::fmt_num(e),
+                    crate::format::fmt_num(c)
+                ));
+                (Some(c), Method::Central)
+            }
+            (Some(e), _) => (Some(e), Method::Exact),
+            (None, c) => (c, Method::Central),
+        };
+        if derivative.is_none() {
+            notes.extend(why(&runs[0]).or(why(&runs[1])).map(|w| format!("no derivative: {w}")));
+        }
+        let width = hi - lo;
+        let derivative = derivative.map(|d| if (d * width).abs() <= tiny { 0.0 } else { d });
+        let samples = &runs[2..];
+        let (at_lo, at_hi) = (value(&samples[0]), value(&samples[RANGE_SAMPLES - 1]));
+        for (k, r) in samples.iter().enumerate() {
+            if let Some(w) = why(r) {
+                let x = lo + width * k as f64 / (RANGE_SAMPLES - 1) as f64;
+                notes.push(format!(
+                    "at {} = {} {}: {w}",
+                    p.name,
+                    crate::format::fmt_num(x),
+                    p.unit_str()
+                ));
+            }
+        }
+        // The span over the range: the samples and the nominal setting.
+        let vals: Vec<f64> = samples
             .iter()
-            .map(|&(i, lo, hi)| StudiedParam {
-                name: model.params[i].name.clone(),
-                unit: model.params[i].unit_str(),
-                nominal: base.values[i],
-                lo,
-                hi,
-            })
-            .collect(),
-        figures: out,
-        insensitive,
-        cycles: 1 + params.len() * (per + 1),
-    })
+            .filter_map(value)
+            .chain(std::iter::once(f0).filter(|_| (lo..=hi).contains(&self.base.values[i])))
+            .collect();
+        let span = if vals.len() >= 2 {
+            Some(snap(
+                vals.iter().cloned().fold(f64::MIN, f64::max) - vals.iter().cloned().fold(f64::MAX, f64::min),
+            ))
+        } else {
+            None
+        };
+        Effect {
+            param: p.name.clone(),
+            param_unit: p.unit_str(),
+            lo,
+            hi,
+            rank: 0,
+            derivative,
+            method,
+            central,
+            effect: derivative.map(|d| d * width),
+            at_lo,
+            at_hi,
+            whole_range: at_lo.zip(at_hi).map(|(a, b)| snap(b - a)),
+            span,
+            note: if notes.is_empty() { None } else { Some(notes.join("; ")) },
+        }
+    }
 }
 
 /// P(φ) of every thread path and its exact derivative dP(φ)/dp over the

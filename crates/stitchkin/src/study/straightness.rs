@@ -315,64 +315,14 @@ fn measure(model: &Model, params: &Params, opts: &StraightnessOptions, detail: b
     crate::eval::check_step(opts.step_deg)?;
     let mech = model.mechanism::<f64>(params)?;
     let mut refiner = Refiner::new(model, params)?;
-    let solve = |phis: &[f64]| -> Result<Pose<f64>, Error> {
-        let mut pose = mech.new_pose(phis.len());
-        mech.solve(&Phi::table(phis), &mut pose)?;
-        Ok(pose)
-    };
-    let positions = |pose: &Pose<f64>| -> Vec<V3<f64>> { pose.track(opts.point).to_vec() };
-    if let Reference::Line { through, toward } = opts.reference {
-        let pose = solve(&[model.phi_start_deg()])?;
-        if (pose.point(toward, 0) - pose.point(through, 0)).norm() < 1e-9 {
-            return Err(Error::Param(ParamError {
-                message: format!(
-                    "--line: points `{}` and `{}` coincide, so they give no direction",
-                    model.point_names[through], model.point_names[toward]
-                ),
-                help: Some("choose two distinct points of the guide".into()),
-            }));
-        }
-    }
+    check_line(model, &mech, opts)?;
 
     // The window in φ.
     let cycle = cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
     let (from_deg, to_deg) = match opts.window {
         Window::Cycle => (cycle[0], cycle[0] + 360.0),
         Window::Phi { from_deg, to_deg } => (from_deg, from_deg + (to_deg - from_deg).rem_euclid(360.0)),
-        Window::Down | Window::Up => {
-            // Dead centres along the line over the whole cycle.
-            let pose = solve(&cycle)?;
-            let line = match opts.reference {
-                Reference::Line { through, toward } => Line::Points(through, toward),
-                Reference::Fit => {
-                    let (c, u) = fit_line(&positions(&pose));
-                    Line::Fixed(c, u)
-                }
-            };
-            let f = Dev {
-                point: opts.point,
-                line,
-                signed: false,
-                along: true,
-            };
-            let s: Vec<f64> = (0..cycle.len()).map(|k| f.at(&mech, &pose, k)).collect();
-            let ((phi_lo, lo), (phi_hi, hi)) = refined_extremes(&mut refiner, &f, &cycle, &s, true)?;
-            if hi - lo < NO_STROKE_MM {
-                return Err(Error::Param(ParamError {
-                    message: format!(
-                        "point `{}` does not move along the line, so it has no working stroke",
-                        model.point_names[opts.point]
-                    ),
-                    help: Some("use --over cycle, or a line along the point's motion".into()),
-                }));
-            }
-            let (a, b) = if opts.window == Window::Down {
-                (phi_hi, phi_lo)
-            } else {
-                (phi_lo, phi_hi)
-            };
-            (a, a + (b - a).rem_euclid(360.0))
-        }
+        Window::Down | Window::Up => stroke_window(model, &mech, &mut refiner, opts, &cycle)?,
     };
     let periodic = opts.window == Window::Cycle;
     let phis: Vec<f64> = if periodic {
@@ -383,8 +333,8 @@ fn measure(model: &Model, params: &Params, opts: &StraightnessOptions, detail: b
             .map(|j| from_deg + (to_deg - from_deg) * j as f64 / (n - 1) as f64)
             .collect()
     };
-    let pose = solve(&phis)?;
-    let pts = positions(&pose);
+    let pose = solve_at(&mech, &phis)?;
+    let pts = pose.track(opts.point).to_vec();
     // A path in the world xy-plane (a planar model, or one whose frames
     // turn only about z) has a signed deviation.
     let in_xy = |track: &[V3<f64>]| track.iter().all(|p| p.z.abs() < 1e-9);
@@ -432,19 +382,9 @@ fn measure(model: &Model, params: &Params, opts: &StraightnessOptions, detail: b
     } else {
         ld.y.clamp(-1.0, 1.0).acos().to_degrees()
     };
-    let words = |p: usize| model.point_names[p].as_str();
-    let reference = match opts.reference {
-        Reference::Line { through, toward } => format!("the line {} → {}", words(through), words(toward)),
-        Reference::Fit => "the least-squares line of the path".to_string(),
-    };
-    let window = match opts.window {
-        Window::Cycle => "over the cycle".to_string(),
-        Window::Down => format!("down, from φ = {:.2}° to {:.2}°", wrap_deg(from_deg), wrap_deg(to_deg)),
-        Window::Up => format!("up, from φ = {:.2}° to {:.2}°", wrap_deg(from_deg), wrap_deg(to_deg)),
-        Window::Phi { .. } => format!("from φ = {:.2}° to {:.2}°", wrap_deg(from_deg), wrap_deg(to_deg)),
-    };
+    let (reference, window) = describe(model, opts, from_deg, to_deg);
     let out = Straightness {
-        point: words(opts.point).to_string(),
+        point: model.point_names[opts.point].clone(),
         reference,
         window,
         from_deg,
@@ -482,6 +422,89 @@ fn measure(model: &Model, params: &Params, opts: &StraightnessOptions, detail: b
         )));
     }
     Ok(out)
+}
+
+/// The mechanism solved at `phis`.
+fn solve_at(mech: &Mechanism<f64>, phis: &[f64]) -> Result<Pose<f64>, Error> {
+    let mut pose = mech.new_pose(phis.len());
+    mech.solve(&Phi::table(phis), &mut pose)?;
+    Ok(pose)
+}
+
+/// A reference line through two points that do not coincide.
+fn check_line(model: &Model, mech: &Mechanism<f64>, opts: &StraightnessOptions) -> Result<(), Error> {
+    if let Reference::Line { through, toward } = opts.reference {
+        let pose = solve_at(mech, &[model.phi_start_deg()])?;
+        if (pose.point(toward, 0) - pose.point(through, 0)).norm() < 1e-9 {
+            return Err(Error::Param(ParamError {
+                message: format!(
+                    "--line: points `{}` and `{}` coincide, so they give no direction",
+                    model.point_names[through], model.point_names[toward]
+                ),
+                help: Some("choose two distinct points of the guide".into()),
+            }));
+        }
+    }
+    Ok(())
+}
+
+/// The working stroke (`--over down` or `up`): from one dead centre along
+/// the line to the other, found over the whole `cycle` and refined.
+fn stroke_window(
+    model: &Model,
+    mech: &Mechanism<f64>,
+    refiner: &mut Refiner,
+    opts: &StraightnessOptions,
+    cycle: &[f64],
+) -> Result<(f64, f64), Error> {
+    // Dead centres along the line over the whole cycle.
+    let pose = solve_at(mech, cycle)?;
+    let line = match opts.reference {
+        Reference::Line { through, toward } => Line::Points(through, toward),
+        Reference::Fit => {
+            let (c, u) = fit_line(pose.track(opts.point));
+            Line::Fixed(c, u)
+        }
+    };
+    let f = Dev {
+        point: opts.point,
+        line,
+        signed: false,
+        along: true,
+    };
+    let s: Vec<f64> = (0..cycle.len()).map(|k| f.at(mech, &pose, k)).collect();
+    let ((phi_lo, lo), (phi_hi, hi)) = refined_extremes(refiner, &f, cycle, &s, true)?;
+    if hi - lo < NO_STROKE_MM {
+        return Err(Error::Param(ParamError {
+            message: format!(
+                "point `{}` does not move along the line, so it has no working stroke",
+                model.point_names[opts.point]
+            ),
+            help: Some("use --over cycle, or a line along the point's motion".into()),
+        }));
+    }
+    let (a, b) = if opts.window == Window::Down {
+        (phi_hi, phi_lo)
+    } else {
+        (phi_lo, phi_hi)
+    };
+    Ok((a, a + (b - a).rem_euclid(360.0)))
+}
+
+/// The reference line and the window in words.
+fn describe(model: &Model, opts: &StraightnessOptions, from_deg: f64, to_deg: f64) -> (String, String) {
+    let words = |p: usize| model.point_names[p].as_str();
+    let reference = match opts.reference {
+        Reference::Line { through, toward } => format!("the line {} → {}", words(through), words(toward)),
+        Reference::Fit => "the least-squares line of the path".to_string(),
+    };
+    let window = match opts.window {
+        Window::Cycle => "over the cycle".to_string(),
+        Window::Down => format!("down, from φ = {:.2}° to {:.2}°", wrap_deg(from_deg), wrap_deg(to_deg)),
+        Window::Up => format!("up, from φ = {:.2}° to {:.2}°", wrap_deg(from_deg), wrap_deg(to_deg)),
+        Window::Phi { .. } => format!("from φ = {:.2}° to {:.2}°", wrap_deg(from_deg), wrap_deg(to_deg)),
+    };
+    (reference, window)
 }
 
 /// A parameter's tolerance: the value may be anywhere in nominal ± `tol`.
@@ -775,101 +798,9 @@ pub fn tolerance_study(model: &Model, base: &Params, opts: &ToleranceOptions) ->
         .tolerances
         .par_iter()
         .zip(&index)
-        .map(|(t, &i)| {
-            let at = |d: f64| deviation(model, base, &[(i, d)], so);
-            let (minus, plus) = (at(-t.tol), at(t.tol));
-            // Within the limit at both ends of ± tol.
-            let within = |tol: f64| matches!((at(-tol), at(tol)), (Some(a), Some(b)) if a <= opts.limit_mm && b <= opts.limit_mm);
-            // Largest tolerance: grow from ± tol by doubling to the first
-            // tolerance over the limit, then bisect to 1e-3 of tol.
-            let (mut ok, mut over) = (0.0, t.tol);
-            while within(over) && over < SEARCH_CAP * t.tol {
-                ok = over;
-                over *= 2.0;
-            }
-            let bounded = !within(over);
-            let largest_tol = if bounded {
-                while over - ok > 1e-3 * t.tol {
-                    let m = 0.5 * (ok + over);
-                    if within(m) { ok = m } else { over = m }
-                }
-                ok
-            } else {
-                over
-            };
-            OneAtATime {
-                name: t.name.clone(),
-                unit: t.unit,
-                tol: t.tol,
-                dev_minus_mm: minus,
-                dev_plus_mm: plus,
-                change_mm: minus.zip(plus).map(|(a, b)| a.max(b) - nominal_mm),
-                largest_tol,
-                bounded,
-            }
-        })
+        .map(|(t, &i)| one_at_a_time(model, base, opts, t, i, nominal_mm))
         .collect();
-    let monte_carlo = if opts.samples == 0 {
-        None
-    } else {
-        // Uniform numbers u in [0, 1) from the sweep's seeded SplitMix64
-        // stream (fixed forever, as `sweep --method random` uses), one per
-        // sample and parameter.
-        let unit_box: Vec<Vary> = opts
-            .tolerances
-            .iter()
-            .map(|t| Vary {
-                name: t.name.clone(),
-                lo: 0.0,
-                hi: 1.0,
-                n: 2,
-            })
-            .collect();
-        let draws = Sweep::new(
-            unit_box,
-            Design::Random {
-                samples: opts.samples,
-                seed: opts.seed,
-            },
-        )?;
-        let devs: Vec<Option<f64>> = (0..opts.samples)
-            .into_par_iter()
-            .map(|k| {
-                let deltas: Vec<(usize, f64)> = draws
-                    .setting(k)
-                    .iter()
-                    .zip(&opts.tolerances)
-                    .zip(&index)
-                    .map(|((&u, t), &i)| {
-                        let d = match opts.distribution {
-                            Distribution::Uniform => t.tol * (2.0 * u - 1.0),
-                            Distribution::Normal => {
-                                t.tol / 3.0 * normal_quantile(PHI_MINUS_3 + u * (1.0 - 2.0 * PHI_MINUS_3))
-                            }
-                        };
-                        (i, d)
-                    })
-                    .collect();
-                deviation(model, base, &deltas, so)
-            })
-            .collect();
-        let mut ok: Vec<f64> = devs.iter().flatten().cloned().collect();
-        ok.sort_by(f64::total_cmp);
-        let failed = opts.samples - ok.len();
-        let over = failed + ok.iter().filter(|d| **d > opts.limit_mm).count();
-        Some(MonteCarlo {
-            samples: opts.samples,
-            seed: opts.seed,
-            distribution: opts.distribution,
-            failed,
-            p50_mm: percentile(&ok, 0.5),
-            p90_mm: percentile(&ok, 0.9),
-            p99_mm: percentile(&ok, 0.99),
-            mean_mm: (!ok.is_empty()).then(|| ok.iter().sum::<f64>() / ok.len() as f64),
-            max_mm: ok.last().cloned(),
-            over_limit: over as f64 / opts.samples as f64,
-        })
-    };
+    let monte_carlo = monte_carlo(model, base, opts, &index)?;
     Ok(ToleranceStudy {
         point: nominal.point,
         reference: nominal.reference,
@@ -879,6 +810,123 @@ pub fn tolerance_study(model: &Model, base: &Params, opts: &ToleranceOptions) ->
         one_at_a_time,
         monte_carlo,
     })
+}
+
+/// Parameter `t` (index `i`) alone at ± its tolerance, and the largest
+/// tolerance it may have alone: grown from ± tol by doubling to the first
+/// over the limit, then bisected.
+fn one_at_a_time(
+    model: &Model,
+    base: &Params,
+    opts: &ToleranceOptions,
+    t: &Tolerance,
+    i: usize,
+    nominal_mm: f64,
+) -> OneAtATime {
+    let so = &opts.straightness;
+    let at = |d: f64| deviation(model, base, &[(i, d)], so);
+    let (minus, plus) = (at(-t.tol), at(t.tol));
+    // Within the limit at both ends of ± tol.
+    let within =
+        |tol: f64| matches!((at(-tol), at(tol)), (Some(a), Some(b)) if a <= opts.limit_mm && b <= opts.limit_mm);
+    // Largest tolerance: grow from ± tol by doubling to the first
+    // tolerance over the limit, then bisect to 1e-3 of tol.
+    let (mut ok, mut over) = (0.0, t.tol);
+    while within(over) && over < SEARCH_CAP * t.tol {
+        ok = over;
+        over *= 2.0;
+    }
+    let bounded = !within(over);
+    let largest_tol = if bounded {
+        while over - ok > 1e-3 * t.tol {
+            let m = 0.5 * (ok + over);
+            if within(m) { ok = m } else { over = m }
+        }
+        ok
+    } else {
+        over
+    };
+    OneAtATime {
+        name: t.name.clone(),
+        unit: t.unit,
+        tol: t.tol,
+        dev_minus_mm: minus,
+        dev_plus_mm: plus,
+        change_mm: minus.zip(plus).map(|(a, b)| a.max(b) - nominal_mm),
+        largest_tol,
+        bounded,
+    }
+}
+
+/// The Monte Carlo over every tolerance at once (`None` for 0 samples):
+/// the deviation's percentiles and the share over the limit.
+fn monte_carlo(
+    model: &Model,
+    base: &Params,
+    opts: &ToleranceOptions,
+    index: &[usize],
+) -> Result<Option<MonteCarlo>, Error> {
+    if opts.samples == 0 {
+        return Ok(None);
+    }
+    let so = &opts.straightness;
+    // Uniform numbers u in [0, 1) from the sweep's seeded SplitMix64
+    // stream (fixed forever, as `sweep --method random` uses), one per
+    // sample and parameter.
+    let unit_box: Vec<Vary> = opts
+        .tolerances
+        .iter()
+        .map(|t| Vary {
+            name: t.name.clone(),
+            lo: 0.0,
+            hi: 1.0,
+            n: 2,
+        })
+        .collect();
+    let draws = Sweep::new(
+        unit_box,
+        Design::Random {
+            samples: opts.samples,
+            seed: opts.seed,
+        },
+    )?;
+    let devs: Vec<Option<f64>> = (0..opts.samples)
+        .into_par_iter()
+        .map(|k| {
+            let deltas: Vec<(usize, f64)> = draws
+                .setting(k)
+                .iter()
+                .zip(&opts.tolerances)
+                .zip(index)
+                .map(|((&u, t), &i)| {
+                    let d = match opts.distribution {
+                        Distribution::Uniform => t.tol * (2.0 * u - 1.0),
+                        Distribution::Normal => {
+                            t.tol / 3.0 * normal_quantile(PHI_MINUS_3 + u * (1.0 - 2.0 * PHI_MINUS_3))
+                        }
+                    };
+                    (i, d)
+                })
+                .collect();
+            deviation(model, base, &deltas, so)
+        })
+        .collect();
+    let mut ok: Vec<f64> = devs.iter().flatten().cloned().collect();
+    ok.sort_by(f64::total_cmp);
+    let failed = opts.samples - ok.len();
+    let over = failed + ok.iter().filter(|d| **d > opts.limit_mm).count();
+    Ok(Some(MonteCarlo {
+        samples: opts.samples,
+        seed: opts.seed,
+        distribution: opts.distribution,
+        failed,
+        p50_mm: percentile(&ok, 0.5),
+        p90_mm: percentile(&ok, 0.9),
+        p99_mm: percentile(&ok, 0.99),
+        mean_mm: (!ok.is_empty()).then(|| ok.iter().sum::<f64>() / ok.len() as f64),
+        max_mm: ok.last().cloned(),
+        over_limit: over as f64 / opts.samples as f64,
+    }))
 }
 
 #[cfg(test)]

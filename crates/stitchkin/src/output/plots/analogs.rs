@@ -3,7 +3,7 @@
 
 use super::{closed, column, param_error, phi_axis, point_slots, select_paths, title};
 use crate::error::Error;
-use crate::eval::{CycleOptions, run_cycle};
+use crate::eval::{CycleOptions, CycleTable, run_cycle};
 use crate::model::{Model, Params};
 use crate::output::svg::{Axis, Chart, Figure, Series, color};
 
@@ -61,34 +61,7 @@ pub fn analogs(
         },
     )?;
     let phis = column(&table, "phi_deg")?;
-    // (legend, first-analog column, second-analog column) per line.
-    let mut lines: Vec<(String, String, String, String)> = Vec::new();
-    for p in points {
-        for a in ["x", "y", "z"] {
-            let d1 = format!("{p}.d{a}_dphi_mm_per_rad");
-            if table.column(&d1).is_some() {
-                lines.push((
-                    format!("{p} d{a}/dφ"),
-                    format!("{p} d²{a}/dφ²"),
-                    d1,
-                    format!("{p}.d2{a}_dphi2_mm_per_rad2"),
-                ));
-            }
-        }
-    }
-    for p in &paths {
-        let pn = table
-            .paths
-            .iter()
-            .find(|q| &q.path == p)
-            .map_or("P", |q| q.take_up_name());
-        lines.push((
-            p.clone(),
-            p.clone(),
-            format!("{p}.d{pn}_dphi_mm_per_rad"),
-            format!("{p}.d2{pn}_dphi2_mm_per_rad2"),
-        ));
-    }
+    let lines = analog_lines(&table, points, &paths);
     let (what, y1, y2) = if points.is_empty() {
         (
             format!("take-up analogs of {}", paths.join(", ")),
@@ -136,4 +109,38 @@ pub fn analogs(
     );
     fig.panels = vec![first, second];
     Ok(fig)
+}
+
+/// (legend of the first panel, of the second, first-analog column,
+/// second-analog column) per line: each point's coordinates, then each
+/// path's take-up.
+fn analog_lines(table: &CycleTable, points: &[String], paths: &[String]) -> Vec<(String, String, String, String)> {
+    let mut lines: Vec<(String, String, String, String)> = Vec::new();
+    for p in points {
+        for a in ["x", "y", "z"] {
+            let d1 = format!("{p}.d{a}_dphi_mm_per_rad");
+            if table.column(&d1).is_some() {
+                lines.push((
+                    format!("{p} d{a}/dφ"),
+                    format!("{p} d²{a}/dφ²"),
+                    d1,
+                    format!("{p}.d2{a}_dphi2_mm_per_rad2"),
+                ));
+            }
+        }
+    }
+    for p in paths {
+        let pn = table
+            .paths
+            .iter()
+            .find(|q| &q.path == p)
+            .map_or("P", |q| q.take_up_name());
+        lines.push((
+            p.clone(),
+            p.clone(),
+            format!("{p}.d{pn}_dphi_mm_per_rad"),
+            format!("{p}.d2{pn}_dphi2_mm_per_rad2"),
+        ));
+    }
+    lines
 }

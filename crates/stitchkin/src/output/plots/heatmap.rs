@@ -31,31 +31,7 @@ pub fn figure_label(name: &str) -> String {
 /// map: the first parameter across, the second up. Cells that did not
 /// evaluate are grey; the smallest and largest value are marked.
 pub fn heatmap(model: &Model, params: &Params, vary: &[Vary], figure: &str, step_deg: f64) -> Result<Chart, Error> {
-    if vary.len() != 2 {
-        return Err(param_error(
-            format!("`plot heatmap` needs exactly 2 --vary, got {}", vary.len()),
-            "give two parameters, e.g. --vary z=-10:10:11 --vary dphi=-20:20:11 (the first across, the second up)"
-                .into(),
-        ));
-    }
-    if vary[0].name == vary[1].name {
-        return Err(param_error(
-            format!("`{}` is varied twice (in --vary)", vary[0].name),
-            "vary two different parameters".into(),
-        ));
-    }
-    let vary: Vec<Vary> = vary
-        .iter()
-        .map(|v| Vary {
-            name: v.name.clone(),
-            lo: v.lo.min(v.hi),
-            hi: v.lo.max(v.hi),
-            n: v.n,
-        })
-        .collect();
-    for v in &vary {
-        check_vary(model, v)?;
-    }
+    let vary = ordered_pair(model, vary)?;
     let opts = CycleOptions {
         step_deg,
         analogs: false,
@@ -63,43 +39,8 @@ pub fn heatmap(model: &Model, params: &Params, vary: &[Vary], figure: &str, step
         lean: true,
         ..Default::default()
     };
-    let nominal = run_cycle(model, params, &opts)?;
-    let names = select_figures(&figures(&nominal), &[figure.to_string()]).map_err(|e| match e {
-        Error::Param(mut p) => {
-            p.message += " (in --figure)";
-            Error::Param(p)
-        }
-        e => e,
-    })?;
-    let name = match names.as_slice() {
-        [one] => one.clone(),
-        many => {
-            return Err(param_error(
-                format!(
-                    "--figure `{figure}` matches {} figures of merit; a heat map shows one",
-                    many.len()
-                ),
-                format!("name one of: {}", many.join(", ")),
-            ));
-        }
-    };
-    let sw = Sweep::new(vary.clone(), Design::Grid)?;
-    let shared = shared_stitch(model, params, &sw, step_deg)?;
-    let mut rows = Vec::with_capacity(sw.len());
-    sweep::run(
-        model,
-        params,
-        &sw,
-        std::slice::from_ref(&name),
-        &opts,
-        shared.as_ref(),
-        0..sw.len(),
-        |r| -> Result<(), Error> {
-            rows.push(r.clone());
-            Ok(())
-        },
-        |_| {},
-    )?;
+    let name = one_figure(model, params, &opts, figure)?;
+    let rows = grid_rows(model, params, &vary, &name, &opts)?;
     let (a, b) = (&vary[0], &vary[1]);
     let (ua, ub) = (param_unit(model, &a.name), param_unit(model, &b.name));
     let xs: Vec<f64> = (0..a.n).map(|i| a.grid_value(i)).collect();
@@ -146,26 +87,7 @@ pub fn heatmap(model: &Model, params: &Params, vary: &[Vary], figure: &str, step
     };
     let mut chart = Chart::new(title(model, &format!("{name} over {} and {}", a.name, b.name)), x, y);
     let missing = z.iter().flatten().filter(|v| !v.is_finite()).count();
-    // The extremes, marked.
-    let cells = || {
-        (0..a.n)
-            .flat_map(|i| (0..b.n).map(move |j| (i, j)))
-            .filter(|&(i, j)| z[j][i].is_finite())
-    };
-    let lowest = cells().min_by(|p, q| z[p.1][p.0].total_cmp(&z[q.1][q.0]));
-    let highest = cells().max_by(|p, q| z[p.1][p.0].total_cmp(&z[q.1][q.0]));
-    for (what, c, colour) in [("max", highest, "#e15759"), ("min", lowest, "#ffffff")] {
-        if let Some((i, j)) = c {
-            let v = z[j][i];
-            chart.markers.push(Marker {
-                x: xs[i],
-                y: ys[j],
-                color: colour.into(),
-                label: format!("{what}: {}, at {}", fmt(v), at(i, j)),
-                legend: Some(format!("{what} {}", fmt(v))),
-            });
-        }
-    }
+    mark_extremes(&mut chart, &z, &xs, &ys, &fmt, &at);
     chart.heat = Some(Heat {
         xs,
         ys,
@@ -183,6 +105,121 @@ pub fn heatmap(model: &Model, params: &Params, vary: &[Vary], figure: &str, step
     }
     chart.subtitle = Some(sub);
     Ok(chart)
+}
+
+/// The two varied parameters, distinct and each checked, their ranges
+/// ordered low to high.
+fn ordered_pair(model: &Model, vary: &[Vary]) -> Result<Vec<Vary>, Error> {
+    if vary.len() != 2 {
+        return Err(param_error(
+            format!("`plot heatmap` needs exactly 2 --vary, got {}", vary.len()),
+            "give two parameters, e.g. --vary z=-10:10:11 --vary dphi=-20:20:11 (the first across, the second up)"
+                .into(),
+        ));
+    }
+    if vary[0].name == vary[1].name {
+        return Err(param_error(
+            format!("`{}` is varied twice (in --vary)", vary[0].name),
+            "vary two different parameters".into(),
+        ));
+    }
+    let vary: Vec<Vary> = vary
+        .iter()
+        .map(|v| Vary {
+            name: v.name.clone(),
+            lo: v.lo.min(v.hi),
+            hi: v.lo.max(v.hi),
+            n: v.n,
+        })
+        .collect();
+    for v in &vary {
+        check_vary(model, v)?;
+    }
+    Ok(vary)
+}
+
+/// The one figure of merit `figure` names, at the nominal setting.
+fn one_figure(model: &Model, params: &Params, opts: &CycleOptions, figure: &str) -> Result<String, Error> {
+    let nominal = run_cycle(model, params, opts)?;
+    let names = select_figures(&figures(&nominal), &[figure.to_string()]).map_err(|e| match e {
+        Error::Param(mut p) => {
+            p.message += " (in --figure)";
+            Error::Param(p)
+        }
+        e => e,
+    })?;
+    match names.as_slice() {
+        [one] => Ok(one.clone()),
+        many => {
+            return Err(param_error(
+                format!(
+                    "--figure `{figure}` matches {} figures of merit; a heat map shows one",
+                    many.len()
+                ),
+                format!("name one of: {}", many.join(", ")),
+            ));
+        }
+    }
+}
+
+/// Figure `name` at every setting of the grid over `vary` (in parallel,
+/// as `stitchkin sweep`), the last parameter fastest.
+fn grid_rows(
+    model: &Model,
+    params: &Params,
+    vary: &[Vary],
+    name: &str,
+    opts: &CycleOptions,
+) -> Result<Vec<sweep::Row>, Error> {
+    let sw = Sweep::new(vary.to_vec(), Design::Grid)?;
+    let shared = shared_stitch(model, params, &sw, opts.step_deg)?;
+    let mut rows = Vec::with_capacity(sw.len());
+    sweep::run(
+        model,
+        params,
+        &sw,
+        &[name.to_string()],
+        opts,
+        shared.as_ref(),
+        0..sw.len(),
+        |r| -> Result<(), Error> {
+            rows.push(r.clone());
+            Ok(())
+        },
+        |_| {},
+    )?;
+    Ok(rows)
+}
+
+/// The smallest and largest value of the heat map `z`, marked.
+fn mark_extremes(
+    chart: &mut Chart,
+    z: &[Vec<f64>],
+    xs: &[f64],
+    ys: &[f64],
+    fmt: &dyn Fn(f64) -> String,
+    at: &dyn Fn(usize, usize) -> String,
+) {
+    let (na, nb) = (xs.len(), ys.len());
+    let cells = || {
+        (0..na)
+            .flat_map(|i| (0..nb).map(move |j| (i, j)))
+            .filter(|&(i, j)| z[j][i].is_finite())
+    };
+    let lowest = cells().min_by(|p, q| z[p.1][p.0].total_cmp(&z[q.1][q.0]));
+    let highest = cells().max_by(|p, q| z[p.1][p.0].total_cmp(&z[q.1][q.0]));
+    for (what, c, colour) in [("max", highest, "#e15759"), ("min", lowest, "#ffffff")] {
+        if let Some((i, j)) = c {
+            let v = z[j][i];
+            chart.markers.push(Marker {
+                x: xs[i],
+                y: ys[j],
+                color: colour.into(),
+                label: format!("{what}: {}, at {}", fmt(v), at(i, j)),
+                legend: Some(format!("{what} {}", fmt(v))),
+            });
+        }
+    }
 }
 
 /// The names of the figures of merit the model offers at `params` (what
