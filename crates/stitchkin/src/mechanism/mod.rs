@@ -425,36 +425,7 @@ impl<T: Real> Mechanism<T> {
                     })),
                 }
             }
-            Step::Rrp {
-                from,
-                through,
-                toward,
-                dir,
-                offset,
-                l,
-                sign,
-                plane,
-                ..
-            } => {
-                let (a, h) = (tr(*from), tr(*through));
-                let l_sq = *l * *l;
-                match toward.map(tr) {
-                    Some(t) => with_plane!(plane, pl => each(o, |k| {
-                        let hk = pl.project(&h[k]);
-                        let u = unit(pl.project(&t[k]) - hk)?;
-                        line::point_on_line(hk + perp(u) * *offset, u, pl.project(&a[k]), l_sq, *sign)
-                            .map(|q| pl.lift(q, T::zero()))
-                    })),
-                    None => {
-                        // A guide of fixed direction: its offset is the same at every φ.
-                        let off = perp(*dir) * *offset;
-                        with_plane!(plane, pl => each(o, |k| {
-                            line::point_on_line(pl.project(&h[k]) + off, *dir, pl.project(&a[k]), l_sq, *sign)
-                                .map(|q| pl.lift(q, T::zero()))
-                        }))
-                    }
-                }
-            }
+            Step::Rrp { .. } => self.solve_rrp(step, t, phis, o),
             Step::Rpr {
                 from,
                 pivot,
@@ -482,55 +453,8 @@ impl<T: Real> Mechanism<T> {
                     each(o, |k| rssr::rssr(&rod, a[k], *sign))
                 }
             }
-            Step::PointOnLine {
-                from,
-                through,
-                toward,
-                dir,
-                l,
-                sign,
-                ..
-            } => {
-                let (a, h) = (tr(*from), tr(*through));
-                let t = toward.map(tr);
-                let l_sq = *l * *l;
-                // A guide of fixed direction: all positions at once, as
-                // for RSSR; the checked loop only where one fails.
-                if t.is_none() && kernels::point_on_line(o, h, a, *dir, l_sq, *sign) {
-                    Ok(())
-                } else {
-                    each(o, |k| {
-                        let u = match t {
-                            Some(t) => unit(t[k] - h[k])?,
-                            None => *dir,
-                        };
-                        line::point_on_line(h[k], u, a[k], l_sq, *sign)
-                    })
-                }
-            }
-            Step::Rigid {
-                base,
-                dc,
-                ds,
-                base_len,
-                lift,
-                plane,
-                ..
-            } => {
-                let (a, b) = (tr(base[0]), tr(base[1]));
-                match base_len {
-                    // On a link of known length it cannot fail: a loop
-                    // without branches, which vectorises.
-                    Some(l) => {
-                        let (dcl, dsl) = (*dc / *l, *ds / *l);
-                        with_plane!(plane, pl => kernels::rigid_on_link(o, a, b, pl, dcl, dsl, *lift));
-                        Ok(())
-                    }
-                    None => with_plane!(plane, pl => each(o, |k| {
-                        rigid::rigid_point(pl.project(&a[k]), pl.project(&b[k]), *dc, *ds).map(|q| pl.lift(q, *lift))
-                    })),
-                }
-            }
+            Step::PointOnLine { .. } => self.solve_point_on_line(step, t, phis, o),
+            Step::Rigid { .. } => self.solve_rigid(step, t, phis, o),
             Step::Rigid3 { frame, at, .. } => {
                 let (f0, f1, f2) = (tr(frame[0]), tr(frame[1]), tr(frame[2]));
                 each(o, |k| rigid::rigid_point_3d(f0[k], f1[k], f2[k], *at))
@@ -540,6 +464,130 @@ impl<T: Real> Mechanism<T> {
                 Ok(())
             }
             Step::Newton(_) => unreachable!("numerical groups are solved by `solve`"),
+        }
+    }
+
+    /// An RRP dyad: a slider on a guide through `through`, at `l` from `from`.
+    #[inline(always)]
+    fn solve_rrp(
+        &self,
+        step: &Step<T>,
+        t: &[Vec<V3<T>>],
+        phis: &[Phi<T>],
+        o: &mut [V3<T>],
+    ) -> Result<(), (usize, NoAssembly)> {
+        let n = phis.len();
+        let tr = |s: usize| &t[s][..n];
+        let Step::Rrp {
+            from,
+            through,
+            toward,
+            dir,
+            offset,
+            l,
+            sign,
+            plane,
+            ..
+        } = step
+        else {
+            unreachable!("solve_rrp is called on its own kind of step")
+        };
+        let (a, h) = (tr(*from), tr(*through));
+        let l_sq = *l * *l;
+        match toward.map(tr) {
+            Some(t) => with_plane!(plane, pl => each(o, |k| {
+                let hk = pl.project(&h[k]);
+                let u = unit(pl.project(&t[k]) - hk)?;
+                line::point_on_line(hk + perp(u) * *offset, u, pl.project(&a[k]), l_sq, *sign)
+                    .map(|q| pl.lift(q, T::zero()))
+            })),
+            None => {
+                // A guide of fixed direction: its offset is the same at every φ.
+                let off = perp(*dir) * *offset;
+                with_plane!(plane, pl => each(o, |k| {
+                    line::point_on_line(pl.project(&h[k]) + off, *dir, pl.project(&a[k]), l_sq, *sign)
+                        .map(|q| pl.lift(q, T::zero()))
+                }))
+            }
+        }
+    }
+
+    /// A planar rigid point on the base `base[0]` → `base[1]`.
+    #[inline(always)]
+    fn solve_rigid(
+        &self,
+        step: &Step<T>,
+        t: &[Vec<V3<T>>],
+        phis: &[Phi<T>],
+        o: &mut [V3<T>],
+    ) -> Result<(), (usize, NoAssembly)> {
+        let n = phis.len();
+        let tr = |s: usize| &t[s][..n];
+        let Step::Rigid {
+            base,
+            dc,
+            ds,
+            base_len,
+            lift,
+            plane,
+            ..
+        } = step
+        else {
+            unreachable!("solve_rigid is called on its own kind of step")
+        };
+        let (a, b) = (tr(base[0]), tr(base[1]));
+        match base_len {
+            // On a link of known length it cannot fail: a loop
+            // without branches, which vectorises.
+            Some(l) => {
+                let (dcl, dsl) = (*dc / *l, *ds / *l);
+                with_plane!(plane, pl => kernels::rigid_on_link(o, a, b, pl, dcl, dsl, *lift));
+                Ok(())
+            }
+            None => with_plane!(plane, pl => each(o, |k| {
+                rigid::rigid_point(pl.project(&a[k]), pl.project(&b[k]), *dc, *ds).map(|q| pl.lift(q, *lift))
+            })),
+        }
+    }
+
+    /// A spatial point on a line through `through`, at `l` from `from`.
+    #[inline(always)]
+    fn solve_point_on_line(
+        &self,
+        step: &Step<T>,
+        t: &[Vec<V3<T>>],
+        phis: &[Phi<T>],
+        o: &mut [V3<T>],
+    ) -> Result<(), (usize, NoAssembly)> {
+        let n = phis.len();
+        let tr = |s: usize| &t[s][..n];
+        let Step::PointOnLine {
+            from,
+            through,
+            toward,
+            dir,
+            l,
+            sign,
+            ..
+        } = step
+        else {
+            unreachable!("solve_point_on_line is called on its own kind of step")
+        };
+        let (a, h) = (tr(*from), tr(*through));
+        let t = toward.map(tr);
+        let l_sq = *l * *l;
+        // A guide of fixed direction: all positions at once, as
+        // for RSSR; the checked loop only where one fails.
+        if t.is_none() && kernels::point_on_line(o, h, a, *dir, l_sq, *sign) {
+            Ok(())
+        } else {
+            each(o, |k| {
+                let u = match t {
+                    Some(t) => unit(t[k] - h[k])?,
+                    None => *dir,
+                };
+                line::point_on_line(h[k], u, a[k], l_sq, *sign)
+            })
         }
     }
 
