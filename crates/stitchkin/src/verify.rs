@@ -388,7 +388,7 @@ pub fn cross_check(model: &Model, params: &Params, step_deg: f64) -> Result<Cros
             }
         }
         let res = newton(&mech, &lay, phi, &mut x);
-        if !(res < 1e-9) {
+        if res.is_nan() || res >= 1e-9 {
             return Err(Error::NotFinite(format!(
                 "the whole-system Newton solver did not converge at φ = {phi_deg:.3}° (residual {res:.3e})"
             )));

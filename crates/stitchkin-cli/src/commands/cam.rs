@@ -124,10 +124,10 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     opts.anchor_radius_mm = args.anchor_radius;
     let s = synthesise(&model, &params, &opts)?;
     let render = |f: CamFormat| match f {
-        CamFormat::Csv => stitchkin::output::text::cam::csv(&s),
+        CamFormat::Csv => text::cam::csv(&s),
         CamFormat::Svg => stitchkin::output::drawing::cam::svg(&s),
         CamFormat::Dxf => stitchkin::output::drawing::cam::dxf(&s),
-        CamFormat::Toml | CamFormat::All => stitchkin::output::text::cam::toml_snippet(&s),
+        CamFormat::Toml | CamFormat::All => text::cam::toml_snippet(&s),
     };
     let ext = |f: CamFormat| match f {
         CamFormat::Csv => "csv",

@@ -302,7 +302,7 @@ impl<T: Real> NewtonGroup<T> {
         }
         for (i, &slot) in self.outs.iter().enumerate() {
             let p = self.point(PointRef::Unknown(i), &st.xt, &known_t);
-            points[slot] = self.from_group(p);
+            points[slot] = self.group_to_space(p);
         }
         Ok(())
     }
@@ -316,7 +316,7 @@ impl<T: Real> NewtonGroup<T> {
         }
     }
 
-    fn from_group(&self, p: V3<T>) -> V3<T> {
+    fn group_to_space(&self, p: V3<T>) -> V3<T> {
         if self.dim == 2 {
             self.plane.lift(V2::new(p.x, p.y), T::zero())
         } else {

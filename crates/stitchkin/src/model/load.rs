@@ -1034,7 +1034,7 @@ impl<'a> Loader<'a> {
                 for n in [through, toward] {
                     if local.contains_key(n.as_str()) {
                         return Err(self.err(
-                            &cp,
+                            cp,
                             format!(
                                 "the line's points must be solved before this group, but `{n}` is one of its unknowns"
                             ),
@@ -1045,11 +1045,11 @@ impl<'a> Loader<'a> {
                 Ok((ClosureDef::OnLine { p, h, t }, dim - 1))
             }
             _ => {
-                return Err(self.err(
-                    &cp,
+                Err(self.err(
+                    cp,
                     "a constraint is either a distance or a point on a line",
                     Some("write `{ distance = [\"A\", \"B\"], length = 20 }` or `{ on_line = \"P\", through = \"H\", toward = \"T\" }`".into()),
-                ));
+                ))
             }
         }
     }
@@ -1275,7 +1275,7 @@ impl<'a> Loader<'a> {
             let def = self.path_def(tp, &pp, default_mu, &cams, same_body)?;
             paths.push(def);
         }
-        let layout = std::sync::Arc::new(super::ThreadLayout::new(&paths));
+        let layout = Arc::new(super::ThreadLayout::new(&paths));
         Ok(Some(ThreadsDef {
             convention,
             elongation,
@@ -1402,7 +1402,7 @@ impl<'a> Loader<'a> {
             (Some(at), None, None) => {
                 if g.axis.is_some() || g.wrap.is_some() || g.radius.is_some() || g.frame.is_some() || cam_fields {
                     return Err(self.err(
-                        &np,
+                        np,
                         "an eyelet (`at`) has no axis, wrap, radius, frame or cam contact",
                         Some("for a one-sided guide write `pin = \"NAME\"` instead of `at`".into()),
                     ));
@@ -1417,7 +1417,7 @@ impl<'a> Loader<'a> {
             }
             (None, None, Some(cam)) => self.cam_guide(g, cam, i, np, cams)?,
             _ => {
-                return Err(self.err(&np, "a guide table has one of `at` (an eyelet), `pin` (a one-sided guide) or `cam`", Some("e.g. `{ at = \"G1\", friction = 0.2 }`, `{ pin = \"G4\", axis = \"z\", wrap = \"ccw\" }` or `{ cam = \"C\", wrap = \"cw\" }`".into())));
+                return Err(self.err(np, "a guide table has one of `at` (an eyelet), `pin` (a one-sided guide) or `cam`", Some("e.g. `{ at = \"G1\", friction = 0.2 }`, `{ pin = \"G4\", axis = \"z\", wrap = \"ccw\" }` or `{ cam = \"C\", wrap = \"cw\" }`".into())));
             }
         };
         Ok((name, mu, span))
@@ -1427,14 +1427,14 @@ impl<'a> Loader<'a> {
     fn pin_guide(&mut self, g: &file::GuideNode, pin: &str, i: usize, np: &Path) -> R<(String, Option<SpanDef>)> {
         let Some(axis) = &g.axis else {
             return Err(self.err(
-                &np,
+                np,
                 "a pin needs its `axis`",
                 Some("e.g. `axis = \"z\"`: the direction of the pin".into()),
             ));
         };
         let Some(wrap) = g.wrap else {
             return Err(self.err(
-                &np,
+                np,
                 "a pin needs `wrap`: the sense the thread turns around it",
                 Some("write wrap = \"ccw\" or wrap = \"cw\" (about the axis, right-hand rule)".into()),
             ));
@@ -1473,12 +1473,12 @@ impl<'a> Loader<'a> {
     ) -> R<(String, Option<SpanDef>)> {
         if g.axis.is_some() || g.radius.is_some() || g.frame.is_some() {
             return Err(self.err(
-                &np,
+                np,
                 "a cam node takes its axis and profile from [[cams]]",
                 Some("remove `axis`, `radius` and `frame` here".into()),
             ));
         }
-        let Some(ci) = cams.iter().position(|c| &c.name == cam) else {
+        let Some(ci) = cams.iter().position(|c| c.name == cam) else {
             let names: Vec<&str> = cams.iter().map(|c| c.name.as_str()).collect();
             let help = match did_you_mean(cam, names.iter().copied()) {
                 Some(n) => format!("did you mean `{n}`?"),
@@ -1497,7 +1497,7 @@ impl<'a> Loader<'a> {
                 }
                 let Some(wrap) = g.wrap else {
                     return Err(self.err(
-                        &np,
+                        np,
                         "an exact cam contact needs `wrap`: the sense the thread turns around the cam",
                         Some("write wrap = \"ccw\" or wrap = \"cw\" (about the cam's axis)".into()),
                     ));
@@ -1523,7 +1523,7 @@ impl<'a> Loader<'a> {
                 }
                 let Some(gamma) = &g.gamma_deg else {
                     return Err(self.err(
-                        &np,
+                        np,
                         "an offset cam contact needs `gamma_deg`",
                         Some("seed 004 uses γ = 0.4–0.8 rad, i.e. 23–46 degrees".into()),
                     ));

@@ -16,6 +16,9 @@ use crate::stitch::spec::{
     StitchType, UpperLooperSpec,
 };
 
+/// The upper looper of a 504: its organ, its window (deg) and the thread path it feeds.
+type UpperLooper = (OrganDef, [f64; 2], Option<String>);
+
 type R<T> = Result<T, Box<ModelError>>;
 
 /// Step of the tables that sample mechanism points for the stitch process,
@@ -475,7 +478,7 @@ impl Loader<'_> {
         stitch_type: StitchType,
         path: &Path,
         threads: Option<&ThreadsDef>,
-    ) -> R<Option<(OrganDef, [f64; 2], Option<String>)>> {
+    ) -> R<Option<UpperLooper>> {
         Ok(match (&s.upper_looper, stitch_type) {
             (Some(u), StitchType::S504) => {
                 let up = path.key("upper_looper");
@@ -485,7 +488,7 @@ impl Loader<'_> {
             }
             (None, StitchType::S504) => {
                 return Err(self.err(
-                    &path,
+                    path,
                     "stitch 504 needs an upper looper",
                     Some("add a [stitch.upper_looper] table".into()),
                 ));
@@ -514,7 +517,7 @@ impl Loader<'_> {
             }
             (None, StitchType::S503) => {
                 return Err(self.err(
-                    &path,
+                    path,
                     "stitch 503 needs a spreader, the organ that carries the looper thread over the edge to the needle",
                     Some("add a [stitch.spreader] table with `eye` (or `law`) and `pick_window_deg`".into()),
                 ));
@@ -590,7 +593,7 @@ impl Loader<'_> {
                     "spreader_release_deg"
                 };
                 return Err(self.err(
-                    &path,
+                    path,
                     format!("stitch {} needs its cyclogram moments", s.stitch_type),
                     Some(format!("add [stitch.moments] with stab_deg, {key}, draw_in_deg")),
                 ));

@@ -69,7 +69,7 @@ pub fn write_json(model: &Model, params: &Params, table: &CycleTable, out: &mut 
         })
         .collect();
     let run = JsonRun {
-        model: &model.name(),
+        model: model.name(),
         title: model.title(),
         seed: model.seed(),
         phi_start_deg: model.phi_start_deg(),

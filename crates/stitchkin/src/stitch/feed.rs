@@ -128,7 +128,7 @@ impl Feed {
         };
         let (y_s, y_e) = (dog.at(start_deg).y, dog.at(end_deg).y);
         let travel = y_e - y_s;
-        if !(travel > 1e-9) {
+        if travel.is_nan() || travel <= 1e-9 {
             return Err(Error::Stitch(format!(
                 "feed: while above the plate the feed dog's tooth moves {travel:.4} mm along the seam; it must move \
                  the material forward (+y of the stitch frame)"

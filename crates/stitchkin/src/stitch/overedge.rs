@@ -601,7 +601,7 @@ impl Overedge {
 #[cfg(test)]
 mod tests {
     use super::*;
-    fn altin504() -> crate::stitch::spec::StitchSpec {
+    fn altin504() -> StitchSpec {
         crate::stitch::reference::altin504(2.5, 2.8)
     }
     use approx::assert_relative_eq;

@@ -373,7 +373,7 @@ impl Overedge503 {
 mod tests {
     use super::*;
     use crate::stitch::feed::Feed;
-    fn altin503() -> crate::stitch::spec::StitchSpec {
+    fn altin503() -> StitchSpec {
         crate::stitch::reference::altin503(2.5, 2.8)
     }
     use approx::assert_relative_eq;

@@ -133,7 +133,7 @@ pub const DEFAULT_FIGURES: &[&str] = &[
 pub fn default_figures(available: &[(String, f64)]) -> Vec<String> {
     DEFAULT_FIGURES
         .iter()
-        .filter(|p| available.iter().any(|(n, _)| crate::eval::glob_match(p, n)))
+        .filter(|p| available.iter().any(|(n, _)| glob_match(p, n)))
         .map(|p| p.to_string())
         .collect()
 }

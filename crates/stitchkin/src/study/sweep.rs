@@ -741,6 +741,7 @@ pub const CHUNK: usize = 4096;
 /// are done. Stops at the first error the sink returns. The sink takes one
 /// chunk while the workers compute the next, and each worker keeps one
 /// [`Evaluator`] for its share of a chunk.
+#[allow(clippy::too_many_arguments)]
 pub fn run<E: Send>(
     model: &Model,
     base: &Params,

@@ -82,6 +82,9 @@ impl<T: Real> ThinPin<T> {
     }
 }
 
+/// Tracks over a cycle of a span's two ends and the pin it bears on.
+pub type EndTracks<'a, T> = (&'a [V3<T>], &'a [V3<T>], &'a [V3<T>]);
+
 /// [`pin_length`] of a thin pin (`r = 0`) at every position of a cycle:
 /// the ends' tracks `(p, q)` and the pin's `c`, axis `a`, sense `s`. One
 /// loop without branches (both lengths computed, one kept), so it runs on
@@ -89,7 +92,7 @@ impl<T: Real> ThinPin<T> {
 /// bits. On an end inside the pin, the first failing position's index.
 #[inline(always)]
 pub fn thin_pin_lengths<T: Real>(
-    (tp, tq, tc): (&[V3<T>], &[V3<T>], &[V3<T>]),
+    (tp, tq, tc): EndTracks<'_, T>,
     a: V3<T>,
     s: f64,
     len: &mut Vec<T>,

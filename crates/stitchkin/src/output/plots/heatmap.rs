@@ -150,15 +150,13 @@ fn one_figure(model: &Model, params: &Params, opts: &CycleOptions, figure: &str)
     })?;
     match names.as_slice() {
         [one] => Ok(one.clone()),
-        many => {
-            return Err(param_error(
-                format!(
-                    "--figure `{figure}` matches {} figures of merit; a heat map shows one",
-                    many.len()
-                ),
-                format!("name one of: {}", many.join(", ")),
-            ));
-        }
+        many => Err(param_error(
+            format!(
+                "--figure `{figure}` matches {} figures of merit; a heat map shows one",
+                many.len()
+            ),
+            format!("name one of: {}", many.join(", ")),
+        )),
     }
 }
 
