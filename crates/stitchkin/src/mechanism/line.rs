@@ -58,6 +58,7 @@ pub fn point_on_line_unchecked<T: Real, const D: usize>(
 /// Transmission angle of a rod `a → p` driving a slider along `u`:
 /// 90° minus the angle between rod and guide (seed 002 eq. 11, μ3), rad.
 #[inline]
+#[cfg(test)] // the formula the mechanism's transmission angles are checked against
 pub fn transmission<T: Real, const D: usize>(u: SVector<T, D>, a: SVector<T, D>, p: SVector<T, D>) -> T {
     let (y, x) = transmission_parts(u, a, p);
     y.angle_of(x)

@@ -7,12 +7,12 @@
 
 pub mod analogs;
 mod kernels;
-pub mod line;
-pub mod newton;
-pub mod rigid;
-pub mod rpr;
-pub mod rrr;
-pub mod rssr;
+pub(crate) mod line;
+pub(crate) mod newton;
+pub(crate) mod rigid;
+pub(crate) mod rpr;
+pub(crate) mod rrr;
+pub(crate) mod rssr;
 
 use std::sync::Arc;
 

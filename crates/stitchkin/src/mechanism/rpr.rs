@@ -31,6 +31,7 @@ pub fn rpr<T: Real>(a: V2<T>, c: V2<T>, e: T) -> Result<(V2<T>, T), NoAssembly> 
 /// across the slot, the lever point under the pin moves across `c → a`;
 /// μ = 90° − their angle = `acos(|e| / |a − c|)`, rad (90° for `e = 0`).
 #[inline]
+#[cfg(test)] // the formula the mechanism's transmission angles are checked against
 pub fn transmission<T: Real>(a: V2<T>, c: V2<T>, e: T) -> T {
     let (y, x) = transmission_parts(a, c, e);
     y.angle_of(x)

@@ -56,6 +56,7 @@ pub fn rrr<T: Real>(p1: V2<T>, p2: V2<T>, l1sq: T, l2sq: T, sign: f64) -> Result
 /// Transmission angle at `B` (seed 002 eq. 4, μ): the angle between the
 /// links `B→p1` and `B→p2`, rad, in [0, π].
 #[inline]
+#[cfg(test)] // the formula the mechanism's transmission angles are checked against
 pub fn transmission<T: Real>(p1: V2<T>, p2: V2<T>, b: V2<T>) -> T {
     let (y, x) = transmission_parts(p1, p2, b);
     y.angle_of(x)

@@ -89,6 +89,7 @@ pub fn rssr_unchecked<T: Real>(rod: &RockerRod<T>, a: V3<T>, sign: f64) -> (V3<T
 /// between rod `B→a` and arm `B→c`, but counting only the rod's component
 /// along the ball's path: `μ = atan2(|rod·t|, rod·n)`, rad.
 #[inline]
+#[cfg(test)] // the formula the mechanism's transmission angles are checked against
 pub fn transmission<T: Real>(k: &Rocker<T>, a: V3<T>, b: V3<T>) -> T {
     let (y, x) = transmission_parts(k, a, b);
     y.angle_of(x)

@@ -14,7 +14,7 @@ pub mod expr;
 pub mod file;
 mod load;
 mod resolve;
-pub mod spans;
+pub(crate) mod spans;
 pub mod stitch;
 
 use std::sync::Arc;

@@ -21,5 +21,8 @@ pub mod needle_thread;
 pub mod overedge;
 pub mod overedge503;
 pub mod pprime;
+// The stand-in cases shared by the unit tests and tests/it; not part of the
+// library's documented surface.
+#[doc(hidden)]
 pub mod reference;
 pub mod spec;
