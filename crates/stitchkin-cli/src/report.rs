@@ -1,12 +1,12 @@
 //! `stitchkin report`: one self-contained HTML file about a model
-//! (stitchkin::output::report).
+//! (stitchkin::jobs::report).
 
 use std::path::PathBuf;
 
 use clap::Args;
 use stitchkin::error::{Error, ParamError};
+use stitchkin::jobs::report::{self, ReportOptions};
 use stitchkin::output::drawing::View;
-use stitchkin::output::report::{self, ReportOptions};
 use stitchkin::study::nomogram::{Axis, NomogramOptions};
 
 #[derive(Args)]
