@@ -18,8 +18,9 @@
 use serde_json::{Value, json};
 use stitchkin::error::Error;
 use stitchkin::eval::{CycleOptions, run_cycle};
+use stitchkin::jobs::plot::Plot;
 use stitchkin::model::{Model, Params};
-use stitchkin::output::plots::{self, Plot};
+use stitchkin::output::plots;
 
 use crate::view::{self, DrawingRequest};
 

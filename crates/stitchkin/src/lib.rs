@@ -21,6 +21,7 @@ pub mod error;
 pub mod eval;
 pub mod format;
 pub mod geometry;
+pub mod jobs;
 pub mod mechanism;
 pub mod model;
 mod numeric;

@@ -1,12 +1,12 @@
 //! `stitchkin plot`: SVG charts of a cycle, of motion laws, of a varied
-//! parameter, of a sweep, of a nomogram (stitchkin::output::plots).
+//! parameter, of a sweep, of a nomogram (stitchkin::jobs::plot).
 
 use std::path::PathBuf;
 
 use clap::ValueEnum;
 use stitchkin::error::{Error, ParamError};
+use stitchkin::jobs::plot::{self as plots, Plot};
 use stitchkin::model::{Model, Params};
-use stitchkin::output::plots::{self, Plot};
 use stitchkin::study::nomogram::{Axis, NomogramOptions};
 use stitchkin::study::tune::TuneOptions;
 
@@ -375,7 +375,7 @@ fn plot_of(args: &Args, model: &Model, params: &Params, step: f64) -> Result<Plo
         What::Nomogram => {
             let thickness = match &args.thickness {
                 Some(s) => Axis::parse(s, "--thickness")?,
-                None => plots::default_thickness(model)?,
+                None => stitchkin::study::nomogram::default_thickness(&model)?,
             };
             let stitch = args.stitch.as_deref().map(|s| Axis::parse(s, "--stitch")).transpose()?;
             let tune = TuneOptions {
@@ -408,15 +408,8 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let svg = if args.measured.is_empty() {
         plots::render(&model, &params, &plot, step)?
     } else {
-        let opts = stitchkin::eval::CycleOptions {
-            step_deg: step,
-            analogs: false,
-            points: Some(Vec::new()),
-            ..Default::default()
-        };
-        let table = stitchkin::eval::run_cycle(&model, &params, &opts)?;
-        let measured = crate::common::measured(&args.measured, &table)?;
-        plots::take_up_with_measured(&model, &table, &measured)?.render()
+        let measured = crate::common::read_measured(&args.measured)?;
+        plots::render_take_up_with_measured(&model, &params, &measured, step)?
     };
     crate::picture::emit_picture(&svg, args.output.as_ref(), false)
 }

@@ -1,11 +1,11 @@
 //! `stitchkin report`: one self-contained HTML file about a model
-//! (stitchkin::output::report).
+//! (stitchkin::jobs::report).
 
 use std::path::PathBuf;
 
 use stitchkin::error::{Error, ParamError};
+use stitchkin::jobs::report::{self, ReportOptions};
 use stitchkin::output::drawing::View;
-use stitchkin::output::report::{self, ReportOptions};
 use stitchkin::study::nomogram::{Axis, NomogramOptions};
 
 use crate::common::{ModelArgs, SearchArgs, emit, load};

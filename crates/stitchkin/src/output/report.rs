@@ -1,7 +1,8 @@
 //! `stitchkin report`: one self-contained HTML file about a machine at one
 //! setting — its parameters, the mechanism drawing (still and animated),
 //! P(φ) with P′(φ), the mismatch per thread, the transmission angles and,
-//! when asked, the tuning result and the nomogram (docs/report.md).
+//! when asked, the tuning result and the nomogram (docs/report.md), written
+//! from a [`Report`] of results already computed.
 //!
 //! Self-contained: styles inline, every picture an inline SVG, no script
 //! and no reference to another file or site, so the file can be mailed or
@@ -10,50 +11,54 @@
 
 use std::fmt::Write;
 
-use super::drawing::{self, DrawOptions, View};
-use super::plots::{self, Plot};
+use super::plots;
 use super::svg::escape;
 use crate::error::Error;
-use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle};
+use crate::eval::{CycleTable, MU_MAX_DEG, MU_MIN_DEG};
 use crate::model::{Model, ParamDef, Params};
-use crate::study::measured::{MeasuredMatch, measured_match};
-use crate::study::nomogram::NomogramOptions;
-use crate::study::tune::{self, TuneOptions, TuneResult};
-use crate::thread::measured::{CurveKind, MeasuredCurve};
+use crate::study::measured::MeasuredMatch;
+use crate::study::nomogram::Nomogram;
+use crate::study::tune::{self, TuneResult};
+use crate::thread::measured::CurveKind;
 
-/// What the report holds beyond its fixed sections.
+/// What a report shows, computed (the report job, `jobs::report`, computes
+/// it): the cycle at the setting, the mechanism drawn, and what was asked
+/// for beyond the fixed sections.
 #[derive(Debug, Clone)]
-pub struct ReportOptions {
+pub struct Report {
     /// φ step of every cycle, degrees.
     pub step_deg: f64,
-    /// Main-shaft angle of the still mechanism drawing, degrees (default:
-    /// the model's start).
-    pub phi_deg: Option<f64>,
-    /// View of the drawings (default: [`View::default_for`] the model).
-    pub view: Option<View>,
-    /// Include the drawing animated over the cycle.
-    pub animate: bool,
-    /// Tune the adjustable settings and report the result.
-    pub tune: Option<TuneOptions>,
-    /// Compute and draw a nomogram.
-    pub nomogram: Option<NomogramOptions>,
-    /// Measured curves to set beside the model, each with the thread it
-    /// belongs to when the file does not say.
-    pub measured: Vec<(Option<String>, MeasuredCurve)>,
+    /// The cycle at the setting: thread paths, stitch and transmission
+    /// angles.
+    pub table: CycleTable,
+    /// The mechanism drawn at one angle and, when asked, animated.
+    pub drawing: MechanismDrawing,
+    /// Measured curves set beside the model.
+    pub measured: Vec<MeasuredMatch>,
+    /// The tuning of the adjustable settings, when asked.
+    pub tuning: Option<Tuning>,
+    /// The nomogram, when asked.
+    pub nomogram: Option<Nomogram>,
 }
 
-impl Default for ReportOptions {
-    fn default() -> Self {
-        ReportOptions {
-            step_deg: 1.0,
-            phi_deg: None,
-            view: None,
-            animate: true,
-            tune: None,
-            nomogram: None,
-            measured: Vec::new(),
-        }
-    }
+/// The mechanism drawings of a report, as SVG documents.
+#[derive(Debug, Clone)]
+pub struct MechanismDrawing {
+    /// Main-shaft angle of the still drawing, degrees.
+    pub phi_deg: f64,
+    /// The mechanism at `phi_deg`, dimensioned.
+    pub still: String,
+    /// One turn of the main shaft, animated.
+    pub animated: Option<String>,
+}
+
+/// A tuning and the cycle at the setting it recommends.
+#[derive(Debug, Clone)]
+pub struct Tuning {
+    /// The settings before and after, and their match figures.
+    pub result: TuneResult,
+    /// The cycle at the recommended setting (the tuned take-up).
+    pub table: CycleTable,
 }
 
 /// Numbers as the report prints them: `d` decimals, `–` for none.
@@ -110,112 +115,19 @@ th:first-child,td:first-child{text-align:left}td:has(> .text){text-align:left}td
 figure{margin:8px 0}figure svg{width:100%;height:auto}figcaption{color:#555;font-size:12px}\
 @media print{nav{display:none}h2{break-after:avoid}figure{break-inside:avoid}}";
 
-/// The whole report for `model` at `params`.
-pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<String, Error> {
-    crate::eval::check_options(&CycleOptions {
-        step_deg: opts.step_deg,
-        ..Default::default()
-    })?;
-    let info = &model.file.model;
-    let cycle = CycleOptions {
-        step_deg: opts.step_deg,
-        analogs: false,
-        points: Some(Vec::new()),
-        ..Default::default()
-    };
-    let table_ = run_cycle(model, params, &cycle)?;
-    let phi = opts.phi_deg.unwrap_or_else(|| model.phi_start_deg());
-    let view = opts.view.clone().unwrap_or_else(|| View::default_for(model));
-
-    let measured = opts
-        .measured
-        .iter()
-        .map(|(t, c)| measured_match(&table_, c, t.as_deref()))
-        .collect::<Result<Vec<_>, _>>()?;
-
-    let mut sections: Vec<(&str, &str, String)> = Vec::new();
-    sections.push(("parameters", "Parameters", parameters(model, params)?));
-    sections.push((
-        "mechanism",
-        "Mechanism",
-        mechanism(model, params, phi, &view, opts.animate)?,
-    ));
-    if !table_.paths.is_empty() {
-        sections.push((
-            "takeup",
-            "Take-up P(φ) and required P′(φ)",
-            take_up(model, &table_, &measured)?,
-        ));
-    }
-    if table_.stitch.is_some() {
-        sections.push(("mismatch", "Mismatch P − P′", mismatch(&table_)));
-        sections.push(("checks", "Physical checks", checks(&table_)));
-    }
-    if !measured.is_empty() {
-        sections.push(("measured", "Measured curves", measured_section(&measured)));
-    }
-    let caveats: Vec<&String> = model
-        .file
-        .model
-        .caveats
-        .iter()
-        .chain(table_.stitch.iter().flat_map(|s| s.transfers.iter()))
-        .collect();
-    if !caveats.is_empty() {
-        let items: String = caveats.iter().map(|c| format!("<li>{}</li>", escape(c))).collect();
-        sections.push((
-            "caveats",
-            "What this model reconstructs or carries over",
-            format!("<ul>{items}</ul>"),
-        ));
-    }
-    if !table_.transmission.is_empty() {
-        sections.push(("transmission", "Transmission angles", transmission(model, &table_)?));
-    }
-    if let Some(t) = &opts.tune {
-        let r = tune::tune(model, params, t)?;
-        sections.push(("tuning", "Tuning", tuning(model, params, &r, opts.step_deg)?));
-    }
-    if let Some(n) = &opts.nomogram {
-        let computed = crate::study::nomogram::nomogram(model, params, n, || {})?;
-        let chart = plots::nomogram::nomogram_figure(&computed);
-        let mut body = figure(
-            "nomogram-chart",
-            &chart.render(),
-            "The tuned setting against the material thickness, one line per stitch length.",
-        );
-        let notes = computed.notes();
-        if !notes.is_empty() {
-            let items: String = notes
-                .iter()
-                .map(|n| format!("<li class=\"warn\">{}</li>", escape(n)))
-                .collect();
-            let _ = write!(body, "<ul>{items}</ul>");
-        }
-        sections.push(("nomogram", "Nomogram", body));
-    }
-    let mut warnings = table_.warnings.clone();
-    if let Some(s) = &table_.stitch {
-        warnings.extend(s.warnings.iter().cloned());
-    }
-    if !warnings.is_empty() {
-        let items: String = warnings
-            .iter()
-            .map(|w| format!("<li class=\"warn\">{}</li>", escape(w)))
-            .collect();
-        sections.push(("warnings", "Warnings", format!("<ul>{items}</ul>")));
-    }
-
-    let title = match &info.title {
-        Some(t) => format!("{} — {t}", info.name),
-        None => info.name.clone(),
+/// The whole report for `model` at `params`, from its computed results.
+pub fn render(model: &Model, params: &Params, r: &Report) -> Result<String, Error> {
+    let sections = sections(model, params, r)?;
+    let title = match model.title() {
+        Some(t) => format!("{} — {t}", model.name()),
+        None => model.name().to_string(),
     };
     let mut html = String::with_capacity(1 << 20);
     html += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"/>";
     let _ = write!(
         html,
         "<title>stitchkin report · {}</title><style>{STYLE}</style></head><body>",
-        escape(&info.name)
+        escape(model.name())
     );
     let _ = write!(
         html,
@@ -223,7 +135,7 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
         escape(&title),
         escape(&model.file_name)
     );
-    if let Some(seed) = &info.seed {
+    if let Some(seed) = model.seed() {
         let _ = write!(html, " · seed {}", escape(seed));
     }
     let changed: Vec<String> = model
@@ -239,10 +151,10 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
     let _ = write!(
         html,
         " · φ step {} deg · stitchkin {}</p>",
-        super::fmt_num(opts.step_deg),
+        super::fmt_num(r.step_deg),
         env!("CARGO_PKG_VERSION")
     );
-    if let Some(notes) = &info.notes {
+    if let Some(notes) = model.notes() {
         let _ = write!(html, "<p class=\"meta\">{}</p>", escape(notes));
     }
     html += "<nav>";
@@ -260,6 +172,80 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
     }
     html += "</body></html>\n";
     Ok(html)
+}
+
+/// The report's sections in order: id, heading and body.
+fn sections(model: &Model, params: &Params, r: &Report) -> Result<Vec<(&'static str, &'static str, String)>, Error> {
+    let t = &r.table;
+    let mut sections: Vec<(&str, &str, String)> = Vec::new();
+    sections.push(("parameters", "Parameters", parameters(model, params)?));
+    sections.push(("mechanism", "Mechanism", mechanism(&r.drawing)));
+    if !t.paths.is_empty() {
+        sections.push((
+            "takeup",
+            "Take-up P(φ) and required P′(φ)",
+            take_up(model, t, &r.measured)?,
+        ));
+    }
+    if t.stitch.is_some() {
+        sections.push(("mismatch", "Mismatch P − P′", mismatch(t)));
+        sections.push(("checks", "Physical checks", checks(t)));
+    }
+    if !r.measured.is_empty() {
+        sections.push(("measured", "Measured curves", measured_section(&r.measured)));
+    }
+    let caveats: Vec<&String> = model
+        .caveats()
+        .iter()
+        .chain(t.stitch.iter().flat_map(|s| s.transfers.iter()))
+        .collect();
+    if !caveats.is_empty() {
+        sections.push((
+            "caveats",
+            "What this model reconstructs or carries over",
+            list(&caveats, ""),
+        ));
+    }
+    if !t.transmission.is_empty() {
+        sections.push(("transmission", "Transmission angles", transmission(model, t)?));
+    }
+    if let Some(tuned) = &r.tuning {
+        sections.push(("tuning", "Tuning", tuning(model, tuned)?));
+    }
+    if let Some(n) = &r.nomogram {
+        sections.push(("nomogram", "Nomogram", nomogram_section(n)));
+    }
+    let mut warnings = t.warnings.clone();
+    if let Some(s) = &t.stitch {
+        warnings.extend(s.warnings.iter().cloned());
+    }
+    if !warnings.is_empty() {
+        sections.push(("warnings", "Warnings", list(&warnings, " class=\"warn\"")));
+    }
+    Ok(sections)
+}
+
+/// A list `<ul>` of the texts (escaped), each `<li>` with `attrs`.
+fn list(items: &[impl AsRef<str>], attrs: &str) -> String {
+    let items: String = items
+        .iter()
+        .map(|c| format!("<li{attrs}>{}</li>", escape(c.as_ref())))
+        .collect();
+    format!("<ul>{items}</ul>")
+}
+
+/// The nomogram chart and its notes.
+fn nomogram_section(n: &Nomogram) -> String {
+    let mut body = figure(
+        "nomogram-chart",
+        &plots::nomogram_figure(n).render(),
+        "The tuned setting against the material thickness, one line per stitch length.",
+    );
+    let notes = n.notes();
+    if !notes.is_empty() {
+        body += &list(&notes, " class=\"warn\"");
+    }
+    body
 }
 
 fn parameters(model: &Model, params: &Params) -> Result<String, Error> {
@@ -303,35 +289,24 @@ fn parameters(model: &Model, params: &Params) -> Result<String, Error> {
     ))
 }
 
-fn mechanism(model: &Model, params: &Params, phi: f64, view: &View, animate: bool) -> Result<String, Error> {
-    let still = DrawOptions {
-        phi_deg: phi,
-        view: view.clone(),
-        dimensions: true,
-        ..Default::default()
-    };
+/// The mechanism drawings with their captions.
+fn mechanism(d: &MechanismDrawing) -> String {
     let mut s = figure(
         "mechanism-still",
-        &drawing::render(model, params, &still)?,
+        &d.still,
         &format!(
             "The mechanism and its threads at φ = {} deg, dimensioned.",
-            super::fmt_num(phi)
+            super::fmt_num(d.phi_deg)
         ),
     );
-    if animate {
-        let moving = DrawOptions {
-            phi_deg: phi,
-            view: view.clone(),
-            animate: true,
-            ..Default::default()
-        };
+    if let Some(animated) = &d.animated {
         s += &figure(
             "mechanism-animated",
-            &drawing::render(model, params, &moving)?,
+            animated,
             "One turn of the main shaft, animated (plays in any browser).",
         );
     }
-    Ok(s)
+    s
 }
 
 fn take_up(model: &Model, t: &CycleTable, measured: &[MeasuredMatch]) -> Result<String, Error> {
@@ -576,7 +551,10 @@ fn transmission(model: &Model, t: &CycleTable) -> Result<String, Error> {
     Ok(s)
 }
 
-fn tuning(model: &Model, params: &Params, r: &TuneResult, step: f64) -> Result<String, Error> {
+/// The tuning: the settings before and after, the scores, the tuned
+/// take-up chart.
+fn tuning(model: &Model, tuned: &Tuning) -> Result<String, Error> {
+    let r = &tuned.result;
     let rows: Vec<Vec<String>> = r
         .names
         .iter()
@@ -654,18 +632,9 @@ fn tuning(model: &Model, params: &Params, r: &TuneResult, step: f64) -> Result<S
         r.evaluations
     );
     if !r.notes.is_empty() {
-        let items: String = r
-            .notes
-            .iter()
-            .map(|n| format!("<li class=\"warn\">{}</li>", escape(n)))
-            .collect();
-        let _ = write!(s, "<ul>{items}</ul>");
+        s += &list(&r.notes, " class=\"warn\"");
     }
-    let mut tuned = params.clone();
-    for ((name, _), v) in r.names.iter().zip(&r.after) {
-        model.set(&mut tuned, name, *v)?;
-    }
-    let chart = plots::render(model, &tuned, &Plot::TakeUp, step)?;
+    let chart = plots::take_up(model, &tuned.table)?.render();
     s += &figure(
         "tuned-takeup-chart",
         &chart,

@@ -3,8 +3,8 @@
 //! series, a y-axis covering the data, shading where guides engage, no NaN.
 
 use stitchkin::eval::{CycleOptions, CycleTable, run_cycle};
+use stitchkin::jobs::plot::{Plot, render};
 use stitchkin::model::Model;
-use stitchkin::output::plots::{Plot, render};
 
 /// Balanced tags, checked with a small stack (no text contains `<` or `>`:
 /// the writer escapes them).
@@ -331,7 +331,7 @@ fn bad_input_gets_a_clear_error() {
 
 // ---- The charts over a varied parameter, a sweep, a nomogram, 2D/3D ----
 
-use stitchkin::output::plots::parse_vary;
+use stitchkin::jobs::plot::parse_vary;
 use stitchkin::study::design::Vary;
 use stitchkin::study::nomogram::{Axis as GridAxis, NomogramOptions};
 use stitchkin::study::tune::TuneOptions;

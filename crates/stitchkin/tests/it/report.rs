@@ -1,8 +1,8 @@
-//! `output::report`: one self-contained, well-formed HTML file.
+//! `jobs::report`: one self-contained, well-formed HTML file.
 
+use stitchkin::jobs::report::{ReportOptions, render};
 use stitchkin::model::Model;
 use stitchkin::output::drawing::View;
-use stitchkin::output::report::{ReportOptions, render};
 use stitchkin::study::nomogram::{Axis, NomogramOptions};
 use stitchkin::study::tune::TuneOptions;
 

@@ -1,67 +1,22 @@
 //! Velocity and acceleration analogs over φ: of chosen points, or dP/dφ
 //! and d²P/dφ² of the thread paths. Two panels, one per order.
 
-use super::{closed, column, param_error, phi_axis, point_slots, select_paths, title};
+use super::{closed, column, phi_axis, title};
 use crate::error::Error;
-use crate::eval::{CycleOptions, CycleTable, run_cycle};
-use crate::model::{Model, Params};
+use crate::eval::CycleTable;
+use crate::model::Model;
 use crate::output::svg::{Axis, Chart, Figure, Series, color};
 
 /// Height of each of the two panels.
 const PANEL_H: f64 = 330.0;
 
-/// The analog chart. With `points`, the first and second analogs of each
-/// point's coordinates (x, y and, for a spatial model, z; mm/rad and
-/// mm/rad²); without, those of the take-up P of the thread paths
-/// `threads` (empty: every path).
-pub fn analogs(
-    model: &Model,
-    params: &Params,
-    points: &[String],
-    threads: &[String],
-    step_deg: f64,
-) -> Result<Figure, Error> {
-    if !points.is_empty() && !threads.is_empty() {
-        return Err(param_error(
-            "`plot analogs` draws either points (--points) or thread paths (--thread), not both".into(),
-            "leave out one of them: --points A,B for the points' analogs, --thread PATH for dP/dφ".into(),
-        ));
-    }
-    if points.is_empty() && !model.has_threads() {
-        return Err(param_error(
-            format!(
-                "model `{}` has no thread paths, so `plot analogs` needs points",
-                model.name()
-            ),
-            format!(
-                "name them with --points A,B; the moving points are: {}",
-                super::moving_points(model)
-            ),
-        ));
-    }
-    let paths = if points.is_empty() {
-        select_paths(model, threads)?
-    } else {
-        Vec::new()
-    };
-    let slots = if points.is_empty() {
-        Vec::new()
-    } else {
-        point_slots(model, points)?
-    };
-    let table = run_cycle(
-        model,
-        params,
-        &CycleOptions {
-            step_deg,
-            analogs: true,
-            points: Some(slots),
-            lean: true,
-            ..Default::default()
-        },
-    )?;
-    let phis = column(&table, "phi_deg")?;
-    let lines = analog_lines(&table, points, &paths);
+/// The analog chart of a cycle run with analogs. With `points`, the first
+/// and second analogs of each point's coordinates (x, y and, for a spatial
+/// model, z; mm/rad and mm/rad²); without, those of the take-up P of the
+/// thread paths `paths`.
+pub fn analogs(model: &Model, table: &CycleTable, points: &[String], paths: &[String]) -> Result<Figure, Error> {
+    let phis = column(table, "phi_deg")?;
+    let lines = analog_lines(table, points, paths);
     let (what, y1, y2) = if points.is_empty() {
         (
             format!("take-up analogs of {}", paths.join(", ")),
@@ -96,10 +51,10 @@ pub fn analogs(
     for (i, (n1, n2, c1, c2)) in lines.iter().enumerate() {
         first
             .series
-            .push(Series::new(n1.clone(), closed(phis, column(&table, c1)?), color(i)));
+            .push(Series::new(n1.clone(), closed(phis, column(table, c1)?), color(i)));
         second
             .series
-            .push(Series::new(n2.clone(), closed(phis, column(&table, c2)?), color(i)));
+            .push(Series::new(n2.clone(), closed(phis, column(table, c2)?), color(i)));
     }
     first.height = PANEL_H;
     second.height = PANEL_H;
@@ -111,9 +66,8 @@ pub fn analogs(
     Ok(fig)
 }
 
-/// (legend of the first panel, of the second, first-analog column,
-/// second-analog column) per line: each point's coordinates, then each
-/// path's take-up.
+/// (first-analog legend, second-analog legend, first-analog column,
+/// second-analog column) per line of the chart.
 fn analog_lines(table: &CycleTable, points: &[String], paths: &[String]) -> Vec<(String, String, String, String)> {
     let mut lines: Vec<(String, String, String, String)> = Vec::new();
     for p in points {

@@ -1,33 +1,19 @@
 //! The 2D-vs-3D take-up (seed 000 Fig. 9): P_3D and P_2D of each thread
 //! path, and their difference ΔP(φ).
 
-use super::{param_error, phi_axis, select_paths, title};
+use super::{param_error, phi_axis, title};
 use crate::error::Error;
-use crate::model::{Model, Params};
+use crate::model::Model;
 use crate::output::svg::{Axis, Chart, Figure, Marker, Series, color};
-use crate::study::compare2d3d::compare_2d3d;
+use crate::study::compare2d3d::Comparison;
 
 /// Height of each of the two panels.
 const PANEL_H: f64 = 330.0;
 
-/// P_3D (solid) and P_2D (dashed) of the paths `threads` (empty: every
-/// path) with the 2D model on the xy-plane of frame `plane`, and ΔP =
-/// P_3D − P_2D below, its largest |ΔP| marked.
-pub fn delta_2d3d(
-    model: &Model,
-    params: &Params,
-    plane: &str,
-    threads: &[String],
-    step_deg: f64,
-) -> Result<Figure, Error> {
-    let paths = select_paths(model, threads)?;
-    let c = compare_2d3d(model, params, plane, step_deg).map_err(|e| match e {
-        Error::Param(mut p) if p.message.contains("no frame") => {
-            p.message += " (in --plane)";
-            Error::Param(p)
-        }
-        e => e,
-    })?;
+/// P_3D (solid) and P_2D (dashed) of the paths `paths` of the comparison
+/// `c` (the 2D model on the xy-plane of frame `c.plane`), and ΔP = P_3D −
+/// P_2D below, its largest |ΔP| marked.
+pub fn delta_2d3d(model: &Model, c: &Comparison, paths: &[String]) -> Result<Figure, Error> {
     let start = model.phi_start_deg();
     let close = |v: &[f64]| -> Vec<(f64, f64)> {
         let mut pts: Vec<(f64, f64)> = c.phi_deg.iter().copied().zip(v.iter().copied()).collect();

@@ -2,33 +2,17 @@
 //! one line per stitch length, the range within one score point shaded —
 //! the chart a technician reads "for 4 mm material set z = −4.7 mm" off.
 
-use super::{number_text, param_error, unit_label};
-use crate::error::Error;
-use crate::model::{Model, Params};
+use super::{number_text, unit_label};
 use crate::output::svg::{Area, Axis, Chart, Figure, Marker, Series, color, family_color};
-use crate::study::nomogram::{Nomogram, NomogramOptions, nomogram};
+use crate::study::nomogram::Nomogram;
 
 /// Height of each panel (one per adjusted parameter).
 const PANEL_H: f64 = 380.0;
 
-/// Tunes the model over the grid of `opts` and draws, per adjusted
-/// parameter, its recommended value against m, one line per t, with the
-/// range within one score point shaded and each grid point marked (its
-/// tooltip gives the value, the range and the match score).
-pub fn nomogram_chart(model: &Model, params: &Params, opts: &NomogramOptions) -> Result<Figure, Error> {
-    if opts.thickness.n < 2 {
-        return Err(param_error(
-            format!(
-                "--thickness gives one value ({} mm); a nomogram chart needs at least 2",
-                opts.thickness.lo
-            ),
-            "give a range, e.g. --thickness 1:5:5 (or `stitchkin tune --thickness M` for one thickness)".into(),
-        ));
-    }
-    Ok(nomogram_figure(&nomogram(model, params, opts, || {})?))
-}
-
-/// The chart of a nomogram already computed ([`nomogram_chart`]).
+/// The nomogram drawn: per adjusted parameter, its recommended value
+/// against m, one line per t, with the range within one score point
+/// shaded and each grid point marked (its tooltip gives the value, the
+/// range and the match score).
 pub fn nomogram_figure(n: &Nomogram) -> Figure {
     let dm = (n.thickness.hi - n.thickness.lo) / (n.thickness.n - 1).max(1) as f64;
     let dt = if n.stitch.n > 1 {
