@@ -4,7 +4,7 @@
 use serde_json::{Value, json};
 use stitchkin::error::Error;
 use stitchkin::model::{Model, Params};
-use stitchkin::output::drawing::{self, DrawOptions, View};
+use stitchkin::output::drawing::{DrawOptions, View};
 
 /// The page's view names, `auto` first, with labels for the menu.
 pub fn names(model: &Model) -> Vec<Value> {
@@ -54,5 +54,5 @@ pub fn render(model: &Model, params: &Params, r: &DrawingRequest) -> Result<Stri
         trajectories: r.trajectories.clone(),
         ..Default::default()
     };
-    drawing::render(model, params, &opts)
+    stitchkin::jobs::drawing::render(model, params, &opts)
 }

@@ -93,6 +93,6 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         },
         ..opts
     };
-    let svg = drawing::render(&model, &params, &opts)?;
+    let svg = stitchkin::jobs::drawing::render(&model, &params, &opts)?;
     crate::picture::emit_picture(&svg, args.output.as_ref(), args.animate)
 }

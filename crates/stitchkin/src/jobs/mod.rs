@@ -3,6 +3,7 @@
 //! [`crate::study`], and hands the results to [`crate::output`], which only
 //! draws and formats them.
 
+pub mod drawing;
 pub mod plot;
 pub mod report;
 

@@ -7,7 +7,7 @@ use super::{chart_cycle, match_measured};
 use crate::error::Error;
 use crate::eval::{CycleOptions, check_options, run_cycle};
 use crate::model::{Model, Params};
-use crate::output::drawing::{self, DrawOptions, View};
+use crate::output::drawing::{DrawOptions, View};
 use crate::output::report::{self, MechanismDrawing, Report, Tuning};
 use crate::study::nomogram::{NomogramOptions, nomogram};
 use crate::study::tune::{TuneOptions, tune};
@@ -88,7 +88,7 @@ fn mechanism_drawing(model: &Model, params: &Params, opts: &ReportOptions) -> Re
         dimensions: true,
         ..Default::default()
     };
-    let still = drawing::render(model, params, &still)?;
+    let still = crate::jobs::drawing::render(model, params, &still)?;
     let animated = if opts.animate {
         let moving = DrawOptions {
             phi_deg: phi,
@@ -96,7 +96,7 @@ fn mechanism_drawing(model: &Model, params: &Params, opts: &ReportOptions) -> Re
             animate: true,
             ..Default::default()
         };
-        Some(drawing::render(model, params, &moving)?)
+        Some(crate::jobs::drawing::render(model, params, &moving)?)
     } else {
         None
     };

@@ -4,8 +4,9 @@
 
 use stitchkin::error::Error;
 use stitchkin::eval::{CycleOptions, run_cycle};
+use stitchkin::jobs::drawing::render;
 use stitchkin::model::Model;
-use stitchkin::output::drawing::{DrawOptions, Plane, View, render};
+use stitchkin::output::drawing::{DrawOptions, Plane, View};
 
 fn draw(preset: &str, opts: &DrawOptions) -> String {
     let m = Model::preset(preset).unwrap();

@@ -21,7 +21,7 @@ use crate::error::{Error, ParamError};
 use crate::format::{fmt_decimals, svg_num as n};
 use crate::geometry::{Plane as FramePlane, V2, V3};
 use crate::mechanism::Mechanism;
-use crate::model::{Model, Params};
+use crate::model::{Machine, Model};
 
 pub mod cam;
 mod layers;
@@ -222,7 +222,9 @@ impl Projection {
     }
 }
 
-fn check_options(opts: &DrawOptions) -> Result<(), Error> {
+/// Refuses options no drawing can follow (frames, duration, sizes), naming
+/// the option and the range it takes.
+pub fn check_options(opts: &DrawOptions) -> Result<(), Error> {
     if !opts.phi_deg.is_finite() {
         return Err(param_error(
             format!("the angle φ = {} is not a finite number (in --phi)", opts.phi_deg),
@@ -376,11 +378,28 @@ fn pts_attr(pts: &[(f64, f64)]) -> String {
         .join(" ")
 }
 
-/// The drawing of `model` with `params` as an SVG document: at `opts.phi_deg`,
-/// or animated over one turn (see [`DrawOptions`]).
-pub fn render(model: &Model, params: &Params, opts: &DrawOptions) -> Result<String, Error> {
+/// A machine solved for a drawing: the positions of every point slot at
+/// each frame's φ and, when it assembles all round (or trajectories are
+/// asked for), over the cycle. Computed by [`crate::jobs::drawing`].
+#[derive(Debug, Clone)]
+pub struct Solved {
+    /// The mechanism and its thread paths at the drawn setting.
+    pub machine: Machine<f64>,
+    /// Point slots whose path over the cycle is drawn.
+    pub traced: Vec<usize>,
+    /// The frames' φ, degrees.
+    pub phis: Vec<f64>,
+    /// Per frame, the position of every point slot (mm).
+    pub slots: Vec<Vec<V3<f64>>>,
+    /// Per φ of the cycle (1° steps), the position of every point slot.
+    pub cycle: Option<Vec<Vec<V3<f64>>>>,
+}
+
+/// The drawing of the `solved` machine as an SVG document: at
+/// `opts.phi_deg`, or animated over one turn (see [`DrawOptions`]).
+pub fn render(model: &Model, solved: Solved, opts: &DrawOptions) -> Result<String, Error> {
     check_options(opts)?;
-    let scene = Scene::build(model, params, opts)?;
+    let scene = Scene::build(model, solved, opts)?;
     let page = Page::fit(&scene);
     let roles = Roles::of(&scene);
     let d = Drawing {
@@ -468,7 +487,7 @@ mod tests {
     fn bad_options_are_refused_with_the_flag() {
         let model = Model::preset("needle876").unwrap();
         let p = model.defaults();
-        let err = |o: DrawOptions| render(&model, &p, &o).unwrap_err().to_string();
+        let err = |o: DrawOptions| crate::jobs::drawing::render(&model, &p, &o).unwrap_err().to_string();
         assert!(
             err(DrawOptions {
                 phi_deg: f64::NAN,

@@ -7,14 +7,13 @@
 use std::collections::BTreeSet;
 
 use super::layout::Screen;
-use super::structure::{Structure, guide_line, solve};
+use super::structure::{Structure, guide_line};
 use super::threads::{PathFrame, thread_frame, thread_polylines};
-use super::{DrawOptions, Projection, Timing, projection};
+use super::{DrawOptions, Projection, Solved, Timing, projection};
 use crate::error::Error;
-use crate::eval::cycle_phis_deg;
 use crate::geometry::{V2, V3};
 use crate::mechanism::Mechanism;
-use crate::model::{Machine, Model, Params};
+use crate::model::{Machine, Model};
 use crate::thread::cam::CamPlacement;
 use crate::thread::{Span, Threads};
 
@@ -60,29 +59,20 @@ pub(super) struct Scene<'a> {
 }
 
 impl<'a> Scene<'a> {
-    /// Solves `model` at the frames of `opts` (and over the cycle, for
-    /// trajectories and slider travel) and projects what is drawn.
-    pub(super) fn build(model: &'a Model, params: &Params, opts: &'a DrawOptions) -> Result<Scene<'a>, Error> {
-        let Machine {
-            mechanism: mech,
-            threads,
-        } = model.machine::<f64>(params)?;
+    /// Projects what is drawn of the `solved` machine.
+    pub(super) fn build(model: &'a Model, solved: Solved, opts: &'a DrawOptions) -> Result<Scene<'a>, Error> {
+        let Solved {
+            machine: Machine {
+                mechanism: mech,
+                threads,
+            },
+            traced,
+            phis,
+            slots,
+            cycle,
+        } = solved;
         let (proj, view_words, axis_names) = projection(model, &mech, &opts.view)?;
-        let traced = opts
-            .trajectories
-            .iter()
-            .map(|p| model.moving_point_slot(p).map_err(|e| e.given_in("--trajectories")))
-            .collect::<Result<Vec<usize>, Error>>()?;
-        let nf = if opts.animate { opts.frames } else { 1 };
-        let phis: Vec<f64> = (0..nf).map(|k| opts.phi_deg + 360.0 * k as f64 / nf as f64).collect();
-        let slots = solve(model, &mech, &phis)?;
-        // The cycle: for trajectories (required) and the travel of sliders on
-        // their guides (when it assembles all round).
-        let cycle = match solve(model, &mech, &cycle_phis_deg(model.phi_start_deg(), 1.0)) {
-            Ok(c) => Some(c),
-            Err(e) if !traced.is_empty() => return Err(e),
-            Err(_) => None,
-        };
+        let nf = phis.len();
         let st = Structure::of(&mech, model);
         let pos: Vec<Vec<V3<f64>>> = slots.iter().map(|s| st.positions(s)).collect();
         let threads_ref = threads.as_ref();

@@ -4,53 +4,11 @@
 
 use std::collections::BTreeSet;
 
-use crate::error::Error;
 use crate::geometry::{Plane as FramePlane, V2, V3, perp};
 use crate::mechanism::newton::{Closure, NewtonGroup, PointRef};
 use crate::mechanism::rssr::Rocker;
-use crate::mechanism::{Mechanism, Phi, Step, rpr};
+use crate::mechanism::{Mechanism, Step, rpr};
 use crate::model::Model;
-
-/// Positions of every point slot at each φ of `phis` (degrees, increasing).
-/// Numerical groups follow their assembly by continuation from the model's
-/// start in steps of at most 1°; closed-form groups are solved at `phis`
-/// alone. No assembly at some φ is the library's usual error.
-pub(super) fn solve(model: &Model, mech: &Mechanism<f64>, phis: &[f64]) -> Result<Vec<Vec<V3<f64>>>, Error> {
-    let continuation = mech.steps.iter().any(|s| matches!(s, Step::Newton(_)));
-    let mut grid = Vec::new();
-    let mut pick = Vec::with_capacity(phis.len());
-    let fill = |grid: &mut Vec<f64>, from: f64, to: f64| {
-        let k = ((to - from) / 1.0).ceil().max(1.0) as usize;
-        for j in 1..k {
-            grid.push(from + (to - from) * j as f64 / k as f64);
-        }
-    };
-    for (i, &phi) in phis.iter().enumerate() {
-        if continuation {
-            let from = if i == 0 {
-                phi - (phi - model.phi_start_deg()).rem_euclid(360.0)
-            } else {
-                phis[i - 1]
-            };
-            if i == 0 {
-                grid.push(from);
-            }
-            fill(&mut grid, from, phi);
-            if i > 0 || phi != from {
-                grid.push(phi);
-            }
-        } else {
-            grid.push(phi);
-        }
-        pick.push(grid.len() - 1);
-    }
-    let mut pose = mech.new_pose(grid.len());
-    mech.solve(&Phi::table(&grid), &mut pose)?;
-    Ok(pick
-        .into_iter()
-        .map(|k| (0..mech.n_points()).map(|s| pose.point(s, k)).collect())
-        .collect())
-}
 
 /// A point added to the drawing that is not a model point: a rocker's
 /// centre on its axis, a slotted lever's foot.
