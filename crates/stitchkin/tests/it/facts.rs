@@ -287,39 +287,87 @@ const Z_GRID_MM: f64 = 0.25;
 const DPHI_GRID_DEG: f64 = 0.5;
 
 fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
-    let (m, at_lock) = (m.clone(), at_lock.clone());
-    let text = stitchkin::presets::find("mf7923d").unwrap().toml;
-    let phase0 = with(&m, d, &[("t1_phase", 0.0)]);
-    // P′ once for every setting that leaves the stitch alone: the take-up's
-    // settings (r1, O2B, z, Δφ) and its phase reading. Checked: the stitch's
-    // inputs with all of them moved at once are the nominal ones.
-    let moved = with(
-        &m,
-        d,
-        &[
-            ("r1", 6.0),
-            ("l_o2b", 23.0),
-            ("z", Z_END),
-            ("dphi", DPHI_END),
-            ("t1_phase", 0.0),
-        ],
-    );
-    assert!(
-        m.stitch_setup(&moved).unwrap() == m.stitch_setup(d).unwrap(),
-        "the take-up's settings changed the stitch"
-    );
-    let shared = stitchkin::eval::stitch::prepare(&m, d, MF_STEP).unwrap().unwrap();
-    let runs = |p: &Params| run_cycle_with(&m, p, &opts(MF_STEP), Some(&shared)).unwrap();
-    let d = d.clone();
-    let t = runs(&d);
-    let t0 = runs(&phase0);
-    let r2_up = run(&m, &with(&m, &d, &[("r2", 16.5)]), MF_STEP);
-    let v = |n: &str| d.values[m.param_index(n).unwrap()];
-    let phis = col(&t, "phi_deg").to_vec();
-    let needles = [1, 2, 3];
+    let c = MfCycles::new(m, at_lock, d);
+    let mut facts = mf_contours(&c);
+    facts.extend(mf_two_d(&c));
+    facts.extend(mf_sensitivities(&c));
+    facts.extend(mf_shifts(&c));
+    let (mf12, at_lock_z, at_lock_dphi) = mf_at_lock(&c);
+    facts.push(mf12);
+    facts.extend(mf_mechanism(&c));
+    facts.extend(mf_stitch(&c));
+    MfRest {
+        facts,
+        at_lock_z,
+        at_lock_dphi,
+    }
+}
+
+/// The MF-7923D cycles the rows share: the nominal setting, T1's phase
+/// read as 0, and r2 up; P′ prepared once for the settings that leave the
+/// stitch alone.
+struct MfCycles {
+    m: Model,
+    at_lock: Model,
+    d: Params,
+    phase0: Params,
+    shared: stitchkin::eval::stitch::Prepared,
+    t: CycleTable,
+    t0: CycleTable,
+    r2_up: CycleTable,
+    phis: Vec<f64>,
+}
+
+/// The needles of the MF-7923D.
+const NEEDLES: [usize; 3] = [1, 2, 3];
+
+impl MfCycles {
+    fn new(m: &Model, at_lock: &Model, d: &Params) -> MfCycles {
+        let phase0 = with(&m, d, &[("t1_phase", 0.0)]);
+        // P′ once for every setting that leaves the stitch alone: the take-up's
+        // settings (r1, O2B, z, Δφ) and its phase reading. Checked: the stitch's
+        // inputs with all of them moved at once are the nominal ones.
+        let moved = with(
+            &m,
+            d,
+            &[
+                ("r1", 6.0),
+                ("l_o2b", 23.0),
+                ("z", Z_END),
+                ("dphi", DPHI_END),
+                ("t1_phase", 0.0),
+            ],
+        );
+        assert!(
+            m.stitch_setup(&moved).unwrap() == m.stitch_setup(d).unwrap(),
+            "the take-up's settings changed the stitch"
+        );
+        let shared = stitchkin::eval::stitch::prepare(&m, d, MF_STEP).unwrap().unwrap();
+        let runs = |p: &Params| run_cycle_with(&m, p, &opts(MF_STEP), Some(&shared)).unwrap();
+        let t = runs(&d);
+        let t0 = runs(&phase0);
+        let r2_up = run(&m, &with(&m, &d, &[("r2", 16.5)]), MF_STEP);
+        let phis = col(&t, "phi_deg").to_vec();
+        MfCycles {
+            m: m.clone(),
+            at_lock: at_lock.clone(),
+            d: d.clone(),
+            phase0,
+            shared,
+            t,
+            t0,
+            r2_up,
+            phis,
+        }
+    }
+}
+
+/// MF01–MF03: the contours A and B of the three needles.
+fn mf_contours(c: &MfCycles) -> Vec<Fact> {
+    let MfCycles { t, t0, .. } = c;
+    let needles = NEEDLES;
     let maxp = |t: &CycleTable, c: &str| needles.map(|j| path(t, &format!("n{j}_{c}")).max_p_mm);
     let mut out = Vec::new();
-
     // Contour B feeds more thread than A.
     let (a, b) = (maxp(&t, "A"), maxp(&t, "B"));
     let diff = needles.map(|j| b[j - 1] - a[j - 1]);
@@ -417,7 +465,13 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
             vec![a0[0].min(a0[2]), a0[0].max(a0[2])],
         ),
     );
+    out
+}
 
+/// MF04: the 2D model against the 3D one.
+fn mf_two_d(c: &MfCycles) -> Vec<Fact> {
+    let MfCycles { m, d, phase0, .. } = c;
+    let mut out = Vec::new();
     // 2D against 3D, needle 1, contour A.
     let c2 = |p: &Params| {
         let c = compare_2d3d(&m, p, "uvw", MF_STEP).unwrap();
@@ -435,7 +489,22 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
         )
         .why(format!("**{} mm ({} %)**", f(dp0, 3), f(rel0, 2)), vec![dp0, rel0]),
     );
+    out
+}
 
+/// MF05–MF07: the published sensitivities of max P to r1, r2 and O2B.
+fn mf_sensitivities(c: &MfCycles) -> Vec<Fact> {
+    let MfCycles {
+        m,
+        d,
+        phase0,
+        shared,
+        t,
+        r2_up,
+        ..
+    } = c;
+    let runs = |p: &Params| run_cycle_with(m, p, &opts(MF_STEP), Some(shared)).unwrap();
+    let mut out = Vec::new();
     // The published sensitivities of max P, needle 3 (Fig. 7 is drawn for
     // the far needle): the change over the stated step of each setting.
     let change = |base: &Params, name: &str, lo: f64, hi: f64, c: &str| {
@@ -482,6 +551,17 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
         .why(format!("**{} mm**", sf(o2b_0, 1)), vec![o2b_0]),
     );
 
+    out
+}
+
+/// MF08–MF10: z and Δφ at the ends of their ranges: the change of max P
+/// and the phase shift.
+fn mf_shifts(c: &MfCycles) -> Vec<Fact> {
+    let MfCycles {
+        m, d, shared, t, phis, ..
+    } = c;
+    let runs = |p: &Params| run_cycle_with(m, p, &opts(MF_STEP), Some(shared)).unwrap();
+    let mut out = Vec::new();
     // z ±10 mm and Δφ ±20°: the change of max P and the phase shift.
     let shift = |name: &str, v: f64, c: &str| {
         let col_name = format!("n3_{c}.P_B_mm");
@@ -548,7 +628,15 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
         ),
         vec![Z_END, zdev, DPHI_END, pdev, zmag, pmag],
     ));
+    out
+}
 
+/// MF12, and the best z and Δφ at m = 3, 4, 5 mm with the whole stitch at the lock (swept).
+fn mf_at_lock(c: &MfCycles) -> (Fact, [f64; 3], [f64; 3]) {
+    let MfCycles {
+        m, at_lock, d, shared, ..
+    } = c;
+    let mut out = Vec::new();
     // z = −2 mm matches better than z = 0 (m = 3 mm), and the best z and Δφ
     // at m = 3, 4, 5 mm with the whole stitch at the lock (a sweep; the
     // default accounting is tuned in `mf7923d`).
@@ -596,7 +684,23 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
         format!("mean match score at z = −2 / 0 mm (m = 3 mm): {} / {} (default regulator window); {} / {} (whole stitch at the lock)", f(sd.0, 1), f(sd.1, 1), f(sl.0, 1), f(sl.1, 1)),
         vec![-2.0, 0.0, 3.0, sd.0, sd.1, sl.0, sl.1],
     ));
+    (out.pop().expect("MF12"), at_lock_z, at_lock_dphi)
+}
 
+/// MF14–MF17: the mechanism (needle stroke, α0, G4, T1's travel).
+fn mf_mechanism(c: &MfCycles) -> Vec<Fact> {
+    let MfCycles {
+        m,
+        d,
+        shared,
+        t,
+        r2_up,
+        phis,
+        ..
+    } = c;
+    let runs = |p: &Params| run_cycle_with(m, p, &opts(MF_STEP), Some(shared)).unwrap();
+    let v = |n: &str| d.values[m.param_index(n).unwrap()];
+    let mut out = Vec::new();
     // Needle stroke 31…33 mm for r2 15.5…16.5 mm.
     let stroke_of = |t: &CycleTable| t.ranges.iter().find(|r| r.name == "needle_bar_v").unwrap().range;
     let (s1, s2) = (stroke_of(&t), stroke_of(&r2_up));
@@ -679,7 +783,16 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
         ),
         vec![w4, w6, 4.0, 6.0, w20, w23, 20.0, 23.0],
     ));
+    out
+}
 
+/// MF18–MF21: the stitch (contour A against B, P′ against m, the bound past B, the first catch).
+fn mf_stitch(c: &MfCycles) -> Vec<Fact> {
+    let MfCycles { m, d, t, t0, .. } = c;
+    let text = stitchkin::presets::find("mf7923d").unwrap().toml;
+    let v = |n: &str| d.values[m.param_index(n).unwrap()];
+    let needles = NEEDLES;
+    let mut out = Vec::new();
     // Contour A matches P′ better than contour B (stitch 407, m = 3 mm).
     let mut with_b = text.to_string();
     for j in needles {
@@ -783,11 +896,7 @@ fn mf7923d_rest(m: &Model, at_lock: &Model, d: &Params) -> MfRest {
         ),
         vec![catches[0], catches[1], catches[2], 1.0, 2.0, 3.0, first as f64],
     ));
-    MfRest {
-        facts: out,
-        at_lock_z,
-        at_lock_dphi,
-    }
+    out
 }
 
 // ---------------------------------------------------------------------------
