@@ -15,6 +15,7 @@
 
 use std::fmt::Write as _;
 
+use stitchkin::eval::stitch::StitchSummary;
 use stitchkin::eval::{CycleOptions, CycleTable, PathSummary, run_cycle, run_cycle_with};
 use stitchkin::mechanism::Phi;
 use stitchkin::model::file::Value;
@@ -23,7 +24,7 @@ use stitchkin::stitch::consumption::{StitchGeometry, consumption};
 use stitchkin::stitch::mismatch::mismatch;
 use stitchkin::study::compare2d3d::compare_2d3d;
 use stitchkin::study::straightness::{Reference, StraightnessOptions, Window, straightness};
-use stitchkin::study::stroke::{Axis, StrokeOptions, point_slot, stroke, study};
+use stitchkin::study::stroke::{Axis, Stroke, StrokeOptions, point_slot, stroke, study};
 use stitchkin::study::sweep::{Design, Sweep, Vary};
 use stitchkin::study::tune::{TuneOptions, set_stitch_value, tune};
 use stitchkin::verify::cross_check;
@@ -909,9 +910,16 @@ fn needle876() -> Vec<Fact> {
     let at = |alpha: f64| stroke(&m, &with(&m, &d, &[("alpha", alpha)]), g, &Axis::World(1), 2.0).unwrap();
     let alphas: Vec<f64> = (0..=7).map(|i| 5.0 * i as f64).collect();
     let rows: Vec<_> = alphas.iter().map(|&a| at(a)).collect();
+    let mut out = nd_stroke(&m, &d, &rows);
+    out.extend(nd_angles_and_checks(&m, &d, &rows, g, &alphas, &at));
+    out
+}
+
+/// ND01–ND04: the stroke at α = 0 and 35°, the needle's BDC, its φ, and
+/// l_CF from Fig. 1's condition.
+fn nd_stroke(m: &Model, d: &Params, rows: &[Stroke]) -> Vec<Fact> {
     let (s0, s35) = (&rows[0], &rows[7]);
     let mut out = Vec::new();
-
     out.push(fact(
         "ND01",
         Verdict::grade(s0.stroke_mm.round() == 18.0 && s35.stroke_mm.round() == 23.0, false),
@@ -958,6 +966,21 @@ fn needle876() -> Vec<Fact> {
         vec![l_cf],
     ));
 
+    out
+}
+
+/// ND05–ND10: the transmission angles over α, where μ2 leaves its band,
+/// the analogs, the largest stroke and the independent cross-check.
+fn nd_angles_and_checks(
+    m: &Model,
+    d: &Params,
+    rows: &[Stroke],
+    g: usize,
+    alphas: &[f64],
+    at: &dyn Fn(f64) -> Stroke,
+) -> Vec<Fact> {
+    let (s0, s35) = (&rows[0], &rows[7]);
+    let mut out = Vec::new();
     let mu_lo = rows
         .iter()
         .flat_map(|r| r.mu.iter().map(|x| x.min_deg))
@@ -1134,6 +1157,16 @@ fn altin504() -> Vec<Fact> {
         moment("needle: catch (derived)"),
         moment("needle: drop (derived)"),
     );
+    let mut out = al_moments(&m, &d, st, tdc, catch);
+    out.extend(al_feed_and_drop(&m, st, tdc, drop));
+    out.extend(al_consumption(st));
+    out.sort_by_key(|f| f.id);
+    out
+}
+
+/// AL01–AL04: the needle's TDC, the derived catch, the needle's rise at
+/// the catch and the looper point's clearance there.
+fn al_moments(m: &Model, d: &Params, st: &StitchSummary, tdc: f64, catch: f64) -> Vec<Fact> {
     let mut out = Vec::new();
     out.push(fact(
         "AL01",
@@ -1181,6 +1214,12 @@ fn altin504() -> Vec<Fact> {
         format!("{} mm (looper point above the eye at the catch)", f(clearance, 2)),
         vec![clearance],
     ));
+    out
+}
+
+/// AL05–AL08: the transport, the drop and the needle thread's P′ at it.
+fn al_feed_and_drop(m: &Model, st: &StitchSummary, tdc: f64, drop: f64) -> Vec<Fact> {
+    let mut out = Vec::new();
     let feed = &m.stitch_spec().unwrap().feed;
     let num = |v: &Option<Value>| match v {
         Some(Value::Number(x)) => *x,
@@ -1246,6 +1285,13 @@ fn altin504() -> Vec<Fact> {
             drop,
         ],
     ));
+    out
+}
+
+/// AL09–AL12: the consumption per stitch and the contours of seed 004
+/// Table 3.
+fn al_consumption(st: &StitchSummary) -> Vec<Fact> {
+    let mut out = Vec::new();
     // The stitch's geometry: m and t of the preset, the overedge width
     // a_e = 4 mm and the mid-edge meeting of its [stitch] (illustrative),
     // the needle's β = 20°.
@@ -1340,7 +1386,6 @@ fn altin504() -> Vec<Fact> {
             singles as f64,
         ],
     ));
-    out.sort_by_key(|f| f.id);
     out
 }
 
@@ -1535,63 +1580,86 @@ fn published_facts_table_is_current() {
         if print {
             println!("{} | {} | {} | {}", fa.id, fa.text, fa.verdict.word(), fa.why);
         }
-        let Some(row) = rows.iter().find(|r| r.cells[0] == fa.id) else {
-            writeln!(
-                errors,
-                "{}: no row in docs/published-facts.md; recomputed: {} | {} | {}",
-                fa.id,
-                fa.text,
-                fa.verdict.word(),
-                fa.why
-            )
-            .unwrap();
-            continue;
-        };
-        if row.cells.len() != 7 {
-            writeln!(
-                errors,
-                "{}: the row has {} cells, not 7: {}",
-                fa.id,
-                row.cells.len(),
-                row.line
-            )
-            .unwrap();
-            continue;
-        }
-        let (figure, verdict, why) = (&row.cells[4], &row.cells[5], &row.cells[6]);
-        if !agrees(&numbers(figure), &fa.values) {
-            writeln!(
-                errors,
-                "{}: stitchkin's figure is stale; recomputed: {}  (values {:?})\n    row: {}",
-                fa.id, fa.text, fa.values, row.line
-            )
-            .unwrap();
-        }
-        if verdict != fa.verdict.word() {
-            writeln!(
-                errors,
-                "{}: the verdict is `{verdict}`, the criterion gives `{}`\n    row: {}",
-                fa.id,
-                fa.verdict.word(),
-                row.line
-            )
-            .unwrap();
-        }
-        if !agrees(&bold_numbers(why), &fa.why_values) {
-            writeln!(
-                errors,
-                "{}: the figures in bold in `why` are stale; recomputed: {}  (values {:?})\n    row: {}",
-                fa.id, fa.why, fa.why_values, row.line
-            )
-            .unwrap();
-        }
+        check_row(fa, &rows, &mut errors);
     }
     for r in &rows {
         if !facts.iter().any(|fa| fa.id == r.cells[0]) {
             writeln!(errors, "{}: a row the test does not recompute: {}", r.cells[0], r.line).unwrap();
         }
     }
-    // Each section's summary counts its rows' verdicts.
+    check_summaries(&mut errors);
+    if print {
+        println!(
+            "recomputed {} rows in {:.1} s",
+            facts.len(),
+            started.elapsed().as_secs_f64()
+        );
+    }
+    assert!(
+        errors.is_empty(),
+        "docs/published-facts.md does not match what stitchkin computes:\n{errors}"
+    );
+}
+
+/// Fact `fa` against its row of the document: the figure cell, the
+/// verdict and the bold figures of the "why" cell; what differs goes to
+/// `errors`.
+fn check_row(fa: &Fact, rows: &[Row], errors: &mut String) {
+    let Some(row) = rows.iter().find(|r| r.cells[0] == fa.id) else {
+        writeln!(
+            errors,
+            "{}: no row in docs/published-facts.md; recomputed: {} | {} | {}",
+            fa.id,
+            fa.text,
+            fa.verdict.word(),
+            fa.why
+        )
+        .unwrap();
+        return;
+    };
+    if row.cells.len() != 7 {
+        writeln!(
+            errors,
+            "{}: the row has {} cells, not 7: {}",
+            fa.id,
+            row.cells.len(),
+            row.line
+        )
+        .unwrap();
+        return;
+    }
+    let (figure, verdict, why) = (&row.cells[4], &row.cells[5], &row.cells[6]);
+    if !agrees(&numbers(figure), &fa.values) {
+        writeln!(
+            errors,
+            "{}: stitchkin's figure is stale; recomputed: {}  (values {:?})\n    row: {}",
+            fa.id, fa.text, fa.values, row.line
+        )
+        .unwrap();
+    }
+    if verdict != fa.verdict.word() {
+        writeln!(
+            errors,
+            "{}: the verdict is `{verdict}`, the criterion gives `{}`\n    row: {}",
+            fa.id,
+            fa.verdict.word(),
+            row.line
+        )
+        .unwrap();
+    }
+    if !agrees(&bold_numbers(why), &fa.why_values) {
+        writeln!(
+            errors,
+            "{}: the figures in bold in `why` are stale; recomputed: {}  (values {:?})\n    row: {}",
+            fa.id, fa.why, fa.why_values, row.line
+        )
+        .unwrap();
+    }
+}
+
+/// Each section's summary line counts its rows' verdicts, one summary per
+/// preset.
+fn check_summaries(errors: &mut String) {
     let mut counts = [0usize; 4];
     let mut sections = 0;
     for line in DOC.lines() {
@@ -1621,17 +1689,6 @@ fn published_facts_table_is_current() {
     if sections != 6 {
         writeln!(errors, "{sections} summary lines, one per preset (6) expected").unwrap();
     }
-    if print {
-        println!(
-            "recomputed {} rows in {:.1} s",
-            facts.len(),
-            started.elapsed().as_secs_f64()
-        );
-    }
-    assert!(
-        errors.is_empty(),
-        "docs/published-facts.md does not match what stitchkin computes:\n{errors}"
-    );
 }
 
 #[test]
