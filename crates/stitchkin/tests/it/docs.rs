@@ -5,6 +5,7 @@
 
 use stitchkin::eval::{CycleTable, run_cycle};
 use stitchkin::model::Model;
+use stitchkin::study::compare2d3d::compare_2d3d;
 
 const DOC_PATH: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/model-format.md");
 
@@ -283,9 +284,15 @@ fn spans(iv: &[stitchkin::thread::Interval]) -> Vec<(f64, f64)> {
 
 #[test]
 fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
-    use stitchkin::study::compare2d3d::compare_2d3d;
+    eyelet_crank_numbers();
+    pin_and_roller_numbers();
+    needle_bar_thread_numbers();
+    mf7923d_thread_numbers();
+    mf7923d_regulator_numbers();
+}
 
-    // Example 8: eyelet on a crank, ξ(φ) in closed form.
+/// Example 8: an eyelet on a crank, ξ(φ) in closed form.
+fn eyelet_crank_numbers() {
     let (m, t) = example("eyelet_crank");
     assert!(m.planar, "thread paths leave a planar model planar");
     let (r, h, a) = (10.0f64, 30.0f64, 40.0f64);
@@ -348,8 +355,10 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
             .unwrap()
             .contains("xi(phi0) - xi(phi), phi0 = 0 deg")
     );
+}
 
-    // Example 9: a thin pin and a roller.
+/// Example 9: a thin pin and a roller.
+fn pin_and_roller_numbers() {
     let (m, t) = example("pin_and_roller");
     assert!(m.planar);
     let beta = 30.0f64.atan2(40.0).to_degrees();
@@ -423,8 +432,10 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     // Every node between the ends has a wrap column, the eyelet T too.
     col(&t, "thin.T_wrap_deg");
     assert!(thin.max_tension_n.is_empty(), "no tension_n, no tension maxima");
+}
 
-    // Example 10: offset points on a needle bar, the feed convention.
+/// Example 10: offset points on a needle bar, the feed convention.
+fn needle_bar_thread_numbers() {
     let (m, t) = example("needle_bar_thread");
     assert!(
         !m.planar && t.column("N.z_mm").is_some(),
@@ -470,7 +481,10 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     close(cp.max_abs_dp_mm, 0.8099, 5e-5, "Example 10 max |ΔP|");
     close(cp.phi_at_max_deg, 270.0, 0.0, "Example 10 φ at max |ΔP|");
     close(cp.max_rel_percent, 3.35, 5e-3, "Example 10 max |ΔP| in %");
+}
 
+/// Section 13.10: the MF-7923D preset's paths, split at B.
+fn mf7923d_thread_numbers() {
     // Section 13.10: the MF-7923D preset. Its paths end at the eyes of its
     // [[stitch.needles]], so they are split at B (P_B = P_eye + S − S(φ0))
     // and T1 is up at the needle's TDC (t1_phase = 180): the maxima, their
@@ -529,8 +543,11 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     let cp = c0.paths.iter().find(|p| p.path == "n1_A").unwrap();
     close(cp.max_abs_dp_mm, 0.1084, 5e-5, "mf7923d t1_phase = 0 max |ΔP|");
     close(cp.max_rel_percent, 0.12, 5e-3, "mf7923d t1_phase = 0 max |ΔP| in %");
+}
 
-    // Section 13.11: the regulator's two accountings on the MF-7923D.
+/// Section 13.11: the regulator's two accountings on the MF-7923D.
+fn mf7923d_regulator_numbers() {
+    let m = Model::preset("mf7923d").unwrap();
     let scores = |m: &Model| -> Vec<f64> {
         let t = cycle(m).unwrap();
         let st = t.stitch.expect("mf7923d has a [stitch]");
@@ -571,18 +588,43 @@ fn edit(text: &str, from: &str, to: &str) -> String {
     text.replacen(from, to, 1)
 }
 
+/// Example 11's disc cam: radius r and eccentricity e on the main shaft,
+/// its marker D the disc's centre; guides G1, G2 = (∓a, h), mm.
+const CAM: (f64, f64, f64, f64) = (10.0, 6.0, 18.0, 6.0);
+
+/// The disc's polar profile ρ(θ) about the shaft.
+fn disc_rho(theta: f64) -> f64 {
+    let (r, e, ..) = CAM;
+    e * theta.cos() + (r * r - e * e * theta.sin().powi(2)).sqrt()
+}
+
+/// The taut thread's turn over the disc at φ = 90°, rad.
+fn taut_turn() -> f64 {
+    let (r, _, a, _) = CAM;
+    std::f64::consts::PI - 2.0 * (r / a).acos()
+}
+
 #[test]
 fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
     // Example 11: a disc cam (r = 10, e = 6) on the main shaft, its marker
     // D the disc's centre; guides G1, G2 = (∓18, 6).
     let (m, t) = example("looper_cam");
+    looper_cam_contours(&m, &t);
+    looper_cam_taut_at_90(&t);
+    looper_cam_seed_and_summary(&t);
+    looper_cam_variants(&m);
+}
+
+/// Example 11, every φ: the taut contour free exactly while the disc is
+/// below the guides, the offset one ξ = |G1 − A| + |A − G2|.
+fn looper_cam_contours(m: &Model, t: &CycleTable) {
+    let (r, e, a, h) = CAM;
     assert!(m.planar, "cams leave a planar model planar");
-    let (r, e, a, h) = (10.0f64, 6.0f64, 18.0f64, 6.0f64);
-    let rho = |theta: f64| e * theta.cos() + (r * r - e * e * theta.sin().powi(2)).sqrt();
+    let rho = disc_rho;
     let phis = col(&t, "phi_deg");
     let (xs, xt) = (col(&t, "seed.xi_mm"), col(&t, "taut.xi_mm"));
     let (on_s, on_t) = (col(&t, "seed.feed_engaged"), col(&t, "taut.feed_engaged"));
-    let (wrap_s, wrap_t) = (col(&t, "seed.feed_wrap_deg"), col(&t, "taut.feed_wrap_deg"));
+    let wrap_t = col(&t, "taut.feed_wrap_deg");
     for k in 0..phis.len() {
         let phi = phis[k].to_radians();
         // Exact: free exactly when the disc's top e·sin φ + r is below h.
@@ -607,9 +649,19 @@ fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
     let boundary = (-2.0f64 / 3.0).asin().to_degrees();
     close(180.0 - boundary, 221.81, 5e-3, "Example 11 free from");
     close(360.0 + boundary, 318.19, 5e-3, "Example 11 free to");
+}
 
+/// Example 11 at φ = 90°: tangents and the arc over the disc, and the taut
+/// path as a roller of radius r about D.
+fn looper_cam_taut_at_90(t: &CycleTable) {
+    let (r, _, a, _) = CAM;
+    let (xt, on_t, wrap_t) = (
+        col(t, "taut.xi_mm"),
+        col(t, "taut.feed_engaged"),
+        col(t, "taut.feed_wrap_deg"),
+    );
     // The taut thread at φ = 90°: tangents and the arc over the disc.
-    let turn = std::f64::consts::PI - 2.0 * (r / a).acos();
+    let turn = taut_turn();
     close(2.0 * (a * a - r * r).sqrt(), 29.933, 5e-4, "Example 11 tangents");
     close(r * turn, 11.781, 5e-4, "Example 11 arc");
     close(
@@ -646,7 +698,14 @@ fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
         close(xt[k], xr[k], 1e-9, "Example 11 taut = a roller about D");
         assert_eq!(on_t[k], on_r[k], "Example 11 taut engaged = roller engaged");
     }
+}
 
+/// Example 11: seed 004's contact at φ = 120°, and the summary lines.
+fn looper_cam_seed_and_summary(t: &CycleTable) {
+    let (_, _, a, h) = CAM;
+    let turn = taut_turn();
+    let (xs, xt) = (col(t, "seed.xi_mm"), col(t, "taut.xi_mm"));
+    let (on_t, wrap_s) = (col(t, "taut.feed_engaged"), col(t, "seed.feed_wrap_deg"));
     // Seed 004's contact at φ = 120°: A = 16·(cos 120°, sin 120°).
     let (ax, ay) = (16.0 * 120f64.to_radians().cos(), 16.0 * 120f64.to_radians().sin());
     close(ax, -8.0, 1e-12, "Example 11 A.x");
@@ -705,14 +764,20 @@ fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
     close(lo, 0.3, 1e-12, "Example 11 taut eye tension min (free)");
     close(hi, 0.3 * (0.2 * turn).exp(), 1e-9, "Example 11 taut eye tension max");
     close(hi, 0.380, 5e-4, "Example 11 taut eye tension max as quoted");
+}
 
+/// Example 11 with --set gamma=0, and the two cam errors of section 16
+/// made from it.
+fn looper_cam_variants(m: &Model) {
+    let (_, _, a, h) = CAM;
+    let text = example_text("looper_cam");
     // --set gamma=0: A on the line of symmetry, ξ = 2·|G1 − A| (seed 004).
     let mut p = m.defaults();
     m.set(&mut p, "gamma", 0.0).unwrap();
     let t0 = run_cycle(&m, &p, &Default::default()).unwrap();
     let x0 = col(&t0, "seed.xi_mm");
     for (k, phi) in col(&t0, "phi_deg").iter().enumerate() {
-        let rho_a = rho(90f64.to_radians() - phi.to_radians());
+        let rho_a = disc_rho(90f64.to_radians() - phi.to_radians());
         close(
             x0[k],
             2.0 * a.hypot(rho_a - h),
