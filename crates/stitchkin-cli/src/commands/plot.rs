@@ -375,7 +375,7 @@ fn plot_of(args: &Args, model: &Model, params: &Params, step: f64) -> Result<Plo
         What::Nomogram => {
             let thickness = match &args.thickness {
                 Some(s) => Axis::parse(s, "--thickness")?,
-                None => stitchkin::study::nomogram::default_thickness(&model)?,
+                None => stitchkin::study::nomogram::default_thickness(model)?,
             };
             let stitch = args.stitch.as_deref().map(|s| Axis::parse(s, "--stitch")).transpose()?;
             let tune = TuneOptions {

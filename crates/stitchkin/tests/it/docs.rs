@@ -621,10 +621,10 @@ fn looper_cam_contours(m: &Model, t: &CycleTable) {
     let (r, e, a, h) = CAM;
     assert!(m.planar, "cams leave a planar model planar");
     let rho = disc_rho;
-    let phis = col(&t, "phi_deg");
-    let (xs, xt) = (col(&t, "seed.xi_mm"), col(&t, "taut.xi_mm"));
-    let (on_s, on_t) = (col(&t, "seed.feed_engaged"), col(&t, "taut.feed_engaged"));
-    let wrap_t = col(&t, "taut.feed_wrap_deg");
+    let phis = col(t, "phi_deg");
+    let (xs, xt) = (col(t, "seed.xi_mm"), col(t, "taut.xi_mm"));
+    let (on_s, on_t) = (col(t, "seed.feed_engaged"), col(t, "taut.feed_engaged"));
+    let wrap_t = col(t, "taut.feed_wrap_deg");
     for k in 0..phis.len() {
         let phi = phis[k].to_radians();
         // Exact: free exactly when the disc's top e·sin φ + r is below h.
@@ -719,7 +719,7 @@ fn looper_cam_seed_and_summary(t: &CycleTable) {
     assert_eq!(on_t[300], 0.0, "Example 11: the taut thread is free at 300°");
 
     // The summary lines.
-    let (s, tt) = (path(&t, "seed"), path(&t, "taut"));
+    let (s, tt) = (path(t, "seed"), path(t, "taut"));
     assert_eq!(s.thread.as_deref(), Some("looper thread, seed 004"));
     assert_eq!(tt.thread.as_deref(), Some("looper thread, exact"));
     close(s.max_p_mm, 0.082, 5e-4, "Example 11 seed max P");
@@ -755,7 +755,7 @@ fn looper_cam_seed_and_summary(t: &CycleTable) {
     close(lo, 0.300, 5e-4, "Example 11 seed eye tension min");
     close(hi, 0.363, 5e-4, "Example 11 seed eye tension max");
     close(
-        col(&t, "seed.tension_eye_N")[0],
+        col(t, "seed.tension_eye_N")[0],
         0.3 * (0.2 * wrap_s[0].to_radians()).exp(),
         1e-12,
         "Example 11 seed capstan at the cam",
@@ -774,7 +774,7 @@ fn looper_cam_variants(m: &Model) {
     // --set gamma=0: A on the line of symmetry, ξ = 2·|G1 − A| (seed 004).
     let mut p = m.defaults();
     m.set(&mut p, "gamma", 0.0).unwrap();
-    let t0 = run_cycle(&m, &p, &Default::default()).unwrap();
+    let t0 = run_cycle(m, &p, &Default::default()).unwrap();
     let x0 = col(&t0, "seed.xi_mm");
     for (k, phi) in col(&t0, "phi_deg").iter().enumerate() {
         let rho_a = disc_rho(90f64.to_radians() - phi.to_radians());

@@ -324,12 +324,12 @@ const NEEDLES: [usize; 3] = [1, 2, 3];
 
 impl MfCycles {
     fn new(m: &Model, at_lock: &Model, d: &Params) -> MfCycles {
-        let phase0 = with(&m, d, &[("t1_phase", 0.0)]);
+        let phase0 = with(m, d, &[("t1_phase", 0.0)]);
         // P′ once for every setting that leaves the stitch alone: the take-up's
         // settings (r1, O2B, z, Δφ) and its phase reading. Checked: the stitch's
         // inputs with all of them moved at once are the nominal ones.
         let moved = with(
-            &m,
+            m,
             d,
             &[
                 ("r1", 6.0),
@@ -343,11 +343,11 @@ impl MfCycles {
             m.stitch_setup(&moved).unwrap() == m.stitch_setup(d).unwrap(),
             "the take-up's settings changed the stitch"
         );
-        let shared = stitchkin::eval::stitch::prepare(&m, d, MF_STEP).unwrap().unwrap();
-        let runs = |p: &Params| run_cycle_with(&m, p, &opts(MF_STEP), Some(&shared)).unwrap();
-        let t = runs(&d);
+        let shared = stitchkin::eval::stitch::prepare(m, d, MF_STEP).unwrap().unwrap();
+        let runs = |p: &Params| run_cycle_with(m, p, &opts(MF_STEP), Some(&shared)).unwrap();
+        let t = runs(d);
         let t0 = runs(&phase0);
-        let r2_up = run(&m, &with(&m, &d, &[("r2", 16.5)]), MF_STEP);
+        let r2_up = run(m, &with(m, d, &[("r2", 16.5)]), MF_STEP);
         let phis = col(&t, "phi_deg").to_vec();
         MfCycles {
             m: m.clone(),
@@ -370,12 +370,12 @@ fn mf_contours(c: &MfCycles) -> Vec<Fact> {
     let maxp = |t: &CycleTable, c: &str| needles.map(|j| path(t, &format!("n{j}_{c}")).max_p_mm);
     let mut out = Vec::new();
     // Contour B feeds more thread than A.
-    let (a, b) = (maxp(&t, "A"), maxp(&t, "B"));
+    let (a, b) = (maxp(t, "A"), maxp(t, "B"));
     let diff = needles.map(|j| b[j - 1] - a[j - 1]);
     let least_b_minus_a = needles
         .iter()
         .map(|j| {
-            let (pa, pb) = (col(&t, &format!("n{j}_A.P_B_mm")), col(&t, &format!("n{j}_B.P_B_mm")));
+            let (pa, pb) = (col(t, &format!("n{j}_A.P_B_mm")), col(t, &format!("n{j}_B.P_B_mm")));
             pa.iter().zip(pb).map(|(x, y)| y - x).fold(f64::MAX, f64::min)
         })
         .fold(f64::MAX, f64::min);
@@ -410,7 +410,7 @@ fn mf_contours(c: &MfCycles) -> Vec<Fact> {
     // flat interval holding the maximum) and the dwell around the TDC.
     let top_and_foot = |c: &str| {
         needles.map(|j| {
-            let p = path(&t, &format!("n{j}_{c}"));
+            let p = path(t, &format!("n{j}_{c}"));
             let w = |iv: &stitchkin::thread::Interval| iv.to_deg - iv.from_deg;
             let holds = |iv: &&stitchkin::thread::Interval, phi: f64| {
                 (iv.from_deg..=iv.to_deg).contains(&phi) || (iv.from_deg..=iv.to_deg).contains(&(phi + 360.0))
@@ -421,8 +421,8 @@ fn mf_contours(c: &MfCycles) -> Vec<Fact> {
         })
     };
     let (fa, fb) = (top_and_foot("A"), top_and_foot("B"));
-    let b_has_none = needles.iter().all(|j| path(&t, &format!("n{j}_B")).flat.is_empty());
-    let a_has = needles.iter().all(|j| !path(&t, &format!("n{j}_A")).flat.is_empty());
+    let b_has_none = needles.iter().all(|j| path(t, &format!("n{j}_B")).flat.is_empty());
+    let a_has = needles.iter().all(|j| !path(t, &format!("n{j}_A")).flat.is_empty());
     let a_tops_longer = (0..3).all(|i| fa[i].0 >= 2.0 * fb[i].0);
     out.push(fact(
         "MF02",
@@ -448,7 +448,7 @@ fn mf_contours(c: &MfCycles) -> Vec<Fact> {
     ));
 
     // Max P of about 10 mm (0.2 mm is 2 % of it).
-    let a0 = maxp(&t0, "A");
+    let a0 = maxp(t0, "A");
     out.push(
         fact(
             "MF03",
@@ -475,12 +475,12 @@ fn mf_two_d(c: &MfCycles) -> Vec<Fact> {
     let mut out = Vec::new();
     // 2D against 3D, needle 1, contour A.
     let c2 = |p: &Params| {
-        let c = compare_2d3d(&m, p, "uvw", MF_STEP).unwrap();
+        let c = compare_2d3d(m, p, "uvw", MF_STEP).unwrap();
         let n = c.paths.into_iter().find(|x| x.path == "n1_A").unwrap();
         (n.max_abs_dp_mm, n.max_rel_percent)
     };
-    let (dp, rel) = c2(&d);
-    let (dp0, rel0) = c2(&phase0);
+    let (dp, rel) = c2(d);
+    let (dp0, rel0) = c2(phase0);
     out.push(
         fact(
             "MF04",
@@ -509,11 +509,11 @@ fn mf_sensitivities(c: &MfCycles) -> Vec<Fact> {
     // The published sensitivities of max P, needle 3 (Fig. 7 is drawn for
     // the far needle): the change over the stated step of each setting.
     let change = |base: &Params, name: &str, lo: f64, hi: f64, c: &str| {
-        let at = |v: f64| path(&runs(&with(&m, base, &[(name, v)])), &format!("n3_{c}")).max_p_mm;
+        let at = |v: f64| path(&runs(&with(m, base, &[(name, v)])), &format!("n3_{c}")).max_p_mm;
         at(hi) - at(lo)
     };
     // r1 4 → 6 mm: +10 mm.
-    let (r1, r1_0) = (change(&d, "r1", 4.0, 6.0, "A"), change(&phase0, "r1", 4.0, 6.0, "A"));
+    let (r1, r1_0) = (change(d, "r1", 4.0, 6.0, "A"), change(phase0, "r1", 4.0, 6.0, "A"));
     out.push(
         fact(
             "MF05",
@@ -525,7 +525,7 @@ fn mf_sensitivities(c: &MfCycles) -> Vec<Fact> {
     );
     // r2 15.5 → 16.5 mm: +4 mm.
     // r2 moves the needle, so P′: its own cycle.
-    let r2_change = |c: &str| path(&r2_up, &format!("n3_{c}")).max_p_mm - path(&t, &format!("n3_{c}")).max_p_mm;
+    let r2_change = |c: &str| path(r2_up, &format!("n3_{c}")).max_p_mm - path(t, &format!("n3_{c}")).max_p_mm;
     let (r2a, r2b) = (r2_change("A"), r2_change("B"));
     let near4 = |v: f64| (v - 4.0).abs() <= 0.5;
     out.push(fact(
@@ -539,8 +539,8 @@ fn mf_sensitivities(c: &MfCycles) -> Vec<Fact> {
     ));
     // O2B 20 → 23 mm: −7 mm.
     let (o2b, o2b_0) = (
-        change(&d, "l_o2b", 20.0, 23.0, "A"),
-        change(&phase0, "l_o2b", 20.0, 23.0, "A"),
+        change(d, "l_o2b", 20.0, 23.0, "A"),
+        change(phase0, "l_o2b", 20.0, 23.0, "A"),
     );
     out.push(
         fact(
@@ -566,12 +566,12 @@ fn mf_shifts(c: &MfCycles) -> Vec<Fact> {
     // z ±10 mm and Δφ ±20°: the change of max P and the phase shift.
     let shift = |name: &str, v: f64, c: &str| {
         let col_name = format!("n3_{c}.P_B_mm");
-        let p0 = col(&t, &col_name).to_vec();
-        let tv = runs(&with(&m, &d, &[(name, v)]));
+        let p0 = col(t, &col_name).to_vec();
+        let tv = runs(&with(m, d, &[(name, v)]));
         let p = col(&tv, &col_name);
         let dmax = max_of(p) - max_of(&p0);
         let dev = max_abs(&p.iter().zip(&p0).map(|(a, b)| a - b).collect::<Vec<_>>());
-        (dmax, best_lag(&phis, p, &p0), dev)
+        (dmax, best_lag(phis, p, &p0), dev)
     };
     // Seed 000's 3–3.5 mm and ±28–32°, each widened by half its last digit.
     let mag = |v: f64| within(v, 2.75, 3.75);
@@ -643,19 +643,14 @@ fn mf_at_lock(c: &MfCycles) -> (Fact, [f64; 3], [f64; 3]) {
     // default accounting is tuned in `mf7923d`).
     let lock_prepared = |mm: f64| {
         let mut p = at_lock.defaults();
-        set_stitch_value(&at_lock, &mut p, "m", mm).unwrap();
-        let pr = stitchkin::eval::stitch::prepare(&at_lock, &p, MF_STEP)
-            .unwrap()
-            .unwrap();
+        set_stitch_value(at_lock, &mut p, "m", mm).unwrap();
+        let pr = stitchkin::eval::stitch::prepare(at_lock, &p, MF_STEP).unwrap().unwrap();
         (p, pr)
     };
     let score_at = |model: &Model, p: &Params, pr: &stitchkin::eval::stitch::Prepared, name: &str, v: f64| {
         score_mean(&run_cycle_with(model, &with(model, p, &[(name, v)]), &opts(MF_STEP), Some(pr)).unwrap())
     };
-    let sd = (
-        score_at(&m, &d, &shared, "z", -2.0),
-        score_at(&m, &d, &shared, "z", 0.0),
-    );
+    let sd = (score_at(m, d, shared, "z", -2.0), score_at(m, d, shared, "z", 0.0));
     let mut at_lock_z = [0.0; 3];
     let mut at_lock_dphi = [0.0; 3];
     let mut sl = (0.0, 0.0);
@@ -665,7 +660,7 @@ fn mf_at_lock(c: &MfCycles) -> (Fact, [f64; 3], [f64; 3]) {
             let n = (2.0 * end / grid).round() as i32;
             (0..=n)
                 .map(|k| -end + grid * k as f64)
-                .map(|v| (v, score_at(&at_lock, &p, &pr, name, v)))
+                .map(|v| (v, score_at(at_lock, &p, &pr, name, v)))
                 .max_by(|a, b| a.1.total_cmp(&b.1))
                 .unwrap()
                 .0
@@ -674,8 +669,8 @@ fn mf_at_lock(c: &MfCycles) -> (Fact, [f64; 3], [f64; 3]) {
         at_lock_dphi[i] = argbest("dphi", DPHI_END, DPHI_GRID_DEG);
         if i == 0 {
             sl = (
-                score_at(&at_lock, &p, &pr, "z", -2.0),
-                score_at(&at_lock, &p, &pr, "z", 0.0),
+                score_at(at_lock, &p, &pr, "z", -2.0),
+                score_at(at_lock, &p, &pr, "z", 0.0),
             );
         }
     }
@@ -704,7 +699,7 @@ fn mf_mechanism(c: &MfCycles) -> Vec<Fact> {
     let mut out = Vec::new();
     // Needle stroke 31…33 mm for r2 15.5…16.5 mm.
     let stroke_of = |t: &CycleTable| t.ranges.iter().find(|r| r.name == "needle_bar_v").unwrap().range;
-    let (s1, s2) = (stroke_of(&t), stroke_of(&r2_up));
+    let (s1, s2) = (stroke_of(t), stroke_of(r2_up));
     out.push(fact(
         "MF14",
         Verdict::grade((s1 - 31.0).abs() <= 0.5 && (s2 - 33.0).abs() <= 0.5, false),
@@ -714,11 +709,11 @@ fn mf_mechanism(c: &MfCycles) -> Vec<Fact> {
 
     // α0 = 158.6° at T1's upper position, and T1 there at Table 2's starred
     // (−109, −4).
-    let tv = col(&t, "T1_1.y_mm");
+    let tv = col(t, "T1_1.y_mm");
     let k = (0..tv.len()).max_by(|&i, &j| tv[i].total_cmp(&tv[j])).unwrap();
     let (qx, qy) = (30.0 - v("e"), 35.0 - v("h"));
     let (o2x, o2y) = (qx - 30.0, qy - 35.0);
-    let (tx, ty) = (col(&t, "T1_1.x_mm")[k], tv[k]);
+    let (tx, ty) = (col(t, "T1_1.x_mm")[k], tv[k]);
     let alpha0 = (ty - o2y).atan2(tx - o2x).to_degrees();
     out.push(
         fact(
@@ -734,7 +729,7 @@ fn mf_mechanism(c: &MfCycles) -> Vec<Fact> {
     );
 
     // G4 touches the thread only part of the cycle (eq. 1).
-    let eng = path(&t, "n1_A").engaged[0].1.clone();
+    let eng = path(t, "n1_A").engaged[0].1.clone();
     let one_part = t.paths.iter().all(|p| {
         p.engaged
             .iter()
@@ -759,7 +754,7 @@ fn mf_mechanism(c: &MfCycles) -> Vec<Fact> {
 
     // r1 up → the take-up's swing up; O2B up → down (Fig. 6).
     let swing = |name: &str, v: f64| {
-        runs(&with(&m, &d, &[(name, v)]))
+        runs(&with(m, d, &[(name, v)]))
             .ranges
             .iter()
             .find(|r| r.name == "takeup_T1_v")
@@ -802,7 +797,7 @@ fn mf_stitch(c: &MfCycles) -> Vec<Fact> {
         with_b = with_b.replace(&from, &to);
     }
     let mb = Model::from_toml_str(&with_b, "mf7923d-contour-b.toml").unwrap();
-    let (sa, sb) = (score_mean(&t), score_mean(&run(&mb, &mb.defaults(), MF_STEP)));
+    let (sa, sb) = (score_mean(t), score_mean(&run(&mb, &mb.defaults(), MF_STEP)));
     out.push(fact(
         "MF18",
         Verdict::grade(sa > sb, false),
@@ -813,8 +808,8 @@ fn mf_stitch(c: &MfCycles) -> Vec<Fact> {
     // Max P′ directly proportional to m (and t).
     let pprime = |mm: f64| {
         let mut p = d.clone();
-        set_stitch_value(&m, &mut p, "m", mm).unwrap();
-        run(&m, &p, MF_STEP).stitch.unwrap().threads[0].max_pprime_mm
+        set_stitch_value(m, &mut p, "m", mm).unwrap();
+        run(m, &p, MF_STEP).stitch.unwrap().threads[0].max_pprime_mm
     };
     assert_eq!(v("m"), 3.0);
     let (q1, q3, q5) = (
@@ -853,7 +848,7 @@ fn mf_stitch(c: &MfCycles) -> Vec<Fact> {
             .map(|c| c.limit[1].unwrap() - c.value)
             .collect()
     };
-    let (bd, b0) = (bound(&t), bound(&t0));
+    let (bd, b0) = (bound(t), bound(t0));
     let margin = bd.iter().cloned().fold(f64::MAX, f64::min);
     out.push(
         fact(
@@ -953,7 +948,7 @@ fn nd_stroke(m: &Model, d: &Params, rows: &[Stroke]) -> Vec<Fact> {
     // l_CF from Fig. 1's condition: with EF horizontal at the needle's BDC,
     // E is l_DE from D there.
     let v = |n: &str| d.values[m.param_index(n).unwrap()];
-    let mech = m.mechanism::<f64>(&d).unwrap();
+    let mech = m.mechanism::<f64>(d).unwrap();
     let mut pose = mech.new_pose(1);
     mech.solve(&[Phi::at_deg(phi0)], &mut pose).unwrap();
     let dd = pose.point(m.moving_point_slot("D").unwrap(), 0);
@@ -995,10 +990,10 @@ fn nd_angles_and_checks(
         format!("μ1, μ2, μ3 within {}°…{}° for α = 0…35°", f(mu_lo, 2), f(mu_hi, 2)),
         vec![1.0, 2.0, 3.0, mu_lo, mu_hi, 0.0, 35.0],
     ));
-    let sweep = Sweep::new(vec![Vary::parse(&m, "alpha=35:40:2").unwrap()], Design::Grid).unwrap();
+    let sweep = Sweep::new(vec![Vary::parse(m, "alpha=35:40:2").unwrap()], Design::Grid).unwrap();
     let s = study(
-        &m,
-        &d,
+        m,
+        d,
         Some(&sweep),
         &StrokeOptions {
             point: g,
@@ -1030,8 +1025,8 @@ fn nd_angles_and_checks(
     ));
     let analogs = |alpha: f64| {
         let t = run_cycle(
-            &m,
-            &with(&m, &d, &[("alpha", alpha)]),
+            m,
+            &with(m, d, &[("alpha", alpha)]),
             &CycleOptions {
                 step_deg: 2.0,
                 analogs: true,
@@ -1065,7 +1060,7 @@ fn nd_angles_and_checks(
         vec![most, 0.0, 35.0],
     ));
     let cc = [0.0, 35.0].map(|a| {
-        cross_check(&m, &with(&m, &d, &[("alpha", a)]), 2.0)
+        cross_check(m, &with(m, d, &[("alpha", a)]), 2.0)
             .unwrap()
             .max_deviation_mm
     });
@@ -1182,7 +1177,7 @@ fn al_moments(m: &Model, d: &Params, st: &StitchSummary, tdc: f64, catch: f64) -
     ));
 
     // The needle's rise from its BDC along its line (measure needle_s).
-    let mech = m.mechanism::<f64>(&d).unwrap();
+    let mech = m.mechanism::<f64>(d).unwrap();
     let k = m.measure_names.iter().position(|n| n == "needle_s").unwrap();
     let s_at = |phi: f64| {
         let mut pose = mech.new_pose(1);
