@@ -157,7 +157,7 @@ pub(crate) fn load(args: &ModelArgs) -> Result<(Model, Params), Error> {
     for s in &args.set {
         model.set_str(&mut params, s)?;
     }
-    model.mechanism::<f64>(&params)?;
+    model.machine::<f64>(&params)?;
     Ok((model, params))
 }
 

@@ -182,12 +182,7 @@ impl App {
                 })
             })
             .collect();
-        let threads: Vec<&str> = model
-            .file
-            .thread
-            .iter()
-            .flat_map(|t| t.paths.iter().map(|p| p.name.as_str()))
-            .collect();
+        let threads: Vec<&str> = model.thread_path_names();
         json!({
             "name": model.name(),
             "title": model.title(),
@@ -214,7 +209,7 @@ impl App {
                 .map_err(|e| Reply::error(400, format!("p.{name}: {}", e.message), e.help.as_deref()))?;
         }
         self.model
-            .mechanism::<f64>(&params)
+            .machine::<f64>(&params)
             .map_err(|e| library_error(&Error::Model(e)))?;
         Ok(params)
     }

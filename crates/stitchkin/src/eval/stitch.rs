@@ -10,7 +10,7 @@ use crate::model::stitch::StitchSetup;
 use crate::model::{Model, Params};
 use crate::stitch::checks::{Check, bound_curve, catch_and_stab, thread_bound};
 use crate::stitch::mismatch::{Mismatch, mismatch};
-use crate::stitch::pprime::required_take_up;
+use crate::stitch::required_take_up::required_take_up;
 use crate::stitch::spec::{DEFAULT_REGULATOR_WIDTH_DEG, EventKind, Regulator, RequiredThread, StitchType, ThreadRole};
 use crate::thread::SplitPoint;
 
@@ -217,12 +217,7 @@ pub fn prepare_on(model: &Model, params: &Params, phis: Vec<f64>) -> Result<Opti
     let Some(setup) = model.stitch_setup(params)? else {
         return Ok(None);
     };
-    let phi0_deg = model
-        .file
-        .thread
-        .as_ref()
-        .and_then(|t| t.phi0_deg)
-        .unwrap_or(model.phi_start_deg());
+    let phi0_deg = model.take_up_phi0_deg();
     let to_c = |phi: f64| (phi - setup.cyclogram_zero_deg).rem_euclid(360.0);
     // φ0 rides at the end of the grid, for S(φ0) of P'_B.
     let mut grid: Vec<f64> = phis.iter().map(|&p| to_c(p)).collect();

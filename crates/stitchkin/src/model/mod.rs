@@ -549,7 +549,7 @@ pub struct Machine<T: Real> {
 pub struct Model {
     pub file_name: String,
     pub text: Arc<str>,
-    pub file: ModelFile,
+    file: ModelFile,
     pub params: Vec<ParamDef>,
     param_order: Vec<usize>,
     exprs: Vec<Expr>,
@@ -690,7 +690,7 @@ impl Model {
         };
         // Resolve once with the nominal values so impossible geometry is
         // reported at load time.
-        model.mechanism::<f64>(&model.defaults())?;
+        model.machine::<f64>(&model.defaults())?;
         Ok(model)
     }
 
@@ -926,6 +926,16 @@ impl Model {
     /// The model file's free-text notes.
     pub fn notes(&self) -> Option<&str> {
         self.file.model.notes.as_deref()
+    }
+
+    /// φ0, where the take-up P is counted from (`[thread] phi0_deg`; by
+    /// default the cycle's start), degrees.
+    pub fn take_up_phi0_deg(&self) -> f64 {
+        self.file
+            .thread
+            .as_ref()
+            .and_then(|t| t.phi0_deg)
+            .unwrap_or(self.phi_start_deg())
     }
 
     /// Whether the model declares thread paths (`[thread]`).

@@ -5,7 +5,7 @@
 //!   moments) and what comes out;
 //! - [`feed`], [`material`], [`needle_thread`], [`overedge`], [`overedge503`]:
 //!   the building blocks and the pieces of §4–§5;
-//! - [`pprime`]: [`pprime::required_take_up`], P' of every thread;
+//! - [`required_take_up`]: [`required_take_up::required_take_up`], P' of every thread;
 //! - [`consumption`]: thread per finished stitch (§6);
 //! - [`mismatch`]: P against P' (§8);
 //! - [`checks`]: what no real machine can do (the thread bound at B, the
@@ -20,7 +20,7 @@ pub mod mismatch;
 pub mod needle_thread;
 pub mod overedge;
 pub mod overedge503;
-pub mod pprime;
+pub mod required_take_up;
 // The stand-in cases shared by the unit tests and tests/it; not part of the
 // library's documented surface.
 #[doc(hidden)]

@@ -194,7 +194,8 @@ fn mf7923d_threads_run_through_the_guides_they_touch() {
         assert_eq!(bearing, phi == 0.0, "seed 000: G4 engaged 249°…111°");
         let want = if bearing { "guide pin engaged" } else { "guide pin free" };
         assert_eq!(count(&svg, want), 3, "G4_1, G4_2, G4_3 at φ = {phi}");
-        for (k, path) in m.file.thread.as_ref().unwrap().paths.iter().enumerate() {
+        let threads = m.machine::<f64>(&m.defaults()).unwrap().threads.unwrap();
+        for (k, path) in threads.paths.iter().enumerate() {
             let t = element(&svg, &format!("data-path=\"{}\"", path.name));
             let nodes: Vec<&str> = attr(&svg, t, "data-nodes").split(' ').collect();
             // Every eyelet, and the pin only while the thread bears on it.

@@ -24,11 +24,7 @@ fn every_preset_loads_runs_and_is_traced() {
     for p in stitchkin::presets::ALL {
         let m = Model::preset(p.name).unwrap();
         assert_eq!(m.name(), p.name);
-        assert!(
-            m.file.model.title.is_some() && m.file.model.seed.is_some(),
-            "{}",
-            p.name
-        );
+        assert!(m.title().is_some() && m.seed().is_some(), "{}", p.name);
         for par in &m.params {
             assert!(
                 par.source.is_some() || par.is_derived(),

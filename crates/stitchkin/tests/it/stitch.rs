@@ -155,8 +155,8 @@ fn mf7923d_locks_one_stitch_of_thread_per_needle() {
     let model = Model::preset("mf7923d").unwrap();
     let spec = model.stitch_setup(&model.defaults()).unwrap().unwrap().spec;
     let grid: Vec<f64> = (0..360).map(|k| (k as f64 + 180.0).rem_euclid(360.0)).collect();
-    let ours = stitchkin::stitch::pprime::required_take_up(&spec, &grid, 180.0).unwrap();
-    let at_lock = stitchkin::stitch::pprime::required_take_up(
+    let ours = stitchkin::stitch::required_take_up::required_take_up(&spec, &grid, 180.0).unwrap();
+    let at_lock = stitchkin::stitch::required_take_up::required_take_up(
         &stitchkin::stitch::spec::StitchSpec {
             regulator: stitchkin::stitch::spec::Regulator::AtLock,
             ..spec

@@ -14,27 +14,27 @@ pub const DEFAULT: &str = "mf7923d";
 pub const ALL: &[Preset] = &[
     Preset {
         name: "needle876",
-        toml: include_str!("../../../../presets/needle876.toml"),
+        toml: include_str!("../../../presets/needle876.toml"),
     },
     Preset {
         name: "overlock500",
-        toml: include_str!("../../../../presets/overlock500.toml"),
+        toml: include_str!("../../../presets/overlock500.toml"),
     },
     Preset {
         name: "altin-needle",
-        toml: include_str!("../../../../presets/altin-needle.toml"),
+        toml: include_str!("../../../presets/altin-needle.toml"),
     },
     Preset {
         name: "altin504",
-        toml: include_str!("../../../../presets/altin504.toml"),
+        toml: include_str!("../../../presets/altin504.toml"),
     },
     Preset {
         name: "mf7923d",
-        toml: include_str!("../../../../presets/mf7923d.toml"),
+        toml: include_str!("../../../presets/mf7923d.toml"),
     },
     Preset {
         name: "takeup-lever",
-        toml: include_str!("../../../../presets/takeup-lever.toml"),
+        toml: include_str!("../../../presets/takeup-lever.toml"),
     },
 ];
 

@@ -16,7 +16,7 @@ use stitchkin::Error;
 use stitchkin::geometry::V3;
 use stitchkin::stitch::consumption::{StitchGeometry, consumption};
 use stitchkin::stitch::feed::Feed;
-use stitchkin::stitch::pprime::required_take_up;
+use stitchkin::stitch::required_take_up::required_take_up;
 use stitchkin::stitch::spec::*;
 
 const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/stitch/");
