@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use super::expr::{Dim, Dimension, Expr, ExprError};
 use super::file::{self, Axis, Branch, FixedPoint, Group, ModelFile, Unit, Value};
-use super::spans::{Path, SpanIndex};
+use super::spans::{KeyPath, SpanIndex};
 use super::{
     AxisDef, CamContactDef, CamDef, ClosureDef, FrameDef, MeasureDef, ParamDef, PathDef, PointKind, ProfileDef, Q,
     SpanDef, StepDef, ThreadsDef,
@@ -26,8 +26,8 @@ pub(super) struct Loader<'a> {
     param_index: HashMap<String, usize>,
     pub(super) exprs: Vec<Expr>,
     /// Quantities that must come out positive: (quantity, path, what).
-    pub(super) positive: Vec<(Q, Path, &'static str)>,
-    pub(super) expr_paths: Vec<Path>,
+    pub(super) positive: Vec<(Q, KeyPath, &'static str)>,
+    pub(super) expr_paths: Vec<KeyPath>,
     pub(super) frames: Vec<FrameDef>,
     frame_index: HashMap<String, usize>,
     pub(super) points: Vec<(String, PointKind)>,
@@ -54,7 +54,7 @@ impl<'a> Loader<'a> {
         }
     }
 
-    pub(super) fn err(&self, path: &Path, message: impl Into<String>, help: Option<String>) -> Box<ModelError> {
+    pub(super) fn err(&self, path: &KeyPath, message: impl Into<String>, help: Option<String>) -> Box<ModelError> {
         Box::new(ModelError {
             file: self.file_name.clone(),
             text: self.text.clone(),
@@ -98,7 +98,7 @@ impl<'a> Loader<'a> {
 
     pub(super) fn parameters(&mut self, f: &ModelFile) -> R<Vec<usize>> {
         for (name, p) in &f.parameters {
-            let path = Path::root().key("parameters").key(name);
+            let path = KeyPath::root().key("parameters").key(name);
             if !is_ident(name) {
                 return Err(self.err(
                     &path,
@@ -171,7 +171,7 @@ impl<'a> Loader<'a> {
         // Derived parameters: parse, check units, order.
         for (name, p) in &f.parameters {
             if let Some(src) = &p.expr {
-                let path = Path::root().key("parameters").key(name).key("expr");
+                let path = KeyPath::root().key("parameters").key(name).key("expr");
                 let e = self.parse_expr(src, &path)?;
                 let want = unit_dim(p.unit);
                 self.check_dim(&e, want, &path, src)?;
@@ -209,7 +209,7 @@ impl<'a> Loader<'a> {
                     .filter(|&i| !done[i])
                     .map(|i| self.params[i].name.as_str())
                     .collect();
-                let path = Path::root().key("parameters").key(cyc[0]).key("expr");
+                let path = KeyPath::root().key("parameters").key(cyc[0]).key("expr");
                 return Err(self.err(
                     &path,
                     format!("derived parameters depend on each other in a loop: {}", cyc.join(", ")),
@@ -219,12 +219,12 @@ impl<'a> Loader<'a> {
         }
     }
 
-    fn parse_expr(&self, src: &str, path: &Path) -> R<Expr> {
+    fn parse_expr(&self, src: &str, path: &KeyPath) -> R<Expr> {
         let lookup = |n: &str| self.param_index.get(n).copied();
         Expr::parse(src, &lookup).map_err(|e| self.expr_err(e, src, path))
     }
 
-    fn expr_err(&self, e: ExprError, src: &str, path: &Path) -> Box<ModelError> {
+    fn expr_err(&self, e: ExprError, src: &str, path: &KeyPath) -> Box<ModelError> {
         let mut help = e.help.clone();
         if e.message.starts_with("unknown parameter") {
             let name = &src[e.at.clone()];
@@ -245,7 +245,7 @@ impl<'a> Loader<'a> {
         err
     }
 
-    fn check_dim(&self, e: &Expr, want: Option<Dim>, path: &Path, src: &str) -> R<()> {
+    fn check_dim(&self, e: &Expr, want: Option<Dim>, path: &KeyPath, src: &str) -> R<()> {
         let pd = |i: usize| unit_dim(self.params[i].unit).unwrap_or(Dim::ONE);
         match e.dimension(&pd) {
             Err(m) => Err(self.err(
@@ -266,7 +266,7 @@ impl<'a> Loader<'a> {
     }
 
     /// Compiles a value expected in dimension `want` (`None`: any).
-    pub(super) fn qty(&mut self, v: &Value, want: Option<Dim>, path: Path) -> R<Q> {
+    pub(super) fn qty(&mut self, v: &Value, want: Option<Dim>, path: KeyPath) -> R<Q> {
         let e = match v {
             Value::Number(x) => {
                 if !x.is_finite() {
@@ -285,27 +285,27 @@ impl<'a> Loader<'a> {
         Ok(self.exprs.len() - 1)
     }
 
-    pub(super) fn length(&mut self, v: &Value, path: Path) -> R<Q> {
+    pub(super) fn length(&mut self, v: &Value, path: KeyPath) -> R<Q> {
         self.qty(v, Some(Dim::LENGTH), path)
     }
 
-    pub(super) fn positive_length(&mut self, v: &Value, path: Path, what: &'static str) -> R<Q> {
+    pub(super) fn positive_length(&mut self, v: &Value, path: KeyPath, what: &'static str) -> R<Q> {
         let q = self.qty(v, Some(Dim::LENGTH), path.clone())?;
         self.positive.push((q, path, what));
         Ok(q)
     }
 
-    pub(super) fn angle(&mut self, v: &Value, path: Path) -> R<Q> {
+    pub(super) fn angle(&mut self, v: &Value, path: KeyPath) -> R<Q> {
         self.qty(v, Some(Dim::ANGLE), path)
     }
 
     fn zero(&mut self) -> Q {
         self.exprs.push(Expr::Num(0.0));
-        self.expr_paths.push(Path::root());
+        self.expr_paths.push(KeyPath::root());
         self.exprs.len() - 1
     }
 
-    fn coords(&mut self, v: &[Value], path: &Path, dims: std::ops::RangeInclusive<usize>) -> R<[Q; 3]> {
+    fn coords(&mut self, v: &[Value], path: &KeyPath, dims: std::ops::RangeInclusive<usize>) -> R<[Q; 3]> {
         if !dims.contains(&v.len()) {
             let want = if dims.start() == dims.end() {
                 format!("{}", dims.start())
@@ -340,7 +340,7 @@ impl<'a> Loader<'a> {
         self.frame_index.insert("world".into(), 0);
         if f.frames.contains_key("world") {
             return Err(self.err(
-                &Path::root().key("frames").key("world"),
+                &KeyPath::root().key("frames").key("world"),
                 "`world` is built in and cannot be redefined",
                 Some("choose another frame name".into()),
             ));
@@ -355,7 +355,7 @@ impl<'a> Loader<'a> {
             });
         }
         for (name, fr) in &f.frames {
-            let path = Path::root().key("frames").key(name);
+            let path = KeyPath::root().key("frames").key(name);
             let i = self.frame_index[name];
             let parent = match &fr.parent {
                 Some(p) => Some(self.frame_ref(p, &path.key("parent"))?),
@@ -400,7 +400,7 @@ impl<'a> Loader<'a> {
                 if seen.contains(&p) {
                     let name = self.frames[i].name.clone();
                     return Err(self.err(
-                        &Path::root().key("frames").key(&name).key("parent"),
+                        &KeyPath::root().key("frames").key(&name).key("parent"),
                         "frames are each other's parents in a loop",
                         Some("one frame of the loop must have `world` as parent".into()),
                     ));
@@ -412,7 +412,7 @@ impl<'a> Loader<'a> {
         Ok(())
     }
 
-    fn frame_ref(&self, name: &str, path: &Path) -> R<usize> {
+    fn frame_ref(&self, name: &str, path: &KeyPath) -> R<usize> {
         self.frame_index.get(name).copied().ok_or_else(|| {
             let help = match did_you_mean(name, self.frame_index.keys().map(String::as_str)) {
                 Some(s) => format!("did you mean `{s}`?"),
@@ -422,14 +422,14 @@ impl<'a> Loader<'a> {
         })
     }
 
-    pub(super) fn opt_frame(&self, name: &Option<String>, path: Path) -> R<usize> {
+    pub(super) fn opt_frame(&self, name: &Option<String>, path: KeyPath) -> R<usize> {
         match name {
             Some(n) => self.frame_ref(n, &path),
             None => Ok(0),
         }
     }
 
-    fn axis(&mut self, a: &Axis, path: Path) -> R<AxisDef> {
+    fn axis(&mut self, a: &Axis, path: KeyPath) -> R<AxisDef> {
         match a {
             Axis::Named(s) => {
                 let (sign, n) = match s.strip_prefix('-') {
@@ -477,7 +477,7 @@ impl<'a> Loader<'a> {
 
     pub(super) fn fixed_points(&mut self, f: &ModelFile) -> R<()> {
         for (name, p) in &f.points {
-            let path = Path::root().key("points").key(name);
+            let path = KeyPath::root().key("points").key(name);
             self.check_point_name(name, &path)?;
             let (frame, coords) = match p {
                 FixedPoint::Coords(c) => (0, self.coords(c, &path, 2..=3)?),
@@ -491,7 +491,7 @@ impl<'a> Loader<'a> {
         Ok(())
     }
 
-    fn check_point_name(&self, name: &str, path: &Path) -> R<()> {
+    fn check_point_name(&self, name: &str, path: &KeyPath) -> R<()> {
         if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
             return Err(self.err(
                 path,
@@ -502,7 +502,7 @@ impl<'a> Loader<'a> {
         Ok(())
     }
 
-    fn add_point(&mut self, name: &str, kind: PointKind, path: &Path) -> R<usize> {
+    fn add_point(&mut self, name: &str, kind: PointKind, path: &KeyPath) -> R<usize> {
         self.check_point_name(name, path)?;
         if self.point_index.contains_key(name) {
             return Err(self.err(
@@ -523,11 +523,11 @@ impl<'a> Loader<'a> {
             self.add_point(
                 &d.out,
                 PointKind::Moving,
-                &Path::root().key("drivers").index(k).key("out"),
+                &KeyPath::root().key("drivers").index(k).key("out"),
             )?;
         }
         for (k, g) in f.groups.iter().enumerate() {
-            let path = Path::root().key("groups").index(k);
+            let path = KeyPath::root().key("groups").index(k);
             match g {
                 Group::Newton { unknowns, .. } => {
                     for name in unknowns.keys() {
@@ -543,7 +543,7 @@ impl<'a> Loader<'a> {
         Ok(())
     }
 
-    pub(super) fn point(&self, name: &str, path: &Path) -> R<usize> {
+    pub(super) fn point(&self, name: &str, path: &KeyPath) -> R<usize> {
         self.point_index.get(name).copied().ok_or_else(|| {
             let help = match did_you_mean(name, self.point_index.keys().map(String::as_str)) {
                 Some(s) => format!("did you mean `{s}`?"),
@@ -553,7 +553,7 @@ impl<'a> Loader<'a> {
         })
     }
 
-    fn fixed_point(&self, name: &str, path: &Path) -> R<usize> {
+    fn fixed_point(&self, name: &str, path: &KeyPath) -> R<usize> {
         let i = self.point(name, path)?;
         if !matches!(self.points[i].1, PointKind::Fixed { .. }) {
             return Err(self.err(
@@ -570,7 +570,7 @@ impl<'a> Loader<'a> {
     pub(super) fn drivers(&mut self, f: &ModelFile) -> R<Vec<(StepDef, String)>> {
         let mut out = Vec::new();
         for (k, d) in f.drivers.iter().enumerate() {
-            let path = Path::root().key("drivers").index(k);
+            let path = KeyPath::root().key("drivers").index(k);
             let center = self.fixed_point(&d.center, &path.key("center"))?;
             let frame = self.opt_frame(&d.frame, path.key("frame"))?;
             let axis = match &d.axis {
@@ -613,11 +613,11 @@ impl<'a> Loader<'a> {
         Ok(out)
     }
 
-    pub(super) fn groups(&mut self, f: &ModelFile) -> R<Vec<(StepDef, String, Path)>> {
+    pub(super) fn groups(&mut self, f: &ModelFile) -> R<Vec<(StepDef, String, KeyPath)>> {
         let mut out = Vec::new();
         let mut names: Vec<&str> = Vec::new();
         for (k, g) in f.groups.iter().enumerate() {
-            let path = Path::root().key("groups").index(k);
+            let path = KeyPath::root().key("groups").index(k);
             if let Some(n) = group_name(g) {
                 if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
                     return Err(self.err(
@@ -644,7 +644,7 @@ impl<'a> Loader<'a> {
         Ok(out)
     }
 
-    fn group(&mut self, g: &Group, path: &Path) -> R<(StepDef, String)> {
+    fn group(&mut self, g: &Group, path: &KeyPath) -> R<(StepDef, String)> {
         let kind = group_kind(g);
         let label = match group_name(g) {
             Some(n) => format!("{kind} group \"{n}\""),
@@ -720,7 +720,7 @@ impl<'a> Loader<'a> {
 
     /// A planar dyad: RRR, RRP or RPR; the spatial ones go on to
     /// [`Self::spatial_group`].
-    fn dyad_group(&mut self, g: &Group, path: &Path) -> R<StepDef> {
+    fn dyad_group(&mut self, g: &Group, path: &KeyPath) -> R<StepDef> {
         Ok(match g {
             Group::Rrr {
                 joints,
@@ -821,7 +821,7 @@ impl<'a> Loader<'a> {
     }
 
     /// A spatial dyad: RSSR or a point on a line.
-    fn spatial_group(&mut self, g: &Group, path: &Path) -> R<StepDef> {
+    fn spatial_group(&mut self, g: &Group, path: &KeyPath) -> R<StepDef> {
         Ok(match g {
             Group::Rssr {
                 from,
@@ -914,7 +914,7 @@ impl<'a> Loader<'a> {
         constraints: &[file::Constraint],
         plane: &Option<String>,
         planar: Option<bool>,
-        path: &Path,
+        path: &KeyPath,
     ) -> R<StepDef> {
         let dims: Vec<usize> = unknowns.values().map(Vec::len).collect();
         let dim = match planar {
@@ -992,7 +992,7 @@ impl<'a> Loader<'a> {
     fn constraint(
         &mut self,
         c: &file::Constraint,
-        cp: &Path,
+        cp: &KeyPath,
         local: &BTreeMap<&str, usize>,
         dim: usize,
     ) -> R<(ClosureDef, usize)> {
@@ -1054,7 +1054,7 @@ impl<'a> Loader<'a> {
         }
     }
 
-    fn side(&self, b: Branch, path: &Path) -> R<f64> {
+    fn side(&self, b: Branch, path: &KeyPath) -> R<f64> {
         match b {
             Branch::Left => Ok(1.0),
             Branch::Right => Ok(-1.0),
@@ -1066,7 +1066,7 @@ impl<'a> Loader<'a> {
         }
     }
 
-    fn along(&self, b: Branch, path: &Path) -> R<f64> {
+    fn along(&self, b: Branch, path: &KeyPath) -> R<f64> {
         match b {
             Branch::Forward => Ok(1.0),
             Branch::Backward => Ok(-1.0),
@@ -1083,7 +1083,7 @@ impl<'a> Loader<'a> {
     pub(super) fn measures(&mut self, f: &ModelFile) -> R<Vec<(String, MeasureDef)>> {
         let mut out: Vec<(String, MeasureDef)> = Vec::new();
         for (k, m) in f.measures.iter().enumerate() {
-            let path = Path::root().key("measures").index(k);
+            let path = KeyPath::root().key("measures").index(k);
             let (name, def) = match m {
                 file::Measure::Distance { name, points } => {
                     let a = self.point(&points[0], &path.key("points").index(0))?;
@@ -1148,7 +1148,7 @@ impl<'a> Loader<'a> {
             Some(names) => names
                 .iter()
                 .enumerate()
-                .map(|(k, n)| self.point(n, &Path::root().key("output").key("points").index(k)))
+                .map(|(k, n)| self.point(n, &KeyPath::root().key("output").key("points").index(k)))
                 .collect(),
             None => Ok((0..self.points.len())
                 .filter(|&i| matches!(self.points[i].1, PointKind::Moving))
@@ -1158,13 +1158,13 @@ impl<'a> Loader<'a> {
 
     /// Orders drivers and groups so every step's inputs are solved before it
     /// (file order where possible).
-    pub(super) fn order(&self, steps: Vec<(StepDef, String, Path)>) -> R<Vec<(StepDef, String)>> {
+    pub(super) fn order(&self, steps: Vec<(StepDef, String, KeyPath)>) -> R<Vec<(StepDef, String)>> {
         let mut known: Vec<bool> = self
             .points
             .iter()
             .map(|(_, k)| matches!(k, PointKind::Fixed { .. }))
             .collect();
-        let mut left: Vec<Option<(StepDef, String, Path)>> = steps.into_iter().map(Some).collect();
+        let mut left: Vec<Option<(StepDef, String, KeyPath)>> = steps.into_iter().map(Some).collect();
         let mut out = Vec::with_capacity(left.len());
         loop {
             let mut progressed = false;
@@ -1185,7 +1185,7 @@ impl<'a> Loader<'a> {
                 return Ok(out);
             }
             if !progressed {
-                let stuck: Vec<&(StepDef, String, Path)> = left.iter().flatten().collect();
+                let stuck: Vec<&(StepDef, String, KeyPath)> = left.iter().flatten().collect();
                 let names: Vec<&str> = stuck.iter().map(|(_, l, _)| l.as_str()).collect();
                 let (s, _, path) = stuck[0];
                 let missing: Vec<&str> = s
@@ -1217,7 +1217,7 @@ impl<'a> Loader<'a> {
         let Some(t) = &f.thread else {
             if !f.cams.is_empty() {
                 return Err(self.err(
-                    &Path::root().key("cams"),
+                    &KeyPath::root().key("cams"),
                     "[[cams]] are only used by thread paths",
                     Some("add a [thread] table with paths that bear on the cam, or remove the cam".into()),
                 ));
@@ -1225,7 +1225,7 @@ impl<'a> Loader<'a> {
             return Ok(None);
         };
         let cams = self.cams(f)?;
-        let path = Path::root().key("thread");
+        let path = KeyPath::root().key("thread");
         let default_mu = self.friction(t.friction, path.key("friction"))?.unwrap_or(0.0);
         if let Some(tn) = t.tension_n
             && !(tn.is_finite() && tn > 0.0)
@@ -1288,7 +1288,7 @@ impl<'a> Loader<'a> {
     }
 
     /// A friction coefficient μ, when given, within 0…5.
-    fn friction(&self, mu: Option<f64>, p: Path) -> R<Option<f64>> {
+    fn friction(&self, mu: Option<f64>, p: KeyPath) -> R<Option<f64>> {
         match mu {
             Some(m) if !(m.is_finite() && (0.0..=5.0).contains(&m)) => Err(self.err(
                 &p,
@@ -1304,7 +1304,7 @@ impl<'a> Loader<'a> {
     fn path_def(
         &mut self,
         tp: &file::ThreadPath,
-        pp: &Path,
+        pp: &KeyPath,
         default_mu: f64,
         cams: &[CamDef],
         same_body: &impl Fn(usize, usize) -> bool,
@@ -1392,7 +1392,7 @@ impl<'a> Loader<'a> {
         &mut self,
         g: &file::GuideNode,
         i: usize,
-        np: &Path,
+        np: &KeyPath,
         path_mu: f64,
         cams: &[CamDef],
     ) -> R<(String, f64, Option<SpanDef>)> {
@@ -1424,7 +1424,7 @@ impl<'a> Loader<'a> {
     }
 
     /// A one-sided guide: a pin the thread wraps in a given sense.
-    fn pin_guide(&mut self, g: &file::GuideNode, pin: &str, i: usize, np: &Path) -> R<(String, Option<SpanDef>)> {
+    fn pin_guide(&mut self, g: &file::GuideNode, pin: &str, i: usize, np: &KeyPath) -> R<(String, Option<SpanDef>)> {
         let Some(axis) = &g.axis else {
             return Err(self.err(
                 np,
@@ -1468,7 +1468,7 @@ impl<'a> Loader<'a> {
         g: &file::GuideNode,
         cam: &str,
         i: usize,
-        np: &Path,
+        np: &KeyPath,
         cams: &[CamDef],
     ) -> R<(String, Option<SpanDef>)> {
         if g.axis.is_some() || g.radius.is_some() || g.frame.is_some() {
@@ -1548,7 +1548,7 @@ impl<'a> Loader<'a> {
     fn cams(&mut self, f: &ModelFile) -> R<Vec<CamDef>> {
         let mut out: Vec<CamDef> = Vec::new();
         for (k, c) in f.cams.iter().enumerate() {
-            let path = Path::root().key("cams").index(k);
+            let path = KeyPath::root().key("cams").index(k);
             if !is_ident(&c.name) || out.iter().any(|o| o.name == c.name) || self.point_index.contains_key(&c.name) {
                 return Err(self.err(
                     &path.key("name"),

@@ -25,7 +25,7 @@ use crate::scalar::Real;
 use crate::thread::ThreadPath;
 use expr::Expr;
 pub use file::{ModelFile, Provenance, Unit};
-use spans::Path;
+use spans::KeyPath;
 
 /// Index of a compiled quantity (an expression of parameters).
 pub(crate) type Q = usize;
@@ -75,7 +75,7 @@ pub(crate) enum PointKind {
 #[derive(Debug, Clone)]
 pub(crate) enum AxisDef {
     Named(usize, f64),
-    Vector([Q; 3], Path),
+    Vector([Q; 3], KeyPath),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -328,7 +328,7 @@ pub(crate) struct CamDef {
     pub profile: ProfileDef,
     /// Smallest curvature numerator over the profile (> 0: convex).
     pub convex_min: f64,
-    pub path: Path,
+    pub path: KeyPath,
 }
 
 #[derive(Debug, Clone)]
@@ -553,8 +553,8 @@ pub struct Model {
     pub params: Vec<ParamDef>,
     param_order: Vec<usize>,
     exprs: Vec<Expr>,
-    expr_paths: Vec<Path>,
-    positive: Vec<(Q, Path, &'static str)>,
+    expr_paths: Vec<KeyPath>,
+    positive: Vec<(Q, KeyPath, &'static str)>,
     frames: Vec<FrameDef>,
     /// Point names by slot.
     pub point_names: Vec<String>,
@@ -592,10 +592,10 @@ impl Model {
             .iter()
             .map(|g| (load::group_key(g), load::group_kind(g)))
             .collect();
-        let mut all: Vec<(StepDef, String, Path)> = drivers
+        let mut all: Vec<(StepDef, String, KeyPath)> = drivers
             .into_iter()
             .enumerate()
-            .map(|(k, (s, l))| (s, l, Path::root().key("drivers").index(k)))
+            .map(|(k, (s, l))| (s, l, KeyPath::root().key("drivers").index(k)))
             .collect();
         // Groups keep their dyad key for transmission-angle columns.
         let mut group_keys = std::collections::HashMap::new();
@@ -849,7 +849,7 @@ impl Model {
         for (i, p) in self.params.iter().enumerate() {
             if p.is_derived() && !pv[i].re().is_finite() {
                 return Err(self.error_at(
-                    &Path::root().key("parameters").key(&p.name).key("expr"),
+                    &KeyPath::root().key("parameters").key(&p.name).key("expr"),
                     format!(
                         "derived parameter `{}` evaluates to {} with these values",
                         p.name,
@@ -881,7 +881,7 @@ impl Model {
         Ok(q)
     }
 
-    fn error_at(&self, path: &Path, message: impl Into<String>, help: Option<String>) -> Box<ModelError> {
+    fn error_at(&self, path: &KeyPath, message: impl Into<String>, help: Option<String>) -> Box<ModelError> {
         let spans = spans::SpanIndex::new(&self.text);
         Box::new(ModelError {
             file: self.file_name.clone(),

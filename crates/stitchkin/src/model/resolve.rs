@@ -169,7 +169,7 @@ impl<T: Real> Resolver<'_, T> {
         if u.norm().re() < 1e-9 {
             let path = match (zero, axis) {
                 (Some(AxisDef::Vector(_, p)), _) | (None, AxisDef::Vector(_, p)) => p.clone(),
-                _ => super::Path::root(),
+                _ => super::KeyPath::root(),
             };
             return Err(self.model.error_at(
                 &path,

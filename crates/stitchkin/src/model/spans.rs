@@ -5,7 +5,7 @@ use toml::de::{DeTable, DeValue};
 
 /// A place in the model, e.g. `groups[2].lengths[1]`.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct Path(Vec<Seg>);
+pub struct KeyPath(Vec<Seg>);
 
 #[derive(Debug, Clone, PartialEq, Eq)]
 enum Seg {
@@ -13,9 +13,9 @@ enum Seg {
     Index(usize),
 }
 
-impl Path {
+impl KeyPath {
     pub fn root() -> Self {
-        Path(Vec::new())
+        KeyPath(Vec::new())
     }
     pub fn key(&self, k: &str) -> Self {
         let mut p = self.clone();
@@ -29,7 +29,7 @@ impl Path {
     }
 }
 
-impl std::fmt::Display for Path {
+impl std::fmt::Display for KeyPath {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         for (i, s) in self.0.iter().enumerate() {
             match s {
@@ -56,7 +56,7 @@ impl<'a> SpanIndex<'a> {
 
     /// Span of the deepest part of `path` found in the file (a missing key
     /// points at its table).
-    pub fn find(&self, path: &Path) -> Option<std::ops::Range<usize>> {
+    pub fn find(&self, path: &KeyPath) -> Option<std::ops::Range<usize>> {
         let root = self.root.as_ref()?;
         let mut span = None;
         let mut table: Option<&DeTable<'_>> = Some(root.get_ref());
@@ -100,14 +100,14 @@ mod tests {
     fn finds_nested_values() {
         let text = "[model]\nname = \"x\"\n\n[[groups]]\ntype = \"rrr\"\nlengths = [1, \"l_ab\"]\n";
         let idx = SpanIndex::new(text);
-        let p = Path::root().key("groups").index(0).key("lengths").index(1);
+        let p = KeyPath::root().key("groups").index(0).key("lengths").index(1);
         assert_eq!(p.to_string(), "groups[0].lengths[1]");
         let s = idx.find(&p).unwrap();
         assert_eq!(&text[s], "\"l_ab\"");
-        let s = idx.find(&Path::root().key("model").key("name")).unwrap();
+        let s = idx.find(&KeyPath::root().key("model").key("name")).unwrap();
         assert_eq!(&text[s], "\"x\"");
         // A missing key falls back to the deepest part found.
-        let s = idx.find(&Path::root().key("groups").index(0).key("nope")).unwrap();
+        let s = idx.find(&KeyPath::root().key("groups").index(0).key("nope")).unwrap();
         assert!(
             text[s.clone()].contains("rrr") || text[s.clone()].contains("[[groups]]"),
             "{:?}",

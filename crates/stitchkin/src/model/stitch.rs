@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use super::file::{ModelFile, PolylineLawFile, StitchFile, Value};
 use super::load::Loader;
-use super::spans::Path;
+use super::spans::KeyPath;
 use super::{Model, Params, Q, ThreadsDef};
 use crate::error::{Error, ModelError};
 use crate::geometry::{Placement, V3};
@@ -118,7 +118,7 @@ pub struct StitchSetup {
     pub paths: Vec<Option<String>>,
 }
 
-fn finite_deg(ld: &Loader, v: f64, path: &Path) -> R<f64> {
+fn finite_deg(ld: &Loader, v: f64, path: &KeyPath) -> R<f64> {
     if v.is_finite() {
         Ok(v)
     } else {
@@ -129,7 +129,7 @@ fn finite_deg(ld: &Loader, v: f64, path: &Path) -> R<f64> {
 impl Loader<'_> {
     /// An organ is a mechanism point (`eye`) or a stand-in `law`, never
     /// both: the point's slot, or `None` for the law.
-    fn organ_point(&self, eye: &Option<String>, has_law: bool, path: &Path, what: &str) -> R<Option<usize>> {
+    fn organ_point(&self, eye: &Option<String>, has_law: bool, path: &KeyPath, what: &str) -> R<Option<usize>> {
         match (eye, has_law) {
             (Some(p), false) => Ok(Some(self.point(p, &path.key("eye"))?)),
             (None, true) => Ok(None),
@@ -141,7 +141,7 @@ impl Loader<'_> {
         }
     }
 
-    fn opt_length(&mut self, v: &Option<Value>, path: Path) -> R<Option<Q>> {
+    fn opt_length(&mut self, v: &Option<Value>, path: KeyPath) -> R<Option<Q>> {
         v.as_ref().map(|v| self.length(v, path)).transpose()
     }
 
@@ -151,7 +151,7 @@ impl Loader<'_> {
         &self,
         eye: &Option<String>,
         law: &Option<PolylineLawFile>,
-        at: &Path,
+        at: &KeyPath,
         what: &str,
     ) -> R<OrganDef> {
         match (self.organ_point(eye, law.is_some(), at, what)?, law) {
@@ -180,7 +180,7 @@ impl Loader<'_> {
     }
 
     /// A pick-up window [from, to], from < to (φ_c degrees).
-    fn pick_window(&self, w: [f64; 2], at: &Path) -> R<[f64; 2]> {
+    fn pick_window(&self, w: [f64; 2], at: &KeyPath) -> R<[f64; 2]> {
         if !(w[0].is_finite() && w[1].is_finite() && w[1] > w[0]) {
             return Err(self.err(at, "the pick-up window is [from, to] with from < to", None));
         }
@@ -189,7 +189,7 @@ impl Loader<'_> {
 
     pub(super) fn stitch(&mut self, f: &ModelFile, threads: Option<&ThreadsDef>) -> R<Option<StitchDef>> {
         let Some(s) = &f.stitch else { return Ok(None) };
-        let path = Path::root().key("stitch");
+        let path = KeyPath::root().key("stitch");
         let stitch_type = self.stitch_type(s, &path)?;
         let m = self.positive_length(&s.m_mm, path.key("m_mm"), "the material thickness m")?;
         let t = self.positive_length(&s.t_mm, path.key("t_mm"), "the stitch length t")?;
@@ -252,7 +252,7 @@ impl Loader<'_> {
     }
 
     /// The stitch type: 401, 406, 407, 503 or 504.
-    fn stitch_type(&self, s: &StitchFile, path: &Path) -> R<StitchType> {
+    fn stitch_type(&self, s: &StitchFile, path: &KeyPath) -> R<StitchType> {
         Ok(match s.stitch_type.as_str() {
             "401" => StitchType::S401,
             "406" => StitchType::S406,
@@ -272,7 +272,7 @@ impl Loader<'_> {
     /// Where the thread passes the regulator: a window of φ (that must not
     /// hold φ0, where P' = 0), the last degrees before tightening, or at
     /// the lock.
-    fn regulator(&mut self, f: &ModelFile, s: &StitchFile, path: &Path) -> R<RegulatorDef> {
+    fn regulator(&mut self, f: &ModelFile, s: &StitchFile, path: &KeyPath) -> R<RegulatorDef> {
         let rp = path.key("regulator");
         Ok(match &s.regulator {
             None => RegulatorDef::BeforeTightening(None),
@@ -319,7 +319,7 @@ impl Loader<'_> {
     }
 
     /// The material feed: harmonic, or a feed-dog tooth of the mechanism.
-    fn feed(&mut self, s: &StitchFile, path: &Path) -> R<FeedDef> {
+    fn feed(&mut self, s: &StitchFile, path: &KeyPath) -> R<FeedDef> {
         let fp = path.key("feed");
         Ok(
             match (
@@ -360,7 +360,7 @@ impl Loader<'_> {
         &mut self,
         s: &StitchFile,
         stitch_type: StitchType,
-        path: &Path,
+        path: &KeyPath,
         threads: Option<&ThreadsDef>,
     ) -> R<Vec<NeedleDef>> {
         let want = stitch_type.needles();
@@ -441,7 +441,7 @@ impl Loader<'_> {
     fn looper(
         &mut self,
         s: &StitchFile,
-        path: &Path,
+        path: &KeyPath,
         threads: Option<&ThreadsDef>,
     ) -> R<(OrganDef, [Q; 4], Option<String>)> {
         let lp = path.key("looper");
@@ -476,7 +476,7 @@ impl Loader<'_> {
         &mut self,
         s: &StitchFile,
         stitch_type: StitchType,
-        path: &Path,
+        path: &KeyPath,
         threads: Option<&ThreadsDef>,
     ) -> R<Option<UpperLooper>> {
         Ok(match (&s.upper_looper, stitch_type) {
@@ -508,7 +508,7 @@ impl Loader<'_> {
     }
 
     /// The spreader, which 503 has and no other stitch.
-    fn spreader(&mut self, s: &StitchFile, stitch_type: StitchType, path: &Path) -> R<Option<(OrganDef, [f64; 2])>> {
+    fn spreader(&mut self, s: &StitchFile, stitch_type: StitchType, path: &KeyPath) -> R<Option<(OrganDef, [f64; 2])>> {
         Ok(match (&s.spreader, stitch_type) {
             (Some(sp), StitchType::S503) => {
                 let at = path.key("spreader");
@@ -534,7 +534,7 @@ impl Loader<'_> {
     }
 
     /// The cyclogram moments of an overedge stitch (503, 504), in order.
-    fn moments(&mut self, s: &StitchFile, stitch_type: StitchType, path: &Path) -> R<Option<Moments>> {
+    fn moments(&mut self, s: &StitchFile, stitch_type: StitchType, path: &KeyPath) -> R<Option<Moments>> {
         Ok(match (&s.moments, stitch_type) {
             (Some(mo), StitchType::S503 | StitchType::S504) => {
                 let mp = path.key("moments");
@@ -603,7 +603,7 @@ impl Loader<'_> {
     }
 
     /// A `path` naming one of the model's thread paths.
-    fn thread_path(&self, p: &Option<String>, at: Path, threads: Option<&ThreadsDef>) -> R<Option<String>> {
+    fn thread_path(&self, p: &Option<String>, at: KeyPath, threads: Option<&ThreadsDef>) -> R<Option<String>> {
         let path_names: Vec<&str> = threads
             .map(|t| t.paths.iter().map(|p| p.name.as_str()).collect())
             .unwrap_or_default();

@@ -49,7 +49,7 @@ use super::figures::figures;
 use super::sensitivity::{FD_REL_STEP, figure_derivatives, figure_unit};
 use crate::error::{Error, ModelError, ParamError};
 use crate::eval::{CycleOptions, check_options, run_cycle_with};
-use crate::model::spans::{Path, SpanIndex};
+use crate::model::spans::{KeyPath, SpanIndex};
 use crate::model::{Model, Params};
 
 #[derive(Debug, Clone, Deserialize)]
@@ -133,7 +133,7 @@ impl Facts {
             )
         })?;
         let spans = SpanIndex::new(&text);
-        let at = |i: usize, key: &str| Path::root().key("fact").index(i).key(key);
+        let at = |i: usize, key: &str| KeyPath::root().key("fact").index(i).key(key);
         let mut facts = Vec::new();
         for (i, f) in def.fact.iter().enumerate() {
             let fail = |key: &str, message: String, help: &str| {
@@ -141,7 +141,7 @@ impl Facts {
                 err(
                     spans
                         .find(&p)
-                        .or_else(|| spans.find(&Path::root().key("fact").index(i))),
+                        .or_else(|| spans.find(&KeyPath::root().key("fact").index(i))),
                     p.to_string(),
                     message,
                     help,
@@ -220,10 +220,10 @@ impl Facts {
     /// An error at `fact[i].key` of the file.
     fn error_at(&self, i: usize, key: &str, message: String, help: String) -> Error {
         let spans = SpanIndex::new(&self.text);
-        let p = Path::root().key("fact").index(i).key(key);
+        let p = KeyPath::root().key("fact").index(i).key(key);
         let span = spans
             .find(&p)
-            .or_else(|| spans.find(&Path::root().key("fact").index(i)));
+            .or_else(|| spans.find(&KeyPath::root().key("fact").index(i)));
         Error::Model(Box::new(ModelError {
             file: self.file.clone(),
             text: self.text.clone(),
