@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use miette::{Diagnostic, LabeledSpan, NamedSource, SourceCode};
-use stitchkin::error::{Error, ModelError};
+use stitchkin::error::{Error, Input, IoError, ModelError, ParamError};
 use stitchkin::eval::CycleTable;
 use stitchkin::model::{Model, Params};
 use stitchkin::presets;
@@ -134,7 +134,7 @@ impl PathArgs {
         Ok(StraightnessOptions {
             point: model
                 .moving_point_slot(&self.point)
-                .map_err(|e| e.given_in("--point"))?,
+                .map_err(|e| e.given_in(Input::Point))?,
             reference: match &self.line {
                 Some(l) => Reference::parse_line(model, l)?,
                 None => Reference::Fit,
@@ -154,7 +154,17 @@ pub(crate) fn load(args: &ModelArgs) -> Result<(Model, Params), Error> {
         (None, None) => Model::preset(presets::DEFAULT)?,
     };
     let mut params = model.defaults();
+    let mut set: Vec<&str> = Vec::new();
     for s in &args.set {
+        let name = s.split_once('=').map_or(s.as_str(), |(n, _)| n.trim());
+        if set.contains(&name) {
+            return Err(Error::Param(ParamError::new(
+                Input::Set,
+                format!("`{name}` is set twice"),
+                Some("set each parameter once".into()),
+            )));
+        }
+        set.push(name);
         model.set_str(&mut params, s)?;
     }
     model.machine::<f64>(&params)?;
@@ -171,7 +181,7 @@ pub(crate) fn emit(bytes: &[u8], out: Option<&PathBuf>) -> Result<(), Error> {
                 Ok(()) => Ok(()),
                 // A closed pipe (`| head`) is not an error.
                 Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-                Err(e) => Err(Error::Io(format!("cannot write to stdout: {e}"))),
+                Err(e) => Err(Error::Io(IoError::os("write to stdout", None, e))),
             }
         }
     }
@@ -179,7 +189,7 @@ pub(crate) fn emit(bytes: &[u8], out: Option<&PathBuf>) -> Result<(), Error> {
 
 /// `value` as pretty JSON ending in a newline.
 pub(crate) fn json(value: &impl serde::Serialize) -> Result<String, Error> {
-    Ok(serde_json::to_string_pretty(value).map_err(|e| Error::Io(e.to_string()))? + "\n")
+    Ok(serde_json::to_string_pretty(value).map_err(|e| Error::Internal(format!("cannot write JSON: {e}")))? + "\n")
 }
 
 /// A progress bar on stderr when it is a terminal (hidden otherwise), of
@@ -229,13 +239,78 @@ pub(crate) fn unwrapped_diagnostics_off_terminal() {
     }
 }
 
+/// The command-line flag of a library input.
+pub(crate) fn flag(input: Input) -> &'static str {
+    match input {
+        Input::Preset => "--preset",
+        Input::Set => "--set",
+        Input::Vary => "--vary",
+        Input::Samples => "--samples",
+        Input::Step => "--step",
+        Input::Rpm => "--rpm",
+        Input::Columns => "--columns",
+        Input::Point => "--point",
+        Input::Points => "--points",
+        Input::Trajectories => "--trajectories",
+        Input::Series => "--series",
+        Input::Thread => "--thread",
+        Input::Plane => "--plane",
+        Input::View => "--view",
+        Input::Figure => "--figure",
+        Input::Figures => "--figures",
+        Input::Thickness => "--thickness",
+        Input::StitchLength => "--stitch",
+        Input::Width => "--width",
+        Input::Incline => "--incline",
+        Input::EdgeFraction => "--edge",
+        Input::StitchType => "--type",
+        Input::Adjust => "--adjust",
+        Input::Tolerance => "--tol",
+        Input::LengthTolerance => "--length-tol",
+        Input::Line => "--line",
+        Input::Over => "--over",
+        Input::Limit => "--limit",
+        Input::Phi => "--phi",
+        Input::Frames => "--frames",
+        Input::Duration => "--duration",
+        Input::ProfilePoints => "--points",
+        Input::Smooth => "--smooth",
+        Input::MinRadius => "--min-radius",
+        Input::MaxPressureAngle => "--max-pressure-angle",
+        Input::AnchorRadius => "--anchor-radius",
+        Input::Cam => "--cam",
+        Input::Target => "--target",
+        Input::Measured => "--measured",
+        _ => "an option",
+    }
+}
+
+/// The error of a value this command takes in `flag`, where other commands
+/// take the same input under the flag [`flag`] names (`report
+/// --nomogram-thickness` for `--thickness`).
+pub(crate) fn in_flag(e: Error, flag: &str) -> Error {
+    match e {
+        Error::Param(p) if p.input.is_some() => {
+            Error::Param(ParamError::general(format!("{} (in {flag})", p.message), p.help))
+        }
+        other => other,
+    }
+}
+
 /// The diagnostic of a failed command: a model-file error with its place in
-/// the file, any other with its help.
+/// the file, a parameter error naming its flag, any other with its help.
 pub(crate) fn diagnostic(e: Error) -> miette::Report {
     match e {
         Error::Model(m) => {
             let src = NamedSource::new(m.file.clone(), m.text.to_string());
             miette::Report::new(FileDiagnostic { err: *m, src })
+        }
+        Error::Param(p) => {
+            let message = p.describe(|i| flag(i).to_string());
+            match p.help {
+                Some(h) => miette::miette!(help = h, "{message}"),
+                None => miette::miette!("{message}"),
+            }
         }
         other => match other.help() {
             Some(h) => miette::miette!(help = h.to_string(), "{other}"),

@@ -83,3 +83,35 @@ fn main() -> miette::Result<()> {
     };
     result.map_err(common::diagnostic)
 }
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+    use stitchkin::Input;
+
+    /// Every long flag of every subcommand, nested ones included.
+    fn long_flags(cmd: &clap::Command, out: &mut Vec<String>) {
+        out.extend(
+            cmd.get_arguments()
+                .filter_map(|a| a.get_long())
+                .map(|l| format!("--{l}")),
+        );
+        for sub in cmd.get_subcommands() {
+            long_flags(sub, out);
+        }
+    }
+
+    /// A library error about an input names a flag the command line has.
+    #[test]
+    fn every_library_input_maps_to_a_flag() {
+        let mut flags = Vec::new();
+        long_flags(&super::Cli::command(), &mut flags);
+        for input in Input::ALL {
+            let flag = crate::common::flag(input);
+            assert!(
+                flags.iter().any(|f| f == flag),
+                "{input:?} maps to `{flag}`, which no subcommand has"
+            );
+        }
+    }
+}

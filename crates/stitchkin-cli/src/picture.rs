@@ -29,10 +29,10 @@ pub(crate) fn format_of(out: Option<&PathBuf>) -> Result<Format, Error> {
     {
         Some("svg") => Ok(Format::Svg),
         Some("png") => Ok(Format::Png),
-        _ => Err(Error::Param(ParamError {
-            message: format!("cannot tell the picture format of `{}` (in -o)", path.display()),
-            help: Some("end the file name in .svg (vector, scalable) or .png (raster, 2 pixels per SVG unit)".into()),
-        })),
+        _ => Err(Error::Param(ParamError::general(
+            format!("cannot tell the picture format of `{}` (in -o)", path.display()),
+            Some("end the file name in .svg (vector, scalable) or .png (raster, 2 pixels per SVG unit)".into()),
+        ))),
     }
 }
 
@@ -44,10 +44,10 @@ pub(crate) fn check_output(out: Option<&PathBuf>, animated: bool) -> Result<Form
         stitchkin::output::check_folder(path)?;
     }
     match format_of(out)? {
-        Format::Png if animated => Err(Error::Param(ParamError {
-            message: "an animation cannot be written as PNG (in -o)".into(),
-            help: Some("write it as .svg (it plays in any browser), or leave out --animate for a still PNG".into()),
-        })),
+        Format::Png if animated => Err(Error::Param(ParamError::general(
+            "an animation cannot be written as PNG (in -o)",
+            Some("write it as .svg (it plays in any browser), or leave out --animate for a still PNG".into()),
+        ))),
         f => Ok(f),
     }
 }
@@ -72,7 +72,7 @@ pub(crate) const PNG_SCALE: f32 = 2.0;
 
 #[cfg(feature = "png")]
 fn svg_to_png(svg: &str, path: &Path) -> Result<Vec<u8>, Error> {
-    let internal = |what: String| Error::Io(format!("cannot draw {} as PNG: {what}", path.display()));
+    let internal = |what: String| Error::Internal(format!("cannot draw {} as PNG: {what}", path.display()));
     rasterize(svg)
         .map_err(internal)?
         .encode_png()
@@ -107,13 +107,13 @@ fn rasterize(svg: &str) -> Result<resvg::tiny_skia::Pixmap, String> {
 
 #[cfg(not(feature = "png"))]
 fn svg_to_png(_svg: &str, path: &Path) -> Result<Vec<u8>, Error> {
-    Err(Error::Param(ParamError {
-        message: format!(
+    Err(Error::Param(ParamError::general(
+        format!(
             "this stitchkin was built without PNG output, so it cannot write `{}`",
             path.display()
         ),
-        help: Some("write .svg instead, or rebuild with the default features (feature `png`)".into()),
-    }))
+        Some("write .svg instead, or rebuild with the default features (feature `png`)".into()),
+    )))
 }
 
 #[cfg(test)]

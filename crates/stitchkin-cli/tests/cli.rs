@@ -634,7 +634,11 @@ fn overrides_are_applied_and_checked() {
     let e = fails(&with(&["--set", "alpha"]));
     assert!(e.contains("NAME=VALUE"), "{e}");
     let e = fails(&["run", "--step", "0"]);
-    assert!(e.contains("step"), "{e}");
+    assert!(e.contains("greater than 0") && e.contains("(in --step)"), "{e}");
+    let e = fails(&with(&["--set", "alpha=20", "--set", "alpha=30"]));
+    assert!(e.contains("`alpha` is set twice (in --set)"), "{e}");
+    let e = fails(&with(&["--set", "alpha=x"]));
+    assert!(e.contains("`x` is not a number") && e.contains("(in --set)"), "{e}");
     let e = fails(&["run", "--rpm", "-5"]);
     assert!(e.contains("rpm"), "{e}");
     let e = fails(&["run", "--points", "Q"]);
@@ -888,4 +892,39 @@ fn results_do_not_depend_on_the_vector_unit() {
             assert!(with(unit) == widest, "{args:?}: {unit} differs from the widest unit");
         }
     }
+}
+
+/// The library names the input at fault; the command line names its flag.
+#[test]
+fn errors_name_the_flag_and_refuse_what_cannot_work() {
+    let e = fails(&["plot", "family", "--vary", "q=1:2:3", "-o", "x.svg"]);
+    assert!(e.contains("no parameter `q`") && e.contains("(in --vary)"), "{e}");
+    let e = fails(&["stroke", "--preset", "needle876", "--point", "Q"]);
+    assert!(e.contains("no point `Q`") && e.contains("(in --point)"), "{e}");
+    let e = fails(&["tune", "--preset", "altin504", "--adjust", "alpha"]);
+    assert!(e.contains("single value") && e.contains("(in --adjust)"), "{e}");
+    let e = fails(&[
+        "consumption",
+        "--type",
+        "504",
+        "--thickness",
+        "1e308",
+        "--stitch",
+        "1e308",
+        "--width",
+        "1e308",
+    ]);
+    assert!(e.contains("overflow"), "{e}");
+    let e = fails(&[
+        "consumption",
+        "--type",
+        "504",
+        "--stitch",
+        "0",
+        "--width",
+        "4",
+        "--thickness",
+        "2",
+    ]);
+    assert!(e.contains("(in --stitch)"), "{e}");
 }

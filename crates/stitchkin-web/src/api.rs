@@ -80,7 +80,7 @@ fn library_error(e: &Error) -> Reply {
         | Error::Physical(_)
         | Error::NotFinite(_)
         | Error::Model(_) => 422,
-        Error::Io(_) => 500,
+        _ => 500,
     };
     let message = match e {
         // The file position means nothing on the page; the path does.
@@ -157,7 +157,7 @@ impl App {
         let m_param = model.stitch_param("m").map(str::to_string);
         let t_param = model.stitch_param("t").map(str::to_string);
         let parameters: Vec<Value> = model
-            .params
+            .params()
             .iter()
             .enumerate()
             .filter(|(_, p)| !p.is_derived())
@@ -186,7 +186,7 @@ impl App {
         json!({
             "name": model.name(),
             "title": model.title(),
-            "file": model.file_name,
+            "file": model.file_name(),
             "phi_start_deg": model.phi_start_deg(),
             "parameters": parameters,
             "stitch": model.stitch_type().map(|t| json!({ "type": t, "m_param": m_param, "t_param": t_param })),
@@ -291,7 +291,7 @@ impl App {
         Ok(Reply::json(
             200,
             &json!({
-                "values": self.model.params.iter().zip(&params.values).filter(|(p, _)| !p.is_derived()).map(|(p, v)| (p.name.clone(), json!(v))).collect::<serde_json::Map<_, _>>(),
+                "values": self.model.params().iter().zip(&params.values).filter(|(p, _)| !p.is_derived()).map(|(p, v)| (p.name.clone(), json!(v))).collect::<serde_json::Map<_, _>>(),
                 "step_deg": step,
                 "chart_svg": chart,
                 "paths": paths,
@@ -348,7 +348,7 @@ impl App {
 fn chart_kind(model: &Model) -> Option<Plot> {
     if model.has_threads() {
         Some(Plot::TakeUp)
-    } else if !model.dyads.is_empty() {
+    } else if !model.dyads().is_empty() {
         Some(Plot::Mu)
     } else {
         None

@@ -9,7 +9,7 @@ use std::net::SocketAddr;
 use std::sync::Arc;
 use std::thread::JoinHandle;
 
-use stitchkin::error::Error;
+use stitchkin::error::{Error, IoError};
 use tiny_http::{Header, Method, Request, Response};
 
 use crate::api::{App, Reply};
@@ -25,11 +25,17 @@ impl Server {
     /// Listens on `addr` (`127.0.0.1:0` picks a free port) and answers with
     /// `threads` workers (at least one).
     pub fn start(app: App, addr: &str, threads: usize) -> Result<Server, Error> {
-        let http = tiny_http::Server::http(addr).map_err(|e| Error::Io(format!("cannot listen on {addr}: {e}")))?;
-        let addr = http
-            .server_addr()
-            .to_ip()
-            .ok_or_else(|| Error::Io(format!("{addr} is not an IP address")))?;
+        let http = tiny_http::Server::http(addr).map_err(|e| match e.downcast::<std::io::Error>() {
+            Ok(io) => Error::Io(IoError::os(format!("listen on {addr}"), None, *io)),
+            Err(e) => Error::Io(IoError::refused(format!("listen on {addr}"), None, e.to_string())),
+        })?;
+        let addr = http.server_addr().to_ip().ok_or_else(|| {
+            Error::Io(IoError::refused(
+                format!("listen on {addr}"),
+                None,
+                "it is not an IP address",
+            ))
+        })?;
         let http = Arc::new(http);
         let app = Arc::new(app);
         let loopback = addr.ip().is_loopback();

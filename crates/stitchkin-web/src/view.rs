@@ -39,10 +39,10 @@ pub fn render(model: &Model, params: &Params, r: &DrawingRequest) -> Result<Stri
         name => {
             let choices = View::choices(model);
             if !choices.iter().any(|c| c == name) {
-                return Err(Error::Param(stitchkin::error::ParamError {
-                    message: format!("view = `{name}` is not a view of this model"),
-                    help: Some(format!("views are auto, {}", choices.join(", "))),
-                }));
+                return Err(Error::Param(stitchkin::error::ParamError::general(
+                    format!("view = `{name}` is not a view of this model"),
+                    Some(format!("views are auto, {}", choices.join(", "))),
+                )));
             }
             View::parse(name)?
         }

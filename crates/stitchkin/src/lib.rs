@@ -34,7 +34,10 @@ pub mod thread;
 pub mod verify;
 
 // The vocabulary a user of the library works with, from the crate root.
-pub use error::{AssemblyError, Error, ModelError, ParamError};
+pub use error::{
+    AssemblyError, Error, Input, IoError, ModelError, NotFiniteError, ParamError, PhysicalError, StitchError,
+    ThreadError,
+};
 pub use eval::{CycleOptions, CycleTable, run_cycle};
 pub use model::{Machine, Model, ParamDef, Params};
 pub use presets::Preset;

@@ -12,6 +12,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use crate::error::Error;
+use crate::error::NotFiniteError;
 use crate::eval::cycle_phis_deg;
 use crate::geometry::{Plane, V2, V3};
 use crate::mechanism::newton::{Closure, NewtonGroup, PointRef};
@@ -389,9 +390,11 @@ pub fn cross_check(model: &Model, params: &Params, step_deg: f64) -> Result<Cros
         }
         let res = newton(&mech, &lay, phi, &mut x);
         if res.is_nan() || res >= 1e-9 {
-            return Err(Error::NotFinite(format!(
-                "the whole-system Newton solver did not converge at φ = {phi_deg:.3}° (residual {res:.3e})"
-            )));
+            return Err(Error::NotFinite(NotFiniteError {
+                quantity: "the whole-system Newton solution".into(),
+                phi_deg: Some(phi_deg),
+                cause: format!("the solver did not converge (residual {res:.3e})"),
+            }));
         }
         for (i, &s) in lay.moving.iter().enumerate() {
             let q = V3::new(x[3 * i], x[3 * i + 1], x[3 * i + 2]);

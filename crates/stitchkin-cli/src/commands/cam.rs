@@ -97,10 +97,10 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         Target::Required
     } else {
         let text = std::fs::read_to_string(&args.target).map_err(|e| {
-            Error::Param(ParamError {
-                message: format!("cannot read the target `{}`: {e}", args.target),
-                help: Some("give --target required (P' of the stitch) or a CSV file with columns phi_deg,P_mm".into()),
-            })
+            Error::Param(ParamError::general(
+                format!("cannot read the target `{}`: {e}", args.target),
+                Some("give --target required (P' of the stitch) or a CSV file with columns phi_deg,P_mm".into()),
+            ))
         })?;
         Target::from_curve(&parse_curve_csv(&text, &args.target)?)?
     };
@@ -110,10 +110,10 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         CamFormat::Csv
     });
     if format == CamFormat::All && args.output.is_none() {
-        return Err(Error::Param(ParamError {
-            message: "--format all writes four files".into(),
-            help: Some("give -o PREFIX (PREFIX.csv, .svg, .dxf, .toml), or one --format for stdout".into()),
-        }));
+        return Err(Error::Param(ParamError::general(
+            "--format all writes four files",
+            Some("give -o PREFIX (PREFIX.csv, .svg, .dxf, .toml), or one --format for stdout".into()),
+        )));
     }
     let mut opts = CamOptions::new(&args.path, target);
     opts.cam = args.cam.clone();

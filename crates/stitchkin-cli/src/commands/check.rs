@@ -1,7 +1,7 @@
 //! `stitchkin check`: a model file loaded, validated and solved over a full
 //! cycle, with its report; a failed physical check fails the command.
 
-use stitchkin::error::Error;
+use stitchkin::error::{Error, PhysicalError};
 use stitchkin::eval::{self, CycleOptions};
 use stitchkin::output::text;
 
@@ -52,11 +52,6 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     if failed.is_empty() {
         Ok(())
     } else {
-        Err(Error::Physical(format!(
-            "{} physical check(s) fail ({}): the model loads and assembles, but this setting cannot work on a real machine; \
-             the `# check FAIL` lines above say why and what to change",
-            failed.len(),
-            failed.join(", ")
-        )))
+        Err(Error::Physical(PhysicalError { failed }))
     }
 }

@@ -1,11 +1,11 @@
 //! `stitchkin compare-2d3d`: each thread path against its planar model
-//! (stitchkin::study::compare2d3d).
+//! (stitchkin::study::compare_2d3d).
 
 use std::path::PathBuf;
 
 use stitchkin::error::Error;
 use stitchkin::output::text;
-use stitchkin::study::compare2d3d::compare_2d3d;
+use stitchkin::study::compare_2d3d::compare_2d3d;
 
 use crate::common::{CsvOrJson, ModelArgs, emit, load};
 
@@ -37,10 +37,12 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let c = compare_2d3d(&model, &params, &args.plane, args.step)?;
     let out = match args.format {
         // Pretty JSON without a final newline, as it always was written.
-        CsvOrJson::Json => serde_json::to_string_pretty(&c).map_err(|e| Error::Io(e.to_string()))?,
-        CsvOrJson::Csv => text::compare2d3d::csv(&c),
+        CsvOrJson::Json => {
+            serde_json::to_string_pretty(&c).map_err(|e| Error::Internal(format!("cannot write JSON: {e}")))?
+        }
+        CsvOrJson::Csv => text::compare_2d3d::csv(&c),
     };
     emit(out.as_bytes(), args.output.as_ref())?;
-    eprint!("{}", text::compare2d3d::summary(&c));
+    eprint!("{}", text::compare_2d3d::summary(&c));
     Ok(())
 }

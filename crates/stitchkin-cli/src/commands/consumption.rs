@@ -43,10 +43,10 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let width = match (args.width, args.stitch_type) {
         (Some(w), _) => w,
         (None, 500..=599) => {
-            return Err(Error::Param(ParamError {
-                message: format!("stitch type {} needs the overedge width", args.stitch_type),
-                help: Some("give --width in mm, e.g. --width 4".into()),
-            }));
+            return Err(Error::Param(ParamError::general(
+                format!("stitch type {} needs the overedge width", args.stitch_type),
+                Some("give --width in mm, e.g. --width 4".into()),
+            )));
         }
         (None, _) => 0.0,
     };

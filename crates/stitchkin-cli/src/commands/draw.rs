@@ -44,10 +44,7 @@ pub(crate) struct Args {
 }
 
 fn bad(message: String, help: &str) -> Error {
-    Error::Param(ParamError {
-        message,
-        help: Some(help.into()),
-    })
+    Error::Param(ParamError::general(message, Some(help.into())))
 }
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {

@@ -2,7 +2,7 @@
 //! P′, per thread, with the match scores and the physical checks, in one
 //! screen (`--details` for every metric, `--format json` for all of it).
 
-use stitchkin::error::Error;
+use stitchkin::error::{Error, StitchError};
 use stitchkin::eval::{self, CycleOptions};
 use stitchkin::output::text;
 
@@ -56,19 +56,18 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     };
     let table = eval::run_cycle(&model, &params, &opts)?;
     let Some(st) = &table.stitch else {
-        return Err(Error::Stitch(
-            format!(
-                "model `{}` has no [stitch] table, so there is no required take-up to match",
-                model.name()
-            ) + "; add one (docs/model-format.md, \"Stitch process\") or try --preset mf7923d",
-        ));
+        return Err(Error::Stitch(StitchError::new(
+            format!("model `{}`", model.name()),
+            "it has no [stitch] table, so there is no required take-up to match; add one (docs/model-format.md, \
+             \"Stitch process\") or try --preset mf7923d",
+        )));
     };
     let measured = measured(&args.measured, &table)?;
     let out = match args.output.format {
         TableOrJson::Json => {
             // The stitch summary, with the model's name and caveats and the
             // measured curves beside it.
-            let json_err = |e: serde_json::Error| Error::Io(e.to_string());
+            let json_err = |e: serde_json::Error| Error::Internal(format!("cannot write JSON: {e}"));
             let mut json = serde_json::to_value(st).map_err(json_err)?;
             json["model"] = serde_json::json!(model.name());
             json["caveats"] = serde_json::json!(model.caveats());

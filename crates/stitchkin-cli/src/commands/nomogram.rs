@@ -1,7 +1,7 @@
 //! `stitchkin nomogram`: the tuned setting over a grid of material thickness
 //! and stitch length (stitchkin::study::nomogram).
 
-use stitchkin::error::Error;
+use stitchkin::error::{Error, Input};
 use stitchkin::study::nomogram::{Axis, NomogramOptions, default_thickness, nomogram};
 
 use crate::common::{ModelArgs, OutputArgs, SearchArgs, TableFormat, json, load, progress_bar};
@@ -46,10 +46,14 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         stitchkin::output::check_folder(path)?;
     }
     let thickness = match &args.thickness {
-        Some(t) => Axis::parse(t, "--thickness")?,
+        Some(t) => Axis::parse(t, Input::Thickness)?,
         None => default_thickness(&model)?,
     };
-    let stitch = args.stitch.as_deref().map(|s| Axis::parse(s, "--stitch")).transpose()?;
+    let stitch = args
+        .stitch
+        .as_deref()
+        .map(|s| Axis::parse(s, Input::StitchLength))
+        .transpose()?;
     let opts = NomogramOptions {
         thickness,
         stitch,

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use stitchkin::error::{Error, ParamError};
+use stitchkin::error::{Error, Input, ParamError};
 use stitchkin::jobs::plot::{self as plots, Plot};
 use stitchkin::model::{Model, Params};
 use stitchkin::study::nomogram::{Axis, NomogramOptions};
@@ -149,10 +149,7 @@ pub(crate) struct Args {
 }
 
 fn bad(message: String, help: String) -> Error {
-    Error::Param(ParamError {
-        message,
-        help: Some(help),
-    })
+    Error::Param(ParamError::general(message, Some(help)))
 }
 
 /// `plot family`, `plot surface` and `plot heatmap` (`a`, `a` and `b`).
@@ -238,7 +235,7 @@ fn check_options(args: &Args) -> Result<(), Error> {
 /// The ranged parameters with their ranges, for a missing --vary.
 fn ranged(model: &Model) -> String {
     let v: Vec<String> = model
-        .params
+        .params()
         .iter()
         .filter(|p| !p.is_derived())
         .filter_map(|p| {
@@ -374,10 +371,14 @@ fn plot_of(args: &Args, model: &Model, params: &Params, step: f64) -> Result<Plo
         }
         What::Nomogram => {
             let thickness = match &args.thickness {
-                Some(s) => Axis::parse(s, "--thickness")?,
+                Some(s) => Axis::parse(s, Input::Thickness)?,
                 None => stitchkin::study::nomogram::default_thickness(model)?,
             };
-            let stitch = args.stitch.as_deref().map(|s| Axis::parse(s, "--stitch")).transpose()?;
+            let stitch = args
+                .stitch
+                .as_deref()
+                .map(|s| Axis::parse(s, Input::StitchLength))
+                .transpose()?;
             let tune = TuneOptions {
                 adjust: args.adjust.clone(),
                 samples: args.samples.unwrap_or(0),

@@ -3,12 +3,12 @@
 
 use std::path::PathBuf;
 
-use stitchkin::error::{Error, ParamError};
+use stitchkin::error::{Error, Input, ParamError};
 use stitchkin::jobs::report::{self, ReportOptions};
 use stitchkin::output::drawing::View;
 use stitchkin::study::nomogram::{Axis, NomogramOptions};
 
-use crate::common::{ModelArgs, SearchArgs, emit, load};
+use crate::common::{ModelArgs, SearchArgs, emit, in_flag, load};
 
 /// One self-contained HTML report: parameters, mechanism drawing (still
 /// and animated), P/P′ chart, mismatch, transmission angles and, when
@@ -69,13 +69,13 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     if let Some(path) = &args.output {
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         if !matches!(ext.as_deref(), Some("html" | "htm")) {
-            return Err(Error::Param(ParamError {
-                message: format!(
+            return Err(Error::Param(ParamError::general(
+                format!(
                     "the report is HTML, but `{}` does not end in .html (in -o)",
                     path.display()
                 ),
-                help: Some("name it e.g. report.html".into()),
-            }));
+                Some("name it e.g. report.html".into()),
+            )));
         }
         stitchkin::output::check_folder(path)?;
     }
@@ -93,11 +93,11 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let nomogram = match &args.nomogram_thickness {
         None => None,
         Some(th) => Some(NomogramOptions {
-            thickness: Axis::parse(th, "--nomogram-thickness")?,
+            thickness: Axis::parse(th, Input::Thickness).map_err(|e| in_flag(e, "--nomogram-thickness"))?,
             stitch: args
                 .nomogram_stitch
                 .as_deref()
-                .map(|s| Axis::parse(s, "--nomogram-stitch"))
+                .map(|s| Axis::parse(s, Input::StitchLength).map_err(|e| in_flag(e, "--nomogram-stitch")))
                 .transpose()?,
             tune: tune_opts,
         }),

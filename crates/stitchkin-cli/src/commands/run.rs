@@ -57,11 +57,11 @@ fn point_indices(model: &Model, names: &[String]) -> Result<Vec<usize>, Error> {
     names
         .iter()
         .map(|n| {
-            model.point_names.iter().position(|p| p == n).ok_or_else(|| {
-                Error::Param(ParamError {
-                    message: format!("the model has no point `{n}` (in --points)"),
-                    help: Some(format!("its points are: {}", model.point_names.join(", "))),
-                })
+            model.point_names().iter().position(|p| p == n).ok_or_else(|| {
+                Error::Param(ParamError::general(
+                    format!("the model has no point `{n}` (in --points)"),
+                    Some(format!("its points are: {}", model.point_names().join(", "))),
+                ))
             })
         })
         .collect()
@@ -98,7 +98,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         CsvOrJson::Csv => output::write_csv(&table, &mut buf),
         CsvOrJson::Json => output::write_json(&model, &params, &table, &mut buf),
     }
-    .map_err(|e| Error::Io(e.to_string()))?;
+    .map_err(|e| Error::Internal(format!("cannot format the cycle table: {e}")))?;
     emit(&buf, args.output.as_ref())?;
     if matches!(format, CsvOrJson::Csv) || args.output.is_some() {
         eprint!("{}", text::cycle::summary(&model, &table));

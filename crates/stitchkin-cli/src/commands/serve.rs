@@ -34,21 +34,29 @@ pub(crate) struct Args {
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     if !(1..=64).contains(&args.threads) {
-        return Err(Error::Param(ParamError {
-            message: format!("--threads {} is outside 1…64", args.threads),
-            help: Some("one thread per core is plenty (the default is 2)".into()),
-        }));
+        return Err(Error::Param(ParamError::general(
+            format!("--threads {} is outside 1…64", args.threads),
+            Some("one thread per core is plenty (the default is 2)".into()),
+        )));
     }
     let (model, params) = load(&args.model)?;
     let addr = std::net::SocketAddr::new(args.bind, args.port);
     let server = Server::start(App::new(model, params), &addr.to_string(), args.threads).map_err(|e| match e {
-        Error::Io(m) => Error::Param(ParamError {
-            message: m,
-            help: Some(format!(
-                "another program may be using port {}: choose another with --port, or --port 0 for any free one",
+        Error::Io(io) if io.kind() == Some(std::io::ErrorKind::AddrInUse) => Error::Param(ParamError::general(
+            io.to_string(),
+            Some(format!(
+                "another program is using port {}: choose another with --port, or --port 0 for any free one",
                 args.port
             )),
-        }),
+        )),
+        Error::Io(io) if io.kind() == Some(std::io::ErrorKind::AddrNotAvailable) => Error::Param(ParamError::general(
+            io.to_string(),
+            Some(format!(
+                "{} is not an address of this machine: give --bind 127.0.0.1 (this machine only) or one of its \
+                 network addresses",
+                args.bind
+            )),
+        )),
         other => other,
     })?;
     if !args.bind.is_loopback() {

@@ -1,7 +1,7 @@
 //! `stitchkin stroke`: a point's stroke along an axis, both dead centres and
 //! the transmission angles, per setting (stitchkin::study::stroke).
 
-use stitchkin::error::Error;
+use stitchkin::error::{Error, Input};
 use stitchkin::output::text;
 use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::stroke::{Axis, StrokeOptions, study};
@@ -53,7 +53,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let (model, params) = load(&args.model)?;
     let point = model
         .moving_point_slot(&args.point)
-        .map_err(|e| e.given_in("--point"))?;
+        .map_err(|e| e.given_in(Input::Point))?;
     let axis = Axis::parse(&model, &args.axis)?;
     let sweep = if args.vary.is_empty() {
         None
@@ -73,7 +73,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let s = study(&model, &params, sweep.as_ref(), &opts)?;
     let out = match args.output.format {
         TableFormat::Json => json(&s)?,
-        TableFormat::Csv => text::stroke::csv(&s, model.planar),
+        TableFormat::Csv => text::stroke::csv(&s, model.is_planar()),
         TableFormat::Table => text::stroke::table(&s),
     };
     args.output.emit(&out)?;

@@ -170,7 +170,10 @@ fn cam_errors_are_clear() {
     let e = fails(&["cam", "--preset", "altin504", "--path", "lowr", "--target", "required"]);
     assert!(e.contains("no thread path `lowr`"), "{e}");
     let e = fails(&["cam", "--preset", "altin504", "--path", "upper", "--target", "required"]);
-    assert!(e.contains("cannot be reached") && e.contains("--anchor-radius"), "{e}");
+    assert!(
+        e.contains("cannot be reached") && e.contains("an anchor radius of"),
+        "{e}"
+    );
     let e = fails(&[
         "cam", "--preset", "altin504", "--path", "lower", "--target", "required", "--format", "all",
     ]);
@@ -188,5 +191,5 @@ fn cam_errors_are_clear() {
     let e = fails(&[
         "cam", "--preset", "altin504", "--path", "lower", "--target", "required", "--points", "4",
     ]);
-    assert!(e.contains("--points between 8 and 1440"), "{e}");
+    assert!(e.contains("(in --points)") && e.contains("between 8 and 1440"), "{e}");
 }

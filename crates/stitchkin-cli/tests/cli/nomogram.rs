@@ -165,21 +165,37 @@ fn nomogram_refuses_bad_input_with_the_fix() {
             "outside its adjustable range",
             "choose a value between",
         ),
-        (vec!["--thickness", "1:x:3"], "must be numbers", "--thickness LO:HI:N"),
-        (vec!["--thickness", "1:5:0"], "whole number ≥ 1", "--thickness LO:HI:N"),
+        (
+            vec!["--thickness", "1:x:3"],
+            "must be numbers (in --thickness)",
+            "LO:HI:N in mm",
+        ),
+        (
+            vec!["--thickness", "1:5:0"],
+            "whole number ≥ 1 (in --thickness)",
+            "LO:HI:N in mm",
+        ),
         (vec!["--thickness", "-1:5:3"], "outside its adjustable range", "between"),
         (
             vec!["--thickness", "3", "--stitch", "2:2:3"],
-            "LO = HI",
-            "--stitch LO:HI:N",
+            "LO = HI gives 3 equal values; use N = 1 or widen the range (in --stitch)",
+            "LO:HI:N in mm",
         ),
         (
             vec!["--thickness", "3", "--adjust", "z,m"],
             "`m` is the material thickness",
-            "leave it out of --adjust",
+            "leave `m` out of the adjusted settings",
         ),
-        (vec!["--thickness", "3", "--adjust", "zz"], "no parameter `zz`", "check"),
-        (vec!["--thickness", "3", "--step", "0"], "out of range", "--step 1"),
+        (
+            vec!["--thickness", "3", "--adjust", "zz"],
+            "no parameter `zz` (in --adjust)",
+            "adjustable parameters are",
+        ),
+        (
+            vec!["--thickness", "3", "--step", "0"],
+            "out of range (in --step)",
+            "e.g. 1",
+        ),
         (
             vec!["--preset", "needle876", "--thickness", "3"],
             "no [stitch]",
@@ -187,8 +203,8 @@ fn nomogram_refuses_bad_input_with_the_fix() {
         ),
         (
             vec!["--preset", "altin504", "--thickness", "1:2:2"],
-            "nothing to adjust",
-            "--adjust",
+            "nothing to adjust (in --adjust)",
+            "name the settings to adjust",
         ),
     ] {
         let e = fails(&[&["nomogram"], &args[..]].concat());

@@ -148,10 +148,13 @@ fn stroke_rejects_bad_requests_with_the_fix() {
     let base = ["stroke", "--preset", "needle876"];
     let with = |extra: &[&'static str]| -> Vec<&'static str> { base.iter().chain(extra).copied().collect() };
     for (extra, says) in [
-        (&["--point", "Q"][..], "the model has no point `Q` (in --point)"),
+        (
+            &["--point", "Q"][..],
+            "the model has no point `Q` (did you mean `O`?) (in --point)",
+        ),
         (
             &["--point", "g"][..],
-            "no point `g` (in --point) (did you mean `G`?)\n  help: its points are: O, C, F, H, A, B, D, E, G",
+            "no point `g` (did you mean `G`?) (in --point)\n  help: its points are: O, C, F, H, A, B, D, E, G",
         ),
         (
             &["--point", "O"][..],
@@ -237,7 +240,7 @@ fn straightness_of_the_altin_needle() {
         (&["--point", "E", "--line", "N1,N1"][..], "two different points"),
         (
             &["--point", "E", "--line", "N1,N9"][..],
-            "the model has no point `N9` (in --line) (did you mean `N1`?)",
+            "the model has no point `N9` (did you mean `N1`?) (in --line)",
         ),
         (
             &["--point", "E", "--over", "sideways"][..],

@@ -65,7 +65,7 @@ fn model_lists_parameters_with_units_ranges_and_roles() {
     assert!(!v["views"].as_array().unwrap().is_empty());
     // Derived parameters cannot be set, so the page does not offer them.
     let model = Model::preset("mf7923d").unwrap();
-    for p in model.params.iter().filter(|p| p.is_derived()) {
+    for p in model.params().iter().filter(|p| p.is_derived()) {
         assert!(
             params.iter().all(|q| q["name"] != p.name.as_str()),
             "{} is derived",
@@ -167,7 +167,7 @@ fn bad_requests_get_a_4xx_that_says_what_to_fix() {
 #[test]
 fn derived_parameters_cannot_be_set() {
     let model = Model::preset("mf7923d").unwrap();
-    let Some(derived) = model.params.iter().find(|p| p.is_derived()) else {
+    let Some(derived) = model.params().iter().find(|p| p.is_derived()) else {
         return;
     };
     let app = App::new(model.clone(), model.defaults());

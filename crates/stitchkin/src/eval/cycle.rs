@@ -8,7 +8,7 @@ use crate::scalar::Real;
 
 use super::{
     Column, CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, RangeSummary, TransmissionSummary, cycle_phis_deg,
-    extremes, paths, stitch, wrap_deg,
+    extremes, paths, stitch_process, wrap_deg,
 };
 
 /// Columns under construction, each with room for a cycle's rows.
@@ -184,7 +184,7 @@ pub(super) fn cycle<T: Real>(
     model: &Model,
     params: &Params,
     opts: &CycleOptions,
-    prepared: Option<&stitch::Prepared>,
+    prepared: Option<&stitch_process::Prepared>,
 ) -> Result<CycleTable, Error> {
     let Machine {
         mechanism: mech,
@@ -215,9 +215,9 @@ pub(super) fn cycle<T: Real>(
         None => (Vec::new(), None),
     };
     let stitch = match prepared {
-        Some(p) => Some(stitch::stitch_columns(p, &phis, opts.lean, &mut b.columns)?),
-        None => match stitch::prepare(model, params, opts.step_deg)? {
-            Some(p) => Some(stitch::stitch_columns(&p, &phis, opts.lean, &mut b.columns)?),
+        Some(p) => Some(stitch_process::stitch_columns(p, &phis, opts.lean, &mut b.columns)?),
+        None => match stitch_process::prepare(model, params, opts.step_deg)? {
+            Some(p) => Some(stitch_process::stitch_columns(&p, &phis, opts.lean, &mut b.columns)?),
             None => None,
         },
     };
@@ -243,13 +243,7 @@ pub(super) fn cycle<T: Real>(
 fn check_finite(columns: &[Column], phis: &[f64]) -> Result<(), Error> {
     for c in columns {
         if let Some(k) = c.values.iter().position(|v| !v.is_finite()) {
-            return Err(Error::NotFinite(format!(
-                "`{}` is {} at φ = {:.3}°: the mechanism passes a dead point there, where analogs are infinite; \
-                 change the geometry or the step so no position lands on the dead point",
-                c.name,
-                c.values[k],
-                wrap_deg(phis[k])
-            )));
+            return Err(super::not_finite(&c.name, c.values[k], phis[k]));
         }
     }
     Ok(())

@@ -5,7 +5,7 @@
 mod cycle;
 mod paths;
 mod step;
-pub mod stitch;
+pub mod stitch_process;
 
 pub use step::MAX_STEP_DEG;
 pub(crate) use step::check_step;
@@ -13,7 +13,7 @@ pub(crate) use step::check_step;
 use num_dual::Dual2_64;
 use serde::Serialize;
 
-use crate::error::Error;
+use crate::error::{Error, Input, NotFiniteError, ParamError, ThreadError};
 use crate::mechanism::{Mechanism, Phi};
 use crate::model::{Model, Params};
 use crate::scalar::Real;
@@ -147,7 +147,7 @@ pub struct CycleTable {
     pub take_up: Option<String>,
     /// The stitch process: P' and the mismatch per thread, when the model
     /// has a `[stitch]`.
-    pub stitch: Option<stitch::StitchSummary>,
+    pub stitch: Option<stitch_process::StitchSummary>,
     pub warnings: Vec<String>,
 }
 
@@ -159,13 +159,14 @@ impl CycleTable {
         for p in patterns {
             if !self.columns.iter().any(|c| glob_match(p, &c.name)) {
                 let names: Vec<&str> = self.columns.iter().map(|c| c.name.as_str()).take(12).collect();
-                return Err(Error::Param(crate::error::ParamError {
-                    message: format!("no column matches `{p}`"),
-                    help: Some(format!(
+                return Err(Error::Param(ParamError::new(
+                    Input::Columns,
+                    format!("no column matches `{p}`"),
+                    Some(format!(
                         "columns are named like {} …; `*` matches any run of characters",
                         names.join(", ")
                     )),
-                }));
+                )));
             }
         }
         self.columns
@@ -219,24 +220,27 @@ pub fn cycle_phis_deg(start_deg: f64, step_deg: f64) -> Vec<f64> {
 /// Checks cycle options against the model.
 pub fn check_options(opts: &CycleOptions) -> Result<(), Error> {
     if !(opts.step_deg.is_finite() && opts.step_deg > 0.0 && opts.step_deg <= 360.0) {
-        return Err(Error::Param(crate::error::ParamError {
-            message: format!("the step {} deg is out of range", opts.step_deg),
-            help: Some("give a step between 0 and 360 degrees, e.g. --step 1".into()),
-        }));
+        return Err(Error::Param(ParamError::new(
+            Input::Step,
+            format!("the step {} deg is out of range", opts.step_deg),
+            Some("give a step greater than 0 and at most 360 degrees, e.g. 1".into()),
+        )));
     }
     if opts.step_deg < 1e-3 {
-        return Err(Error::Param(crate::error::ParamError {
-            message: format!("the step {} deg would make over 360 000 rows", opts.step_deg),
-            help: Some("use a step of at least 0.001 deg".into()),
-        }));
+        return Err(Error::Param(ParamError::new(
+            Input::Step,
+            format!("the step {} deg would make over 360 000 rows", opts.step_deg),
+            Some("use a step of at least 0.001 deg".into()),
+        )));
     }
     if let Some(rpm) = opts.rpm
         && !(rpm.is_finite() && rpm > 0.0 && rpm <= 1.0e5)
     {
-        return Err(Error::Param(crate::error::ParamError {
-            message: format!("the speed {rpm} rpm is out of range"),
-            help: Some("give a main-shaft speed between 0 and 100000 rev/min".into()),
-        }));
+        return Err(Error::Param(ParamError::new(
+            Input::Rpm,
+            format!("the speed {rpm} rpm is out of range"),
+            Some("give a main-shaft speed between 0 and 100000 rev/min".into()),
+        )));
     }
     Ok(())
 }
@@ -249,13 +253,13 @@ pub fn run_cycle(model: &Model, params: &Params, opts: &CycleOptions) -> Result<
 }
 
 /// [`run_cycle`] with the stitch process's P' already computed for this
-/// model and φ grid (see [`stitch::prepare`]): studies reuse it across
+/// model and φ grid (see [`stitch_process::prepare`]): studies reuse it across
 /// settings that do not change the stitch.
 pub fn run_cycle_with(
     model: &Model,
     params: &Params,
     opts: &CycleOptions,
-    prepared: Option<&stitch::Prepared>,
+    prepared: Option<&stitch_process::Prepared>,
 ) -> Result<CycleTable, Error> {
     check_options(opts)?;
     if opts.analogs {
@@ -283,12 +287,23 @@ pub fn take_up_name(split_at_b: bool) -> &'static str {
 
 /// A thread path that cannot be formed, as an error naming path and φ.
 pub fn path_error(e: PathError, phi_deg: f64) -> Error {
-    Error::Thread(format!(
-        "thread path `{}` at φ = {:.3}°: {}",
-        e.path,
-        wrap_deg(phi_deg),
-        e.message
-    ))
+    Error::Thread(ThreadError {
+        path: e.path,
+        phi_deg: Some(wrap_deg(phi_deg)),
+        message: e.message,
+    })
+}
+
+/// A column value that is not a finite number, as `run_cycle` and the
+/// sweeps report it.
+pub(crate) fn not_finite(column: &str, value: f64, phi_deg: f64) -> Error {
+    Error::NotFinite(NotFiniteError {
+        quantity: format!("`{column}` ({value})"),
+        phi_deg: Some(wrap_deg(phi_deg)),
+        cause: "the mechanism passes a dead point there, where analogs are infinite; \
+                change the geometry or the step so no position lands on the dead point"
+            .into(),
+    })
 }
 
 /// Indices of the smallest and largest value (the first of equals).

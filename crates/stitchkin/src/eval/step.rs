@@ -1,7 +1,7 @@
 //! The φ step of a study that refines extremes below the cycle grid.
 
 use super::{CycleOptions, check_options};
-use crate::error::{Error, ParamError};
+use crate::error::{Error, Input, ParamError};
 
 /// The coarsest φ step of a study that refines extremes: each extremum must
 /// lie between a grid sample's two neighbours, degrees.
@@ -15,12 +15,13 @@ pub(crate) fn check_step(step_deg: f64) -> Result<(), Error> {
         ..Default::default()
     })?;
     if step_deg > MAX_STEP_DEG {
-        return Err(Error::Param(ParamError {
-            message: format!("the step {step_deg} deg is too coarse to bracket the extremes"),
-            help: Some(format!(
-                "give a step of at most {MAX_STEP_DEG} deg, e.g. --step 1 (extremes are refined below it)"
+        return Err(Error::Param(ParamError::new(
+            Input::Step,
+            format!("the step {step_deg} deg is too coarse to bracket the extremes"),
+            Some(format!(
+                "give a step of at most {MAX_STEP_DEG} deg, e.g. 1 (extremes are refined below it)"
             )),
-        }));
+        )));
     }
     Ok(())
 }

@@ -2,7 +2,7 @@
 //! cycle, for trajectories and slider travel) here, drawn by
 //! [`crate::output::drawing`].
 
-use crate::error::Error;
+use crate::error::{Error, Input};
 use crate::eval::cycle_phis_deg;
 use crate::geometry::V3;
 use crate::mechanism::{Mechanism, Phi, Step};
@@ -23,7 +23,7 @@ pub fn solve(model: &Model, params: &Params, opts: &DrawOptions) -> Result<Solve
     let traced = opts
         .trajectories
         .iter()
-        .map(|p| model.moving_point_slot(p).map_err(|e| e.given_in("--trajectories")))
+        .map(|p| model.moving_point_slot(p).map_err(|e| e.given_in(Input::Trajectories)))
         .collect::<Result<Vec<usize>, Error>>()?;
     let nf = if opts.animate { opts.frames } else { 1 };
     let phis: Vec<f64> = (0..nf).map(|k| opts.phi_deg + 360.0 * k as f64 / nf as f64).collect();

@@ -8,8 +8,8 @@ use super::expr::{Dim, Dimension, Expr, ExprError};
 use super::file::{self, Axis, Branch, FixedPoint, Group, ModelFile, Unit, Value};
 use super::spans::{KeyPath, SpanIndex};
 use super::{
-    AxisDef, CamContactDef, CamDef, ClosureDef, FrameDef, MeasureDef, ParamDef, PathDef, PointKind, ProfileDef, Q,
-    SpanDef, StepDef, ThreadsDef,
+    AxisDef, CamContactDef, CamDef, ClosureDef, FrameDef, MeasureDef, ParamDef, PathDef, PointKind, ProfileDef,
+    QuantityId, SpanDef, StepDef, ThreadsDef,
 };
 use crate::error::{ModelError, did_you_mean};
 
@@ -26,7 +26,7 @@ pub(super) struct Loader<'a> {
     param_index: HashMap<String, usize>,
     pub(super) exprs: Vec<Expr>,
     /// Quantities that must come out positive: (quantity, path, what).
-    pub(super) positive: Vec<(Q, KeyPath, &'static str)>,
+    pub(super) positive: Vec<(QuantityId, KeyPath, &'static str)>,
     pub(super) expr_paths: Vec<KeyPath>,
     pub(super) frames: Vec<FrameDef>,
     frame_index: HashMap<String, usize>,
@@ -34,7 +34,9 @@ pub(super) struct Loader<'a> {
     point_index: HashMap<String, usize>,
 }
 
-type R<T> = Result<T, Box<ModelError>>;
+/// What loading a part of the model gives: the part, or the place in the file
+/// that is wrong.
+pub(super) type LoadResult<T> = Result<T, Box<ModelError>>;
 
 impl<'a> Loader<'a> {
     pub(super) fn new(file_name: &str, text: &'a str) -> Self {
@@ -90,13 +92,13 @@ impl<'a> Loader<'a> {
         })
     }
 
-    pub(super) fn parse(&self, text: &str) -> R<ModelFile> {
+    pub(super) fn parse(&self, text: &str) -> LoadResult<ModelFile> {
         toml::from_str::<ModelFile>(text).map_err(|e| self.toml_err(e))
     }
 
     // ---- parameters -------------------------------------------------------
 
-    pub(super) fn parameters(&mut self, f: &ModelFile) -> R<Vec<usize>> {
+    pub(super) fn parameters(&mut self, f: &ModelFile) -> LoadResult<Vec<usize>> {
         for (name, p) in &f.parameters {
             let path = KeyPath::root().key("parameters").key(name);
             if !is_ident(name) {
@@ -182,7 +184,7 @@ impl<'a> Loader<'a> {
         self.param_order()
     }
 
-    fn param_order(&self) -> R<Vec<usize>> {
+    fn param_order(&self) -> LoadResult<Vec<usize>> {
         // Kahn's algorithm over "derived parameter reads parameter" edges.
         let n = self.params.len();
         let mut deps: Vec<Vec<usize>> = vec![Vec::new(); n];
@@ -219,7 +221,7 @@ impl<'a> Loader<'a> {
         }
     }
 
-    fn parse_expr(&self, src: &str, path: &KeyPath) -> R<Expr> {
+    fn parse_expr(&self, src: &str, path: &KeyPath) -> LoadResult<Expr> {
         let lookup = |n: &str| self.param_index.get(n).copied();
         Expr::parse(src, &lookup).map_err(|e| self.expr_err(e, src, path))
     }
@@ -245,7 +247,7 @@ impl<'a> Loader<'a> {
         err
     }
 
-    fn check_dim(&self, e: &Expr, want: Option<Dim>, path: &KeyPath, src: &str) -> R<()> {
+    fn check_dim(&self, e: &Expr, want: Option<Dim>, path: &KeyPath, src: &str) -> LoadResult<()> {
         let pd = |i: usize| unit_dim(self.params[i].unit).unwrap_or(Dim::ONE);
         match e.dimension(&pd) {
             Err(m) => Err(self.err(
@@ -266,7 +268,7 @@ impl<'a> Loader<'a> {
     }
 
     /// Compiles a value expected in dimension `want` (`None`: any).
-    pub(super) fn qty(&mut self, v: &Value, want: Option<Dim>, path: KeyPath) -> R<Q> {
+    pub(super) fn qty(&mut self, v: &Value, want: Option<Dim>, path: KeyPath) -> LoadResult<QuantityId> {
         let e = match v {
             Value::Number(x) => {
                 if !x.is_finite() {
@@ -285,27 +287,32 @@ impl<'a> Loader<'a> {
         Ok(self.exprs.len() - 1)
     }
 
-    pub(super) fn length(&mut self, v: &Value, path: KeyPath) -> R<Q> {
+    pub(super) fn length(&mut self, v: &Value, path: KeyPath) -> LoadResult<QuantityId> {
         self.qty(v, Some(Dim::LENGTH), path)
     }
 
-    pub(super) fn positive_length(&mut self, v: &Value, path: KeyPath, what: &'static str) -> R<Q> {
+    pub(super) fn positive_length(&mut self, v: &Value, path: KeyPath, what: &'static str) -> LoadResult<QuantityId> {
         let q = self.qty(v, Some(Dim::LENGTH), path.clone())?;
         self.positive.push((q, path, what));
         Ok(q)
     }
 
-    pub(super) fn angle(&mut self, v: &Value, path: KeyPath) -> R<Q> {
+    pub(super) fn angle(&mut self, v: &Value, path: KeyPath) -> LoadResult<QuantityId> {
         self.qty(v, Some(Dim::ANGLE), path)
     }
 
-    fn zero(&mut self) -> Q {
+    fn zero(&mut self) -> QuantityId {
         self.exprs.push(Expr::Num(0.0));
         self.expr_paths.push(KeyPath::root());
         self.exprs.len() - 1
     }
 
-    fn coords(&mut self, v: &[Value], path: &KeyPath, dims: std::ops::RangeInclusive<usize>) -> R<[Q; 3]> {
+    fn coords(
+        &mut self,
+        v: &[Value],
+        path: &KeyPath,
+        dims: std::ops::RangeInclusive<usize>,
+    ) -> LoadResult<[QuantityId; 3]> {
         if !dims.contains(&v.len()) {
             let want = if dims.start() == dims.end() {
                 format!("{}", dims.start())
@@ -330,7 +337,7 @@ impl<'a> Loader<'a> {
 
     // ---- frames and axes ----------------------------------------------------
 
-    pub(super) fn frames(&mut self, f: &ModelFile) -> R<()> {
+    pub(super) fn frames(&mut self, f: &ModelFile) -> LoadResult<()> {
         self.frames.push(FrameDef {
             name: "world".into(),
             parent: None,
@@ -412,7 +419,7 @@ impl<'a> Loader<'a> {
         Ok(())
     }
 
-    fn frame_ref(&self, name: &str, path: &KeyPath) -> R<usize> {
+    fn frame_ref(&self, name: &str, path: &KeyPath) -> LoadResult<usize> {
         self.frame_index.get(name).copied().ok_or_else(|| {
             let help = match did_you_mean(name, self.frame_index.keys().map(String::as_str)) {
                 Some(s) => format!("did you mean `{s}`?"),
@@ -422,14 +429,14 @@ impl<'a> Loader<'a> {
         })
     }
 
-    pub(super) fn opt_frame(&self, name: &Option<String>, path: KeyPath) -> R<usize> {
+    pub(super) fn opt_frame(&self, name: &Option<String>, path: KeyPath) -> LoadResult<usize> {
         match name {
             Some(n) => self.frame_ref(n, &path),
             None => Ok(0),
         }
     }
 
-    fn axis(&mut self, a: &Axis, path: KeyPath) -> R<AxisDef> {
+    fn axis(&mut self, a: &Axis, path: KeyPath) -> LoadResult<AxisDef> {
         match a {
             Axis::Named(s) => {
                 let (sign, n) = match s.strip_prefix('-') {
@@ -475,7 +482,7 @@ impl<'a> Loader<'a> {
 
     // ---- points -------------------------------------------------------------
 
-    pub(super) fn fixed_points(&mut self, f: &ModelFile) -> R<()> {
+    pub(super) fn fixed_points(&mut self, f: &ModelFile) -> LoadResult<()> {
         for (name, p) in &f.points {
             let path = KeyPath::root().key("points").key(name);
             self.check_point_name(name, &path)?;
@@ -491,7 +498,7 @@ impl<'a> Loader<'a> {
         Ok(())
     }
 
-    fn check_point_name(&self, name: &str, path: &KeyPath) -> R<()> {
+    fn check_point_name(&self, name: &str, path: &KeyPath) -> LoadResult<()> {
         if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
             return Err(self.err(
                 path,
@@ -502,7 +509,7 @@ impl<'a> Loader<'a> {
         Ok(())
     }
 
-    fn add_point(&mut self, name: &str, kind: PointKind, path: &KeyPath) -> R<usize> {
+    fn add_point(&mut self, name: &str, kind: PointKind, path: &KeyPath) -> LoadResult<usize> {
         self.check_point_name(name, path)?;
         if self.point_index.contains_key(name) {
             return Err(self.err(
@@ -518,7 +525,7 @@ impl<'a> Loader<'a> {
 
     /// Declares every moving point first so groups may refer to points
     /// created later in the file.
-    pub(super) fn declare_moving(&mut self, f: &ModelFile) -> R<()> {
+    pub(super) fn declare_moving(&mut self, f: &ModelFile) -> LoadResult<()> {
         for (k, d) in f.drivers.iter().enumerate() {
             self.add_point(
                 &d.out,
@@ -543,7 +550,7 @@ impl<'a> Loader<'a> {
         Ok(())
     }
 
-    pub(super) fn point(&self, name: &str, path: &KeyPath) -> R<usize> {
+    pub(super) fn point(&self, name: &str, path: &KeyPath) -> LoadResult<usize> {
         self.point_index.get(name).copied().ok_or_else(|| {
             let help = match did_you_mean(name, self.point_index.keys().map(String::as_str)) {
                 Some(s) => format!("did you mean `{s}`?"),
@@ -553,7 +560,7 @@ impl<'a> Loader<'a> {
         })
     }
 
-    fn fixed_point(&self, name: &str, path: &KeyPath) -> R<usize> {
+    fn fixed_point(&self, name: &str, path: &KeyPath) -> LoadResult<usize> {
         let i = self.point(name, path)?;
         if !matches!(self.points[i].1, PointKind::Fixed { .. }) {
             return Err(self.err(
@@ -567,7 +574,7 @@ impl<'a> Loader<'a> {
 
     // ---- drivers and groups ---------------------------------------------------
 
-    pub(super) fn drivers(&mut self, f: &ModelFile) -> R<Vec<(StepDef, String)>> {
+    pub(super) fn drivers(&mut self, f: &ModelFile) -> LoadResult<Vec<(StepDef, String)>> {
         let mut out = Vec::new();
         for (k, d) in f.drivers.iter().enumerate() {
             let path = KeyPath::root().key("drivers").index(k);
@@ -613,7 +620,7 @@ impl<'a> Loader<'a> {
         Ok(out)
     }
 
-    pub(super) fn groups(&mut self, f: &ModelFile) -> R<Vec<(StepDef, String, KeyPath)>> {
+    pub(super) fn groups(&mut self, f: &ModelFile) -> LoadResult<Vec<(StepDef, String, KeyPath)>> {
         let mut out = Vec::new();
         let mut names: Vec<&str> = Vec::new();
         for (k, g) in f.groups.iter().enumerate() {
@@ -644,7 +651,7 @@ impl<'a> Loader<'a> {
         Ok(out)
     }
 
-    fn group(&mut self, g: &Group, path: &KeyPath) -> R<(StepDef, String)> {
+    fn group(&mut self, g: &Group, path: &KeyPath) -> LoadResult<(StepDef, String)> {
         let kind = group_kind(g);
         let label = match group_name(g) {
             Some(n) => format!("{kind} group \"{n}\""),
@@ -720,7 +727,7 @@ impl<'a> Loader<'a> {
 
     /// A planar dyad: RRR, RRP or RPR; the spatial ones go on to
     /// [`Self::spatial_group`].
-    fn dyad_group(&mut self, g: &Group, path: &KeyPath) -> R<StepDef> {
+    fn dyad_group(&mut self, g: &Group, path: &KeyPath) -> LoadResult<StepDef> {
         Ok(match g {
             Group::Rrr {
                 joints,
@@ -821,7 +828,7 @@ impl<'a> Loader<'a> {
     }
 
     /// A spatial dyad: RSSR or a point on a line.
-    fn spatial_group(&mut self, g: &Group, path: &KeyPath) -> R<StepDef> {
+    fn spatial_group(&mut self, g: &Group, path: &KeyPath) -> LoadResult<StepDef> {
         Ok(match g {
             Group::Rssr {
                 from,
@@ -915,7 +922,7 @@ impl<'a> Loader<'a> {
         plane: &Option<String>,
         planar: Option<bool>,
         path: &KeyPath,
-    ) -> R<StepDef> {
+    ) -> LoadResult<StepDef> {
         let dims: Vec<usize> = unknowns.values().map(Vec::len).collect();
         let dim = match planar {
             Some(true) => 2,
@@ -995,7 +1002,7 @@ impl<'a> Loader<'a> {
         cp: &KeyPath,
         local: &BTreeMap<&str, usize>,
         dim: usize,
-    ) -> R<(ClosureDef, usize)> {
+    ) -> LoadResult<(ClosureDef, usize)> {
         match c {
             file::Constraint {
                 distance: Some(distance),
@@ -1054,7 +1061,7 @@ impl<'a> Loader<'a> {
         }
     }
 
-    fn side(&self, b: Branch, path: &KeyPath) -> R<f64> {
+    fn side(&self, b: Branch, path: &KeyPath) -> LoadResult<f64> {
         match b {
             Branch::Left => Ok(1.0),
             Branch::Right => Ok(-1.0),
@@ -1066,7 +1073,7 @@ impl<'a> Loader<'a> {
         }
     }
 
-    fn along(&self, b: Branch, path: &KeyPath) -> R<f64> {
+    fn along(&self, b: Branch, path: &KeyPath) -> LoadResult<f64> {
         match b {
             Branch::Forward => Ok(1.0),
             Branch::Backward => Ok(-1.0),
@@ -1080,7 +1087,7 @@ impl<'a> Loader<'a> {
 
     // ---- measures and output ------------------------------------------------------
 
-    pub(super) fn measures(&mut self, f: &ModelFile) -> R<Vec<(String, MeasureDef)>> {
+    pub(super) fn measures(&mut self, f: &ModelFile) -> LoadResult<Vec<(String, MeasureDef)>> {
         let mut out: Vec<(String, MeasureDef)> = Vec::new();
         for (k, m) in f.measures.iter().enumerate() {
             let path = KeyPath::root().key("measures").index(k);
@@ -1143,7 +1150,7 @@ impl<'a> Loader<'a> {
         Ok(out)
     }
 
-    pub(super) fn output_points(&self, f: &ModelFile) -> R<Vec<usize>> {
+    pub(super) fn output_points(&self, f: &ModelFile) -> LoadResult<Vec<usize>> {
         match f.output.as_ref().and_then(|o| o.points.as_ref()) {
             Some(names) => names
                 .iter()
@@ -1158,7 +1165,7 @@ impl<'a> Loader<'a> {
 
     /// Orders drivers and groups so every step's inputs are solved before it
     /// (file order where possible).
-    pub(super) fn order(&self, steps: Vec<(StepDef, String, KeyPath)>) -> R<Vec<(StepDef, String)>> {
+    pub(super) fn order(&self, steps: Vec<(StepDef, String, KeyPath)>) -> LoadResult<Vec<(StepDef, String)>> {
         let mut known: Vec<bool> = self
             .points
             .iter()
@@ -1213,7 +1220,7 @@ impl<'a> Loader<'a> {
         &mut self,
         f: &ModelFile,
         same_body: &impl Fn(usize, usize) -> bool,
-    ) -> R<Option<ThreadsDef>> {
+    ) -> LoadResult<Option<ThreadsDef>> {
         let Some(t) = &f.thread else {
             if !f.cams.is_empty() {
                 return Err(self.err(
@@ -1288,7 +1295,7 @@ impl<'a> Loader<'a> {
     }
 
     /// A friction coefficient μ, when given, within 0…5.
-    fn friction(&self, mu: Option<f64>, p: KeyPath) -> R<Option<f64>> {
+    fn friction(&self, mu: Option<f64>, p: KeyPath) -> LoadResult<Option<f64>> {
         match mu {
             Some(m) if !(m.is_finite() && (0.0..=5.0).contains(&m)) => Err(self.err(
                 &p,
@@ -1308,7 +1315,7 @@ impl<'a> Loader<'a> {
         default_mu: f64,
         cams: &[CamDef],
         same_body: &impl Fn(usize, usize) -> bool,
-    ) -> R<PathDef> {
+    ) -> LoadResult<PathDef> {
         if !is_ident(&tp.name) {
             return Err(self.err(
                 &pp.key("name"),
@@ -1395,7 +1402,7 @@ impl<'a> Loader<'a> {
         np: &KeyPath,
         path_mu: f64,
         cams: &[CamDef],
-    ) -> R<(String, f64, Option<SpanDef>)> {
+    ) -> LoadResult<(String, f64, Option<SpanDef>)> {
         let mu = self.friction(g.friction, np.key("friction"))?.unwrap_or(path_mu);
         let cam_fields = g.contact.is_some() || g.gamma_deg.is_some();
         let (name, span) = match (&g.at, &g.pin, &g.cam) {
@@ -1424,7 +1431,13 @@ impl<'a> Loader<'a> {
     }
 
     /// A one-sided guide: a pin the thread wraps in a given sense.
-    fn pin_guide(&mut self, g: &file::GuideNode, pin: &str, i: usize, np: &KeyPath) -> R<(String, Option<SpanDef>)> {
+    fn pin_guide(
+        &mut self,
+        g: &file::GuideNode,
+        pin: &str,
+        i: usize,
+        np: &KeyPath,
+    ) -> LoadResult<(String, Option<SpanDef>)> {
         let Some(axis) = &g.axis else {
             return Err(self.err(
                 np,
@@ -1470,7 +1483,7 @@ impl<'a> Loader<'a> {
         i: usize,
         np: &KeyPath,
         cams: &[CamDef],
-    ) -> R<(String, Option<SpanDef>)> {
+    ) -> LoadResult<(String, Option<SpanDef>)> {
         if g.axis.is_some() || g.radius.is_some() || g.frame.is_some() {
             return Err(self.err(
                 np,
@@ -1545,7 +1558,7 @@ impl<'a> Loader<'a> {
         ))
     }
 
-    fn cams(&mut self, f: &ModelFile) -> R<Vec<CamDef>> {
+    fn cams(&mut self, f: &ModelFile) -> LoadResult<Vec<CamDef>> {
         let mut out: Vec<CamDef> = Vec::new();
         for (k, c) in f.cams.iter().enumerate() {
             let path = KeyPath::root().key("cams").index(k);

@@ -15,11 +15,11 @@ pub mod file;
 mod load;
 mod resolve;
 pub(crate) mod spans;
-pub mod stitch;
+pub mod stitch_setup;
 
 use std::sync::Arc;
 
-use crate::error::{ModelError, ParamError, did_you_mean};
+use crate::error::{Input, ModelError, ParamError, did_you_mean};
 use crate::mechanism::Mechanism;
 use crate::scalar::Real;
 use crate::thread::ThreadPath;
@@ -28,7 +28,7 @@ pub use file::{ModelFile, Provenance, Unit};
 use spans::KeyPath;
 
 /// Index of a compiled quantity (an expression of parameters).
-pub(crate) type Q = usize;
+pub(crate) type QuantityId = usize;
 
 /// A parameter as declared.
 #[derive(Debug, Clone)]
@@ -61,13 +61,13 @@ impl ParamDef {
 pub(crate) struct FrameDef {
     pub name: String,
     pub parent: Option<usize>,
-    pub origin: Option<[Q; 3]>,
-    pub rotate: Vec<(usize, Q)>,
+    pub origin: Option<[QuantityId; 3]>,
+    pub rotate: Vec<(usize, QuantityId)>,
 }
 
 #[derive(Debug, Clone)]
 pub(crate) enum PointKind {
-    Fixed { frame: usize, coords: [Q; 3] },
+    Fixed { frame: usize, coords: [QuantityId; 3] },
     Moving,
 }
 
@@ -75,7 +75,7 @@ pub(crate) enum PointKind {
 #[derive(Debug, Clone)]
 pub(crate) enum AxisDef {
     Named(usize, f64),
-    Vector([Q; 3], KeyPath),
+    Vector([QuantityId; 3], KeyPath),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -86,8 +86,16 @@ pub(crate) enum ClosureRef {
 
 #[derive(Debug, Clone)]
 pub(crate) enum ClosureDef {
-    Distance { a: ClosureRef, b: ClosureRef, l: Q },
-    OnLine { p: usize, h: usize, t: usize },
+    Distance {
+        a: ClosureRef,
+        b: ClosureRef,
+        l: QuantityId,
+    },
+    OnLine {
+        p: usize,
+        h: usize,
+        t: usize,
+    },
 }
 
 /// A step before its parameters are resolved.
@@ -99,15 +107,15 @@ pub(crate) enum StepDef {
         frame: usize,
         axis: AxisDef,
         zero_dir: Option<AxisDef>,
-        radius: Q,
-        phase: Q,
+        radius: QuantityId,
+        phase: QuantityId,
         speed: f64,
     },
     Rrr {
         p1: usize,
         p2: usize,
-        l1: Q,
-        l2: Q,
+        l1: QuantityId,
+        l2: QuantityId,
         sign: f64,
         plane: usize,
         out: usize,
@@ -116,9 +124,9 @@ pub(crate) enum StepDef {
         from: usize,
         through: usize,
         toward: Option<usize>,
-        dir: Option<Q>,
-        offset: Q,
-        l: Q,
+        dir: Option<QuantityId>,
+        offset: QuantityId,
+        l: QuantityId,
         sign: f64,
         plane: usize,
         out: usize,
@@ -126,19 +134,19 @@ pub(crate) enum StepDef {
     Rpr {
         from: usize,
         pivot: usize,
-        e: Q,
-        d: Q,
+        e: QuantityId,
+        d: QuantityId,
         plane: usize,
         out: usize,
     },
     Rssr {
         from: usize,
-        l: Q,
+        l: QuantityId,
         pivot: usize,
         frame: usize,
         axis: AxisDef,
-        r: Q,
-        offset: Q,
+        r: QuantityId,
+        offset: QuantityId,
         zero_dir: Option<AxisDef>,
         sign: f64,
         out: usize,
@@ -149,26 +157,26 @@ pub(crate) enum StepDef {
         toward: Option<usize>,
         dir: Option<AxisDef>,
         frame: usize,
-        l: Q,
+        l: QuantityId,
         sign: f64,
         out: usize,
     },
     Rigid {
         base: [usize; 2],
-        d: Q,
-        angle: Q,
-        lift: Q,
+        d: QuantityId,
+        angle: QuantityId,
+        lift: QuantityId,
         plane: usize,
         out: usize,
     },
     Rigid3 {
         frame: [usize; 3],
-        at: [Q; 3],
+        at: [QuantityId; 3],
         out: usize,
     },
     Offset {
         from: usize,
-        by: [Q; 3],
+        by: [QuantityId; 3],
         frame: usize,
         out: usize,
     },
@@ -176,7 +184,7 @@ pub(crate) enum StepDef {
         dim: usize,
         plane: usize,
         outs: Vec<usize>,
-        guess: Vec<Q>,
+        guess: Vec<QuantityId>,
         closures: Vec<ClosureDef>,
     },
 }
@@ -310,7 +318,7 @@ pub(crate) fn bodies(steps: &[StepDef], kinds: &[PointKind]) -> Vec<Vec<usize>> 
 #[derive(Debug, Clone)]
 pub(crate) struct ThreadsDef {
     pub convention: file::TakeUpConvention,
-    pub elongation: Option<Q>,
+    pub elongation: Option<QuantityId>,
     pub phi0_deg: Option<f64>,
     pub tension_n: Option<f64>,
     pub paths: Vec<PathDef>,
@@ -333,14 +341,14 @@ pub(crate) struct CamDef {
 
 #[derive(Debug, Clone)]
 pub(crate) enum ProfileDef {
-    Disc { r: Q, e: Q },
+    Disc { r: QuantityId, e: QuantityId },
     Polar { theta: Vec<f64>, rho: Vec<f64> },
 }
 
 #[derive(Debug, Clone)]
 pub(crate) enum CamContactDef {
     Exact { sense: f64 },
-    Offset { gamma: Q },
+    Offset { gamma: QuantityId },
 }
 
 /// The thread paths' structure, which no parameter changes: each path's
@@ -473,7 +481,7 @@ pub(crate) enum SpanDef {
         c: usize,
         axis: AxisDef,
         frame: usize,
-        r: Q,
+        r: QuantityId,
         sense: f64,
         node: usize,
     },
@@ -547,33 +555,33 @@ pub struct Machine<T: Real> {
 /// A checked, compiled model. Cheap to resolve with new parameter values.
 #[derive(Debug, Clone)]
 pub struct Model {
-    pub file_name: String,
-    pub text: Arc<str>,
+    pub(crate) file_name: String,
+    pub(crate) text: Arc<str>,
     file: ModelFile,
-    pub params: Vec<ParamDef>,
+    pub(crate) params: Vec<ParamDef>,
     param_order: Vec<usize>,
     exprs: Vec<Expr>,
     expr_paths: Vec<KeyPath>,
-    positive: Vec<(Q, KeyPath, &'static str)>,
+    positive: Vec<(QuantityId, KeyPath, &'static str)>,
     frames: Vec<FrameDef>,
     /// Point names by slot.
-    pub point_names: Vec<String>,
+    pub(crate) point_names: Vec<String>,
     point_kinds: Vec<PointKind>,
     steps: Vec<StepDef>,
     labels: Arc<[String]>,
     measures: Vec<MeasureDef>,
     /// Measure names, in order.
-    pub measure_names: Vec<String>,
+    pub(crate) measure_names: Vec<String>,
     /// Dyads with a transmission angle, in order.
-    pub dyads: Vec<DyadInfo>,
+    pub(crate) dyads: Vec<DyadInfo>,
     /// Link-angle names (`angle_A_B`), in order.
-    pub link_angle_names: Vec<String>,
+    pub(crate) link_angle_names: Vec<String>,
     /// Points printed by default.
-    pub output_points: Vec<usize>,
+    pub(crate) output_points: Vec<usize>,
     /// Every point stays in the world xy-plane (z columns are omitted).
-    pub planar: bool,
+    pub(crate) planar: bool,
     threads: Option<ThreadsDef>,
-    stitch: Option<stitch::StitchDef>,
+    stitch: Option<stitch_setup::StitchDef>,
 }
 
 impl Model {
@@ -651,7 +659,7 @@ impl Model {
             }
             PointKind::Moving => true,
         });
-        let flat = |q: Q| matches!(ld.exprs[q], Expr::Num(z) if z == 0.0);
+        let flat = |q: QuantityId| matches!(ld.exprs[q], Expr::Num(z) if z == 0.0);
         let planar = fixed_flat
             && steps
                 .iter()
@@ -697,7 +705,7 @@ impl Model {
     /// Loads a model file from disk.
     pub fn from_path(path: &std::path::Path) -> Result<Model, crate::Error> {
         let text = std::fs::read_to_string(path)
-            .map_err(|e| crate::Error::Io(format!("cannot read model file `{}`: {e}", path.display())))?;
+            .map_err(|e| crate::Error::Io(crate::error::IoError::os("read model file", Some(path), e)))?;
         Ok(Model::from_toml_str(&text, &path.display().to_string())?)
     }
 
@@ -708,10 +716,18 @@ impl Model {
             let hint = did_you_mean(name, names)
                 .map(|s| format!(" (did you mean `{s}`?)"))
                 .unwrap_or_default();
-            crate::Error::Param(ParamError {
-                message: format!("no preset named `{name}`{hint}"),
-                help: Some("`stitchkin presets` lists them".into()),
-            })
+            crate::Error::Param(ParamError::new(
+                Input::Preset,
+                format!("no preset named `{name}`{hint}"),
+                Some(format!(
+                    "the presets are: {}",
+                    crate::presets::ALL
+                        .iter()
+                        .map(|p| p.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )),
+            ))
         })?;
         Ok(Model::from_toml_str(p.toml, &format!("preset:{}", p.name))?)
     }
@@ -733,9 +749,9 @@ impl Model {
     pub fn set(&self, params: &mut Params, name: &str, value: f64) -> Result<(), ParamError> {
         let Some(i) = self.param_index(name) else {
             let hint = did_you_mean(name, self.params.iter().map(|p| p.name.as_str()));
-            return Err(ParamError {
-                message: format!("the model has no parameter `{name}`"),
-                help: Some(match hint {
+            return Err(ParamError::general(
+                format!("the model has no parameter `{name}`"),
+                Some(match hint {
                     Some(s) => format!("did you mean `{s}`?"),
                     None => format!(
                         "its parameters are: {}",
@@ -747,32 +763,29 @@ impl Model {
                             .join(", ")
                     ),
                 }),
-            });
+            ));
         };
         let p = &self.params[i];
         if p.is_derived() {
-            return Err(ParamError {
-                message: format!("`{name}` is derived from other parameters and cannot be set"),
-                help: Some("set the parameters its expression uses instead".into()),
-            });
+            return Err(ParamError::general(
+                format!("`{name}` is derived from other parameters and cannot be set"),
+                Some("set the parameters its expression uses instead".into()),
+            ));
         }
         if !value.is_finite() {
-            return Err(ParamError {
-                message: format!("`{name}` must be a finite number"),
-                help: None,
-            });
+            return Err(ParamError::general(format!("`{name}` must be a finite number"), None));
         }
         if let Some([lo, hi]) = p.range
             && (value < lo || value > hi)
         {
-            return Err(ParamError {
-                message: format!(
+            return Err(ParamError::general(
+                format!(
                     "{name} = {value} {} is outside its adjustable range {lo}…{hi} {}",
                     p.unit_str(),
                     p.unit_str()
                 ),
-                help: Some(format!("choose a value between {lo} and {hi}")),
-            });
+                Some(format!("choose a value between {lo} and {hi}")),
+            ));
         }
         params.values[i] = value;
         Ok(())
@@ -781,17 +794,21 @@ impl Model {
     /// Parses `NAME=VALUE` and applies it.
     pub fn set_str(&self, params: &mut Params, assignment: &str) -> Result<(), ParamError> {
         let Some((name, value)) = assignment.split_once('=') else {
-            return Err(ParamError {
-                message: format!("`{assignment}` is not an assignment"),
-                help: Some("write NAME=VALUE, e.g. --set alpha=20".into()),
-            });
+            return Err(ParamError::new(
+                Input::Set,
+                format!("`{assignment}` is not an assignment"),
+                Some("write NAME=VALUE, e.g. alpha=20".into()),
+            ));
         };
         let (name, value) = (name.trim(), value.trim());
-        let v: f64 = value.parse().map_err(|_| ParamError {
-            message: format!("`{value}` is not a number (in `--set {assignment}`)"),
-            help: Some("values are plain numbers in the parameter's unit (mm or deg)".into()),
+        let v: f64 = value.parse().map_err(|_| {
+            ParamError::new(
+                Input::Set,
+                format!("`{assignment}`: `{value}` is not a number"),
+                Some("values are plain numbers in the parameter's unit (mm or deg)".into()),
+            )
         })?;
-        self.set(params, name, v)
+        self.set(params, name, v).map_err(|e| e.in_input(Input::Set))
     }
 
     /// Resolves every parameter with `params` into a solvable mechanism
@@ -896,6 +913,52 @@ impl Model {
     /// Labels of the solve steps, in solve order.
     pub fn step_labels(&self) -> &[String] {
         &self.labels
+    }
+
+    /// The file the model was read from (or `preset:NAME`).
+    pub fn file_name(&self) -> &str {
+        &self.file_name
+    }
+
+    /// The model file's text, for pointing at a place in it.
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
+    /// The parameters as declared, in file order.
+    pub fn params(&self) -> &[ParamDef] {
+        &self.params
+    }
+
+    /// Point names by slot (the order of a cycle's point columns).
+    pub fn point_names(&self) -> &[String] {
+        &self.point_names
+    }
+
+    /// Measure names, in order.
+    pub fn measure_names(&self) -> &[String] {
+        &self.measure_names
+    }
+
+    /// The dyads with a transmission angle, in order.
+    pub fn dyads(&self) -> &[DyadInfo] {
+        &self.dyads
+    }
+
+    /// Link-angle names (`angle_A_B`), in order.
+    pub fn link_angle_names(&self) -> &[String] {
+        &self.link_angle_names
+    }
+
+    /// The slots of the points a cycle prints by default.
+    pub fn output_points(&self) -> &[usize] {
+        &self.output_points
+    }
+
+    /// Whether every point stays in the world xy-plane (a cycle then has no
+    /// z columns).
+    pub fn is_planar(&self) -> bool {
+        self.planar
     }
 
     /// The model's short name (`[model] name`), as presets are called.
@@ -1098,7 +1161,7 @@ impl Model {
     pub fn leaves_stitch_alone(
         &self,
         base: &Params,
-        nominal: &stitch::StitchSetup,
+        nominal: &stitch_setup::StitchSetup,
         name: &str,
         lo: f64,
         hi: f64,
@@ -1135,18 +1198,20 @@ pub enum PointError {
 }
 
 impl PointError {
-    /// The error, naming `place`: where the name was given (for example
-    /// the option that carried it), with the points to choose from.
-    pub fn given_in(&self, place: &str) -> crate::Error {
+    /// The error of a point name given in `input`, with the points to
+    /// choose from.
+    pub fn given_in(&self, input: Input) -> crate::Error {
         crate::Error::Param(match self {
-            PointError::Unknown { name, closest, points } => ParamError {
-                message: format!("the model has no point `{name}` (in {place}){}", typo_hint(closest)),
-                help: Some(format!("its points are: {}", points.join(", "))),
-            },
-            PointError::Fixed { name, moving } => ParamError {
-                message: format!("point `{name}` is fixed, so it has no path (in {place})"),
-                help: Some(format!("the moving points are: {}", moving.join(", "))),
-            },
+            PointError::Unknown { name, closest, points } => ParamError::new(
+                input,
+                format!("the model has no point `{name}`{}", typo_hint(closest)),
+                Some(format!("its points are: {}", points.join(", "))),
+            ),
+            PointError::Fixed { name, moving } => ParamError::new(
+                input,
+                format!("point `{name}` is fixed, so it has no path"),
+                Some(format!("the moving points are: {}", moving.join(", "))),
+            ),
         })
     }
 }

@@ -5,7 +5,7 @@
 
 use super::{
     AxisDef, CamContactDef, CamDef, ClosureDef, ClosureRef, Machine, MeasureDef, Model, PathDef, PointKind, ProfileDef,
-    SpanDef, StepDef, ThreadsDef, file, stitch,
+    SpanDef, StepDef, ThreadsDef, file, stitch_setup,
 };
 use crate::error::ModelError;
 use crate::geometry::{Placement, Plane, V2, V3, axis_rotation};
@@ -597,7 +597,7 @@ impl<T: Real> Resolver<'_, T> {
         let eye = *p.nodes.last()?;
         st.needles
             .iter()
-            .any(|n| matches!(n.eye, stitch::OrganDef::Point(s) if s == eye))
+            .any(|n| matches!(n.eye, stitch_setup::OrganDef::Point(s) if s == eye))
             .then(|| {
                 let beta = st.tilt.map_or(T::zero(), |i| self.q[i] * self.deg);
                 self.frames[st.frame]

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use crate::error::Error;
+use crate::error::{Error, IoError};
 use crate::eval::CycleTable;
 use crate::format::fmt_num;
 use crate::model::{Model, Params};
@@ -94,10 +94,10 @@ pub fn check_folder(path: &Path) -> Result<(), Error> {
     if dir.is_dir() {
         Ok(())
     } else {
-        Err(Error::Io(format!(
-            "cannot write `{}`: there is no folder `{}`",
-            path.display(),
-            dir.display()
+        Err(Error::Io(IoError::refused(
+            "write",
+            Some(path),
+            format!("there is no folder `{}`", dir.display()),
         )))
     }
 }
@@ -115,9 +115,10 @@ enum Destination {
 
 fn destination(path: &Path) -> Result<Destination, Error> {
     match std::fs::metadata(path) {
-        Ok(m) if m.is_dir() => Err(Error::Io(format!(
-            "cannot write `{}`: it is a folder; name a file in it",
-            path.display()
+        Ok(m) if m.is_dir() => Err(Error::Io(IoError::refused(
+            "write",
+            Some(path),
+            "it is a folder; name a file in it",
         ))),
         Ok(m) if !m.is_file() => Ok(Destination::InPlace),
         found => {
@@ -128,7 +129,7 @@ fn destination(path: &Path) -> Result<Destination, Error> {
             };
             let name = real
                 .file_name()
-                .ok_or_else(|| Error::Io(format!("`{}` is not a file path", path.display())))?;
+                .ok_or_else(|| Error::Io(IoError::refused("write", Some(path), "it names no file")))?;
             let tmp = folder_of(&real).join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
             Ok(Destination::Replace { real, tmp })
         }
@@ -139,7 +140,7 @@ fn destination(path: &Path) -> Result<Destination, Error> {
 /// a rename, so the file is either complete or untouched; a device or a pipe
 /// is written in place.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    let io = |e: std::io::Error, what: &str| Error::Io(format!("cannot {what} `{}`: {e}", path.display()));
+    let io = |e: std::io::Error, what: &str| Error::Io(IoError::os(what, Some(path), e));
     let (real, tmp) = match destination(path)? {
         Destination::InPlace => {
             let mut f = std::fs::OpenOptions::new()
@@ -192,9 +193,8 @@ impl Sink {
             None => SinkTarget::Stdout(std::io::BufWriter::new(std::io::stdout())),
             Some(path) => match destination(path)? {
                 Destination::Replace { real, tmp } => {
-                    let f = std::fs::File::create(&tmp).map_err(|e| {
-                        Error::Io(format!("cannot create a temporary file for `{}`: {e}", path.display()))
-                    })?;
+                    let f = std::fs::File::create(&tmp)
+                        .map_err(|e| Error::Io(IoError::os("create a temporary file for", Some(path), e)))?;
                     SinkTarget::File {
                         tmp,
                         real,
@@ -206,7 +206,7 @@ impl Sink {
                     let f = std::fs::OpenOptions::new()
                         .write(true)
                         .open(path)
-                        .map_err(|e| Error::Io(format!("cannot open `{}`: {e}", path.display())))?;
+                        .map_err(|e| Error::Io(IoError::os("open", Some(path), e)))?;
                     SinkTarget::InPlace {
                         path: path.to_path_buf(),
                         file: std::io::BufWriter::new(f),
@@ -222,16 +222,16 @@ impl Sink {
             SinkTarget::Stdout(w) => match w.write_all(bytes) {
                 // A closed pipe (`| head`) ends the output quietly.
                 Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-                r => r.map_err(|e| Error::Io(format!("cannot write to stdout: {e}"))),
+                r => r.map_err(|e| Error::Io(IoError::os("write to stdout", None, e))),
             },
             SinkTarget::File { path, file, .. } => file
                 .as_mut()
                 .expect("open until finished")
                 .write_all(bytes)
-                .map_err(|e| Error::Io(format!("cannot write `{}`: {e}", path.display()))),
+                .map_err(|e| Error::Io(IoError::os("write", Some(path), e))),
             SinkTarget::InPlace { path, file } => file
                 .write_all(bytes)
-                .map_err(|e| Error::Io(format!("cannot write `{}`: {e}", path.display()))),
+                .map_err(|e| Error::Io(IoError::os("write", Some(path), e))),
         }
     }
 
@@ -240,16 +240,16 @@ impl Sink {
         match &mut self.target {
             SinkTarget::Stdout(w) => match w.flush() {
                 Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-                    Err(Error::Io(format!("cannot write to stdout: {e}")))
+                    Err(Error::Io(IoError::os("write to stdout", None, e)))
                 }
                 _ => Ok(()),
             },
-            SinkTarget::InPlace { path, file } => file
-                .flush()
-                .map_err(|e| Error::Io(format!("cannot write `{}`: {e}", path.display()))),
+            SinkTarget::InPlace { path, file } => {
+                file.flush().map_err(|e| Error::Io(IoError::os("write", Some(path), e)))
+            }
             SinkTarget::File { tmp, real, path, file } => {
                 let w = file.take().expect("open until finished");
-                let io = |e: std::io::Error| Error::Io(format!("cannot write `{}`: {e}", path.display()));
+                let io = |e: std::io::Error| Error::Io(IoError::os("write", Some(path), e));
                 let result = w
                     .into_inner()
                     .map_err(|e| io(e.into_error()))

@@ -6,7 +6,7 @@ pub mod nomogram;
 
 pub mod cam_summary;
 pub mod columns;
-pub mod compare2d3d;
+pub mod compare_2d3d;
 pub mod consumption;
 pub mod cycle;
 pub mod fit;

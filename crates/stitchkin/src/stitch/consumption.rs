@@ -17,7 +17,7 @@
 
 use serde::Serialize;
 
-use crate::error::ParamError;
+use crate::error::{Input, ParamError};
 
 /// The technological parameters of a stitch, mm and degrees.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -85,34 +85,48 @@ const MATRIX: &[(u16, [u8; 4])] = &[
 
 impl StitchGeometry {
     fn check(&self) -> Result<(), ParamError> {
-        let bad = |what: &str, v: f64, want: &str| {
-            Err(ParamError {
-                message: format!("{what} = {v} is out of range"),
-                help: Some(want.to_string()),
-            })
+        let bad = |input: Input, what: &str, v: f64, want: &str| {
+            Err(ParamError::new(
+                input,
+                format!("{what} = {v} is out of range"),
+                Some(want.to_string()),
+            ))
         };
         if !(self.thickness_mm.is_finite() && self.thickness_mm >= 0.0) {
             return bad(
+                Input::Thickness,
                 "the material thickness",
                 self.thickness_mm,
-                "give m ≥ 0 mm, e.g. --thickness 2.5",
+                "give m ≥ 0 mm, e.g. 2.5",
             );
         }
         if !(self.stitch_mm.is_finite() && self.stitch_mm > 0.0) {
-            return bad("the stitch length", self.stitch_mm, "give t > 0 mm, e.g. --stitch 2.8");
+            return bad(
+                Input::StitchLength,
+                "the stitch length",
+                self.stitch_mm,
+                "give t > 0 mm, e.g. 2.8",
+            );
         }
         if !(self.width_mm.is_finite() && self.width_mm >= 0.0) {
-            return bad("the overedge width", self.width_mm, "give a ≥ 0 mm, e.g. --width 4");
+            return bad(
+                Input::Width,
+                "the overedge width",
+                self.width_mm,
+                "give a ≥ 0 mm, e.g. 4",
+            );
         }
         if !(self.incline_deg.is_finite() && self.incline_deg.abs() < 80.0) {
             return bad(
+                Input::Incline,
                 "the needle inclination",
                 self.incline_deg,
-                "give β between −80° and 80°, e.g. --incline 20",
+                "give β between −80° and 80°, e.g. 20",
             );
         }
         if !(0.0..=1.0).contains(&self.edge_fraction) {
             return bad(
+                Input::EdgeFraction,
                 "the edge fraction",
                 self.edge_fraction,
                 "give e between 0 and 1 (0.5: the looper threads meet mid-edge)",
@@ -169,10 +183,11 @@ pub fn consumption(stitch_type: u16, g: &StitchGeometry) -> Result<Consumption, 
         }
         _ => {
             let Some((_, row)) = MATRIX.iter().find(|(ty, _)| *ty == stitch_type) else {
-                return Err(ParamError {
-                    message: format!("stitch type {stitch_type} is not covered"),
-                    help: Some(format!("stitch types: {TYPES}")),
-                });
+                return Err(ParamError::new(
+                    Input::StitchType,
+                    format!("stitch type {stitch_type} is not covered"),
+                    Some(format!("stitch types: {TYPES}")),
+                ));
             };
             for (name, &c) in ["needle 1", "needle 2", "lower looper", "upper looper"].iter().zip(row) {
                 if c == 0 {
@@ -189,6 +204,17 @@ pub fn consumption(stitch_type: u16, g: &StitchGeometry) -> Result<Consumption, 
         }
     }
     let total_mm = threads.iter().map(|t| t.length_mm).sum::<Option<f64>>();
+    let lengths = threads
+        .iter()
+        .filter_map(|t| t.length_mm)
+        .chain(total_mm)
+        .chain([l_m, l]);
+    if lengths.into_iter().any(|v| !v.is_finite()) {
+        return Err(ParamError::general(
+            format!("the thread lengths overflow for m = {m} mm, t = {t} mm, a = {a} mm"),
+            Some("give the dimensions of a real stitch (a few mm)".into()),
+        ));
+    }
     Ok(Consumption {
         stitch_type,
         geometry: *g,

@@ -25,6 +25,7 @@
 //! stitch length disagree).
 
 use crate::Error;
+use crate::error::StitchError;
 
 use super::spec::{FeedLaw, Motion};
 
@@ -51,8 +52,9 @@ impl Feed {
     /// inside one cyclogram cycle (it never straddles φ_c = 0, §2).
     pub fn new(law: &FeedLaw, t_mm: f64) -> Result<Feed, Error> {
         if !(t_mm.is_finite() && t_mm > 0.0) {
-            return Err(Error::Stitch(format!(
-                "feed: the stitch length t = {t_mm} mm is not positive; give t > 0"
+            return Err(Error::Stitch(StitchError::new(
+                "feed",
+                format!("the stitch length t = {t_mm} mm is not positive; give t > 0"),
             )));
         }
         let (start_deg, duration_deg) = match law {
@@ -63,16 +65,22 @@ impl Feed {
             FeedLaw::Point { dog } => return Feed::from_dog(dog, t_mm),
         };
         if !(duration_deg.is_finite() && duration_deg > 0.0 && duration_deg < 360.0) {
-            return Err(Error::Stitch(format!(
-                "feed: the transport duration φ_tr = {duration_deg}° is out of range; give 0° < φ_tr < 360° \
+            return Err(Error::Stitch(StitchError::new(
+                "feed",
+                format!(
+                    "the transport duration φ_tr = {duration_deg}° is out of range; give 0° < φ_tr < 360° \
                  (seed 004: 100°)"
+                ),
             )));
         }
         if !(start_deg.is_finite() && start_deg >= 0.0 && start_deg + duration_deg <= 360.0) {
-            return Err(Error::Stitch(format!(
-                "feed: the transport [{start_deg}°, {}°] must lie inside the cyclogram cycle [0°, 360°] \
+            return Err(Error::Stitch(StitchError::new(
+                "feed",
+                format!(
+                    "the transport [{start_deg}°, {}°] must lie inside the cyclogram cycle [0°, 360°] \
                  (φ_c = 0 is the needle BDC); move start_deg",
-                start_deg + duration_deg
+                    start_deg + duration_deg
+                ),
             )));
         }
         Ok(Feed {
@@ -94,8 +102,9 @@ impl Feed {
             let (a, b) = (k as f64 * DOG_GRID_DEG, (k + 1) as f64 * DOG_GRID_DEG);
             let (za, zb) = (z(a), z(b));
             if !(za.is_finite() && zb.is_finite()) {
-                return Err(Error::Stitch(format!(
-                    "feed: the feed dog's tooth is not finite at φ_c = {a:.2}°"
+                return Err(Error::Stitch(StitchError::new(
+                    "feed",
+                    format!("the feed dog's tooth is not finite at φ_c = {a:.2}°"),
                 )));
             }
             if za <= 0.0 && zb > 0.0 {
@@ -107,31 +116,41 @@ impl Feed {
         let (start_deg, end_deg) = match (rises.as_slice(), sinks.as_slice()) {
             ([r], [s]) if r < s => (*r, *s),
             ([r], [s]) => {
-                return Err(Error::Stitch(format!(
-                    "feed: the feed dog's tooth is above the plate from φ_c = {r:.2}° through the needle's BDC to {s:.2}°; \
+                return Err(Error::Stitch(StitchError::new(
+                    "feed",
+                    format!(
+                        "the feed dog's tooth is above the plate from φ_c = {r:.2}° through the needle's BDC to {s:.2}°; \
                      the transport must lie inside one cyclogram cycle (φ_c = 0 is the needle BDC): change the dog's phase"
+                    ),
                 )));
             }
             ([], []) => {
-                return Err(Error::Stitch(
-                    "feed: the feed dog's tooth never rises above the plate top (z > 0 in the stitch frame); \
-                     raise the dog or check the stitch frame"
-                        .into(),
-                ));
+                return Err(StitchError::new(
+                    "feed",
+                    "the feed dog's tooth never rises above the plate top (z > 0 in the stitch frame); \
+                     raise the dog or check the stitch frame",
+                )
+                .into());
             }
             _ => {
-                return Err(Error::Stitch(format!(
-                    "feed: the feed dog's tooth rises above the plate {} times in a cycle; it must rise once",
-                    rises.len()
+                return Err(Error::Stitch(StitchError::new(
+                    "feed",
+                    format!(
+                        "the feed dog's tooth rises above the plate {} times in a cycle; it must rise once",
+                        rises.len()
+                    ),
                 )));
             }
         };
         let (y_s, y_e) = (dog.at(start_deg).y, dog.at(end_deg).y);
         let travel = y_e - y_s;
         if travel.is_nan() || travel <= 1e-9 {
-            return Err(Error::Stitch(format!(
-                "feed: while above the plate the feed dog's tooth moves {travel:.4} mm along the seam; it must move \
+            return Err(Error::Stitch(StitchError::new(
+                "feed",
+                format!(
+                    "while above the plate the feed dog's tooth moves {travel:.4} mm along the seam; it must move \
                  the material forward (+y of the stitch frame)"
+                ),
             )));
         }
         let warning = ((travel - t_mm).abs() > 0.01 * t_mm).then(|| {

@@ -3,7 +3,8 @@
 //!
 //! - [`spec`]: what P' is computed from (the stitch, the organs' motions, the
 //!   moments) and what comes out;
-//! - [`feed`], [`material`], [`needle_thread`], [`overedge`], [`overedge503`]:
+//! - [`feed`], [`material`], [`needle_thread`], [`overedge`] (with its stitches
+//!   [`overedge::s504`] and [`overedge::s503`]):
 //!   the building blocks and the pieces of §4–§5;
 //! - [`required_take_up`]: [`required_take_up::required_take_up`], P' of every thread;
 //! - [`consumption`]: thread per finished stitch (§6);
@@ -19,7 +20,6 @@ pub mod material;
 pub mod mismatch;
 pub mod needle_thread;
 pub mod overedge;
-pub mod overedge503;
 pub mod required_take_up;
 // The stand-in cases shared by the unit tests and tests/it; not part of the
 // library's documented surface.

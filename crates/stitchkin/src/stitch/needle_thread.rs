@@ -13,6 +13,7 @@
 //! | N3a locked, eye out | [φ4, φ_in) | \|N − H_c^t\| |
 //! | N3b locked, needle c+1 in | [max(φ4, φ_in), 360) | (S − S_top) + \|P_top − H_c^t\| |
 
+use crate::error::StitchError;
 use std::f64::consts::PI;
 
 use crate::Error;
@@ -383,7 +384,7 @@ impl NeedlePiece {
 
 /// An error of needle `name`.
 fn needle_err<T>(name: &str, msg: String) -> Result<T, Error> {
-    Err(Error::Stitch(format!("needle {name}: {msg}")))
+    Err(Error::Stitch(StitchError::new(format!("needle {name}"), msg)))
 }
 
 /// The needle's line and when its eye leaves and reaches the material top

@@ -8,12 +8,13 @@
 //! cut off, which is exactly the per-stitch consumption of §6.
 
 use crate::Error;
+use crate::error::StitchError;
 
 use super::consumption::{StitchGeometry, consumption};
 use super::feed::Feed;
 use super::needle_thread::{NeedleThread, Side};
 use super::overedge::Overedge;
-use super::overedge503::Overedge503;
+use super::overedge::Overedge503;
 use super::spec::{
     Event, EventKind, Motion, Regulator, RequiredTakeUp, RequiredThread, StitchSpec, StitchType, ThreadRole,
 };
@@ -182,7 +183,12 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
             ThreadRole::LowerLooper => formula("lower looper"),
             ThreadRole::UpperLooper => formula("upper looper"),
         }
-        .ok_or_else(|| Error::Stitch(format!("thread {name}: no per-stitch formula for contour {contour}")))?;
+        .ok_or_else(|| {
+            Error::Stitch(StitchError::new(
+                format!("thread {name}"),
+                format!("no per-stitch formula for contour {contour}"),
+            ))
+        })?;
         // A needle thread's stitch is pulled tight as the needle reaches
         // TDC, a looper thread's at its draw-in (its lock).
         let tight = if *role == ThreadRole::Needle {
@@ -225,27 +231,32 @@ fn check_spec(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) -> Result<
     let ty = spec.stitch_type;
     let (m, tilt) = (spec.m_mm, spec.tilt_deg);
     if !(m.is_finite() && m > 0.0) {
-        return Err(Error::Stitch(format!(
-            "the material thickness m = {m} mm must be > 0 (e.g. 2.5)"
-        )));
+        return Err(StitchError::new("material", format!("the thickness m = {m} mm must be > 0 (e.g. 2.5)")).into());
     }
     if !(tilt.is_finite() && tilt.abs() < 80.0) {
-        return Err(Error::Stitch(format!(
-            "the needle tilt β = {tilt}° must be between −80° and 80° (Altin: 20°)"
-        )));
+        return Err(StitchError::new(
+            "needle",
+            format!("the tilt β = {tilt}° must be between −80° and 80° (Altin: 20°)"),
+        )
+        .into());
     }
     if let Some(bad) = phis_c_deg.iter().chain([&phi0_c_deg]).find(|p| !p.is_finite()) {
-        return Err(Error::Stitch(format!(
-            "the angle φ_c = {bad} is not a number; give finite angles in degrees"
-        )));
+        return Err(StitchError::new(
+            "cyclogram",
+            format!("the angle φ_c = {bad} is not a number; give finite angles in degrees"),
+        )
+        .into());
     }
     if spec.needles.len() != ty.needles() {
-        return Err(Error::Stitch(format!(
-            "stitch {} has {} needle(s) but {} were given; give one [[stitch.needles]] entry per needle",
-            ty.number(),
-            ty.needles(),
-            spec.needles.len()
-        )));
+        return Err(StitchError::new(
+            format!("stitch {}", ty.number()),
+            format!(
+                "it has {} needle(s) but {} were given; give one [[stitch.needles]] entry per needle",
+                ty.needles(),
+                spec.needles.len()
+            ),
+        )
+        .into());
     }
     Ok(())
 }
@@ -267,18 +278,21 @@ fn check_organs(spec: &StitchSpec) -> Result<(), Error> {
     // Chain stitches do not use the overedge width or the edge split.
     let overedge = matches!(ty, StitchType::S503 | StitchType::S504);
     if overedge && !(spec.a_e_mm.is_finite() && spec.a_e_mm > 0.0) {
-        return Err(Error::Stitch(format!(
-            "stitch {}: the overedge width a_e = {} mm must be > 0 (e.g. 4)",
-            ty.number(),
-            spec.a_e_mm
-        )));
+        return Err(StitchError::new(
+            format!("stitch {}", ty.number()),
+            format!("the overedge width a_e = {} mm must be > 0 (e.g. 4)", spec.a_e_mm),
+        )
+        .into());
     }
     if overedge && !(0.0..=1.0).contains(&spec.edge_split) {
-        return Err(Error::Stitch(format!(
-            "stitch {}: the edge split e = {} must be in [0, 1] (0.5: the looper threads meet mid-edge)",
-            ty.number(),
-            spec.edge_split
-        )));
+        return Err(StitchError::new(
+            format!("stitch {}", ty.number()),
+            format!(
+                "the edge split e = {} must be in [0, 1] (0.5: the looper threads meet mid-edge)",
+                spec.edge_split
+            ),
+        )
+        .into());
     }
     Ok(())
 }
@@ -300,7 +314,8 @@ fn required_thread(
         .collect::<Result<Vec<_>, _>>()?;
     let eta0 = c.eta(phi0, Side::Right)?;
     let lock = c.lock();
-    let window = regulator_window(regulator, tight, phi0).map_err(|e| Error::Stitch(format!("thread {name}: {e}")))?;
+    let window = regulator_window(regulator, tight, phi0)
+        .map_err(|e| Error::Stitch(StitchError::new(format!("thread {name}"), e.to_string())))?;
     let pprime_mm: Vec<f64> = eta_mm
         .iter()
         .zip(phis)
@@ -409,7 +424,7 @@ fn since_phi0(phi: f64, phi0: f64) -> f64 {
 /// panic: finite numbers, a table covering one cycle, a polyline with points
 /// and distinct low and high angles.
 fn check_motion(organ: &str, motion: &Motion) -> Result<(), Error> {
-    let bad = |what: String| Err(Error::Stitch(format!("{organ}: {what}")));
+    let bad = |what: String| Err(StitchError::new(organ, what).into());
     let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
     match motion {
         Motion::Table {
@@ -502,10 +517,11 @@ fn check_finite(th: &RequiredThread, phis: &[f64]) -> Result<(), Error> {
     ];
     for s in series.into_iter().flatten() {
         if let Some(k) = s.iter().position(|v| !v.is_finite()) {
-            return Err(Error::Stitch(format!(
-                "thread {}: η is not finite at φ_c = {:.2}°",
-                th.name, phis[k]
-            )));
+            return Err(StitchError::new(
+                format!("thread {}", th.name),
+                format!("η is not finite at φ_c = {:.2}°", phis[k]),
+            )
+            .into());
         }
     }
     let scalars = [th.per_stitch_mm, th.cut_mm, th.released_mm, th.snap_mm, th.lock_deg];
@@ -514,10 +530,7 @@ fn check_finite(th: &RequiredThread, phis: &[f64]) -> Result<(), Error> {
         .iter()
         .flat_map(|e| [e.eta_left_mm, e.eta_right_mm, e.phi_c_deg]);
     if scalars.into_iter().chain(events).any(|v| !v.is_finite()) {
-        return Err(Error::Stitch(format!(
-            "thread {}: a lock or event value is not finite",
-            th.name
-        )));
+        return Err(StitchError::new(format!("thread {}", th.name), "a lock or event value is not finite").into());
     }
     Ok(())
 }
@@ -624,7 +637,7 @@ mod tests {
         )
         .unwrap_err();
         assert!(
-            matches!(&err, Error::Stitch(m) if m.contains("503") && m.contains("[stitch.spreader]")),
+            matches!(&err, Error::Stitch(_) if err.to_string().contains("503") && err.to_string().contains("[stitch.spreader]")),
             "{err}"
         );
     }
@@ -664,7 +677,7 @@ mod tests {
             0.0,
         )
         .unwrap_err();
-        assert!(matches!(&err, Error::Stitch(m) if m.contains("a_e")), "{err}");
+        assert!(matches!(&err, Error::Stitch(m) if m.message.contains("a_e")), "{err}");
         let err = required_take_up(
             &StitchSpec {
                 edge_split: 1.5,
@@ -674,7 +687,10 @@ mod tests {
             0.0,
         )
         .unwrap_err();
-        assert!(matches!(&err, Error::Stitch(m) if m.contains("edge split")), "{err}");
+        assert!(
+            matches!(&err, Error::Stitch(m) if m.message.contains("edge split")),
+            "{err}"
+        );
         let mut empty_table = s.clone();
         empty_table.needles[0].eye = Motion::Table {
             start_deg: 0.0,

@@ -61,7 +61,7 @@
 use num_dual::Dual2_64;
 use serde::Serialize;
 
-use crate::error::{Error, ParamError};
+use crate::error::{Error, Input, NotFiniteError, ParamError};
 use crate::eval::{self, wrap_deg};
 use crate::format::fmt_num;
 use crate::geometry::{V2, V3};
@@ -259,10 +259,12 @@ pub struct CamSynthesis {
 }
 
 fn bad(message: String, help: &str) -> Error {
-    Error::Param(ParamError {
-        message,
-        help: Some(help.to_string()),
-    })
+    Error::Param(ParamError::general(message, Some(help.to_string())))
+}
+
+/// A value given in `input` that cannot be used.
+fn bad_input(input: Input, message: String, help: &str) -> Error {
+    Error::Param(ParamError::new(input, message, Some(help.to_string())))
 }
 
 /// The contact ray of the offset model at one φ (seed 004 §2.5).
@@ -634,7 +636,11 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
     let rho: Vec<f64> = knots.iter().map(|k| k.radius_mm).collect();
     let profile = Profile::spline(&theta, &rho);
     if !(0..720).all(|i| profile.rho(i as f64 * TAU / 720.0).is_finite()) {
-        return Err(Error::NotFinite("the synthesised profile is not finite".into()));
+        return Err(Error::NotFinite(NotFiniteError {
+            quantity: "the synthesised cam profile".into(),
+            phi_deg: None,
+            cause: "the target or the follower's geometry gives no finite radius somewhere; smooth the target or move the anchor".into(),
+        }));
     }
     // --- verify: the model again with the new profile --------------------------
     let p_after = take_up_with(&mech, threads, ci, &profile, &pose, &phis, pi)?;
@@ -707,44 +713,49 @@ fn shift_note(raw0: f64, phi0: f64, p_conv0: f64) -> String {
     )
 }
 
-/// The options in range, each refused with the flag that sets it.
+/// The options in range, each refused naming the input that sets it.
 fn check_options(opts: &CamOptions) -> Result<(), Error> {
     if !(8..=1440).contains(&opts.points) {
-        return Err(bad(
+        return Err(bad_input(
+            Input::ProfilePoints,
             format!("{} profile points is out of range", opts.points),
-            "give --points between 8 and 1440, e.g. 360 (one per degree)",
+            "give between 8 and 1440, e.g. 360 (one per degree)",
         ));
     }
     if !(opts.smooth_deg.is_finite() && (0.0..=180.0).contains(&opts.smooth_deg)) {
-        return Err(bad(
+        return Err(bad_input(
+            Input::Smooth,
             format!("smoothing over {} deg is out of range", opts.smooth_deg),
-            "give --smooth between 0 (none) and 180 degrees",
+            "give between 0 (none) and 180 degrees",
         ));
     }
     if !(opts.min_radius_mm.is_finite() && opts.min_radius_mm >= 0.0) {
-        return Err(bad(
+        return Err(bad_input(
+            Input::MinRadius,
             format!("the minimum radius {} mm is out of range", opts.min_radius_mm),
-            "give --min-radius as a non-negative number of mm, e.g. 3",
+            "give a non-negative number of mm, e.g. 3",
         ));
     }
     if !(opts.max_pressure_angle_deg.is_finite()
         && opts.max_pressure_angle_deg > 0.0
         && opts.max_pressure_angle_deg < 90.0)
     {
-        return Err(bad(
+        return Err(bad_input(
+            Input::MaxPressureAngle,
             format!(
                 "the contact-angle limit {} deg is out of range",
                 opts.max_pressure_angle_deg
             ),
-            "give --max-pressure-angle between 0 and 90 degrees, e.g. 45",
+            "give between 0 and 90 degrees, e.g. 45",
         ));
     }
     if let Some(r) = opts.anchor_radius_mm
         && !(r.is_finite() && r > 0.0)
     {
-        return Err(bad(
+        return Err(bad_input(
+            Input::AnchorRadius,
             format!("the anchor radius {r} mm must be a positive number of mm"),
-            "e.g. --anchor-radius 12",
+            "e.g. 12",
         ));
     }
     Ok(())
@@ -795,13 +806,14 @@ fn cam_piece(threads: &Threads<f64>, pi: usize, opts: &CamOptions) -> Result<Cam
         })?,
         (None, 1) => cams[0],
         (None, _) => {
-            return Err(bad(
+            return Err(bad_input(
+                Input::Cam,
                 format!(
                     "thread path `{}` runs over several cams ({})",
                     opts.path,
                     cam_names(&cams)
                 ),
-                "name one with --cam",
+                "name the cam to synthesise",
             ));
         }
     };
@@ -887,7 +899,7 @@ fn target_on_grid(
     // The stitch process: needed for `required`; for a curve only for the
     // match report, so a stitch that does not evaluate just leaves it out.
     let required = matches!(opts.target, Target::Required);
-    let prepared = match eval::stitch::prepare_on(model, params, phis.to_vec()) {
+    let prepared = match eval::stitch_process::prepare_on(model, params, phis.to_vec()) {
         Ok(p) => p,
         Err(e) if required => return Err(e),
         Err(_) => None,
@@ -903,7 +915,7 @@ fn target_on_grid(
         let th = &s.required.threads[t];
         Some(StitchThread {
             name: th.name.clone(),
-            pprime: eval::stitch::pprime_at_split(th, phis.len()),
+            pprime: eval::stitch_process::pprime_at_split(th, phis.len()),
             compared: s.compared[t].clone(),
             tolerance_mm: s.setup.tolerance_mm,
         })
@@ -912,23 +924,25 @@ fn target_on_grid(
         Target::Required => match &stitch_thread {
             Some(t) => (format!("required take-up P' of thread `{}`", t.name), t.pprime.clone()),
             None if setup.is_none() => {
-                return Err(bad(
+                return Err(bad_input(
+                    Input::Target,
                     format!(
                         "model `{}` has no [stitch], so there is no required take-up P' to match",
                         model.name()
                     ),
-                    "give the target as a curve instead: --target FILE.csv with columns phi_deg,P_mm",
+                    "give the target as a curve instead: a CSV file with columns phi_deg,P_mm",
                 ));
             }
             None => {
                 let listed: Vec<String> = setup.iter().flat_map(|s| s.paths.iter().flatten().cloned()).collect();
-                return Err(bad(
+                return Err(bad_input(
+                    Input::Target,
                     format!(
                         "no thread of [stitch] is compared with path `{}`, so it has no required take-up P'",
                         opts.path
                     ),
                     &format!(
-                        "paths with a P': {}; or give --target FILE.csv",
+                        "paths with a P': {}; or give the target as a CSV file",
                         if listed.is_empty() {
                             "none".into()
                         } else {
@@ -995,8 +1009,8 @@ fn solve_radii(rays: &[Ray], l_t: &[f64], phis: &[f64], anchor_rho: f64, cam: &C
         let need = lmin - l_t[k];
         let hint = match rays[0].solve(l_t[0] + need.max(0.0) + 0.01, 1e9) {
             Some(r) if r.is_finite() => format!(
-                "the target gives out more thread there than this cam can release. ξ(φ0) sets the level: --anchor-radius {:.2} (or \
-                 larger) reaches every position; or set the guides further apart, or give the target less swing",
+                "the target gives out more thread there than this cam can release. ξ(φ0) sets the level: an anchor radius of {:.2} mm \
+                 (or larger) reaches every position; or set the guides further apart, or give the target less swing",
                 (r * 100.0).ceil() / 100.0
             ),
             _ => "the target gives out more thread there than this cam can release: set the guides further apart, or give the target less swing".to_string(),
@@ -1028,9 +1042,10 @@ fn solve_radii(rays: &[Ray], l_t: &[f64], phis: &[f64], anchor_rho: f64, cam: &C
             },
         );
         if b - a < 1e-9 {
-            return Err(bad(
+            return Err(bad_input(
+                Input::ProfilePoints,
                 format!("two knots fall on profile angle {:.6}°", a),
-                "use fewer --points",
+                "use fewer profile points",
             ));
         }
     }

@@ -6,7 +6,7 @@
 //! number and the seed, so a sweep split into shards ([`Sweep::shard`]) and
 //! concatenated is the same sweep.
 
-use crate::error::{Error, ParamError};
+use crate::error::{Error, Input, ParamError};
 use crate::model::Model;
 
 /// One swept parameter: `NAME=LO:HI:N` (N values from LO to HI, both
@@ -24,21 +24,22 @@ impl Vary {
     /// the model: a settable parameter, both ends inside its adjustable range.
     pub fn parse(model: &Model, spec: &str) -> Result<Vary, Error> {
         let bad = |message: String| {
-            Error::Param(ParamError {
+            Error::Param(ParamError::new(
+                Input::Vary,
                 message,
-                help: Some("write NAME=LO:HI:N, e.g. --vary z=-10:10:41 (N values, ends included)".into()),
-            })
+                Some("write NAME=LO:HI:N, e.g. z=-10:10:41 (N values, ends included)".into()),
+            ))
         };
         let (name, range) = spec
             .split_once('=')
             .ok_or_else(|| bad(format!("`{spec}` is not NAME=LO:HI:N")))?;
         let parts: Vec<&str> = range.split(':').collect();
         if !(2..=3).contains(&parts.len()) {
-            return Err(bad(format!("`{range}` is not LO:HI:N (in --vary {spec})")));
+            return Err(bad(format!("`{spec}`: `{range}` is not LO:HI:N")));
         }
         let num = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
         let (Some(lo), Some(hi)) = (num(parts[0]), num(parts[1])) else {
-            return Err(bad(format!("the ends of `{range}` must be numbers (in --vary {spec})")));
+            return Err(bad(format!("`{spec}`: the ends of `{range}` must be numbers")));
         };
         let n = match parts.get(2) {
             Some(s) => s
@@ -46,19 +47,19 @@ impl Vary {
                 .parse::<usize>()
                 .ok()
                 .filter(|&n| n >= 1)
-                .ok_or_else(|| bad(format!("N = `{s}` must be a whole number ≥ 1 (in --vary {spec})")))?,
+                .ok_or_else(|| bad(format!("`{spec}`: N = `{s}` must be a whole number ≥ 1")))?,
             None => 11,
         };
         if n > 1 && lo == hi {
             return Err(bad(format!(
-                "--vary {spec}: LO = HI gives {n} equal values; use N = 1 or widen the range"
+                "`{spec}`: LO = HI gives {n} equal values; use N = 1 or widen the range"
             )));
         }
         let name = name.trim().to_string();
         // Both ends must be accepted by the parameter (existence, range).
         let mut p = model.defaults();
-        model.set(&mut p, &name, lo)?;
-        model.set(&mut p, &name, hi)?;
+        model.set(&mut p, &name, lo).map_err(|e| e.in_input(Input::Vary))?;
+        model.set(&mut p, &name, hi).map_err(|e| e.in_input(Input::Vary))?;
         Ok(Vary { name, lo, hi, n })
     }
 
@@ -113,19 +114,21 @@ fn uniform(seed: u64, setting: usize, dim: usize) -> f64 {
 impl Sweep {
     pub fn new(vary: Vec<Vary>, design: Design) -> Result<Sweep, Error> {
         if vary.is_empty() {
-            return Err(Error::Param(ParamError {
-                message: "a sweep needs at least one --vary".into(),
-                help: Some("e.g. --vary z=-10:10:41".into()),
-            }));
+            return Err(Error::Param(ParamError::new(
+                Input::Vary,
+                "a sweep needs at least one varied parameter",
+                Some("vary one, e.g. z=-10:10:41".into()),
+            )));
         }
         if let Some(d) = vary
             .iter()
             .position(|v| vary.iter().filter(|w| w.name == v.name).count() > 1)
         {
-            return Err(Error::Param(ParamError {
-                message: format!("`{}` is varied twice", vary[d].name),
-                help: None,
-            }));
+            return Err(Error::Param(ParamError::new(
+                Input::Vary,
+                format!("`{}` is varied twice", vary[d].name),
+                None,
+            )));
         }
         let perm = match design {
             Design::Lhs { samples, seed } => (0..vary.len())
@@ -144,10 +147,10 @@ impl Sweep {
         };
         let s = Sweep { vary, design, perm };
         if s.is_empty() || s.len() > 100_000_000 {
-            return Err(Error::Param(ParamError {
-                message: format!("the sweep has {} settings", s.len()),
-                help: Some("between 1 and 100 million settings: fewer grid points, or --samples".into()),
-            }));
+            return Err(Error::Param(ParamError::general(
+                format!("the sweep has {} settings", s.len()),
+                Some("between 1 and 100 million settings: fewer grid points, or a random sample of settings".into()),
+            )));
         }
         Ok(s)
     }

@@ -6,7 +6,7 @@
 
 use super::design::Sweep;
 use crate::error::{Error, ParamError};
-use crate::eval::stitch::{Prepared, prepare};
+use crate::eval::stitch_process::{Prepared, prepare};
 use crate::eval::{CycleTable, glob_match};
 use crate::model::{Model, Params};
 
@@ -145,10 +145,10 @@ pub fn select_figures(available: &[(String, f64)], patterns: &[String]) -> Resul
     for p in patterns {
         if !available.iter().any(|(n, _)| glob_match(p, n)) {
             let names: Vec<&str> = available.iter().map(|(n, _)| n.as_str()).collect();
-            return Err(Error::Param(ParamError {
-                message: format!("no figure of merit matches `{p}`"),
-                help: Some(format!("this model offers: {}", names.join(", "))),
-            }));
+            return Err(Error::Param(ParamError::general(
+                format!("no figure of merit matches `{p}`"),
+                Some(format!("this model offers: {}", names.join(", "))),
+            )));
         }
     }
     Ok(available

@@ -47,7 +47,7 @@ use serde::{Deserialize, Serialize};
 
 use super::figures::figures;
 use super::sensitivity::{FD_REL_STEP, figure_derivatives, figure_unit};
-use crate::error::{Error, ModelError, ParamError};
+use crate::error::{Error, Input, ModelError, ParamError};
 use crate::eval::{CycleOptions, check_options, run_cycle_with};
 use crate::model::spans::{KeyPath, SpanIndex};
 use crate::model::{Model, Params};
@@ -213,7 +213,7 @@ impl Facts {
     /// Reads and parses a facts file.
     pub fn from_path(path: &std::path::Path) -> Result<Facts, Error> {
         let text = std::fs::read_to_string(path)
-            .map_err(|e| Error::Io(format!("cannot read facts file `{}`: {e}", path.display())))?;
+            .map_err(|e| Error::Io(crate::error::IoError::os("read facts file", Some(path), e)))?;
         Facts::from_toml_str(&text, &path.display().to_string())
     }
 
@@ -249,12 +249,7 @@ pub struct Bounded {
 
 impl Bounded {
     pub fn parse(model: &Model, spec: &str) -> Result<Bounded, Error> {
-        let bad = |message: String, help: String| {
-            Error::Param(ParamError {
-                message,
-                help: Some(help),
-            })
-        };
+        let bad = |message: String, help: String| Error::Param(ParamError::new(Input::Adjust, message, Some(help)));
         let (name, bounds) = match spec.split_once('=') {
             Some((n, b)) => (n.trim(), Some(b)),
             None => (spec.trim(), None),
@@ -291,7 +286,7 @@ impl Bounded {
                     _ => {
                         return Err(bad(
                             format!("`{spec}` does not give bounds LO:HI with LO < HI"),
-                            format!("e.g. --adjust {name}=30:45"),
+                            format!("e.g. {name}=30:45"),
                         ));
                     }
                 }
@@ -301,7 +296,7 @@ impl Bounded {
                 _ => {
                     return Err(bad(
                         format!("`{name}` has no adjustable range to fit it in"),
-                        format!("give bounds: --adjust {name}=LO:HI (in {})", p.unit_str()),
+                        format!("give bounds: {name}=LO:HI (in {})", p.unit_str()),
                     ));
                 }
             },
@@ -518,10 +513,10 @@ impl Problem<'_> {
                 let mut rows: Vec<Row> = Vec::new();
                 for f in &needed {
                     let v = value(&plain, f).filter(|v| v.is_finite()).ok_or_else(|| {
-                        Error::Param(ParamError {
-                            message: format!("figure `{f}` is not available at this setting"),
-                            help: None,
-                        })
+                        Error::Param(ParamError::general(
+                            format!("figure `{f}` is not available at this setting"),
+                            None,
+                        ))
                     })?;
                     rows.push((f.to_string(), v, vec![0.0; nx]));
                 }
@@ -550,10 +545,10 @@ impl Problem<'_> {
                                         match (value(up, f), value(dn, f)) {
                                             (Some(u), Some(d)) => col.push((u - d) / (2.0 * h)),
                                             _ => {
-                                                return Err(Error::Param(ParamError {
-                                                    message: format!("figure `{f}` has no derivative here"),
-                                                    help: None,
-                                                }));
+                                                return Err(Error::Param(ParamError::general(
+                                                    format!("figure `{f}` has no derivative here"),
+                                                    None,
+                                                )));
                                             }
                                         }
                                     }
@@ -716,17 +711,19 @@ fn adjusted_params(model: &Model, facts: &Facts, opts: &FitOptions) -> Result<Ve
             .filter(|p| p.provenance == Some(crate::model::Provenance::Reconstructed) && !p.is_derived())
             .map(|p| p.name.as_str())
             .collect();
-        return Err(Error::Param(ParamError {
-            message: "nothing to fit".into(),
-            help: Some(format!(
-                "name the parameters: --adjust NAME (within its range) or NAME=LO:HI, or `adjust = [...]` in the facts file{}",
+        return Err(Error::Param(ParamError::new(
+            Input::Adjust,
+            "nothing to fit",
+            Some(format!(
+                "name the parameters to fit: NAME (within its range) or NAME=LO:HI, here or as `adjust = [...]` in the \
+                 facts file{}",
                 if rec.is_empty() {
                     String::new()
                 } else {
                     format!(" (reconstructed in this model: {})", rec.join(", "))
                 }
             )),
-        }));
+        )));
     }
     let adjusted = specs
         .iter()
@@ -734,10 +731,11 @@ fn adjusted_params(model: &Model, facts: &Facts, opts: &FitOptions) -> Result<Ve
         .collect::<Result<Vec<_>, _>>()?;
     for (k, a) in adjusted.iter().enumerate() {
         if adjusted[..k].iter().any(|b| b.name == a.name) {
-            return Err(Error::Param(ParamError {
-                message: format!("`{}` is fitted twice", a.name),
-                help: Some("name each parameter once".into()),
-            }));
+            return Err(Error::Param(ParamError::new(
+                Input::Adjust,
+                format!("`{}` is fitted twice", a.name),
+                Some("name each parameter once".into()),
+            )));
         }
     }
     Ok(adjusted)
@@ -747,16 +745,17 @@ fn adjusted_params(model: &Model, facts: &Facts, opts: &FitOptions) -> Result<Ve
 fn check_start(adjusted: &[Bounded], start: &[f64]) -> Result<(), Error> {
     for (a, &x) in adjusted.iter().zip(start) {
         if x < a.lo || x > a.hi {
-            return Err(Error::Param(ParamError {
-                message: format!(
+            return Err(Error::Param(ParamError::new(
+                Input::Adjust,
+                format!(
                     "the start {} = {x} {} lies outside its bounds {}…{} {}",
                     a.name, a.unit, a.lo, a.hi, a.unit
                 ),
-                help: Some(format!(
-                    "start inside them (--set {}=...) or widen them (--adjust {}=LO:HI)",
+                Some(format!(
+                    "start inside them (set {} to a value within) or widen them ({}=LO:HI)",
                     a.name, a.name
                 )),
-            }));
+            )));
         }
     }
     Ok(())

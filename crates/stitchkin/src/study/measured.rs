@@ -7,9 +7,9 @@
 
 use serde::Serialize;
 
-use crate::error::{Error, ParamError};
+use crate::error::{Error, Input, ParamError};
 use crate::eval::CycleTable;
-use crate::eval::stitch::{compared_outside, mismatch_on_cycle};
+use crate::eval::stitch_process::{compared_outside, mismatch_on_cycle};
 use crate::stitch::mismatch::Mismatch;
 use crate::thread::measured::{CurveKind, MeasuredCurve, SplitPoint};
 
@@ -39,10 +39,12 @@ pub struct MeasuredMatch {
 }
 
 fn bad(message: String, help: String) -> Error {
-    Error::Param(ParamError {
-        message,
-        help: Some(help),
-    })
+    Error::Param(ParamError::general(message, Some(help)))
+}
+
+/// A measured curve given that cannot be placed.
+fn bad_input(message: String, help: String) -> Error {
+    Error::Param(ParamError::new(Input::Measured, message, Some(help)))
 }
 
 /// Sets `curve` beside the stitch thread `thread` of the cycle `table`
@@ -53,7 +55,7 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
     let Some(st) = &table.stitch else {
         return Err(bad(
             format!("{source}: the model has no [stitch], so a measured curve has nothing to be compared with"),
-            "use a model with a stitch process (e.g. --preset mf7923d)".into(),
+            "use a model with a stitch process (e.g. the preset mf7923d)".into(),
         ));
     };
     let compared: Vec<&str> = st
@@ -77,13 +79,13 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
         None => match compared.as_slice() {
             [one] => st.threads.iter().find(|t| t.thread == *one).expect("listed above"),
             _ => {
-                return Err(bad(
+                return Err(bad_input(
                     format!(
                         "{source}: the curve does not say which thread it is, and the model compares {}",
                         compared.join(", ")
                     ),
                     format!(
-                        "name the column after the thread (e.g. `{}.P_B_mm`) or write --measured THREAD=FILE",
+                        "name the column after the thread (e.g. `{}.P_B_mm`) or give the curve as THREAD=FILE",
                         compared.first().unwrap_or(&"n1")
                     ),
                 ));

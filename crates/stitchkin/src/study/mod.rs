@@ -9,7 +9,7 @@
 //! - [`stroke`] and [`straightness`]: a point's stroke, dead centres and
 //!   transmission angles, its straightness along a line, and the tolerance
 //!   stack-up of both;
-//! - [`compare2d3d`]: how much a planar model of a spatial thread path errs;
+//! - [`compare_2d3d`]: how much a planar model of a spatial thread path errs;
 //! - [`measured`]: a measured take-up curve against the model;
 //! - [`cam_synthesis`]: the cam profile that gives a thread the take-up it
 //!   needs.
@@ -21,7 +21,7 @@
 //! stitch process alone.
 
 pub mod cam_synthesis;
-pub mod compare2d3d;
+pub mod compare_2d3d;
 pub mod design;
 pub mod figures;
 pub mod fit;

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::tune::{TuneOptions, TuneResult, set_stitch_value, tune};
-use crate::error::{Error, ParamError};
+use crate::error::{Error, Input, ParamError, StitchError};
 use crate::format::fmt_num;
 use crate::model::{Model, Params};
 
@@ -35,45 +35,45 @@ pub struct Axis {
 }
 
 impl Axis {
-    /// Parses `LO:HI:N`, `LO:HI` (11 values) or a single value `V`. `flag`
-    /// names the option in messages (`--thickness`).
-    pub fn parse(spec: &str, flag: &str) -> Result<Axis, Error> {
+    /// Parses `LO:HI:N`, `LO:HI` (11 values) or a single value `V`, given
+    /// in `input` ([`Input::Thickness`] or [`Input::StitchLength`]).
+    pub fn parse(spec: &str, input: Input) -> Result<Axis, Error> {
         let bad = |message: String| {
-            Error::Param(ParamError {
+            Error::Param(ParamError::new(
+                input,
                 message,
-                help: Some(format!(
-                    "write {flag} LO:HI:N in mm, e.g. {flag} 0.5:5:10 (N values, ends included), or one value"
-                )),
-            })
+                Some("write LO:HI:N in mm, e.g. 0.5:5:10 (N values, ends included), or one value".into()),
+            ))
         };
         let parts: Vec<&str> = spec.split(':').collect();
         let num = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
-        let axis =
-            match parts.as_slice() {
-                [v] => {
-                    let v = num(v).ok_or_else(|| bad(format!("{flag} `{spec}` is not a number")))?;
-                    Axis { lo: v, hi: v, n: 1 }
+        let axis = match parts.as_slice() {
+            [v] => {
+                let v = num(v).ok_or_else(|| bad(format!("`{spec}` is not a number")))?;
+                Axis { lo: v, hi: v, n: 1 }
+            }
+            [lo, hi, rest @ ..] if rest.len() <= 1 => {
+                let (Some(lo), Some(hi)) = (num(lo), num(hi)) else {
+                    return Err(bad(format!("the ends of `{spec}` must be numbers")));
+                };
+                let n = match rest.first() {
+                    Some(s) => s
+                        .trim()
+                        .parse::<usize>()
+                        .ok()
+                        .filter(|&n| n >= 1)
+                        .ok_or_else(|| bad(format!("`{spec}`: N = `{s}` must be a whole number ≥ 1")))?,
+                    None => 11,
+                };
+                if n > 1 && lo == hi {
+                    return Err(bad(format!(
+                        "`{spec}`: LO = HI gives {n} equal values; use N = 1 or widen the range"
+                    )));
                 }
-                [lo, hi, rest @ ..] if rest.len() <= 1 => {
-                    let (Some(lo), Some(hi)) = (num(lo), num(hi)) else {
-                        return Err(bad(format!("the ends of {flag} `{spec}` must be numbers")));
-                    };
-                    let n =
-                        match rest.first() {
-                            Some(s) => s.trim().parse::<usize>().ok().filter(|&n| n >= 1).ok_or_else(|| {
-                                bad(format!("N = `{s}` must be a whole number ≥ 1 (in {flag} {spec})"))
-                            })?,
-                            None => 11,
-                        };
-                    if n > 1 && lo == hi {
-                        return Err(bad(format!(
-                            "{flag} {spec}: LO = HI gives {n} equal values; use N = 1 or widen the range"
-                        )));
-                    }
-                    Axis { lo, hi, n }
-                }
-                _ => return Err(bad(format!("{flag} `{spec}` is not LO:HI:N"))),
-            };
+                Axis { lo, hi, n }
+            }
+            _ => return Err(bad(format!("`{spec}` is not LO:HI:N"))),
+        };
         Ok(axis)
     }
 
@@ -147,27 +147,30 @@ pub fn nomogram(
     opts: &NomogramOptions,
     progress: impl Fn() + Sync,
 ) -> Result<Nomogram, Error> {
-    let bad = |message: String, help: String| {
-        Error::Param(ParamError {
-            message,
-            help: Some(help),
-        })
-    };
+    let bad = |message: String, help: String| Error::Param(ParamError::general(message, Some(help)));
     crate::eval::check_options(&crate::eval::CycleOptions {
         step_deg: opts.tune.step_deg,
         ..Default::default()
     })?;
-    let nominal = model.stitch_setup(base)?.ok_or_else(|| {
-        Error::Stitch(format!(
-            "model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504",
-            model.name()
-        ))
+    let nominal = model.stitch_setup(base)?.ok_or_else(|| -> Error {
+        StitchError::new(
+            format!("model `{}`", model.name()),
+            "it has no [stitch] table, so there is no match to tune; use a model with one, such as the presets mf7923d \
+             and altin504",
+        )
+        .into()
     })?;
     // Both ends of each axis must be settable (a parameter, inside its range).
-    for (which, axis) in [("m", Some(&opts.thickness)), ("t", opts.stitch.as_ref())] {
+    for (which, input, axis) in [
+        ("m", Input::Thickness, Some(&opts.thickness)),
+        ("t", Input::StitchLength, opts.stitch.as_ref()),
+    ] {
         if let Some(a) = axis {
             for v in [a.lo, a.hi] {
-                set_stitch_value(model, &mut base.clone(), which, v)?;
+                set_stitch_value(model, &mut base.clone(), which, v).map_err(|e| match e {
+                    Error::Param(p) => Error::Param(p.in_input(input)),
+                    other => other,
+                })?;
             }
         }
     }
@@ -242,17 +245,17 @@ fn tune_options(model: &Model, base: &Params, opts: &NomogramOptions) -> Result<
     if tune_opts.adjust.is_empty() {
         tune_opts.adjust = model.default_adjustables(base)?;
     }
-    for (which, flag, what) in [
-        ("m", "--thickness", "material thickness"),
-        ("t", "--stitch", "stitch length"),
-    ] {
+    for (which, what) in [("m", "material thickness"), ("t", "stitch length")] {
         if let Some(p) = stitch_param(model, which)
             && tune_opts.adjust.contains(&p)
         {
-            return Err(Error::Param(ParamError {
-                message: format!("`{p}` is the {what} the nomogram is drawn over, so it cannot also be adjusted"),
-                help: Some(format!("leave it out of --adjust (give its values with {flag})")),
-            }));
+            return Err(Error::Param(ParamError::new(
+                Input::Adjust,
+                format!("`{p}` is the {what} the nomogram is drawn over, so it cannot also be adjusted"),
+                Some(format!(
+                    "leave `{p}` out of the adjusted settings; the nomogram's {what} axis gives its values"
+                )),
+            )));
         }
     }
     Ok(tune_opts)
@@ -280,19 +283,22 @@ fn grid_point(m_mm: f64, t_mm: f64, r: Result<TuneResult, Error>) -> NomogramPoi
 /// parameter the model's `[stitch] m_mm` names.
 pub fn default_thickness(model: &Model) -> Result<Axis, Error> {
     let no_range = || {
-        Error::Param(ParamError {
-            message: format!(
+        Error::Param(ParamError::new(
+            Input::Thickness,
+            format!(
                 "model `{}` gives no thickness range to draw the nomogram over",
                 model.name()
             ),
-            help: Some("give one with --thickness LO:HI:N in mm, e.g. --thickness 1:5:5".into()),
-        })
+            Some("give one as LO:HI:N in mm, e.g. 1:5:5".into()),
+        ))
     };
     if !model.has_stitch() {
-        return Err(Error::Stitch(format!(
-            "model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504",
-            model.name()
-        )));
+        return Err(StitchError::new(
+            format!("model `{}`", model.name()),
+            "it has no [stitch] table, so there is no match to tune; use a model with one, such as the presets mf7923d \
+             and altin504",
+        )
+        .into());
     }
     let name = model.stitch_param("m").ok_or_else(no_range)?;
     let i = model.param_index(name).ok_or_else(no_range)?;

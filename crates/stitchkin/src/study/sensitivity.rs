@@ -36,8 +36,9 @@ use serde::Serialize;
 
 use super::design::{Design, Sweep, Vary};
 use super::figures::{figures, select_figures, shared_stitch};
+use crate::error::ThreadError;
 use crate::error::{Error, ParamError};
-use crate::eval::stitch::Prepared;
+use crate::eval::stitch_process::Prepared;
 use crate::eval::{
     CycleOptions, check_options, cycle_phis_deg, path_error, run_cycle_with, take_up_name, tracks_at_phi0,
 };
@@ -216,10 +217,10 @@ fn seeded_cycle(
         ..Default::default()
     })?;
     if model.params.get(param).is_none_or(|p| p.is_derived()) {
-        return Err(Error::Param(ParamError {
-            message: format!("parameter #{param} cannot be seeded"),
-            help: Some("seed a settable parameter".into()),
-        }));
+        return Err(Error::Param(ParamError::general(
+            format!("parameter #{param} cannot be seeded"),
+            Some("seed a settable parameter".into()),
+        )));
     }
     // ε = 1 on p; every other value is a constant.
     let seeded: Vec<Dual64> = base
@@ -490,12 +491,7 @@ pub fn sensitivity(model: &Model, base: &Params, opts: &SensitivityOptions) -> R
 /// The parameters studied (`opts.params`, else every one with an
 /// adjustable range), each once: (index, lo, hi).
 fn studied_params(model: &Model, opts: &SensitivityOptions) -> Result<Vec<(usize, f64, f64)>, Error> {
-    let bad = |message: String, help: String| {
-        Error::Param(ParamError {
-            message,
-            help: Some(help),
-        })
-    };
+    let bad = |message: String, help: String| Error::Param(ParamError::general(message, Some(help)));
     let names = if opts.params.is_empty() {
         adjustable(model)
     } else {
@@ -552,7 +548,10 @@ fn stitch_per_param(
                 .any(|s| f.ends_with(s))
     };
     if !selected.iter().any(|f| stitch_figure(f)) {
-        return Ok(vec![crate::eval::stitch::prepare(model, base, step_deg)?; params.len()]);
+        return Ok(vec![
+            crate::eval::stitch_process::prepare(model, base, step_deg)?;
+            params.len()
+        ]);
     }
     params
         .iter()
@@ -710,7 +709,11 @@ pub fn take_up_derivatives(
         phis,
     ) = seeded_cycle(model, base, param, step_deg)?;
     let Some(th) = &threads else {
-        return Err(Error::Thread(format!("model `{}` has no thread paths", model.name())));
+        return Err(Error::Thread(ThreadError {
+            path: String::new(),
+            phi_deg: None,
+            message: format!("model `{}` has no thread paths", model.name()),
+        }));
     };
     let at0 = tracks_at_phi0(&mech, th)?;
     let tracks = th.evaluate(&pose, None).map_err(|e| {

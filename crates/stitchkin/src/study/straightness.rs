@@ -31,7 +31,7 @@ use serde::Serialize;
 
 use super::design::{Design, Sweep, Vary};
 use super::stroke::{NO_STROKE_MM, PoseFn, Refiner, argminmax, cst3, neighbours};
-use crate::error::{Error, ParamError, did_you_mean};
+use crate::error::{Error, Input, NotFiniteError, ParamError, did_you_mean};
 use crate::eval::{cycle_phis_deg, wrap_deg};
 use crate::geometry::{V3, norm_or_zero};
 use crate::mechanism::{Mechanism, Phi, Pose};
@@ -51,21 +51,23 @@ impl Reference {
     /// `H,T`: the line through model points H and T, directed H → T.
     pub fn parse_line(model: &Model, spec: &str) -> Result<Reference, Error> {
         let Some((h, t)) = spec.split_once(',') else {
-            return Err(Error::Param(ParamError {
-                message: format!("`{spec}` is not two points H,T"),
-                help: Some("write --line H,T with two of the model's points, e.g. --line N1,N2".into()),
-            }));
+            return Err(Error::Param(ParamError::new(
+                Input::Line,
+                format!("`{spec}` is not two points H,T"),
+                Some("write H,T with two of the model's points, e.g. N1,N2".into()),
+            )));
         };
         let (h, t) = (h.trim(), t.trim());
         if h == t {
-            return Err(Error::Param(ParamError {
-                message: format!("--line {spec}: a line needs two different points"),
-                help: Some("e.g. --line N1,N2".into()),
-            }));
+            return Err(Error::Param(ParamError::new(
+                Input::Line,
+                format!("`{spec}`: a line needs two different points"),
+                Some("e.g. N1,N2".into()),
+            )));
         }
         Ok(Reference::Line {
-            through: model.point_slot(h).map_err(|e| e.given_in("--line"))?,
-            toward: model.point_slot(t).map_err(|e| e.given_in("--line"))?,
+            through: model.point_slot(h).map_err(|e| e.given_in(Input::Line))?,
+            toward: model.point_slot(t).map_err(|e| e.given_in(Input::Line))?,
         })
     }
 }
@@ -88,10 +90,11 @@ impl Window {
     /// `cycle`, `down`, `up` or `FROM:TO` (degrees).
     pub fn parse(spec: &str) -> Result<Window, Error> {
         let bad = |message: String| {
-            Error::Param(ParamError {
+            Error::Param(ParamError::new(
+                Input::Over,
                 message,
-                help: Some("write --over cycle, down, up, or FROM:TO in degrees of φ, e.g. --over 300:60".into()),
-            })
+                Some("write cycle, down, up, or FROM:TO in degrees of φ, e.g. 300:60".into()),
+            ))
         };
         match spec.trim() {
             "cycle" => Ok(Window::Cycle),
@@ -107,7 +110,7 @@ impl Window {
                 };
                 if (to_deg - from_deg).rem_euclid(360.0) < 1e-9 {
                     return Err(bad(format!(
-                        "`{s}` is empty or a whole turn; use --over cycle for the whole turn"
+                        "`{s}` is empty or a whole turn; use `cycle` for the whole turn"
                     )));
                 }
                 Ok(Window::Phi { from_deg, to_deg })
@@ -416,10 +419,11 @@ fn measure(model: &Model, params: &Params, opts: &StraightnessOptions, detail: b
     .all(|x| x.is_finite())
         && out.dev_mm.iter().chain(&out.along_mm).all(|x| x.is_finite());
     if !finite {
-        return Err(Error::NotFinite(format!(
-            "the deviation of `{}` is not finite: the line's two points coincide at some φ",
-            out.point
-        )));
+        return Err(Error::NotFinite(NotFiniteError {
+            quantity: format!("the deviation of `{}`", out.point),
+            phi_deg: None,
+            cause: "the line's two points coincide at some φ".into(),
+        }));
     }
     Ok(out)
 }
@@ -436,13 +440,14 @@ fn check_line(model: &Model, mech: &Mechanism<f64>, opts: &StraightnessOptions) 
     if let Reference::Line { through, toward } = opts.reference {
         let pose = solve_at(mech, &[model.phi_start_deg()])?;
         if (pose.point(toward, 0) - pose.point(through, 0)).norm() < 1e-9 {
-            return Err(Error::Param(ParamError {
-                message: format!(
-                    "--line: points `{}` and `{}` coincide, so they give no direction",
+            return Err(Error::Param(ParamError::new(
+                Input::Line,
+                format!(
+                    "points `{}` and `{}` coincide, so they give no direction",
                     model.point_names[through], model.point_names[toward]
                 ),
-                help: Some("choose two distinct points of the guide".into()),
-            }));
+                Some("choose two distinct points of the guide".into()),
+            )));
         }
     }
     Ok(())
@@ -475,13 +480,14 @@ fn stroke_window(
     let s: Vec<f64> = (0..cycle.len()).map(|k| f.at(mech, &pose, k)).collect();
     let ((phi_lo, lo), (phi_hi, hi)) = refined_extremes(refiner, &f, cycle, &s, true)?;
     if hi - lo < NO_STROKE_MM {
-        return Err(Error::Param(ParamError {
-            message: format!(
+        return Err(Error::Param(ParamError::new(
+            Input::Over,
+            format!(
                 "point `{}` does not move along the line, so it has no working stroke",
                 model.point_names[opts.point]
             ),
-            help: Some("use --over cycle, or a line along the point's motion".into()),
-        }));
+            Some("measure over the whole cycle, or along a line of the point's motion".into()),
+        )));
     }
     let (a, b) = if opts.window == Window::Down {
         (phi_hi, phi_lo)
@@ -520,39 +526,41 @@ pub struct Tolerance {
 /// length parameter (mm) at ± `length_tol` (seed 004: ± 0.05 mm). Angles and
 /// dimensionless parameters need an explicit tolerance.
 pub fn tolerances(model: &Model, specs: &[String], length_tol: f64) -> Result<Vec<Tolerance>, Error> {
-    let help = || {
-        Some("write --tol NAME=±T in the parameter's unit, e.g. --tol l_ab=±0.05 (T = 0 holds it exact)".to_string())
-    };
+    let help = || Some("write NAME=±T in the parameter's unit, e.g. l_ab=±0.05 (T = 0 holds it exact)".to_string());
     if !(length_tol.is_finite() && length_tol >= 0.0) {
-        return Err(Error::Param(ParamError {
-            message: format!("the default length tolerance {length_tol} mm must be ≥ 0"),
-            help: Some("e.g. --length-tol 0.05".into()),
-        }));
+        return Err(Error::Param(ParamError::new(
+            Input::LengthTolerance,
+            format!("the default length tolerance {length_tol} mm must be ≥ 0"),
+            Some("e.g. 0.05".into()),
+        )));
     }
     let mut explicit: Vec<(usize, f64)> = Vec::new();
     for spec in specs {
         let Some((name, value)) = spec.split_once('=') else {
-            return Err(Error::Param(ParamError {
-                message: format!("`{spec}` is not NAME=±T"),
-                help: help(),
-            }));
+            return Err(Error::Param(ParamError::new(
+                Input::Tolerance,
+                format!("`{spec}` is not NAME=±T"),
+                help(),
+            )));
         };
         let name = name.trim();
         let t = value.trim();
         let t = ["±", "+-", "+/-"].iter().find_map(|p| t.strip_prefix(p)).unwrap_or(t);
         let Some(tol) = t.trim().parse::<f64>().ok().filter(|x| x.is_finite() && *x >= 0.0) else {
-            return Err(Error::Param(ParamError {
-                message: format!("the tolerance in `--tol {spec}` must be a number ≥ 0"),
-                help: help(),
-            }));
+            return Err(Error::Param(ParamError::new(
+                Input::Tolerance,
+                format!("the tolerance in `{spec}` must be a number ≥ 0"),
+                help(),
+            )));
         };
         let Some(i) = model.param_index(name) else {
             let hint = did_you_mean(name, model.params.iter().map(|p| p.name.as_str()))
                 .map(|s| format!(" (did you mean `{s}`?)"))
                 .unwrap_or_default();
-            return Err(Error::Param(ParamError {
-                message: format!("the model has no parameter `{name}` (in --tol {spec}){hint}"),
-                help: Some(format!(
+            return Err(Error::Param(ParamError::new(
+                Input::Tolerance,
+                format!("`{spec}`: the model has no parameter `{name}`{hint}"),
+                Some(format!(
                     "its parameters are: {}",
                     model
                         .params
@@ -562,21 +570,21 @@ pub fn tolerances(model: &Model, specs: &[String], length_tol: f64) -> Result<Ve
                         .collect::<Vec<_>>()
                         .join(", ")
                 )),
-            }));
+            )));
         };
         if model.params[i].is_derived() {
-            return Err(Error::Param(ParamError {
-                message: format!(
-                    "`{name}` is derived from other parameters and has no tolerance of its own (in --tol {spec})"
-                ),
-                help: Some("give tolerances to the parameters its expression uses".into()),
-            }));
+            return Err(Error::Param(ParamError::new(
+                Input::Tolerance,
+                format!("`{spec}`: `{name}` is derived from other parameters and has no tolerance of its own"),
+                Some("give tolerances to the parameters its expression uses".into()),
+            )));
         }
         if explicit.iter().any(|(j, _)| *j == i) {
-            return Err(Error::Param(ParamError {
-                message: format!("`{name}` has two --tol"),
-                help: None,
-            }));
+            return Err(Error::Param(ParamError::new(
+                Input::Tolerance,
+                format!("`{name}` has two tolerances"),
+                None,
+            )));
         }
         explicit.push((i, tol));
     }
@@ -599,10 +607,11 @@ pub fn tolerances(model: &Model, specs: &[String], length_tol: f64) -> Result<Ve
         })
         .collect();
     if out.is_empty() {
-        return Err(Error::Param(ParamError {
-            message: "no parameter has a tolerance to study".into(),
-            help: help(),
-        }));
+        return Err(Error::Param(ParamError::new(
+            Input::Tolerance,
+            "no parameter has a tolerance to study",
+            help(),
+        )));
     }
     Ok(out)
 }
@@ -766,28 +775,31 @@ const PHI_MINUS_3: f64 = 0.001_349_898_031_630_094_6;
 /// Runs the tolerance study (module docs).
 pub fn tolerance_study(model: &Model, base: &Params, opts: &ToleranceOptions) -> Result<ToleranceStudy, Error> {
     if !(opts.limit_mm.is_finite() && opts.limit_mm > 0.0) {
-        return Err(Error::Param(ParamError {
-            message: format!("the limit {} mm must be a positive number", opts.limit_mm),
-            help: Some("e.g. --limit 0.05 (seed 004)".into()),
-        }));
+        return Err(Error::Param(ParamError::new(
+            Input::Limit,
+            format!("the limit {} mm must be a positive number", opts.limit_mm),
+            Some("e.g. 0.05 (seed 004)".into()),
+        )));
     }
     if opts.samples > 1_000_000 {
-        return Err(Error::Param(ParamError {
-            message: format!("{} Monte Carlo samples are too many", opts.samples),
-            help: Some("up to 1 000 000; 1000 give the 99 % percentile to a few per cent".into()),
-        }));
+        return Err(Error::Param(ParamError::new(
+            Input::Samples,
+            format!("{} Monte Carlo samples are too many", opts.samples),
+            Some("up to 1 000 000; 1000 give the 99 % percentile to a few per cent".into()),
+        )));
     }
     let so = &opts.straightness;
     let nominal = straightness(model, base, so)?;
     let nominal_mm = nominal.max_abs_dev_mm;
     if nominal_mm > opts.limit_mm {
-        return Err(Error::Param(ParamError {
-            message: format!(
+        return Err(Error::Param(ParamError::new(
+            Input::Limit,
+            format!(
                 "at the nominal dimensions the path already deviates {nominal_mm:.4} mm, beyond the limit {} mm",
                 opts.limit_mm
             ),
-            help: Some("raise --limit, or measure over the working stroke (--over down)".into()),
-        }));
+            Some("raise the limit, or measure over the working stroke (`down`)".into()),
+        )));
     }
     let index: Vec<usize> = opts
         .tolerances

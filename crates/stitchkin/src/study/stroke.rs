@@ -24,7 +24,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::design::Sweep;
-use crate::error::{Error, ParamError, did_you_mean};
+use crate::error::{Error, Input, NotFiniteError, ParamError, did_you_mean};
 use crate::eval::{MU_MAX_DEG, MU_MIN_DEG, check_step, cycle_phis_deg, wrap_deg};
 use crate::geometry::V3;
 use crate::mechanism::{Mechanism, Phi, Pose};
@@ -194,13 +194,13 @@ impl Axis {
     /// or a world direction `X,Y` or `X,Y,Z`.
     pub fn parse(model: &Model, spec: &str) -> Result<Axis, Error> {
         let bad = |message: String| {
-            Error::Param(ParamError {
+            Error::Param(ParamError::general(
                 message,
-                help: Some(format!(
+                Some(format!(
                     "write x, y or z (world axes), FRAME.x|y|z for an axis of a model frame ({}), or a direction X,Y[,Z]",
                     model.frame_names().join(", ")
                 )),
-            })
+            ))
         };
         let spec = spec.trim();
         let letter = |s: &str| match s {
@@ -423,9 +423,11 @@ pub fn stroke(model: &Model, params: &Params, point: usize, axis: &Axis, step_de
         && out.min.point_mm.iter().chain(&out.max.point_mm).all(|x| x.is_finite())
         && out.mu.iter().all(|m| m.min_deg.is_finite() && m.max_deg.is_finite());
     if !finite {
-        return Err(Error::NotFinite(
-            "the stroke or a transmission angle is not finite: the mechanism passes a dead point".into(),
-        ));
+        return Err(Error::NotFinite(NotFiniteError {
+            quantity: "the stroke or a transmission angle".into(),
+            phi_deg: None,
+            cause: "the mechanism passes a dead point".into(),
+        }));
     }
     Ok(out)
 }
@@ -567,21 +569,23 @@ fn grid_settings(sweep: Option<&Sweep>) -> Result<(Vec<String>, Vec<Vec<f64>>), 
         None => (Vec::new(), vec![Vec::new()]),
         Some(s) => {
             if s.design != super::design::Design::Grid {
-                return Err(Error::Param(ParamError {
-                    message: "a stroke study runs on a grid of settings".into(),
-                    help: Some("give --vary NAME=LO:HI:N without --samples".into()),
-                }));
+                return Err(Error::Param(ParamError::new(
+                    Input::Samples,
+                    "a stroke study runs on a grid of settings, not a random sample",
+                    Some("vary the parameters as NAME=LO:HI:N without a sample size".into()),
+                )));
             }
             if s.len() > MAX_SETTINGS {
-                return Err(Error::Param(ParamError {
-                    message: format!(
+                return Err(Error::Param(ParamError::general(
+                    format!(
                         "{} settings are more than a stroke table holds ({MAX_SETTINGS})",
                         s.len()
                     ),
-                    help: Some(
-                        "use fewer grid points, or `stitchkin sweep --figures '*_stroke_mm,mu.*'` which streams".into(),
+                    Some(
+                        "use fewer grid points, or a sweep with the figures `*_stroke_mm,mu.*`, which streams its rows"
+                            .into(),
                     ),
-                }));
+                )));
             }
             (
                 s.vary.iter().map(|v| v.name.clone()).collect(),

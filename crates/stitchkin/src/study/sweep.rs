@@ -11,8 +11,8 @@ use rayon::prelude::*;
 use super::design::Sweep;
 use super::figures::{figures, max_pprime_figure};
 use crate::error::Error;
-use crate::eval::stitch::Prepared;
-use crate::eval::{CycleOptions, path_error, run_cycle_with};
+use crate::eval::stitch_process::Prepared;
+use crate::eval::{CycleOptions, not_finite, path_error, run_cycle_with};
 use crate::mechanism::{Mechanism, Phi, Pose};
 use crate::model::{Machine, Model, Params};
 use crate::scalar::Real;
@@ -585,7 +585,7 @@ impl StitchPlan {
         let mut plans = Vec::new();
         for (i, (th, path)) in prepared.required.threads.iter().zip(&setup.paths).enumerate() {
             let compared = &prepared.compared[i];
-            let pprime = crate::eval::stitch::pprime_at_split(th, n);
+            let pprime = crate::eval::stitch_process::pprime_at_split(th, n);
             let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
             let (hi, lo) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| {
                 (hi.max(pprime[k]), lo.min(pprime[k]))
@@ -722,15 +722,6 @@ fn finite_extremes(v: &[f64]) -> Result<(f64, f64), usize> {
         return Err(v.iter().position(|x| !x.is_finite()).unwrap_or(0));
     }
     Ok((lo, hi))
-}
-
-/// A value that is not a finite number, as `run_cycle` reports it.
-fn not_finite(column: &str, value: f64, phi_deg: f64) -> Error {
-    Error::NotFinite(format!(
-        "`{column}` is {value} at φ = {:.3}°: the mechanism passes a dead point there, where analogs are infinite; \
-         change the geometry or the step so no position lands on the dead point",
-        crate::eval::wrap_deg(phi_deg)
-    ))
 }
 
 /// Settings evaluated together before their rows go to the sink.

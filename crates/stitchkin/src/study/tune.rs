@@ -18,8 +18,8 @@ use serde::Serialize;
 
 use super::design::{Design, Sweep, Vary};
 use super::figures::shared_stitch;
-use crate::error::{Error, ParamError};
-use crate::eval::stitch::Prepared;
+use crate::error::{Error, Input, ParamError, StitchError};
+use crate::eval::stitch_process::Prepared;
 use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle_with};
 use crate::model::{Model, Params};
 
@@ -193,11 +193,11 @@ impl Problem<'_> {
             }
             let solver = NelderMead::new(simplex)
                 .with_sd_tolerance(1e-7)
-                .map_err(|e| Error::Stitch(format!("tuning: {e}")))?;
+                .map_err(|e| Error::Internal(format!("tuning: {e}")))?;
             let res = Executor::new(Cost(self, count), solver)
                 .configure(|st| st.max_iters(60 * d as u64))
                 .run()
-                .map_err(|e| Error::Stitch(format!("tuning: {e}")))?;
+                .map_err(|e| Error::Internal(format!("tuning: {e}")))?;
             let st = res.state();
             if let Some(p) = st.get_best_param()
                 && st.get_best_cost() < best.0
@@ -264,16 +264,16 @@ impl CostFunction for Cost<'_, '_> {
 /// parameter its `[stitch]` value names.
 pub fn set_stitch_value(model: &Model, params: &mut Params, which: &str, value: f64) -> Result<(), Error> {
     if !model.has_stitch() {
-        return Err(Error::Stitch(format!("model `{}` has no [stitch]", model.name())));
+        return Err(StitchError::new(format!("model `{}`", model.name()), "it has no [stitch] table").into());
     }
     match model.stitch_param(which) {
         Some(name) => model.set(params, name, value).map_err(Error::Param),
-        None => Err(Error::Param(ParamError {
-            message: format!("[stitch] {}_mm is not a parameter, so it cannot be set", which),
-            help: Some(format!(
-                "write {which}_mm = \"NAME\" with NAME in [parameters] (with a range), or use --set"
+        None => Err(Error::Param(ParamError::general(
+            format!("[stitch] {which}_mm is not a parameter, so it cannot be set"),
+            Some(format!(
+                "write {which}_mm = \"NAME\" with NAME in [parameters] (with a range), or set the parameter it names"
             )),
-        })),
+        ))),
     }
 }
 
@@ -317,12 +317,17 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
         .map(|v| base.values[model.param_index(&v.name).unwrap_or(0)])
         .collect();
     let before_figures = problem.figures(&before).ok_or_else(|| match model.stitch_setup(base) {
-        Ok(None) => Error::Stitch(format!(
-            "model `{}` has no [stitch] with a take-up path to match",
-            model.name()
-        )),
+        Ok(None) => StitchError::new(
+            format!("model `{}`", model.name()),
+            "it has no [stitch] with a take-up path to match",
+        )
+        .into(),
         _ => problem.table(&before).err().unwrap_or_else(|| {
-            Error::Stitch("no thread of the stitch is compared with a take-up path (give `path` in [stitch])".into())
+            StitchError::new(
+                "stitch process",
+                "no thread of the stitch is compared with a take-up path (give `path` in [stitch])",
+            )
+            .into()
         }),
     })?;
     let count = AtomicUsize::new(0);
@@ -355,7 +360,7 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
     let after = problem.values(&best.1);
     let after_figures = problem
         .figures(&after)
-        .ok_or_else(|| Error::Stitch("tuning: the optimum does not evaluate".into()))?;
+        .ok_or_else(|| Error::Internal("tuning: the optimum does not evaluate".into()))?;
     let flatness = problem.flatness(&after, &after_figures, &count);
     let names: Vec<(String, &'static str)> = vary
         .iter()
@@ -382,24 +387,25 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
 /// The ranges of the parameters `adjust` names, each checked: a
 /// parameter of the model with an adjustable range.
 fn tuned_ranges(model: &Model, adjust: &[String]) -> Result<Vec<Vary>, Error> {
-    let bad = |message: String, help: &str| {
-        Error::Param(ParamError {
-            message,
-            help: Some(help.into()),
-        })
-    };
+    let bad = |message: String, help: &str| Error::Param(ParamError::new(Input::Adjust, message, Some(help.into())));
     if adjust.is_empty() {
         return Err(bad(
             "nothing to adjust".into(),
-            "name the settings, e.g. --adjust z,dphi (parameters with an adjustable range)",
+            "name the settings to adjust, e.g. z,dphi (parameters with an adjustable range)",
         ));
     }
     let mut vary = Vec::new();
     for name in adjust {
         let i = model.param_index(name).ok_or_else(|| {
+            let names: Vec<&str> = model
+                .params
+                .iter()
+                .filter(|p| p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived())
+                .map(|p| p.name.as_str())
+                .collect();
             bad(
                 format!("the model has no parameter `{name}`"),
-                "see `stitchkin check` for its parameters",
+                &format!("its adjustable parameters are: {}", names.join(", ")),
             )
         })?;
         let Some([lo, hi]) = model.params[i].range else {
@@ -408,6 +414,12 @@ fn tuned_ranges(model: &Model, adjust: &[String]) -> Result<Vec<Vary>, Error> {
                 "give it `range = [lo, hi]` in [parameters]",
             ));
         };
+        if lo >= hi {
+            return Err(bad(
+                format!("`{name}`'s adjustable range {lo}…{hi} is a single value, so there is nothing to tune"),
+                "leave it out, or widen its `range` in [parameters]",
+            ));
+        }
         vary.push(Vary {
             name: name.clone(),
             lo,

@@ -6,7 +6,7 @@
 //! The golden numbers were established with this preset (stitchkin check /
 //! match, step 1°) and its design script; see the preset's header.
 
-use stitchkin::eval::stitch::{StitchSummary, StitchThreadSummary};
+use stitchkin::eval::stitch_process::{StitchSummary, StitchThreadSummary};
 use stitchkin::eval::{CycleOptions, CycleTable, run_cycle};
 use stitchkin::model::Model;
 

@@ -318,3 +318,52 @@ fn binaries_do_not_reach_into_solvers() {
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
+
+/// The library speaks of its inputs in its own words ([`stitchkin::Input`]);
+/// the command line maps them to its flags. Only `output::text`, the text
+/// the command line prints, may point at a flag.
+#[test]
+fn library_messages_name_no_command_line_flag() {
+    let mut wrong = Vec::new();
+    let mut files = Vec::new();
+    rust_files(&src_dir("stitchkin"), &mut files);
+    for file in files {
+        if file.components().any(|c| c.as_os_str() == "text") {
+            continue;
+        }
+        let code = code_of(&std::fs::read_to_string(&file).unwrap());
+        for (n, line) in code.lines().enumerate() {
+            if line.trim_start().starts_with('#') {
+                continue;
+            }
+            if let Some(f) = flag_in(line) {
+                wrong.push(format!("{}:{}: names the flag `{f}`", file.display(), n + 1));
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+/// The first ` --word`, `"--word`, `(--word` or `` `--word `` in a line: a
+/// flag written into a string.
+fn flag_in(line: &str) -> Option<String> {
+    let bytes = line.as_bytes();
+    (0..bytes.len().saturating_sub(3)).find_map(|i| {
+        let before = if i == 0 { b' ' } else { bytes[i - 1] };
+        let starts = bytes[i] == b'-' && bytes[i + 1] == b'-' && bytes[i + 2].is_ascii_lowercase();
+        (starts && matches!(before, b' ' | b'"' | b'(' | b'`')).then(|| {
+            let end = line[i + 2..]
+                .find(|c: char| !(c.is_ascii_lowercase() || c == '-'))
+                .map_or(line.len(), |e| i + 2 + e);
+            line[i..end].to_string()
+        })
+    })
+}
+
+#[test]
+fn the_flag_matcher_finds_flags_in_strings_only() {
+    assert_eq!(flag_in(r#"help: "give --vary z=1:2:3""#).as_deref(), Some("--vary"));
+    assert_eq!(flag_in("(in --plane)").as_deref(), Some("--plane"));
+    assert_eq!(flag_in("let x = a--b;"), None);
+    assert_eq!(flag_in("x - -y"), None);
+}

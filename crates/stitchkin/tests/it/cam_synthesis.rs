@@ -326,7 +326,7 @@ fn a_shifted_target_and_an_anchor_radius() {
     // The anchor radius the error suggests makes it reachable, exactly at
     // the knots; a little less does not.
     let suggested: f64 = e
-        .split("--anchor-radius ")
+        .split("an anchor radius of ")
         .nth(1)
         .and_then(|t| t.split(' ').next())
         .and_then(|x| x.parse().ok())
@@ -404,7 +404,10 @@ fn bad_inputs_give_clear_errors() {
     );
     // No [stitch]: no P'.
     let e = err(&ex, &CamOptions::new("seed", Target::Required));
-    assert!(e.contains("no [stitch]") && e.contains("--target FILE.csv"), "{e}");
+    assert!(
+        e.contains("no [stitch]") && e.contains("a CSV file with columns phi_deg,P_mm"),
+        "{e}"
+    );
     let e = err(&ex, &CamOptions::new("straight", Target::Required));
     assert!(e.contains("runs over no cam") && e.contains("seed, taut"), "{e}");
     // Unreachable: more thread than the cam can give, with the shortfall.
@@ -436,7 +439,7 @@ fn exports_are_well_formed() {
     o.points = 90;
     o.smooth_deg = 20.0;
     let e = err(&m, &o);
-    assert!(e.contains("--anchor-radius 15.72 (or larger)"), "{e}");
+    assert!(e.contains("an anchor radius of 15.72 mm (or larger)"), "{e}");
     o.anchor_radius_mm = Some(21.0);
     let s = synth(&m, &o);
     let csv = text::cam::csv(&s);

@@ -5,7 +5,7 @@
 
 use stitchkin::eval::{CycleTable, run_cycle};
 use stitchkin::model::Model;
-use stitchkin::study::compare2d3d::compare_2d3d;
+use stitchkin::study::compare_2d3d::compare_2d3d;
 
 const DOC_PATH: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/model-format.md");
 
@@ -174,7 +174,7 @@ fn close(got: f64, want: f64, tol: f64, what: &str) {
 fn the_numbers_quoted_in_the_doc_are_what_the_examples_give() {
     // Example 1: four-bar with a coupler point.
     let (m, t) = example("fourbar");
-    assert!(m.planar);
+    assert!(m.is_planar());
     let mu = &t.transmission[0];
     assert_eq!(mu.key, "coupler_rocker");
     close(mu.min_deg, 58.75, 0.005, "four-bar μ min");
@@ -211,7 +211,7 @@ fn the_numbers_quoted_in_the_doc_are_what_the_examples_give() {
 
     // Example 3: spatial RSSR.
     let (m, t) = example("spatial_rssr");
-    assert!(!m.planar && t.column("N.z_mm").is_some());
+    assert!(!m.is_planar() && t.column("N.z_mm").is_some());
     let rod = t.ranges.iter().find(|r| r.name == "rod_check").unwrap();
     close(rod.min, 66.0, 1e-9, "rod_check min");
     close(rod.max, 66.0, 1e-9, "rod_check max");
@@ -235,7 +235,7 @@ fn the_numbers_quoted_in_the_doc_are_what_the_examples_give() {
 
     // Example 6: μ = acos(e / |A − C|) of the slotted lever.
     let (m, t) = example("slotted_lever");
-    assert!(!m.planar, "a lift makes the model spatial");
+    assert!(!m.is_planar(), "a lift makes the model spatial");
     let mu = col(&t, "mu_lever_deg");
     close(
         mu[90],
@@ -294,7 +294,7 @@ fn the_thread_numbers_quoted_in_the_doc_are_what_the_examples_give() {
 /// Example 8: an eyelet on a crank, ξ(φ) in closed form.
 fn eyelet_crank_numbers() {
     let (m, t) = example("eyelet_crank");
-    assert!(m.planar, "thread paths leave a planar model planar");
+    assert!(m.is_planar(), "thread paths leave a planar model planar");
     let (r, h, a) = (10.0f64, 30.0f64, 40.0f64);
     let xi = |phi: f64| {
         let (x, y) = (r * phi.cos(), h + r * phi.sin());
@@ -360,7 +360,7 @@ fn eyelet_crank_numbers() {
 /// Example 9: a thin pin and a roller.
 fn pin_and_roller_numbers() {
     let (m, t) = example("pin_and_roller");
-    assert!(m.planar);
+    assert!(m.is_planar());
     let beta = 30.0f64.atan2(40.0).to_degrees();
     close(beta, 36.87, 5e-3, "Example 9 β");
     let (x, on) = (col(&t, "thin.xi_mm"), col(&t, "thin.C_engaged"));
@@ -438,7 +438,7 @@ fn pin_and_roller_numbers() {
 fn needle_bar_thread_numbers() {
     let (m, t) = example("needle_bar_thread");
     assert!(
-        !m.planar && t.column("N.z_mm").is_some(),
+        !m.is_planar() && t.column("N.z_mm").is_some(),
         "offset groups make the model spatial"
     );
     let (e, tt, n) = (col(&t, "E.y_mm"), col(&t, "T.y_mm"), col(&t, "N.y_mm"));
@@ -619,7 +619,7 @@ fn the_cam_numbers_quoted_in_the_doc_are_what_the_example_gives() {
 /// below the guides, the offset one ξ = |G1 − A| + |A − G2|.
 fn looper_cam_contours(m: &Model, t: &CycleTable) {
     let (r, e, a, h) = CAM;
-    assert!(m.planar, "cams leave a planar model planar");
+    assert!(m.is_planar(), "cams leave a planar model planar");
     let rho = disc_rho;
     let phis = col(t, "phi_deg");
     let (xs, xt) = (col(t, "seed.xi_mm"), col(t, "taut.xi_mm"));

@@ -311,7 +311,7 @@ fn trajectories_are_closed_thin_lines_over_the_cycle() {
         &CycleOptions {
             step_deg: 1.0,
             analogs: false,
-            points: Some(vec![m.point_names.iter().position(|p| p == "G").unwrap()]),
+            points: Some(vec![m.point_names().iter().position(|p| p == "G").unwrap()]),
             ..Default::default()
         },
     )
@@ -467,7 +467,7 @@ fn bad_options_name_what_to_change() {
     let m = Model::preset("mf7923d").unwrap();
     let p = m.defaults();
     let full = |e: Error| match e {
-        Error::Param(p) => format!("{} / {}", p.message, p.help.unwrap_or_default()),
+        Error::Param(p) => format!("{p} / {}", p.help.clone().unwrap_or_default()),
         other => other.to_string(),
     };
     let e = full(
@@ -494,7 +494,7 @@ fn bad_options_name_what_to_change() {
         )
         .unwrap_err(),
     );
-    assert!(e.contains("--frames") && e.contains("--frames 72"), "{e}");
+    assert!(e.contains("(in `frames`)") && e.contains("72 frames"), "{e}");
     let e = full(
         render(
             &m,
@@ -506,7 +506,7 @@ fn bad_options_name_what_to_change() {
         )
         .unwrap_err(),
     );
-    assert!(e.contains("--phi"), "{e}");
+    assert!(e.contains("(in `phi`)"), "{e}");
     assert_eq!(View::parse("iso").unwrap(), View::Isometric);
     assert_eq!(View::parse("uvw").unwrap(), View::Frame("uvw".into()));
     assert!(View::parse(" ").is_err());

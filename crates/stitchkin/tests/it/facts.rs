@@ -15,14 +15,14 @@
 
 use std::fmt::Write as _;
 
-use stitchkin::eval::stitch::StitchSummary;
+use stitchkin::eval::stitch_process::StitchSummary;
 use stitchkin::eval::{CycleOptions, CycleTable, PathSummary, run_cycle, run_cycle_with};
 use stitchkin::mechanism::Phi;
 use stitchkin::model::file::Value;
 use stitchkin::model::{Model, Params};
 use stitchkin::stitch::consumption::{StitchGeometry, consumption};
 use stitchkin::stitch::mismatch::mismatch;
-use stitchkin::study::compare2d3d::compare_2d3d;
+use stitchkin::study::compare_2d3d::compare_2d3d;
 use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::straightness::{Reference, StraightnessOptions, Window, straightness};
 use stitchkin::study::stroke::{Axis, Stroke, StrokeOptions, stroke, study};
@@ -312,7 +312,7 @@ struct MfCycles {
     at_lock: Model,
     d: Params,
     phase0: Params,
-    shared: stitchkin::eval::stitch::Prepared,
+    shared: stitchkin::eval::stitch_process::Prepared,
     t: CycleTable,
     t0: CycleTable,
     r2_up: CycleTable,
@@ -343,7 +343,9 @@ impl MfCycles {
             m.stitch_setup(&moved).unwrap() == m.stitch_setup(d).unwrap(),
             "the take-up's settings changed the stitch"
         );
-        let shared = stitchkin::eval::stitch::prepare(m, d, MF_STEP).unwrap().unwrap();
+        let shared = stitchkin::eval::stitch_process::prepare(m, d, MF_STEP)
+            .unwrap()
+            .unwrap();
         let runs = |p: &Params| run_cycle_with(m, p, &opts(MF_STEP), Some(&shared)).unwrap();
         let t = runs(d);
         let t0 = runs(&phase0);
@@ -644,10 +646,12 @@ fn mf_at_lock(c: &MfCycles) -> (Fact, [f64; 3], [f64; 3]) {
     let lock_prepared = |mm: f64| {
         let mut p = at_lock.defaults();
         set_stitch_value(at_lock, &mut p, "m", mm).unwrap();
-        let pr = stitchkin::eval::stitch::prepare(at_lock, &p, MF_STEP).unwrap().unwrap();
+        let pr = stitchkin::eval::stitch_process::prepare(at_lock, &p, MF_STEP)
+            .unwrap()
+            .unwrap();
         (p, pr)
     };
-    let score_at = |model: &Model, p: &Params, pr: &stitchkin::eval::stitch::Prepared, name: &str, v: f64| {
+    let score_at = |model: &Model, p: &Params, pr: &stitchkin::eval::stitch_process::Prepared, name: &str, v: f64| {
         score_mean(&run_cycle_with(model, &with(model, p, &[(name, v)]), &opts(MF_STEP), Some(pr)).unwrap())
     };
     let sd = (score_at(m, d, shared, "z", -2.0), score_at(m, d, shared, "z", 0.0));
@@ -1178,7 +1182,7 @@ fn al_moments(m: &Model, d: &Params, st: &StitchSummary, tdc: f64, catch: f64) -
 
     // The needle's rise from its BDC along its line (measure needle_s).
     let mech = m.mechanism::<f64>(d).unwrap();
-    let k = m.measure_names.iter().position(|n| n == "needle_s").unwrap();
+    let k = m.measure_names().iter().position(|n| n == "needle_s").unwrap();
     let s_at = |phi: f64| {
         let mut pose = mech.new_pose(1);
         mech.solve(&[Phi::at_deg(phi)], &mut pose).unwrap();

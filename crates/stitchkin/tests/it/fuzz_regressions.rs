@@ -99,7 +99,7 @@ fn empty_and_garbage_inputs_are_errors() {
 #[test]
 fn a_name_only_model_loads() {
     let m = loads("[model]\nname = \"\"");
-    assert!(m.point_names.is_empty());
+    assert!(m.point_names().is_empty());
     loads("[model]\nname = \"\u{e9}\u{1F600}\"\ntitle = \"\"\nnotes = \"\"");
 }
 

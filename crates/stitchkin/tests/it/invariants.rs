@@ -14,7 +14,7 @@ use stitchkin::scalar::Real;
 use crate::mechgen::{self, Generated};
 
 fn slot(m: &Model, name: &str) -> usize {
-    m.point_names.iter().position(|p| p == name).unwrap()
+    m.point_names().iter().position(|p| p == name).unwrap()
 }
 
 fn positions(mech: &Mechanism<f64>, phi: f64) -> Vec<V3<f64>> {

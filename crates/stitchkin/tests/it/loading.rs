@@ -27,7 +27,7 @@ fn place(e: &ModelError) -> (usize, usize, String) {
 #[test]
 fn the_reference_model_loads() {
     let m = Model::from_toml_str(FOUR_BAR, "ok.toml").unwrap();
-    assert!(m.planar);
+    assert!(m.is_planar());
     let t = run_cycle(&m, &m.defaults(), &CycleOptions::default()).unwrap();
     assert_eq!(t.rows(), 360);
     assert!(t.column("P.x_mm").is_some() && t.column("P.z_mm").is_none());

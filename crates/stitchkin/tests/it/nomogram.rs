@@ -14,8 +14,8 @@ fn mf7923d(t1_phase: f64) -> (Model, Params) {
 
 fn opts(thickness: &str, stitch: Option<&str>, adjust: &[&str], step_deg: f64) -> NomogramOptions {
     NomogramOptions {
-        thickness: Axis::parse(thickness, "--thickness").unwrap(),
-        stitch: stitch.map(|s| Axis::parse(s, "--stitch").unwrap()),
+        thickness: Axis::parse(thickness, stitchkin::Input::Thickness).unwrap(),
+        stitch: stitch.map(|s| Axis::parse(s, stitchkin::Input::StitchLength).unwrap()),
         tune: TuneOptions {
             adjust: adjust.iter().map(|s| s.to_string()).collect(),
             samples: 0,
@@ -51,7 +51,7 @@ fn assert_never_worse(n: &Nomogram) {
 #[test]
 fn axes_parse_with_clear_errors() {
     assert_eq!(
-        Axis::parse("0.5:5:10", "--thickness").unwrap(),
+        Axis::parse("0.5:5:10", stitchkin::Input::Thickness).unwrap(),
         Axis {
             lo: 0.5,
             hi: 5.0,
@@ -59,11 +59,11 @@ fn axes_parse_with_clear_errors() {
         }
     );
     assert_eq!(
-        Axis::parse("4", "--thickness").unwrap(),
+        Axis::parse("4", stitchkin::Input::Thickness).unwrap(),
         Axis { lo: 4.0, hi: 4.0, n: 1 }
     );
-    assert_eq!(Axis::parse("1:3", "--stitch").unwrap().n, 11);
-    let a = Axis::parse("1:4.5:8", "--stitch").unwrap();
+    assert_eq!(Axis::parse("1:3", stitchkin::Input::StitchLength).unwrap().n, 11);
+    let a = Axis::parse("1:4.5:8", stitchkin::Input::StitchLength).unwrap();
     assert_eq!((a.value(0), a.value(7)), (1.0, 4.5));
     for (spec, says) in [
         ("a:5:3", "must be numbers"),
@@ -73,12 +73,13 @@ fn axes_parse_with_clear_errors() {
         ("nan", "not a number"),
         ("inf:5:2", "must be numbers"),
     ] {
-        let e = Axis::parse(spec, "--thickness").unwrap_err();
+        let e = Axis::parse(spec, stitchkin::Input::Thickness).unwrap_err();
         assert!(e.to_string().contains(says), "{spec}: {e}");
         let stitchkin::error::Error::Param(p) = e else {
             panic!("{spec}: not a parameter error")
         };
-        assert!(p.help.unwrap().contains("--thickness LO:HI:N"), "{spec}");
+        assert_eq!(p.input, Some(stitchkin::Input::Thickness), "{spec}");
+        assert!(p.help.unwrap().contains("LO:HI:N"), "{spec}");
     }
 }
 

@@ -180,7 +180,7 @@ fn needle876_transmission_angle_plot_marks_the_band() {
     let svg = render(&model, &params, &Plot::Mu, 2.0).unwrap();
     assert_well_formed(&svg);
     assert_no_nan(&svg);
-    let keys: Vec<String> = model.dyads.iter().map(|d| d.key.clone()).collect();
+    let keys: Vec<String> = model.dyads().iter().map(|d| d.key.clone()).collect();
     assert_eq!(texts(&svg, "legend"), keys);
     assert_eq!(svg.matches("<polyline").count(), keys.len());
     assert_eq!(texts(&svg, "axis-label y"), ["μ, deg"]);
@@ -241,7 +241,7 @@ fn needle876_trajectories_are_to_scale() {
     // The needle G's stroke (seed 002: 18.08 mm) fits in the y ticks' span.
     let t = table(
         &model,
-        Some(vec![model.point_names.iter().position(|p| p == "G").unwrap()]),
+        Some(vec![model.point_names().iter().position(|p| p == "G").unwrap()]),
     );
     let (lo, hi) = min_max(std::iter::once(t.column("G.y_mm").unwrap()));
     assert!((hi - lo - 18.08).abs() < 0.01);
@@ -375,7 +375,7 @@ fn numbers(texts: &[&str]) -> Vec<f64> {
 /// An error's message and its help.
 fn full(e: stitchkin::error::Error) -> String {
     match &e {
-        stitchkin::error::Error::Param(p) => format!("{} | {}", p.message, p.help.clone().unwrap_or_default()),
+        stitchkin::error::Error::Param(p) => format!("{p} | {}", p.help.clone().unwrap_or_default()),
         e => e.to_string(),
     }
 }
@@ -433,7 +433,7 @@ fn analogs_of_points_come_in_two_panels_with_units() {
     assert!(polylines(&svg).iter().all(|l| l.len() == 73));
     let pts: Vec<usize> = ["G", "E"]
         .iter()
-        .map(|q| model.point_names.iter().position(|p| p == q).unwrap())
+        .map(|q| model.point_names().iter().position(|p| p == q).unwrap())
         .collect();
     for (panel, suffix) in p.iter().zip(["dy_dphi_mm_per_rad", "d2y_dphi2_mm_per_rad2"]) {
         let t = run_cycle(
@@ -497,7 +497,7 @@ fn take_up_analogs_of_the_thread_paths() {
         .unwrap_err(),
     );
     assert!(
-        e.contains("no thread path `n9` (in --thread)") && e.contains("n1_A"),
+        e.contains("no thread path `n9` (in `thread`)") && e.contains("n1_A"),
         "{e}"
     );
     let e = full(
@@ -526,7 +526,7 @@ fn take_up_analogs_of_the_thread_paths() {
         )
         .unwrap_err(),
     );
-    assert!(e.contains("needs points") && e.contains("--points"), "{e}");
+    assert!(e.contains("needs points") && e.contains("(in `points`)"), "{e}");
 }
 
 #[test]
@@ -751,7 +751,10 @@ fn heat_map_input_is_checked() {
         )
     };
     let e = heat(vec![vary("z", -10.0, 10.0, 3)], "n1_A.max_P_B_mm");
-    assert!(e.contains("exactly 2 --vary, got 1"), "{e}");
+    assert!(
+        e.contains("exactly 2 varied parameters, got 1") && e.contains("(in `vary`)"),
+        "{e}"
+    );
     let e = heat(
         vec![vary("z", -10.0, 10.0, 3), vary("dphi", -20.0, 20.0, 3)],
         "*.max_P_B_mm",
@@ -759,14 +762,17 @@ fn heat_map_input_is_checked() {
     assert!(e.contains("matches 6 figures") && e.contains("n3_B.max_P_B_mm"), "{e}");
     let e = heat(vec![vary("z", -10.0, 10.0, 3), vary("dphi", -20.0, 20.0, 3)], "nope");
     assert!(
-        e.contains("no figure of merit matches `nope` (in --figure)") && e.contains("n1_A.max_P_B_mm"),
+        e.contains("no figure of merit matches `nope` (in `figure`)") && e.contains("n1_A.max_P_B_mm"),
         "{e}"
     );
     let e = heat(
         vec![vary("z", -10.0, 10.0, 1), vary("dphi", -20.0, 20.0, 3)],
         "n1_A.max_P_B_mm",
     );
-    assert!(e.contains("at least 2") && e.contains("--vary z="), "{e}");
+    assert!(
+        e.contains("at least 2") && e.contains("(in `vary`)") && e.contains("e.g. z="),
+        "{e}"
+    );
     let e = heat(
         vec![vary("z", -10.0, 10.0, 3), vary("z", -5.0, 5.0, 3)],
         "n1_A.max_P_B_mm",
@@ -775,18 +781,18 @@ fn heat_map_input_is_checked() {
 }
 
 #[test]
-fn varied_parameters_are_checked_naming_the_flag() {
+fn varied_parameters_are_checked_naming_the_input() {
     let model = Model::preset("mf7923d").unwrap();
     let v = parse_vary(&model, "r1=4:6", 5).unwrap();
     assert_eq!(v, vary("r1", 4.0, 6.0, 5));
     assert_eq!(parse_vary(&model, "r1=4:6:3", 5).unwrap().n, 3);
     let e = full(parse_vary(&model, "r1=4:7", 5).unwrap_err());
     assert!(
-        e.contains("outside its adjustable range 4…6") && e.contains("(in --vary r1=4:7)"),
+        e.contains("outside its adjustable range 4…6") && e.contains("(in `vary`)"),
         "{e}"
     );
     let e = full(parse_vary(&model, "q=1:2", 5).unwrap_err());
-    assert!(e.contains("no parameter `q`") && e.contains("--vary"), "{e}");
+    assert!(e.contains("no parameter `q`") && e.contains("(in `vary`)"), "{e}");
     // A hand-made range outside the parameter's is caught by render too.
     let e = full(
         render(
@@ -800,7 +806,7 @@ fn varied_parameters_are_checked_naming_the_flag() {
         )
         .unwrap_err(),
     );
-    assert!(e.contains("outside") && e.contains("--vary r1=3:6:3"), "{e}");
+    assert!(e.contains("outside") && e.contains("(in `vary`)"), "{e}");
     let e = full(
         render(
             &model,
@@ -873,7 +879,10 @@ fn nomogram_chart_reads_off_z_for_the_thickness() {
     let mut one = opts;
     one.thickness = GridAxis { lo: 3.0, hi: 3.0, n: 1 };
     let e = full(render(&model, &p, &Plot::Nomogram(one), 5.0).unwrap_err());
-    assert!(e.contains("--thickness gives one value"), "{e}");
+    assert!(
+        e.contains("one thickness (3 mm) is given") && e.contains("(in `thickness`)"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -893,7 +902,7 @@ fn delta_2d3d_shows_both_take_ups_and_their_difference() {
     assert_eq!(texts(p[0], "legend"), ["n1_A 3D", "n1_A 2D"]);
     assert_eq!(texts(p[1], "legend"), ["n1_A ΔP"]);
     assert_eq!(texts(&svg, "axis-label y"), ["P, mm", "ΔP, mm"]);
-    let c = stitchkin::study::compare2d3d::compare_2d3d(&model, &model.defaults(), "uvw", 5.0).unwrap();
+    let c = stitchkin::study::compare_2d3d::compare_2d3d(&model, &model.defaults(), "uvw", 5.0).unwrap();
     let dp = c.paths.iter().find(|q| q.path == "n1_A").unwrap().max_abs_dp_mm;
     assert!((dp - 0.958).abs() < 0.02, "{dp}");
     assert!(
@@ -922,7 +931,7 @@ fn delta_2d3d_shows_both_take_ups_and_their_difference() {
         )
         .unwrap_err(),
     );
-    assert!(e.contains("no frame `nope`") && e.contains("--plane"), "{e}");
+    assert!(e.contains("no frame `nope`") && e.contains("(in `plane`)"), "{e}");
 }
 
 // ---- Motion laws: any column of the cycle over φ ----
@@ -1148,7 +1157,7 @@ fn motion_input_is_checked_and_the_error_lists_what_there_is() {
     let model = Model::preset("needle876").unwrap();
     let p = model.defaults();
     let e = full(render(&model, &p, &motion(&["G.y", "Q.y"], None), 5.0).unwrap_err());
-    assert!(e.contains("no series `Q.y` (in --series)"), "{e}");
+    assert!(e.contains("no series `Q.y`") && e.contains("(in `series`)"), "{e}");
     assert!(
         e.contains("moving points A, B, D, E, G")
             && e.contains("angle_C_B_deg")
@@ -1162,14 +1171,14 @@ fn motion_input_is_checked_and_the_error_lists_what_there_is() {
     let e = full(render(&model, &p, &motion(&["C.y"], None), 5.0).unwrap_err());
     assert!(e.contains("no series `C.y`"), "{e}");
     let e = full(render(&model, &p, &motion(&["G.y", ""], None), 5.0).unwrap_err());
-    assert!(e.contains("an empty name in --series"), "{e}");
+    assert!(e.contains("an empty name (in `series`)"), "{e}");
     let e = full(render(&model, &p, &motion(&["phi"], None), 5.0).unwrap_err());
     assert!(e.contains("`phi` is φ itself"), "{e}");
     let e = full(render(&model, &p, &motion(&[], None), 5.0).unwrap_err());
-    assert!(e.contains("no series to draw") && e.contains("--series"), "{e}");
+    assert!(e.contains("no series to draw") && e.contains("(in `series`)"), "{e}");
     let e = full(render(&model, &p, &motion(&["G.y"], Some(vary("alpha", 0.0, 50.0, 3))), 5.0).unwrap_err());
     assert!(
-        e.contains("outside its adjustable range") && e.contains("--vary alpha=0:50:3"),
+        e.contains("outside its adjustable range") && e.contains("(in `vary`)"),
         "{e}"
     );
     let e = full(render(&model, &p, &motion(&["G.y"], Some(vary("alpha", 0.0, 35.0, 1))), 5.0).unwrap_err());

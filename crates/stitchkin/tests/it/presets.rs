@@ -25,7 +25,7 @@ fn every_preset_loads_runs_and_is_traced() {
         let m = Model::preset(p.name).unwrap();
         assert_eq!(m.name(), p.name);
         assert!(m.title().is_some() && m.seed().is_some(), "{}", p.name);
-        for par in &m.params {
+        for par in m.params() {
             assert!(
                 par.source.is_some() || par.is_derived(),
                 "{}: parameter {} has no source",
@@ -107,7 +107,7 @@ fn needle876_analogs_grow_with_stroke() {
 #[test]
 fn overlock500_outputs_working_points() {
     let m = Model::preset("overlock500").unwrap();
-    assert!(!m.planar);
+    assert!(!m.is_planar());
     let t = run(&m, &[], 1.0);
     for p in ["P20", "P6", "P11"] {
         for a in ["x", "y", "z"] {

@@ -194,7 +194,7 @@ fn tuning_and_nomogram_sections_when_asked() {
         animate: false,
         tune: Some(tune.clone()),
         nomogram: Some(NomogramOptions {
-            thickness: Axis::parse("2:4:2", "--nomogram-thickness").unwrap(),
+            thickness: Axis::parse("2:4:2", stitchkin::Input::Thickness).unwrap(),
             stitch: None,
             tune,
         }),

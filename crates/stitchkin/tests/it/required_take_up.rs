@@ -578,7 +578,7 @@ fn max_pprime_grows_with_m_and_t() {
 
 fn stitch_error(spec: &StitchSpec, phis: &[f64]) -> String {
     match required_take_up(spec, phis, 0.0) {
-        Err(Error::Stitch(msg)) => msg,
+        Err(Error::Stitch(e)) => e.to_string(),
         other => panic!("expected a stitch error, got {other:?}"),
     }
 }

@@ -32,7 +32,7 @@ fn plain_shared(
     m: &Model,
     p: &Params,
     step: f64,
-    shared: Option<&stitchkin::eval::stitch::Prepared>,
+    shared: Option<&stitchkin::eval::stitch_process::Prepared>,
 ) -> Vec<(String, f64)> {
     let opts = CycleOptions {
         step_deg: step,
@@ -57,7 +57,7 @@ fn with(m: &Model, set: &[(&str, f64)]) -> Params {
 fn check_against_central(m: &Model, p: &Params, param: &str, h: f64, step: f64) -> usize {
     let i = m.param_index(param).unwrap();
     let exact = figure_derivatives(m, p, i, step).unwrap();
-    let shared = stitchkin::eval::stitch::prepare(m, &m.defaults(), step).unwrap();
+    let shared = stitchkin::eval::stitch_process::prepare(m, &m.defaults(), step).unwrap();
     let nominal = plain_shared(m, p, step, shared.as_ref());
     let (mut up, mut dn) = (p.clone(), p.clone());
     up.values[i] += h;
@@ -109,7 +109,7 @@ fn dual_derivatives_equal_central_differences() {
     // A spatial mechanism with measures.
     let a = Model::preset("altin504").unwrap();
     let params: Vec<String> = a
-        .params
+        .params()
         .iter()
         .filter(|p| !p.is_derived() && p.unit_str() == "mm")
         .map(|p| p.name.clone())
@@ -329,7 +329,7 @@ fn sensitivity_rejects_bad_requests_with_the_fix() {
 /// An error's message with its help.
 fn text(e: stitchkin::Error) -> String {
     match e {
-        stitchkin::Error::Param(p) => format!("{}\n  help: {}", p.message, p.help.unwrap_or_default()),
+        stitchkin::Error::Param(p) => format!("{p}\n  help: {}", p.help.clone().unwrap_or_default()),
         e => e.to_string(),
     }
 }
@@ -488,7 +488,7 @@ fn facts_files_and_fit_requests_are_checked_with_the_fix() {
     assert!(e.contains("nothing to fit") && e.contains("y_c"), "{e}");
     let e = run(&good(""), &["y_c"]);
     assert!(
-        e.contains("no adjustable range") && e.contains("--adjust y_c=LO:HI"),
+        e.contains("no adjustable range") && e.contains("y_c=LO:HI") && e.contains("(in `adjust`)"),
         "{e}"
     );
     let e = run(&good(""), &["alpha=0:90"]);

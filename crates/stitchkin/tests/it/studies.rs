@@ -178,13 +178,13 @@ fn the_fast_figures_are_the_cycle_tables() {
         let names: Vec<String> = figures::figures(&nominal).into_iter().map(|(n, _)| n).collect();
         // Every ranged parameter in turn, the last ones together.
         let ranged: Vec<&str> = m
-            .params
+            .params()
             .iter()
             .filter(|q| q.range.is_some_and(|[a, b]| a < b) && !q.is_derived())
             .map(|q| q.name.as_str())
             .collect();
         for name in ranged.iter().take(3) {
-            let [lo, hi] = m.params[m.param_index(name).unwrap()].range.unwrap();
+            let [lo, hi] = m.params()[m.param_index(name).unwrap()].range.unwrap();
             let sw = Sweep::new(
                 vec![Vary::parse(&m, &format!("{name}={lo}:{hi}:6")).unwrap()],
                 Design::Grid,

@@ -4,7 +4,7 @@ use num_dual::Dual2_64;
 use stitchkin::eval::{CycleOptions, cycle_phis_deg, run_cycle};
 use stitchkin::mechanism::Phi;
 use stitchkin::model::Model;
-use stitchkin::study::compare2d3d::compare_2d3d;
+use stitchkin::study::compare_2d3d::compare_2d3d;
 
 /// An eyelet T on a crank of radius r about (0, h) between two fixed guides
 /// G1 = (−a, 0) and G2 = (a, 0); optional extra nodes replace `NODES`.
@@ -711,7 +711,7 @@ nodes = ["G1", {{ pin = "PIN", axis = "z", wrap = "{wrap}", radius = {r} }}, "T"
             prop_assert_eq!(p[0], 0.0);
             let n = xi.len();
             let step = 0.5f64.to_radians();
-            let (g1, g2) = (m.point_names.iter().position(|x| x == "G1").unwrap(), m.point_names.iter().position(|x| x == "G2").unwrap());
+            let (g1, g2) = (m.point_names().iter().position(|x| x == "G1").unwrap(), m.point_names().iter().position(|x| x == "G2").unwrap());
             let mech = m.mechanism::<f64>(&m.defaults()).unwrap();
             let mut pose = mech.new_pose(1);
             mech.solve(&[Phi::at_deg(0.0)], &mut pose).unwrap();

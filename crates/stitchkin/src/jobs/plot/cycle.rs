@@ -2,7 +2,7 @@
 //! analogs; the take-up with measured curves over it.
 
 use super::{Plot, moving_points, select_paths};
-use crate::error::Error;
+use crate::error::{Error, Input};
 use crate::eval::{CycleOptions, CycleTable, run_cycle};
 use crate::geometry::Plane;
 use crate::jobs::{chart_cycle, match_measured};
@@ -45,7 +45,8 @@ fn trajectory_frame<'a>(
     let Some(name) = plane else { return Ok(None) };
     let i = model.frame_index(name).ok_or_else(|| {
         param_error(
-            format!("the model has no frame `{name}` (in --plane)"),
+            Input::Plane,
+            format!("the model has no frame `{name}`"),
             format!("its frames are: {}", model.frame_names().join(", ")),
         )
     })?;
@@ -56,16 +57,14 @@ fn trajectory_frame<'a>(
 fn point_slots(model: &Model, points: &[String]) -> Result<Vec<usize>, Error> {
     if points.is_empty() {
         return Err(param_error(
+            Input::Points,
             "no points to trace".into(),
-            format!(
-                "name them with --points A,B; the moving points are: {}",
-                moving_points(model)
-            ),
+            format!("name them, e.g. A,B; the moving points are: {}", moving_points(model)),
         ));
     }
     points
         .iter()
-        .map(|p| model.moving_point_slot(p).map_err(|e| e.given_in("--points")))
+        .map(|p| model.moving_point_slot(p).map_err(|e| e.given_in(Input::Points)))
         .collect()
 }
 
@@ -81,20 +80,19 @@ pub fn analogs_cycle(
 ) -> Result<(CycleTable, Vec<String>), Error> {
     if !points.is_empty() && !threads.is_empty() {
         return Err(param_error(
-            "`plot analogs` draws either points (--points) or thread paths (--thread), not both".into(),
-            "leave out one of them: --points A,B for the points' analogs, --thread PATH for dP/dφ".into(),
+            Input::Thread,
+            "an analog chart draws either points or thread paths, not both".into(),
+            "leave out one of them: the points for their analogs, or the thread paths for dP/dφ".into(),
         ));
     }
     if points.is_empty() && !model.has_threads() {
         return Err(param_error(
+            Input::Points,
             format!(
-                "model `{}` has no thread paths, so `plot analogs` needs points",
+                "model `{}` has no thread paths, so an analog chart needs points",
                 model.name()
             ),
-            format!(
-                "name them with --points A,B; the moving points are: {}",
-                moving_points(model)
-            ),
+            format!("name them, e.g. A,B; the moving points are: {}", moving_points(model)),
         ));
     }
     let paths = if points.is_empty() {

@@ -2,7 +2,7 @@
 //! parameters, evaluated as `stitchkin sweep` evaluates a grid.
 
 use super::{check_vary, param_unit};
-use crate::error::Error;
+use crate::error::{Error, Input};
 use crate::eval::{CycleOptions, run_cycle};
 use crate::model::{Model, Params};
 use crate::output::plots::{FigureGrid, param_error};
@@ -75,14 +75,15 @@ fn figure_cycle(step_deg: f64) -> CycleOptions {
 fn two_parameters(model: &Model, vary: &[Vary]) -> Result<(Vary, Vary), Error> {
     if vary.len() != 2 {
         return Err(param_error(
-            format!("`plot heatmap` needs exactly 2 --vary, got {}", vary.len()),
-            "give two parameters, e.g. --vary z=-10:10:11 --vary dphi=-20:20:11 (the first across, the second up)"
-                .into(),
+            Input::Vary,
+            format!("a heat map needs exactly 2 varied parameters, got {}", vary.len()),
+            "vary two parameters, e.g. z=-10:10:11 and dphi=-20:20:11 (the first across, the second up)".into(),
         ));
     }
     if vary[0].name == vary[1].name {
         return Err(param_error(
-            format!("`{}` is varied twice (in --vary)", vary[0].name),
+            Input::Vary,
+            format!("`{}` is varied twice", vary[0].name),
             "vary two different parameters".into(),
         ));
     }
@@ -103,17 +104,15 @@ fn two_parameters(model: &Model, vary: &[Vary]) -> Result<(Vary, Vary), Error> {
 fn one_figure(model: &Model, params: &Params, figure: &str, opts: &CycleOptions) -> Result<String, Error> {
     let nominal = run_cycle(model, params, opts)?;
     let names = select_figures(&figures(&nominal), &[figure.to_string()]).map_err(|e| match e {
-        Error::Param(mut p) => {
-            p.message += " (in --figure)";
-            Error::Param(p)
-        }
+        Error::Param(p) => Error::Param(p.in_input(Input::Figure)),
         e => e,
     })?;
     match names.as_slice() {
         [one] => Ok(one.clone()),
         many => Err(param_error(
+            Input::Figure,
             format!(
-                "--figure `{figure}` matches {} figures of merit; a heat map shows one",
+                "`{figure}` matches {} figures of merit; a heat map shows one",
                 many.len()
             ),
             format!("name one of: {}", many.join(", ")),

@@ -2,11 +2,11 @@
 //! checked, its cycles, sweep, tuning or comparison computed, and the chart
 //! drawn by [`crate::output::plots`] as an SVG document.
 
-use crate::error::{Error, ParamError};
+use crate::error::{Error, Input};
 use crate::eval::{CycleOptions, check_options};
 use crate::model::{Model, Params};
 use crate::output::plots::{self, no_threads, param_error};
-use crate::study::compare2d3d::{Comparison, compare_2d3d};
+use crate::study::compare_2d3d::{Comparison, compare_2d3d};
 use crate::study::design::Vary;
 use crate::study::nomogram::{Nomogram, NomogramOptions, nomogram};
 
@@ -71,7 +71,7 @@ pub enum Plot {
     Nomogram(NomogramOptions),
     /// P_2D and P_3D of each thread path (`threads`; empty: every path)
     /// and their difference ΔP(φ), the 2D model on the xy-plane of frame
-    /// `plane` (seed 000 Fig. 9; [`crate::study::compare2d3d`]).
+    /// `plane` (seed 000 Fig. 9; [`crate::study::compare_2d3d`]).
     Delta2d3d { plane: String, threads: Vec<String> },
 }
 
@@ -141,7 +141,7 @@ pub fn render(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Res
             let (grid, series) = motion_family(model, params, std::slice::from_ref(name), vary, step_deg)?;
             let s = series
                 .first()
-                .ok_or_else(|| Error::Io(format!("no rows for series `{name}` (a bug: please report it)")))?;
+                .ok_or_else(|| Error::Internal(format!("no rows for series `{name}`")))?;
             Ok(plots::surface(model, &grid, &s.quantity(), &s.rows, *wireframe))
         }
         Plot::Heatmap { vary, figure } => {
@@ -165,11 +165,12 @@ pub fn render(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Res
 fn chart_nomogram(model: &Model, params: &Params, opts: &NomogramOptions) -> Result<Nomogram, Error> {
     if opts.thickness.n < 2 {
         return Err(param_error(
+            Input::Thickness,
             format!(
-                "--thickness gives one value ({} mm); a nomogram chart needs at least 2",
+                "one thickness ({} mm) is given; a nomogram chart needs at least 2",
                 opts.thickness.lo
             ),
-            "give a range, e.g. --thickness 1:5:5 (or `stitchkin tune --thickness M` for one thickness)".into(),
+            "give a range, e.g. 1:5:5 (or tune at one thickness)".into(),
         ));
     }
     nomogram(model, params, opts, || {})
@@ -185,13 +186,7 @@ fn comparison(
     step_deg: f64,
 ) -> Result<(Comparison, Vec<String>), Error> {
     let paths = select_paths(model, threads)?;
-    let c = compare_2d3d(model, params, plane, step_deg).map_err(|e| match e {
-        Error::Param(mut p) if p.message.contains("no frame") => {
-            p.message += " (in --plane)";
-            Error::Param(p)
-        }
-        e => e,
-    })?;
+    let c = compare_2d3d(model, params, plane, step_deg)?;
     Ok((c, paths))
 }
 
@@ -205,7 +200,8 @@ fn select_paths(model: &Model, wanted: &[String]) -> Result<Vec<String>, Error> 
     for w in wanted {
         if !all.contains(w) {
             return Err(param_error(
-                format!("the model has no thread path `{w}` (in --thread)"),
+                Input::Thread,
+                format!("the model has no thread path `{w}`"),
                 format!("its thread paths are: {}", all.join(", ")),
             ));
         }
@@ -223,24 +219,27 @@ fn param_unit(model: &Model, name: &str) -> &'static str {
 }
 
 /// Checks a varied parameter for a chart: at least two values, both ends
-/// settable. Errors name `--vary` and the fix.
+/// settable. Errors name the varied parameter and the fix.
 fn check_vary(model: &Model, vary: &Vary) -> Result<(), Error> {
     let spec = format!("{}={}:{}:{}", vary.name, vary.lo, vary.hi, vary.n);
     if vary.n < 2 {
         return Err(param_error(
-            format!("--vary {spec} gives one value; a chart needs at least 2"),
-            format!("give N ≥ 2, e.g. --vary {}={}:{}:5", vary.name, vary.lo, vary.hi),
+            Input::Vary,
+            format!("`{spec}` gives one value; a chart needs at least 2"),
+            format!("give N ≥ 2, e.g. {}={}:{}:5", vary.name, vary.lo, vary.hi),
         ));
     }
     if vary.n > 1001 {
         return Err(param_error(
-            format!("--vary {spec} gives {} values", vary.n),
+            Input::Vary,
+            format!("`{spec}` gives {} values", vary.n),
             "at most 1001 values per parameter in a chart".into(),
         ));
     }
     if !(vary.lo.is_finite() && vary.hi.is_finite()) || vary.lo == vary.hi {
         return Err(param_error(
-            format!("--vary {spec}: the range is empty"),
+            Input::Vary,
+            format!("`{spec}`: the range is empty"),
             "give two different ends, LO:HI:N".into(),
         ));
     }
@@ -248,25 +247,16 @@ fn check_vary(model: &Model, vary: &Vary) -> Result<(), Error> {
     for v in [vary.lo, vary.hi] {
         model
             .set(&mut p, &vary.name, v)
-            .map_err(|e| in_flag(e, &format!("--vary {spec}")))?;
+            .map_err(|e| Error::Param(e.in_input(Input::Vary)))?;
     }
     Ok(())
 }
 
-/// The error with `(in FLAG)` added to its message.
-fn in_flag(mut e: ParamError, flag: &str) -> Error {
-    e.message = format!("{} (in {flag})", e.message);
-    Error::Param(e)
-}
-
 /// Parses `--vary NAME=LO:HI[:N]` for a chart: N defaults to `default_n`;
 /// unknown parameters and ends outside the adjustable range are errors
-/// that name the flag.
+/// of [`Input::Vary`].
 pub fn parse_vary(model: &Model, spec: &str, default_n: usize) -> Result<Vary, Error> {
-    let mut v = Vary::parse(model, spec).map_err(|e| match e {
-        Error::Param(p) if !p.message.contains("--vary") => in_flag(p, &format!("--vary {spec}")),
-        e => e,
-    })?;
+    let mut v = Vary::parse(model, spec)?;
     if spec.split_once('=').is_some_and(|(_, r)| r.split(':').count() == 2) {
         v.n = default_n;
     }

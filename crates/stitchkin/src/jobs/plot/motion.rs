@@ -4,7 +4,7 @@
 
 use super::check_vary;
 use super::family::run_grid;
-use crate::error::{Error, did_you_mean};
+use crate::error::{Error, Input, did_you_mean};
 use crate::eval::{CycleOptions, CycleTable, run_cycle};
 use crate::model::{Model, Params};
 use crate::output::plots::motion::split_unit;
@@ -89,11 +89,8 @@ fn find_column<'a>(columns: &[&'a str], wanted: &str) -> Result<Option<&'a str>,
         [] => Ok(None),
         [one] => Ok(Some(one)),
         many => Err(param_error(
-            format!(
-                "`{wanted}` (in --series) names {} columns: {}",
-                many.len(),
-                many.join(", ")
-            ),
+            Input::Series,
+            format!("`{wanted}` names {} columns: {}", many.len(), many.join(", ")),
             "give the whole name with its unit".into(),
         )),
     }
@@ -139,12 +136,9 @@ fn resolve(
     let table = run_cycle(model, params, &full)?;
     match find_all(&table, wanted)? {
         _ if wanted.is_empty() => Err(param_error(
+            Input::Series,
             "no series to draw".into(),
-            format!(
-                "name them with --series, e.g. --series {}; {}",
-                example(model),
-                offered(model, &table)
-            ),
+            format!("name them, e.g. {}; {}", example(model), offered(model, &table)),
         )),
         (found, None) => Ok((found, full, table)),
         (_, Some(missing)) => {
@@ -159,7 +153,8 @@ fn resolve(
                 .map(|s| format!(" (did you mean `{s}`?)"))
                 .unwrap_or_default();
             Err(param_error(
-                format!("the model has no series `{missing}` (in --series){hint}"),
+                Input::Series,
+                format!("the model has no series `{missing}`{hint}"),
                 offered(model, &table),
             ))
         }
@@ -179,13 +174,15 @@ fn find_all<'w>(table: &CycleTable, wanted: &'w [String]) -> Result<(Vec<String>
     for w in wanted {
         if w.trim().is_empty() {
             return Err(param_error(
-                "an empty name in --series".into(),
-                "separate the names by single commas, e.g. --series G.y,E.y".into(),
+                Input::Series,
+                "an empty name".into(),
+                "separate the names by single commas, e.g. G.y,E.y".into(),
             ));
         }
         if find_column(&["phi_deg"], w)?.is_some() {
             return Err(param_error(
-                format!("`{w}` is φ itself, the x axis of every motion chart (in --series)"),
+                Input::Series,
+                format!("`{w}` is φ itself, the x axis of every motion chart"),
                 "name what to draw against φ, e.g. a point coordinate, an angle or a measure".into(),
             ));
         }

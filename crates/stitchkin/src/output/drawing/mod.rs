@@ -17,7 +17,7 @@
 //! moves the same elements with SMIL (`<animate values=…>` and
 //! `<animateTransform>`), which browsers play without any script.
 
-use crate::error::{Error, ParamError};
+use crate::error::{Error, Input, NotFiniteError, ParamError};
 use crate::format::{fmt_decimals, svg_num as n};
 use crate::geometry::{Plane as FramePlane, V2, V3};
 use crate::mechanism::Mechanism;
@@ -66,7 +66,8 @@ impl View {
         Ok(match text.trim() {
             "" => {
                 return Err(param_error(
-                    "no view given (in --view)".into(),
+                    Input::View,
+                    "no view given".into(),
                     "give xy, xz, yz, iso or the name of a model frame".into(),
                 ));
             }
@@ -154,8 +155,9 @@ impl Default for DrawOptions {
     }
 }
 
-fn param_error(message: String, help: String) -> Error {
+fn param_error(input: impl Into<Option<Input>>, message: String, help: String) -> Error {
     Error::Param(ParamError {
+        input: input.into(),
         message,
         help: Some(help),
     })
@@ -227,42 +229,41 @@ impl Projection {
 pub fn check_options(opts: &DrawOptions) -> Result<(), Error> {
     if !opts.phi_deg.is_finite() {
         return Err(param_error(
-            format!("the angle φ = {} is not a finite number (in --phi)", opts.phi_deg),
-            "give --phi in degrees, e.g. --phi 90".into(),
+            Input::Phi,
+            format!("the angle φ = {} is not a finite number", opts.phi_deg),
+            "give φ in degrees, e.g. 90".into(),
         ));
     }
     if opts.animate {
         if opts.frames < 2 {
             return Err(param_error(
-                format!(
-                    "an animation needs at least 2 frames per turn, got {} (in --frames)",
-                    opts.frames
-                ),
-                "give --frames 72 (5° per frame) or 120 (3°)".into(),
+                Input::Frames,
+                format!("an animation needs at least 2 frames per turn, got {}", opts.frames),
+                "give 72 frames (5° per frame) or 120 (3°)".into(),
             ));
         }
         if opts.frames > 3600 {
             return Err(param_error(
-                format!(
-                    "{} frames per turn would make a very large file (in --frames)",
-                    opts.frames
-                ),
-                "give at most --frames 3600 (0.1° per frame)".into(),
+                Input::Frames,
+                format!("{} frames per turn would make a very large file", opts.frames),
+                "give at most 3600 frames (0.1° per frame)".into(),
             ));
         }
         if !(opts.duration_s.is_finite() && opts.duration_s > 0.0) {
             return Err(param_error(
+                Input::Duration,
                 format!(
-                    "the duration of one turn must be a positive number of seconds, got {} (in --duration)",
+                    "the duration of one turn must be a positive number of seconds, got {}",
                     opts.duration_s
                 ),
-                "give --duration 4 (seconds per turn of the main shaft)".into(),
+                "give 4 (seconds per turn of the main shaft)".into(),
             ));
         }
     }
     for (what, v) in [("width", opts.width), ("height", opts.height)] {
         if !(v.is_finite() && (200.0..=20000.0).contains(&v)) {
             return Err(param_error(
+                None,
                 format!("the drawing {what} {v} px is out of range"),
                 "give a size between 200 and 20000 px".into(),
             ));
@@ -294,7 +295,8 @@ fn projection(model: &Model, mech: &Mechanism<f64>, view: &View) -> Result<(Proj
                 let mut views = vec!["xy", "xz", "yz", "iso"];
                 views.extend(model.frame_names());
                 param_error(
-                    format!("the model has no frame `{name}` (in --view)"),
+                    Input::View,
+                    format!("the model has no frame `{name}`"),
                     format!(
                         "views are xy, xz, yz, iso or a model frame; this model offers: {}",
                         views.join(", ")
@@ -431,11 +433,11 @@ pub fn render(model: &Model, solved: Solved, opts: &DrawOptions) -> Result<Strin
     d.draw_phi_dial(&mut out);
     out.svg.push_str("</svg>\n");
     if out.svg.contains("NaN") || out.svg.contains("inf") {
-        return Err(Error::NotFinite(format!(
-            "the drawing of `{}` at φ = {}° came out with a non-finite coordinate; a point may sit on a dead point or a guide line may have no direction there",
-            model.name(),
-            fmt_decimals(opts.phi_deg, 3)
-        )));
+        return Err(Error::NotFinite(NotFiniteError {
+            quantity: format!("a coordinate of the drawing of `{}`", model.name()),
+            phi_deg: Some(opts.phi_deg),
+            cause: "a point may sit on a dead point or a guide line may have no direction there".into(),
+        }));
     }
     Ok(out.svg)
 }
@@ -484,7 +486,7 @@ mod tests {
     }
 
     #[test]
-    fn bad_options_are_refused_with_the_flag() {
+    fn bad_options_are_refused_naming_the_input() {
         let model = Model::preset("needle876").unwrap();
         let p = model.defaults();
         let err = |o: DrawOptions| crate::jobs::drawing::render(&model, &p, &o).unwrap_err().to_string();
@@ -493,7 +495,7 @@ mod tests {
                 phi_deg: f64::NAN,
                 ..Default::default()
             })
-            .contains("--phi")
+            .contains("(in `phi`)")
         );
         assert!(
             err(DrawOptions {
@@ -501,7 +503,7 @@ mod tests {
                 frames: 1,
                 ..Default::default()
             })
-            .contains("--frames")
+            .contains("(in `frames`)")
         );
         assert!(
             err(DrawOptions {
@@ -509,7 +511,7 @@ mod tests {
                 duration_s: 0.0,
                 ..Default::default()
             })
-            .contains("--duration")
+            .contains("(in `duration`)")
         );
         assert!(
             err(DrawOptions {

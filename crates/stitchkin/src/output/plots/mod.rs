@@ -10,7 +10,7 @@
 //! difference.
 
 use super::svg::{Axis, Chart, Series, XShade, YBand, color};
-use crate::error::{Error, ParamError};
+use crate::error::{Error, Input, ParamError};
 use crate::eval::{CycleTable, MU_MAX_DEG, MU_MIN_DEG, wrap_deg};
 use crate::geometry::{Plane, V3};
 use crate::model::Model;
@@ -18,22 +18,23 @@ use crate::study::measured::MeasuredMatch;
 use crate::thread::measured::CurveKind;
 
 pub mod analogs;
-pub mod delta;
+pub mod compare_2d3d;
 pub mod family;
 pub mod heatmap;
 pub mod motion;
 pub mod nomogram;
 
 pub use analogs::analogs;
-pub use delta::delta_2d3d;
+pub use compare_2d3d::delta_2d3d;
 pub use family::{FamilyData, Quantity, VaryGrid, family, surface_heat, surface_wireframe};
 pub use heatmap::{FigureGrid, figure_label, heatmap};
 pub use motion::{MotionSeries, motion_chart, motion_family_chart};
 pub use nomogram::nomogram_figure;
 
 /// A parameter error with its help.
-pub(crate) fn param_error(message: String, help: String) -> Error {
+pub(crate) fn param_error(input: impl Into<Option<Input>>, message: String, help: String) -> Error {
     Error::Param(ParamError {
+        input: input.into(),
         message,
         help: Some(help),
     })
@@ -84,27 +85,33 @@ fn value_text(name: &str, v: f64, step: f64, unit: &str) -> String {
 
 pub(crate) fn no_threads(model: &Model) -> Error {
     param_error(
+        None,
         format!(
             "model `{}` has no thread paths, so it has no take-up to plot",
             model.name()
         ),
         "add a [thread] table with [[thread.paths]] (docs/model-format.md §13), or plot a model with threads \
-         (e.g. --preset mf7923d); `plot mu` and `plot trajectory --points …` work for any model"
+         (e.g. the preset mf7923d); the transmission-angle and trajectory charts work for any model"
             .into(),
     )
 }
 
 pub(crate) fn no_dyads(model: &Model) -> Error {
     param_error(
-        format!("model `{}` has no dyads, so it has no transmission angles to plot", model.name()),
-        "transmission angles come from rrr, rrp, rpr and rssr groups; plot this model's `trajectory --points …` instead".into(),
+        None,
+        format!(
+            "model `{}` has no dyads, so it has no transmission angles to plot",
+            model.name()
+        ),
+        "transmission angles come from rrr, rrp, rpr and rssr groups; plot the trajectories of its points instead"
+            .into(),
     )
 }
 
 pub(crate) fn column<'a>(table: &'a CycleTable, name: &str) -> Result<&'a [f64], Error> {
     table
         .column(name)
-        .ok_or_else(|| Error::Io(format!("the cycle has no column `{name}` (a bug: please report it)")))
+        .ok_or_else(|| Error::Internal(format!("the cycle has no column `{name}`")))
 }
 
 /// (φ, v) over the cycle, closed at φ_start + 360° (the motion is periodic).

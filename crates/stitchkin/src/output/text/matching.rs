@@ -4,7 +4,7 @@
 //! measured curves, notes and, in detail, every metric.
 
 use crate::eval::CycleTable;
-use crate::eval::stitch::{StitchSummary, StitchThreadSummary};
+use crate::eval::stitch_process::{StitchSummary, StitchThreadSummary};
 use crate::format::score;
 use crate::model::Model;
 use crate::output::text::{sparkline, window_marks};

@@ -1,11 +1,11 @@
 //! The 2D-vs-3D take-up (seed 000 Fig. 9): P_3D and P_2D of each thread
 //! path, and their difference ΔP(φ).
 
-use super::{param_error, phi_axis, title};
+use super::{phi_axis, title};
 use crate::error::Error;
 use crate::model::Model;
 use crate::output::svg::{Axis, Chart, Figure, Marker, Series, color};
-use crate::study::compare2d3d::Comparison;
+use crate::study::compare_2d3d::Comparison;
 
 /// Height of each of the two panels.
 const PANEL_H: f64 = 330.0;
@@ -30,12 +30,11 @@ pub fn delta_2d3d(model: &Model, c: &Comparison, paths: &[String]) -> Result<Fig
     let mut bottom = Chart::new("ΔP = P_3D − P_2D", phi_axis(model), Axis::new("ΔP, mm"));
     let mut worst: Option<(String, f64, f64)> = None;
     for (i, name) in paths.iter().enumerate() {
-        let p = c.paths.iter().find(|p| &p.path == name).ok_or_else(|| {
-            param_error(
-                format!("no comparison for path `{name}`"),
-                "a bug: please report it".into(),
-            )
-        })?;
+        let p = c
+            .paths
+            .iter()
+            .find(|p| &p.path == name)
+            .ok_or_else(|| Error::Internal(format!("no comparison for path `{name}`")))?;
         top.series
             .push(Series::new(format!("{name} 3D"), close(&p.p3d_mm), color(i)));
         let mut s2 = Series::new(format!("{name} 2D"), close(&p.p2d_mm), color(i));

@@ -32,10 +32,10 @@
 use crate::Error;
 use crate::geometry::V3;
 
-use super::material::WPath;
-use super::needle_thread::{NeedlePiece, NeedleThread, Side, before, piece_at};
-use super::overedge::{EdgeSeam, HOOK_OFFSET_WARN_MM, inside_scan};
-use super::spec::{EventKind, Motion, StitchSpec, polyline_at};
+use super::{EdgeSeam, HOOK_OFFSET_WARN_MM, inside_scan};
+use crate::stitch::material::WPath;
+use crate::stitch::needle_thread::{NeedlePiece, NeedleThread, Side, before, piece_at};
+use crate::stitch::spec::{EventKind, Motion, StitchSpec, polyline_at};
 
 /// Piece of the 503 needle thread's contour (§5.5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -5,10 +5,10 @@
 use std::sync::Arc;
 
 use super::file::{ModelFile, PolylineLawFile, StitchFile, Value};
-use super::load::Loader;
+use super::load::{LoadResult, Loader};
 use super::spans::KeyPath;
-use super::{Model, Params, Q, ThreadsDef};
-use crate::error::{Error, ModelError};
+use super::{Model, Params, QuantityId, ThreadsDef};
+use crate::error::Error;
 use crate::geometry::{Placement, V3};
 use crate::mechanism::{Phi, Pose};
 use crate::stitch::spec::{
@@ -18,8 +18,6 @@ use crate::stitch::spec::{
 
 /// The upper looper of a 504: its organ, its window (deg) and the thread path it feeds.
 type UpperLooper = (OrganDef, [f64; 2], Option<String>);
-
-type R<T> = Result<T, Box<ModelError>>;
 
 /// Step of the tables that sample mechanism points for the stitch process,
 /// degrees of φ. Linear interpolation between samples is within about 3e-7 mm
@@ -32,19 +30,19 @@ pub(crate) enum OrganDef {
     /// A mechanism point (slot).
     Point(usize),
     NeedleLaw {
-        x: Q,
-        s_b: Q,
-        stroke: Q,
-        bdc: Option<Q>,
+        x: QuantityId,
+        s_b: QuantityId,
+        stroke: QuantityId,
+        bdc: Option<QuantityId>,
     },
     LooperLaw {
-        stroke: Q,
-        far: Q,
-        catch: Q,
-        catch_x: Option<Q>,
-        y0: Option<Q>,
-        avoid: Option<Q>,
-        depth: Q,
+        stroke: QuantityId,
+        far: QuantityId,
+        catch: QuantityId,
+        catch_x: Option<QuantityId>,
+        y0: Option<QuantityId>,
+        avoid: Option<QuantityId>,
+        depth: QuantityId,
     },
     Polyline {
         points: Vec<[f64; 3]>,
@@ -57,8 +55,8 @@ pub(crate) enum OrganDef {
 pub(crate) struct NeedleDef {
     pub name: String,
     pub eye: OrganDef,
-    pub eye_above_plate: Option<Q>,
-    pub point_below_eye: Option<Q>,
+    pub eye_above_plate: Option<QuantityId>,
+    pub point_below_eye: Option<QuantityId>,
     pub path: Option<String>,
     pub catch_deg: Option<f64>,
     pub drop_deg: Option<f64>,
@@ -70,14 +68,14 @@ pub(crate) struct NeedleDef {
 #[derive(Debug, Clone)]
 pub(crate) enum RegulatorDef {
     Window([f64; 2]),
-    BeforeTightening(Option<Q>),
+    BeforeTightening(Option<QuantityId>),
     AtLock,
 }
 
 /// The material feed: harmonic (start, duration) or a feed-dog tooth point.
 #[derive(Debug, Clone)]
 pub(crate) enum FeedDef {
-    Harmonic(Q, Q),
+    Harmonic(QuantityId, QuantityId),
     Point(usize),
 }
 
@@ -85,10 +83,10 @@ pub(crate) enum FeedDef {
 #[derive(Debug, Clone)]
 pub(crate) struct StitchDef {
     pub stitch_type: StitchType,
-    pub m: Q,
-    pub t: Q,
-    pub tilt: Option<Q>,
-    pub a_e: Option<Q>,
+    pub m: QuantityId,
+    pub t: QuantityId,
+    pub tilt: Option<QuantityId>,
+    pub a_e: Option<QuantityId>,
     pub edge_split: f64,
     pub frame: usize,
     pub cyclogram_zero_deg: f64,
@@ -96,7 +94,7 @@ pub(crate) struct StitchDef {
     pub regulator: RegulatorDef,
     pub feed: FeedDef,
     pub needles: Vec<NeedleDef>,
-    pub looper: (OrganDef, [Q; 4], Option<String>),
+    pub looper: (OrganDef, [QuantityId; 4], Option<String>),
     pub upper: Option<(OrganDef, [f64; 2], Option<String>)>,
     /// 503: the spreader and its pick-up window.
     pub spreader: Option<(OrganDef, [f64; 2])>,
@@ -118,7 +116,7 @@ pub struct StitchSetup {
     pub paths: Vec<Option<String>>,
 }
 
-fn finite_deg(ld: &Loader, v: f64, path: &KeyPath) -> R<f64> {
+fn finite_deg(ld: &Loader, v: f64, path: &KeyPath) -> LoadResult<f64> {
     if v.is_finite() {
         Ok(v)
     } else {
@@ -129,7 +127,13 @@ fn finite_deg(ld: &Loader, v: f64, path: &KeyPath) -> R<f64> {
 impl Loader<'_> {
     /// An organ is a mechanism point (`eye`) or a stand-in `law`, never
     /// both: the point's slot, or `None` for the law.
-    fn organ_point(&self, eye: &Option<String>, has_law: bool, path: &KeyPath, what: &str) -> R<Option<usize>> {
+    fn organ_point(
+        &self,
+        eye: &Option<String>,
+        has_law: bool,
+        path: &KeyPath,
+        what: &str,
+    ) -> LoadResult<Option<usize>> {
         match (eye, has_law) {
             (Some(p), false) => Ok(Some(self.point(p, &path.key("eye"))?)),
             (None, true) => Ok(None),
@@ -141,7 +145,7 @@ impl Loader<'_> {
         }
     }
 
-    fn opt_length(&mut self, v: &Option<Value>, path: KeyPath) -> R<Option<Q>> {
+    fn opt_length(&mut self, v: &Option<Value>, path: KeyPath) -> LoadResult<Option<QuantityId>> {
         v.as_ref().map(|v| self.length(v, path)).transpose()
     }
 
@@ -153,7 +157,7 @@ impl Loader<'_> {
         law: &Option<PolylineLawFile>,
         at: &KeyPath,
         what: &str,
-    ) -> R<OrganDef> {
+    ) -> LoadResult<OrganDef> {
         match (self.organ_point(eye, law.is_some(), at, what)?, law) {
             (Some(slot), _) => Ok(OrganDef::Point(slot)),
             (None, Some(w)) => {
@@ -180,14 +184,14 @@ impl Loader<'_> {
     }
 
     /// A pick-up window [from, to], from < to (φ_c degrees).
-    fn pick_window(&self, w: [f64; 2], at: &KeyPath) -> R<[f64; 2]> {
+    fn pick_window(&self, w: [f64; 2], at: &KeyPath) -> LoadResult<[f64; 2]> {
         if !(w[0].is_finite() && w[1].is_finite() && w[1] > w[0]) {
             return Err(self.err(at, "the pick-up window is [from, to] with from < to", None));
         }
         Ok(w)
     }
 
-    pub(super) fn stitch(&mut self, f: &ModelFile, threads: Option<&ThreadsDef>) -> R<Option<StitchDef>> {
+    pub(super) fn stitch(&mut self, f: &ModelFile, threads: Option<&ThreadsDef>) -> LoadResult<Option<StitchDef>> {
         let Some(s) = &f.stitch else { return Ok(None) };
         let path = KeyPath::root().key("stitch");
         let stitch_type = self.stitch_type(s, &path)?;
@@ -252,7 +256,7 @@ impl Loader<'_> {
     }
 
     /// The stitch type: 401, 406, 407, 503 or 504.
-    fn stitch_type(&self, s: &StitchFile, path: &KeyPath) -> R<StitchType> {
+    fn stitch_type(&self, s: &StitchFile, path: &KeyPath) -> LoadResult<StitchType> {
         Ok(match s.stitch_type.as_str() {
             "401" => StitchType::S401,
             "406" => StitchType::S406,
@@ -272,7 +276,7 @@ impl Loader<'_> {
     /// Where the thread passes the regulator: a window of φ (that must not
     /// hold φ0, where P' = 0), the last degrees before tightening, or at
     /// the lock.
-    fn regulator(&mut self, f: &ModelFile, s: &StitchFile, path: &KeyPath) -> R<RegulatorDef> {
+    fn regulator(&mut self, f: &ModelFile, s: &StitchFile, path: &KeyPath) -> LoadResult<RegulatorDef> {
         let rp = path.key("regulator");
         Ok(match &s.regulator {
             None => RegulatorDef::BeforeTightening(None),
@@ -319,7 +323,7 @@ impl Loader<'_> {
     }
 
     /// The material feed: harmonic, or a feed-dog tooth of the mechanism.
-    fn feed(&mut self, s: &StitchFile, path: &KeyPath) -> R<FeedDef> {
+    fn feed(&mut self, s: &StitchFile, path: &KeyPath) -> LoadResult<FeedDef> {
         let fp = path.key("feed");
         Ok(
             match (
@@ -362,7 +366,7 @@ impl Loader<'_> {
         stitch_type: StitchType,
         path: &KeyPath,
         threads: Option<&ThreadsDef>,
-    ) -> R<Vec<NeedleDef>> {
+    ) -> LoadResult<Vec<NeedleDef>> {
         let want = stitch_type.needles();
         if s.needles.len() != want {
             return Err(self.err(
@@ -443,7 +447,7 @@ impl Loader<'_> {
         s: &StitchFile,
         path: &KeyPath,
         threads: Option<&ThreadsDef>,
-    ) -> R<(OrganDef, [Q; 4], Option<String>)> {
+    ) -> LoadResult<(OrganDef, [QuantityId; 4], Option<String>)> {
         let lp = path.key("looper");
         let l = &s.looper;
         let looper_eye = match (self.organ_point(&l.eye, l.law.is_some(), &lp, "looper")?, &l.law) {
@@ -478,7 +482,7 @@ impl Loader<'_> {
         stitch_type: StitchType,
         path: &KeyPath,
         threads: Option<&ThreadsDef>,
-    ) -> R<Option<UpperLooper>> {
+    ) -> LoadResult<Option<UpperLooper>> {
         Ok(match (&s.upper_looper, stitch_type) {
             (Some(u), StitchType::S504) => {
                 let up = path.key("upper_looper");
@@ -508,7 +512,12 @@ impl Loader<'_> {
     }
 
     /// The spreader, which 503 has and no other stitch.
-    fn spreader(&mut self, s: &StitchFile, stitch_type: StitchType, path: &KeyPath) -> R<Option<(OrganDef, [f64; 2])>> {
+    fn spreader(
+        &mut self,
+        s: &StitchFile,
+        stitch_type: StitchType,
+        path: &KeyPath,
+    ) -> LoadResult<Option<(OrganDef, [f64; 2])>> {
         Ok(match (&s.spreader, stitch_type) {
             (Some(sp), StitchType::S503) => {
                 let at = path.key("spreader");
@@ -534,7 +543,7 @@ impl Loader<'_> {
     }
 
     /// The cyclogram moments of an overedge stitch (503, 504), in order.
-    fn moments(&mut self, s: &StitchFile, stitch_type: StitchType, path: &KeyPath) -> R<Option<Moments>> {
+    fn moments(&mut self, s: &StitchFile, stitch_type: StitchType, path: &KeyPath) -> LoadResult<Option<Moments>> {
         Ok(match (&s.moments, stitch_type) {
             (Some(mo), StitchType::S503 | StitchType::S504) => {
                 let mp = path.key("moments");
@@ -603,7 +612,7 @@ impl Loader<'_> {
     }
 
     /// A `path` naming one of the model's thread paths.
-    fn thread_path(&self, p: &Option<String>, at: KeyPath, threads: Option<&ThreadsDef>) -> R<Option<String>> {
+    fn thread_path(&self, p: &Option<String>, at: KeyPath, threads: Option<&ThreadsDef>) -> LoadResult<Option<String>> {
         let path_names: Vec<&str> = threads
             .map(|t| t.paths.iter().map(|p| p.name.as_str()).collect())
             .unwrap_or_default();

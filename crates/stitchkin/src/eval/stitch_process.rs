@@ -2,11 +2,12 @@
 //! take-up P(φ) of the path it is compared with, and their mismatch
 //! (`docs/stitch-formation.md` §5, §8).
 
+use crate::error::StitchError;
 use serde::Serialize;
 
 use super::{Column, wrap_deg};
 use crate::error::Error;
-use crate::model::stitch::StitchSetup;
+use crate::model::stitch_setup::StitchSetup;
 use crate::model::{Model, Params};
 use crate::stitch::checks::{Check, bound_curve, catch_and_stab, thread_bound};
 use crate::stitch::mismatch::{Mismatch, mismatch};
@@ -356,9 +357,11 @@ pub(crate) fn stitch_columns(
     columns: &mut Vec<Column>,
 ) -> Result<StitchSummary, Error> {
     if prepared.phis.len() != phis.len() || prepared.phis.first() != phis.first() {
-        return Err(Error::Stitch(
-            "the stitch process was prepared for another φ grid; prepare it with the same step".into(),
-        ));
+        return Err(StitchError::new(
+            "stitch process",
+            "it was prepared for another φ grid; prepare it with the same step",
+        )
+        .into());
     }
     let (setup, req, phi0_deg) = (&prepared.setup, &prepared.required, prepared.phi0_deg);
     let from_c = |phi_c: f64| wrap_deg(phi_c + setup.cyclogram_zero_deg);
@@ -384,8 +387,9 @@ pub(crate) fn stitch_columns(
                 _ => {
                     let p_name = format!("{path}.P_mm");
                     let c = columns.iter().find(|c| c.name == p_name).ok_or_else(|| {
-                        Error::Stitch(format!(
-                            "thread `{name}`: the take-up column `{p_name}` of its path is missing"
+                        Error::Stitch(StitchError::new(
+                            format!("thread `{name}`"),
+                            format!("the take-up column `{p_name}` of its path is missing"),
                         ))
                     })?;
                     (c.values.clone(), th.pprime_mm[..n].to_vec(), false)

@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use crate::error::{Error, ParamError};
+use crate::error::{Error, Input, ParamError};
 use crate::eval::{check_options, cycle_phis_deg, path_error, wrap_deg};
 use crate::mechanism::Phi;
 use crate::model::{Machine, Model, Params};
@@ -43,20 +43,21 @@ pub fn compare_2d3d(model: &Model, params: &Params, plane: &str, step_deg: f64) 
         ..Default::default()
     })?;
     let frame = model.frame_index(plane).ok_or_else(|| {
-        Error::Param(ParamError {
-            message: format!("the model has no frame `{plane}`"),
-            help: Some(format!("frames: {}", model.frame_names().join(", "))),
-        })
+        Error::Param(ParamError::new(
+            Input::Plane,
+            format!("the model has no frame `{plane}`"),
+            Some(format!("frames: {}", model.frame_names().join(", "))),
+        ))
     })?;
     let Machine {
         mechanism: mech,
         threads,
     } = model.machine::<f64>(params)?;
     let Some(threads) = &threads else {
-        return Err(Error::Param(ParamError {
-            message: format!("model `{}` has no thread paths to compare", model.name()),
-            help: Some("add a [thread] table with [[thread.paths]] (docs/model-format.md)".into()),
-        }));
+        return Err(Error::Param(ParamError::general(
+            format!("model `{}` has no thread paths to compare", model.name()),
+            Some("add a [thread] table with [[thread.paths]] (docs/model-format.md)".into()),
+        )));
     };
     let phis = cycle_phis_deg(model.phi_start_deg(), step_deg);
     let mut pose = mech.new_pose(phis.len());

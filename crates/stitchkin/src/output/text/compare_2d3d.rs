@@ -1,8 +1,8 @@
 //! The error of a planar model of a spatial thread path
-//! ([`crate::study::compare2d3d`]) as CSV and a summary.
+//! ([`crate::study::compare_2d3d`]) as CSV and a summary.
 
 use crate::format::fmt_num;
-use crate::study::compare2d3d::Comparison;
+use crate::study::compare_2d3d::Comparison;
 
 /// `phi_deg`, then per path `PATH.P3D_mm`, `PATH.P2D_mm`, `PATH.dP_mm`,
 /// one row per φ.
@@ -42,7 +42,7 @@ pub fn summary(c: &Comparison) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::study::compare2d3d::PathComparison;
+    use crate::study::compare_2d3d::PathComparison;
 
     #[test]
     fn csv_has_three_columns_per_path_and_the_summary_its_largest_error() {
