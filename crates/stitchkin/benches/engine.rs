@@ -218,7 +218,14 @@ fn sweep_setting_mf7923d(bencher: Bencher) {
         lean: true,
     };
     // One worker's evaluator, as `sweep::run` keeps one per worker.
-    let mut ev = sweep::Evaluator::new(&model, &base, &sw, &names, &opts, shared.as_ref());
+    let mut ev = sweep::Evaluator::new(sweep::SweepJob {
+        model: &model,
+        base: &base,
+        sweep: &sw,
+        names: &names,
+        opts: &opts,
+        shared: shared.as_ref(),
+    });
     assert!(ev.is_fast());
     let mut i = 0;
     bencher.bench_local(|| {

@@ -9,6 +9,7 @@ use stitchkin::error::Error;
 use stitchkin::eval::{self, CycleOptions};
 use stitchkin::output::{self, text};
 use stitchkin::study::design::{Design, Sweep, Vary};
+use stitchkin::study::sweep::SweepJob;
 use stitchkin::study::{figures, sweep};
 
 use crate::common::{ModelArgs, load, progress_bar};
@@ -151,13 +152,16 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     };
     sink.write(header.as_bytes())?;
     let mut tally = text::sweep::Tally::new(&names);
+    let job = SweepJob {
+        model: &model,
+        base: &params,
+        sweep: &sw,
+        names: &names,
+        opts: &opts,
+        shared: shared.as_ref(),
+    };
     sweep::run(
-        &model,
-        &params,
-        &sw,
-        &names,
-        &opts,
-        shared.as_ref(),
+        job,
         range,
         |row| {
             tally.add(row);

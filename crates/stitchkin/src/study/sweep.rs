@@ -151,18 +151,32 @@ struct StitchPlan {
     fixed_checks_ok: bool,
 }
 
+/// What a sweep evaluates: `model` at `base` with each setting of `sweep`
+/// applied, for the figures `names` (as
+/// [`select_figures`](super::figures::select_figures) gives them), every
+/// cycle run with `opts`, and P' from `shared` when the sweep leaves the
+/// stitch alone ([`super::figures::shared_stitch`]).
+#[derive(Debug, Clone, Copy)]
+pub struct SweepJob<'a> {
+    pub model: &'a Model,
+    pub base: &'a Params,
+    pub sweep: &'a Sweep,
+    pub names: &'a [String],
+    pub opts: &'a CycleOptions,
+    pub shared: Option<&'a Prepared>,
+}
+
 impl<'a> Evaluator<'a> {
-    /// An evaluator of `sweep`'s settings for the figures `names` (as
-    /// [`select_figures`](super::figures::select_figures) gives them), with
-    /// P' from `shared` when given.
-    pub fn new(
-        model: &'a Model,
-        base: &'a Params,
-        sweep: &'a Sweep,
-        names: &'a [String],
-        opts: &'a CycleOptions,
-        shared: Option<&'a Prepared>,
-    ) -> Self {
+    /// An evaluator of the settings of `job`.
+    pub fn new(job: SweepJob<'a>) -> Self {
+        let SweepJob {
+            model,
+            base,
+            sweep,
+            names,
+            opts,
+            shared,
+        } = job;
         let fast = Fast::plan(model, base, names, opts, shared);
         Evaluator {
             model,
@@ -727,19 +741,13 @@ fn finite_extremes(v: &[f64]) -> Result<(f64, f64), usize> {
 /// Settings evaluated together before their rows go to the sink.
 pub const CHUNK: usize = 4096;
 
-/// Evaluates the settings `range` on all cores, handing rows to `sink` in
-/// setting order, `CHUNK` at a time; `progress` is told how many settings
-/// are done. Stops at the first error the sink returns. The sink takes one
-/// chunk while the workers compute the next, and each worker keeps one
-/// [`Evaluator`] for its share of a chunk.
-#[allow(clippy::too_many_arguments)]
+/// Evaluates the settings `range` of `job` on all cores, handing rows to
+/// `sink` in setting order, `CHUNK` at a time; `progress` is told how many
+/// settings are done. Stops at the first error the sink returns. The sink
+/// takes one chunk while the workers compute the next, and each worker keeps
+/// one [`Evaluator`] for its share of a chunk.
 pub fn run<E: Send>(
-    model: &Model,
-    base: &Params,
-    sweep: &Sweep,
-    names: &[String],
-    opts: &CycleOptions,
-    shared: Option<&Prepared>,
+    job: SweepJob<'_>,
     range: std::ops::Range<usize>,
     mut sink: impl FnMut(&Row) -> Result<(), E> + Send,
     progress: impl Fn(usize) + Sync,
@@ -750,10 +758,7 @@ pub fn run<E: Send>(
         chunk
             .into_par_iter()
             .with_min_len(64)
-            .map_init(
-                || Evaluator::new(model, base, sweep, names, opts, shared),
-                |ev, i| ev.evaluate(i),
-            )
+            .map_init(|| Evaluator::new(job), |ev, i| ev.evaluate(i))
             .collect()
     };
     let mut pending: Vec<Row> = Vec::new();

@@ -168,7 +168,7 @@ fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
 /// including settings without assembly.
 #[test]
 fn the_fast_figures_are_the_cycle_tables() {
-    use stitchkin::study::sweep::Evaluator;
+    use stitchkin::study::sweep::{Evaluator, SweepJob};
     let (mut fast_presets, mut failing) = (0, 0);
     for preset in stitchkin::presets::ALL {
         let m = Model::preset(preset.name).unwrap();
@@ -191,7 +191,14 @@ fn the_fast_figures_are_the_cycle_tables() {
             )
             .unwrap();
             let shared = figures::shared_stitch(&m, &p, &sw, o.step_deg).unwrap();
-            let mut ev = Evaluator::new(&m, &p, &sw, &names, &o, shared.as_ref());
+            let mut ev = Evaluator::new(SweepJob {
+                model: &m,
+                base: &p,
+                sweep: &sw,
+                names: &names,
+                opts: &o,
+                shared: shared.as_ref(),
+            });
             fast_presets += usize::from(ev.is_fast());
             for i in 0..sw.len() {
                 let full = sweep::evaluate(&m, &p, &sw, &names, &o, shared.as_ref(), i);
@@ -219,7 +226,14 @@ fn the_fast_figures_are_the_cycle_tables() {
         .map(|(n, _)| n)
         .collect();
     let sw = Sweep::new(vec![Vary::parse(&m, "r=10:20:11").unwrap()], Design::Grid).unwrap();
-    let mut ev = Evaluator::new(&m, &p, &sw, &names, &o, None);
+    let mut ev = Evaluator::new(SweepJob {
+        model: &m,
+        base: &p,
+        sweep: &sw,
+        names: &names,
+        opts: &o,
+        shared: None,
+    });
     assert!(ev.is_fast());
     for i in 0..sw.len() {
         let full = sweep::evaluate(&m, &p, &sw, &names, &o, None, i);

@@ -8,7 +8,7 @@ use crate::model::{Model, Params};
 use crate::output::plots::{FigureGrid, param_error};
 use crate::study::design::{Design, Sweep, Vary};
 use crate::study::figures::{figures, select_figures, shared_stitch};
-use crate::study::sweep;
+use crate::study::sweep::{self, SweepJob};
 
 /// Evaluates the grid of the two `vary` parameters (in parallel, as
 /// `stitchkin sweep`) for the one figure of merit `figure` matches: the
@@ -26,13 +26,16 @@ pub fn figure_grid(
     let sw = Sweep::new(vec![across.clone(), up.clone()], Design::Grid)?;
     let shared = shared_stitch(model, params, &sw, step_deg)?;
     let mut rows = Vec::with_capacity(sw.len());
-    sweep::run(
+    let job = SweepJob {
         model,
-        params,
-        &sw,
-        std::slice::from_ref(&name),
-        &opts,
-        shared.as_ref(),
+        base: params,
+        sweep: &sw,
+        names: std::slice::from_ref(&name),
+        opts: &opts,
+        shared: shared.as_ref(),
+    };
+    sweep::run(
+        job,
         0..sw.len(),
         |r| -> Result<(), Error> {
             rows.push(r.clone());
