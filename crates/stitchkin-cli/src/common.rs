@@ -228,6 +228,24 @@ pub(crate) fn measured(specs: &[String], table: &CycleTable) -> Result<Vec<Measu
         .collect()
 }
 
+/// Stopped by Ctrl-C (SIGINT), SIGTERM or SIGHUP, the program first deletes
+/// the temporary files of outputs it was writing, then exits with 128 + the
+/// signal's number, as a shell reports a program the signal ended.
+pub(crate) fn remove_temporaries_on_signal() {
+    #[cfg(unix)]
+    {
+        use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+        if let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
+            std::thread::spawn(move || {
+                if let Some(signal) = signals.forever().next() {
+                    stitchkin::output::remove_temporaries();
+                    std::process::exit(128 + signal);
+                }
+            });
+        }
+    }
+}
+
 /// Into a pipe or a log, a diagnostic keeps each message on one line:
 /// wrapping at an assumed 80 columns splits messages at places that depend
 /// on the file's path, which makes logs hard to search.

@@ -59,6 +59,7 @@ enum Command {
 
 fn main() -> miette::Result<()> {
     common::unwrapped_diagnostics_off_terminal();
+    common::remove_temporaries_on_signal();
     let result = match Cli::parse().command {
         Command::Presets(args) => presets::run(args),
         Command::Run(args) => run::run(args),

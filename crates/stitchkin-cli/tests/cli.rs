@@ -42,7 +42,10 @@ fn fails(args: &[&str]) -> String {
 
 /// A fresh scratch folder.
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("stitchkin-cli-{}-{name}", std::process::id()));
+    // Under the build folder (cargo clean removes it), not the system's /tmp.
+    // One folder per test, emptied when the test starts again: runs do not
+    // pile up folders.
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("cli-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
@@ -927,4 +930,54 @@ fn errors_name_the_flag_and_refuse_what_cannot_work() {
         "2",
     ]);
     assert!(e.contains("(in --stitch)"), "{e}");
+}
+
+/// `-o` never destroys what it points at: a device stays a device, a
+/// read-only file is refused and kept, a stopped sweep leaves neither its
+/// temporary file nor a half-written output.
+#[cfg(unix)]
+#[test]
+fn outputs_keep_devices_read_only_files_and_stopped_runs_intact() {
+    use std::os::unix::fs::{FileTypeExt, PermissionsExt};
+    ok(&["run", "--step", "30", "-o", "/dev/null"]);
+    assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+    let d = scratch("outputs");
+    let locked = d.join("locked.csv");
+    std::fs::write(&locked, "keep me").unwrap();
+    std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o444)).unwrap();
+    let e = fails(&["run", "--step", "30", "-o", locked.to_str().unwrap()]);
+    assert!(e.contains("read-only") && e.contains("chmod u+w"), "{e}");
+    assert_eq!(std::fs::read_to_string(&locked).unwrap(), "keep me");
+    let e = fails(&["run", "-o", d.join("nowhere/x.csv").to_str().unwrap()]);
+    assert!(e.contains("there is no folder"), "{e}");
+
+    // A long sweep stopped by SIGTERM while it streams its rows.
+    let out = d.join("sweep.csv");
+    let mut child = bin()
+        .args(["sweep", "--vary", "z=-10:10:1001", "--vary", "dphi=-20:20:1001", "-o"])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let temporary = || {
+        std::fs::read_dir(&d)
+            .unwrap()
+            .filter_map(Result::ok)
+            .any(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+    };
+    let started = std::time::Instant::now();
+    while !temporary() {
+        assert!(started.elapsed().as_secs() < 120, "the sweep never opened its output");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(128 + 15), "{status:?}");
+    assert!(!temporary(), "the temporary file outlived the signal");
+    assert!(!out.exists(), "a stopped sweep wrote its output");
 }

@@ -9,7 +9,7 @@
 //! elsewhere, without it, the test says loudly that it did not run.
 //! STITCHKIN_CHROMIUM names another binary.
 
-use std::io::{BufRead, BufReader};
+use std::io::{BufRead, BufReader, Write};
 use std::net::TcpStream;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
@@ -68,6 +68,11 @@ impl Browser {
                 "--window-size=1400,2600",
             ])
             .arg(format!("--user-data-dir={}", profile.0.display()))
+            // Chromium also writes beside the profile (crash reports, NSS
+            // keys): keep that in the throw-away folder, not the user's home.
+            .env("HOME", &profile.0)
+            .env("XDG_CONFIG_HOME", profile.0.join("config"))
+            .env("XDG_CACHE_HOME", profile.0.join("cache"))
             .arg("about:blank")
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
@@ -215,7 +220,10 @@ fn moving_a_slider_redraws_the_take_up_summary_and_mechanism() {
                 "STITCHKIN_REQUIRE_BROWSER is set but no Chromium was found: install Debian's package `chromium` (or set STITCHKIN_CHROMIUM)"
             );
         }
-        eprintln!(
+        // Written to the process's stderr itself: the test harness captures
+        // `eprintln!` of a passing test, which would hide the skip.
+        let _ = writeln!(
+            std::io::stderr(),
             "\n\n!!!! SKIPPED the browser test: no Chromium on PATH. Install Debian's package `chromium` to run it (.ci/run does). !!!!\n"
         );
         return;
