@@ -228,6 +228,27 @@ pub(crate) fn measured(specs: &[String], table: &CycleTable) -> Result<Vec<Measu
         .collect()
 }
 
+/// Writes `text` to stderr, where notes and summaries go; a closed stderr
+/// (`2>&1 | head`) silences it instead of ending the program.
+pub(crate) fn note(text: &str) {
+    let _ = std::io::stderr().lock().write_all(text.as_bytes());
+}
+
+/// Says on stderr that `path` was written, with its size.
+pub(crate) fn note_written(path: &std::path::Path, bytes: usize) {
+    let size = if bytes >= 10_000 {
+        format!("{} kB", bytes / 1000)
+    } else {
+        format!("{bytes} bytes")
+    };
+    note_line(&format!("wrote {} ({size})", path.display()));
+}
+
+/// [`note`] with a line end.
+pub(crate) fn note_line(text: &str) {
+    note(&format!("{text}\n"));
+}
+
 /// Stopped by Ctrl-C (SIGINT), SIGTERM or SIGHUP, the program first deletes
 /// the temporary files of outputs it was writing, then exits with 128 + the
 /// signal's number, as a shell reports a program the signal ended.
@@ -359,6 +380,26 @@ impl std::fmt::Display for FileDiagnostic {
 
 impl std::error::Error for FileDiagnostic {}
 
+/// The longest line of a model file shown under its error; a longer one
+/// (a generated or damaged file) is named by line and column only.
+const MAX_SHOWN_LINE_CHARS: usize = 400;
+
+impl FileDiagnostic {
+    /// The span to underline in the file, when its lines are short enough
+    /// to show.
+    fn shown_span(&self) -> Option<std::ops::Range<usize>> {
+        let span = self.err.span.clone()?;
+        let text = &*self.err.text;
+        let (start, end) = (span.start.min(text.len()), span.end.min(text.len()));
+        let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
+        let line_end = text[end..].find('\n').map_or(text.len(), |i| end + i);
+        let long = text
+            .get(line_start..line_end)
+            .is_none_or(|l| l.chars().count() > MAX_SHOWN_LINE_CHARS);
+        (!long).then_some(span)
+    }
+}
+
 impl Diagnostic for FileDiagnostic {
     fn help<'a>(&'a self) -> Option<Box<dyn std::fmt::Display + 'a>> {
         self.err
@@ -367,10 +408,10 @@ impl Diagnostic for FileDiagnostic {
             .map(|h| Box::new(h) as Box<dyn std::fmt::Display>)
     }
     fn source_code(&self) -> Option<&dyn SourceCode> {
-        self.err.span.as_ref().map(|_| &self.src as &dyn SourceCode)
+        self.shown_span().map(|_| &self.src as &dyn SourceCode)
     }
     fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
-        let span = self.err.span.clone()?;
+        let span = self.shown_span()?;
         let len = span.len().max(1);
         Some(Box::new(std::iter::once(LabeledSpan::new(
             Some("here".into()),

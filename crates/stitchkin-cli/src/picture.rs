@@ -54,15 +54,17 @@ pub(crate) fn check_output(out: Option<&PathBuf>, animated: bool) -> Result<Form
 
 /// Writes `svg` to `out` (stdout when `None`) as SVG or, for a `.png` name,
 /// as PNG (see [`check_output`]).
+/// A file written says so on stderr.
 pub(crate) fn emit_picture(svg: &str, out: Option<&PathBuf>, animated: bool) -> Result<(), Error> {
-    match check_output(out, animated)? {
-        Format::Svg => crate::common::emit(svg.as_bytes(), out),
-        Format::Png => {
-            let path = out.expect("PNG is only chosen for a file");
-            let png = svg_to_png(svg, path)?;
-            crate::common::emit(&png, out)
-        }
+    let bytes = match (check_output(out, animated)?, out) {
+        (Format::Png, Some(path)) => svg_to_png(svg, path)?,
+        _ => svg.as_bytes().to_vec(),
+    };
+    crate::common::emit(&bytes, out)?;
+    if let Some(path) = out {
+        crate::common::note_written(path, bytes.len());
     }
+    Ok(())
 }
 
 /// Pixels per SVG unit of the PNG: 2, crisp on high-density screens and in

@@ -10,7 +10,7 @@ use stitchkin::output::text;
 use stitchkin::parse_curve_csv;
 use stitchkin::study::cam_synthesis::{CamOptions, Target, synthesise};
 
-use crate::common::{ModelArgs, emit, load};
+use crate::common::{ModelArgs, emit, load, note};
 
 /// Synthesise a thread feed cam: the polar profile ρ(θ) that makes a
 /// path's take-up P(φ) equal the stitch's required P'(φ) or a given
@@ -158,6 +158,6 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
             }
         }
     }
-    eprint!("{}", text::cam_summary::summary(&s, &written));
+    note(&text::cam_summary::summary(&s, &written));
     Ok(())
 }

@@ -7,7 +7,7 @@ use stitchkin::error::Error;
 use stitchkin::output::text;
 use stitchkin::study::compare_2d3d::compare_2d3d;
 
-use crate::common::{CsvOrJson, ModelArgs, emit, load};
+use crate::common::{CsvOrJson, ModelArgs, emit, load, note};
 
 /// Compare each thread path with its planar model: project every node
 /// onto a plane, recompute P and report ΔP = P3D − P2D (seed 000 §4.6).
@@ -43,6 +43,6 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         CsvOrJson::Csv => text::compare_2d3d::csv(&c),
     };
     emit(out.as_bytes(), args.output.as_ref())?;
-    eprint!("{}", text::compare_2d3d::summary(&c));
+    note(&text::compare_2d3d::summary(&c));
     Ok(())
 }

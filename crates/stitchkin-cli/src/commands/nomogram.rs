@@ -4,7 +4,7 @@
 use stitchkin::error::{Error, Input};
 use stitchkin::study::nomogram::{Axis, NomogramOptions, default_thickness, nomogram};
 
-use crate::common::{ModelArgs, OutputArgs, SearchArgs, TableFormat, json, load, progress_bar};
+use crate::common::{ModelArgs, OutputArgs, SearchArgs, TableFormat, json, load, note_line, progress_bar};
 
 /// Tune at every point of a grid of material thickness (and stitch
 /// length): the recommended settings, their tolerance and the match
@@ -73,15 +73,15 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     args.output.emit(&out)?;
     let failed = n.points.iter().filter(|p| p.tuned.is_none()).count();
     let cycles: usize = n.tuned().map(|(_, r)| r.evaluations).sum();
-    eprintln!(
+    note_line(&format!(
         "# nomogram: {} grid points tuned ({failed} failed), {cycles} cycles in {:.1} s",
         n.points.len() - failed,
         started.elapsed().as_secs_f64()
-    );
+    ));
     if n.all_scores_zero() && !matches!(args.output.format, TableFormat::Table) {
-        eprintln!(
+        note_line(&format!(
             "warning: every match score is 0 at every grid point: no setting in the ranges fits this stitch (the recommendations only minimise J)"
-        );
+        ));
     }
     Ok(())
 }

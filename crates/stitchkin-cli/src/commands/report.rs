@@ -8,7 +8,7 @@ use stitchkin::jobs::report::{self, ReportOptions};
 use stitchkin::output::drawing::View;
 use stitchkin::study::nomogram::{Axis, NomogramOptions};
 
-use crate::common::{ModelArgs, SearchArgs, emit, in_flag, load};
+use crate::common::{ModelArgs, SearchArgs, emit, in_flag, load, note_line, note_written};
 
 /// One self-contained HTML report: parameters, mechanism drawing (still
 /// and animated), P/P′ chart, mismatch, transmission angles and, when
@@ -112,8 +112,12 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         measured: crate::common::read_measured(&args.measured)?,
     };
     if opts.tune.is_some() || opts.nomogram.is_some() {
-        eprintln!("# report: tuning (this takes a few seconds per tuning)…");
+        note_line(&format!("# report: tuning (this takes a few seconds per tuning)…"));
     }
     let html = report::render(&model, &params, &opts)?;
-    emit(html.as_bytes(), args.output.as_ref())
+    emit(html.as_bytes(), args.output.as_ref())?;
+    if let Some(path) = &args.output {
+        note_written(path, html.len());
+    }
+    Ok(())
 }

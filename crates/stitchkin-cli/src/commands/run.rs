@@ -8,7 +8,7 @@ use stitchkin::eval::{self, CycleOptions};
 use stitchkin::model::Model;
 use stitchkin::output::{self, text};
 
-use crate::common::{CsvOrJson, ModelArgs, emit, load};
+use crate::common::{CsvOrJson, ModelArgs, emit, load, note};
 
 /// Evaluate a model over one main-shaft cycle: positions, analogs,
 /// velocities, link and transmission angles, measures.
@@ -101,7 +101,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     .map_err(|e| Error::Internal(format!("cannot format the cycle table: {e}")))?;
     emit(&buf, args.output.as_ref())?;
     if matches!(format, CsvOrJson::Csv) || args.output.is_some() {
-        eprint!("{}", text::cycle::summary(&model, &table));
+        note(&text::cycle::summary(&model, &table));
     }
     Ok(())
 }

@@ -6,7 +6,7 @@ use std::net::IpAddr;
 use stitchkin::error::{Error, ParamError};
 use stitchkin_web::{App, Server};
 
-use crate::common::{ModelArgs, load};
+use crate::common::{ModelArgs, load, note_line};
 
 /// A local web page: a slider per adjustable parameter, thickness and
 /// stitch length inputs, and live P/P′, mismatch and mechanism drawing.
@@ -60,10 +60,10 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         other => other,
     })?;
     if !args.bind.is_loopback() {
-        eprintln!(
+        note_line(&format!(
             "warning: listening on {} — anyone who can reach this machine can use the page",
             args.bind
-        );
+        ));
     }
     // The address on stdout (a script can read it), flushed at once.
     let mut out = std::io::stdout().lock();

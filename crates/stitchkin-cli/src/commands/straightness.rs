@@ -5,7 +5,7 @@ use stitchkin::error::Error;
 use stitchkin::output::text;
 use stitchkin::study::straightness::straightness;
 
-use crate::common::{ModelArgs, OutputArgs, PathArgs, TableFormat, json, load};
+use crate::common::{ModelArgs, OutputArgs, PathArgs, TableFormat, json, load, note};
 
 /// How far a point's path strays from a straight line (two model points,
 /// or the least-squares line): max and RMS deviation, minimum zone, over
@@ -43,7 +43,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     };
     args.output.emit(&out)?;
     if matches!(args.output.format, TableFormat::Csv) {
-        eprint!("{}", text::straightness::commented(&summary));
+        note(&text::straightness::commented(&summary));
     }
     Ok(())
 }

@@ -6,7 +6,7 @@ use stitchkin::output::text;
 use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::stroke::{Axis, StrokeOptions, study};
 
-use crate::common::{ModelArgs, OutputArgs, TableFormat, json, load};
+use crate::common::{ModelArgs, OutputArgs, TableFormat, json, load, note};
 
 /// A point's stroke along an axis, both dead centres (refined below the
 /// φ step) and the range of every transmission angle, per setting, with
@@ -78,7 +78,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     };
     args.output.emit(&out)?;
     if !matches!(args.output.format, TableFormat::Table) {
-        eprint!("{}", text::stroke::footer(&s, "# "));
+        note(&text::stroke::footer(&s, "# "));
     }
     Ok(())
 }

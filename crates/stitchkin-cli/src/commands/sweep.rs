@@ -12,7 +12,7 @@ use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::sweep::SweepJob;
 use stitchkin::study::{figures, sweep};
 
-use crate::common::{ModelArgs, load, progress_bar};
+use crate::common::{ModelArgs, load, note, progress_bar};
 
 /// Sweep adjustable parameters over a grid or random / Latin-hypercube
 /// samples, in parallel, and write figures of merit per setting (CSV,
@@ -171,7 +171,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     )?;
     bar.finish_and_clear();
     sink.finish()?;
-    eprint!("{}", tally.summary(&sw, &names, total, (k, n)));
+    note(&tally.summary(&sw, &names, total, (k, n)));
     Ok(())
 }
 

@@ -6,7 +6,7 @@ use stitchkin::error::Error;
 use stitchkin::output::text;
 use stitchkin::study::straightness::{Distribution, ToleranceOptions, tolerance_study, tolerances};
 
-use crate::common::{ModelArgs, OutputArgs, PathArgs, TableFormat, json, load};
+use crate::common::{ModelArgs, OutputArgs, PathArgs, TableFormat, json, load, note};
 
 /// Which dimensional tolerances keep a path straight: each parameter
 /// alone at ± its tolerance, the largest tolerance each may have alone
@@ -81,7 +81,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     };
     args.output.emit(&out)?;
     if matches!(args.output.format, TableFormat::Csv) {
-        eprint!("{}", text::straightness::monte_carlo(&t, "# "));
+        note(&text::straightness::monte_carlo(&t, "# "));
     }
     Ok(())
 }

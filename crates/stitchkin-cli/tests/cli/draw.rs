@@ -17,7 +17,7 @@ fn draw_writes_svg_to_stdout_or_a_file() {
     assert!(svg.contains("the xy-plane of frame `uvw`") && svg.contains("class=\"guide pin free\""));
     let d = scratch("draw");
     let file = d.join("n876.svg");
-    let (out, _) = ok(&[
+    let (out, said) = ok(&[
         "draw",
         "--preset",
         "needle876",
@@ -29,6 +29,10 @@ fn draw_writes_svg_to_stdout_or_a_file() {
         file.to_str().unwrap(),
     ]);
     assert!(out.is_empty());
+    assert!(
+        said.contains("wrote ") && said.contains(file.to_str().unwrap()),
+        "{said}"
+    );
     let svg = std::fs::read_to_string(&file).unwrap();
     assert_eq!(svg.matches("class=\"trajectory\"").count(), 2);
     // Nothing but the file is left in the folder (the write is atomic).

@@ -14,7 +14,7 @@ fn plot_writes_svg_to_stdout_or_a_file() {
     assert_eq!(svg.matches("<polyline").count(), 9);
     let d = scratch("plot");
     let file = d.join("mu.svg");
-    let (out, _) = ok(&[
+    let (out, said) = ok(&[
         "plot",
         "mu",
         "--preset",
@@ -27,6 +27,10 @@ fn plot_writes_svg_to_stdout_or_a_file() {
         file.to_str().unwrap(),
     ]);
     assert!(out.is_empty());
+    assert!(
+        said.contains("wrote ") && said.contains(file.to_str().unwrap()),
+        "{said}"
+    );
     let svg = std::fs::read_to_string(&file).unwrap();
     assert!(svg.contains("class=\"band\"") && svg.contains(">45</text>"));
     // Nothing but the file is left in the folder (the write is atomic).

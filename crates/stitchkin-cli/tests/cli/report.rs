@@ -6,7 +6,8 @@ use super::{fails, ok, scratch};
 fn report_writes_one_html_file() {
     let dir = scratch("report");
     let out = dir.join("r.html");
-    ok(&["report", "--step", "3", "--no-animation", "-o", out.to_str().unwrap()]);
+    let (_, said) = ok(&["report", "--step", "3", "--no-animation", "-o", out.to_str().unwrap()]);
+    assert!(said.contains("wrote ") && said.contains("kB"), "{said}");
     let html = std::fs::read_to_string(&out).unwrap();
     assert!(html.starts_with("<!DOCTYPE html>"));
     assert!(html.contains("<section id=\"mismatch\">"));

@@ -18,6 +18,21 @@ pub mod sweep;
 pub mod tune;
 
 /// The eight heights of a sparkline, lowest first.
+/// The widest a name column grows: a longer name runs past the column
+/// instead of pushing every row across the screen (and past what a format
+/// width can hold).
+pub(crate) const MAX_NAME_WIDTH: usize = 40;
+
+/// The width of a column of names of lengths `lens`: the longest, at least
+/// `min`, at most [`MAX_NAME_WIDTH`].
+pub(crate) fn name_width(lens: impl IntoIterator<Item = usize>, min: usize) -> usize {
+    lens.into_iter()
+        .max()
+        .unwrap_or(0)
+        .max(min)
+        .min(MAX_NAME_WIDTH.max(min))
+}
+
 const BARS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
 
 /// `values` as a line of `cols` block characters, each the mean of its share

@@ -38,14 +38,15 @@ pub fn summary(model: &Model, table: &CycleTable) -> String {
         table.step_deg,
         table.rpm.map(|r| format!(", {r} rpm")).unwrap_or_default()
     );
-    let w = table
-        .transmission
-        .iter()
-        .map(|t| t.key.len() + 3)
-        .chain(table.ranges.iter().map(|r| r.name.len()))
-        .chain(table.paths.iter().map(|p| p.path.len()))
-        .max()
-        .unwrap_or(8);
+    let w = super::name_width(
+        table
+            .transmission
+            .iter()
+            .map(|t| t.key.len() + 3)
+            .chain(table.ranges.iter().map(|r| r.name.len()))
+            .chain(table.paths.iter().map(|p| p.path.len())),
+        1,
+    );
     for t in &table.transmission {
         s += &format!(
             "# {:<w$} {:>7.2}° (φ = {:>6.1}°) … {:>7.2}° (φ = {:>6.1}°)  {}  [{}]\n",

@@ -40,7 +40,7 @@ pub fn table(model: &str, facts: &Facts, r: &FitResult) -> String {
 }
 
 fn params_table(r: &FitResult) -> String {
-    let w = r.params.iter().map(|p| p.name.len()).max().unwrap_or(4).max(9);
+    let w = super::name_width(r.params.iter().map(|p| p.name.len()), 9);
     let mut s = format!(
         "{:<w$}  {:>14}  {:>14}  {:>16}  {}\n",
         "parameter", "start", "fitted", "± std error", "bounds"
@@ -65,8 +65,8 @@ fn params_table(r: &FitResult) -> String {
 }
 
 fn facts_table(r: &FitResult) -> String {
-    let fw = r.facts.iter().map(|f| f.figure.len()).max().unwrap_or(6).max(6);
-    let sw = r.facts.iter().map(|f| f.setting.len()).max().unwrap_or(7).max(7);
+    let fw = super::name_width(r.facts.iter().map(|f| f.figure.len()), 6);
+    let sw = super::name_width(r.facts.iter().map(|f| f.setting.len()), 7);
     let mut s = format!(
         "\n{:<fw$}  {:<sw$}  {:>12}  {:>12}  {:>12}  {:>12}  {:>11}\n",
         "figure", "setting", "target", "start", "fitted", "residual", "residual/tol"

@@ -94,7 +94,7 @@ pub fn table(nomogram: &Nomogram) -> String {
         head.push((h.into(), 12));
     }
     for t in &nomogram.threads {
-        head.push((t.clone(), 6.max(t.len())));
+        head.push((t.clone(), super::name_width([t.len()], 6)));
     }
     head.push(("J after".into(), 8));
     let line = |cells: &[String]| -> String {

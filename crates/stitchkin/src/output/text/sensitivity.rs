@@ -29,7 +29,7 @@ pub fn table(r: &SensitivityResult) -> String {
     );
     s += "d/dp: exact (dual numbers) unless marked (c), a central difference; effect = d/dp × the range width;\n";
     s += "at lo, at hi: the figure at the range's ends, the others nominal; span: its max − min over the range.\n";
-    let w = r.params.iter().map(|p| p.name.len()).max().unwrap_or(4).max(9);
+    let w = super::name_width(r.params.iter().map(|p| p.name.len()), 9);
     let plain = |x: Option<f64>| x.map_or("—".into(), |x| sig_sci(x, 6));
     for f in &r.figures {
         let unit = f.unit;
