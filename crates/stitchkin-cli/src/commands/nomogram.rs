@@ -79,9 +79,9 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         started.elapsed().as_secs_f64()
     ));
     if n.all_scores_zero() && !matches!(args.output.format, TableFormat::Table) {
-        note_line(&format!(
-            "warning: every match score is 0 at every grid point: no setting in the ranges fits this stitch (the recommendations only minimise J)"
-        ));
+        note_line(
+            "warning: every match score is 0 at every grid point: no setting in the ranges fits this stitch (the recommendations only minimise J)",
+        );
     }
     Ok(())
 }

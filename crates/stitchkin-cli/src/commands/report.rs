@@ -112,7 +112,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         measured: crate::common::read_measured(&args.measured)?,
     };
     if opts.tune.is_some() || opts.nomogram.is_some() {
-        note_line(&format!("# report: tuning (this takes a few seconds per tuning)…"));
+        note_line("# report: tuning (this takes a few seconds per tuning)…");
     }
     let html = report::render(&model, &params, &opts)?;
     emit(html.as_bytes(), args.output.as_ref())?;
