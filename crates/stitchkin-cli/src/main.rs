@@ -17,6 +17,9 @@ use crate::commands::*;
 #[command(
     name = "stitchkin",
     version,
+    // Help is wrapped at the terminal's width, and at 100 columns at most
+    // (or into a pipe) so long lines stay readable.
+    max_term_width = 100,
     about = "Kinematics of sewing-machine mechanisms and the thread they move",
     long_about = "Kinematics of sewing-machine mechanisms and the thread they move.\n\n\
         Describe a machine in one TOML model file (docs/model-format.md) or pick a shipped preset, \

@@ -106,21 +106,31 @@ fn cam_writes_one_format_to_stdout_or_a_file() {
     );
     let d = scratch("cam-svg");
     let f = d.join("upper.svg");
-    let (_, summary) = ok(&[
-        "cam",
-        "--preset",
-        "altin504",
-        "--path",
-        "upper",
-        "--target",
-        "required",
-        "--anchor-radius",
-        "21",
-        "--format",
-        "svg",
-        "-o",
-        f.to_str().unwrap(),
-    ]);
+    let upper = |extra: &[&str]| -> Vec<String> {
+        let mut a: Vec<String> = ["cam", "--preset", "altin504", "--path", "upper", "--target", "required"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a.extend([
+            "--format".into(),
+            "svg".into(),
+            "-o".into(),
+            f.to_str().unwrap().to_string(),
+        ]);
+        a
+    };
+    // Unsmoothed, the spline between the steps' knots passes the cam's axis:
+    // refused, and no file is written.
+    let args = upper(&["--anchor-radius", "21"]);
+    let e = fails(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(
+        e.contains("pass through the cam's axis") && e.contains("raise the anchor radius"),
+        "{e}"
+    );
+    assert!(!f.exists());
+    let args = upper(&["--anchor-radius", "21", "--smooth", "20"]);
+    let (_, summary) = ok(&args.iter().map(String::as_str).collect::<Vec<_>>());
     assert!(summary.contains("TOO SMALL"), "the spline dips below 3 mm: {summary}");
     xml_elements(&std::fs::read_to_string(&f).unwrap());
     assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);

@@ -204,7 +204,7 @@ fn nomogram_refuses_bad_input_with_the_fix() {
         (
             vec!["--preset", "altin504", "--thickness", "1:2:2"],
             "nothing to adjust (in --adjust)",
-            "name the settings to adjust",
+            "besides the stitch's thickness and length",
         ),
     ] {
         let e = fails(&[&["nomogram"], &args[..]].concat());

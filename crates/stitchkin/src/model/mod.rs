@@ -854,6 +854,31 @@ impl Model {
         }
     }
 
+    /// What to check when derived parameter `i` has no value: the values
+    /// its expression reads, the settable ones first.
+    fn derived_help<T: Real>(&self, i: usize, pv: &[T]) -> String {
+        let mut used = Vec::new();
+        if let Some(e) = &self.params[i].expr {
+            e.params(&mut used);
+        }
+        used.sort_unstable();
+        used.dedup();
+        used.sort_by_key(|&j| self.params[j].is_derived());
+        let values: Vec<String> = used
+            .iter()
+            .map(|&j| {
+                let p = &self.params[j];
+                format!("{} = {} {}", p.name, crate::format::fmt_num(pv[j].re()), p.unit_str())
+            })
+            .collect();
+        format!(
+            "its expression reads {}; with these values it takes acos or asin of a number outside −1…1, a square \
+             root of a negative number or divides by zero: the dimensions cannot form the geometry the expression \
+             describes. Move the parameters you set back toward their defaults.",
+            values.join(", ")
+        )
+    }
+
     /// Every value of the file (each expression) resolved with the
     /// parameter values `base`, checked finite and, where required, positive.
     pub(crate) fn quantities<T: Real>(&self, base: &[T]) -> Result<Vec<T>, Box<ModelError>> {
@@ -872,7 +897,7 @@ impl Model {
                         p.name,
                         pv[i].re()
                     ),
-                    Some("check the inputs of its expression (e.g. acos or sqrt of an out-of-range value)".into()),
+                    Some(self.derived_help(i, &pv)),
                 ));
             }
         }

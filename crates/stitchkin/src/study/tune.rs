@@ -389,10 +389,24 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
 fn tuned_ranges(model: &Model, adjust: &[String]) -> Result<Vec<Vary>, Error> {
     let bad = |message: String, help: &str| Error::Param(ParamError::new(Input::Adjust, message, Some(help.into())));
     if adjust.is_empty() {
-        return Err(bad(
-            "nothing to adjust".into(),
-            "name the settings to adjust, e.g. z,dphi (parameters with an adjustable range)",
-        ));
+        let stitch_values = [model.stitch_param("m"), model.stitch_param("t")];
+        let ranged: Vec<&str> = model
+            .params
+            .iter()
+            .filter(|p| p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived())
+            .map(|p| p.name.as_str())
+            .filter(|n| !stitch_values.contains(&Some(*n)))
+            .collect();
+        let help = if ranged.is_empty() {
+            format!(
+                "model `{}` has no parameter with an adjustable range besides the stitch's thickness and length: give \
+                 the settings to tune a `range = [lo, hi]` in [parameters]",
+                model.name()
+            )
+        } else {
+            format!("name the settings to adjust, e.g. {}", ranged.join(","))
+        };
+        return Err(bad("nothing to adjust".into(), &help));
     }
     let mut vary = Vec::new();
     for name in adjust {
