@@ -62,6 +62,5 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let _ = writeln!(out, "stitchkin serve: open {}  (Ctrl-C stops)", server.url());
     let _ = out.flush();
     drop(out);
-    server.join();
-    Ok(())
+    server.join()
 }
