@@ -41,16 +41,8 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     }
     let (model, params) = load(&args.model)?;
     let addr = std::net::SocketAddr::new(args.bind, args.port);
-    let server = Server::start(App::new(model, params), &addr.to_string(), args.threads).map_err(|e| match e {
-        Error::Io(m) => Error::Param(ParamError {
-            message: m,
-            help: Some(format!(
-                "another program may be using port {}: choose another with --port, or --port 0 for any free one",
-                args.port
-            )),
-        }),
-        other => other,
-    })?;
+    let server =
+        Server::start(App::new(model, params), &addr.to_string(), args.threads).map_err(|e| listen_error(e, &args))?;
     if !args.bind.is_loopback() {
         eprintln!(
             "warning: listening on {} — anyone who can reach this machine can use the page",
@@ -63,4 +55,25 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let _ = out.flush();
     drop(out);
     server.join()
+}
+
+/// The server could not listen (the message says why): the fix, for a
+/// --bind that is not this machine's or for a --port that cannot be had.
+fn listen_error(e: Error, args: &Args) -> Error {
+    let Error::Io(message) = e else { return e };
+    // An address of this machine takes a listener on a free port.
+    let local = std::net::TcpListener::bind((args.bind, 0))
+        .map_or_else(|e| e.kind() != std::io::ErrorKind::AddrNotAvailable, |_| true);
+    let help = if local {
+        "choose another port with --port (above 1023, which need no privileges), or --port 0 for any free one"
+            .to_string()
+    } else {
+        "leave --bind out (127.0.0.1: this machine only), or give one of this machine's addresses \
+         (0.0.0.0: all of them)"
+            .to_string()
+    };
+    Error::Param(ParamError {
+        message,
+        help: Some(help),
+    })
 }
