@@ -24,7 +24,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::task::{Context, Poll};
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use http_body_util::Full;
 use hyper::body::{Bytes, Incoming};
@@ -60,8 +60,9 @@ pub struct ServerConfig {
     /// Time an answer waits for a client that takes none of it before the
     /// connection is closed, ms (default 10,000).
     pub write_timeout_ms: u64,
-    /// The longest request head (request line and headers), bytes (default
-    /// 32,768); a longer one is answered 431 and the connection closed.
+    /// The longest request head (request line and headers), bytes, at
+    /// least 1,024 (default 32,768); a longer one is answered 431 and the
+    /// connection closed.
     pub max_head_bytes: usize,
 }
 
@@ -193,6 +194,10 @@ struct Shared {
     max_connections: AtomicUsize,
     /// Refused connections still being answered 503.
     refusing: AtomicUsize,
+    /// Connections refused since the last line on stderr said so, and when
+    /// that was.
+    refused: AtomicUsize,
+    refusals_said: std::sync::Mutex<Option<Instant>>,
 }
 
 impl Shared {
@@ -206,6 +211,8 @@ impl Shared {
             open: AtomicUsize::new(0),
             max_connections: AtomicUsize::new(config.max_connections.max(1)),
             refusing: AtomicUsize::new(0),
+            refused: AtomicUsize::new(0),
+            refusals_said: std::sync::Mutex::new(None),
         }
     }
 }
@@ -310,8 +317,8 @@ fn lower_cap(shared: &Shared, e: &io::Error) {
     let before = shared.max_connections.fetch_min(cap, Ordering::SeqCst);
     if cap < before {
         eprintln!(
-            "stitchkin serve: {e} with {in_use} connections open; serving at most {cap} at once from now \
-             (raise the limit of open files, `ulimit -n`, to serve more)"
+            "stitchkin serve: out of file descriptors ({e}) with {in_use} connections open; serving at most \
+             {cap} at once from now (raise the limit of open files, `ulimit -n`, to serve more)"
         );
     }
 }
@@ -353,6 +360,7 @@ const REFUSE_LINGER_MS: u64 = 1000;
 /// Answers 503 on a connection beyond the cap and closes it.
 fn refuse(stream: TcpStream, shared: &Arc<Shared>) {
     let cap = shared.max_connections.load(Ordering::SeqCst);
+    say_refusals(shared, cap);
     let body = Reply::error(
         503,
         format!("the server has {cap} connections open, as many as it serves at once"),
@@ -388,6 +396,25 @@ fn refuse(stream: TcpStream, shared: &Arc<Shared>) {
         let _ = tokio::time::timeout(Duration::from_millis(REFUSE_LINGER_MS), drain).await;
         drop(count);
     });
+}
+
+/// How often stderr says that connections are being refused, s.
+const REFUSALS_SAID_EVERY_S: u64 = 10;
+
+/// Counts a refused connection; says so on stderr at the first and then at
+/// most every [`REFUSALS_SAID_EVERY_S`].
+fn say_refusals(shared: &Shared, cap: usize) {
+    let refused = shared.refused.fetch_add(1, Ordering::SeqCst) + 1;
+    let Ok(mut said) = shared.refusals_said.lock() else {
+        return;
+    };
+    let now = Instant::now();
+    if said.is_some_and(|t| now.duration_since(t) < Duration::from_secs(REFUSALS_SAID_EVERY_S)) {
+        return;
+    }
+    *said = Some(now);
+    shared.refused.fetch_sub(refused, Ordering::SeqCst);
+    eprintln!("stitchkin serve: {cap} connections open, as many as it serves; {refused} more refused with 503");
 }
 
 /// The longest piece of a request a log line shows, characters.
