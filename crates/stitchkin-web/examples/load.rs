@@ -19,6 +19,7 @@
 //!   keeps answering the others (or closes them after its timeout).
 //! - `--new-connection`: a new connection for every request.
 
+use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::process::ExitCode;
@@ -74,18 +75,17 @@ fn number<T: std::str::FromStr>(s: &str) -> Result<T, String> {
     s.parse().map_err(|_| format!("`{s}` is not a number"))
 }
 
-/// What one client saw: the latency of each 200 answer, and errors.
+/// What one client saw: the latency of each 200 answer, and the errors
+/// by kind.
 #[derive(Default)]
 struct Tally {
     latencies_us: Vec<u64>,
-    errors: usize,
-    first_error: Option<String>,
+    errors: BTreeMap<String, usize>,
 }
 
 impl Tally {
     fn error(&mut self, e: String) {
-        self.errors += 1;
-        self.first_error.get_or_insert(e);
+        *self.errors.entry(e).or_default() += 1;
     }
 }
 
@@ -93,7 +93,8 @@ impl Tally {
 /// connection after it.
 fn read_answer(r: &mut BufReader<TcpStream>) -> Result<(u16, bool), String> {
     let mut line = String::new();
-    r.read_line(&mut line).map_err(|e| format!("reading the status: {e}"))?;
+    r.read_line(&mut line)
+        .map_err(|e| format!("reading the status: {}", e.kind()))?;
     if line.is_empty() {
         return Err("the server closed the connection".into());
     }
@@ -101,7 +102,8 @@ fn read_answer(r: &mut BufReader<TcpStream>) -> Result<(u16, bool), String> {
     let (mut length, mut close, mut chunked) = (None, false, false);
     loop {
         line.clear();
-        r.read_line(&mut line).map_err(|e| format!("reading a header: {e}"))?;
+        r.read_line(&mut line)
+            .map_err(|e| format!("reading a header: {}", e.kind()))?;
         let l = line.trim_end().to_ascii_lowercase();
         if l.is_empty() {
             break;
@@ -160,14 +162,14 @@ fn client(o: &Options, start: &Barrier) -> Tally {
             None => match TcpStream::connect(&o.authority) {
                 Ok(s) => BufReader::new(s),
                 Err(e) => {
-                    t.error(format!("connect: {e}"));
+                    t.error(format!("connect: {}", e.kind()));
                     std::thread::sleep(Duration::from_millis(10));
                     continue;
                 }
             },
         };
         if let Err(e) = r.get_mut().write_all(request.as_bytes()) {
-            t.error(format!("sending: {e}"));
+            t.error(format!("sending: {}", e.kind()));
             continue;
         }
         match read_answer(&mut r) {
@@ -222,9 +224,8 @@ fn main() -> ExitCode {
         match c.join() {
             Ok(t) => {
                 all.latencies_us.extend(t.latencies_us);
-                all.errors += t.errors;
-                if all.first_error.is_none() {
-                    all.first_error = t.first_error;
+                for (e, n) in t.errors {
+                    *all.errors.entry(e).or_default() += n;
                 }
             }
             Err(_) => all.error("a client thread failed".into()),
@@ -237,16 +238,21 @@ fn main() -> ExitCode {
     }
     all.latencies_us.sort_unstable();
     let n = all.latencies_us.len();
+    let errors: usize = all.errors.values().sum();
+    let kinds: Vec<String> = all.errors.iter().map(|(e, n)| format!("{e}: {n}")).collect();
     println!(
-        "{} clients, {elapsed_s:.1} s: {n} answers, {:.1} requests/s, p50 {:.1} ms, p99 {:.1} ms, errors {}{}",
+        "{} clients, {elapsed_s:.1} s: {n} answers, {:.1} requests/s, p50 {:.1} ms, p99 {:.1} ms, errors {errors}{}",
         o.clients,
         n as f64 / elapsed_s,
         percentile_ms(&all.latencies_us, 0.50),
         percentile_ms(&all.latencies_us, 0.99),
-        all.errors,
-        all.first_error.map(|e| format!(" (first: {e})")).unwrap_or_default()
+        if kinds.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", kinds.join(", "))
+        }
     );
-    if all.errors > 0 {
+    if errors > 0 {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS
