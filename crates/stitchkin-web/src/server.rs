@@ -283,8 +283,9 @@ fn accept_error(e: &io::Error) -> AcceptError {
 const MAX_BACKOFF_MS: u64 = 1000;
 
 /// File descriptors kept free below the limit the process ran into, to
-/// answer a refused connection 503 rather than leave it waiting.
-const SPARE_DESCRIPTORS: usize = 16;
+/// answer a refused connection 503 rather than leave it waiting (more than
+/// [`MAX_LINGERING`]).
+const SPARE_DESCRIPTORS: usize = 32;
 
 async fn accept_loop(listener: TcpListener, shared: Arc<Shared>) -> io::Result<()> {
     let mut backoff_ms = 0;
@@ -357,6 +358,9 @@ fn admit(stream: TcpStream, shared: &Arc<Shared>) {
 /// could lose the 503), ms.
 const REFUSE_LINGER_MS: u64 = 1000;
 
+/// Refused connections kept open at once to read their request.
+const MAX_LINGERING: usize = 16;
+
 /// Answers 503 on a connection beyond the cap and closes it.
 fn refuse(stream: TcpStream, shared: &Arc<Shared>) {
     let cap = shared.max_connections.load(Ordering::SeqCst);
@@ -372,11 +376,19 @@ fn refuse(stream: TcpStream, shared: &Arc<Shared>) {
          Content-Length: {}\r\nRetry-After: 1\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n",
         body.len()
     );
+    // What the client sent already (its request, usually) is read, so that
+    // closing at once does not reset the connection.
+    let mut scratch = [0u8; 4096];
+    for _ in 0..16 {
+        if !matches!(stream.try_read(&mut scratch), Ok(n) if n > 0) {
+            break;
+        }
+    }
     // A fresh connection's send buffer takes these few hundred bytes whole.
     let _ = stream.try_write(&[head.as_bytes(), &body].concat());
-    // A few are kept open a moment to read their request; under a flood the
-    // others are closed at once.
-    if shared.refusing.load(Ordering::SeqCst) >= shared.max_connections.load(Ordering::SeqCst) {
+    // A few are kept open a moment to read a request still on its way;
+    // under a flood the others are closed at once.
+    if shared.refusing.load(Ordering::SeqCst) >= MAX_LINGERING {
         return;
     }
     let count = Counted::new(shared, |s| &s.refusing);
