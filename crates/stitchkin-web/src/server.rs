@@ -299,7 +299,8 @@ async fn accept_loop(listener: TcpListener, shared: Arc<Shared>) -> io::Result<(
                 AcceptError::Connection => {}
                 AcceptError::Broken => return Err(e),
                 AcceptError::Exhausted => {
-                    if backoff_ms == 0 {
+                    let descriptors = matches!(e.raw_os_error(), Some(libc::EMFILE | libc::ENFILE));
+                    if backoff_ms == 0 && descriptors {
                         lower_cap(&shared, &e);
                     }
                     backoff_ms = (backoff_ms * 2).clamp(10, MAX_BACKOFF_MS);
