@@ -11,7 +11,8 @@
 //!
 //! Every query is checked before any work: an unknown key, a parameter the
 //! model lacks or cannot set, a value that is not a number or lies outside
-//! the parameter's range, a φ step outside 0.25…10° is a 400 whose JSON
+//! the parameter's range, a φ step outside 0.25…10°, more than
+//! [`MAX_TRAJECTORIES`] trajectories is a 400 whose JSON
 //! body says what and how to fix it (`{"error": …, "help": …}`); a setting
 //! the mechanism cannot assemble in is a 422 with the library's message.
 
@@ -30,6 +31,24 @@ const PAGE: &str = include_str!("page.html");
 /// The longest query accepted, bytes (a model with a hundred parameters
 /// needs about 3 kB).
 pub const MAX_QUERY_BYTES: usize = 16 * 1024;
+
+/// The longest path accepted, bytes (the routes are a few characters).
+pub const MAX_PATH_BYTES: usize = 256;
+
+/// The most trajectories one drawing shows (each named once).
+pub const MAX_TRAJECTORIES: usize = 32;
+
+/// The longest piece of a request an error message repeats, characters.
+const ECHO_CHARS: usize = 64;
+
+/// `s`, or its first `max_chars` characters and how long it was: for
+/// repeating a request in an answer or a log without repeating all of it.
+pub fn clip(s: &str, max_chars: usize) -> String {
+    match s.char_indices().nth(max_chars) {
+        None => s.to_string(),
+        Some((end, _)) => format!("{}… ({} bytes)", &s[..end], s.len()),
+    }
+}
 
 /// The φ step the page asks for by default, and the accepted range, deg.
 pub const STEP_DEG: f64 = 1.0;
@@ -115,6 +134,13 @@ impl App {
             );
         }
         let (path, query) = url.split_once('?').unwrap_or((url, ""));
+        if path.len() > MAX_PATH_BYTES {
+            return Reply::error(
+                414,
+                format!("the path is {} bytes, more than {MAX_PATH_BYTES}", path.len()),
+                Some("the page is at /, its data under /api/model, /api/evaluate and /api/drawing"),
+            );
+        }
         if query.len() > MAX_QUERY_BYTES {
             return Reply::error(
                 414,
@@ -144,7 +170,7 @@ impl App {
             }
             _ => Err(Reply::error(
                 404,
-                format!("there is nothing at {path}"),
+                format!("there is nothing at {}", clip(path, ECHO_CHARS)),
                 Some("the page is at /, its data under /api/model, /api/evaluate and /api/drawing"),
             )),
         };
@@ -203,10 +229,18 @@ impl App {
     fn params(&self, q: &Query) -> Result<Params, Reply> {
         let mut params = self.base.clone();
         for (name, value) in &q.params {
-            let v = number(value, &format!("p.{name}"))?;
+            let key = format!("p.{}", clip(name, ECHO_CHARS));
+            if name.chars().count() > ECHO_CHARS {
+                return Err(Reply::error(
+                    400,
+                    format!("{key}: no parameter has so long a name"),
+                    Some("/api/model lists the parameters"),
+                ));
+            }
+            let v = number(value, &key)?;
             self.model
                 .set(&mut params, name, v)
-                .map_err(|e| Reply::error(400, format!("p.{name}: {}", e.message), e.help.as_deref()))?;
+                .map_err(|e| Reply::error(400, format!("{key}: {}", e.message), e.help.as_deref()))?;
         }
         self.model
             .machine::<f64>(&params)
@@ -316,24 +350,23 @@ impl App {
             Some(other) => {
                 return Err(Reply::error(
                     400,
-                    format!("animate = `{other}` is not a switch"),
+                    format!("animate = `{}` is not a switch", clip(other, ECHO_CHARS)),
                     Some("write animate=1 to animate over the cycle, animate=0 for a still"),
                 ));
             }
         };
-        let trajectories: Vec<String> = q
-            .get("trajectories")
-            .map(|s| {
-                s.split(',')
-                    .map(str::trim)
-                    .filter(|s| !s.is_empty())
-                    .map(String::from)
-                    .collect()
-            })
-            .unwrap_or_default();
+        let trajectories = trajectories(q.get("trajectories").unwrap_or(""))?;
+        let view = q.get("view").unwrap_or("auto");
+        if view.chars().count() > ECHO_CHARS {
+            return Err(Reply::error(
+                400,
+                format!("view = `{}` is not a view of this model", clip(view, ECHO_CHARS)),
+                Some("/api/model lists the views"),
+            ));
+        }
         let request = DrawingRequest {
             phi_deg,
-            view: q.get("view").unwrap_or("auto").to_string(),
+            view: view.to_string(),
             animate,
             trajectories,
         };
@@ -341,6 +374,33 @@ impl App {
             .map(Reply::svg)
             .map_err(|e| library_error(&e))
     }
+}
+
+/// The points of `trajectories=A,B…`, each once, in their first order; more
+/// than [`MAX_TRAJECTORIES`] is a 400.
+fn trajectories(list: &str) -> Result<Vec<String>, Reply> {
+    let mut names: Vec<String> = Vec::new();
+    for name in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        if name.chars().count() > ECHO_CHARS {
+            return Err(Reply::error(
+                400,
+                format!("trajectories: no point is named `{}`", clip(name, ECHO_CHARS)),
+                Some("/api/model lists the points under moving_points"),
+            ));
+        }
+        if names.iter().any(|n| n == name) {
+            continue;
+        }
+        if names.len() == MAX_TRAJECTORIES {
+            return Err(Reply::error(
+                400,
+                format!("trajectories names more than {MAX_TRAJECTORIES} points"),
+                Some("name each moving point at most once (/api/model lists them under moving_points)"),
+            ));
+        }
+        names.push(name.to_string());
+    }
+    Ok(names)
 }
 
 /// The chart the page shows: P/P′ for a model with threads, otherwise its
@@ -361,7 +421,7 @@ fn number(s: &str, key: &str) -> Result<f64, Reply> {
         Ok(v) if v.is_finite() => Ok(v),
         _ => Err(Reply::error(
             400,
-            format!("{key} = `{s}` is not a finite number"),
+            format!("{key} = `{}` is not a finite number", clip(s, ECHO_CHARS)),
             Some("write a plain decimal number in the parameter's unit (mm or deg), e.g. 5.25"),
         )),
     }
@@ -385,7 +445,7 @@ impl Query {
             if seen {
                 return Err(Reply::error(
                     400,
-                    format!("`{key}` is given twice"),
+                    format!("`{}` is given twice", clip(&key, ECHO_CHARS)),
                     Some("give each key once"),
                 ));
             }
@@ -398,7 +458,7 @@ impl Query {
                 keys.push("p.NAME (a parameter)".into());
                 return Err(Reply::error(
                     400,
-                    format!("unknown query key `{key}`"),
+                    format!("unknown query key `{}`", clip(&key, ECHO_CHARS)),
                     Some(&format!("this route takes: {}", keys.join(", "))),
                 ));
             }

@@ -6,9 +6,10 @@
 //!
 //! A thin shell over the `stitchkin` library: [`api`] checks each request
 //! and answers it with the library's charts, drawings and summaries,
-//! [`server`] carries those answers over HTTP (tiny_http, a few worker
-//! threads, loopback by default). The page itself is one HTML file with
-//! its script inline (`src/page.html`). See docs/web.md.
+//! [`server`] carries those answers over HTTP (hyper's HTTP/1.1 on one
+//! thread, a few worker threads computing, loopback by default, with
+//! timeouts and a cap on connections: [`ServerConfig`]). The page itself is
+//! one HTML file with its script inline (`src/page.html`). See docs/web.md.
 //!
 //! ```no_run
 //! use stitchkin::model::Model;
@@ -18,7 +19,7 @@
 //! let app = App::new(model.clone(), model.defaults());
 //! let server = Server::start(app, "127.0.0.1:0", 2)?;
 //! println!("open {}", server.url());
-//! server.join();
+//! server.join()?;
 //! # Ok::<(), stitchkin::error::Error>(())
 //! ```
 
@@ -27,4 +28,4 @@ pub mod server;
 pub mod view;
 
 pub use api::{App, Reply};
-pub use server::Server;
+pub use server::{Server, ServerConfig};

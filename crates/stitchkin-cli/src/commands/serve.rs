@@ -34,31 +34,12 @@ pub(crate) struct Args {
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     if !(1..=64).contains(&args.threads) {
-        return Err(Error::Param(ParamError::general(
-            format!("--threads {} is outside 1…64", args.threads),
-            Some("one thread per core is plenty (the default is 2)".into()),
-        )));
+        return Err(Error::Param(ParamError::general(format!("--threads {} is outside 1…64", args.threads), Some("one thread per core is plenty (the default is 2)".into()))));
     }
     let (model, params) = load(&args.model)?;
     let addr = std::net::SocketAddr::new(args.bind, args.port);
-    let server = Server::start(App::new(model, params), &addr.to_string(), args.threads).map_err(|e| match e {
-        Error::Io(io) if io.kind() == Some(std::io::ErrorKind::AddrInUse) => Error::Param(ParamError::general(
-            io.to_string(),
-            Some(format!(
-                "another program is using port {}: choose another with --port, or --port 0 for any free one",
-                args.port
-            )),
-        )),
-        Error::Io(io) if io.kind() == Some(std::io::ErrorKind::AddrNotAvailable) => Error::Param(ParamError::general(
-            io.to_string(),
-            Some(format!(
-                "{} is not an address of this machine: give --bind 127.0.0.1 (this machine only) or one of its \
-                 network addresses",
-                args.bind
-            )),
-        )),
-        other => other,
-    })?;
+    let server =
+        Server::start(App::new(model, params), &addr.to_string(), args.threads).map_err(|e| listen_error(e, &args))?;
     if !args.bind.is_loopback() {
         note_line(&format!(
             "warning: listening on {} — anyone who can reach this machine can use the page",
@@ -70,6 +51,24 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let _ = writeln!(out, "stitchkin serve: open {}  (Ctrl-C stops)", server.url());
     let _ = out.flush();
     drop(out);
-    server.join();
-    Ok(())
+    server.join()
+}
+
+/// The server could not listen (the message says why): the fix, for a
+/// --bind that is not this machine's or for a --port that cannot be had.
+fn listen_error(e: Error, args: &Args) -> Error {
+    let Error::Io(io) = e else { return e };
+    let help = match io.kind() {
+        Some(std::io::ErrorKind::AddrNotAvailable) => format!(
+            "{} is not an address of this machine: leave --bind out (127.0.0.1: this machine only), or give one of \
+             its addresses (0.0.0.0: all of them)",
+            args.bind
+        ),
+        Some(std::io::ErrorKind::AddrInUse | std::io::ErrorKind::PermissionDenied) => {
+            "choose another port with --port (above 1023, which need no privileges), or --port 0 for any free one"
+                .to_string()
+        }
+        _ => return Error::Io(io),
+    };
+    Error::Param(ParamError::general(io.to_string(), Some(help)))
 }

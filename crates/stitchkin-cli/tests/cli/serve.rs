@@ -12,6 +12,22 @@ fn serve_refuses_a_port_in_use_with_the_fix() {
 }
 
 #[test]
+fn serve_refuses_an_address_not_of_this_machine_with_the_fix() {
+    // 192.0.2.1 is kept for documentation: no machine has it (unless this
+    // one lets a program listen on any address, then there is nothing to
+    // check).
+    if std::net::TcpListener::bind("192.0.2.1:0").is_ok() {
+        return;
+    }
+    let err = fails(&["serve", "--bind", "192.0.2.1", "--port", "0"]);
+    assert!(
+        err.contains("not one of this machine's") && err.contains("leave --bind out"),
+        "{err}"
+    );
+    assert!(!err.contains("another program"), "{err}");
+}
+
+#[test]
 fn serve_refuses_bad_options_and_models_before_listening() {
     assert!(fails(&["serve", "--threads", "0"]).contains("--threads 0 is outside 1…64"));
     assert!(fails(&["serve", "no-such-model.toml"]).contains("no-such-model.toml"));

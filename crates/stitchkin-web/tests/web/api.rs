@@ -199,3 +199,43 @@ fn a_setting_without_assembly_is_a_422_naming_the_group() {
         assert!(v["help"].as_str().unwrap().contains("dimensions"), "{v}");
     }
 }
+
+#[test]
+fn repeated_trajectory_names_do_not_multiply_the_drawing() {
+    let app = app("mf7923d");
+    let points = json(&get(&app, "/api/model"))["moving_points"].clone();
+    let point = points[0].as_str().unwrap().to_string();
+    let one = get(&app, &format!("/api/drawing?trajectories={point}"));
+    assert_eq!(one.status, 200, "{}", one.text());
+    // As many times as a query holds.
+    let times = 15_000 / (point.len() + 1);
+    let many = get(
+        &app,
+        &format!("/api/drawing?trajectories={}", vec![point; times].join(",")),
+    );
+    assert_eq!(many.status, 200, "{}", many.text());
+    assert_eq!(many.body.len(), one.body.len(), "each point drawn once");
+    let names: Vec<String> = (0..33).map(|k| format!("x{k}")).collect();
+    let url = format!("/api/drawing?trajectories={}", names.join(","));
+    assert_client_error(&app, &url, 400, "more than 32 points");
+}
+
+#[test]
+fn long_input_is_not_repeated_in_the_answer() {
+    let app = app("mf7923d");
+    let run = "b".repeat(100);
+    for url in [
+        format!("/{}", "b".repeat(200)),
+        format!("/api/evaluate?{}=1", "b".repeat(10_000)),
+        format!("/api/evaluate?p.{}=1", "b".repeat(10_000)),
+        format!("/api/evaluate?p.r1={}", "b".repeat(10_000)),
+        format!("/api/drawing?view={}", "b".repeat(10_000)),
+        format!("/api/drawing?animate={}", "b".repeat(10_000)),
+        format!("/api/drawing?trajectories={}", "b".repeat(10_000)),
+    ] {
+        let r = get(&app, &url);
+        assert!((400..=404).contains(&r.status), "{}: {}", r.status, r.text());
+        assert!(!r.text().contains(&run) && r.body.len() < 1000, "{}", r.text());
+    }
+    assert_client_error(&app, &format!("/{}", "b".repeat(300)), 414, "more than 256");
+}
