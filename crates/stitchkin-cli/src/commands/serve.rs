@@ -34,7 +34,10 @@ pub(crate) struct Args {
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     if !(1..=64).contains(&args.threads) {
-        return Err(Error::Param(ParamError::general(format!("--threads {} is outside 1…64", args.threads), Some("one thread per core is plenty (the default is 2)".into()))));
+        return Err(Error::Param(ParamError::general(
+            format!("--threads {} is outside 1…64", args.threads),
+            Some("one thread per core is plenty (the default is 2)".into()),
+        )));
     }
     let (model, params) = load(&args.model)?;
     let addr = std::net::SocketAddr::new(args.bind, args.port);

@@ -635,30 +635,7 @@ pub fn synthesise(model: &Model, params: &Params, opts: &CamOptions) -> Result<C
     let theta: Vec<f64> = knots.iter().map(|k| k.theta_deg.to_radians()).collect();
     let rho: Vec<f64> = knots.iter().map(|k| k.radius_mm).collect();
     let profile = Profile::spline(&theta, &rho);
-    if !(0..720).all(|i| profile.rho(i as f64 * TAU / 720.0).is_finite()) {
-        return Err(Error::NotFinite(NotFiniteError {
-            quantity: "the synthesised cam profile".into(),
-            phi_deg: None,
-            cause: "the target or the follower's geometry gives no finite radius somewhere; smooth the target or move the anchor".into(),
-        }));
-    }
-    // A polar radius of zero or less puts the profile through the cam's own
-    // axis: no cam can be cut to it.
-    let [rho_min, _] = radius_range(&profile);
-    if rho_min <= 0.0 {
-        let at = (0..3600)
-            .map(|i| i as f64 / 10.0)
-            .min_by(|a, b| profile.rho(a.to_radians()).total_cmp(&profile.rho(b.to_radians())))
-            .unwrap_or(0.0);
-        return Err(bad(
-            format!(
-                "the synthesised profile reaches a radius of {rho_min:.3} mm at θ = {at:.1}°: it would pass through the \
-                 cam's axis, so no cam can be cut to it"
-            ),
-            "raise the anchor radius (the follower's radius at φ0) so the whole profile lies further out, smooth the \
-             target, or set the guides further apart",
-        ));
-    }
+    check_profile(&profile)?;
     // --- verify: the model again with the new profile --------------------------
     let p_after = take_up_with(&mech, threads, ci, &profile, &pose, &phis, pi)?;
     let p_before: Vec<f64> = xi_ref.iter().map(|x| threads.convention.take_up(*x, xi0_ref)).collect();
@@ -1115,6 +1092,34 @@ fn verification(
         match_after,
         match_after_all,
     }
+}
+
+/// A profile a cam can be cut to: finite everywhere, and a polar radius
+/// above zero (zero or less puts it through the cam's own axis).
+fn check_profile(profile: &Profile) -> Result<(), Error> {
+    if !(0..720).all(|i| profile.rho(i as f64 * TAU / 720.0).is_finite()) {
+        return Err(Error::NotFinite(NotFiniteError {
+            quantity: "the synthesised cam profile".into(),
+            phi_deg: None,
+            cause: "the target or the follower's geometry gives no finite radius somewhere; smooth the target or move the anchor".into(),
+        }));
+    }
+    let [rho_min, _] = radius_range(profile);
+    if rho_min <= 0.0 {
+        let at = (0..3600)
+            .map(|i| i as f64 / 10.0)
+            .min_by(|a, b| profile.rho(a.to_radians()).total_cmp(&profile.rho(b.to_radians())))
+            .unwrap_or(0.0);
+        return Err(bad(
+            format!(
+                "the synthesised profile reaches a radius of {rho_min:.3} mm at θ = {at:.1}°: it would pass through the \
+                 cam's axis, so no cam can be cut to it"
+            ),
+            "raise the anchor radius (the follower's radius at φ0) so the whole profile lies further out, smooth the \
+             target, or set the guides further apart",
+        ));
+    }
+    Ok(())
 }
 
 /// A profile's smallest and largest radius (3600 samples a turn), mm.
