@@ -68,16 +68,47 @@ impl<'a> Loader<'a> {
     }
 
     fn toml_err(&self, e: toml::de::Error) -> Box<ModelError> {
-        let msg = e.message().trim().to_string();
-        let help = if msg.contains("unknown field") {
+        let mut msg = e.message().trim().to_string();
+        // serde's words for a value of none of an untagged enum's forms, and
+        // the parser's for nesting, said in the file's terms.
+        let untagged = [
+            ("untagged enum FixedPoint", "a fixed point"),
+            ("untagged enum Node", "a thread-path node"),
+            ("untagged enum Axis", "an axis"),
+            ("untagged enum Value", "a value"),
+        ]
+        .into_iter()
+        .find(|(serde_name, _)| msg.contains(serde_name));
+        if let Some((_, what)) = untagged {
+            msg = format!("this is not {what} in any of the forms it can take");
+        }
+        if msg.contains("recursion limit") {
+            msg = "the file nests tables or arrays too deeply to read".into();
+        }
+        let help = if msg.contains("too deeply") {
+            Some("a model file nests a few levels at most; look for a run of `[` or `{` that is never closed".into())
+        } else if msg.contains("a fixed point") {
+            Some(
+                "a fixed point is `[x, y]` or `[x, y, z]` in mm (numbers or expressions in quotes), or \
+                  `{ frame = \"F\", at = [x, y, z] }`; a missing table header can also put a point's line under \
+                  the wrong table"
+                    .to_string(),
+            )
+        } else if msg.contains("an axis") {
+            Some(
+                "an axis is `\"x\"`, `\"y\"`, `\"z\"`, a frame's axis such as `\"guide.y\"`, or a direction \
+                  `[x, y, z]`"
+                    .to_string(),
+            )
+        } else if msg.contains("unknown field") {
             Some("check the spelling against docs/model-format.md or `stitchkin schema`".to_string())
         } else if msg.contains("missing field") {
             Some("add the field; docs/model-format.md lists what each table needs".to_string())
         } else if msg.contains("unknown variant") {
             Some("use one of the listed values".to_string())
-        } else if msg.contains("untagged enum Node") {
+        } else if msg.contains("a thread-path node") {
             Some("a node is a point name or a table: { at = \"G\" }, { pin = \"G\", axis = \"z\", wrap = \"cw\" } or { cam = \"C\", contact = \"exact\" | \"offset\", … }; check its keys and word values".to_string())
-        } else if msg.contains("did not match any variant") {
+        } else if msg.contains("did not match any variant") || msg.contains("not a value") {
             Some("write a number, an expression in quotes, or a list of coordinates".to_string())
         } else {
             None

@@ -30,6 +30,10 @@ use spans::KeyPath;
 /// Index of a compiled quantity (an expression of parameters).
 pub(crate) type QuantityId = usize;
 
+/// The largest magnitude of a value of a model file (mm or deg): far beyond
+/// any machine, far below where squares and sums overflow.
+pub const MAX_MAGNITUDE: f64 = 1.0e6;
+
 /// A parameter as declared.
 #[derive(Debug, Clone)]
 pub struct ParamDef {
@@ -704,9 +708,34 @@ impl Model {
 
     /// Loads a model file from disk.
     pub fn from_path(path: &std::path::Path) -> Result<Model, crate::Error> {
-        let text = std::fs::read_to_string(path)
+        let bytes = std::fs::read(path)
             .map_err(|e| crate::Error::Io(crate::error::IoError::os("read model file", Some(path), e)))?;
-        Ok(Model::from_toml_str(&text, &path.display().to_string())?)
+        Ok(Model::from_toml_bytes(&bytes, &path.display().to_string())?)
+    }
+
+    /// Reads a model from the bytes of a file: UTF-8 text, or an error at the
+    /// first byte that is not (line, column and byte).
+    pub fn from_toml_bytes(bytes: &[u8], file_name: &str) -> Result<Model, Box<ModelError>> {
+        match std::str::from_utf8(bytes) {
+            Ok(text) => Model::from_toml_str(text, file_name),
+            Err(e) => {
+                let at = e.valid_up_to();
+                Err(Box::new(ModelError {
+                    file: file_name.to_string(),
+                    // The text up to the bad byte is exact; after it, shown with
+                    // replacement characters.
+                    text: String::from_utf8_lossy(bytes).into(),
+                    span: Some(at..at + '\u{FFFD}'.len_utf8()),
+                    path: String::new(),
+                    message: format!("byte {at} (0x{:02x}) is not UTF-8 text", bytes[at]),
+                    help: Some(
+                        "model files are UTF-8: save the file as UTF-8 (a text editor's \"encoding\" setting), or \
+                         remove the character there"
+                            .into(),
+                    ),
+                }))
+            }
+        }
     }
 
     /// A shipped preset by name (see [`crate::presets`]).
@@ -774,6 +803,12 @@ impl Model {
         }
         if !value.is_finite() {
             return Err(ParamError::general(format!("`{name}` must be a finite number"), None));
+        }
+        if value.abs() > MAX_MAGNITUDE {
+            return Err(ParamError::general(
+                format!("{name} = {value} is too large to compute with"),
+                Some(format!("give a value within ±{MAX_MAGNITUDE} {}", p.unit_str())),
+            ));
         }
         if let Some([lo, hi]) = p.range
             && (value < lo || value > hi)
@@ -908,6 +943,17 @@ impl Model {
                     &self.expr_paths[k],
                     format!("this value evaluates to {} with the current parameters", v.re()),
                     Some("check the expression's inputs (division by zero, acos/sqrt out of range)".into()),
+                ));
+            }
+            // Lengths this large square to infinity in the closures: caught
+            // here, where the file says which value it is.
+            if v.re().abs() > MAX_MAGNITUDE {
+                return Err(self.error_at(
+                    &self.expr_paths[k],
+                    format!("this value is {}, too large to compute with", v.re()),
+                    Some(format!(
+                        "a sewing machine's lengths, coordinates and angles stay within ±{MAX_MAGNITUDE} (mm or deg)"
+                    )),
                 ));
             }
         }

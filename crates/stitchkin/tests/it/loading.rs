@@ -296,3 +296,28 @@ fn a_rotation_is_exactly_axis_and_angle() {
     let e = load_err(&frame(r#"[10, "x"]"#));
     assert!(e.message.contains("starts with its axis"), "{e}");
 }
+
+/// What a broken file says is in the file's terms, with its place: a byte
+/// that is not UTF-8, a point whose table header went missing, tables
+/// nested too deep, a length too large to compute with.
+#[test]
+fn broken_files_are_named_in_the_files_terms() {
+    let mut bytes = FOUR_BAR.as_bytes().to_vec();
+    let at = FOUR_BAR.find("O2 = [60, 0]").unwrap();
+    bytes[at] = 0xE6;
+    let e = *Model::from_toml_bytes(&bytes, "bad.toml").unwrap_err();
+    assert_eq!(e.line_col(), Some((13, 1)), "{e}");
+    assert!(e.message.contains("not UTF-8") && e.help.unwrap().contains("UTF-8"));
+
+    let e = load_err(&FOUR_BAR.replace("O2 = [60, 0]", "O2 = { x = 60 }"));
+    assert!(e.message.contains("not a fixed point in any of the forms"), "{e}");
+    assert!(e.help.as_deref().unwrap().contains("[x, y]"), "{e}");
+    assert_eq!(place(&e).0, 13);
+
+    let deep = format!("{FOUR_BAR}\nx = {}1{}\n", "[".repeat(200), "]".repeat(200));
+    let e = load_err(&deep);
+    assert!(e.message.contains("too deeply") && e.line_col().is_some(), "{e}");
+
+    let e = load_err(&FOUR_BAR.replace("O2 = [60, 0]", "O2 = [1e300, 0]"));
+    assert!(e.message.contains("too large to compute with") && e.line_col().is_some(), "{e}");
+}

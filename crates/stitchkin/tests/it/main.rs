@@ -8,12 +8,15 @@ mod cross_check;
 mod docs;
 mod drawing;
 mod facts;
+mod fuzz_models;
 mod fuzz_regressions;
 mod history;
 mod invariants;
 mod loading;
 mod measured;
 mod mechgen;
+#[path = "../fuzz/mutate.rs"]
+mod mutate;
 mod nomogram;
 mod plots;
 mod presets;

@@ -25,7 +25,7 @@ pub fn csv(c: &Comparison) -> String {
 
 /// The largest |ΔP| of each path and where, `# `-lines.
 pub fn summary(c: &Comparison) -> String {
-    let w = super::name_width(c.paths.iter().map(|p| p.path.len()), 4);
+    let w = super::name_width(c.paths.iter().map(|p| p.path.len()), 1);
     let mut s = format!(
         "# 2D model: every node projected onto the xy-plane of `{}`; ΔP = P3D − P2D\n",
         c.plane
