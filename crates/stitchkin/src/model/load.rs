@@ -82,7 +82,7 @@ impl<'a> Loader<'a> {
         if let Some((_, what)) = untagged {
             msg = format!("this is not {what} in any of the forms it can take");
         }
-        if msg.contains("recursion limit") {
+        if msg.contains("recursion limit") || msg.contains("max recursion depth") {
             msg = "the file nests tables or arrays too deeply to read".into();
         }
         let help = if msg.contains("too deeply") {

@@ -324,7 +324,9 @@ fn a_shifted_target_and_an_anchor_radius() {
         "{e}"
     );
     // The anchor radius the error suggests makes it reachable, exactly at
-    // the knots; a little less does not.
+    // the knots; a little less does not. (Reachable is not yet cuttable: at
+    // that radius the spline between two knots dips through the cam's
+    // axis, refused on its own terms.)
     let suggested: f64 = e
         .split("an anchor radius of ")
         .nth(1)
@@ -335,7 +337,10 @@ fn a_shifted_target_and_an_anchor_radius() {
     o.anchor_radius_mm = Some(suggested - 0.1);
     assert!(err(&m, &o).contains("cannot be reached"));
     o.anchor_radius_mm = Some(suggested);
-    synth(&m, &o);
+    if let Err(e) = synthesise(&m, &m.defaults(), &o) {
+        let e = e.to_string();
+        assert!(e.contains("cam's axis") && !e.contains("cannot be reached"), "{e}");
+    }
     let mut o = CamOptions::new("seed", target);
     o.anchor_radius_mm = Some(15.0);
     let s = synth(&m, &o);

@@ -235,7 +235,7 @@ fn bad_thread_tables_are_rejected() {
     assert!(e.message.contains("at least two nodes"), "{e}");
     let e = bad(r#"["G1", { at = "T", frction = 0.2 }, "G2"]"#, "");
     assert!(
-        e.message.contains("frction") || e.message.contains("did not match"),
+        e.message.contains("frction") || e.message.contains("not a thread-path node"),
         "{e}"
     );
     let e = Model::from_toml_str(
