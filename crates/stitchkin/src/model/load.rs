@@ -27,6 +27,8 @@ pub(super) struct Loader<'a> {
     pub(super) exprs: Vec<Expr>,
     /// Quantities that must come out positive: (quantity, path, what).
     pub(super) positive: Vec<(QuantityId, KeyPath, &'static str)>,
+    /// Angles that must stay within ± a bound, deg (the bound excluded).
+    pub(super) within: Vec<(QuantityId, KeyPath, &'static str, f64)>,
     pub(super) expr_paths: Vec<KeyPath>,
     pub(super) frames: Vec<FrameDef>,
     frame_index: HashMap<String, usize>,
@@ -48,6 +50,7 @@ impl<'a> Loader<'a> {
             param_index: HashMap::new(),
             exprs: Vec::new(),
             positive: Vec::new(),
+            within: Vec::new(),
             expr_paths: Vec::new(),
             frames: Vec::new(),
             frame_index: HashMap::new(),
@@ -325,6 +328,20 @@ impl<'a> Loader<'a> {
     pub(super) fn positive_length(&mut self, v: &Value, path: KeyPath, what: &'static str) -> LoadResult<QuantityId> {
         let q = self.qty(v, Some(Dim::LENGTH), path.clone())?;
         self.positive.push((q, path, what));
+        Ok(q)
+    }
+
+    /// An angle that must stay strictly within ±`max_deg`, checked (with
+    /// its place in the file) whenever the parameters change.
+    pub(super) fn angle_within(
+        &mut self,
+        v: &Value,
+        path: KeyPath,
+        what: &'static str,
+        max_deg: f64,
+    ) -> LoadResult<QuantityId> {
+        let q = self.angle(v, path.clone())?;
+        self.within.push((q, path, what, max_deg));
         Ok(q)
     }
 

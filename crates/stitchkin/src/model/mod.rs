@@ -567,6 +567,7 @@ pub struct Model {
     exprs: Vec<Expr>,
     expr_paths: Vec<KeyPath>,
     positive: Vec<(QuantityId, KeyPath, &'static str)>,
+    within: Vec<(QuantityId, KeyPath, &'static str, f64)>,
     frames: Vec<FrameDef>,
     /// Point names by slot.
     pub(crate) point_names: Vec<String>,
@@ -676,6 +677,7 @@ impl Model {
         let exprs = std::mem::take(&mut ld.exprs);
         let expr_paths = std::mem::take(&mut ld.expr_paths);
         let positive = std::mem::take(&mut ld.positive);
+        let within = std::mem::take(&mut ld.within);
         let (file_name, text, _) = ld.into_parts();
         let model = Model {
             file_name,
@@ -686,6 +688,7 @@ impl Model {
             exprs,
             expr_paths,
             positive,
+            within,
             frames,
             point_names,
             point_kinds,
@@ -954,6 +957,16 @@ impl Model {
                     Some(format!(
                         "a sewing machine's lengths, coordinates and angles stay within ±{MAX_MAGNITUDE} (mm or deg)"
                     )),
+                ));
+            }
+        }
+        for (qi, path, what, max_deg) in &self.within {
+            let v = q[*qi].re();
+            if v.is_nan() || v.abs() >= *max_deg {
+                return Err(self.error_at(
+                    path,
+                    format!("{what} = {v}° is outside −{max_deg}°…{max_deg}°"),
+                    Some(format!("give an angle strictly between −{max_deg}° and {max_deg}°")),
                 ));
             }
         }

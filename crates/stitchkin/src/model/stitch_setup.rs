@@ -200,9 +200,12 @@ impl Loader<'_> {
         let tilt = s
             .tilt_deg
             .as_ref()
-            .map(|v| self.angle(v, path.key("tilt_deg")))
+            .map(|v| self.angle_within(v, path.key("tilt_deg"), "the needle tilt β", 80.0))
             .transpose()?;
-        let a_e = self.opt_length(&s.overedge_width_mm, path.key("overedge_width_mm"))?;
+        let a_e = match &s.overedge_width_mm {
+            Some(v) => Some(self.positive_length(v, path.key("overedge_width_mm"), "the overedge width a_e")?),
+            None => None,
+        };
         if matches!(stitch_type, StitchType::S503 | StitchType::S504) && a_e.is_none() {
             return Err(self.err(
                 &path,

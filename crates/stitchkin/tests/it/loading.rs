@@ -319,5 +319,30 @@ fn broken_files_are_named_in_the_files_terms() {
     assert!(e.message.contains("too deeply") && e.line_col().is_some(), "{e}");
 
     let e = load_err(&FOUR_BAR.replace("O2 = [60, 0]", "O2 = [1e300, 0]"));
-    assert!(e.message.contains("too large to compute with") && e.line_col().is_some(), "{e}");
+    assert!(
+        e.message.contains("too large to compute with") && e.line_col().is_some(),
+        "{e}"
+    );
+}
+
+/// A [stitch] number out of range is refused where the file writes it.
+#[test]
+fn stitch_numbers_are_checked_where_they_are_written() {
+    let altin = stitchkin::presets::find("altin504").unwrap().toml;
+    for (from, to, says) in [
+        (
+            "tilt_deg = \"alpha\"",
+            "tilt_deg = 85",
+            "the needle tilt β = 85° is outside −80°…80°",
+        ),
+        (
+            "overedge_width_mm = \"a_e\"",
+            "overedge_width_mm = -4",
+            "must be positive",
+        ),
+    ] {
+        assert!(altin.contains(from), "{from}");
+        let e = load_err(&altin.replacen(from, to, 1));
+        assert!(e.to_string().contains(says) && e.line_col().is_some(), "{e}");
+    }
 }
