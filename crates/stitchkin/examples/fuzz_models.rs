@@ -108,7 +108,7 @@ fn main() {
                     let us = t0.elapsed().as_micros() as usize;
                     tally.slowest_us.fetch_max(us, Ordering::Relaxed);
                     let done = tally.done.fetch_add(1, Ordering::Relaxed) + 1;
-                    if done % 100_000 == 0 {
+                    if done % 50_000 == 0 {
                         eprintln!("fuzz_models: {done} mutants, {:.0} s", started.elapsed().as_secs_f64());
                     }
                 }
