@@ -278,6 +278,29 @@ pub(crate) fn unwrapped_diagnostics_off_terminal() {
     }
 }
 
+/// A command line that does not parse, reported in the same style as every
+/// other error (the message, then its help: clap's tip and usage), with
+/// clap's exit code 2; `--help` and `--version` print as clap prints them.
+pub(crate) fn exit_on_bad_arguments(e: clap::Error) -> ! {
+    use clap::error::ErrorKind;
+    if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion)
+        || matches!(e.kind(), ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand)
+    {
+        e.exit();
+    }
+    let text = e.render().to_string();
+    let mut lines = text.lines();
+    let message = lines.next().unwrap_or("").trim_start_matches("error: ").to_string();
+    let help: Vec<&str> = lines.map(str::trim).filter(|l| !l.is_empty()).collect();
+    let report = if help.is_empty() {
+        miette::miette!("{message}")
+    } else {
+        miette::miette!(help = help.join("\n"), "{message}")
+    };
+    let _ = writeln!(std::io::stderr(), "Error: {report:?}");
+    std::process::exit(2);
+}
+
 /// The command-line flag of a library input.
 pub(crate) fn flag(input: Input) -> &'static str {
     match input {

@@ -63,7 +63,8 @@ enum Command {
 fn main() -> miette::Result<()> {
     common::unwrapped_diagnostics_off_terminal();
     common::remove_temporaries_on_signal();
-    let result = match Cli::parse().command {
+    let cli = Cli::try_parse().unwrap_or_else(|e| common::exit_on_bad_arguments(e));
+    let result = match cli.command {
         Command::Presets(args) => presets::run(args),
         Command::Run(args) => run::run(args),
         Command::Check(args) => check::run(args),

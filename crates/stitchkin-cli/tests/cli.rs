@@ -898,8 +898,17 @@ fn results_do_not_depend_on_the_vector_unit() {
 }
 
 /// The library names the input at fault; the command line names its flag.
+/// A command line that does not parse is reported in the same style, with
+/// exit code 2.
 #[test]
 fn errors_name_the_flag_and_refuse_what_cannot_work() {
+    let out = run(&["run", "--foo"]);
+    let e = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(out.status.code(), Some(2), "{e}");
+    assert!(
+        e.starts_with("Error:") && e.contains("unexpected argument '--foo'") && e.contains("help:"),
+        "{e}"
+    );
     let e = fails(&["plot", "family", "--vary", "q=1:2:3", "-o", "x.svg"]);
     assert!(e.contains("no parameter `q`") && e.contains("(in --vary)"), "{e}");
     let e = fails(&["stroke", "--preset", "needle876", "--point", "Q"]);
