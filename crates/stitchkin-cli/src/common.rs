@@ -95,6 +95,11 @@ pub(crate) struct SearchArgs {
 }
 
 impl SearchArgs {
+    /// Checks the search's limits before any preparation.
+    pub fn check(&self) -> Result<(), Error> {
+        stitchkin::study::tune::check_samples(self.samples)
+    }
+
     /// The tuning options with the settings to `adjust`.
     pub fn options(&self, adjust: Vec<String>) -> stitchkin::study::tune::TuneOptions {
         stitchkin::study::tune::TuneOptions {

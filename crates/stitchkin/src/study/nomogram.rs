@@ -157,6 +157,7 @@ pub fn nomogram(
         step_deg: opts.tune.step_deg,
         ..Default::default()
     })?;
+    super::tune::check_samples(opts.tune.samples)?;
     let nominal = model.stitch_setup(base)?.ok_or_else(|| {
         Error::Stitch(format!(
             "model `{}` has no [stitch], so there is no match to tune; try --preset mf7923d or --preset altin504",
