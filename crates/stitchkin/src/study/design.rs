@@ -54,6 +54,17 @@ impl Vary {
                 "--vary {spec}: LO = HI gives {n} equal values; use N = 1 or widen the range"
             )));
         }
+        if n == 1 && lo != hi {
+            // One value from a range: LO, HI or between? Sweeps and charts
+            // both refuse it.
+            return Err(Error::Param(ParamError {
+                message: format!("`{spec}` asks for 1 value between two different ends; a range needs at least 2"),
+                help: Some(format!(
+                    "give N ≥ 2 for values from LO to HI, or {}={lo}:{lo}:1 for the one value {lo}",
+                    name.trim()
+                )),
+            }));
+        }
         let name = name.trim().to_string();
         // Both ends must be accepted by the parameter (existence, range).
         let mut p = model.defaults();

@@ -70,6 +70,14 @@ impl Axis {
                             "{flag} {spec}: LO = HI gives {n} equal values; use N = 1 or widen the range"
                         )));
                     }
+                    if n == 1 && lo != hi {
+                        return Err(Error::Param(ParamError {
+                            message: format!(
+                                "`{spec}` asks for 1 value between two different ends; a range needs at least 2"
+                            ),
+                            help: Some(format!("give N ≥ 2 for values from LO to HI, or the one value {lo}")),
+                        }));
+                    }
                     Axis { lo, hi, n }
                 }
                 _ => return Err(bad(format!("{flag} `{spec}` is not LO:HI:N"))),
