@@ -221,7 +221,7 @@ pub fn check_options(opts: &CycleOptions) -> Result<(), Error> {
     if !(opts.step_deg.is_finite() && opts.step_deg > 0.0 && opts.step_deg <= 360.0) {
         return Err(Error::Param(crate::error::ParamError {
             message: format!("the step {} deg is out of range", opts.step_deg),
-            help: Some("give a step between 0 and 360 degrees, e.g. --step 1".into()),
+            help: Some("give a step greater than 0 and at most 360 degrees, e.g. --step 1".into()),
         }));
     }
     if opts.step_deg < 1e-3 {
