@@ -11,6 +11,7 @@ mod facts;
 mod fuzz_regressions;
 mod history;
 mod invariants;
+mod limits;
 mod loading;
 mod measured;
 mod mechgen;
