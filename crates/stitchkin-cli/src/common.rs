@@ -182,6 +182,21 @@ pub(crate) fn emit(bytes: &[u8], out: Option<&PathBuf>) -> Result<(), Error> {
     }
 }
 
+/// A [`stitchkin::output::Sink`] as an `io::Write`, for the writers that
+/// stream a table (CSV, JSON) instead of building it whole in memory.
+pub(crate) struct SinkWriter<'a>(pub &'a mut stitchkin::output::Sink);
+
+impl Write for SinkWriter<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.write(buf).map_err(|e| std::io::Error::other(e.to_string()))?;
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
 /// `value` as pretty JSON ending in a newline.
 pub(crate) fn json(value: &impl serde::Serialize) -> Result<String, Error> {
     Ok(serde_json::to_string_pretty(value).map_err(|e| Error::Io(e.to_string()))? + "\n")
