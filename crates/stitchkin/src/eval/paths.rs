@@ -6,6 +6,8 @@
 //! from the pose of that piece alone; the summaries are read off the whole
 //! columns at the end ([`PathColumns::finish`]).
 
+use rayon::prelude::*;
+
 use crate::error::Error;
 use crate::mechanism::{Mechanism, Pose};
 use crate::scalar::Real;
@@ -78,46 +80,18 @@ impl<T: Real> PathColumns<T> {
             let phi = phis[e.k];
             path_error(e, phi)
         })?;
-        let conv = &threads.convention;
-        for (((path, track), at0), v) in threads
-            .paths
-            .iter()
-            .zip(&self.work.tracks)
-            .zip(&self.at0)
-            .zip(&mut self.paths)
-        {
-            let xi0 = at0.xi_at_split(0);
-            for k in 0..phis.len() {
-                let p = conv.take_up(track.xi_at_split(k), xi0);
-                v.xi.push(track.xi[k].re());
-                v.p.push(p.re());
-                if self.analogs {
-                    v.d1.push(p.d1());
-                    v.d2.push(p.d2());
-                }
-            }
-            if let Some(p_eye) = &mut v.p_eye {
-                p_eye.extend(track.xi[..phis.len()].iter().map(|x| conv.take_up(*x, at0.xi[0]).re()));
-            }
-            for (flags, e) in v.engaged.iter_mut().zip(&track.engaged) {
-                flags.extend_from_slice(&e[..phis.len()]);
-            }
-            if self.lean {
-                continue;
-            }
-            for k in 0..phis.len() {
-                let theta = threads.wrap_angles(path, pose, k);
-                for (col, t) in v.wrap_deg.iter_mut().zip(&theta) {
-                    col.push(t.to_degrees());
-                }
-                if let Some(t0) = threads.tension_n {
-                    let t = crate::thread::capstan(&theta, &path.friction, t0);
-                    v.eye_tension_n.push(*t.last().unwrap_or(&0.0));
-                    for (m, ti) in v.max_tension_n.iter_mut().zip(&t) {
-                        *m = m.max(*ti);
-                    }
-                }
-            }
+        let (analogs, lean) = (self.analogs, self.lean);
+        let add = |(((path, track), at0), v): (((_, _), _), &mut PathValues)| {
+            v.add(threads, path, track, at0, pose, phis.len(), analogs, lean)
+        };
+        let paths = threads.paths.iter().zip(&self.work.tracks).zip(&self.at0);
+        if lean {
+            paths.zip(&mut self.paths).for_each(add);
+        } else {
+            // The wrap angles are most of a full table's work, and the
+            // paths are independent: one per core.
+            let paths = threads.paths.par_iter().zip(&self.work.tracks).zip(&self.at0);
+            paths.zip(&mut self.paths).for_each(add);
         }
         Ok(())
     }
@@ -139,6 +113,56 @@ impl<T: Real> PathColumns<T> {
             .map(|((path, v), at0)| one_path(path, v, at0, phis, opts, columns))
             .collect();
         (summaries, Some(convention_words(threads)))
+    }
+}
+
+impl PathValues {
+    /// Adds the first `n` positions of `track`, solved in `pose`.
+    #[allow(clippy::too_many_arguments)]
+    fn add<T: Real>(
+        &mut self,
+        threads: &Threads<T>,
+        path: &crate::thread::ThreadPath,
+        track: &PathTrack<T>,
+        at0: &PathTrack<T>,
+        pose: &Pose<T>,
+        n: usize,
+        analogs: bool,
+        lean: bool,
+    ) {
+        let conv = &threads.convention;
+        let xi0 = at0.xi_at_split(0);
+        for k in 0..n {
+            let p = conv.take_up(track.xi_at_split(k), xi0);
+            self.xi.push(track.xi[k].re());
+            self.p.push(p.re());
+            if analogs {
+                self.d1.push(p.d1());
+                self.d2.push(p.d2());
+            }
+        }
+        if let Some(p_eye) = &mut self.p_eye {
+            p_eye.extend(track.xi[..n].iter().map(|x| conv.take_up(*x, at0.xi[0]).re()));
+        }
+        for (flags, e) in self.engaged.iter_mut().zip(&track.engaged) {
+            flags.extend_from_slice(&e[..n]);
+        }
+        if lean {
+            return;
+        }
+        for k in 0..n {
+            let theta = threads.wrap_angles(path, pose, k);
+            for (col, t) in self.wrap_deg.iter_mut().zip(&theta) {
+                col.push(t.to_degrees());
+            }
+            if let Some(t0) = threads.tension_n {
+                let t = crate::thread::capstan(&theta, &path.friction, t0);
+                self.eye_tension_n.push(*t.last().unwrap_or(&0.0));
+                for (m, ti) in self.max_tension_n.iter_mut().zip(&t) {
+                    *m = m.max(*ti);
+                }
+            }
+        }
     }
 }
 
