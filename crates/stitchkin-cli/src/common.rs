@@ -95,6 +95,11 @@ pub(crate) struct SearchArgs {
 }
 
 impl SearchArgs {
+    /// Checks the search's limits before any preparation.
+    pub fn check(&self) -> Result<(), Error> {
+        stitchkin::study::tune::check_samples(self.samples)
+    }
+
     /// The tuning options with the settings to `adjust`.
     pub fn options(&self, adjust: Vec<String>) -> stitchkin::study::tune::TuneOptions {
         stitchkin::study::tune::TuneOptions {
@@ -184,6 +189,21 @@ pub(crate) fn emit(bytes: &[u8], out: Option<&PathBuf>) -> Result<(), Error> {
                 Err(e) => Err(Error::Io(IoError::os("write to stdout", None, e))),
             }
         }
+    }
+}
+
+/// A [`stitchkin::output::Sink`] as an `io::Write`, for the writers that
+/// stream a table (CSV, JSON) instead of building it whole in memory.
+pub(crate) struct SinkWriter<'a>(pub &'a mut stitchkin::output::Sink);
+
+impl Write for SinkWriter<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.write(buf).map_err(|e| std::io::Error::other(e.to_string()))?;
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
     }
 }
 

@@ -53,6 +53,8 @@ fn scratch(name: &str) -> PathBuf {
 
 #[path = "cli/examples.rs"]
 mod examples;
+#[path = "cli/limits.rs"]
+mod limits;
 #[path = "cli/nomogram.rs"]
 mod nomogram;
 #[path = "cli/sensitivity.rs"]

@@ -4,15 +4,117 @@
 /// Formats a number with 12 significant digits, shortest form
 /// (`175`, `-3.14159265359`; `1.5e-10` for tiny and huge magnitudes).
 pub fn fmt_num(x: f64) -> String {
+    let mut s = Vec::new();
+    push_num(&mut s, x);
+    String::from_utf8(s).expect("numbers are written in ASCII")
+}
+
+/// Appends [`fmt_num`]`(x)` to `out`, in ASCII: what a CSV of millions of
+/// numbers writes, without a heap allocation or a decimal conversion of
+/// its own for nearly every number.
+pub fn push_num(out: &mut Vec<u8>, x: f64) {
     if x == 0.0 {
-        return "0".into();
-    }
-    let rounded: f64 = format!("{x:.11e}").parse().unwrap_or(x);
-    let a = rounded.abs();
-    if (1e-4..1e15).contains(&a) {
-        format!("{rounded}")
+        out.push(b'0');
+    } else if let Some((digits, exp10)) = twelve_digits(x) {
+        if x < 0.0 {
+            out.push(b'-');
+        }
+        push_fixed(out, digits, exp10);
     } else {
-        format!("{rounded:e}")
+        // Rounded to 12 significant digits, then written in the shortest
+        // form that reads back as the rounded value.
+        let rounded: f64 = format!("{x:.11e}").parse().unwrap_or(x);
+        let text = if (1e-4..1e15).contains(&rounded.abs()) {
+            format!("{rounded}")
+        } else {
+            format!("{rounded:e}")
+        };
+        out.extend_from_slice(text.as_bytes());
+    }
+}
+
+/// |x| rounded to 12 significant digits, as the integer d (10¹¹ ≤ d < 10¹²)
+/// and the exponent e of |x| ≈ d·10^(e−11), for 10⁻⁴ ≤ |x| < 10¹⁵, where
+/// [`fmt_num`] writes no exponent; `None` where this cannot be sure of the
+/// rounding (the caller then asks the exact decimal conversion).
+///
+/// y = |x|·10^(11−e) is one correctly rounded product or quotient (10^k is
+/// exact in `f64` for k ≤ 22), so it is within half an ulp of the exact
+/// value, under 2⁻¹³ for y < 10¹²: when the fraction of y is not within
+/// 10⁻³ of ½ it rounds as the exact value does.
+fn twelve_digits(x: f64) -> Option<(u64, i32)> {
+    const POW10: [f64; 17] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    ];
+    let a = x.abs();
+    if !(1e-4..1e15).contains(&a) {
+        return None;
+    }
+    let scaled = |e: i32| {
+        let k = 11 - e;
+        if k >= 0 {
+            a * POW10[k as usize]
+        } else {
+            a / POW10[(-k) as usize]
+        }
+    };
+    // floor(e₂·log₁₀2) from the binary exponent e₂ (78913/2¹⁸ ≈ log₁₀2, as
+    // in Ryu, Adams 2018): the decimal exponent or one less.
+    let e2 = ((a.to_bits() >> 52) & 0x7ff) as i32 - 1023;
+    let mut e = (e2 * 78913) >> 18;
+    let mut y = scaled(e);
+    if y < 1e11 {
+        e -= 1;
+        y = scaled(e);
+    } else if y >= 1e12 {
+        e += 1;
+        y = scaled(e);
+    }
+    if !(1e11..1e12).contains(&y) {
+        return None;
+    }
+    let whole = y as u64;
+    let frac = y - whole as f64;
+    if (frac - 0.5).abs() < 1e-3 {
+        return None;
+    }
+    let mut d = whole + u64::from(frac > 0.5);
+    if d == 1_000_000_000_000 {
+        d = 100_000_000_000;
+        e += 1;
+    }
+    (-4..=14).contains(&e).then_some((d, e))
+}
+
+/// Writes d·10^(e−11) (12 digits in d) in fixed notation without trailing
+/// zeros, as Rust writes the `f64` nearest to it: a decimal of at most 15
+/// significant digits is the shortest form of that `f64`.
+fn push_fixed(out: &mut Vec<u8>, mut d: u64, e: i32) {
+    // Two digits at a time.
+    const PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819202122232425262728293031323334353637383940414243444546474849\
+                                5051525354555657585960616263646566676869707172737475767778798081828384858687888990919293949596979899";
+    let mut digits = [b'0'; 12];
+    for pair in digits.chunks_exact_mut(2).rev() {
+        let r = (d % 100) as usize;
+        pair.copy_from_slice(&PAIRS[2 * r..2 * r + 2]);
+        d /= 100;
+    }
+    let len = digits.iter().rposition(|&c| c != b'0').map_or(1, |i| i + 1);
+    let digits = &digits[..len];
+    if e < 0 {
+        out.extend_from_slice(b"0.");
+        out.resize(out.len() + (-e - 1) as usize, b'0');
+        out.extend_from_slice(digits);
+    } else {
+        let int_len = e as usize + 1;
+        if len <= int_len {
+            out.extend_from_slice(digits);
+            out.resize(out.len() + (int_len - len), b'0');
+        } else {
+            out.extend_from_slice(&digits[..int_len]);
+            out.push(b'.');
+            out.extend_from_slice(&digits[int_len..]);
+        }
     }
 }
 
@@ -121,6 +223,96 @@ pub fn per_unit(numerator: &str, denominator: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// What [`fmt_num`] wrote before [`push_num`]: the exact decimal
+    /// conversion for every number.
+    fn fmt_num_exact(x: f64) -> String {
+        if x == 0.0 {
+            return "0".into();
+        }
+        let rounded: f64 = format!("{x:.11e}").parse().unwrap_or(x);
+        let a = rounded.abs();
+        if (1e-4..1e15).contains(&a) {
+            format!("{rounded}")
+        } else {
+            format!("{rounded:e}")
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(20_000))]
+
+        /// The fast path writes what the exact conversion writes: any bit
+        /// pattern, and numbers of every everyday magnitude.
+        #[test]
+        fn fast_digits_equal_the_exact_conversion(bits in proptest::prelude::any::<u64>(),
+                                                  m in -1.0..1.0f64, e in -6i32..17) {
+            let x = f64::from_bits(bits);
+            proptest::prop_assert_eq!(fmt_num(x), fmt_num_exact(x));
+            let y = m * 10f64.powi(e);
+            proptest::prop_assert_eq!(fmt_num(y), fmt_num_exact(y));
+        }
+    }
+
+    #[test]
+    fn fast_digits_at_the_edges() {
+        let mut xs = vec![
+            1e-4,
+            9.99999999999e-5,
+            9.999999999995e-5,
+            0.000099999999999949,
+            1e15,
+            999999999999999.9,
+            1e14,
+            999999999999.5,
+            99999999999.95,
+            123456789012.5,
+            0.5,
+            1.5,
+            2.5,
+            1.0000000000005,
+            1.0000000000015,
+            175.0,
+            0.1,
+            0.2,
+            0.3,
+            1.0 / 3.0,
+            2.0 / 3.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::MIN_POSITIVE,
+            5e-324,
+            f64::MAX,
+        ];
+        // Every power of ten and its neighbours, and halves at the 12th digit.
+        for k in -6..17 {
+            let p = 10f64.powi(k);
+            xs.extend([
+                p,
+                p.next_up(),
+                p.next_down(),
+                5.0 * p,
+                1.000000000005 * p,
+                9.999999999995 * p,
+            ]);
+        }
+        for x in xs {
+            for x in [x, -x] {
+                assert_eq!(fmt_num(x), fmt_num_exact(x), "{x:e}");
+            }
+        }
+        // The grid angles and take-ups of a cycle of 0.001° steps, nearly
+        // all on the fast path.
+        let mut fast = 0;
+        for k in 1..360_000 {
+            let phi = k as f64 * 0.001;
+            let p = 12.5 * phi.to_radians().sin() - 3.0;
+            assert_eq!(fmt_num(phi), fmt_num_exact(phi));
+            assert_eq!(fmt_num(p), fmt_num_exact(p));
+            fast += usize::from(twelve_digits(phi).is_some()) + usize::from(twelve_digits(p).is_some());
+        }
+        assert!(fast > 2 * 359_999 * 99 / 100, "{fast}");
+    }
 
     #[test]
     fn shortest_form_with_twelve_digits() {

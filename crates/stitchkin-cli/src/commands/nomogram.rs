@@ -40,6 +40,7 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
+    args.search.check()?;
     let (model, params) = load(&args.model)?;
     // A bad -o is reported before the tuning, not after it.
     if let Some(path) = &args.output.output {

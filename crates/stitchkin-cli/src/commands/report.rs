@@ -65,6 +65,7 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
+    args.search.check()?;
     let (model, params) = load(&args.model)?;
     if let Some(path) = &args.output {
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);

@@ -8,7 +8,7 @@ use stitchkin::eval::{self, CycleOptions};
 use stitchkin::model::Model;
 use stitchkin::output::{self, text};
 
-use crate::common::{CsvOrJson, ModelArgs, emit, load, note};
+use crate::common::{CsvOrJson, ModelArgs, SinkWriter, emit, load, note};
 
 /// Evaluate a model over one main-shaft cycle: positions, analogs,
 /// velocities, link and transmission angles, measures.
@@ -93,13 +93,16 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         return emit(s.as_bytes(), None);
     }
     let format = args.format.unwrap_or(CsvOrJson::Csv);
-    let mut buf = Vec::new();
+    // Streamed: a table of 0.001° steps is 700 MB of CSV. A file appears
+    // whole when the sink finishes, or not at all.
+    let mut sink = output::Sink::new(args.output.as_deref())?;
+    let mut out = SinkWriter(&mut sink);
     match format {
-        CsvOrJson::Csv => output::write_csv(&table, &mut buf),
-        CsvOrJson::Json => output::write_json(&model, &params, &table, &mut buf),
+        CsvOrJson::Csv => output::write_csv(&table, &mut out),
+        CsvOrJson::Json => output::write_json(&model, &params, &table, &mut out),
     }
     .map_err(|e| Error::Internal(format!("cannot format the cycle table: {e}")))?;
-    emit(&buf, args.output.as_ref())?;
+    sink.finish()?;
     if matches!(format, CsvOrJson::Csv) || args.output.is_some() {
         note(&text::cycle::summary(&model, &table));
     }

@@ -40,6 +40,7 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
+    args.search.check()?;
     let (model, mut params) = load(&args.model)?;
     if let Some(m) = args.thickness {
         set_stitch_value(&model, &mut params, "m", m)?;

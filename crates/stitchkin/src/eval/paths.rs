@@ -1,198 +1,272 @@
 //! A cycle's thread-path columns: ξ, the take-up P (split at B for a
 //! needle-eye path), its analogs, the guides' engagement and wrap angles,
 //! the capstan tension, and each path's summary.
+//!
+//! The columns grow a piece of the cycle at a time ([`PathColumns::add`]),
+//! from the pose of that piece alone; the summaries are read off the whole
+//! columns at the end ([`PathColumns::finish`]).
+
+use rayon::prelude::*;
 
 use crate::error::Error;
 use crate::mechanism::{Mechanism, Pose};
 use crate::scalar::Real;
-use crate::thread::{Convention, PathTrack, SplitPoint, ThreadPath, Threads};
+use crate::thread::{Convention, PathTrack, SplitPoint, ThreadWork, Threads};
 
 use super::{
     Column, CycleOptions, FLAT_MIN_DEG, FLAT_SLOPE_MM_PER_DEG, PathSummary, extremes, path_error, take_up_name,
     tracks_at_phi0, wrap_deg,
 };
 
-/// Adds each path's columns and returns the paths' summaries and the words
-/// that say how P is counted.
-pub(super) fn path_columns<T: Real>(
-    mech: &Mechanism<T>,
-    threads: &Threads<T>,
-    pose: &Pose<T>,
-    phis: &[f64],
-    opts: &CycleOptions,
-    columns: &mut Vec<Column>,
-) -> Result<(Vec<PathSummary>, Option<String>), Error> {
-    let at0 = tracks_at_phi0(mech, threads)?;
-    let tracks = threads.evaluate(pose, None).map_err(|e| {
-        let phi = phis[e.k];
-        path_error(e, phi)
-    })?;
-    let summaries = threads
-        .paths
-        .iter()
-        .zip(tracks)
-        .zip(at0)
-        .map(|((path, track), at0)| one_path(threads, path, &track, &at0, pose, phis, opts, columns))
-        .collect();
-    Ok((summaries, Some(convention_words(threads))))
+/// Every path's columns under construction.
+pub(super) struct PathColumns<T: Real> {
+    /// Every path at φ0.
+    at0: Vec<PathTrack<T>>,
+    work: ThreadWork<T>,
+    paths: Vec<PathValues>,
+    analogs: bool,
+    lean: bool,
+}
+
+/// One path's values over the positions added so far.
+#[derive(Default)]
+struct PathValues {
+    xi: Vec<f64>,
+    /// P and its first and second analogs (with analogs).
+    p: Vec<f64>,
+    d1: Vec<f64>,
+    d2: Vec<f64>,
+    /// A path split at B: P at the moving eye.
+    p_eye: Option<Vec<f64>>,
+    /// Per pin, whether the thread bears on it.
+    engaged: Vec<Vec<bool>>,
+    /// Per node, the angle the thread turns through, deg (not lean).
+    wrap_deg: Vec<Vec<f64>>,
+    /// The capstan tension at the eye, N, and the largest after each node
+    /// (with a regulator tension, not lean).
+    eye_tension_n: Vec<f64>,
+    max_tension_n: Vec<f64>,
+}
+
+impl<T: Real> PathColumns<T> {
+    pub(super) fn new(mech: &Mechanism<T>, threads: &Threads<T>, opts: &CycleOptions) -> Result<Self, Error> {
+        let at0 = tracks_at_phi0(mech, threads)?;
+        let paths = threads
+            .paths
+            .iter()
+            .zip(&threads.split_up)
+            .map(|(path, up)| PathValues {
+                // Split at B: the eye's height rides along, as in a cycle's track.
+                p_eye: (up.is_some() && !path.nodes.is_empty()).then(Vec::new),
+                engaged: vec![Vec::new(); path.pin_names().len()],
+                wrap_deg: vec![Vec::new(); path.nodes.len()],
+                max_tension_n: vec![f64::MIN; path.nodes.len()],
+                ..Default::default()
+            })
+            .collect();
+        Ok(PathColumns {
+            at0,
+            work: ThreadWork::for_pieces(),
+            paths,
+            analogs: opts.analogs,
+            lean: opts.lean,
+        })
+    }
+
+    /// Adds the positions of `pose`, solved at `phis` (the next piece of
+    /// the cycle).
+    pub(super) fn add(&mut self, threads: &Threads<T>, pose: &Pose<T>, phis: &[f64]) -> Result<(), Error> {
+        threads.evaluate_into(pose, None, &mut self.work).map_err(|e| {
+            let phi = phis[e.k];
+            path_error(e, phi)
+        })?;
+        let (analogs, lean) = (self.analogs, self.lean);
+        let add = |(((path, track), at0), v): (((_, _), _), &mut PathValues)| {
+            v.add(threads, path, track, at0, pose, phis.len(), analogs, lean)
+        };
+        let paths = threads.paths.iter().zip(&self.work.tracks).zip(&self.at0);
+        if lean {
+            paths.zip(&mut self.paths).for_each(add);
+        } else {
+            // The wrap angles are most of a full table's work, and the
+            // paths are independent: one per core.
+            let paths = threads.paths.par_iter().zip(&self.work.tracks).zip(&self.at0);
+            paths.zip(&mut self.paths).for_each(add);
+        }
+        Ok(())
+    }
+
+    /// Moves each path's columns into `columns` and returns the paths'
+    /// summaries and the words that say how P is counted.
+    pub(super) fn finish(
+        self,
+        threads: &Threads<T>,
+        phis: &[f64],
+        opts: &CycleOptions,
+        columns: &mut Vec<Column>,
+    ) -> (Vec<PathSummary>, Option<String>) {
+        let summaries = threads
+            .paths
+            .iter()
+            .zip(self.paths)
+            .zip(&self.at0)
+            .map(|((path, v), at0)| one_path(path, v, at0, phis, opts, columns))
+            .collect();
+        (summaries, Some(convention_words(threads)))
+    }
+}
+
+impl PathValues {
+    /// Adds the first `n` positions of `track`, solved in `pose`.
+    #[allow(clippy::too_many_arguments)]
+    fn add<T: Real>(
+        &mut self,
+        threads: &Threads<T>,
+        path: &crate::thread::ThreadPath,
+        track: &PathTrack<T>,
+        at0: &PathTrack<T>,
+        pose: &Pose<T>,
+        n: usize,
+        analogs: bool,
+        lean: bool,
+    ) {
+        let conv = &threads.convention;
+        let xi0 = at0.xi_at_split(0);
+        for k in 0..n {
+            let p = conv.take_up(track.xi_at_split(k), xi0);
+            self.xi.push(track.xi[k].re());
+            self.p.push(p.re());
+            if analogs {
+                self.d1.push(p.d1());
+                self.d2.push(p.d2());
+            }
+        }
+        if let Some(p_eye) = &mut self.p_eye {
+            p_eye.extend(track.xi[..n].iter().map(|x| conv.take_up(*x, at0.xi[0]).re()));
+        }
+        for (flags, e) in self.engaged.iter_mut().zip(&track.engaged) {
+            flags.extend_from_slice(&e[..n]);
+        }
+        if lean {
+            return;
+        }
+        for k in 0..n {
+            let theta = threads.wrap_angles(path, pose, k);
+            for (col, t) in self.wrap_deg.iter_mut().zip(&theta) {
+                col.push(t.to_degrees());
+            }
+            if let Some(t0) = threads.tension_n {
+                let t = crate::thread::capstan(&theta, &path.friction, t0);
+                self.eye_tension_n.push(*t.last().unwrap_or(&0.0));
+                for (m, ti) in self.max_tension_n.iter_mut().zip(&t) {
+                    *m = m.max(*ti);
+                }
+            }
+        }
+    }
 }
 
 /// One path's columns and summary.
-#[allow(clippy::too_many_arguments)]
 fn one_path<T: Real>(
-    threads: &Threads<T>,
-    path: &ThreadPath,
-    track: &PathTrack<T>,
+    path: &crate::thread::ThreadPath,
+    v: PathValues,
     at0: &PathTrack<T>,
-    pose: &Pose<T>,
     phis: &[f64],
     opts: &CycleOptions,
     columns: &mut Vec<Column>,
 ) -> PathSummary {
     let name = &path.name;
-    let split = !track.eye_up.is_empty();
+    let split = v.p_eye.is_some();
     let pn = take_up_name(split);
-    let p: Vec<T> = (0..track.xi.len())
-        .map(|k| threads.convention.take_up(track.xi_at_split(k), at0.xi_at_split(0)))
-        .collect();
-    let mut col = |n: String, v: Vec<f64>| {
+    let mut col = |n: String, values: Vec<f64>| {
         columns.push(Column {
             name: format!("{name}.{n}"),
-            values: v,
+            values,
         })
     };
-    col("xi_mm".into(), track.xi.iter().map(|x| x.re()).collect());
-    col(format!("{pn}_mm"), p.iter().map(|x| x.re()).collect());
-    if opts.analogs {
-        col(format!("d{pn}_dphi_mm_per_rad"), p.iter().map(|x| x.d1()).collect());
-        col(format!("d2{pn}_dphi2_mm_per_rad2"), p.iter().map(|x| x.d2()).collect());
-        if let Some(rpm) = opts.rpm {
-            let w = rpm * std::f64::consts::TAU / 60.0;
-            col(format!("v{pn}_mm_per_s"), p.iter().map(|x| x.d1() * w).collect());
-        }
-    }
-    // The same thread measured at the moving eye (P_eye = P_B − S + S(φ0)).
-    let p_eye: Option<Vec<f64>> = split.then(|| {
-        track
-            .xi
-            .iter()
-            .map(|x| threads.convention.take_up(*x, at0.xi[0]).re())
-            .collect()
-    });
-    if let Some(v) = &p_eye {
-        col("P_eye_mm".into(), v.clone());
-    }
-    let tensions = guide_columns(threads, path, track, pose, phis, opts, &mut col);
-    let p_re: Vec<f64> = p.iter().map(|x| x.re()).collect();
-    let (imin, imax) = extremes(&p_re);
-    let pins = path.pin_names();
-    PathSummary {
+    let (imin, imax) = extremes(&v.p);
+    let summary = PathSummary {
         path: name.clone(),
         thread: path.label.clone(),
         split: if split { SplitPoint::B } else { SplitPoint::End },
         p_column: format!("{name}.{pn}_mm"),
-        max_p_eye_mm: p_eye.as_ref().map(|v| v.iter().cloned().fold(f64::MIN, f64::max)),
-        max_p_mm: p_re[imax],
+        max_p_eye_mm: v.p_eye.as_ref().map(|e| e.iter().cloned().fold(f64::MIN, f64::max)),
+        max_p_mm: v.p[imax],
         phi_at_max_deg: wrap_deg(phis[imax]),
-        min_p_mm: p_re[imin],
+        min_p_mm: v.p[imin],
         phi_at_min_deg: wrap_deg(phis[imin]),
         xi0_mm: at0.xi[0].re(),
-        engaged: pins
+        engaged: path
+            .pin_names()
             .iter()
-            .enumerate()
-            .map(|(j, pin)| (pin.to_string(), crate::thread::intervals(&track.engaged[j], phis)))
+            .zip(&v.engaged)
+            .map(|(pin, flags)| (pin.to_string(), crate::thread::intervals(flags, phis)))
             .collect(),
-        flat: flat_intervals(&p, &p_re, phis, opts),
-        max_tension_n: max_tensions(path, tensions.as_deref()),
-        eye_tension_n: eye_tension_range(tensions.as_deref()),
-    }
-}
-
-/// The angle the thread turns through at every node, per φ: a column per
-/// guide between the ends (and whether a pin is engaged), and the capstan
-/// tension from them, the eye's as a column (left out of lean runs).
-/// Returns the tension after each node at each φ.
-fn guide_columns<T: Real>(
-    threads: &Threads<T>,
-    path: &ThreadPath,
-    track: &PathTrack<T>,
-    pose: &Pose<T>,
-    phis: &[f64],
-    opts: &CycleOptions,
-    col: &mut impl FnMut(String, Vec<f64>),
-) -> Option<Vec<Vec<f64>>> {
-    let wraps: Vec<Vec<f64>> = if opts.lean {
-        Vec::new()
-    } else {
-        (0..phis.len()).map(|k| threads.wrap_angles(path, pose, k)).collect()
+        flat: flat_intervals(&v.d1, &v.p, phis, opts),
+        max_tension_n: if v.eye_tension_n.is_empty() {
+            Vec::new()
+        } else {
+            path.node_names.iter().cloned().zip(v.max_tension_n).collect()
+        },
+        eye_tension_n: (!v.eye_tension_n.is_empty()).then(|| {
+            [
+                v.eye_tension_n.iter().cloned().fold(f64::MAX, f64::min),
+                v.eye_tension_n.iter().cloned().fold(f64::MIN, f64::max),
+            ]
+        }),
     };
-    let mut pin = 0;
+    col("xi_mm".into(), v.xi);
+    col(format!("{pn}_mm"), v.p);
+    if opts.analogs {
+        if let Some(rpm) = opts.rpm {
+            let w = rpm * std::f64::consts::TAU / 60.0;
+            let vel = v.d1.iter().map(|x| x * w).collect();
+            col(format!("d{pn}_dphi_mm_per_rad"), v.d1);
+            col(format!("d2{pn}_dphi2_mm_per_rad2"), v.d2);
+            col(format!("v{pn}_mm_per_s"), vel);
+        } else {
+            col(format!("d{pn}_dphi_mm_per_rad"), v.d1);
+            col(format!("d2{pn}_dphi2_mm_per_rad2"), v.d2);
+        }
+    }
+    // The same thread measured at the moving eye (P_eye = P_B − S + S(φ0)).
+    if let Some(p_eye) = v.p_eye {
+        col("P_eye_mm".into(), p_eye);
+    }
+    // Per guide between the ends: whether a pin is engaged, the wrap angle;
+    // then the eye's tension.
+    let (mut engaged, mut wraps) = (v.engaged.into_iter(), v.wrap_deg.into_iter().skip(1));
     for i in 1..path.nodes.len().saturating_sub(1) {
         let node = &path.node_names[i];
         if path.pin_span[i].is_some() {
+            let flags = engaged.next().expect("one flag column per pin");
             col(
                 format!("{node}_engaged"),
-                track.engaged[pin].iter().map(|&e| if e { 1.0 } else { 0.0 }).collect(),
+                flags.iter().map(|&e| if e { 1.0 } else { 0.0 }).collect(),
             );
-            pin += 1;
         }
+        let wrap = wraps.next().expect("one wrap column per node");
         if !opts.lean {
-            col(
-                format!("{node}_wrap_deg"),
-                wraps.iter().map(|w| w[i].to_degrees()).collect(),
-            );
+            col(format!("{node}_wrap_deg"), wrap);
         }
     }
-    let tensions: Option<Vec<Vec<f64>>> = threads.tension_n.filter(|_| !opts.lean).map(|t0| {
-        wraps
-            .iter()
-            .map(|theta| crate::thread::capstan(theta, &path.friction, t0))
-            .collect()
-    });
-    if let Some(t) = &tensions {
-        col(
-            "tension_eye_N".into(),
-            t.iter().map(|row| *row.last().unwrap_or(&0.0)).collect(),
-        );
+    if !v.eye_tension_n.is_empty() {
+        col("tension_eye_N".into(), v.eye_tension_n);
     }
-    tensions
-}
-
-/// The highest tension after each node over the cycle.
-fn max_tensions(path: &ThreadPath, tensions: Option<&[Vec<f64>]>) -> Vec<(String, f64)> {
-    match tensions {
-        Some(t) => (0..path.nodes.len())
-            .map(|i| {
-                (
-                    path.node_names[i].clone(),
-                    t.iter().map(|row| row[i]).fold(f64::MIN, f64::max),
-                )
-            })
-            .collect(),
-        None => Vec::new(),
-    }
-}
-
-/// The eye's tension range [min, max] over the cycle.
-fn eye_tension_range(tensions: Option<&[Vec<f64>]>) -> Option<[f64; 2]> {
-    let eye: Vec<f64> = tensions?.iter().map(|row| *row.last().unwrap_or(&0.0)).collect();
-    Some([
-        eye.iter().cloned().fold(f64::MAX, f64::min),
-        eye.iter().cloned().fold(f64::MIN, f64::max),
-    ])
+    summary
 }
 
 /// Where P dwells: intervals of at least FLAT_MIN_DEG where |dP/dφ| stays
-/// under FLAT_SLOPE_MM_PER_DEG. The slope is exact with analogs; otherwise
-/// the central difference on the (periodic) grid, enough to classify
-/// dwells.
-fn flat_intervals<T: Real>(p: &[T], p_re: &[f64], phis: &[f64], opts: &CycleOptions) -> Vec<crate::thread::Interval> {
+/// under FLAT_SLOPE_MM_PER_DEG. The slope is exact with analogs (`d1`, mm
+/// per rad); otherwise the central difference on the (periodic) grid of
+/// `p`, enough to classify dwells.
+fn flat_intervals(d1: &[f64], p: &[f64], phis: &[f64], opts: &CycleOptions) -> Vec<crate::thread::Interval> {
     let slope_mm_per_deg: Vec<f64> = if opts.analogs {
-        p.iter().map(|x| x.d1() * std::f64::consts::PI / 180.0).collect()
+        d1.iter().map(|x| x * std::f64::consts::PI / 180.0).collect()
     } else {
-        let n = p_re.len();
+        let n = p.len();
         (0..n)
-            .map(|k| (p_re[(k + 1) % n] - p_re[(k + n - 1) % n]) / (2.0 * opts.step_deg))
+            .map(|k| (p[(k + 1) % n] - p[(k + n - 1) % n]) / (2.0 * opts.step_deg))
             .collect()
     };
     let flat_flags: Vec<bool> = slope_mm_per_deg

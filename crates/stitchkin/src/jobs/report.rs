@@ -55,6 +55,10 @@ pub fn render(model: &Model, params: &Params, opts: &ReportOptions) -> Result<St
         step_deg: opts.step_deg,
         ..Default::default()
     })?;
+    // The tunings' limits, before the report's other work.
+    for t in opts.tune.iter().chain(opts.nomogram.as_ref().map(|n| &n.tune)) {
+        crate::study::tune::check_samples(t.samples)?;
+    }
     let table = run_cycle(model, params, &chart_cycle(opts.step_deg))?;
     let measured = match_measured(&table, &opts.measured)?;
     let drawing = mechanism_drawing(model, params, opts)?;

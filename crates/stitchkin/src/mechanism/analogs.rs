@@ -39,6 +39,12 @@ impl PoseAnalogs {
             acc: vec![vec![V3::zeros(); n]; points],
         }
     }
+    /// Keeps the first `n` positions (`n` ≤ [`Self::len`]).
+    pub fn truncate(&mut self, n: usize) {
+        assert!(n <= self.n, "analogs only shrink");
+        self.n = n;
+        self.vel.iter_mut().chain(&mut self.acc).for_each(|t| t.truncate(n));
+    }
     /// First analog of point `slot` at the `k`-th φ, mm/rad.
     pub fn vel(&self, slot: usize, k: usize) -> V3<f64> {
         self.vel[slot][k]
@@ -359,6 +365,52 @@ pub fn solve_cycle<T: Real>(
     let mut pose = mech.new_pose(phis_deg.len());
     mech.solve(&Phi::table(phis_deg), &mut pose)?;
     Ok(pose)
+}
+
+/// [`solve_cycle`] a piece of the cycle at a time, into buffers of one
+/// piece: the poses of consecutive pieces are the whole cycle's pose, piece
+/// by piece (numerical groups continue from one piece to the next), while
+/// memory holds one piece.
+pub struct PieceSolver<'a, T: Real> {
+    mech: &'a Mechanism<T>,
+    /// The mechanism in `f64` with its pose and analogs, when the analogs
+    /// have a closed form.
+    plain: Option<(&'a Mechanism<f64>, Pose<f64>, PoseAnalogs)>,
+    pose: Pose<T>,
+}
+
+impl<'a, T: Real> PieceSolver<'a, T> {
+    /// A solver of pieces of at most `piece` positions (`plain` as for
+    /// [`solve_cycle`]).
+    pub fn new(mech: &'a Mechanism<T>, plain: Option<&'a Mechanism<f64>>, piece: usize) -> Self {
+        let plain = plain
+            .filter(|m| m.has_closed_form_analogs())
+            .map(|m| (m, m.new_pose(piece), PoseAnalogs::new(m.n_points(), piece)));
+        PieceSolver {
+            mech,
+            plain,
+            pose: mech.new_pose(piece),
+        }
+    }
+
+    /// The pose at `phis_deg`, the next piece of the cycle (at most the
+    /// piece length; only the last piece may be shorter).
+    pub fn solve(&mut self, phis_deg: &[f64]) -> Result<&Pose<T>, AssemblyError> {
+        let n = phis_deg.len();
+        self.pose.truncate(n);
+        match &mut self.plain {
+            Some((m, pose, an)) => {
+                pose.truncate(n);
+                an.truncate(n);
+                let phis = Phi::<f64>::table(phis_deg);
+                m.solve(&phis, pose)?;
+                m.analogs(&phis, pose, an).expect("the closed form was checked");
+                self.pose.set_analogs(pose, an);
+            }
+            None => self.mech.solve(&Phi::table(phis_deg), &mut self.pose)?,
+        }
+        Ok(&self.pose)
+    }
 }
 
 #[cfg(test)]

@@ -229,6 +229,14 @@ impl<T: Real> Pose<T> {
     pub fn track(&self, slot: usize) -> &[V3<T>] {
         &self.tracks[slot]
     }
+    /// Keeps the first `n` positions (`n` ≤ [`Self::len`]) and the
+    /// numerical groups' state, so a solve of `n` positions continues from
+    /// the last one solved.
+    pub fn truncate(&mut self, n: usize) {
+        assert!(n <= self.n, "a pose only shrinks");
+        self.n = n;
+        self.tracks.iter_mut().for_each(|t| t.truncate(n));
+    }
     /// A copy with every point projected onto `plane` (local z = 0).
     pub fn projected(&self, plane: &Plane<T>) -> Pose<T> {
         let tracks = self

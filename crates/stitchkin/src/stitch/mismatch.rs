@@ -7,6 +7,8 @@
 //! cycle (the cycle minus the regulator windows, where thread passes the
 //! tension regulator and the two need not agree).
 
+use rustfft::num_complex::Complex64;
+use rustfft::{Fft, FftPlanner};
 use serde::Serialize;
 
 /// The mismatch of one thread.
@@ -78,7 +80,8 @@ pub fn sum_sq_diff(p: &[f64], pprime: &[f64], w: &[f64]) -> f64 {
 /// The mismatch of `p` against `pprime` on the uniform grid `phi_deg` (one
 /// cycle, step `phi_deg[1] − phi_deg[0]`). `compared[k]` is false inside a
 /// regulator window; `eps_mm` is the tolerance ε of the intervals; `lag`
-/// asks for the best lag (n² work). `None` when nothing is compared.
+/// asks for the best lag (O(n log n), [`best_lag_index`]). `None` when
+/// nothing is compared.
 pub fn mismatch(
     phi_deg: &[f64],
     p: &[f64],
@@ -116,26 +119,7 @@ pub fn mismatch(
         (hi.max(pprime[k]), lo.min(pprime[k]))
     });
     let range = pp_max - pp_min;
-    // Best circular lag: λ = j·dφ minimizing std over the compared set of
-    // P(φ + λ) − P'(φ). P is laid out twice so no index wraps.
-    let best_lag = lag.then(|| {
-        let p2: Vec<f64> = p.iter().chain(p).copied().collect();
-        let mut best = (f64::INFINITY, 0usize);
-        for j in 0..n {
-            let shifted = &p2[j..j + n];
-            let (mut s1, mut s2) = (0.0, 0.0);
-            for &k in &ks {
-                let x = shifted[k] - pprime[k];
-                s1 += x;
-                s2 += x * x;
-            }
-            let var = (s2 / count - (s1 / count).powi(2)).max(0.0);
-            if var < best.0 - 1e-12 {
-                best = (var, j);
-            }
-        }
-        wrap180(best.1 as f64 * dphi)
-    });
+    let best_lag = lag.then(|| wrap180(best_lag_index(p, pprime, compared) as f64 * dphi));
     let intervals = |sel: &dyn Fn(f64) -> bool| {
         let mut out = Vec::new();
         let mut start: Option<usize> = None;
@@ -182,9 +166,217 @@ pub fn mismatch(
     })
 }
 
+/// The best circular lag of `p` against `pprime`: the shift j (λ = j·dφ)
+/// that minimizes the variance of P(φ_k + λ) − P'(φ_k) over the compared
+/// k. Scanning j = 0, 1, …, n − 1, a lag replaces the best so far only when
+/// its variance is lower by more than 1e-12 mm², so of (nearly) equal
+/// minima the first wins and equal curves give 0.
+pub fn best_lag_index(p: &[f64], pprime: &[f64], compared: &[bool]) -> usize {
+    let mut best = (f64::INFINITY, 0usize);
+    for (j, v) in lag_variances(p, pprime, compared).into_iter().enumerate() {
+        if v < best.0 - 1e-12 {
+            best = (v, j);
+        }
+    }
+    best.1
+}
+
+/// For every lag j, the variance (mm²) of p_{k+j} − p'_k over the compared
+/// k (indices mod n), in O(n log n). With w the 0/1 weight of the compared
+/// positions:
+///
+/// Σ_k w_k (p_{k+j} − p'_k)  = (w ⋆ p)(j) − Σ_k w_k p'_k,
+/// Σ_k w_k (p_{k+j} − p'_k)² = (w ⋆ p²)(j) − 2 (w·p' ⋆ p)(j) + Σ_k w_k p'_k²,
+///
+/// where (a ⋆ b)(j) = Σ_k a_k b_{k+j} is the circular cross-correlation,
+/// IDFT(conj(DFT a)·DFT b) (the correlation theorem: Press et al.,
+/// Numerical Recipes, 3rd ed., §13.2).
+fn lag_variances(p: &[f64], pprime: &[f64], compared: &[bool]) -> Vec<f64> {
+    let n = p.len();
+    let count = compared.iter().filter(|&&c| c).count() as f64;
+    // A constant added to P or to P' leaves every variance alone; centred,
+    // the sums are small, and so are the transforms' rounding errors.
+    let p_mean_mm = p.iter().sum::<f64>() / n as f64;
+    let q_mean_mm = (0..n).filter(|&k| compared[k]).map(|k| pprime[k]).sum::<f64>() / count;
+    let pc: Vec<f64> = p.iter().map(|x| x - p_mean_mm).collect();
+    let w: Vec<f64> = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
+    let wq: Vec<f64> = (0..n).map(|k| w[k] * (pprime[k] - q_mean_mm)).collect();
+    let sum_wq: f64 = wq.iter().sum();
+    let sum_wq2: f64 = wq.iter().map(|x| x * x).sum();
+    let mut planner = FftPlanner::new();
+    let forward = planner.plan_fft_forward(n);
+    let (fp, fp2) = two_real_dfts(&*forward, &pc, &pc.iter().map(|x| x * x).collect::<Vec<_>>());
+    let (fw, fwq) = two_real_dfts(&*forward, &w, &wq);
+    // Both sums are real for every j: one inverse transform carries the
+    // first as its real part and the second as its imaginary part.
+    let mut z: Vec<Complex64> = (0..n)
+        .map(|m| {
+            let s1 = fw[m].conj() * fp[m];
+            let s2 = fw[m].conj() * fp2[m] - 2.0 * fwq[m].conj() * fp[m];
+            s1 + Complex64::i() * s2
+        })
+        .collect();
+    planner.plan_fft_inverse(n).process(&mut z);
+    z.iter()
+        .map(|c| {
+            let s1 = c.re / n as f64 - sum_wq;
+            let s2 = c.im / n as f64 + sum_wq2;
+            (s2 / count - (s1 / count).powi(2)).max(0.0)
+        })
+        .collect()
+}
+
+/// The DFTs of two real sequences from one complex transform of a + i·b:
+/// A_m = (X_m + conj X_{n−m})/2, B_m = (X_m − conj X_{n−m})/(2i)
+/// (Numerical Recipes, 3rd ed., §12.3).
+fn two_real_dfts(fft: &dyn Fft<f64>, a: &[f64], b: &[f64]) -> (Vec<Complex64>, Vec<Complex64>) {
+    let n = a.len();
+    let mut x: Vec<Complex64> = a.iter().zip(b).map(|(&re, &im)| Complex64::new(re, im)).collect();
+    fft.process(&mut x);
+    (0..n)
+        .map(|m| {
+            let (xm, xc) = (x[m], x[(n - m) % n].conj());
+            ((xm + xc) * 0.5, (xm - xc) * Complex64::new(0.0, -0.5))
+        })
+        .unzip()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    /// The direct search [`best_lag_index`] replaced, n sums of n terms:
+    /// the reference it must agree with.
+    fn best_lag_index_direct(p: &[f64], pprime: &[f64], compared: &[bool]) -> usize {
+        let n = p.len();
+        let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
+        let count = ks.len() as f64;
+        let p2: Vec<f64> = p.iter().chain(p).copied().collect();
+        let mut best = (f64::INFINITY, 0usize);
+        for j in 0..n {
+            let var = variance_direct(&p2[j..j + n], pprime, &ks, count);
+            if var < best.0 - 1e-12 {
+                best = (var, j);
+            }
+        }
+        best.1
+    }
+
+    /// The variance of `shifted − pprime` over `ks`, summed directly.
+    fn variance_direct(shifted: &[f64], pprime: &[f64], ks: &[usize], count: f64) -> f64 {
+        let (mut s1, mut s2) = (0.0, 0.0);
+        for &k in ks {
+            let x = shifted[k] - pprime[k];
+            s1 += x;
+            s2 += x * x;
+        }
+        (s2 / count - (s1 / count).powi(2)).max(0.0)
+    }
+
+    /// A random test case: n positions, P and P' (a few harmonics, an
+    /// offset, noise, or a constant) and a compared mask (all, a regulator
+    /// window that may wrap, or random).
+    fn case() -> impl Strategy<Value = (Vec<f64>, Vec<f64>, Vec<bool>)> {
+        let curve = |n: usize| {
+            (
+                prop::collection::vec((-20.0..20.0f64, 0.0..std::f64::consts::TAU), 1..4),
+                -30.0..30.0f64,
+                0.0..0.5f64,
+                prop::collection::vec(-1.0..1.0f64, n),
+                prop::bool::weighted(0.15),
+            )
+                .prop_map(move |(harmonics, offset, noise, rnd, flat)| {
+                    (0..n)
+                        .map(|k| {
+                            if flat {
+                                return offset;
+                            }
+                            let phi = std::f64::consts::TAU * k as f64 / n as f64;
+                            let h: f64 = harmonics
+                                .iter()
+                                .enumerate()
+                                .map(|(i, (a, ph))| a * ((i + 1) as f64 * phi + ph).sin())
+                                .sum();
+                            offset + h + noise * rnd[k]
+                        })
+                        .collect::<Vec<f64>>()
+                })
+        };
+        (1usize..300).prop_flat_map(move |n| {
+            let mask = prop_oneof![
+                Just(vec![true; n]),
+                (0..n, 0..n).prop_map(move |(start, len)| {
+                    (0..n)
+                        .map(|k| (k + n - start) % n >= len.min(n - 1))
+                        .collect::<Vec<bool>>()
+                }),
+                prop::collection::vec(prop::bool::weighted(0.7), n)
+                    .prop_map(|m| { if m.iter().any(|&c| c) { m } else { vec![true; m.len()] } }),
+            ];
+            (curve(n), curve(n), mask)
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+
+        /// The transform gives the direct search's variances up to
+        /// rounding, and its lag, or one whose variance equals the direct
+        /// minimum up to rounding (a tie the rounding decides).
+        #[test]
+        fn fast_lag_matches_the_direct_search((p, pprime, compared) in case()) {
+            let n = p.len();
+            let ks: Vec<usize> = (0..n).filter(|&k| compared[k]).collect();
+            let p2: Vec<f64> = p.iter().chain(&p).copied().collect();
+            let direct: Vec<f64> =
+                (0..n).map(|j| variance_direct(&p2[j..j + n], &pprime, &ks, ks.len() as f64)).collect();
+            let fast = lag_variances(&p, &pprime, &compared);
+            let scale = 1.0 + direct.iter().cloned().fold(0.0, f64::max);
+            for j in 0..n {
+                prop_assert!((fast[j] - direct[j]).abs() <= 1e-10 * scale, "j = {j}: {} vs {}", fast[j], direct[j]);
+            }
+            let (jf, jd) = (best_lag_index(&p, &pprime, &compared), best_lag_index_direct(&p, &pprime, &compared));
+            prop_assert!(
+                jf == jd || (direct[jf] - direct[jd]).abs() <= 1e-10 * scale,
+                "lag {jf} vs {jd}: {} vs {}", direct[jf], direct[jd]
+            );
+        }
+    }
+
+    #[test]
+    fn long_grids_match_the_direct_search() {
+        // A prime length (no fast radix) and the 0.1° grid, with a window.
+        for n in [2003usize, 3600] {
+            let phi = |k: usize| std::f64::consts::TAU * k as f64 / n as f64;
+            let pp: Vec<f64> = (0..n)
+                .map(|k| 12.0 * phi(k).sin() + 3.0 * (3.0 * phi(k)).cos())
+                .collect();
+            let p: Vec<f64> = (0..n).map(|k| 11.0 * (phi(k) - 0.4).sin() + 20.0).collect();
+            let compared: Vec<bool> = (0..n).map(|k| k < n * 5 / 6).collect();
+            assert_eq!(
+                best_lag_index(&p, &pp, &compared),
+                best_lag_index_direct(&p, &pp, &compared),
+                "n = {n}"
+            );
+        }
+    }
+
+    #[test]
+    fn equal_minima_keep_the_first_lag() {
+        // P' of period 180°: P lagging it by 30° matches at 30° and 210°.
+        let n = 360;
+        let pp: Vec<f64> = (0..n).map(|k| (2.0 * (k as f64).to_radians()).sin()).collect();
+        let p: Vec<f64> = (0..n)
+            .map(|k| (2.0 * (k as f64 - 30.0).to_radians()).sin() + 3.0)
+            .collect();
+        let all = vec![true; n];
+        assert_eq!(best_lag_index(&p, &pp, &all), 30);
+        assert_eq!(best_lag_index_direct(&p, &pp, &all), 30);
+        // Constant curves: every lag ties, the first wins.
+        assert_eq!(best_lag_index(&[2.5; 7], &[1.0; 7], &[true; 7]), 0);
+        assert_eq!(best_lag_index(&[4.0], &[1.0], &[true]), 0);
+    }
 
     fn grid(step: f64) -> Vec<f64> {
         (0..(360.0 / step) as usize).map(|k| k as f64 * step).collect()

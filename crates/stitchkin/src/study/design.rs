@@ -55,6 +55,18 @@ impl Vary {
                 "`{spec}`: LO = HI gives {n} equal values; use N = 1 or widen the range"
             )));
         }
+        if n == 1 && lo != hi {
+            // One value from a range: LO, HI or between? Sweeps and charts
+            // both refuse it.
+            return Err(Error::Param(ParamError::new(
+                Input::Vary,
+                format!("`{spec}` asks for 1 value between two different ends; a range needs at least 2"),
+                Some(format!(
+                    "give N ≥ 2 for values from LO to HI, or {}={lo}:{lo}:1 for the one value {lo}",
+                    name.trim()
+                )),
+            )));
+        }
         let name = name.trim().to_string();
         // Both ends must be accepted by the parameter (existence, range).
         let mut p = model.defaults();
@@ -111,6 +123,20 @@ fn uniform(seed: u64, setting: usize, dim: usize) -> f64 {
     (h >> 11) as f64 / (1u64 << 53) as f64
 }
 
+/// The most settings a sweep may have, checked before any is drawn (a
+/// Latin hypercube's strata take 4 bytes per setting and parameter).
+pub const MAX_SETTINGS: usize = 100_000_000;
+// The strata are numbered in `u32`.
+const _: () = assert!(MAX_SETTINGS <= u32::MAX as usize);
+
+/// Number of settings of `design` over `vary`.
+fn settings(vary: &[Vary], design: Design) -> usize {
+    match design {
+        Design::Grid => vary.iter().map(|v| v.n).fold(1usize, |a, n| a.saturating_mul(n)),
+        Design::Random { samples, .. } | Design::Lhs { samples, .. } => samples,
+    }
+}
+
 impl Sweep {
     pub fn new(vary: Vec<Vary>, design: Design) -> Result<Sweep, Error> {
         if vary.is_empty() {
@@ -130,10 +156,18 @@ impl Sweep {
                 None,
             )));
         }
+        let len = settings(&vary, design);
+        if len == 0 || len > MAX_SETTINGS {
+            return Err(Error::Param(ParamError::general(
+                format!("the sweep has {len} settings"),
+                Some("between 1 and 100 million settings: fewer grid points, or a random sample of settings".into()),
+            )));
+        }
         let perm = match design {
             Design::Lhs { samples, seed } => (0..vary.len())
                 .map(|d| {
-                    // Fisher–Yates with the seeded generator.
+                    // Fisher–Yates with the seeded generator; samples ≤
+                    // MAX_SETTINGS fit in u32.
                     let mut p: Vec<u32> = (0..samples as u32).collect();
                     for i in (1..samples).rev() {
                         let j = (splitmix64(seed.wrapping_mul(31).wrapping_add((d as u64) << 40 | i as u64))
@@ -145,22 +179,12 @@ impl Sweep {
                 .collect(),
             _ => Vec::new(),
         };
-        let s = Sweep { vary, design, perm };
-        if s.is_empty() || s.len() > 100_000_000 {
-            return Err(Error::Param(ParamError::general(
-                format!("the sweep has {} settings", s.len()),
-                Some("between 1 and 100 million settings: fewer grid points, or a random sample of settings".into()),
-            )));
-        }
-        Ok(s)
+        Ok(Sweep { vary, design, perm })
     }
 
     /// Number of settings.
     pub fn len(&self) -> usize {
-        match self.design {
-            Design::Grid => self.vary.iter().map(|v| v.n).fold(1usize, |a, n| a.saturating_mul(n)),
-            Design::Random { samples, .. } | Design::Lhs { samples, .. } => samples,
-        }
+        settings(&self.vary, self.design)
     }
 
     pub fn is_empty(&self) -> bool {
@@ -263,6 +287,31 @@ mod tests {
         assert!((mean - 3.0).abs() < 0.02, "{mean}");
         let below = xs.iter().filter(|x| **x < 2.5).count() as f64 / xs.len() as f64;
         assert!((below - 0.25).abs() < 0.02, "{below}");
+    }
+
+    #[test]
+    fn too_many_samples_are_refused_before_they_are_drawn() {
+        // 2³² samples once wrapped to no strata and panicked; 10⁹ held 4 GB
+        // of strata before the limit was checked.
+        for samples in [1usize << 32, 1_000_000_000, MAX_SETTINGS + 1] {
+            for design in [Design::Lhs { samples, seed: 1 }, Design::Random { samples, seed: 1 }] {
+                let e = Sweep::new(vec![vary("a", 0.0, 1.0, 2)], design).unwrap_err();
+                assert!(e.to_string().contains(&format!("{samples} settings")), "{e}");
+                assert!(e.help().is_some_and(|h| h.contains("100 million")), "{e:?}");
+            }
+        }
+        assert_eq!(
+            Sweep::new(
+                vec![vary("a", 0.0, 1.0, 2)],
+                Design::Random {
+                    samples: MAX_SETTINGS,
+                    seed: 1
+                }
+            )
+            .unwrap()
+            .len(),
+            MAX_SETTINGS
+        );
     }
 
     #[test]

@@ -70,6 +70,14 @@ impl Axis {
                         "`{spec}`: LO = HI gives {n} equal values; use N = 1 or widen the range"
                     )));
                 }
+                if n == 1 && lo != hi {
+                    // One value from a range: LO, HI or between? Refused.
+                    return Err(Error::Param(ParamError::new(
+                        input,
+                        format!("`{spec}` asks for 1 value between two different ends; a range needs at least 2"),
+                        Some(format!("give N ≥ 2 for values from LO to HI, or the one value {lo}")),
+                    )));
+                }
                 Axis { lo, hi, n }
             }
             _ => return Err(bad(format!("`{spec}` is not LO:HI:N"))),
@@ -152,6 +160,7 @@ pub fn nomogram(
         step_deg: opts.tune.step_deg,
         ..Default::default()
     })?;
+    super::tune::check_samples(opts.tune.samples)?;
     let nominal = model.stitch_setup(base)?.ok_or_else(|| -> Error {
         StitchError::new(
             format!("model `{}`", model.name()),

@@ -23,12 +23,18 @@ use crate::eval::stitch_process::Prepared;
 use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle_with};
 use crate::model::{Model, Params};
 
+/// The most global samples of one tuning: each is a cycle of the model
+/// (100 000 take the MF-7923D about 45 s on 2 cores), and every one is kept
+/// until the local search picks its starts.
+pub const MAX_SAMPLES: usize = 100_000;
+
 /// How to tune.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TuneOptions {
     /// Parameters to adjust (each needs an adjustable range).
     pub adjust: Vec<String>,
-    /// Global samples (Latin hypercube); 0: 32 per parameter, at least 64.
+    /// Global samples (Latin hypercube), at most [`MAX_SAMPLES`]; 0: 32 per
+    /// parameter, at least 64.
     pub samples: usize,
     pub seed: u64,
     /// φ step of the evaluation, degrees.
@@ -277,6 +283,22 @@ pub fn set_stitch_value(model: &Model, params: &mut Params, which: &str, value: 
     }
 }
 
+/// Checks the number of global samples against [`MAX_SAMPLES`] (callers
+/// check it before their own preparations; [`tune`] checks it too).
+pub fn check_samples(samples: usize) -> Result<(), Error> {
+    if samples > MAX_SAMPLES {
+        return Err(Error::Param(ParamError::new(
+            Input::Samples,
+            format!("{samples} samples are too many for a tuning"),
+            Some(format!(
+                "at most {MAX_SAMPLES} per tuning: fewer samples (the default, 32 per adjusted setting and at least 64, \
+                 is usually enough; the local search refines the best of them)"
+            )),
+        )));
+    }
+    Ok(())
+}
+
 /// Tunes `model` (with `base`, where the stitch's thickness and length are
 /// already set) over `opts.adjust`.
 pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResult, Error> {
@@ -284,6 +306,7 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
         step_deg: opts.step_deg,
         ..Default::default()
     })?;
+    check_samples(opts.samples)?;
     let vary = tuned_ranges(model, &opts.adjust)?;
     let cycle = CycleOptions {
         step_deg: opts.step_deg,

@@ -246,6 +246,9 @@ pub struct ThreadWork<T: Real> {
     /// evaluation, in path order.
     pub tracks: Vec<PathTrack<T>>,
     spans: Vec<SpanBuf<T>>,
+    /// Whether a piece with both ends on one body keeps the length it had
+    /// in the first pose evaluated ([`Self::for_pieces`]).
+    keep_constants: bool,
 }
 
 impl<T: Real> Default for ThreadWork<T> {
@@ -253,6 +256,20 @@ impl<T: Real> Default for ThreadWork<T> {
         ThreadWork {
             tracks: Vec::new(),
             spans: Vec::new(),
+            keep_constants: false,
+        }
+    }
+}
+
+impl<T: Real> ThreadWork<T> {
+    /// Buffers for a cycle evaluated a piece of it at a time, in order: a
+    /// piece of thread with both ends on one body keeps the length it has
+    /// at the first φ of the first piece, as in one evaluation of the
+    /// whole cycle, so the pieces' ξ are the whole cycle's bit for bit.
+    pub fn for_pieces() -> Self {
+        ThreadWork {
+            keep_constants: true,
+            ..Default::default()
         }
     }
 }
@@ -294,14 +311,19 @@ impl<T: Real> Threads<T> {
             None => (pose, None),
         };
         let n = pose.len();
+        let keep_constants = work.keep_constants;
         work.spans.resize_with(self.spans.len(), SpanBuf::default);
         for (i, span) in self.spans.iter().enumerate() {
             let buf = &mut work.spans[i];
+            let kept = buf.constant.filter(|_| keep_constants);
             buf.reset();
             match span {
                 Span::Straight {
                     a, b, constant: true, ..
-                } if n > 0 => buf.constant = Some((pose.point(*b, 0) - pose.point(*a, 0)).norm_squared().sqrt()),
+                } if n > 0 => {
+                    buf.constant =
+                        Some(kept.unwrap_or_else(|| (pose.point(*b, 0) - pose.point(*a, 0)).norm_squared().sqrt()))
+                }
                 Span::Straight { a, b, fixed, .. } => {
                     // A fixed end is read once (one of the ends of most
                     // varying pieces is a guide on the frame).
