@@ -28,14 +28,14 @@ set -euo pipefail
 OUT="${STITCHKIN_OUT:-target/examples}"
 mkdir -p "$OUT"
 stitchkin() { if [[ -n "${STITCHKIN:-}" ]]; then "$STITCHKIN" "$@"; else cargo run --release --quiet -- "$@"; fi; }
-if [[ -n "${STITCHKIN_QUICK:-}" ]]; then NM=1 NT=2 STEP=30; else NM=10 NT=8 STEP=1; fi
+if [[ -n "${STITCHKIN_QUICK:-}" ]]; then TH=2.5 NT=2 STEP=30; else TH=0.5:5:10 NT=8 STEP=1; fi
 
 # The preset with the whole stitch passing the regulator at the lock.
 sed '/^\[stitch\]$/a regulator = { at_lock = true }' presets/mf7923d.toml > "$OUT/mf7923d_at_lock.toml"
 
-stitchkin nomogram --thickness 0.5:5:$NM --adjust z --seed 1 --step $STEP -o "$OUT/seed000_nomogram_z.txt"
-stitchkin nomogram "$OUT/mf7923d_at_lock.toml" --thickness 0.5:5:$NM --adjust z --seed 1 --step $STEP -o "$OUT/seed000_nomogram_z_at_lock.txt"
-stitchkin nomogram --set t1_phase=0 --thickness 0.5:5:$NM --adjust z --seed 1 --step $STEP -o "$OUT/seed000_nomogram_z_t1phase0.txt"
-stitchkin nomogram --thickness 0.5:5:$NM --stitch 1:4.5:$NT --adjust z,dphi --seed 1 --step $STEP --format csv -o "$OUT/seed000_nomogram_z_dphi.csv"
+stitchkin nomogram --thickness $TH --adjust z --seed 1 --step $STEP -o "$OUT/seed000_nomogram_z.txt"
+stitchkin nomogram "$OUT/mf7923d_at_lock.toml" --thickness $TH --adjust z --seed 1 --step $STEP -o "$OUT/seed000_nomogram_z_at_lock.txt"
+stitchkin nomogram --set t1_phase=0 --thickness $TH --adjust z --seed 1 --step $STEP -o "$OUT/seed000_nomogram_z_t1phase0.txt"
+stitchkin nomogram --thickness $TH --stitch 1:4.5:$NT --adjust z,dphi --seed 1 --step $STEP --format csv -o "$OUT/seed000_nomogram_z_dphi.csv"
 
 echo "wrote $OUT/seed000_nomogram_z.txt, $OUT/seed000_nomogram_z_at_lock.txt, $OUT/seed000_nomogram_z_t1phase0.txt, $OUT/seed000_nomogram_z_dphi.csv"
