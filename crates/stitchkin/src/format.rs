@@ -100,22 +100,30 @@ fn push_fixed(out: &mut Vec<u8>, mut d: u64, e: i32) {
         d /= 100;
     }
     let len = digits.iter().rposition(|&c| c != b'0').map_or(1, |i| i + 1);
-    let digits = &digits[..len];
-    if e < 0 {
-        out.extend_from_slice(b"0.");
-        out.resize(out.len() + (-e - 1) as usize, b'0');
-        out.extend_from_slice(digits);
+    // The text is laid out in a buffer on the stack: at most "0.000" and 12
+    // digits, or 15 integer digits, or 12 digits and a point.
+    let mut text = [b'0'; 32];
+    let used = if e < 0 {
+        let zeros = (-e - 1) as usize;
+        text[1] = b'.';
+        text[2 + zeros..2 + zeros + len].copy_from_slice(&digits[..len]);
+        2 + zeros + len
     } else {
         let int_len = e as usize + 1;
         if len <= int_len {
-            out.extend_from_slice(digits);
-            out.resize(out.len() + (int_len - len), b'0');
+            text[..len].copy_from_slice(&digits[..len]);
+            int_len
         } else {
-            out.extend_from_slice(&digits[..int_len]);
-            out.push(b'.');
-            out.extend_from_slice(&digits[int_len..]);
+            text[..int_len].copy_from_slice(&digits[..int_len]);
+            text[int_len] = b'.';
+            text[int_len + 1..len + 1].copy_from_slice(&digits[int_len..len]);
+            len + 1
         }
-    }
+    };
+    // The whole buffer (a copy of fixed size, no call), then the text's end.
+    let start = out.len();
+    out.extend_from_slice(&text);
+    out.truncate(start + used);
 }
 
 /// `x` with at most `decimals` decimals, trailing zeros and a bare point
