@@ -54,8 +54,9 @@ fn options() -> Result<Options, String> {
     Ok(o)
 }
 
-/// Per worker: when its current mutant started, and the mutant.
-type Current = Arc<Vec<Mutex<(Instant, Vec<u8>)>>>;
+/// Per worker: when its current mutant started (`None` once it is done),
+/// and the mutant.
+type Current = Arc<Vec<Mutex<(Option<Instant>, Vec<u8>)>>>;
 
 /// What the workers counted.
 #[derive(Default)]
@@ -79,11 +80,7 @@ fn main() {
     std::panic::set_hook(Box::new(|_| {}));
     let seeds = seeds();
     let tally = Arc::new(Tally::default());
-    let current: Current = Arc::new(
-        (0..o.threads)
-            .map(|_| Mutex::new((Instant::now(), Vec::new())))
-            .collect(),
-    );
+    let current: Current = Arc::new((0..o.threads).map(|_| Mutex::new((None, Vec::new()))).collect());
     watchdog(Arc::clone(&current), o.limit * 10);
     let started = Instant::now();
     std::thread::scope(|scope| {
@@ -95,7 +92,7 @@ fn main() {
                     let (_, text) = seeds[i % seeds.len()];
                     let bytes = mutate(text, &mut rng);
                     if let Ok(mut c) = current[t].lock() {
-                        *c = (Instant::now(), bytes.clone());
+                        *c = (Some(Instant::now()), bytes.clone());
                     }
                     let t0 = Instant::now();
                     match check(&bytes, o.limit) {
@@ -112,6 +109,10 @@ fn main() {
                         eprintln!("fuzz_models: {done} mutants, {:.0} s", started.elapsed().as_secs_f64());
                     }
                 }
+                // Done: a worker with nothing left to do is not hanging.
+                if let Ok(mut c) = current[t].lock() {
+                    c.0 = None;
+                }
             });
         }
     });
@@ -125,7 +126,7 @@ fn watchdog(current: Current, hang: Duration) {
             std::thread::sleep(Duration::from_secs(1));
             for slot in current.iter() {
                 let Ok(c) = slot.lock() else { continue };
-                if c.0.elapsed() > hang {
+                if c.0.is_some_and(|t| t.elapsed() > hang) {
                     let path = save("hang", 0, &c.1);
                     eprintln!("fuzz_models: a mutant ran over {} s: {path}", hang.as_secs());
                     std::process::exit(2);
