@@ -195,7 +195,7 @@ fn the_history_matcher_finds_history_and_only_history() {
         "# OPEN QUESTION (to settle when P' is computed)",
         "during the second period of work",
         "(open question Q1)",
-        "    // what this session changed",
+        concat!("    // what this ", "session", " changed"),
     ] {
         assert!(history(diary, true).is_some(), "not found: {diary}");
     }
