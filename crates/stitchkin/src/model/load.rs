@@ -484,6 +484,24 @@ impl<'a> Loader<'a> {
         }
     }
 
+    /// The zero direction of a turning axis. Two named axes are constants,
+    /// so a zero direction along the axis is refused here, at its key; a
+    /// vector that turns out parallel is caught when the setting is solved.
+    fn zero_dir(&mut self, axis: &AxisDef, zero: Option<&Axis>, path: KeyPath) -> LoadResult<Option<AxisDef>> {
+        let Some(a) = zero else { return Ok(None) };
+        let zero = self.axis(a, path.clone())?;
+        if let (AxisDef::Named(i, _), AxisDef::Named(j, _)) = (axis, &zero) {
+            if i == j {
+                return Err(self.err(
+                    &path,
+                    "the zero direction is parallel to the axis",
+                    Some("give a `zero_dir` perpendicular to the axis".into()),
+                ));
+            }
+        }
+        Ok(Some(zero))
+    }
+
     fn axis(&mut self, a: &Axis, path: KeyPath) -> LoadResult<AxisDef> {
         match a {
             Axis::Named(s) => {
@@ -632,10 +650,7 @@ impl<'a> Loader<'a> {
                 Some(a) => self.axis(a, path.key("axis"))?,
                 None => AxisDef::Named(2, 1.0),
             };
-            let zero_dir = match &d.zero_dir {
-                Some(a) => Some(self.axis(a, path.key("zero_dir"))?),
-                None => None,
-            };
+            let zero_dir = self.zero_dir(&axis, d.zero_dir.as_ref(), path.key("zero_dir"))?;
             let radius = self.positive_length(&d.radius, path.key("radius"), "the crank radius")?;
             let phase = match &d.phase_deg {
                 Some(v) => self.angle(v, path.key("phase_deg"))?,
@@ -901,10 +916,7 @@ impl<'a> Loader<'a> {
                     Some(v) => self.length(v, path.key("offset"))?,
                     None => self.zero(),
                 };
-                let zero_dir = match zero_dir {
-                    Some(a) => Some(self.axis(a, path.key("zero_dir"))?),
-                    None => None,
-                };
+                let zero_dir = self.zero_dir(&axis, zero_dir.as_ref(), path.key("zero_dir"))?;
                 let sign = self.side(*branch, &path.key("branch"))?;
                 StepDef::Rssr {
                     from,

@@ -760,3 +760,18 @@ fn error_messages_with_multibyte_text_do_not_panic() {
     rejects("[model]\nname = '''\u{1F600}");
     rejects("\r\n[model]\r\nname = \"x\"\r\n[points]\r\nA = [\"\u{e9}\", 1]\r\n");
 }
+
+#[test]
+fn a_zero_direction_along_a_named_axis_is_placed_at_its_key() {
+    // Found by the fuzzer: `zero_dir` named the same axis as a named `axis`,
+    // and the error had no line and column.
+    for (axis, zero) in [("", "\"z\""), ("axis = \"x\"\n", "\"-x\""), ("axis = \"-y\"\n", "\"y\"")] {
+        let text = BASE.replace("radius = 5", &format!("radius = 5\n{axis}zero_dir = {zero}"));
+        let e = Model::from_toml_str(&text, "fuzz.toml").expect_err("parallel zero direction");
+        let zero_line = text.lines().position(|l| l.starts_with("zero_dir")).unwrap() + 1;
+        assert_eq!(e.line_col().map(|(l, _)| l), Some(zero_line), "{e}");
+        assert!(e.to_string().contains("parallel to the axis"), "{e}");
+    }
+    // A perpendicular named zero direction still loads.
+    loads(&BASE.replace("radius = 5", "radius = 5\nzero_dir = \"y\""));
+}
