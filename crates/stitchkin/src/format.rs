@@ -89,41 +89,66 @@ fn twelve_digits(x: f64) -> Option<(u64, i32)> {
 /// Writes d·10^(e−11) (12 digits in d) in fixed notation without trailing
 /// zeros, as Rust writes the `f64` nearest to it: a decimal of at most 15
 /// significant digits is the shortest form of that `f64`.
-fn push_fixed(out: &mut Vec<u8>, mut d: u64, e: i32) {
-    // Two digits at a time.
-    const PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819202122232425262728293031323334353637383940414243444546474849\
-                                5051525354555657585960616263646566676869707172737475767778798081828384858687888990919293949596979899";
-    let mut digits = [b'0'; 12];
-    for pair in digits.chunks_exact_mut(2).rev() {
-        let r = (d % 100) as usize;
-        pair.copy_from_slice(&PAIRS[2 * r..2 * r + 2]);
-        d /= 100;
-    }
-    let len = digits.iter().rposition(|&c| c != b'0').map_or(1, |i| i + 1);
-    // The text is laid out in a buffer on the stack: at most "0.000" and 12
-    // digits, or 15 integer digits, or 12 digits and a point.
-    let mut text = [b'0'; 32];
-    let used = if e < 0 {
+///
+/// The digits are laid out in one 128-bit register, the first digit in the
+/// lowest byte, and stored 16 bytes at a time; the text's end is then cut.
+/// (Built byte by byte on the stack and copied, the text made the copy wait
+/// for the bytes' stores: a fifth of the time of a table's output.)
+fn push_fixed(out: &mut Vec<u8>, d: u64, e: i32) {
+    const ZEROS: u128 = u128::from_le_bytes([b'0'; 16]);
+    // d < 10¹²: four digits, then eight.
+    let raw =
+        u128::from(four_digits((d / 100_000_000) as u32)) | (u128::from(eight_digits((d % 100_000_000) as u32)) << 32);
+    // The last digit that is not 0 (d ≥ 10¹¹, so raw ≠ 0).
+    let len = ((127 - raw.leading_zeros()) / 8 + 1) as usize;
+    let ascii = raw | ZEROS;
+    let start = out.len();
+    if e < 0 {
+        // 0.000ddd: one to four zeros before the digits.
         let zeros = (-e - 1) as usize;
-        text[1] = b'.';
-        text[2 + zeros..2 + zeros + len].copy_from_slice(&digits[..len]);
-        2 + zeros + len
+        out.extend_from_slice(b"0.000");
+        out.truncate(start + 2 + zeros);
+        out.extend_from_slice(&ascii.to_le_bytes());
+        out.truncate(start + 2 + zeros + len);
     } else {
         let int_len = e as usize + 1;
         if len <= int_len {
-            text[..len].copy_from_slice(&digits[..len]);
-            int_len
+            // Bytes 12 to 15 are zeros too: up to 15 integer digits.
+            out.extend_from_slice(&ascii.to_le_bytes());
+            out.truncate(start + int_len);
         } else {
-            text[..int_len].copy_from_slice(&digits[..int_len]);
-            text[int_len] = b'.';
-            text[int_len + 1..len + 1].copy_from_slice(&digits[int_len..len]);
-            len + 1
+            // The integer digits, the point, then the rest one byte on
+            // (int_len < len ≤ 12, so the text is at most 13 bytes).
+            let low = ascii & ((1u128 << (8 * int_len)) - 1);
+            let high = (ascii >> (8 * int_len)) << (8 * (int_len + 1));
+            let text = low | (u128::from(b'.') << (8 * int_len)) | high;
+            out.extend_from_slice(&text.to_le_bytes());
+            out.truncate(start + len + 1);
         }
-    };
-    // The whole buffer (a copy of fixed size, no call), then the text's end.
-    let start = out.len();
-    out.extend_from_slice(&text);
-    out.truncate(start + used);
+    }
+}
+
+/// The four decimal digits of `v` < 10⁴, each a byte 0–9, the first in the
+/// lowest byte.
+fn four_digits(v: u32) -> u32 {
+    // Two digits per 16-bit lane: v/100 low, v%100 high.
+    let hi = (v * 5243) >> 19; // v/100 for v < 10⁴ (5243/2¹⁹ ≈ 1/100)
+    let pairs = hi | ((v - hi * 100) << 16);
+    // One digit per byte: tens low, ones high.
+    let tens = ((pairs * 103) >> 10) & 0x000f_000f; // m/10 for m < 100
+    tens | ((pairs - tens * 10) << 8)
+}
+
+/// The eight decimal digits of `v` < 10⁸, each a byte 0–9, the first in
+/// the lowest byte; every lane of the arithmetic stays within its bits.
+fn eight_digits(v: u32) -> u64 {
+    let x = u64::from(v / 10_000) | (u64::from(v % 10_000) << 32);
+    // Each 32-bit lane n < 10⁴ → n/100 low, n%100 high (10486/2²⁰ ≈ 1/100).
+    let hi = ((x * 10486) >> 20) & 0x0000_007f_0000_007f;
+    let pairs = hi | ((x - hi * 100) << 16);
+    // Each 16-bit lane m < 100 → m/10 low, m%10 high (103/2¹⁰ ≈ 1/10).
+    let tens = ((pairs * 103) >> 10) & 0x000f_000f_000f_000f;
+    tens | ((pairs - tens * 10) << 8)
 }
 
 /// `x` with at most `decimals` decimals, trailing zeros and a bare point
@@ -320,6 +345,21 @@ mod tests {
             fast += usize::from(twelve_digits(phi).is_some()) + usize::from(twelve_digits(p).is_some());
         }
         assert!(fast > 2 * 359_999 * 99 / 100, "{fast}");
+    }
+
+    #[test]
+    fn digits_in_lanes_equal_division() {
+        let bytes = |v: u64, n: usize| -> Vec<u8> { (0..n).map(|i| ((v >> (8 * i)) & 0xff) as u8).collect() };
+        let decimal = |v: u32, n: usize| -> Vec<u8> { format!("{v:0n$}").bytes().map(|b| b - b'0').collect() };
+        for v in 0..10_000 {
+            assert_eq!(bytes(u64::from(four_digits(v)), 4), decimal(v, 4), "{v}");
+        }
+        for v in (0..100_000_000)
+            .step_by(9_973)
+            .chain([99_999_999, 10_000_000, 1, 12_345_678])
+        {
+            assert_eq!(bytes(eight_digits(v), 8), decimal(v, 8), "{v}");
+        }
     }
 
     #[test]

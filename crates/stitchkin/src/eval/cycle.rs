@@ -233,19 +233,26 @@ fn cycle_in_pieces<T: Real>(
         phis: &phis,
         opts,
     };
-    let (paths, take_up) = match solved.columns(&layout, piece, &mut b.columns) {
+    // The stitch process needs the mechanism's columns only at the end: it
+    // is prepared on another core while they are solved.
+    let (solved_columns, own_prepared) = rayon::join(
+        || solved.columns(&layout, piece, &mut b.columns),
+        || match prepared {
+            Some(_) => Ok(None),
+            None => stitch_process::prepare(model, params, opts.step_deg),
+        },
+    );
+    let (paths, take_up) = match solved_columns {
         Ok(p) => p,
         // A long cycle that fails may fail in several ways: say the one a
         // solve of the whole cycle at once meets first.
         Err(e) if phis.len() > piece => return Err(solved.whole_cycle_error(e)),
         Err(e) => return Err(e),
     };
-    let stitch = match prepared {
+    let own_prepared = own_prepared?;
+    let stitch = match prepared.or(own_prepared.as_ref()) {
         Some(p) => Some(stitch_process::stitch_columns(p, &phis, opts.lean, &mut b.columns)?),
-        None => match stitch_process::prepare(model, params, opts.step_deg)? {
-            Some(p) => Some(stitch_process::stitch_columns(&p, &phis, opts.lean, &mut b.columns)?),
-            None => None,
-        },
+        None => None,
     };
     let columns = b.columns;
     check_finite(&columns, &phis)?;
@@ -290,13 +297,17 @@ impl<T: Real> Pieces<'_, T> {
         let mut paths: Option<PathColumns<T>> = None;
         for phis in self.phis.chunks(piece) {
             let pose = solver.solve(phis)?;
-            layout.fill(columns, self.mech, pose, phis, omega);
+            let mut fill = || layout.fill(columns, self.mech, pose, phis, omega);
             if let Some(threads) = self.threads {
                 let p = match &mut paths {
                     Some(p) => p,
                     None => paths.insert(PathColumns::new(self.mech, threads, self.opts)?),
                 };
-                p.add(threads, pose, phis)?;
+                // The mechanism's columns and the paths' are apart: one
+                // core each.
+                rayon::join(fill, || p.add(threads, pose, phis)).1?;
+            } else {
+                fill();
             }
         }
         Ok(match (paths, self.threads) {

@@ -150,13 +150,22 @@ impl PathValues {
         if lean {
             return;
         }
-        for k in 0..n {
-            let theta = threads.wrap_angles(path, pose, k);
+        // Each position's wrap angles and tensions stand alone: on every core.
+        let per_phi: Vec<(Vec<f64>, Option<Vec<f64>>)> = (0..n)
+            .into_par_iter()
+            .map(|k| {
+                let theta = threads.wrap_angles(path, pose, k);
+                let tension = threads
+                    .tension_n
+                    .map(|t0| crate::thread::capstan(&theta, &path.friction, t0));
+                (theta, tension)
+            })
+            .collect();
+        for (theta, tension) in per_phi {
             for (col, t) in self.wrap_deg.iter_mut().zip(&theta) {
                 col.push(t.to_degrees());
             }
-            if let Some(t0) = threads.tension_n {
-                let t = crate::thread::capstan(&theta, &path.friction, t0);
+            if let Some(t) = tension {
                 self.eye_tension_n.push(*t.last().unwrap_or(&0.0));
                 for (m, ti) in self.max_tension_n.iter_mut().zip(&t) {
                     *m = m.max(*ti);

@@ -3,6 +3,7 @@
 //! (`docs/stitch-formation.md` §5, §8).
 
 use crate::error::StitchError;
+use rayon::prelude::*;
 use serde::Serialize;
 
 use super::{Column, wrap_deg};
@@ -345,6 +346,56 @@ fn events(th: &RequiredThread, cyclogram_zero_deg: f64) -> Vec<StitchEvent> {
         .collect()
 }
 
+/// One thread's take-up P compared with its P': D = P − P', the mismatch,
+/// and the thread bound where P is measured at B.
+struct Compared {
+    d_mm: Vec<f64>,
+    mismatch: Option<Mismatch>,
+    bound: Option<Check>,
+}
+
+/// Compares thread `i` of `prepared` with the take-up of its `path` in
+/// `columns`.
+fn compare(
+    prepared: &Prepared,
+    i: usize,
+    path: &str,
+    phis: &[f64],
+    columns: &[Column],
+    lean: bool,
+) -> Result<Compared, Error> {
+    let th = &prepared.required.threads[i];
+    let n = phis.len();
+    let at_b = th.travel_mm.is_some();
+    // The path's take-up at its split: B for a path that ends at this
+    // needle's eye; a path split elsewhere is compared with P' at the
+    // moving eye. A needle thread is measured at B: P'_B = P'_eye + S − S(φ0).
+    let (p, pprime, p_at_b) = match columns.iter().find(|c| c.name == format!("{path}.P_B_mm")) {
+        Some(c) if at_b => (&c.values, pprime_at_split(th, n), true),
+        _ => {
+            let p_name = format!("{path}.P_mm");
+            let c = columns.iter().find(|c| c.name == p_name).ok_or_else(|| {
+                Error::Stitch(StitchError::new(
+                    format!("thread `{}`", th.name),
+                    format!("the take-up column `{p_name}` of its path is missing"),
+                ))
+            })?;
+            (&c.values, th.pprime_mm[..n].to_vec(), false)
+        }
+    };
+    let d_mm = (0..n).map(|k| p[k] - pprime[k]).collect();
+    let tolerance_mm = prepared.setup.tolerance_mm;
+    let mismatch = mismatch_on_cycle(phis, p, &pprime, &prepared.compared[i], tolerance_mm, !lean);
+    let bound = match (p_at_b, &th.travel_mm, &th.loop_mm) {
+        (true, Some(s), Some(lp)) => {
+            let curve = bound_curve(phis, &s[..n], &lp[..n], prepared.phi0_deg);
+            Some(thread_bound(&th.name, phis, p, &curve, &lp[..n]))
+        }
+        _ => None,
+    };
+    Ok(Compared { d_mm, mismatch, bound })
+}
+
 /// Adds the stitch columns and returns the summary. Per needle thread THR
 /// (split at B): `THR.eta_B_mm`, `THR.Pprime_B_mm`, `THR.Pprime_eye_mm`,
 /// `THR.gamma_deg`; per looper thread: `THR.eta_mm`, `THR.Pprime_mm`; and
@@ -366,45 +417,32 @@ pub(crate) fn stitch_columns(
     let (setup, req, phi0_deg) = (&prepared.setup, &prepared.required, prepared.phi0_deg);
     let from_c = |phi_c: f64| wrap_deg(phi_c + setup.cyclogram_zero_deg);
     let n = phis.len();
+    // Each thread's comparison with its path stands alone (a best lag is
+    // three FFTs of the cycle): on every core, read from the path columns.
+    let compared_threads: Vec<Option<Compared>> = req
+        .threads
+        .par_iter()
+        .zip(&setup.paths)
+        .enumerate()
+        .map(|(i, (_, path))| path.as_ref().map(|path| compare(prepared, i, path, phis, columns, lean)).transpose())
+        .collect::<Result<_, Error>>()?;
     let mut threads = Vec::new();
     let mut checks = Vec::new();
     let needle_checks = prepared.needle_checks();
-    for (i, (th, path)) in req.threads.iter().zip(&setup.paths).enumerate() {
+    for (i, ((th, path), c)) in req.threads.iter().zip(&setup.paths).zip(compared_threads).enumerate() {
         let name = &th.name;
-        let compared = &prepared.compared[i];
-        // A needle thread is measured at B: P'_B = P'_eye + S − S(φ0).
         let at_b = th.travel_mm.is_some();
         let pprime = pprime_at_split(th, n);
         let split = if at_b { SplitPoint::B } else { SplitPoint::Eye };
         thread_columns(th, &pprime, n, columns);
         let mut m = None;
-        if let Some(path) = path {
-            // The path's take-up at its split: B for a path that ends at
-            // this needle's eye; a path split elsewhere is compared with P'
-            // at the moving eye.
-            let (p, pprime, p_at_b) = match columns.iter().find(|c| c.name == format!("{path}.P_B_mm")) {
-                Some(c) if at_b => (c.values.clone(), pprime.clone(), true),
-                _ => {
-                    let p_name = format!("{path}.P_mm");
-                    let c = columns.iter().find(|c| c.name == p_name).ok_or_else(|| {
-                        Error::Stitch(StitchError::new(
-                            format!("thread `{name}`"),
-                            format!("the take-up column `{p_name}` of its path is missing"),
-                        ))
-                    })?;
-                    (c.values.clone(), th.pprime_mm[..n].to_vec(), false)
-                }
-            };
-            let d: Vec<f64> = (0..n).map(|k| p[k] - pprime[k]).collect();
+        if let Some(c) = c {
             columns.push(Column {
                 name: format!("{name}.D_mm"),
-                values: d,
+                values: c.d_mm,
             });
-            m = mismatch_on_cycle(phis, &p, &pprime, compared, setup.tolerance_mm, !lean);
-            if let (true, Some(s), Some(lp)) = (p_at_b, &th.travel_mm, &th.loop_mm) {
-                let bound = bound_curve(phis, &s[..n], &lp[..n], phi0_deg);
-                checks.push(thread_bound(name, phis, &p, &bound, &lp[..n]));
-            }
+            m = c.mismatch;
+            checks.extend(c.bound);
         }
         checks.extend(needle_checks.iter().filter(|c| &c.thread == name).cloned());
         let kmax = (0..n)

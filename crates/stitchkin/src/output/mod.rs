@@ -24,34 +24,60 @@ pub fn write_csv(table: &CycleTable, out: &mut impl Write) -> std::io::Result<()
     let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).collect();
     writeln!(out, "{}", names.join(","))?;
     // Rows are written as text a block at a time on every core, and the
-    // blocks go out in order; a batch of blocks is all that is held.
+    // blocks go out in order while the next batch is being written as text;
+    // two batches of blocks are all that is held.
     const BLOCK_ROWS: usize = 1024;
     let rows = table.rows();
     let batch_rows = BLOCK_ROWS * 2 * rayon::current_num_threads();
-    for batch in (0..rows).step_by(batch_rows) {
+    let text = |batch: usize| -> Vec<Vec<u8>> {
         let starts: Vec<usize> = (batch..rows.min(batch + batch_rows)).step_by(BLOCK_ROWS).collect();
-        let blocks: Vec<Vec<u8>> = starts
+        starts
             .into_par_iter()
             .map(|start| csv_rows(table, start..rows.min(start + BLOCK_ROWS)))
-            .collect();
-        for b in blocks {
-            out.write_all(&b)?;
-        }
+            .collect()
+    };
+    let write = |blocks: Vec<Vec<u8>>, out: &mut dyn Write| blocks.iter().try_for_each(|b| out.write_all(b));
+    let mut pending: Vec<Vec<u8>> = Vec::new();
+    for batch in (0..rows).step_by(batch_rows) {
+        let mut next = Vec::new();
+        rayon::in_place_scope(|s| {
+            s.spawn(|_| next = text(batch));
+            write(std::mem::take(&mut pending), &mut *out)
+        })?;
+        pending = next;
     }
-    Ok(())
+    write(pending, out)
 }
 
 /// The CSV text of the table's `rows`.
 fn csv_rows(table: &CycleTable, rows: std::ops::Range<usize>) -> Vec<u8> {
-    let mut text = Vec::new();
-    for r in rows {
+    // Room for each number's usual length, so the text is not moved as it grows.
+    let mut text = Vec::with_capacity(rows.len() * table.columns.len() * 16);
+    // The values are read a few rows at a time, column by column, into rows
+    // on the stack: a row read across a hundred columns would wait for
+    // memory at every column.
+    const FEW: usize = 32;
+    let ncol = table.columns.len();
+    if ncol == 0 {
+        return vec![b'\n'; rows.len()];
+    }
+    let mut few = vec![0.0; FEW * ncol];
+    for start in rows.clone().step_by(FEW) {
+        let end = rows.end.min(start + FEW);
         for (k, c) in table.columns.iter().enumerate() {
-            if k > 0 {
-                text.push(b',');
+            for (i, v) in c.values[start..end].iter().enumerate() {
+                few[i * ncol + k] = *v;
             }
-            push_num(&mut text, c.values[r]);
         }
-        text.push(b'\n');
+        for row in few.chunks_exact(ncol).take(end - start) {
+            for (k, v) in row.iter().enumerate() {
+                if k > 0 {
+                    text.push(b',');
+                }
+                push_num(&mut text, *v);
+            }
+            text.push(b'\n');
+        }
     }
     text
 }

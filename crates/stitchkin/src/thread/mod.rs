@@ -515,9 +515,10 @@ impl<T: Real> Threads<T> {
             let (p, q) = (pose.point(path.nodes[i - 1], k), pose.point(path.nodes[i + 1], k));
             let (wrap_rad, t) = match &self.spans[s] {
                 Span::Pin { c, axis, r, sense, .. } => {
+                    // Angles need no analogs: solved in plain numbers.
+                    let re = |v: V3<T>| v.map(|x| x.re());
                     let c = pose.point(*c, k);
-                    let to = |v: V3<T>| v.map(|x| T::cst(x.re()));
-                    match wrap::pin_wrap(to(p), to(q), to(c), to(*axis), T::cst(r.re()), *sense) {
+                    match wrap::pin_wrap(re(p), re(q), re(c), re(*axis), r.re(), *sense) {
                         Some(w) => (w.wrap_rad, w.touch),
                         None => (0.0, None),
                     }

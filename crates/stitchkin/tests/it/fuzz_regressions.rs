@@ -765,7 +765,11 @@ fn error_messages_with_multibyte_text_do_not_panic() {
 fn a_zero_direction_along_a_named_axis_is_placed_at_its_key() {
     // Found by the fuzzer: `zero_dir` named the same axis as a named `axis`,
     // and the error had no line and column.
-    for (axis, zero) in [("", "\"z\""), ("axis = \"x\"\n", "\"-x\""), ("axis = \"-y\"\n", "\"y\"")] {
+    for (axis, zero) in [
+        ("", "\"z\""),
+        ("axis = \"x\"\n", "\"-x\""),
+        ("axis = \"-y\"\n", "\"y\""),
+    ] {
         let text = BASE.replace("radius = 5", &format!("radius = 5\n{axis}zero_dir = {zero}"));
         let e = Model::from_toml_str(&text, "fuzz.toml").expect_err("parallel zero direction");
         let zero_line = text.lines().position(|l| l.starts_with("zero_dir")).unwrap() + 1;
