@@ -8,8 +8,10 @@
 //!
 //! Limits keep it answering under load ([`ServerConfig`] has the figures):
 //! a connection that sends no whole request head in time, or takes nothing
-//! of an answer for a while, is closed; connections beyond a cap get a 503
-//! at once and are closed; a head that is too long gets a 431 (and an
+//! of an answer for a while, is closed; at the cap of open connections a
+//! new one takes the place of the oldest that has sent nothing since its
+//! last answer (an idle keep-alive one, or one that has asked nothing for
+//! a second since it opened), and gets a 503 at once when there is none; a head that is too long gets a 431 (and an
 //! address too long a 414 from [`App::handle`]). When the process runs out
 //! of file descriptors the listener waits and retries, serving fewer
 //! connections at once from then on; only a listening socket that no longer
@@ -48,7 +50,9 @@ pub struct ServerConfig {
     /// requests wait their turn.
     pub threads: usize,
     /// Connections open at once, at least 1 (default 128). A connection
-    /// beyond them is answered 503 and closed. When the process runs out
+    /// beyond them closes the oldest open one that is idle (it has sent
+    /// nothing since its last answer, or for a second since it opened) and
+    /// takes its place; when none is, it is answered 503 and closed. When the process runs out
     /// of file descriptors first (`ulimit -n`), the server lowers this to
     /// what it can hold and says so on stderr.
     pub max_connections: usize,
@@ -197,6 +201,9 @@ struct Shared {
     max_head_bytes: usize,
     /// Connections open now, and how many may be.
     open: AtomicUsize,
+    /// The open connections, oldest first: what the cap may close.
+    slots: std::sync::Mutex<std::collections::BTreeMap<u64, Arc<Slot>>>,
+    next_slot: std::sync::atomic::AtomicU64,
     max_connections: AtomicUsize,
     /// Refused connections still being answered 503.
     refusing: AtomicUsize,
@@ -215,6 +222,8 @@ impl Shared {
             write_timeout: Duration::from_millis(config.write_timeout_ms.max(1)),
             max_head_bytes: config.max_head_bytes.max(1024),
             open: AtomicUsize::new(0),
+            slots: std::sync::Mutex::new(std::collections::BTreeMap::new()),
+            next_slot: std::sync::atomic::AtomicU64::new(0),
             max_connections: AtomicUsize::new(config.max_connections.max(1)),
             refusing: AtomicUsize::new(0),
             refused: AtomicUsize::new(0),
@@ -236,6 +245,108 @@ impl Counted {
 impl Drop for Counted {
     fn drop(&mut self) {
         (self.1)(&self.0).fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+/// How long a new connection has to send its first request before it may
+/// be closed to make room, ms: a client that has just connected is about
+/// to ask.
+const FIRST_REQUEST_GRACE_MS: u64 = 1000;
+
+/// One open connection, as the cap sees it.
+struct Slot {
+    opened: Instant,
+    /// It has asked at least once.
+    asked: std::sync::atomic::AtomicBool,
+    /// Bytes came in since its last request was read: a request is on
+    /// its way.
+    received: std::sync::atomic::AtomicBool,
+    /// Requests being computed on it.
+    computing: AtomicUsize,
+    /// An answer waits for the client to take it.
+    sending: std::sync::atomic::AtomicBool,
+    /// Chosen to make room; `close` tells its task.
+    closing: std::sync::atomic::AtomicBool,
+    close: tokio::sync::Notify,
+}
+
+impl Slot {
+    fn new() -> Slot {
+        Slot {
+            opened: Instant::now(),
+            asked: false.into(),
+            received: false.into(),
+            computing: 0.into(),
+            sending: false.into(),
+            closing: false.into(),
+            close: tokio::sync::Notify::new(),
+        }
+    }
+
+    /// Neither asking, computing nor sending, and no longer new.
+    fn idle(&self) -> bool {
+        (self.asked.load(Ordering::SeqCst) || self.opened.elapsed() >= Duration::from_millis(FIRST_REQUEST_GRACE_MS))
+            && !self.received.load(Ordering::SeqCst)
+            && self.computing.load(Ordering::SeqCst) == 0
+            && !self.sending.load(Ordering::SeqCst)
+            && !self.closing.load(Ordering::SeqCst)
+    }
+}
+
+/// Holds a slot in [`Shared::slots`] while its connection lives.
+struct Registered(Arc<Shared>, u64);
+
+impl Drop for Registered {
+    fn drop(&mut self) {
+        if let Ok(mut slots) = self.0.slots.lock() {
+            slots.remove(&self.1);
+        }
+    }
+}
+
+/// Makes room for one more connection at the cap: closes the oldest open
+/// connection that has sent nothing since its last answer and is neither
+/// computing nor sending one. True when there is room: one was closed, or
+/// enough are closing already (chosen before, their tasks not yet run);
+/// false when every connection is busy. (A connection still sending its
+/// request head is left to the head timeout.)
+fn make_room(shared: &Shared) -> bool {
+    let Ok(slots) = shared.slots.lock() else {
+        return false;
+    };
+    let closing = slots
+        .values()
+        .filter(|slot| slot.closing.load(Ordering::SeqCst))
+        .count();
+    let staying = shared.open.load(Ordering::SeqCst).saturating_sub(closing);
+    if staying < shared.max_connections.load(Ordering::SeqCst) {
+        return true;
+    }
+    match slots.values().find(|slot| slot.idle()) {
+        Some(slot) => {
+            slot.closing.store(true, Ordering::SeqCst);
+            slot.close.notify_one();
+            true
+        }
+        None => false,
+    }
+}
+
+/// Counts a request being computed on a connection while it lives.
+struct Computing(Arc<Slot>);
+
+impl Computing {
+    fn new(slot: &Arc<Slot>) -> Computing {
+        slot.computing.fetch_add(1, Ordering::SeqCst);
+        slot.received.store(false, Ordering::SeqCst);
+        slot.asked.store(true, Ordering::SeqCst);
+        Computing(Arc::clone(slot))
+    }
+}
+
+impl Drop for Computing {
+    fn drop(&mut self) {
+        self.0.computing.fetch_sub(1, Ordering::SeqCst);
     }
 }
 
@@ -336,15 +447,35 @@ fn admit(stream: TcpStream, shared: &Arc<Shared>) {
     // Answers go out as soon as they are written (no wait for the ACK of
     // the previous segment).
     let _ = stream.set_nodelay(true);
-    if shared.open.load(Ordering::SeqCst) >= shared.max_connections.load(Ordering::SeqCst) {
+    // At the cap, an idle connection makes room: a client that holds
+    // connections open without asking keeps nobody else out for long.
+    if shared.open.load(Ordering::SeqCst) >= shared.max_connections.load(Ordering::SeqCst) && !make_room(shared) {
         refuse(stream, shared);
         return;
     }
     let count = Counted::new(shared, |s| &s.open);
-    let io = WriteTimeout::new(TokioIo::new(stream), shared.write_timeout);
+    let slot = Arc::new(Slot::new());
+    let id = shared.next_slot.fetch_add(1, Ordering::SeqCst);
+    if let Ok(mut slots) = shared.slots.lock() {
+        slots.insert(id, Arc::clone(&slot));
+    }
+    let registered = Registered(Arc::clone(shared), id);
+    let watched = Watched {
+        stream,
+        slot: Arc::clone(&slot),
+    };
+    let io = WriteTimeout::new(TokioIo::new(watched), shared.write_timeout, Arc::clone(&slot));
     let service = {
-        let shared = Arc::clone(shared);
-        service_fn(move |request| answer(request, Arc::clone(&shared)))
+        let (shared, slot) = (Arc::clone(shared), Arc::clone(&slot));
+        service_fn(move |request| {
+            let computing = Computing::new(&slot);
+            let answered = answer(request, Arc::clone(&shared));
+            async move {
+                let reply = answered.await;
+                drop(computing);
+                reply
+            }
+        })
     };
     let connection = http1::Builder::new()
         .timer(TokioTimer::new())
@@ -354,8 +485,19 @@ fn admit(stream: TcpStream, shared: &Arc<Shared>) {
         .title_case_headers(true)
         .serve_connection(io, service);
     tokio::spawn(async move {
-        // A client that goes away or times out is not the server's problem.
-        let _ = connection.await;
+        // A client that goes away or times out is not the server's problem;
+        // a connection chosen to make room is dropped, which closes it.
+        let mut connection = std::pin::pin!(connection);
+        let mut closed = std::pin::pin!(slot.close.notified());
+        poll_fn(|cx| {
+            if connection.as_mut().poll(cx).is_ready() || closed.as_mut().poll(cx).is_ready() {
+                Poll::Ready(())
+            } else {
+                Poll::Pending
+            }
+        })
+        .await;
+        drop(registered);
         drop(count);
     });
 }
@@ -520,26 +662,74 @@ fn response(reply: Reply) -> Response<Full<Bytes>> {
     response
 }
 
+/// A connection's socket that marks its slot when bytes come in.
+struct Watched {
+    stream: TcpStream,
+    slot: Arc<Slot>,
+}
+
+impl tokio::io::AsyncRead for Watched {
+    fn poll_read(self: Pin<&mut Self>, cx: &mut Context<'_>, buf: &mut tokio::io::ReadBuf<'_>) -> Poll<io::Result<()>> {
+        let this = self.get_mut();
+        let before = buf.filled().len();
+        let poll = Pin::new(&mut this.stream).poll_read(cx, buf);
+        if buf.filled().len() > before {
+            this.slot.received.store(true, Ordering::SeqCst);
+        }
+        poll
+    }
+}
+
+impl tokio::io::AsyncWrite for Watched {
+    fn poll_write(self: Pin<&mut Self>, cx: &mut Context<'_>, buf: &[u8]) -> Poll<io::Result<usize>> {
+        Pin::new(&mut self.get_mut().stream).poll_write(cx, buf)
+    }
+
+    fn poll_write_vectored(
+        self: Pin<&mut Self>,
+        cx: &mut Context<'_>,
+        bufs: &[io::IoSlice<'_>],
+    ) -> Poll<io::Result<usize>> {
+        Pin::new(&mut self.get_mut().stream).poll_write_vectored(cx, bufs)
+    }
+
+    fn is_write_vectored(&self) -> bool {
+        self.stream.is_write_vectored()
+    }
+
+    fn poll_flush(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<io::Result<()>> {
+        Pin::new(&mut self.get_mut().stream).poll_flush(cx)
+    }
+
+    fn poll_shutdown(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<io::Result<()>> {
+        Pin::new(&mut self.get_mut().stream).poll_shutdown(cx)
+    }
+}
+
 /// A connection whose writes fail (and so close it) when the client takes
 /// nothing of an answer for `timeout`.
 struct WriteTimeout {
-    io: TokioIo<TcpStream>,
+    io: TokioIo<Watched>,
     timeout: Duration,
     /// Running while a write waits for the client.
     stalled: Option<Pin<Box<tokio::time::Sleep>>>,
+    /// Its connection's slot: `sending` while a write waits.
+    slot: Arc<Slot>,
 }
 
 impl WriteTimeout {
-    fn new(io: TokioIo<TcpStream>, timeout: Duration) -> WriteTimeout {
+    fn new(io: TokioIo<Watched>, timeout: Duration, slot: Arc<Slot>) -> WriteTimeout {
         WriteTimeout {
             io,
             timeout,
             stalled: None,
+            slot,
         }
     }
 
     /// `poll`, a write's progress: none for `timeout` is an error.
     fn watch<T>(&mut self, cx: &mut Context<'_>, poll: Poll<io::Result<T>>) -> Poll<io::Result<T>> {
+        self.slot.sending.store(poll.is_pending(), Ordering::SeqCst);
         if poll.is_ready() {
             self.stalled = None;
             return poll;

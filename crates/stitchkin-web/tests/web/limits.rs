@@ -104,21 +104,71 @@ fn idle_and_half_sent_connections_are_closed_after_the_timeout() {
 }
 
 #[test]
-fn connections_beyond_the_cap_get_503_and_the_server_answers_after() {
+fn at_the_cap_the_oldest_idle_connection_makes_room() {
     let server = start(ServerConfig {
         max_connections: 2,
         header_timeout_ms: 60_000,
         ..small()
     });
-    let held: Vec<TcpStream> = (0..2).map(|_| connect(&server)).collect();
+    let mut held: Vec<TcpStream> = (0..2).map(|_| connect(&server)).collect();
+    // A new connection has a second to ask before it may make room.
     let answer = get(&server, "/api/model");
     assert_eq!(status(&answer), 503, "{answer}");
+    std::thread::sleep(Duration::from_millis(1200));
+    // Both connections are open and have asked nothing for longer: a new
+    // one is served at once, in the place of the older.
+    let answer = get(&server, "/api/model");
+    assert_eq!(status(&answer), 200, "{answer}");
+    assert_eq!(
+        read_all(&mut held[0]).as_deref(),
+        Some(""),
+        "the oldest idle one is closed"
+    );
+    // The younger is still open (a read waits).
+    held[1].set_read_timeout(Some(Duration::from_millis(200))).unwrap();
+    let mut byte = [0u8; 1];
+    let still_open =
+        matches!(held[1].read(&mut byte), Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut));
+    assert!(still_open, "the younger idle connection stays open");
+    server.stop();
+}
+
+#[test]
+fn connections_beyond_the_cap_get_503_when_none_is_idle_and_answers_after() {
+    let server = start(ServerConfig {
+        max_connections: 2,
+        write_timeout_ms: 2_000,
+        ..small()
+    });
+    // Two clients that ask for the page many times over and read nothing:
+    // the answers fill the sockets' buffers, and both connections are busy
+    // sending until the write timeout.
+    let one = format!("GET / HTTP/1.1\r\nHost: {}\r\n\r\n", server.addr());
+    let greedy: Vec<TcpStream> = (0..2)
+        .map(|_| {
+            let mut s = connect(&server);
+            let _ = s.write_all(one.repeat(2000).as_bytes());
+            s
+        })
+        .collect();
+    // Their requests are on their way (not idle) once the server has read
+    // some; it may not have when the next connection comes.
+    std::thread::sleep(Duration::from_millis(300));
+    let began = Instant::now();
+    let answer = loop {
+        let answer = get(&server, "/api/model");
+        if status(&answer) == 503 {
+            break answer;
+        }
+        assert!(began.elapsed() < HUNG, "no 503 while both connections send: {answer}");
+        std::thread::sleep(Duration::from_millis(20));
+    };
     assert!(
         answer.contains("Retry-After") && answer.contains("connections open"),
         "{answer}"
     );
-    drop(held);
     answers_again(&server);
+    drop(greedy);
     server.stop();
 }
 

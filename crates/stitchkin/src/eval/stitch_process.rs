@@ -424,7 +424,11 @@ pub(crate) fn stitch_columns(
         .par_iter()
         .zip(&setup.paths)
         .enumerate()
-        .map(|(i, (_, path))| path.as_ref().map(|path| compare(prepared, i, path, phis, columns, lean)).transpose())
+        .map(|(i, (_, path))| {
+            path.as_ref()
+                .map(|path| compare(prepared, i, path, phis, columns, lean))
+                .transpose()
+        })
         .collect::<Result<_, Error>>()?;
     let mut threads = Vec::new();
     let mut checks = Vec::new();

@@ -490,14 +490,14 @@ impl<'a> Loader<'a> {
     fn zero_dir(&mut self, axis: &AxisDef, zero: Option<&Axis>, path: KeyPath) -> LoadResult<Option<AxisDef>> {
         let Some(a) = zero else { return Ok(None) };
         let zero = self.axis(a, path.clone())?;
-        if let (AxisDef::Named(i, _), AxisDef::Named(j, _)) = (axis, &zero) {
-            if i == j {
-                return Err(self.err(
-                    &path,
-                    "the zero direction is parallel to the axis",
-                    Some("give a `zero_dir` perpendicular to the axis".into()),
-                ));
-            }
+        if let (AxisDef::Named(i, _), AxisDef::Named(j, _)) = (axis, &zero)
+            && i == j
+        {
+            return Err(self.err(
+                &path,
+                "the zero direction is parallel to the axis",
+                Some("give a `zero_dir` perpendicular to the axis".into()),
+            ));
         }
         Ok(Some(zero))
     }
