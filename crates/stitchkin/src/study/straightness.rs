@@ -634,7 +634,7 @@ pub struct ToleranceOptions {
     /// The largest max |d| allowed, mm (seed 004: 0.05).
     pub limit_mm: f64,
     pub tolerances: Vec<Tolerance>,
-    /// Monte Carlo samples (0: none).
+    /// Monte Carlo samples (0: none), at most [`MAX_MONTE_CARLO_SAMPLES`].
     pub samples: usize,
     pub seed: u64,
     pub distribution: Distribution,
@@ -772,6 +772,11 @@ pub fn normal_quantile(p: f64) -> f64 {
 /// Φ(−3): the normal draws are truncated at ± 3σ = ± tol.
 const PHI_MINUS_3: f64 = 0.001_349_898_031_630_094_6;
 
+/// The most Monte Carlo samples a tolerance study takes: each is a whole
+/// straightness evaluation, and 1 000 already give the 99 % percentile to a
+/// few per cent.
+pub const MAX_MONTE_CARLO_SAMPLES: usize = 1_000_000;
+
 /// Runs the tolerance study (module docs).
 pub fn tolerance_study(model: &Model, base: &Params, opts: &ToleranceOptions) -> Result<ToleranceStudy, Error> {
     if !(opts.limit_mm.is_finite() && opts.limit_mm > 0.0) {
@@ -781,11 +786,13 @@ pub fn tolerance_study(model: &Model, base: &Params, opts: &ToleranceOptions) ->
             Some("e.g. 0.05 (seed 004)".into()),
         )));
     }
-    if opts.samples > 1_000_000 {
+    if opts.samples > MAX_MONTE_CARLO_SAMPLES {
         return Err(Error::Param(ParamError::new(
             Input::Samples,
             format!("{} Monte Carlo samples are too many", opts.samples),
-            Some("up to 1 000 000; 1000 give the 99 % percentile to a few per cent".into()),
+            Some(format!(
+                "up to {MAX_MONTE_CARLO_SAMPLES}; 1000 give the 99 % percentile to a few per cent"
+            )),
         )));
     }
     let so = &opts.straightness;

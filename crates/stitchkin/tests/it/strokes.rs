@@ -365,3 +365,20 @@ fn monte_carlo_is_reproducible_with_its_seed() {
     let n = run(7, Distribution::Normal);
     assert!(n.mean_mm.unwrap() < a.mean_mm.unwrap(), "{n:?} vs {a:?}");
 }
+
+#[test]
+fn monte_carlo_samples_beyond_the_limit_are_refused_before_any_work() {
+    use stitchkin::study::straightness::MAX_MONTE_CARLO_SAMPLES;
+    let m = Model::preset("altin-needle").unwrap();
+    let base = m.defaults();
+    let opts = altin_tolerances(&m, MAX_MONTE_CARLO_SAMPLES + 1, 1, Distribution::Uniform);
+    let e = tolerance_study(&m, &base, &opts).expect_err("too many samples");
+    let stitchkin::Error::Param(p) = &e else { panic!("{e}") };
+    assert!(p.message.contains("too many"), "{e}");
+    assert!(
+        p.help
+            .as_deref()
+            .is_some_and(|h| h.contains(&MAX_MONTE_CARLO_SAMPLES.to_string())),
+        "{p:?}"
+    );
+}
