@@ -1,0 +1,56 @@
+"""stitchkin: sewing-machine mechanisms and the thread they move.
+
+Load a machine from a shipped preset or a model file, and compute one
+main-shaft cycle: positions, velocity and acceleration analogs, transmission
+angles, thread-path lengths, the take-up P(φ), the stitch's need P′(φ) and
+their difference, as NumPy arrays named like the command line's CSV columns.
+
+    >>> import stitchkin
+    >>> model = stitchkin.Model.preset("mf7923d")
+    >>> table = model.run(step=1.0)
+    >>> table["phi_deg"][:3]
+    array([0., 1., 2.])
+
+Errors are :class:`StitchkinError`, with ``file``, ``line``, ``column``,
+``key`` and ``help`` attributes saying where and what to change.
+"""
+
+from collections.abc import Mapping
+
+from ._native import Model, StitchkinError, __version__, default_preset, presets
+
+__all__ = ["Model", "StitchkinError", "Table", "default_preset", "presets", "__version__"]
+
+
+class Table(Mapping):
+    """One cycle's columns: a read-only mapping from the command line's
+    column names (``phi_deg``, ``G.y_mm``, ``PATH.P_B_mm``, …) to float64
+    arrays of equal length, one row per φ."""
+
+    def __init__(self, columns):
+        self._columns = dict(columns)
+
+    def __getitem__(self, name):
+        return self._columns[name]
+
+    def __iter__(self):
+        return iter(self._columns)
+
+    def __len__(self):
+        return len(self._columns)
+
+    @property
+    def rows(self):
+        """Number of φ positions."""
+        return len(self._columns["phi_deg"])
+
+    def to_pandas(self):
+        """The table as a pandas DataFrame (pandas must be installed)."""
+        try:
+            import pandas
+        except ImportError as e:
+            raise ImportError("Table.to_pandas needs pandas: pip install pandas") from e
+        return pandas.DataFrame(self._columns, copy=False)
+
+    def __repr__(self):
+        return f"<stitchkin.Table {self.rows} rows × {len(self)} columns>"

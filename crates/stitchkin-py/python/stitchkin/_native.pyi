@@ -1,0 +1,48 @@
+"""Type stubs of stitchkin's native module (re-exported by `stitchkin`)."""
+
+from os import PathLike
+from typing import Mapping, Optional, Sequence, TypedDict, Union
+
+from . import Table
+
+__version__: str
+
+class Parameter(TypedDict):
+    name: str
+    unit: str
+    value: Optional[float]
+    range: Optional[tuple[float, float]]
+    derived: bool
+    source: Optional[str]
+
+class StitchkinError(Exception):
+    file: Optional[str]
+    line: Optional[int]
+    column: Optional[int]
+    key: Optional[str]
+    help: Optional[str]
+
+def presets() -> list[str]: ...
+def default_preset() -> str: ...
+
+class Model:
+    @staticmethod
+    def preset(name: str) -> Model: ...
+    @staticmethod
+    def load(path: Union[str, PathLike[str]]) -> Model: ...
+    @staticmethod
+    def from_toml(text: str, file_name: str = "<string>") -> Model: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def title(self) -> Optional[str]: ...
+    @property
+    def parameters(self) -> list[Parameter]: ...
+    def run(
+        self,
+        step: float = 1.0,
+        set: Optional[Mapping[str, float]] = None,
+        columns: Optional[Sequence[str]] = None,
+        analogs: bool = True,
+        rpm: Optional[float] = None,
+    ) -> "Table": ...

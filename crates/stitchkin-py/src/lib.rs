@@ -1,0 +1,208 @@
+//! `stitchkin._native`: the library's models and cycles for Python, the
+//! columns as NumPy arrays. The package `stitchkin` (python/stitchkin)
+//! re-exports it with the Python-side helpers (`Table.to_pandas`).
+//!
+//! A thin shell, as the command line is: every computation is the
+//! library's, and a call that computes releases the GIL.
+
+use std::path::PathBuf;
+
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::create_exception;
+use pyo3::exceptions::PyException;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use stitchkin::eval::{CycleOptions, run_cycle};
+use stitchkin::model::{Model as LibModel, Params};
+
+create_exception!(
+    _native,
+    StitchkinError,
+    PyException,
+    "An error of stitchkin: a model file that does not load, a parameter out of its range, a position \
+     with no assembly, a thread or stitch that cannot be formed. Its attributes say where and what to do: \
+     `file`, `line`, `column` (for a model file; else None), `key` (where in the model, e.g. \
+     `groups[2].lengths[1]`), `help`."
+);
+
+/// The library's error as a `StitchkinError` with its place and help.
+fn py_error(py: Python<'_>, e: &stitchkin::Error) -> PyErr {
+    let err = StitchkinError::new_err(e.to_string());
+    let value = err.value(py);
+    let (file, line, column, key) = match e {
+        stitchkin::Error::Model(m) => {
+            let (line, column) = m.line_col().unzip();
+            (
+                Some(m.file.clone()),
+                line,
+                column,
+                Some(m.path.clone()).filter(|p| !p.is_empty()),
+            )
+        }
+        _ => (None, None, None, None),
+    };
+    // Setting attributes on a fresh exception object does not fail.
+    let _ = value.setattr("file", file);
+    let _ = value.setattr("line", line);
+    let _ = value.setattr("column", column);
+    let _ = value.setattr("key", key);
+    let _ = value.setattr("help", e.help());
+    err
+}
+
+/// The names of the shipped presets, in the order `stitchkin presets` lists them.
+#[pyfunction]
+fn presets() -> Vec<&'static str> {
+    stitchkin::presets::ALL.iter().map(|p| p.name).collect()
+}
+
+/// The name of the preset used when none is given (`stitchkin run`).
+#[pyfunction]
+fn default_preset() -> &'static str {
+    stitchkin::presets::DEFAULT
+}
+
+/// A machine described by a model file: its mechanism, thread paths and
+/// stitch. Load it with `Model.preset(name)`, `Model.load(path)` or
+/// `Model.from_toml(text)`.
+#[pyclass(module = "stitchkin", frozen)]
+struct Model {
+    model: LibModel,
+}
+
+impl Model {
+    /// The model's default parameters with `set` applied (`{name: value}`
+    /// in each parameter's unit, mm or deg), as `--set` does.
+    fn params(&self, py: Python<'_>, set: Option<&Bound<'_, PyDict>>) -> PyResult<Params> {
+        let mut params = self.model.defaults();
+        if let Some(set) = set {
+            for (name, value) in set.iter() {
+                let name: String = name.extract()?;
+                let value: f64 = value.extract()?;
+                self.model
+                    .set(&mut params, &name, value)
+                    .map_err(|e| py_error(py, &stitchkin::Error::Param(e)))?;
+            }
+        }
+        Ok(params)
+    }
+}
+
+#[pymethods]
+impl Model {
+    /// A shipped preset by name (`stitchkin.presets()` lists them).
+    #[staticmethod]
+    fn preset(py: Python<'_>, name: &str) -> PyResult<Model> {
+        LibModel::preset(name)
+            .map(|model| Model { model })
+            .map_err(|e| py_error(py, &e))
+    }
+
+    /// A model file (TOML) from disk.
+    #[staticmethod]
+    fn load(py: Python<'_>, path: PathBuf) -> PyResult<Model> {
+        LibModel::from_path(&path)
+            .map(|model| Model { model })
+            .map_err(|e| py_error(py, &e))
+    }
+
+    /// A model from its TOML text; `file_name` names it in errors.
+    #[staticmethod]
+    #[pyo3(signature = (text, file_name = "<string>"))]
+    fn from_toml(py: Python<'_>, text: &str, file_name: &str) -> PyResult<Model> {
+        LibModel::from_toml_str(text, file_name)
+            .map(|model| Model { model })
+            .map_err(|e| py_error(py, &stitchkin::Error::Model(e)))
+    }
+
+    /// The model's name (`[model] name`).
+    #[getter]
+    fn name(&self) -> &str {
+        self.model.name()
+    }
+
+    /// The model's title, if it has one.
+    #[getter]
+    fn title(&self) -> Option<&str> {
+        self.model.title()
+    }
+
+    /// The parameters as declared: a list of dicts with `name`, `unit`
+    /// (`mm`, `deg` or `1`), `value` (the nominal value; None for a derived
+    /// parameter), `range` (`(lo, hi)` or None), `derived`, `source`.
+    #[getter]
+    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::empty(py);
+        for p in self.model.params() {
+            let d = PyDict::new(py);
+            d.set_item("name", &p.name)?;
+            d.set_item("unit", p.unit_str())?;
+            d.set_item("value", p.value)?;
+            d.set_item("range", p.range.map(|[lo, hi]| (lo, hi)))?;
+            d.set_item("derived", p.is_derived())?;
+            d.set_item("source", p.source.as_deref())?;
+            list.append(d)?;
+        }
+        Ok(list)
+    }
+
+    /// One main-shaft cycle, as `stitchkin run`: a `stitchkin.Table`, a
+    /// mapping from the CSV's column names (`phi_deg`, `G.y_mm`,
+    /// `PATH.P_B_mm`, …) to float64 arrays, the same numbers as the command
+    /// line at the same settings.
+    ///
+    /// `step`: φ step, deg. `set`: `{name: value}` parameter overrides.
+    /// `columns`: patterns where `*` matches anything (`["*.P_B_mm"]`);
+    /// `phi_deg` is always kept. `analogs`: with the analog columns.
+    /// `rpm`: adds real velocities and accelerations (default: the model's).
+    #[pyo3(signature = (step = 1.0, set = None, columns = None, analogs = true, rpm = None))]
+    fn run<'py>(
+        &self,
+        py: Python<'py>,
+        step: f64,
+        set: Option<&Bound<'py, PyDict>>,
+        columns: Option<Vec<String>>,
+        analogs: bool,
+        rpm: Option<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let params = self.params(py, set)?;
+        let opts = CycleOptions {
+            step_deg: step,
+            rpm: rpm.or(self.model.rpm()),
+            analogs,
+            points: None,
+            lean: false,
+        };
+        let model = &self.model;
+        let table = py
+            .detach(|| {
+                let mut table = run_cycle(model, &params, &opts)?;
+                if let Some(patterns) = &columns {
+                    table.select(patterns)?;
+                }
+                Ok::<_, stitchkin::Error>(table)
+            })
+            .map_err(|e| py_error(py, &e))?;
+        let out = PyDict::new(py);
+        for c in table.columns {
+            let array: Bound<'py, PyArray1<f64>> = c.values.into_pyarray(py);
+            out.set_item(c.name, array)?;
+        }
+        py.import("stitchkin")?.getattr("Table")?.call1((out,))
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<stitchkin.Model {}>", self.model.name())
+    }
+}
+
+/// The native module of the `stitchkin` package.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Model>()?;
+    m.add_function(wrap_pyfunction!(presets, m)?)?;
+    m.add_function(wrap_pyfunction!(default_preset, m)?)?;
+    m.add("StitchkinError", m.py().get_type::<StitchkinError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,120 @@
+"""The Python package against the command line: the same presets, the same
+numbers, errors with their place and help."""
+
+import csv
+import io
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import stitchkin
+
+
+def cli(*args):
+    """Runs the command line (its path in STITCHKIN_CLI) and returns stdout."""
+    exe = os.environ.get("STITCHKIN_CLI")
+    if not exe:
+        pytest.fail("STITCHKIN_CLI names no stitchkin binary: run these tests through `cargo test --workspace`")
+    done = subprocess.run([exe, *args], capture_output=True, text=True, check=True)
+    return done.stdout
+
+
+def cli_table(*args):
+    """The CSV of `stitchkin run ARGS --format csv` as {name: [float]}."""
+    rows = list(csv.reader(io.StringIO(cli("run", *args, "--format", "csv"))))
+    names, values = rows[0], np.array(rows[1:], dtype=float)
+    return names, {n: values[:, k] for k, n in enumerate(names)}
+
+
+def as_written(x):
+    """x rounded to the 12 significant digits the CSV carries."""
+    return np.array([float(f"{v:.11e}") for v in x])
+
+
+def test_presets_are_the_command_lines():
+    listed = cli("presets")
+    assert stitchkin.default_preset() == "mf7923d"
+    for name in stitchkin.presets():
+        assert name in listed
+
+
+@pytest.mark.parametrize("preset", stitchkin.presets())
+def test_run_gives_the_command_lines_numbers(preset):
+    names, expected = cli_table("--preset", preset)
+    table = stitchkin.Model.preset(preset).run()
+    assert list(table) == names
+    for name in names:
+        got = table[name]
+        assert got.dtype == np.float64 and got.shape == (table.rows,)
+        np.testing.assert_array_equal(as_written(got), expected[name], err_msg=name)
+
+
+def test_run_with_settings_and_columns():
+    names, expected = cli_table("--preset", "mf7923d", "--set", "r1=5", "--step", "2", "--columns", "*.P_B_mm")
+    table = stitchkin.Model.preset("mf7923d").run(step=2.0, set={"r1": 5.0}, columns=["*.P_B_mm"])
+    assert list(table) == names and names[0] == "phi_deg" and len(names) == 7
+    assert table.rows == 180
+    for name in names:
+        np.testing.assert_array_equal(as_written(table[name]), expected[name], err_msg=name)
+    # The setting is applied: r1 = 5 mm is not the default 4 mm.
+    default = stitchkin.Model.preset("mf7923d").run(step=2.0, columns=["*.P_B_mm"])
+    assert not np.array_equal(default["n1_A.P_B_mm"], table["n1_A.P_B_mm"])
+
+
+def test_parameters_carry_unit_range_and_source():
+    params = {p["name"]: p for p in stitchkin.Model.preset("mf7923d").parameters}
+    r1 = params["r1"]
+    assert r1["unit"] == "mm" and r1["value"] == 4.0 and r1["range"] == (4.0, 6.0)
+    assert "seed 000" in r1["source"] and not r1["derived"]
+
+
+def test_a_model_file_error_has_its_place_and_help(tmp_path):
+    text = '[model]\nname = "x"\n\n[points]\nO = [0, 0]\n\n[[drivers]]\ntype = "crank"\ncenter = "O"\nout = "A"\nradius = -5\n'
+    with pytest.raises(stitchkin.StitchkinError) as e:
+        stitchkin.Model.from_toml(text, "bad.toml")
+    assert (e.value.file, e.value.line) == ("bad.toml", 11)
+    assert e.value.column >= 1 and e.value.key == "drivers[0].radius"
+    assert e.value.help
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(stitchkin.StitchkinError) as e:
+        stitchkin.Model.load(path)
+    assert e.value.line == 11 and str(path) in e.value.file
+
+
+def test_a_missing_file_and_a_bad_setting_are_errors(tmp_path):
+    with pytest.raises(stitchkin.StitchkinError, match="nope.toml"):
+        stitchkin.Model.load(tmp_path / "nope.toml")
+    model = stitchkin.Model.preset("mf7923d")
+    with pytest.raises(stitchkin.StitchkinError) as e:
+        model.run(set={"r1": 50.0})
+    assert "r1" in str(e.value) and e.value.help and e.value.line is None
+    with pytest.raises(stitchkin.StitchkinError):
+        model.run(set={"no_such_parameter": 1.0})
+    with pytest.raises(stitchkin.StitchkinError):
+        model.run(step=0.0)
+    with pytest.raises(stitchkin.StitchkinError):
+        model.run(columns=["nothing*matches"])
+    with pytest.raises(stitchkin.StitchkinError):
+        stitchkin.Model.preset("no-such-preset")
+
+
+def test_to_pandas():
+    pandas = pytest.importorskip("pandas")
+    frame = stitchkin.Model.preset("needle876").run(step=10.0).to_pandas()
+    assert isinstance(frame, pandas.DataFrame) and frame.shape[0] == 36
+    assert frame.columns[0] == "phi_deg"
+
+
+def test_the_docs_snippets_run():
+    """Every ```python block of docs/python.md, in order, in one namespace."""
+    docs = os.path.join(os.path.dirname(__file__), "..", "..", "..", "..", "docs", "python.md")
+    with open(docs, encoding="utf-8") as f:
+        text = f.read()
+    blocks = [b.split("```", 1)[0] for b in text.split("```python\n")[1:]]
+    assert len(blocks) >= 4
+    namespace = {}
+    for block in blocks:
+        exec(compile(block, docs, "exec"), namespace)
