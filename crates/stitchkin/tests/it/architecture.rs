@@ -301,7 +301,7 @@ fn output_formats_what_it_is_given_and_runs_nothing() {
 #[test]
 fn binaries_do_not_reach_into_solvers() {
     let mut wrong = Vec::new();
-    for krate in ["stitchkin-cli", "stitchkin-web"] {
+    for krate in ["stitchkin-cli", "stitchkin-web", "stitchkin-py"] {
         let mut files = Vec::new();
         rust_files(&src_dir(krate), &mut files);
         for file in files {

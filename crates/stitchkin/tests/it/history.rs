@@ -124,7 +124,7 @@ fn files_under(dir: &Path, out: &mut Vec<PathBuf>) {
 }
 
 /// The product's text: README.md, docs/*.md but CHANGELOG.md, presets,
-/// examples, and every crate's src, tests and benches (data tables, *.csv,
+/// examples, and every crate's src, tests, benches and python (data tables, *.csv,
 /// and this file, which spells the patterns out, left aside).
 fn product_files() -> Vec<PathBuf> {
     let root = Path::new(ROOT);
@@ -137,7 +137,7 @@ fn product_files() -> Vec<PathBuf> {
     files.extend(crates.into_iter().filter(|p| {
         let rel = p.strip_prefix(root).unwrap().to_string_lossy().replace('\\', "/");
         let part = rel.split('/').nth(2).unwrap_or("");
-        ["src", "tests", "benches"].contains(&part) && !rel.ends_with("tests/it/history.rs")
+        ["src", "tests", "benches", "python"].contains(&part) && !rel.ends_with("tests/it/history.rs")
     }));
     files.retain(|p| {
         let name = p.file_name().unwrap().to_string_lossy();
