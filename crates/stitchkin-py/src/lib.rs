@@ -14,6 +14,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use stitchkin::eval::{CycleOptions, run_cycle};
 use stitchkin::model::{Model as LibModel, Params};
+use stitchkin::study::design::{Design, Sweep, Vary};
+use stitchkin::study::sweep::{self, Row, SweepPlan};
 
 create_exception!(
     _native,
@@ -191,8 +193,111 @@ impl Model {
         py.import("stitchkin")?.getattr("Table")?.call1((out,))
     }
 
+    /// Figures of merit over a grid or samples of the adjustable
+    /// parameters, as `stitchkin sweep`: a `stitchkin.Table` with `index`
+    /// (int64), one column per varied parameter (`NAME_UNIT`), one per
+    /// figure (NaN where a setting has none or did not evaluate) and
+    /// `status` (`"ok"`, or why the setting did not evaluate).
+    ///
+    /// `vary`: `["NAME=LO:HI:N", …]` as `--vary` takes them, or
+    /// `{name: (lo, hi, n)}`. `samples`: a Latin hypercube (`method="lhs"`)
+    /// or random (`"random"`) design of that many settings, drawn with
+    /// `seed`, instead of the grid. `figures`: patterns (`["*.score"]`),
+    /// the defaults of the command line when None. `set`: the base setting.
+    #[pyo3(signature = (vary, samples = None, method = "lhs", seed = 1, figures = None, step = 1.0, set = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn sweep<'py>(
+        &self,
+        py: Python<'py>,
+        vary: &Bound<'py, PyAny>,
+        samples: Option<usize>,
+        method: &str,
+        seed: u64,
+        figures: Option<Vec<String>>,
+        step: f64,
+        set: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let params = self.params(py, set)?;
+        let model = &self.model;
+        let specs = vary_specs(vary)?;
+        let design = match (samples, method) {
+            (None, _) => Design::Grid,
+            (Some(samples), "lhs") => Design::Lhs { samples, seed },
+            (Some(samples), "random") => Design::Random { samples, seed },
+            (Some(_), other) => {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "method `{other}` is not a sampling method: give \"lhs\" or \"random\""
+                )));
+            }
+        };
+        let (sw, plan, rows) = py
+            .detach(|| {
+                let vary = specs
+                    .iter()
+                    .map(|v| Vary::parse(model, v))
+                    .collect::<Result<Vec<_>, _>>()?;
+                let sw = Sweep::new(vary, design)?;
+                let plan = SweepPlan::new(model, &params, &sw, figures.as_deref(), step)?;
+                let mut rows: Vec<Row> = Vec::with_capacity(sw.len());
+                sweep::run(
+                    plan.job(model, &params, &sw),
+                    0..sw.len(),
+                    |row| {
+                        rows.push(row.clone());
+                        Ok::<_, stitchkin::Error>(())
+                    },
+                    |_| {},
+                )?;
+                Ok::<_, stitchkin::Error>((sw, plan, rows))
+            })
+            .map_err(|e| py_error(py, &e))?;
+        let out = PyDict::new(py);
+        let index: Vec<i64> = rows.iter().map(|r| r.index as i64).collect();
+        out.set_item("index", index.into_pyarray(py))?;
+        for (k, v) in sw.vary.iter().enumerate() {
+            let unit = model.param_index(&v.name).map_or("", |i| model.params()[i].unit_str());
+            let values: Vec<f64> = rows.iter().map(|r| r.values[k]).collect();
+            out.set_item(format!("{}_{unit}", v.name), values.into_pyarray(py))?;
+        }
+        for (k, name) in plan.names.iter().enumerate() {
+            let values: Vec<f64> = rows.iter().map(|r| r.figures[k].unwrap_or(f64::NAN)).collect();
+            out.set_item(name, values.into_pyarray(py))?;
+        }
+        let status: Vec<&str> = rows.iter().map(|r| r.error.as_deref().unwrap_or("ok")).collect();
+        out.set_item("status", py.import("numpy")?.getattr("array")?.call1((status,))?)?;
+        py.import("stitchkin")?.getattr("Table")?.call1((out,))
+    }
+
     fn __repr__(&self) -> String {
         format!("<stitchkin.Model {}>", self.model.name())
+    }
+}
+
+/// `vary` as `--vary` specs: a list of `NAME=LO:HI:N` strings, or a dict
+/// `{name: (lo, hi, n)}` (or `(lo, hi)`: 11 values).
+fn vary_specs(vary: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
+    if let Ok(d) = vary.cast::<PyDict>() {
+        d.iter()
+            .map(|(name, range)| {
+                let name: String = name.extract()?;
+                let range: Vec<f64> = range.extract()?;
+                Ok(match range.as_slice() {
+                    [lo, hi, n] if n.fract() == 0.0 && *n >= 1.0 => format!("{name}={lo}:{hi}:{n}"),
+                    [lo, hi] => format!("{name}={lo}:{hi}"),
+                    _ => {
+                        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                            "vary[{name:?}] must be (lo, hi, n) with a whole n ≥ 1, or (lo, hi)"
+                        )));
+                    }
+                })
+            })
+            .collect()
+    } else {
+        vary.extract::<Vec<String>>().map_err(|_| {
+            pyo3::exceptions::PyTypeError::new_err(
+                "vary is a list of \"NAME=LO:HI:N\" strings or a dict {name: (lo, hi, n)}",
+            )
+        })
     }
 }
 

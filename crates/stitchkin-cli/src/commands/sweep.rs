@@ -6,11 +6,10 @@ use std::str::FromStr;
 
 use clap::ValueEnum;
 use stitchkin::error::Error;
-use stitchkin::eval::{self, CycleOptions};
 use stitchkin::output::{self, text};
 use stitchkin::study::design::{Design, Sweep, Vary};
-use stitchkin::study::sweep::SweepJob;
-use stitchkin::study::{figures, sweep};
+use stitchkin::study::sweep;
+use stitchkin::study::sweep::SweepPlan;
 
 use crate::common::{ModelArgs, load, note, progress_bar};
 
@@ -122,46 +121,24 @@ fn design(args: &Args, model: &stitchkin::model::Model) -> Result<Sweep, Error> 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     let (model, params) = load(&args.model)?;
     let sw = design(&args, &model)?;
-    let opts = CycleOptions {
-        step_deg: args.step,
-        rpm: None,
-        analogs: false,
-        points: None,
-        lean: true,
-    };
-    // The nominal setting says which figures this model has.
-    let nominal = eval::run_cycle(&model, &params, &opts)?;
-    let available = figures::figures(&nominal);
-    let patterns = args
-        .figures
-        .clone()
-        .unwrap_or_else(|| figures::default_figures(&available));
-    let names = figures::select_figures(&available, &patterns)?;
+    let plan = SweepPlan::new(&model, &params, &sw, args.figures.as_deref(), args.step)?;
+    let names = &plan.names;
     let Shard { k, n } = args.shard.unwrap_or(Shard::ALL);
     let range = sw.shard(k, n);
     let total = range.len();
-    let shared = figures::shared_stitch(&model, &params, &sw, args.step)?;
     let bar = progress_bar(total, "{bar:40} {pos}/{len} settings, {per_sec}, ETA {eta}");
     // Stream to a temporary file next to the output (renamed at the end), or
     // to stdout; only the first shard writes the header.
     let mut sink = output::Sink::new(args.output.as_deref())?;
     let header = if k == 1 {
-        text::sweep::header(&model, &sw, &names)
+        text::sweep::header(&model, &sw, names)
     } else {
         String::new()
     };
     sink.write(header.as_bytes())?;
-    let mut tally = text::sweep::Tally::new(&names);
-    let job = SweepJob {
-        model: &model,
-        base: &params,
-        sweep: &sw,
-        names: &names,
-        opts: &opts,
-        shared: shared.as_ref(),
-    };
+    let mut tally = text::sweep::Tally::new(names);
     sweep::run(
-        job,
+        plan.job(&model, &params, &sw),
         range,
         |row| {
             tally.add(row);
@@ -171,7 +148,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     )?;
     bar.finish_and_clear();
     sink.finish()?;
-    note(&tally.summary(&sw, &names, total, (k, n)));
+    note(&tally.summary(&sw, names, total, (k, n)));
     Ok(())
 }
 

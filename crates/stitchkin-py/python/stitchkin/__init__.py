@@ -23,9 +23,10 @@ __all__ = ["Model", "StitchkinError", "Table", "default_preset", "presets", "__v
 
 
 class Table(Mapping):
-    """One cycle's columns: a read-only mapping from the command line's
-    column names (``phi_deg``, ``G.y_mm``, ``PATH.P_B_mm``, …) to float64
-    arrays of equal length, one row per φ."""
+    """Columns of equal length by name, as the command line's CSV has them:
+    a cycle's (``phi_deg``, ``G.y_mm``, ``PATH.P_B_mm``, … as float64
+    arrays, one row per φ) or a sweep's (``index``, the varied parameters,
+    the figures, ``status``; one row per setting)."""
 
     def __init__(self, columns):
         self._columns = dict(columns)
@@ -41,8 +42,8 @@ class Table(Mapping):
 
     @property
     def rows(self):
-        """Number of φ positions."""
-        return len(self._columns["phi_deg"])
+        """Number of rows (φ positions of a cycle, settings of a sweep)."""
+        return len(next(iter(self._columns.values()), ()))
 
     def to_pandas(self):
         """The table as a pandas DataFrame (pandas must be installed)."""

@@ -46,3 +46,13 @@ class Model:
         analogs: bool = True,
         rpm: Optional[float] = None,
     ) -> "Table": ...
+    def sweep(
+        self,
+        vary: Union[Sequence[str], Mapping[str, Sequence[float]]],
+        samples: Optional[int] = None,
+        method: str = "lhs",
+        seed: int = 1,
+        figures: Optional[Sequence[str]] = None,
+        step: float = 1.0,
+        set: Optional[Mapping[str, float]] = None,
+    ) -> "Table": ...

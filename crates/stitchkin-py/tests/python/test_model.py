@@ -63,6 +63,53 @@ def test_run_with_settings_and_columns():
     assert not np.array_equal(default["n1_A.P_B_mm"], table["n1_A.P_B_mm"])
 
 
+def cli_sweep(*args):
+    rows = list(csv.reader(io.StringIO(cli("sweep", *args))))
+    return rows[0], rows[1:]
+
+
+@pytest.mark.parametrize(
+    "args, kwargs",
+    [
+        (["--vary", "z=-10:10:5", "--vary", "r1=4:6:3"], {"vary": {"z": (-10, 10, 5), "r1": (4, 6, 3)}}),
+        (
+            ["--vary", "z=-10:10", "--vary", "dphi=-20:20", "--samples", "40", "--seed", "7", "--figures", "*.score,checks.ok"],
+            {"vary": ["z=-10:10", "dphi=-20:20"], "samples": 40, "seed": 7, "figures": ["*.score", "checks.ok"]},
+        ),
+    ],
+)
+def test_sweep_gives_the_command_lines_rows(args, kwargs):
+    names, rows = cli_sweep("--preset", "mf7923d", *args)
+    table = stitchkin.Model.preset("mf7923d").sweep(**kwargs)
+    assert list(table) == names
+    assert len(rows) == table.rows
+    for k, name in enumerate(names):
+        column = [r[k] for r in rows]
+        if name == "status":
+            assert list(table[name]) == column
+        elif name == "index":
+            assert list(table[name]) == [int(x) for x in column]
+        else:
+            expected = np.array([float(x) if x else np.nan for x in column])
+            np.testing.assert_array_equal(as_written(table[name]), expected, err_msg=name)
+
+
+def test_sweep_errors():
+    model = stitchkin.Model.preset("mf7923d")
+    with pytest.raises(stitchkin.StitchkinError):
+        model.sweep(vary=["z=-100:100:3"])
+    with pytest.raises(stitchkin.StitchkinError):
+        model.sweep(vary=["nope=1:2:3"])
+    with pytest.raises(stitchkin.StitchkinError):
+        model.sweep(vary={"z": (-10, 10, 3)}, figures=["no.such.figure"])
+    with pytest.raises(ValueError):
+        model.sweep(vary={"z": (-10, 10, 2.5)})
+    with pytest.raises(ValueError):
+        model.sweep(vary=["z=-10:10"], samples=10, method="sobol")
+    with pytest.raises(TypeError):
+        model.sweep(vary="z=-10:10:3")
+
+
 def test_parameters_carry_unit_range_and_source():
     params = {p["name"]: p for p in stitchkin.Model.preset("mf7923d").parameters}
     r1 = params["r1"]

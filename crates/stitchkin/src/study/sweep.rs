@@ -151,6 +151,57 @@ struct StitchPlan {
     fixed_checks_ok: bool,
 }
 
+/// What a sweep of a model needs besides its design, worked out once: the
+/// cycle options (lean, no analogs), the figures it reports and P' when it
+/// is shared by every setting.
+#[derive(Debug, Clone)]
+pub struct SweepPlan {
+    pub opts: CycleOptions,
+    /// The figures, in their order (`select_figures`).
+    pub names: Vec<String>,
+    pub shared: Option<Prepared>,
+}
+
+impl SweepPlan {
+    /// Plans a sweep of `model` around `base` over `sweep`, at a φ step of
+    /// `step_deg`, for the figures matching `patterns` (the default figures
+    /// when `None`). The nominal setting says which figures the model has;
+    /// a pattern that matches none is an error that lists them.
+    pub fn new(
+        model: &Model,
+        base: &Params,
+        sweep: &Sweep,
+        patterns: Option<&[String]>,
+        step_deg: f64,
+    ) -> Result<SweepPlan, Error> {
+        let opts = CycleOptions {
+            step_deg,
+            rpm: None,
+            analogs: false,
+            points: None,
+            lean: true,
+        };
+        let nominal = crate::eval::run_cycle(model, base, &opts)?;
+        let available = figures(&nominal);
+        let patterns = patterns.map_or_else(|| super::figures::default_figures(&available), <[String]>::to_vec);
+        let names = super::figures::select_figures(&available, &patterns)?;
+        let shared = super::figures::shared_stitch(model, base, sweep, step_deg)?;
+        Ok(SweepPlan { opts, names, shared })
+    }
+
+    /// The job of this plan: `model` at `base` over `sweep`.
+    pub fn job<'a>(&'a self, model: &'a Model, base: &'a Params, sweep: &'a Sweep) -> SweepJob<'a> {
+        SweepJob {
+            model,
+            base,
+            sweep,
+            names: &self.names,
+            opts: &self.opts,
+            shared: self.shared.as_ref(),
+        }
+    }
+}
+
 /// What a sweep evaluates: `model` at `base` with each setting of `sweep`
 /// applied, for the figures `names` (as
 /// [`select_figures`](super::figures::select_figures) gives them), every
