@@ -17,8 +17,11 @@ use stitchkin::model::{Model as LibModel, Params};
 use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::sweep::{self, Row, SweepPlan};
 
+// Named in the package (`stitchkin.StitchkinError`), where it is
+// re-exported: pickling finds it there (a Dask worker's error reaches the
+// client with its attributes).
 create_exception!(
-    _native,
+    stitchkin,
     StitchkinError,
     PyException,
     "An error of stitchkin: a model file that does not load, a parameter out of its range, a position \
@@ -123,6 +126,20 @@ impl Model {
         self.model.name()
     }
 
+    /// The model file's text (TOML): with `file_name`, what
+    /// `Model.from_toml` needs to load the same model elsewhere (a Dask
+    /// worker, say).
+    #[getter]
+    fn toml(&self) -> &str {
+        self.model.text()
+    }
+
+    /// The name the model's errors give its file (`preset:NAME` for a preset).
+    #[getter]
+    fn file_name(&self) -> &str {
+        self.model.file_name()
+    }
+
     /// The model's title, if it has one.
     #[getter]
     fn title(&self) -> Option<&str> {
@@ -204,7 +221,9 @@ impl Model {
     /// or random (`"random"`) design of that many settings, drawn with
     /// `seed`, instead of the grid. `figures`: patterns (`["*.score"]`),
     /// the defaults of the command line when None. `set`: the base setting.
-    #[pyo3(signature = (vary, samples = None, method = "lhs", seed = 1, figures = None, step = 1.0, set = None))]
+    /// `shard=(k, n)`: only the k-th of n contiguous blocks of the
+    /// settings, as `--shard K/N` (the blocks together are the sweep).
+    #[pyo3(signature = (vary, samples = None, method = "lhs", seed = 1, figures = None, step = 1.0, set = None, shard = None))]
     #[allow(clippy::too_many_arguments)]
     fn sweep<'py>(
         &self,
@@ -216,10 +235,17 @@ impl Model {
         figures: Option<Vec<String>>,
         step: f64,
         set: Option<&Bound<'py, PyDict>>,
+        shard: Option<(usize, usize)>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let params = self.params(py, set)?;
         let model = &self.model;
         let specs = vary_specs(vary)?;
+        let (k, n) = shard.unwrap_or((1, 1));
+        if !(n >= 1 && (1..=n).contains(&k)) {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "shard=({k}, {n}) is not a shard (k, n) with 1 ≤ k ≤ n"
+            )));
+        }
         let design = match (samples, method) {
             (None, _) => Design::Grid,
             (Some(samples), "lhs") => Design::Lhs { samples, seed },
@@ -238,10 +264,11 @@ impl Model {
                     .collect::<Result<Vec<_>, _>>()?;
                 let sw = Sweep::new(vary, design)?;
                 let plan = SweepPlan::new(model, &params, &sw, figures.as_deref(), step)?;
-                let mut rows: Vec<Row> = Vec::with_capacity(sw.len());
+                let range = sw.shard(k, n);
+                let mut rows: Vec<Row> = Vec::with_capacity(range.len());
                 sweep::run(
                     plan.job(model, &params, &sw),
-                    0..sw.len(),
+                    range,
                     |row| {
                         rows.push(row.clone());
                         Ok::<_, stitchkin::Error>(())

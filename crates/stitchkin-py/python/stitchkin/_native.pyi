@@ -37,6 +37,10 @@ class Model:
     @property
     def title(self) -> Optional[str]: ...
     @property
+    def toml(self) -> str: ...
+    @property
+    def file_name(self) -> str: ...
+    @property
     def parameters(self) -> list[Parameter]: ...
     def run(
         self,
@@ -55,4 +59,5 @@ class Model:
         figures: Optional[Sequence[str]] = None,
         step: float = 1.0,
         set: Optional[Mapping[str, float]] = None,
+        shard: Optional[tuple[int, int]] = None,
     ) -> "Table": ...
