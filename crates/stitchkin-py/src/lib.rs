@@ -300,6 +300,33 @@ impl Model {
     }
 }
 
+/// The time of one `Model.run(step, analogs=analogs)` computed in Rust,
+/// without Python: the mean of `repeat` calls after one warm-up, seconds.
+/// For the peer benchmark (bench/peers.py), which compares it with the
+/// same call from Python.
+#[pyfunction]
+#[pyo3(signature = (model, step = 1.0, analogs = true, repeat = 100))]
+fn _time_run(py: Python<'_>, model: &Model, step: f64, analogs: bool, repeat: usize) -> PyResult<f64> {
+    let params = model.model.defaults();
+    let opts = CycleOptions {
+        step_deg: step,
+        rpm: model.model.rpm(),
+        analogs,
+        points: None,
+        lean: false,
+    };
+    let lib = &model.model;
+    py.detach(|| {
+        run_cycle(lib, &params, &opts)?;
+        let began = std::time::Instant::now();
+        for _ in 0..repeat.max(1) {
+            std::hint::black_box(run_cycle(lib, &params, &opts)?);
+        }
+        Ok::<_, stitchkin::Error>(began.elapsed().as_secs_f64() / repeat.max(1) as f64)
+    })
+    .map_err(|e| py_error(py, &e))
+}
+
 /// `vary` as `--vary` specs: a list of `NAME=LO:HI:N` strings, or a dict
 /// `{name: (lo, hi, n)}` (or `(lo, hi)`: 11 values).
 fn vary_specs(vary: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
@@ -334,6 +361,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
     m.add_function(wrap_pyfunction!(presets, m)?)?;
     m.add_function(wrap_pyfunction!(default_preset, m)?)?;
+    m.add_function(wrap_pyfunction!(_time_run, m)?)?;
     m.add("StitchkinError", m.py().get_type::<StitchkinError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

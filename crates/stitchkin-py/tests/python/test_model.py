@@ -165,3 +165,14 @@ def test_the_docs_snippets_run():
     namespace = {}
     for block in blocks:
         exec(compile(block, docs, "exec"), namespace)
+
+
+def test_the_peer_bench_runs():
+    """bench/peers.py runs and prints its table (its figures are not checked
+    here: timing belongs in the bench)."""
+    import sys
+
+    bench = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "peers.py")
+    done = subprocess.run([sys.executable, bench, "--repeat", "3"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert "Rust core" in done.stdout and "NumPy, vectorised" in done.stdout and "within" in done.stdout
