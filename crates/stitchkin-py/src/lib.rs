@@ -210,6 +210,47 @@ impl Model {
         py.import("stitchkin")?.getattr("Table")?.call1((out,))
     }
 
+    /// How the take-up P matches the stitch's need P′, as `stitchkin match
+    /// --format json`: a dict with, per thread (`threads`), the score,
+    /// RMS(P − P′) and every other metric, the physical checks (`checks`),
+    /// the stitch's inputs, the model's `name` (`model`) and `caveats`.
+    /// Raises `StitchkinError` when the model has no `[stitch]` table.
+    #[pyo3(signature = (step = 1.0, set = None))]
+    fn r#match<'py>(
+        &self,
+        py: Python<'py>,
+        step: f64,
+        set: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let params = self.params(py, set)?;
+        let model = &self.model;
+        let json = py
+            .detach(|| {
+                let opts = CycleOptions {
+                    step_deg: step,
+                    rpm: None,
+                    analogs: false,
+                    points: Some(Vec::new()),
+                    lean: false,
+                };
+                let table = run_cycle(model, &params, &opts)?;
+                let Some(st) = &table.stitch else {
+                    return Err(stitchkin::Error::Stitch(stitchkin::error::StitchError::new(
+                        format!("model `{}`", model.name()),
+                        "it has no [stitch] table, so there is no required take-up to match; add one \
+                         (docs/model-format.md, \"Stitch process\") or use Model.preset(\"mf7923d\")",
+                    )));
+                };
+                let internal = |e: serde_json::Error| stitchkin::Error::Internal(format!("cannot write JSON: {e}"));
+                let mut json = serde_json::to_value(st).map_err(internal)?;
+                json["model"] = serde_json::json!(model.name());
+                json["caveats"] = serde_json::json!(model.caveats());
+                serde_json::to_string(&json).map_err(internal)
+            })
+            .map_err(|e| py_error(py, &e))?;
+        py.import("json")?.getattr("loads")?.call1((json,))
+    }
+
     /// Figures of merit over a grid or samples of the adjustable
     /// parameters, as `stitchkin sweep`: a `stitchkin.Table` with `index`
     /// (int64), one column per varied parameter (`NAME_UNIT`), one per

@@ -50,6 +50,7 @@ class Model:
         analogs: bool = True,
         rpm: Optional[float] = None,
     ) -> "Table": ...
+    def match(self, step: float = 1.0, set: Optional[Mapping[str, float]] = None) -> dict: ...
     def sweep(
         self,
         vary: Union[Sequence[str], Mapping[str, Sequence[float]]],

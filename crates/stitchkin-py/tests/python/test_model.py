@@ -94,6 +94,23 @@ def test_sweep_gives_the_command_lines_rows(args, kwargs):
             np.testing.assert_array_equal(as_written(table[name]), expected, err_msg=name)
 
 
+@pytest.mark.parametrize("args, kwargs", [([], {}), (["--set", "r1=5", "--step", "2"], {"set": {"r1": 5.0}, "step": 2.0})])
+def test_match_gives_the_command_lines_json(args, kwargs):
+    import json
+
+    expected = json.loads(cli("match", "--preset", "mf7923d", "--format", "json", *args))
+    expected.pop("measured", None)
+    got = stitchkin.Model.preset("mf7923d").match(**kwargs)
+    assert got == expected
+    assert [t["thread"] for t in got["threads"]] == ["n1", "n2", "n3"]
+    assert all(c["ok"] for c in got["checks"])
+
+
+def test_match_needs_a_stitch():
+    with pytest.raises(stitchkin.StitchkinError, match="no \\[stitch\\] table"):
+        stitchkin.Model.preset("needle876").match()
+
+
 def test_sweep_errors():
     model = stitchkin.Model.preset("mf7923d")
     with pytest.raises(stitchkin.StitchkinError):
