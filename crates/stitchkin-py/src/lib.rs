@@ -16,6 +16,7 @@ use stitchkin::eval::{CycleOptions, run_cycle};
 use stitchkin::model::{Model as LibModel, Params};
 use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::sweep::{self, Row, SweepPlan};
+use stitchkin::study::tune;
 
 // Named in the package (`stitchkin.StitchkinError`), where it is
 // re-exported: pickling finds it there (a Dask worker's error reaches the
@@ -251,6 +252,57 @@ impl Model {
         py.import("json")?.getattr("loads")?.call1((json,))
     }
 
+    /// The adjustable settings that make the take-up match the stitch best,
+    /// as `stitchkin tune --format json`: a dict with the recommended
+    /// setting, the match and checks before and after, how far each setting
+    /// may move, and notes.
+    ///
+    /// `adjust`: the parameters to adjust (default: every one with an
+    /// adjustable range that leaves the stitch alone). `samples`: global
+    /// Latin-hypercube samples (0: 32 per parameter, at least 64), drawn
+    /// with `seed`. `thickness`, `stitch`: the material thickness m and
+    /// stitch length t, mm, to tune for. `set`: the starting setting.
+    #[pyo3(signature = (adjust = None, samples = 0, seed = 1, step = 1.0, thickness = None, stitch = None, set = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn tune<'py>(
+        &self,
+        py: Python<'py>,
+        adjust: Option<Vec<String>>,
+        samples: usize,
+        seed: u64,
+        step: f64,
+        thickness: Option<f64>,
+        stitch: Option<f64>,
+        set: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mut params = self.params(py, set)?;
+        let model = &self.model;
+        let json = py
+            .detach(|| {
+                tune::check_samples(samples)?;
+                for (which, value) in [("m", thickness), ("t", stitch)] {
+                    if let Some(v) = value {
+                        tune::set_stitch_value(model, &mut params, which, v)?;
+                    }
+                }
+                let adjust = match adjust {
+                    Some(a) => a,
+                    None => model.default_adjustables(&params)?,
+                };
+                let options = tune::TuneOptions {
+                    adjust,
+                    samples,
+                    seed,
+                    step_deg: step,
+                };
+                let result = tune::tune(model, &params, &options)?;
+                serde_json::to_string(&result)
+                    .map_err(|e| stitchkin::Error::Internal(format!("cannot write JSON: {e}")))
+            })
+            .map_err(|e| py_error(py, &e))?;
+        py.import("json")?.getattr("loads")?.call1((json,))
+    }
+
     /// Figures of merit over a grid or samples of the adjustable
     /// parameters, as `stitchkin sweep`: a `stitchkin.Table` with `index`
     /// (int64), one column per varied parameter (`NAME_UNIT`), one per
@@ -341,6 +393,40 @@ impl Model {
     }
 }
 
+/// The thread one finished stitch consumes, from the stitch's geometry, as
+/// `stitchkin consumption --format json`: a dict per thread of the stitch.
+///
+/// `stitch_type`: 401, 406, 407, 501–512, 514 or 521. `thickness`: the
+/// material, mm. `stitch`: the stitch length, mm. `width`: the overedge
+/// width, mm (500-class stitches). `incline`: the stitch's incline, deg.
+/// `edge`: the fraction of the material the edge threads pass (0…1).
+#[pyfunction]
+#[pyo3(signature = (stitch_type, thickness, stitch, width = None, incline = 0.0, edge = 0.5))]
+fn consumption<'py>(
+    py: Python<'py>,
+    stitch_type: u16,
+    thickness: f64,
+    stitch: f64,
+    width: Option<f64>,
+    incline: f64,
+    edge: f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let geometry = stitchkin::StitchGeometry {
+        thickness_mm: thickness,
+        stitch_mm: stitch,
+        width_mm: width.unwrap_or(0.0),
+        incline_deg: incline,
+        edge_fraction: edge,
+    };
+    let json = stitchkin::consumption(stitch_type, &geometry)
+        .map_err(stitchkin::Error::Param)
+        .and_then(|c| {
+            serde_json::to_string(&c).map_err(|e| stitchkin::Error::Internal(format!("cannot write JSON: {e}")))
+        })
+        .map_err(|e| py_error(py, &e))?;
+    py.import("json")?.getattr("loads")?.call1((json,))
+}
+
 /// The time of one `Model.run(step, analogs=analogs)` computed in Rust,
 /// without Python: the mean of `repeat` calls after one warm-up, seconds.
 /// For the peer benchmark (bench/peers.py), which compares it with the
@@ -402,6 +488,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
     m.add_function(wrap_pyfunction!(presets, m)?)?;
     m.add_function(wrap_pyfunction!(default_preset, m)?)?;
+    m.add_function(wrap_pyfunction!(consumption, m)?)?;
     m.add_function(wrap_pyfunction!(_time_run, m)?)?;
     m.add("StitchkinError", m.py().get_type::<StitchkinError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -1,7 +1,7 @@
 //! `stitchkin consumption`: the thread one finished stitch consumes, from
 //! the stitch's geometry ([`stitchkin::consumption`]).
 
-use stitchkin::error::{Error, ParamError};
+use stitchkin::error::Error;
 use stitchkin::output::text;
 use stitchkin::{StitchGeometry, consumption};
 
@@ -40,16 +40,8 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
-    let width = match (args.width, args.stitch_type) {
-        (Some(w), _) => w,
-        (None, 500..=599) => {
-            return Err(Error::Param(ParamError::general(
-                format!("stitch type {} needs the overedge width", args.stitch_type),
-                Some("give --width in mm, e.g. --width 4".into()),
-            )));
-        }
-        (None, _) => 0.0,
-    };
+    // Without --width: none (a 500-class stitch is then refused, naming --width).
+    let width = args.width.unwrap_or(0.0);
     let g = StitchGeometry {
         thickness_mm: args.thickness,
         stitch_mm: args.stitch,

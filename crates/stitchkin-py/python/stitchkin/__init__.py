@@ -17,9 +17,9 @@ Errors are :class:`StitchkinError`, with ``file``, ``line``, ``column``,
 
 from collections.abc import Mapping
 
-from ._native import Model, StitchkinError, __version__, default_preset, presets
+from ._native import Model, StitchkinError, __version__, consumption, default_preset, presets
 
-__all__ = ["Model", "StitchkinError", "Table", "default_preset", "presets", "__version__"]
+__all__ = ["Model", "StitchkinError", "Table", "consumption", "default_preset", "presets", "__version__"]
 
 
 class Table(Mapping):

@@ -7,6 +7,7 @@ from ._native import Model as Model
 from ._native import Parameter as Parameter
 from ._native import StitchkinError as StitchkinError
 from ._native import __version__ as __version__
+from ._native import consumption as consumption
 from ._native import default_preset as default_preset
 from ._native import presets as presets
 

@@ -24,6 +24,14 @@ class StitchkinError(Exception):
 
 def presets() -> list[str]: ...
 def default_preset() -> str: ...
+def consumption(
+    stitch_type: int,
+    thickness: float,
+    stitch: float,
+    width: Optional[float] = None,
+    incline: float = 0.0,
+    edge: float = 0.5,
+) -> dict: ...
 
 class Model:
     @staticmethod
@@ -51,6 +59,16 @@ class Model:
         rpm: Optional[float] = None,
     ) -> "Table": ...
     def match(self, step: float = 1.0, set: Optional[Mapping[str, float]] = None) -> dict: ...
+    def tune(
+        self,
+        adjust: Optional[Sequence[str]] = None,
+        samples: int = 0,
+        seed: int = 1,
+        step: float = 1.0,
+        thickness: Optional[float] = None,
+        stitch: Optional[float] = None,
+        set: Optional[Mapping[str, float]] = None,
+    ) -> dict: ...
     def sweep(
         self,
         vary: Union[Sequence[str], Mapping[str, Sequence[float]]],

@@ -111,6 +111,39 @@ def test_match_needs_a_stitch():
         stitchkin.Model.preset("needle876").match()
 
 
+def test_tune_gives_the_command_lines_json():
+    import json
+
+    expected = json.loads(cli("tune", "--preset", "mf7923d", "--adjust", "z,dphi", "--seed", "3", "--format", "json"))
+    got = stitchkin.Model.preset("mf7923d").tune(adjust=["z", "dphi"], seed=3)
+    assert got == expected
+    with pytest.raises(stitchkin.StitchkinError):
+        stitchkin.Model.preset("mf7923d").tune(samples=10**9)
+
+
+@pytest.mark.parametrize(
+    "args, kwargs",
+    [
+        (["--type", "504", "--thickness", "2.5", "--stitch", "2.8", "--width", "4", "--incline", "20"],
+         dict(stitch_type=504, thickness=2.5, stitch=2.8, width=4.0, incline=20.0)),
+        (["--type", "407", "--thickness", "3", "--stitch", "3"], dict(stitch_type=407, thickness=3.0, stitch=3.0)),
+    ],
+)
+def test_consumption_gives_the_command_lines_json(args, kwargs):
+    import json
+
+    assert stitchkin.consumption(**kwargs) == json.loads(cli("consumption", *args, "--format", "json"))
+
+
+def test_consumption_errors():
+    with pytest.raises(stitchkin.StitchkinError):
+        stitchkin.consumption(504, 2.5, 2.8)
+    with pytest.raises(stitchkin.StitchkinError):
+        stitchkin.consumption(999, 2.5, 2.8)
+    with pytest.raises(stitchkin.StitchkinError):
+        stitchkin.consumption(407, -1.0, 2.8)
+
+
 def test_sweep_errors():
     model = stitchkin.Model.preset("mf7923d")
     with pytest.raises(stitchkin.StitchkinError):

@@ -139,6 +139,14 @@ impl StitchGeometry {
 /// Thread per stitch for stitch type `stitch_type` with geometry `g`.
 pub fn consumption(stitch_type: u16, g: &StitchGeometry) -> Result<Consumption, ParamError> {
     g.check()?;
+    // An overedge stitch wraps the edge: its threads' contours need a > 0.
+    if (500..600).contains(&stitch_type) && g.width_mm == 0.0 {
+        return Err(ParamError::new(
+            Input::Width,
+            format!("stitch type {stitch_type} needs the overedge width a > 0"),
+            Some("give the overedge width in mm, e.g. 4".into()),
+        ));
+    }
     let (m, t, a, e) = (g.thickness_mm, g.stitch_mm, g.width_mm, g.edge_fraction);
     let l_m = m / g.incline_deg.to_radians().cos();
     let l = a.hypot(t);
@@ -256,6 +264,20 @@ mod tests {
         // Types whose contours are lost: no total, no guessed numbers.
         let c = consumption(505, &altin()).unwrap();
         assert!(c.total_mm.is_none() && c.threads.iter().any(|t| t.length_mm.is_none()));
+    }
+
+    #[test]
+    fn an_overedge_stitch_needs_its_width() {
+        let g = StitchGeometry {
+            width_mm: 0.0,
+            ..altin()
+        };
+        for stitch_type in [503, 504, 512] {
+            let e = consumption(stitch_type, &g).unwrap_err();
+            assert_eq!(e.input, Some(Input::Width), "{e}");
+            assert!(e.message.contains("needs the overedge width"), "{e}");
+        }
+        assert!(consumption(407, &g).is_ok());
     }
 
     #[test]
