@@ -4,7 +4,7 @@ use std::io::Write;
 use std::net::IpAddr;
 
 use stitchkin::error::{Error, ParamError};
-use stitchkin_web::{App, Server};
+use stitchkin_web::{App, Server, ServerConfig};
 
 use crate::common::{ModelArgs, load, note_line};
 
@@ -13,7 +13,8 @@ use crate::common::{ModelArgs, load, note_line};
 #[derive(clap::Args)]
 #[command(
     after_help = "Examples:\n  stitchkin serve\n  stitchkin serve --preset altin504 --port 8081\n  \
-    stitchkin serve my-machine.toml --set r1=5 --port 0\n\n\
+    stitchkin serve my-machine.toml --set r1=5 --port 0\n  \
+    stitchkin serve --max-connections 16 --timeout-s 5\n\n\
     Open the address it prints in a browser; Ctrl-C stops it. It listens on 127.0.0.1 only, unless\n\
     --bind says otherwise, and answers requests for this machine's host names only (docs/web.md)."
 )]
@@ -30,7 +31,22 @@ pub(crate) struct Args {
     /// Requests computed at the same time.
     #[arg(long, default_value_t = 2, value_name = "N")]
     threads: usize,
+    /// Connections open at once; at the cap a new one closes the oldest
+    /// idle one, or gets a 503 when none is idle.
+    #[arg(long, default_value_t = ServerConfig::default().max_connections, value_name = "N")]
+    max_connections: usize,
+    /// Seconds a client has to send a whole request head (an idle
+    /// keep-alive connection too), and to take some of an answer, before
+    /// its connection is closed.
+    #[arg(long, default_value_t = ServerConfig::default().header_timeout_ms / 1000, value_name = "S")]
+    timeout_s: u64,
 }
+
+/// The most connections `--max-connections` may ask for.
+const MAX_CONNECTIONS: usize = 65_536;
+
+/// The longest `--timeout-s`, s.
+const MAX_TIMEOUT_S: u64 = 3600;
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     if !(1..=64).contains(&args.threads) {
@@ -39,10 +55,29 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
             Some("one thread per core is plenty (the default is 2)".into()),
         )));
     }
+    if !(1..=MAX_CONNECTIONS).contains(&args.max_connections) {
+        return Err(Error::Param(ParamError::general(
+            format!("--max-connections {} is outside 1…{MAX_CONNECTIONS}", args.max_connections),
+            Some("a browser holds about 6 connections; the default is 128 (the open-file limit, `ulimit -n`, bounds it too)".into()),
+        )));
+    }
+    if !(1..=MAX_TIMEOUT_S).contains(&args.timeout_s) {
+        return Err(Error::Param(ParamError::general(
+            format!("--timeout-s {} is outside 1…{MAX_TIMEOUT_S}", args.timeout_s),
+            Some("the default, 10 s, lets a slow client send its request".into()),
+        )));
+    }
     let (model, params) = load(&args.model)?;
     let addr = std::net::SocketAddr::new(args.bind, args.port);
+    let config = ServerConfig {
+        threads: args.threads,
+        max_connections: args.max_connections,
+        header_timeout_ms: args.timeout_s * 1000,
+        write_timeout_ms: args.timeout_s * 1000,
+        ..ServerConfig::default()
+    };
     let server =
-        Server::start(App::new(model, params), &addr.to_string(), args.threads).map_err(|e| listen_error(e, &args))?;
+        Server::start_with(App::new(model, params), &addr.to_string(), &config).map_err(|e| listen_error(e, &args))?;
     if !args.bind.is_loopback() {
         note_line(&format!(
             "warning: listening on {} — anyone who can reach this machine can use the page",

@@ -30,6 +30,9 @@ fn serve_refuses_an_address_not_of_this_machine_with_the_fix() {
 #[test]
 fn serve_refuses_bad_options_and_models_before_listening() {
     assert!(fails(&["serve", "--threads", "0"]).contains("--threads 0 is outside 1…64"));
+    assert!(fails(&["serve", "--max-connections", "0"]).contains("--max-connections 0 is outside 1…65536"));
+    assert!(fails(&["serve", "--timeout-s", "0"]).contains("--timeout-s 0 is outside 1…3600"));
+    assert!(fails(&["serve", "--timeout-s", "3601"]).contains("outside"));
     assert!(fails(&["serve", "no-such-model.toml"]).contains("no-such-model.toml"));
     assert!(fails(&["serve", "--set", "r1=99"]).contains("outside its adjustable range"));
     assert!(fails(&["serve", "--bind", "not-an-ip"]).contains("not-an-ip"));
