@@ -23,50 +23,17 @@ impl Vary {
     /// Parses `NAME=LO:HI:N` (or `NAME=LO:HI`, N = 11) and checks it against
     /// the model: a settable parameter, both ends inside its adjustable range.
     pub fn parse(model: &Model, spec: &str) -> Result<Vary, Error> {
-        let bad = |message: String| {
-            Error::Param(ParamError::new(
-                Input::Vary,
-                message,
-                Some("write NAME=LO:HI:N, e.g. z=-10:10:41 (N values, ends included)".into()),
-            ))
-        };
+        const HELP: &str = "write NAME=LO:HI:N, e.g. z=-10:10:41 (N values, ends included)";
+        let bad = |message: String| Error::Param(ParamError::new(Input::Vary, message, Some(HELP.into())));
         let (name, range) = spec
             .split_once('=')
             .ok_or_else(|| bad(format!("`{spec}` is not NAME=LO:HI:N")))?;
-        let parts: Vec<&str> = range.split(':').collect();
-        if !(2..=3).contains(&parts.len()) {
-            return Err(bad(format!("`{spec}`: `{range}` is not LO:HI:N")));
-        }
-        let num = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
-        let (Some(lo), Some(hi)) = (num(parts[0]), num(parts[1])) else {
-            return Err(bad(format!("`{spec}`: the ends of `{range}` must be numbers")));
-        };
-        let n = match parts.get(2) {
-            Some(s) => s
-                .trim()
-                .parse::<usize>()
-                .ok()
-                .filter(|&n| n >= 1)
-                .ok_or_else(|| bad(format!("`{spec}`: N = `{s}` must be a whole number ≥ 1")))?,
-            None => 11,
-        };
-        if n > 1 && lo == hi {
-            return Err(bad(format!(
-                "`{spec}`: LO = HI gives {n} equal values; use N = 1 or widen the range"
-            )));
-        }
-        if n == 1 && lo != hi {
-            // One value from a range: LO, HI or between? Sweeps and charts
-            // both refuse it.
-            return Err(Error::Param(ParamError::new(
-                Input::Vary,
-                format!("`{spec}` asks for 1 value between two different ends; a range needs at least 2"),
-                Some(format!(
-                    "give N ≥ 2 for values from LO to HI, or {}={lo}:{lo}:1 for the one value {lo}",
-                    name.trim()
-                )),
-            )));
-        }
+        let (lo, hi, n) = parse_lo_hi_n(spec, range, Input::Vary, HELP, |lo| {
+            format!(
+                "give N ≥ 2 for values from LO to HI, or {}={lo}:{lo}:1 for the one value {lo}",
+                name.trim()
+            )
+        })?;
         let name = name.trim().to_string();
         // Both ends must be accepted by the parameter (existence, range).
         let mut p = model.defaults();
@@ -83,6 +50,57 @@ impl Vary {
             self.lo + (self.hi - self.lo) * k as f64 / (self.n - 1) as f64
         }
     }
+}
+
+/// The ends and the number of values of `range`, `LO:HI:N` (or `LO:HI`,
+/// N = 11), the part of `spec` given in `input`: finite ends, a whole
+/// N ≥ 1, LO = HI only for N = 1 and N = 1 only for LO = HI. `help` says
+/// how to write it; `one_value(lo)` how to ask for the one value LO
+/// instead of one value between two ends.
+pub(crate) fn parse_lo_hi_n(
+    spec: &str,
+    range: &str,
+    input: Input,
+    help: &str,
+    one_value: impl Fn(f64) -> String,
+) -> Result<(f64, f64, usize), Error> {
+    let bad = |message: String| Error::Param(ParamError::new(input, message, Some(help.into())));
+    let what = if spec == range {
+        format!("`{spec}`")
+    } else {
+        format!("`{spec}`: `{range}`")
+    };
+    let parts: Vec<&str> = range.split(':').collect();
+    if !(2..=3).contains(&parts.len()) {
+        return Err(bad(format!("{what} is not LO:HI:N")));
+    }
+    let num = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
+    let (Some(lo), Some(hi)) = (num(parts[0]), num(parts[1])) else {
+        return Err(bad(format!("{what}: the ends must be numbers")));
+    };
+    let n = match parts.get(2) {
+        Some(s) => s
+            .trim()
+            .parse::<usize>()
+            .ok()
+            .filter(|&n| n >= 1)
+            .ok_or_else(|| bad(format!("`{spec}`: N = `{s}` must be a whole number ≥ 1")))?,
+        None => 11,
+    };
+    if n > 1 && lo == hi {
+        return Err(bad(format!(
+            "`{spec}`: LO = HI gives {n} equal values; use N = 1 or widen the range"
+        )));
+    }
+    if n == 1 && lo != hi {
+        // One value from a range: LO, HI or between? Every study refuses it.
+        return Err(Error::Param(ParamError::new(
+            input,
+            format!("`{spec}` asks for 1 value between two different ends; a range needs at least 2"),
+            Some(one_value(lo)),
+        )));
+    }
+    Ok((lo, hi, n))
 }
 
 /// How settings are chosen.

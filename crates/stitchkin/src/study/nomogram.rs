@@ -18,6 +18,7 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
+use super::design::parse_lo_hi_n;
 use super::tune::{TuneOptions, TuneResult, set_stitch_value, tune};
 use crate::error::{Error, Input, ParamError, StitchError};
 use crate::format::fmt_num;
@@ -38,49 +39,22 @@ impl Axis {
     /// Parses `LO:HI:N`, `LO:HI` (11 values) or a single value `V`, given
     /// in `input` ([`Input::Thickness`] or [`Input::StitchLength`]).
     pub fn parse(spec: &str, input: Input) -> Result<Axis, Error> {
-        let bad = |message: String| {
-            Error::Param(ParamError::new(
-                input,
-                message,
-                Some("write LO:HI:N in mm, e.g. 0.5:5:10 (N values, ends included), or one value".into()),
-            ))
-        };
-        let parts: Vec<&str> = spec.split(':').collect();
-        let num = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
-        let axis = match parts.as_slice() {
-            [v] => {
-                let v = num(v).ok_or_else(|| bad(format!("`{spec}` is not a number")))?;
-                Axis { lo: v, hi: v, n: 1 }
+        const HELP: &str = "write LO:HI:N in mm, e.g. 0.5:5:10 (N values, ends included), or one value";
+        let axis = match spec.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() => Axis { lo: v, hi: v, n: 1 },
+            _ if !spec.contains(':') => {
+                return Err(Error::Param(ParamError::new(
+                    input,
+                    format!("`{spec}` is not a number"),
+                    Some(HELP.into()),
+                )));
             }
-            [lo, hi, rest @ ..] if rest.len() <= 1 => {
-                let (Some(lo), Some(hi)) = (num(lo), num(hi)) else {
-                    return Err(bad(format!("the ends of `{spec}` must be numbers")));
-                };
-                let n = match rest.first() {
-                    Some(s) => s
-                        .trim()
-                        .parse::<usize>()
-                        .ok()
-                        .filter(|&n| n >= 1)
-                        .ok_or_else(|| bad(format!("`{spec}`: N = `{s}` must be a whole number ≥ 1")))?,
-                    None => 11,
-                };
-                if n > 1 && lo == hi {
-                    return Err(bad(format!(
-                        "`{spec}`: LO = HI gives {n} equal values; use N = 1 or widen the range"
-                    )));
-                }
-                if n == 1 && lo != hi {
-                    // One value from a range: LO, HI or between? Refused.
-                    return Err(Error::Param(ParamError::new(
-                        input,
-                        format!("`{spec}` asks for 1 value between two different ends; a range needs at least 2"),
-                        Some(format!("give N ≥ 2 for values from LO to HI, or the one value {lo}")),
-                    )));
-                }
+            _ => {
+                let (lo, hi, n) = parse_lo_hi_n(spec, spec, input, HELP, |lo| {
+                    format!("give N ≥ 2 for values from LO to HI, or the one value {lo}")
+                })?;
                 Axis { lo, hi, n }
             }
-            _ => return Err(bad(format!("`{spec}` is not LO:HI:N"))),
         };
         Ok(axis)
     }
