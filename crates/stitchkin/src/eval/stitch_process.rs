@@ -354,11 +354,13 @@ struct Compared {
     bound: Option<Check>,
 }
 
-/// Compares thread `i` of `prepared` with the take-up of its `path` in
+/// Compares thread `i` of `prepared`, whose P' at its split is
+/// `pprime_split` ([`pprime_at_split`]), with the take-up of its `path` in
 /// `columns`.
 fn compare(
     prepared: &Prepared,
     i: usize,
+    pprime_split: &[f64],
     path: &str,
     phis: &[f64],
     columns: &[Column],
@@ -371,7 +373,7 @@ fn compare(
     // needle's eye; a path split elsewhere is compared with P' at the
     // moving eye. A needle thread is measured at B: P'_B = P'_eye + S − S(φ0).
     let (p, pprime, p_at_b) = match columns.iter().find(|c| c.name == format!("{path}.P_B_mm")) {
-        Some(c) if at_b => (&c.values, pprime_at_split(th, n), true),
+        Some(c) if at_b => (&c.values, pprime_split, true),
         _ => {
             let p_name = format!("{path}.P_mm");
             let c = columns.iter().find(|c| c.name == p_name).ok_or_else(|| {
@@ -380,12 +382,12 @@ fn compare(
                     format!("the take-up column `{p_name}` of its path is missing"),
                 ))
             })?;
-            (&c.values, th.pprime_mm[..n].to_vec(), false)
+            (&c.values, &th.pprime_mm[..n], false)
         }
     };
     let d_mm = (0..n).map(|k| p[k] - pprime[k]).collect();
     let tolerance_mm = prepared.setup.tolerance_mm;
-    let mismatch = mismatch_on_cycle(phis, p, &pprime, &prepared.compared[i], tolerance_mm, !lean);
+    let mismatch = mismatch_on_cycle(phis, p, pprime, &prepared.compared[i], tolerance_mm, !lean);
     let bound = match (p_at_b, &th.travel_mm, &th.loop_mm) {
         (true, Some(s), Some(lp)) => {
             let curve = bound_curve(phis, &s[..n], &lp[..n], prepared.phi0_deg);
@@ -417,26 +419,26 @@ pub(crate) fn stitch_columns(
     let (setup, req, phi0_deg) = (&prepared.setup, &prepared.required, prepared.phi0_deg);
     let from_c = |phi_c: f64| wrap_deg(phi_c + setup.cyclogram_zero_deg);
     let n = phis.len();
+    let pprimes: Vec<Vec<f64>> = req.threads.iter().map(|th| pprime_at_split(th, n)).collect();
     // Each thread's comparison with its path stands alone (a best lag is
     // three FFTs of the cycle): on every core, read from the path columns.
-    let compared_threads: Vec<Option<Compared>> = req
-        .threads
+    let compared_threads: Vec<Option<Compared>> = pprimes
         .par_iter()
         .zip(&setup.paths)
         .enumerate()
-        .map(|(i, (_, path))| {
+        .map(|(i, (pprime, path))| {
             path.as_ref()
-                .map(|path| compare(prepared, i, path, phis, columns, lean))
+                .map(|path| compare(prepared, i, pprime, path, phis, columns, lean))
                 .transpose()
         })
         .collect::<Result<_, Error>>()?;
     let mut threads = Vec::new();
     let mut checks = Vec::new();
     let needle_checks = prepared.needle_checks();
-    for (i, ((th, path), c)) in req.threads.iter().zip(&setup.paths).zip(compared_threads).enumerate() {
+    let each = req.threads.iter().zip(&setup.paths).zip(pprimes).zip(compared_threads);
+    for (i, (((th, path), pprime), c)) in each.enumerate() {
         let name = &th.name;
         let at_b = th.travel_mm.is_some();
-        let pprime = pprime_at_split(th, n);
         let split = if at_b { SplitPoint::B } else { SplitPoint::Eye };
         thread_columns(th, &pprime, n, columns);
         let mut m = None;
