@@ -41,6 +41,21 @@ pub struct CycleOptions {
     pub lean: bool,
 }
 
+impl CycleOptions {
+    /// The cycle a study reads figures of merit from, at a φ step of
+    /// `step_deg`: lean, without analogs or real velocities, the model's
+    /// output points.
+    pub fn for_figures(step_deg: f64) -> CycleOptions {
+        CycleOptions {
+            step_deg,
+            rpm: None,
+            analogs: false,
+            points: None,
+            lean: true,
+        }
+    }
+}
+
 impl Default for CycleOptions {
     fn default() -> Self {
         CycleOptions {

@@ -478,13 +478,7 @@ impl Problem<'_> {
 
     fn plain(&self, p: &Params) -> Result<Vec<(String, f64)>, Error> {
         self.cycles.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let opts = CycleOptions {
-            step_deg: self.step_deg,
-            rpm: None,
-            analogs: false,
-            points: None,
-            lean: true,
-        };
+        let opts = CycleOptions::for_figures(self.step_deg);
         Ok(figures(&run_cycle_with(self.model, p, &opts, None)?))
     }
 

@@ -370,13 +370,7 @@ fn plain_figures(
     step_deg: f64,
     shared: Option<&Prepared>,
 ) -> Result<Vec<(String, f64)>, Error> {
-    let opts = CycleOptions {
-        step_deg,
-        rpm: None,
-        analogs: false,
-        points: None,
-        lean: true,
-    };
+    let opts = CycleOptions::for_figures(step_deg);
     let t = run_cycle_with(
         model,
         &Params {

@@ -174,13 +174,7 @@ impl SweepPlan {
         patterns: Option<&[String]>,
         step_deg: f64,
     ) -> Result<SweepPlan, Error> {
-        let opts = CycleOptions {
-            step_deg,
-            rpm: None,
-            analogs: false,
-            points: None,
-            lean: true,
-        };
+        let opts = CycleOptions::for_figures(step_deg);
         let nominal = crate::eval::run_cycle(model, base, &opts)?;
         let available = figures(&nominal);
         let patterns = patterns.map_or_else(|| super::figures::default_figures(&available), <[String]>::to_vec);

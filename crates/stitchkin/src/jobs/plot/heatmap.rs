@@ -21,7 +21,7 @@ pub fn figure_grid(
     step_deg: f64,
 ) -> Result<FigureGrid, Error> {
     let (across, up) = two_parameters(model, vary)?;
-    let opts = figure_cycle(step_deg);
+    let opts = CycleOptions::for_figures(step_deg);
     let name = one_figure(model, params, figure, &opts)?;
     let sw = Sweep::new(vec![across.clone(), up.clone()], Design::Grid)?;
     let shared = shared_stitch(model, params, &sw, step_deg)?;
@@ -57,21 +57,12 @@ pub fn figure_grid(
 /// The names of the figures of merit the model offers at `params` (what
 /// `--figure` may name).
 pub fn figure_names(model: &Model, params: &Params, step_deg: f64) -> Result<Vec<String>, Error> {
-    Ok(figures(&run_cycle(model, params, &figure_cycle(step_deg))?)
-        .into_iter()
-        .map(|(n, _)| n)
-        .collect())
-}
-
-/// The cycle the figures of merit are read from: lean, no point columns.
-fn figure_cycle(step_deg: f64) -> CycleOptions {
-    CycleOptions {
-        step_deg,
-        analogs: false,
-        points: None,
-        lean: true,
-        ..Default::default()
-    }
+    Ok(
+        figures(&run_cycle(model, params, &CycleOptions::for_figures(step_deg))?)
+            .into_iter()
+            .map(|(n, _)| n)
+            .collect(),
+    )
 }
 
 /// The two parameters of a heat map, each checked and ascending.
