@@ -2,8 +2,10 @@
 
     python crates/stitchkin-py/bench/peers.py [--repeat N]
 
-Needs the package installed (docs/python.md), NumPy, and pylinkage for its
-row (`pip install pylinkage`; without it the row says so). Prints one table:
+Runs from a checkout (it reads the engine benchmark's four-bar from
+crates/stitchkin/benches/four_bar.toml). Needs the package installed
+(docs/python.md), NumPy, and pylinkage for its row (`pip install
+pylinkage`; without it the row says so). Prints one table:
 each way of computing the four-bar of the engine benchmark (crank 15 mm,
 coupler 50 mm, rocker 40 mm, frame 60 mm, a coupler point 20 mm from A at
 30°) over one turn of 360 positions, its time per turn and its ratio to
@@ -12,6 +14,7 @@ stitchkin's Rust core doing the same call.
 
 import argparse
 import math
+import os
 import statistics
 import time
 
@@ -20,30 +23,8 @@ import numpy as np
 import stitchkin
 from stitchkin import _native
 
-FOUR_BAR = """
-[model]
-name = "bench-four-bar"
-[points]
-O1 = [0, 0]
-O2 = [60, 0]
-[[drivers]]
-type = "crank"
-center = "O1"
-out = "A"
-radius = 15
-[[groups]]
-type = "rrr"
-joints = ["A", "O2"]
-lengths = [50, 40]
-out = "B"
-branch = "left"
-[[groups]]
-type = "rigid_point"
-base = ["A", "B"]
-distance = 20
-angle_deg = 30
-out = "P"
-"""
+# The engine benchmark's four-bar, from the file it reads too.
+FOUR_BAR_FILE = os.path.join(os.path.dirname(__file__), "..", "..", "stitchkin", "benches", "four_bar.toml")
 
 R1, L2, L3, L0, DP, GAMMA = 15.0, 50.0, 40.0, 60.0, 20.0, math.radians(30.0)
 
@@ -100,7 +81,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=200, help="runs of each, the median is shown (default 200)")
     repeat = parser.parse_args().repeat
-    model = stitchkin.Model.from_toml(FOUR_BAR, "bench-four-bar.toml")
+    model = stitchkin.Model.load(FOUR_BAR_FILE)
     # The ways compute the same four-bar: NumPy's positions are stitchkin's.
     table = model.run(analogs=False)
     bx, by, px, py = numpy_four_bar()

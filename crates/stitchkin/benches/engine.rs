@@ -17,31 +17,10 @@ use stitchkin::thread::ThreadWork;
 static ALLOC: divan::AllocProfiler = divan::AllocProfiler::system();
 
 /// The benchmark four-bar: O1 = (0,0), O2 = (60,0), crank 15,
-/// coupler 50, rocker 40, coupler point 20 mm from A at 30° to AB.
-const FOUR_BAR: &str = r#"
-[model]
-name = "bench-four-bar"
-[points]
-O1 = [0, 0]
-O2 = [60, 0]
-[[drivers]]
-type = "crank"
-center = "O1"
-out = "A"
-radius = 15
-[[groups]]
-type = "rrr"
-joints = ["A", "O2"]
-lengths = [50, 40]
-out = "B"
-branch = "left"
-[[groups]]
-type = "rigid_point"
-base = ["A", "B"]
-distance = 20
-angle_deg = 30
-out = "P"
-"#;
+/// coupler 50, rocker 40, coupler point 20 mm from A at 30° to AB. One file,
+/// which the Python peer benchmark (crates/stitchkin-py/bench/peers.py)
+/// reads too.
+const FOUR_BAR: &str = include_str!("four_bar.toml");
 
 fn main() {
     divan::main();
