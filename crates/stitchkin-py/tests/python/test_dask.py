@@ -4,12 +4,11 @@ sweep row for row."""
 import csv
 import io
 
-import numpy as np
 import pytest
 
 import stitchkin
 
-from test_model import as_written, cli
+from test_model import assert_rows_equal, cli
 
 distributed = pytest.importorskip("distributed")
 import stitchkin.dask  # noqa: E402
@@ -33,16 +32,8 @@ def test_the_dask_sweep_equals_the_command_lines(client):
     frame = stitchkin.dask.sweep(
         model, ["z=-10:10", "dphi=-20:20"], samples=200, seed=3, client=client, shards=7
     )
-    assert list(frame.columns) == names and len(frame) == len(rows) == 200
-    for k, name in enumerate(names):
-        column = [r[k] for r in rows]
-        if name == "status":
-            assert list(frame[name]) == column
-        elif name == "index":
-            assert list(frame[name]) == [int(x) for x in column]
-        else:
-            expected = np.array([float(x) if x else np.nan for x in column])
-            np.testing.assert_array_equal(as_written(frame[name].to_numpy()), expected, err_msg=name)
+    assert len(frame) == len(rows) == 200
+    assert_rows_equal(frame, names, rows)
 
 
 def test_a_workers_error_reaches_the_client_whole(client):

@@ -33,6 +33,23 @@ def as_written(x):
     return np.array([float(f"{v:.11e}") for v in x])
 
 
+def assert_rows_equal(columns, names, rows):
+    """`columns` (a Table or a DataFrame) holds the CSV `rows` under `names`:
+    `index` and `status` as written, every other column at the CSV's 12
+    digits, an empty cell as NaN."""
+    assert list(columns) == names and len(columns[names[0]]) == len(rows)
+    for k, name in enumerate(names):
+        column = [r[k] for r in rows]
+        got = np.asarray(columns[name])
+        if name == "status":
+            assert list(got) == column
+        elif name == "index":
+            assert list(got) == [int(x) for x in column]
+        else:
+            expected = np.array([float(x) if x else np.nan for x in column])
+            np.testing.assert_array_equal(as_written(got), expected, err_msg=name)
+
+
 def test_presets_are_the_command_lines():
     listed = cli("presets")
     assert stitchkin.default_preset() == "mf7923d"
@@ -81,17 +98,8 @@ def cli_sweep(*args):
 def test_sweep_gives_the_command_lines_rows(args, kwargs):
     names, rows = cli_sweep("--preset", "mf7923d", *args)
     table = stitchkin.Model.preset("mf7923d").sweep(**kwargs)
-    assert list(table) == names
-    assert len(rows) == table.rows
-    for k, name in enumerate(names):
-        column = [r[k] for r in rows]
-        if name == "status":
-            assert list(table[name]) == column
-        elif name == "index":
-            assert list(table[name]) == [int(x) for x in column]
-        else:
-            expected = np.array([float(x) if x else np.nan for x in column])
-            np.testing.assert_array_equal(as_written(table[name]), expected, err_msg=name)
+    assert table.rows == len(rows)
+    assert_rows_equal(table, names, rows)
 
 
 @pytest.mark.parametrize("args, kwargs", [([], {}), (["--set", "r1=5", "--step", "2"], {"set": {"r1": 5.0}, "step": 2.0})])
