@@ -23,7 +23,7 @@ use std::io;
 use std::net::SocketAddr;
 use std::pin::Pin;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::task::{Context, Poll};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -203,7 +203,7 @@ struct Shared {
     open: AtomicUsize,
     /// The open connections, oldest first: what the cap may close.
     slots: std::sync::Mutex<std::collections::BTreeMap<u64, Arc<Slot>>>,
-    next_slot: std::sync::atomic::AtomicU64,
+    next_slot: AtomicU64,
     max_connections: AtomicUsize,
     /// Refused connections still being answered 503.
     refusing: AtomicUsize,
@@ -223,7 +223,7 @@ impl Shared {
             max_head_bytes: config.max_head_bytes.max(1024),
             open: AtomicUsize::new(0),
             slots: std::sync::Mutex::new(std::collections::BTreeMap::new()),
-            next_slot: std::sync::atomic::AtomicU64::new(0),
+            next_slot: AtomicU64::new(0),
             max_connections: AtomicUsize::new(config.max_connections.max(1)),
             refusing: AtomicUsize::new(0),
             refused: AtomicUsize::new(0),
@@ -257,16 +257,16 @@ const FIRST_REQUEST_GRACE_MS: u64 = 1000;
 struct Slot {
     opened: Instant,
     /// It has asked at least once.
-    asked: std::sync::atomic::AtomicBool,
+    asked: AtomicBool,
     /// Bytes came in since its last request was read: a request is on
     /// its way.
-    received: std::sync::atomic::AtomicBool,
+    received: AtomicBool,
     /// Requests being computed on it.
     computing: AtomicUsize,
     /// An answer waits for the client to take it.
-    sending: std::sync::atomic::AtomicBool,
+    sending: AtomicBool,
     /// Chosen to make room; `close` tells its task.
-    closing: std::sync::atomic::AtomicBool,
+    closing: AtomicBool,
     close: tokio::sync::Notify,
 }
 
