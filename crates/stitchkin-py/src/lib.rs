@@ -12,11 +12,14 @@ use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use stitchkin::eval::{CycleOptions, run_cycle};
+use stitchkin::error::{Input, ParamError};
+use stitchkin::eval::{CycleOptions, cycle_phis_deg, path_error, run_cycle};
+use stitchkin::mechanism::Phi;
 use stitchkin::model::{Model as LibModel, Params};
 use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::sweep::{self, Row, SweepPlan};
 use stitchkin::study::tune;
+use stitchkin::thread::ThreadWork;
 
 // Named in the package (`stitchkin.StitchkinError`), where it is
 // re-exported: pickling finds it there (a Dask worker's error reaches the
@@ -175,7 +178,11 @@ impl Model {
     /// `columns`: patterns where `*` matches anything (`["*.P_B_mm"]`);
     /// `phi_deg` is always kept. `analogs`: with the analog columns.
     /// `rpm`: adds real velocities and accelerations (default: the model's).
-    #[pyo3(signature = (step = 1.0, set = None, columns = None, analogs = true, rpm = None))]
+    /// `points`: the points whose coordinates (world frame, mm) are
+    /// tabulated, fixed or moving (default: the model's output points), as
+    /// `--points`.
+    #[pyo3(signature = (step = 1.0, set = None, columns = None, analogs = true, rpm = None, points = None))]
+    #[allow(clippy::too_many_arguments)]
     fn run<'py>(
         &self,
         py: Python<'py>,
@@ -184,13 +191,18 @@ impl Model {
         columns: Option<Vec<String>>,
         analogs: bool,
         rpm: Option<f64>,
+        points: Option<Vec<String>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let params = self.params(py, set)?;
+        let points = points
+            .map(|p| self.model.point_slots(&p, Input::Points))
+            .transpose()
+            .map_err(|e| py_error(py, &e))?;
         let opts = CycleOptions {
             step_deg: step,
             rpm: rpm.or(self.model.rpm()),
             analogs,
-            points: None,
+            points,
             lean: false,
         };
         let model = &self.model;
@@ -428,28 +440,86 @@ fn consumption<'py>(
 }
 
 /// The time of one `Model.run(step, analogs=analogs)` computed in Rust,
-/// without Python: the mean of `repeat` calls after one warm-up, seconds.
+/// without Python: the median of `repeat` calls after one warm-up, seconds
+/// (as the bench times the Python calls).
+/// With `lean`, the lean cycle studies read their figures from
+/// (`CycleOptions::for_figures`: no analogs, wrap angles, tensions or link
+/// angles).
 /// For the peer benchmark (bench/peers.py), which compares it with the
-/// same call from Python.
+/// same call from Python and with NumPy.
 #[pyfunction]
-#[pyo3(signature = (model, step = 1.0, analogs = true, repeat = 100))]
-fn _time_run(py: Python<'_>, model: &Model, step: f64, analogs: bool, repeat: usize) -> PyResult<f64> {
+#[pyo3(signature = (model, step = 1.0, analogs = true, repeat = 100, lean = false))]
+fn _time_run(py: Python<'_>, model: &Model, step: f64, analogs: bool, repeat: usize, lean: bool) -> PyResult<f64> {
     let params = model.model.defaults();
-    let opts = CycleOptions {
-        step_deg: step,
-        rpm: model.model.rpm(),
-        analogs,
-        points: None,
-        lean: false,
+    let opts = if lean {
+        CycleOptions::for_figures(step)
+    } else {
+        CycleOptions {
+            step_deg: step,
+            rpm: model.model.rpm(),
+            analogs,
+            points: None,
+            lean: false,
+        }
     };
     let lib = &model.model;
     py.detach(|| {
         run_cycle(lib, &params, &opts)?;
-        let began = std::time::Instant::now();
-        for _ in 0..repeat.max(1) {
-            std::hint::black_box(run_cycle(lib, &params, &opts)?);
-        }
-        Ok::<_, stitchkin::Error>(began.elapsed().as_secs_f64() / repeat.max(1) as f64)
+        let mut times = (0..repeat.max(1))
+            .map(|_| {
+                let began = std::time::Instant::now();
+                std::hint::black_box(run_cycle(lib, &params, &opts)?);
+                Ok(began.elapsed().as_secs_f64())
+            })
+            .collect::<Result<Vec<f64>, stitchkin::Error>>()?;
+        times.sort_by(f64::total_cmp);
+        Ok::<_, stitchkin::Error>(times[times.len() / 2])
+    })
+    .map_err(|e| py_error(py, &e))
+}
+
+/// The time of the engine's own loop for a model's take-up, without a
+/// table: the mechanism solved over one turn at `step` and every thread
+/// path's length ξ(φ) (`Mechanism::solve`, `Threads::evaluate_into`, the
+/// buffers kept between calls, as the engine benchmark `mf7923d_take_up`
+/// times it); the median of `repeat` calls after one warm-up, seconds. For
+/// the peer benchmark (bench/peers.py).
+#[pyfunction]
+#[pyo3(signature = (model, step = 1.0, repeat = 100))]
+fn _time_take_up(py: Python<'_>, model: &Model, step: f64, repeat: usize) -> PyResult<f64> {
+    let lib = &model.model;
+    let params = lib.defaults();
+    py.detach(|| {
+        stitchkin::eval::check_options(&CycleOptions::for_figures(step))?;
+        let mech = lib.mechanism::<f64>(&params)?;
+        let Some(threads) = lib.machine::<f64>(&params)?.threads else {
+            return Err(stitchkin::Error::Param(ParamError::general(
+                format!("model `{}` has no thread paths to time", lib.name()),
+                Some("give a model with a [thread] table, e.g. Model.preset(\"mf7923d\")".into()),
+            )));
+        };
+        let phis_deg = cycle_phis_deg(lib.phi_start_deg(), step);
+        let phis = Phi::table(&phis_deg);
+        let mut pose = mech.new_pose(phis.len());
+        let mut work = ThreadWork::default();
+        let once = |pose: &mut _, work: &mut _| -> Result<(), stitchkin::Error> {
+            mech.solve(&phis, pose)?;
+            threads.evaluate_into(pose, None, work).map_err(|e| {
+                let phi_deg = phis_deg[e.k.min(phis_deg.len() - 1)];
+                path_error(e, phi_deg)
+            })
+        };
+        once(&mut pose, &mut work)?;
+        let mut times = (0..repeat.max(1))
+            .map(|_| {
+                let began = std::time::Instant::now();
+                once(&mut pose, &mut work)?;
+                std::hint::black_box(&work);
+                Ok(began.elapsed().as_secs_f64())
+            })
+            .collect::<Result<Vec<f64>, stitchkin::Error>>()?;
+        times.sort_by(f64::total_cmp);
+        Ok(times[times.len() / 2])
     })
     .map_err(|e| py_error(py, &e))
 }
@@ -490,6 +560,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(default_preset, m)?)?;
     m.add_function(wrap_pyfunction!(consumption, m)?)?;
     m.add_function(wrap_pyfunction!(_time_run, m)?)?;
+    m.add_function(wrap_pyfunction!(_time_take_up, m)?)?;
     m.add("StitchkinError", m.py().get_type::<StitchkinError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -3,9 +3,8 @@
 
 use std::path::PathBuf;
 
-use stitchkin::error::{Error, ParamError};
+use stitchkin::error::{Error, Input};
 use stitchkin::eval::{self, CycleOptions};
-use stitchkin::model::Model;
 use stitchkin::output::{self, text};
 
 use crate::common::{CsvOrJson, ModelArgs, SinkWriter, emit, load, note};
@@ -52,24 +51,13 @@ pub(crate) struct Args {
     output: Option<PathBuf>,
 }
 
-/// The indices of the `--points`, by name.
-fn point_indices(model: &Model, names: &[String]) -> Result<Vec<usize>, Error> {
-    names
-        .iter()
-        .map(|n| {
-            model.point_names().iter().position(|p| p == n).ok_or_else(|| {
-                Error::Param(ParamError::general(
-                    format!("the model has no point `{n}` (in --points)"),
-                    Some(format!("its points are: {}", model.point_names().join(", "))),
-                ))
-            })
-        })
-        .collect()
-}
-
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     let (model, params) = load(&args.model)?;
-    let points = args.points.as_deref().map(|p| point_indices(&model, p)).transpose()?;
+    let points = args
+        .points
+        .as_deref()
+        .map(|p| model.point_slots(p, Input::Points))
+        .transpose()?;
     let opts = CycleOptions {
         step_deg: args.step,
         rpm: args.rpm.or(model.rpm()),

@@ -57,6 +57,7 @@ class Model:
         columns: Optional[Sequence[str]] = None,
         analogs: bool = True,
         rpm: Optional[float] = None,
+        points: Optional[Sequence[str]] = None,
     ) -> "Table": ...
     def match(self, step: float = 1.0, set: Optional[Mapping[str, float]] = None) -> dict: ...
     def tune(

@@ -189,6 +189,18 @@ def test_a_model_file_error_has_its_place_and_help(tmp_path):
     assert e.value.line == 11 and str(path) in e.value.file
 
 
+def test_run_with_points_fixed_and_moving():
+    args = ("--preset", "mf7923d", "--step", "5", "--no-analogs", "--points", "G4_1,B,T1_1")
+    names, expected = cli_table(*args)
+    table = stitchkin.Model.preset("mf7923d").run(step=5.0, analogs=False, points=["G4_1", "B", "T1_1"])
+    assert list(table) == names and "G4_1.x_mm" in names and "B.z_mm" in names
+    for name in names:
+        np.testing.assert_array_equal(as_written(table[name]), expected[name], err_msg=name)
+    with pytest.raises(stitchkin.StitchkinError, match="no point `Q`") as e:
+        stitchkin.Model.preset("mf7923d").run(points=["Q"])
+    assert "its points are" in e.value.help
+
+
 def test_a_missing_file_and_a_bad_setting_are_errors(tmp_path):
     with pytest.raises(stitchkin.StitchkinError, match="nope.toml"):
         stitchkin.Model.load(tmp_path / "nope.toml")
@@ -226,11 +238,14 @@ def test_the_docs_snippets_run():
 
 
 def test_the_peer_bench_runs():
-    """bench/peers.py runs and prints its table (its figures are not checked
+    """bench/peers.py runs and prints its tables (its figures are not checked
     here: timing belongs in the bench)."""
     import sys
 
     bench = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "peers.py")
     done = subprocess.run([sys.executable, bench, "--repeat", "3"], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
-    assert "Rust core" in done.stdout and "NumPy, vectorised" in done.stdout and "within" in done.stdout
+    assert "Rust core" in done.stdout and "NumPy, vectorised" in done.stdout
+    # Both NumPy peers were checked against stitchkin before they were timed.
+    assert "NumPy's positions of B and P are stitchkin's within" in done.stdout
+    assert "MF-7923D take-up" in done.stdout and "is stitchkin's within" in done.stdout

@@ -1196,6 +1196,15 @@ impl Model {
             })
     }
 
+    /// The slots of points by name, in order (a cycle's `points` to
+    /// tabulate); an unknown name is an error of `input`.
+    pub fn point_slots(&self, names: &[String], input: Input) -> Result<Vec<usize>, crate::Error> {
+        names
+            .iter()
+            .map(|n| self.point_slot(n).map_err(|e| e.given_in(input)))
+            .collect()
+    }
+
     /// The slot of a point that moves, by name (a fixed point has no path).
     pub fn moving_point_slot(&self, name: &str) -> Result<usize, PointError> {
         let slot = self.point_slot(name)?;
