@@ -166,6 +166,34 @@ fn columns_can_be_selected_by_pattern() {
 }
 
 #[test]
+fn consumption_of_a_lockstitch_seam_with_waste() {
+    let args = ["consumption", "--type", "301", "--thickness", "2", "--stitch", "2.5"];
+    let (out, _) = ok(&[&args[..], &["--seam", "2500", "--waste", "15"]].concat());
+    assert!(
+        out.contains("bobbin") && out.contains("1000.0 stitches") && out.contains("10.3500"),
+        "{out}"
+    );
+    assert!(out.contains("taut consumption"), "{out}");
+    let (csv, _) = ok(&[&args[..], &["--interlace", "0.25", "--format", "csv"]].concat());
+    let rows: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        rows[0],
+        "thread,contour,formula,length_mm,ratio_mm_per_mm,seam_m,seam_with_waste_m"
+    );
+    assert_eq!(rows[1], "needle 1,,\"t + 2·f·l_m\",3.5,1.4,1.4,1.4");
+    assert_eq!(rows[2], "bobbin,,\"t + 2·(1 − f)·l_m\",5.5,2.2,2.2,2.2");
+    assert_eq!(rows[3], "total,,\"sum of the threads\",9,3.6,3.6,3.6");
+    for (flag, value, words) in [
+        ("--interlace", "1.5", "interlacing depth"),
+        ("--seam", "0", "seam length"),
+        ("--waste", "-3", "waste allowance"),
+    ] {
+        let e = fails(&[&args[..], &[flag, value]].concat());
+        assert!(e.contains(words) && e.contains(&format!("(in {flag})")), "{e}");
+    }
+}
+
+#[test]
 fn consumption_prints_the_thread_per_stitch() {
     let (out, _) = ok(&[
         "consumption",

@@ -406,14 +406,22 @@ impl Model {
 }
 
 /// The thread one finished stitch consumes, from the stitch's geometry, as
-/// `stitchkin consumption --format json`: a dict per thread of the stitch.
+/// `stitchkin consumption --format json`: a dict per thread of the stitch,
+/// per stitch (`length_mm`), per length of seam (`ratio`, mm/mm) and for
+/// the seam without and with the waste allowance (`seam_m`,
+/// `seam_with_waste_m`), and the totals. Taut consumption (`notes`).
 ///
-/// `stitch_type`: 401, 406, 407, 501–512, 514 or 521. `thickness`: the
-/// material, mm. `stitch`: the stitch length, mm. `width`: the overedge
-/// width, mm (500-class stitches). `incline`: the stitch's incline, deg.
-/// `edge`: the fraction of the material the edge threads pass (0…1).
+/// `stitch_type`: 301, 401, 406, 407, 501–512, 514, 521, 602 or 605.
+/// `thickness`: the material, mm. `stitch`: the stitch length, mm. `width`:
+/// the overedge width, mm (500-class stitches). `incline`: the needle's
+/// incline, deg. `edge`: where the looper threads meet on the edge, a
+/// fraction of the thickness (0…1). `interlace`: where a lockstitch's
+/// threads interlace, a fraction of the thickness below the top face (0.5:
+/// balanced). `seam`: the seam's length, mm. `waste`: the allowance for
+/// waste, per cent.
 #[pyfunction]
-#[pyo3(signature = (stitch_type, thickness, stitch, width = None, incline = 0.0, edge = 0.5))]
+#[pyo3(signature = (stitch_type, thickness, stitch, width = None, incline = 0.0, edge = 0.5, interlace = 0.5, seam = 1000.0, waste = 0.0))]
+#[allow(clippy::too_many_arguments)]
 fn consumption<'py>(
     py: Python<'py>,
     stitch_type: u16,
@@ -422,6 +430,9 @@ fn consumption<'py>(
     width: Option<f64>,
     incline: f64,
     edge: f64,
+    interlace: f64,
+    seam: f64,
+    waste: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
     let geometry = stitchkin::StitchGeometry {
         thickness_mm: thickness,
@@ -429,8 +440,14 @@ fn consumption<'py>(
         width_mm: width.unwrap_or(0.0),
         incline_deg: incline,
         edge_fraction: edge,
+        interlace_fraction: interlace,
+    };
+    let seam = stitchkin::Seam {
+        length_mm: seam,
+        waste_pct: waste,
     };
     let json = stitchkin::consumption(stitch_type, &geometry)
+        .and_then(|c| c.for_seam(&seam))
         .map_err(stitchkin::Error::Param)
         .and_then(|c| {
             serde_json::to_string(&c).map_err(|e| stitchkin::Error::Internal(format!("cannot write JSON: {e}")))

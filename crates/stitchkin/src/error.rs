@@ -119,6 +119,12 @@ pub enum Input {
     Incline,
     /// Where the looper threads meet on the edge, a fraction of m.
     EdgeFraction,
+    /// Where a lockstitch's threads interlace, a fraction of m below the top.
+    Interlace,
+    /// The length of seam a consumption is wanted for, mm.
+    SeamLength,
+    /// The allowance for waste on a seam's thread, per cent.
+    Waste,
     /// A stitch type, its ISO 4915 number.
     StitchType,
     /// The settings tuning or fitting may change.
@@ -182,6 +188,9 @@ impl Input {
             Input::Width => "width",
             Input::Incline => "incline",
             Input::EdgeFraction => "edge_fraction",
+            Input::Interlace => "interlace_fraction",
+            Input::SeamLength => "seam_length",
+            Input::Waste => "waste",
             Input::StitchType => "stitch_type",
             Input::Adjust => "adjust",
             Input::Tolerance => "tolerance",
@@ -204,7 +213,7 @@ impl Input {
     }
 
     /// Every input, for front ends that check they name each one.
-    pub const ALL: [Input; 39] = [
+    pub const ALL: [Input; 42] = [
         Input::Preset,
         Input::Set,
         Input::Vary,
@@ -226,6 +235,9 @@ impl Input {
         Input::Width,
         Input::Incline,
         Input::EdgeFraction,
+        Input::Interlace,
+        Input::SeamLength,
+        Input::Waste,
         Input::StitchType,
         Input::Adjust,
         Input::Tolerance,

@@ -31,6 +31,9 @@ def consumption(
     width: Optional[float] = None,
     incline: float = 0.0,
     edge: float = 0.5,
+    interlace: float = 0.5,
+    seam: float = 1000.0,
+    waste: float = 0.0,
 ) -> dict: ...
 
 class Model:

@@ -135,6 +135,8 @@ def test_tune_gives_the_command_lines_json():
         (["--type", "504", "--thickness", "2.5", "--stitch", "2.8", "--width", "4", "--incline", "20"],
          dict(stitch_type=504, thickness=2.5, stitch=2.8, width=4.0, incline=20.0)),
         (["--type", "407", "--thickness", "3", "--stitch", "3"], dict(stitch_type=407, thickness=3.0, stitch=3.0)),
+        (["--type", "301", "--thickness", "2", "--stitch", "2.5", "--interlace", "0.4", "--seam", "2500", "--waste", "15"],
+         dict(stitch_type=301, thickness=2.0, stitch=2.5, interlace=0.4, seam=2500.0, waste=15.0)),
     ],
 )
 def test_consumption_gives_the_command_lines_json(args, kwargs):
@@ -150,6 +152,19 @@ def test_consumption_errors():
         stitchkin.consumption(999, 2.5, 2.8)
     with pytest.raises(stitchkin.StitchkinError):
         stitchkin.consumption(407, -1.0, 2.8)
+    with pytest.raises(stitchkin.StitchkinError, match="waste"):
+        stitchkin.consumption(301, 2.0, 2.5, waste=-5.0)
+    with pytest.raises(stitchkin.StitchkinError, match="seam"):
+        stitchkin.consumption(301, 2.0, 2.5, seam=0.0)
+
+
+def test_consumption_per_seam():
+    c = stitchkin.consumption(301, 2.0, 2.5, seam=2500.0, waste=15.0)
+    needle, bobbin = c["threads"]
+    assert (needle["thread"], bobbin["thread"]) == ("needle 1", "bobbin")
+    assert needle["length_mm"] == pytest.approx(4.5) and needle["ratio"] == pytest.approx(1.8)
+    assert c["total_seam_m"] == pytest.approx(9.0) and c["total_seam_with_waste_m"] == pytest.approx(10.35)
+    assert "taut" in c["notes"][0]
 
 
 def test_sweep_errors():

@@ -130,6 +130,7 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
         width_mm: if overedge { spec.a_e_mm } else { 0.0 },
         incline_deg: tilt,
         edge_fraction: if overedge { spec.edge_split } else { 0.5 },
+        ..StitchGeometry::new(m, t)
     };
     let per_stitch = consumption(ty.number(), &geometry)?;
     let formula = |thread: &str| {

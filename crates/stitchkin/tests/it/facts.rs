@@ -1300,6 +1300,7 @@ fn al_consumption(st: &StitchSummary) -> Vec<Fact> {
         width_mm: 4.0,
         incline_deg: 20.0,
         edge_fraction: 0.5,
+        interlace_fraction: 0.5,
     };
     let per: Vec<f64> = st.threads.iter().map(|th| th.per_stitch_mm).collect();
     let locked: Vec<f64> = st.threads.iter().map(|th| th.locked_mm).collect();

@@ -355,6 +355,7 @@ fn lock_cut_is_the_per_stitch_consumption() {
                 width_mm: 4.0,
                 incline_deg: 20.0,
                 edge_fraction: 0.5,
+                interlace_fraction: 0.5,
             },
         ),
         (
@@ -366,6 +367,7 @@ fn lock_cut_is_the_per_stitch_consumption() {
                 width_mm: 0.0,
                 incline_deg: 0.0,
                 edge_fraction: 0.5,
+                interlace_fraction: 0.5,
             },
         ),
     ];
@@ -757,6 +759,7 @@ fn altin503_locks_cut_the_per_stitch_consumption_and_jumps_have_their_signs() {
         width_mm: 4.0,
         incline_deg: 20.0,
         edge_fraction: 0.5,
+        interlace_fraction: 0.5,
     };
     let c = consumption(503, &geometry).unwrap();
     let r = required_take_up(&altin503(2.5, 2.8), &[0.0], 0.0).unwrap();

@@ -16,6 +16,7 @@ fn consumption_matches_the_reference_table() {
         width_mm: 4.0,
         incline_deg: 20.0,
         edge_fraction: 0.5,
+        interlace_fraction: 0.5,
     };
     let mf = StitchGeometry {
         thickness_mm: 3.0,
@@ -23,6 +24,7 @@ fn consumption_matches_the_reference_table() {
         width_mm: 0.0,
         incline_deg: 0.0,
         edge_fraction: 0.5,
+        interlace_fraction: 0.5,
     };
     let mut checked = 0;
     for line in text.lines().skip(1) {
