@@ -226,115 +226,14 @@ pub fn consumption(stitch_type: u16, g: &StitchGeometry) -> Result<Consumption, 
             Some("give the overedge width in mm, e.g. 4".into()),
         ));
     }
-    let (m, t, a, e) = (g.thickness_mm, g.stitch_mm, g.width_mm, g.edge_fraction);
+    let (m, t, a) = (g.thickness_mm, g.stitch_mm, g.width_mm);
     let l_m = m / g.incline_deg.to_radians().cos();
     let l = a.hypot(t);
-    let contour = |c: u8| -> (String, Option<f64>) {
-        match c {
-            1 => ("t + 2·l_m".into(), Some(t + 2.0 * l_m)),
-            2 => ("t + 2·l_m + l".into(), Some(t + 2.0 * l_m + l)),
-            3 => (
-                "t + 2·l_m + 2·a + 2·e·m".into(),
-                Some(t + 2.0 * l_m + 2.0 * a + 2.0 * e * m),
-            ),
-            10 => ("a + l + 2·(1 − e)·m".into(), Some(a + l + 2.0 * (1.0 - e) * m)),
-            13 => ("a + l + 2·e·m".into(), Some(a + l + 2.0 * e * m)),
-            _ => (
-                "not derivable: the thesis's drawing of this contour is lost".into(),
-                None,
-            ),
-        }
+    let threads = match stitch_type {
+        301 => lockstitch(g, l_m),
+        401 | 406 | 407 | 602 | 605 => chain_or_cover(stitch_type, t, l_m),
+        _ => overedge(stitch_type, g, l_m, l)?,
     };
-    let thread = |name: &str, contour: Option<u8>, (formula, length_mm): (String, Option<f64>)| ThreadConsumption {
-        thread: name.to_string(),
-        contour,
-        formula,
-        length_mm,
-        ratio: None,
-        seam_m: None,
-        seam_with_waste_m: None,
-    };
-    let mut threads = Vec::new();
-    match stitch_type {
-        301 => {
-            // Interlacing at depth f·m on the needle line (G7): each thread
-            // lies along the top (bottom) face from hole to hole and goes into
-            // the hole to the interlacing and back.
-            let f = g.interlace_fraction;
-            threads.push(thread(
-                "needle 1",
-                None,
-                ("t + 2·f·l_m".into(), Some(t + 2.0 * f * l_m)),
-            ));
-            threads.push(thread(
-                "bobbin",
-                None,
-                ("t + 2·(1 − f)·l_m".into(), Some(t + 2.0 * (1.0 - f) * l_m)),
-            ));
-        }
-        401 | 406 | 407 | 602 | 605 => {
-            let needles = match stitch_type {
-                401 => 1,
-                406 | 602 => 2,
-                _ => 3,
-            };
-            // Each needle loop collapses at its hole on the underside (G2),
-            // and on the top face a cover thread (602, 605) lies flat under
-            // the needle thread: t + 2·l_m, as contour 1.
-            for j in 1..=needles {
-                threads.push(thread(
-                    &format!("needle {j}"),
-                    None,
-                    ("t + 2·l_m".into(), Some(t + 2.0 * l_m)),
-                ));
-            }
-            threads.push(thread(
-                "looper",
-                None,
-                if needles == 1 {
-                    // The looper thread passes through the needle loop at
-                    // its hole, and its own loop (hole j to hole j + 1 and
-                    // back) holds the next needle loop; one more leg carries
-                    // it on: three legs of t (docs §6.2).
-                    ("3·t".into(), Some(3.0 * t))
-                } else {
-                    (
-                        format!(
-                            "not derivable: its loop holds {needles} needle loops at once, and how its legs run \
-                             between the needle lines is not given by the seeds or the sources at hand"
-                        ),
-                        None,
-                    )
-                },
-            ));
-            if stitch_type >= 600 {
-                threads.push(thread(
-                    "cover",
-                    None,
-                    (
-                        "not derivable: the spreader lays it across the needles on the top face, and its \
-                         path per stitch follows the spreader's motion, which no source at hand gives"
-                            .into(),
-                        None,
-                    ),
-                ));
-            }
-        }
-        _ => {
-            let Some((_, row)) = MATRIX.iter().find(|(ty, _)| *ty == stitch_type) else {
-                return Err(ParamError::new(
-                    Input::StitchType,
-                    format!("stitch type {stitch_type} is not covered"),
-                    Some(format!("stitch types: {TYPES}")),
-                ));
-            };
-            for (name, &c) in ["needle 1", "needle 2", "lower looper", "upper looper"].iter().zip(row) {
-                if c != 0 {
-                    threads.push(thread(name, Some(c), contour(c)));
-                }
-            }
-        }
-    }
     let total_mm = threads.iter().map(|t| t.length_mm).sum::<Option<f64>>();
     let lengths = threads
         .iter()
@@ -362,6 +261,120 @@ pub fn consumption(stitch_type: u16, g: &StitchGeometry) -> Result<Consumption, 
         notes: vec![TAUT.to_string()],
     }
     .for_seam(&Seam::default())
+}
+
+/// A thread's formula and its length per stitch, mm (`None`: not derivable).
+type Formula = (String, Option<f64>);
+
+impl ThreadConsumption {
+    /// A thread per stitch; the per-seam figures come with
+    /// [`Consumption::for_seam`].
+    fn per_stitch(thread: &str, contour: Option<u8>, (formula, length_mm): Formula) -> ThreadConsumption {
+        ThreadConsumption {
+            thread: thread.to_string(),
+            contour,
+            formula,
+            length_mm,
+            ratio: None,
+            seam_m: None,
+            seam_with_waste_m: None,
+        }
+    }
+}
+
+/// Lockstitch 301 (G7): the threads interlace at depth f·m on the needle
+/// line; each lies along its face from hole to hole and goes into the hole
+/// to the interlacing and back.
+fn lockstitch(g: &StitchGeometry, l_m: f64) -> Vec<ThreadConsumption> {
+    let (t, f) = (g.stitch_mm, g.interlace_fraction);
+    vec![
+        ThreadConsumption::per_stitch("needle 1", None, ("t + 2·f·l_m".into(), Some(t + 2.0 * f * l_m))),
+        ThreadConsumption::per_stitch(
+            "bobbin",
+            None,
+            ("t + 2·(1 − f)·l_m".into(), Some(t + 2.0 * (1.0 - f) * l_m)),
+        ),
+    ]
+}
+
+/// Chain stitches 401, 406, 407 and cover stitches 602, 605: the needle
+/// threads, the looper thread (derivable with one needle) and the cover
+/// thread (600 class).
+fn chain_or_cover(stitch_type: u16, t: f64, l_m: f64) -> Vec<ThreadConsumption> {
+    let needles = match stitch_type {
+        401 => 1,
+        406 | 602 => 2,
+        _ => 3,
+    };
+    // Each needle loop collapses at its hole on the underside (G2), and on
+    // the top face a cover thread (602, 605) lies flat under the needle
+    // thread: t + 2·l_m, as contour 1.
+    let mut threads: Vec<ThreadConsumption> = (1..=needles)
+        .map(|j| ThreadConsumption::per_stitch(&format!("needle {j}"), None, ("t + 2·l_m".into(), Some(t + 2.0 * l_m))))
+        .collect();
+    let looper: Formula = if needles == 1 {
+        // The looper thread passes through the needle loop at its hole, and
+        // its own loop (hole j to hole j + 1 and back) holds the next needle
+        // loop; one more leg carries it on: three legs of t (docs §6.2).
+        ("3·t".into(), Some(3.0 * t))
+    } else {
+        (
+            format!(
+                "not derivable: its loop holds {needles} needle loops at once, and how its legs run between \
+                 the needle lines is not given by the seeds or the sources at hand"
+            ),
+            None,
+        )
+    };
+    threads.push(ThreadConsumption::per_stitch("looper", None, looper));
+    if stitch_type >= 600 {
+        threads.push(ThreadConsumption::per_stitch(
+            "cover",
+            None,
+            (
+                "not derivable: the spreader lays it across the needles on the top face, and its path per \
+                 stitch follows the spreader's motion, which no source at hand gives"
+                    .into(),
+                None,
+            ),
+        ));
+    }
+    threads
+}
+
+/// A class-500 stitch by the structure matrix (seed 004 Table 3): each
+/// organ's thread by its contour.
+fn overedge(stitch_type: u16, g: &StitchGeometry, l_m: f64, l: f64) -> Result<Vec<ThreadConsumption>, ParamError> {
+    let (m, t, a, e) = (g.thickness_mm, g.stitch_mm, g.width_mm, g.edge_fraction);
+    let contour = |c: u8| -> Formula {
+        match c {
+            1 => ("t + 2·l_m".into(), Some(t + 2.0 * l_m)),
+            2 => ("t + 2·l_m + l".into(), Some(t + 2.0 * l_m + l)),
+            3 => (
+                "t + 2·l_m + 2·a + 2·e·m".into(),
+                Some(t + 2.0 * l_m + 2.0 * a + 2.0 * e * m),
+            ),
+            10 => ("a + l + 2·(1 − e)·m".into(), Some(a + l + 2.0 * (1.0 - e) * m)),
+            13 => ("a + l + 2·e·m".into(), Some(a + l + 2.0 * e * m)),
+            _ => (
+                "not derivable: the thesis's drawing of this contour is lost".into(),
+                None,
+            ),
+        }
+    };
+    let Some((_, row)) = MATRIX.iter().find(|(ty, _)| *ty == stitch_type) else {
+        return Err(ParamError::new(
+            Input::StitchType,
+            format!("stitch type {stitch_type} is not covered"),
+            Some(format!("stitch types: {TYPES}")),
+        ));
+    };
+    Ok(["needle 1", "needle 2", "lower looper", "upper looper"]
+        .iter()
+        .zip(row)
+        .filter(|(_, c)| **c != 0)
+        .map(|(name, &c)| ThreadConsumption::per_stitch(name, Some(c), contour(c)))
+        .collect())
 }
 
 /// What the figures are and leave out (docs/stitch-formation.md §6.1).
