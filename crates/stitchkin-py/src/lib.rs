@@ -12,14 +12,12 @@ use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use stitchkin::error::{Input, ParamError};
-use stitchkin::eval::{CycleOptions, cycle_phis_deg, path_error, run_cycle};
-use stitchkin::mechanism::Phi;
+use stitchkin::error::Input;
+use stitchkin::eval::{CycleOptions, PathLengths, run_cycle};
 use stitchkin::model::{Model as LibModel, Params};
 use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::sweep::{self, Row, SweepPlan};
 use stitchkin::study::tune;
-use stitchkin::thread::ThreadWork;
 
 // Named in the package (`stitchkin.StitchkinError`), where it is
 // re-exported: pickling finds it there (a Dask worker's error reaches the
@@ -497,41 +495,21 @@ fn _time_run(py: Python<'_>, model: &Model, step: f64, analogs: bool, repeat: us
 
 /// The time of the engine's own loop for a model's take-up, without a
 /// table: the mechanism solved over one turn at `step` and every thread
-/// path's length ξ(φ) (`Mechanism::solve`, `Threads::evaluate_into`, the
-/// buffers kept between calls, as the engine benchmark `mf7923d_take_up`
-/// times it); the median of `repeat` calls after one warm-up, seconds. For
+/// path's length ξ(φ) (`eval::PathLengths`, the buffers kept between
+/// calls, as the engine benchmark `mf7923d_take_up` times it); the median of `repeat` calls after one warm-up, seconds. For
 /// the peer benchmark (bench/peers.py).
 #[pyfunction]
 #[pyo3(signature = (model, step = 1.0, repeat = 100))]
 fn _time_take_up(py: Python<'_>, model: &Model, step: f64, repeat: usize) -> PyResult<f64> {
     let lib = &model.model;
-    let params = lib.defaults();
     py.detach(|| {
-        stitchkin::eval::check_options(&CycleOptions::for_figures(step))?;
-        let mech = lib.mechanism::<f64>(&params)?;
-        let Some(threads) = lib.machine::<f64>(&params)?.threads else {
-            return Err(stitchkin::Error::Param(ParamError::general(
-                format!("model `{}` has no thread paths to time", lib.name()),
-                Some("give a model with a [thread] table, e.g. Model.preset(\"mf7923d\")".into()),
-            )));
-        };
-        let phis_deg = cycle_phis_deg(lib.phi_start_deg(), step);
-        let phis = Phi::table(&phis_deg);
-        let mut pose = mech.new_pose(phis.len());
-        let mut work = ThreadWork::default();
-        let once = |pose: &mut _, work: &mut _| -> Result<(), stitchkin::Error> {
-            mech.solve(&phis, pose)?;
-            threads.evaluate_into(pose, None, work).map_err(|e| {
-                let phi_deg = phis_deg[e.k.min(phis_deg.len() - 1)];
-                path_error(e, phi_deg)
-            })
-        };
-        once(&mut pose, &mut work)?;
+        let mut lengths = PathLengths::new(lib, &lib.defaults(), step)?;
+        lengths.evaluate()?;
         let mut times = (0..repeat.max(1))
             .map(|_| {
                 let began = std::time::Instant::now();
-                once(&mut pose, &mut work)?;
-                std::hint::black_box(&work);
+                lengths.evaluate()?;
+                std::hint::black_box(lengths.xi(0));
                 Ok(began.elapsed().as_secs_f64())
             })
             .collect::<Result<Vec<f64>, stitchkin::Error>>()?;

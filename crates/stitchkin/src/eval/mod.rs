@@ -300,6 +300,61 @@ pub fn take_up_name(split_at_b: bool) -> &'static str {
     if split_at_b { "P_B" } else { "P" }
 }
 
+/// The engine's own loop for a model's thread paths, without a table: the
+/// mechanism solved over one turn and every path's length ξ(φ), with the
+/// buffers kept between evaluations (what a sweep does for each setting,
+/// and what the engine benchmark `mf7923d_take_up` times).
+pub struct PathLengths {
+    mechanism: Mechanism<f64>,
+    threads: Threads<f64>,
+    phis_deg: Vec<f64>,
+    phis: Vec<Phi<f64>>,
+    pose: crate::mechanism::Pose<f64>,
+    work: crate::thread::ThreadWork<f64>,
+}
+
+impl PathLengths {
+    /// The loop for `model` at `params`, φ from the model's start in steps
+    /// of `step_deg`; an error if the model has no thread paths.
+    pub fn new(model: &Model, params: &Params, step_deg: f64) -> Result<PathLengths, Error> {
+        check_options(&CycleOptions::for_figures(step_deg))?;
+        let mechanism = model.mechanism::<f64>(params)?;
+        let Some(threads) = model.machine::<f64>(params)?.threads else {
+            return Err(Error::Param(ParamError::general(
+                format!("model `{}` has no thread paths", model.name()),
+                Some("give a model with a [thread] table, e.g. the preset mf7923d".into()),
+            )));
+        };
+        let phis_deg = cycle_phis_deg(model.phi_start_deg(), step_deg);
+        let phis = Phi::table(&phis_deg);
+        let pose = mechanism.new_pose(phis.len());
+        Ok(PathLengths {
+            mechanism,
+            threads,
+            phis_deg,
+            phis,
+            pose,
+            work: Default::default(),
+        })
+    }
+
+    /// Solves the mechanism and evaluates every path over the turn.
+    pub fn evaluate(&mut self) -> Result<(), Error> {
+        self.mechanism.solve(&self.phis, &mut self.pose)?;
+        self.threads
+            .evaluate_into(&self.pose, None, &mut self.work)
+            .map_err(|e| {
+                let phi_deg = self.phis_deg[e.k.min(self.phis_deg.len() - 1)];
+                path_error(e, phi_deg)
+            })
+    }
+
+    /// ξ(φ) of the `i`-th path (model order) from the last evaluation, mm.
+    pub fn xi(&self, i: usize) -> Option<&[f64]> {
+        self.work.tracks.get(i).map(|t| t.xi.as_slice())
+    }
+}
+
 /// A thread path that cannot be formed, as an error naming path and φ.
 pub fn path_error(e: PathError, phi_deg: f64) -> Error {
     Error::Thread(ThreadError {
@@ -338,6 +393,22 @@ pub(crate) fn extremes(vals: &[f64]) -> (usize, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn path_lengths_are_the_tables_xi() {
+        let model = Model::preset("mf7923d").unwrap();
+        let params = model.defaults();
+        let mut lengths = PathLengths::new(&model, &params, 5.0).unwrap();
+        lengths.evaluate().unwrap();
+        let table = run_cycle(&model, &params, &CycleOptions::for_figures(5.0)).unwrap();
+        let xi = table.column("n2_B.xi_mm").unwrap();
+        assert_eq!(lengths.xi(3).unwrap(), xi);
+        assert!(lengths.xi(6).is_none());
+        let bench = Model::preset("needle876").unwrap();
+        let e = PathLengths::new(&bench, &bench.defaults(), 1.0).err().unwrap();
+        assert!(e.to_string().contains("no thread paths"), "{e}");
+        assert!(PathLengths::new(&model, &params, 0.0).is_err());
+    }
 
     #[test]
     fn glob_patterns() {

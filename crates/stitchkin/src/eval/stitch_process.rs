@@ -287,6 +287,10 @@ pub fn window_in_model_phi(thread: &RequiredThread, cyclogram_zero_deg: f64) -> 
 fn transfers(ty: StitchType) -> Vec<String> {
     let source = "the moments and period rules of seed 004 §2.1 and Table 2 describe the 401 two-thread chain stitch";
     match ty {
+        StitchType::S301 => vec![format!(
+            "{source}; the lockstitch takes its loop forming before the catch and the regulator's window from them \
+             (the hook's loop and its cast-off are the lockstitch's own, docs/stitch-formation.md §13)"
+        )],
         StitchType::S401 => Vec::new(),
         StitchType::S406 | StitchType::S407 => vec![format!(
             "{source}; they are applied to each needle of the {} (its catch and drop derived from the looper)",

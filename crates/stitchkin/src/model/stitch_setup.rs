@@ -730,13 +730,15 @@ impl Model {
                 },
             },
             needles,
-            looper: LooperSpec {
+            looper: Some(LooperSpec {
                 eye: looper_eye,
                 k_mm: k,
                 a_mm: a,
                 b_mm: bb,
                 gamma_max_rad: gmax.to_radians(),
-            },
+            }),
+            hook: None,
+            interlace: 0.5,
             upper_looper,
             spreader,
             // Chain stitches have no looper-thread moments.

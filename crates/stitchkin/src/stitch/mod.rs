@@ -6,6 +6,7 @@
 //! - [`feed`], [`material`], [`needle_thread`], [`overedge`] (with its stitches
 //!   [`overedge::s504`] and [`overedge::s503`]):
 //!   the building blocks and the pieces of §4–§5;
+//! - [`lockstitch`]: the lockstitch's needle thread on a rotary hook (§13);
 //! - [`required_take_up`]: [`required_take_up::required_take_up`], P' of every thread;
 //! - [`consumption`]: thread per finished stitch (§6);
 //! - [`mismatch`]: P against P' (§8);
@@ -16,6 +17,7 @@
 pub mod checks;
 pub mod consumption;
 pub mod feed;
+pub mod lockstitch;
 pub mod material;
 pub mod mismatch;
 pub mod needle_thread;

@@ -390,7 +390,7 @@ fn needle_err<T>(name: &str, msg: String) -> Result<T, Error> {
 /// The needle's line and when its eye leaves and reaches the material top
 /// (φ_out, φ_in), warning when φ_c = 0 is not the needle's BDC or the eye
 /// leaves its line.
-fn needle_line(
+pub(super) fn needle_line(
     needle: &NeedleSpec,
     tilt_deg: f64,
     m: f64,
@@ -833,7 +833,7 @@ mod tests {
     fn altin_needle() -> NeedleThread {
         let s = altin504();
         let feed = Feed::new(&s.feed, s.t_mm).unwrap();
-        NeedleThread::new(&s.needles[0], &s.looper, s.m_mm, s.tilt_deg, feed).unwrap()
+        NeedleThread::new(&s.needles[0], s.looper.as_ref().unwrap(), s.m_mm, s.tilt_deg, feed).unwrap()
     }
 
     #[test]
@@ -909,7 +909,7 @@ mod tests {
         let feed = Feed::new(&s.feed, s.t_mm).unwrap();
         let want = [(30.0, 311.91), (51.9735342, 294.7), (68.5292986, 279.67)];
         for (ns, (catch, drop)) in s.needles.iter().zip(want) {
-            let n = NeedleThread::new(ns, &s.looper, s.m_mm, s.tilt_deg, feed.clone()).unwrap();
+            let n = NeedleThread::new(ns, s.looper.as_ref().unwrap(), s.m_mm, s.tilt_deg, feed.clone()).unwrap();
             assert!((n.phi_catch - catch).abs() < 1e-6, "{}: catch {}", ns.name, n.phi_catch);
             if ns.name == "n1" {
                 assert!(n.phi_catch <= 30.0, "n1's catch falls on or before the grid angle 30°");
@@ -922,9 +922,9 @@ mod tests {
     fn derived_catch_and_needle_point() {
         let s = altin504();
         // L = 8.66·(1 − cos φ) − L0 passes x = 0 going up at 30° (within the 1e-9 mm touch).
-        let c = derived_catch(&s.looper.eye, 0.0).unwrap();
+        let c = derived_catch(&s.looper.as_ref().unwrap().eye, 0.0).unwrap();
         assert!(c <= 30.0 && 30.0 - c < 1e-6, "{c}");
-        assert!(derived_catch(&s.looper.eye, 40.0).is_none());
+        assert!(derived_catch(&s.looper.as_ref().unwrap().eye, 40.0).is_none());
         // README: the point is 5.277 / 4.000 mm above the plate at the start / end of the transport.
         let n = altin_needle();
         let (phi, z) = lowest_point_in_transport(&n.line, 2.0, &n.feed);

@@ -35,7 +35,7 @@ pub fn altin504(m: f64, t: f64) -> StitchSpec {
             catch_deg: Some(30.0),
             drop_deg: Some(300.0),
         }],
-        looper: LooperSpec {
+        looper: Some(LooperSpec {
             eye: Motion::LooperLaw {
                 stroke_mm: 17.32,
                 far_deg: 180.0,
@@ -49,7 +49,9 @@ pub fn altin504(m: f64, t: f64) -> StitchSpec {
             a_mm: 1.0,
             b_mm: 2.5,
             gamma_max_rad: 0.4,
-        },
+        }),
+        hook: None,
+        interlace: 0.5,
         upper_looper: Some(UpperLooperSpec {
             eye: Motion::PolylineLaw {
                 points: Arc::from(vec![
@@ -134,7 +136,7 @@ pub fn mf7923d_407(m: f64, t: f64) -> StitchSpec {
             duration_deg: 100.0,
         },
         needles: vec![needle("n1", -4.0), needle("n2", 0.0), needle("n3", 4.0)],
-        looper: LooperSpec {
+        looper: Some(LooperSpec {
             eye: Motion::LooperLaw {
                 stroke_mm: 32.0,
                 far_deg: 180.0,
@@ -148,7 +150,9 @@ pub fn mf7923d_407(m: f64, t: f64) -> StitchSpec {
             a_mm: 1.0,
             b_mm: 2.5,
             gamma_max_rad: 0.4,
-        },
+        }),
+        hook: None,
+        interlace: 0.5,
         upper_looper: None,
         spreader: None,
         moments: Moments {
@@ -157,5 +161,59 @@ pub fn mf7923d_407(m: f64, t: f64) -> StitchSpec {
             draw_in_deg: 330.0,
         },
         regulator: Regulator::AtLock,
+    }
+}
+
+/// A lockstitch 301 stand-in (§13): a harmonic needle of stroke 30 mm, its
+/// eye 17 mm above the plate at TDC (13 mm below at BDC), a rotary hook of
+/// beak radius 14 mm around a bobbin case of radius 11 mm, its axis 11.5 mm
+/// along the seam from the needle line; the catch at 2 mm of needle rise,
+/// the beak 1.5 mm above the eye; the loop cast off after 270° of the
+/// beak's turn; the feed from 110° for 140°. Illustrative numbers in the
+/// range of the makers' timing (docs/references.md).
+pub fn lockstitch301(m: f64, t: f64) -> StitchSpec {
+    StitchSpec {
+        stitch_type: StitchType::S301,
+        m_mm: m,
+        t_mm: t,
+        tilt_deg: 0.0,
+        a_e_mm: 0.0,
+        edge_split: 0.5,
+        feed: FeedLaw::Harmonic {
+            start_deg: 110.0,
+            duration_deg: 140.0,
+        },
+        needles: vec![NeedleSpec {
+            name: "needle".into(),
+            eye: Motion::NeedleLaw {
+                x_mm: 0.0,
+                eye_above_plate_mm: 17.0,
+                stroke_mm: 30.0,
+                bdc_deg: 0.0,
+                tilt_deg: 0.0,
+            },
+            point_below_eye_mm: 2.0,
+            catch_deg: None,
+            drop_deg: None,
+        }],
+        looper: None,
+        hook: Some(HookSpec {
+            beak_radius_mm: 14.0,
+            case_radius_mm: 11.0,
+            offset_mm: 11.5,
+            catch_rise_mm: 2.0,
+            beak_above_eye_mm: 1.5,
+            cast_off_deg: 270.0,
+        }),
+        interlace: 0.5,
+        upper_looper: None,
+        spreader: None,
+        // A lockstitch has no looper thread and so no looper-thread moments.
+        moments: Moments {
+            stab_deg: 0.0,
+            upper_release_deg: 0.0,
+            draw_in_deg: 0.0,
+        },
+        regulator: Regulator::default(),
     }
 }

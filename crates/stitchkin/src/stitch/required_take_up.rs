@@ -12,6 +12,7 @@ use crate::error::StitchError;
 
 use super::consumption::{StitchGeometry, consumption};
 use super::feed::Feed;
+use super::lockstitch::LockstitchThread;
 use super::needle_thread::{NeedleThread, Side};
 use super::overedge::Overedge;
 use super::overedge::Overedge503;
@@ -22,6 +23,8 @@ use super::spec::{
 /// One thread's contour, for the common bookkeeping.
 enum Contour<'a> {
     Needle(&'a NeedleThread),
+    /// 301: the needle thread on the rotary hook.
+    Lock(&'a LockstitchThread),
     Lower(&'a Overedge),
     Upper(&'a Overedge),
     /// 503: the needle thread drawn to the edge, and the looper thread.
@@ -33,6 +36,7 @@ impl Contour<'_> {
     fn eta(&self, phi: f64, side: Side) -> Result<f64, Error> {
         match self {
             Contour::Needle(n) => Ok(n.eta(phi, side)),
+            Contour::Lock(n) => Ok(n.eta(phi, side)),
             Contour::Lower(o) => o.eta_lower(phi, side),
             Contour::Upper(o) => o.eta_upper(phi, side),
             Contour::Needle503(o) => o.eta_needle(phi, side),
@@ -43,6 +47,7 @@ impl Contour<'_> {
     fn piece(&self, phi: f64) -> &'static str {
         match self {
             Contour::Needle(n) => n.piece(phi, Side::Right).id(),
+            Contour::Lock(n) => n.piece(phi, Side::Right).id(),
             Contour::Lower(o) => o.lower_piece(phi, Side::Right).id(),
             Contour::Upper(o) => o.upper_piece(phi, Side::Right).id(),
             Contour::Needle503(o) => o.needle_piece(phi, Side::Right).id(),
@@ -53,6 +58,7 @@ impl Contour<'_> {
     fn events(&self) -> Vec<(String, f64, EventKind)> {
         match self {
             Contour::Needle(n) => n.events(),
+            Contour::Lock(n) => n.events(),
             Contour::Lower(o) => o.lower_events(),
             Contour::Upper(o) => o.upper_events(),
             Contour::Needle503(o) => o.needle_events(),
@@ -64,6 +70,7 @@ impl Contour<'_> {
     fn lock(&self) -> f64 {
         match self {
             Contour::Needle(n) => n.phi_drop,
+            Contour::Lock(n) => n.phi_cast,
             Contour::Lower(o) | Contour::Upper(o) => o.phi_draw_in,
             Contour::Needle503(o) | Contour::Looper503(o) => o.phi_draw_in,
         }
@@ -73,6 +80,7 @@ impl Contour<'_> {
     fn cut(&self) -> f64 {
         match self {
             Contour::Needle(n) => n.lock_cut(),
+            Contour::Lock(n) => n.lock_cut(),
             Contour::Lower(o) => o.lower_cut(),
             Contour::Upper(o) => o.upper_cut(),
             Contour::Needle503(o) => o.needle_cut(),
@@ -85,6 +93,7 @@ impl Contour<'_> {
     fn released(&self) -> f64 {
         match self {
             Contour::Needle(n) => n.released(),
+            Contour::Lock(n) => n.released(),
             Contour::Lower(_) | Contour::Upper(_) | Contour::Needle503(_) | Contour::Looper503(_) => 0.0,
         }
     }
@@ -130,7 +139,7 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
         width_mm: if overedge { spec.a_e_mm } else { 0.0 },
         incline_deg: tilt,
         edge_fraction: if overedge { spec.edge_split } else { 0.5 },
-        ..StitchGeometry::new(m, t)
+        interlace_fraction: spec.interlace,
     };
     let per_stitch = consumption(ty.number(), &geometry)?;
     let formula = |thread: &str| {
@@ -141,10 +150,21 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
             .and_then(|c| c.length_mm)
     };
 
+    // 301: the needle thread on the hook (§13).
+    if ty == StitchType::S301 {
+        let per_stitch_mm = formula("needle 1").ok_or_else(|| {
+            Error::Stitch(StitchError::new(
+                "stitch 301",
+                "no per-stitch formula for the needle thread",
+            ))
+        })?;
+        return lockstitch_take_up(spec, feed, per_stitch_mm, phis_c_deg, phi0_c_deg);
+    }
+    let looper = spec.the_looper()?;
     let needles = spec
         .needles
         .iter()
-        .map(|n| NeedleThread::new(n, &spec.looper, m, tilt, feed.clone()))
+        .map(|n| NeedleThread::new(n, looper, m, tilt, feed.clone()))
         .collect::<Result<Vec<_>, _>>()?;
     let ov = if ty == StitchType::S504 {
         Some(Overedge::new(spec, &needles[0])?)
@@ -227,6 +247,41 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
     })
 }
 
+/// P' of a lockstitch's needle thread (§13): one thread, on the hook.
+fn lockstitch_take_up(
+    spec: &StitchSpec,
+    feed: Feed,
+    per_stitch_mm: f64,
+    phis_c_deg: &[f64],
+    phi0_c_deg: f64,
+) -> Result<RequiredTakeUp, Error> {
+    let hook = spec.hook.as_ref().ok_or_else(|| {
+        Error::Stitch(StitchError::new(
+            "stitch 301",
+            "it has no hook to take the needle loop; give [stitch.hook]",
+        ))
+    })?;
+    let lock = LockstitchThread::new(&spec.needles[0], hook, spec.m_mm, spec.tilt_deg, spec.interlace, feed)?;
+    let entry = (lock.name.clone(), ThreadRole::Needle, 0, Contour::Lock(&lock));
+    let phis: Vec<f64> = phis_c_deg.iter().map(|&p| wrap(p)).collect();
+    // The stitch is pulled tight as the needle reaches TDC.
+    let thread = required_thread(
+        &entry,
+        per_stitch_mm,
+        lock.line.phi_tdc,
+        spec.regulator,
+        &phis,
+        wrap(phi0_c_deg),
+    )?;
+    let mut warnings: Vec<String> = lock.feed.warning.iter().cloned().collect();
+    warnings.extend(lock.warnings.iter().cloned());
+    Ok(RequiredTakeUp {
+        threads: vec![thread],
+        moments: lock.moments(),
+        warnings,
+    })
+}
+
 /// The spec's numbers in range (each refused with what to give instead).
 fn check_spec(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) -> Result<(), Error> {
     let ty = spec.stitch_type;
@@ -269,7 +324,9 @@ fn check_organs(spec: &StitchSpec) -> Result<(), Error> {
     for n in &spec.needles {
         check_motion(&format!("needle {}: the eye", n.name), &n.eye)?;
     }
-    check_motion("the looper's catching point", &spec.looper.eye)?;
+    if let Some(looper) = &spec.looper {
+        check_motion("the looper's catching point", &looper.eye)?;
+    }
     if let Some(u) = spec.upper_looper.as_ref().filter(|_| ty == StitchType::S504) {
         check_motion("the upper looper's eye", &u.eye)?;
     }
@@ -338,14 +395,22 @@ fn required_thread(
     let (cut_mm, released_mm) = (c.cut(), c.released());
     // σ_snap: J_L = −L_s − ρ + σ_snap (§3.3).
     let snap_mm = c.eta(lock, Side::Right)? - c.eta(lock, Side::Left)? + cut_mm + released_mm;
-    let (travel_mm, gamma_deg, loop_mm, needle_moments) = match c.needle() {
-        Some(n) => (
+    let (travel_mm, gamma_deg, loop_mm, needle_moments) = match (c, c.needle()) {
+        // The lockstitch: the needle's travel and the loop on the hook; the
+        // looper's catch and drop checks do not apply.
+        (Contour::Lock(n), _) => (
+            Some(phis.iter().map(|&p| n.travel(p)).collect()),
+            None,
+            Some(phis.iter().map(|&p| n.loop_on_hook(p)).collect()),
+            None,
+        ),
+        (_, Some(n)) => (
             Some(phis.iter().map(|&p| n.travel(p)).collect()),
             Some(phis.iter().map(|&p| n.carry.gamma(p).to_degrees()).collect()),
             Some(phis.iter().map(|&p| n.loop_on_looper(p)).collect()),
             Some(n.moments_for_checks()),
         ),
-        None => (None, None, None, None),
+        (_, None) => (None, None, None, None),
     };
     let thread = RequiredThread {
         name: name.clone(),

@@ -16,6 +16,8 @@ use crate::geometry::V3;
 /// Stitch types whose required take-up stitchkin derives (§5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StitchType {
+    /// Lockstitch: one needle, a rotary hook and a bobbin (§13).
+    S301,
     /// Two-thread chain stitch: one needle, one looper.
     S401,
     /// Two-needle chain stitch.
@@ -33,6 +35,7 @@ pub enum StitchType {
 impl StitchType {
     pub fn number(self) -> u16 {
         match self {
+            StitchType::S301 => 301,
             StitchType::S401 => 401,
             StitchType::S406 => 406,
             StitchType::S407 => 407,
@@ -319,6 +322,68 @@ pub struct LooperSpec {
     pub gamma_max_rad: f64,
 }
 
+/// The rotary hook of a lockstitch 301 (`docs/stitch-formation.md` §13):
+/// its axis across the seam (along x), the hook plane through the needle
+/// line. Every length in mm.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HookSpec {
+    /// Radius of the beak point's circle.
+    pub beak_radius_mm: f64,
+    /// Radius of the bobbin case's outline in the hook plane.
+    pub case_radius_mm: f64,
+    /// The hook axis's distance from the needle line along the seam (+y:
+    /// in the feed direction); the case's outline must lie beside the needle
+    /// line, case radius < |offset| < beak radius.
+    pub offset_mm: f64,
+    /// The needle's rise from its BDC when the beak meets it (the makers'
+    /// timing: 1.8–2.8 mm).
+    pub catch_rise_mm: f64,
+    /// The beak above the needle eye at the catch (the makers' timing:
+    /// 0.5–2.4 mm).
+    pub beak_above_eye_mm: f64,
+    /// The beak's turn from the catch to where the loop leaves the hook,
+    /// deg (the hook turns twice per stitch, so φ_K = φ1 + turn/2).
+    pub cast_off_deg: f64,
+}
+
+impl HookSpec {
+    /// Each number in range, or what to give instead.
+    pub fn check(&self) -> Result<(), String> {
+        let positive = [
+            ("beak_radius_mm", self.beak_radius_mm, "e.g. 14"),
+            ("case_radius_mm", self.case_radius_mm, "e.g. 11"),
+            ("catch_rise_mm", self.catch_rise_mm, "the makers set 1.8–2.8 mm"),
+            ("beak_above_eye_mm", self.beak_above_eye_mm, "the makers set 0.5–2.4 mm"),
+            ("cast_off_deg", self.cast_off_deg, "e.g. 270"),
+        ];
+        for (name, v, hint) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{name} = {v} must be > 0 ({hint})"));
+            }
+        }
+        let d = self.offset_mm.abs();
+        if !(self.offset_mm.is_finite() && self.case_radius_mm < d && d < self.beak_radius_mm) {
+            return Err(format!(
+                "offset_mm = {} must put the hook axis beside the needle line: farther than the case radius {} mm \
+                 and nearer than the beak radius {} mm, so the beak crosses the needle line and the case does not",
+                self.offset_mm, self.case_radius_mm, self.beak_radius_mm
+            ));
+        }
+        // The beak stays on the hook's side of the needle line for
+        // 360° − 2·acos(|offset|/beak radius) after the catch; then it
+        // crosses the needle line again, for the next stitch.
+        let beside = 360.0 - 2.0 * (d / self.beak_radius_mm).acos().to_degrees();
+        if self.cast_off_deg >= beside {
+            return Err(format!(
+                "cast_off_deg = {} must be less than {beside:.1}: the loop must leave the hook before the beak \
+                 crosses the needle line again",
+                self.cast_off_deg
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// The upper looper of stitch 504.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UpperLooperSpec {
@@ -406,7 +471,14 @@ pub struct StitchSpec {
     pub edge_split: f64,
     pub feed: FeedLaw,
     pub needles: Vec<NeedleSpec>,
-    pub looper: LooperSpec,
+    /// The looper that catches the needle loops (chain and overedge
+    /// stitches).
+    pub looper: Option<LooperSpec>,
+    /// 301 only: the rotary hook.
+    pub hook: Option<HookSpec>,
+    /// 301 only: f, the interlacing's depth below the top face, a fraction
+    /// of m (0.5: the balanced stitch).
+    pub interlace: f64,
     /// 504 only.
     pub upper_looper: Option<UpperLooperSpec>,
     /// 503 only.
@@ -414,6 +486,19 @@ pub struct StitchSpec {
     pub moments: Moments,
     /// Where each thread's per-stitch length passes the tension regulator.
     pub regulator: Regulator,
+}
+
+impl StitchSpec {
+    /// The looper that catches the needle loops; an error for a stitch
+    /// without one (301 has a hook).
+    pub fn the_looper(&self) -> Result<&LooperSpec, crate::error::StitchError> {
+        self.looper.as_ref().ok_or_else(|| {
+            crate::error::StitchError::new(
+                format!("stitch {}", self.stitch_type.number()),
+                "it has no looper to catch the needle loops; give [stitch.looper]",
+            )
+        })
+    }
 }
 
 /// Where η changes at a moment (§5.6).
@@ -455,7 +540,8 @@ pub struct RequiredThread {
     /// `n1`, `needle`, `lower`, `upper`, `looper`.
     pub name: String,
     pub role: ThreadRole,
-    /// Contour number of seed 004 §2.6 (1, 3, 10, 13).
+    /// Contour number of seed 004 §2.6 (1, 3, 10, 13); 0 for the lockstitch,
+    /// which seed 004 does not number.
     pub contour: u8,
     /// Per-stitch consumption by the contour formula, mm.
     pub per_stitch_mm: f64,

@@ -141,7 +141,10 @@ fn check_overedge_needle(spec: &StitchSpec, r: &RequiredTakeUp, csv: &Csv, phis:
     assert_close("γ", &gamma, &csv.f64("gamma_rad"), phis, 1e-8);
     let (prefix, eye) = organ;
     for (axis, i) in [("x", 0), ("y", 1), ("z", 2)] {
-        let le: Vec<f64> = phis.iter().map(|&p| spec.looper.eye.at(p)[i]).collect();
+        let le: Vec<f64> = phis
+            .iter()
+            .map(|&p| spec.looper.as_ref().unwrap().eye.at(p)[i])
+            .collect();
         let other: Vec<f64> = phis.iter().map(|&p| eye.at(p)[i]).collect();
         assert_close(
             &format!("LE_{axis}"),
@@ -230,7 +233,10 @@ fn mf7923d_407_matches_the_reference_table() {
     let feed = Feed::new(&spec.feed, spec.t_mm).unwrap();
     let t: Vec<f64> = phis.iter().map(|&p| feed.at(p)).collect();
     assert_close("T", &t, &csv.f64("T_mm"), &phis, TOL_MM);
-    let l: Vec<f64> = phis.iter().map(|&p| spec.looper.eye.at(p).x).collect();
+    let l: Vec<f64> = phis
+        .iter()
+        .map(|&p| spec.looper.as_ref().unwrap().eye.at(p).x)
+        .collect();
     assert_close("L", &l, &csv.f64("L_mm"), &phis, TOL_MM);
     let s0 = slider_crank_travel(0.0);
     for name in ["n1", "n2", "n3"] {
@@ -599,7 +605,7 @@ fn bad_specs_are_errors() {
 
     // The looper never reaches the needles.
     let mut s = mf7923d_407(3.0, 3.0);
-    if let Motion::LooperLaw { catch_x_mm, .. } = &mut s.looper.eye {
+    if let Motion::LooperLaw { catch_x_mm, .. } = &mut s.looper.as_mut().unwrap().eye {
         *catch_x_mm = 20.0;
     }
     let msg = stitch_error(&s, &[0.0]);
@@ -651,7 +657,7 @@ fn bad_specs_are_errors() {
     assert!(required_take_up(&altin504(2.5, 0.0), &[0.0], 0.0).is_err());
     assert!(required_take_up(&altin504(f64::NAN, 2.8), &[0.0], 0.0).is_err());
     let mut s = altin504(2.5, 2.8);
-    s.looper.gamma_max_rad = 2.0;
+    s.looper.as_mut().unwrap().gamma_max_rad = 2.0;
     assert!(stitch_error(&s, &[0.0]).contains("γmax"));
 }
 

@@ -125,7 +125,7 @@ impl Overedge503 {
             (&needle.name, phi_drop),
             phi_draw_in,
         )?;
-        let lower_eye = spec.looper.eye.clone();
+        let lower_eye = spec.the_looper()?.eye.clone();
         let spreader_point = spreader.eye.clone();
 
         // No looper eye or spreader point inside the material (§4.3).
@@ -381,7 +381,7 @@ mod tests {
     fn altin() -> Overedge503 {
         let s = altin503();
         let feed = Feed::new(&s.feed, s.t_mm).unwrap();
-        let n = NeedleThread::new(&s.needles[0], &s.looper, s.m_mm, s.tilt_deg, feed).unwrap();
+        let n = NeedleThread::new(&s.needles[0], s.looper.as_ref().unwrap(), s.m_mm, s.tilt_deg, feed).unwrap();
         Overedge503::new(&s, &n).unwrap()
     }
 
@@ -465,7 +465,7 @@ mod tests {
     fn missing_spreader_and_bad_moments_are_errors() {
         let mut s = altin503();
         let feed = Feed::new(&s.feed, s.t_mm).unwrap();
-        let n = NeedleThread::new(&s.needles[0], &s.looper, s.m_mm, s.tilt_deg, feed).unwrap();
+        let n = NeedleThread::new(&s.needles[0], s.looper.as_ref().unwrap(), s.m_mm, s.tilt_deg, feed).unwrap();
         s.moments.upper_release_deg = 310.0; // after the drop
         let err = Overedge503::new(&s, &n).unwrap_err().to_string();
         assert!(

@@ -124,7 +124,7 @@ impl Overedge {
             warnings: Vec::new(),
             qu_off: V3::zeros(),
             settle: WPath::default(),
-            lower_eye: spec.looper.eye.clone(),
+            lower_eye: spec.the_looper()?.eye.clone(),
             upper_eye: upper.eye.clone(),
         };
         let seam = &ov.seam;
@@ -363,7 +363,7 @@ mod tests {
     fn altin() -> (Overedge, NeedleThread) {
         let s = altin504();
         let feed = Feed::new(&s.feed, s.t_mm).unwrap();
-        let n = NeedleThread::new(&s.needles[0], &s.looper, s.m_mm, s.tilt_deg, feed).unwrap();
+        let n = NeedleThread::new(&s.needles[0], s.looper.as_ref().unwrap(), s.m_mm, s.tilt_deg, feed).unwrap();
         (Overedge::new(&s, &n).unwrap(), n)
     }
 
