@@ -80,6 +80,7 @@ const PRESETS: &[&str] = &[
     "altin504",
     "mf7923d",
     "takeup-lever",
+    "lockstitch",
 ];
 
 #[test]
@@ -630,6 +631,7 @@ fn presets_lists_name_machine_and_seed() {
         ("altin504", "004"),
         ("mf7923d", "000"),
         ("takeup-lever", "001"),
+        ("lockstitch", "001"),
     ] {
         let line = out
             .lines()

@@ -36,6 +36,10 @@ pub const ALL: &[Preset] = &[
         name: "takeup-lever",
         toml: include_str!("../../../presets/takeup-lever.toml"),
     },
+    Preset {
+        name: "lockstitch",
+        toml: include_str!("../../../presets/lockstitch.toml"),
+    },
 ];
 
 /// A preset by name.

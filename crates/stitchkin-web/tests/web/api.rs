@@ -112,6 +112,29 @@ fn evaluate_charts_and_sums_up_and_follows_the_sliders() {
 }
 
 #[test]
+fn the_lockstitch_page_follows_the_hook_timing() {
+    let app = app("lockstitch");
+    let v = json(&get(&app, "/api/evaluate"));
+    assert!(!v.to_string().contains("NaN"));
+    assert_eq!(v["stitch"]["type"], 301);
+    let threads = v["stitch"]["threads"].as_array().unwrap();
+    assert_eq!(threads.len(), 1);
+    let max_pprime = |v: &Value| v["stitch"]["threads"][0]["max_pprime_mm"].as_f64().unwrap();
+    // An earlier cast-off lets the loop go less far round the bobbin case.
+    let early = json(&get(&app, "/api/evaluate?p.cast_off=240"));
+    assert_eq!(early["values"]["cast_off"], 240.0);
+    assert!(
+        max_pprime(&early) < max_pprime(&v),
+        "{} vs {}",
+        max_pprime(&early),
+        max_pprime(&v)
+    );
+    let r = get(&app, "/api/drawing?phi=200");
+    assert_eq!(r.status, 200, "{}", r.text());
+    assert!(r.text().starts_with("<svg"));
+}
+
+#[test]
 fn a_model_without_threads_charts_its_transmission_angles() {
     let app = app("needle876");
     assert_eq!(json(&get(&app, "/api/model"))["chart"], "mu");

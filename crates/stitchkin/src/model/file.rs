@@ -651,8 +651,8 @@ pub enum Wrap {
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StitchFile {
-    /// Stitch type: "401", "406", "407" (chain), "503" (two-thread
-    /// overedge) or "504" (three-thread overedge).
+    /// Stitch type: "301" (lockstitch), "401", "406", "407" (chain), "503"
+    /// (two-thread overedge) or "504" (three-thread overedge).
     #[serde(rename = "type")]
     pub stitch_type: String,
     /// Compressed material thickness m, mm.
@@ -689,8 +689,16 @@ pub struct StitchFile {
     /// The needles, in the order the looper catches their loops.
     pub needles: Vec<StitchNeedle>,
     /// The looper that catches the needle loops (the lower looper of 503
-    /// and 504).
-    pub looper: StitchLooper,
+    /// and 504); every type but 301.
+    #[serde(default)]
+    pub looper: Option<StitchLooper>,
+    /// The rotary hook that takes the needle loop around the bobbin (301).
+    #[serde(default)]
+    pub hook: Option<StitchHook>,
+    /// Lockstitch 301: where the needle and bobbin threads interlace, a
+    /// fraction of m below the top face (default 0.5, the balanced stitch).
+    #[serde(default)]
+    pub interlace: Option<Value>,
     /// The upper looper (504).
     #[serde(default)]
     pub upper_looper: Option<StitchUpperLooper>,
@@ -785,6 +793,31 @@ pub struct NeedleLawFile {
     /// φ_c of the bottom dead centre (default 0).
     #[serde(default)]
     pub bdc_deg: Option<Value>,
+}
+
+/// The rotary hook of a lockstitch (`docs/stitch-formation.md` §13): its
+/// axis across the seam, turning twice per stitch. Lengths in mm.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StitchHook {
+    /// Radius of the beak point's circle.
+    pub beak_radius_mm: Value,
+    /// Radius of the bobbin case's outline in the hook's plane.
+    pub case_radius_mm: Value,
+    /// The hook axis's distance from the needle line along the seam (+:
+    /// in the feed direction); case radius < |offset| < beak radius.
+    pub offset_mm: Value,
+    /// The needle's rise from its BDC when the beak meets it (default 2.0;
+    /// the makers' timing gauges set 1.8–2.8).
+    #[serde(default)]
+    pub catch_rise_mm: Option<Value>,
+    /// The beak above the needle eye at the catch (default 1.5; the makers
+    /// set 0.5–2.4).
+    #[serde(default)]
+    pub beak_above_eye_mm: Option<Value>,
+    /// The beak's turn from the catch to where the loop leaves the hook,
+    /// degrees.
+    pub cast_off_deg: Value,
 }
 
 /// The looper that catches the needle loops.

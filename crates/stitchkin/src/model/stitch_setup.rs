@@ -4,7 +4,8 @@
 
 use std::sync::Arc;
 
-use super::file::{ModelFile, PolylineLawFile, StitchFile, Value};
+use super::expr::Dim;
+use super::file::{ModelFile, PolylineLawFile, StitchFile, StitchHook, StitchLooper, Value};
 use super::load::{LoadResult, Loader};
 use super::spans::KeyPath;
 use super::{Model, Params, QuantityId, ThreadsDef};
@@ -12,8 +13,8 @@ use crate::error::Error;
 use crate::geometry::{Placement, V3};
 use crate::mechanism::{Phi, Pose};
 use crate::stitch::spec::{
-    DEFAULT_REGULATOR_WIDTH_DEG, FeedLaw, LooperSpec, Moments, Motion, NeedleSpec, Regulator, SpreaderSpec, StitchSpec,
-    StitchType, UpperLooperSpec,
+    DEFAULT_REGULATOR_WIDTH_DEG, FeedLaw, HookSpec, LooperSpec, Moments, Motion, NeedleSpec, Regulator, SpreaderSpec,
+    StitchSpec, StitchType, UpperLooperSpec,
 };
 
 /// The upper looper of a 504: its organ, its window (deg) and the thread path it feeds.
@@ -94,7 +95,11 @@ pub(crate) struct StitchDef {
     pub regulator: RegulatorDef,
     pub feed: FeedDef,
     pub needles: Vec<NeedleDef>,
-    pub looper: (OrganDef, [QuantityId; 4], Option<String>),
+    /// Every type but 301: the looper's organ, body (k, a, b, γmax) and path.
+    pub looper: Option<(OrganDef, [QuantityId; 4], Option<String>)>,
+    /// 301: the hook (beak radius, case radius, offset, catch rise, beak
+    /// above the eye, cast-off turn) and the interlacing depth f.
+    pub hook: Option<([QuantityId; 6], QuantityId)>,
     pub upper: Option<(OrganDef, [f64; 2], Option<String>)>,
     /// 503: the spreader and its pick-up window.
     pub spreader: Option<(OrganDef, [f64; 2])>,
@@ -234,7 +239,54 @@ impl Loader<'_> {
         let regulator = self.regulator(f, s, &path)?;
         let feed = self.feed(s, &path)?;
         let needles = self.needles(s, stitch_type, &path, threads)?;
-        let looper = self.looper(s, &path, threads)?;
+        let (looper, hook) = match (stitch_type, &s.looper, &s.hook) {
+            (StitchType::S301, None, Some(h)) => (None, Some(self.hook(h, s, &path)?)),
+            (StitchType::S301, Some(_), _) => {
+                return Err(self.err(
+                    &path.key("looper"),
+                    "a lockstitch (301) has a hook, not a looper",
+                    Some(
+                        "replace [stitch.looper] with [stitch.hook] (docs/model-format.md, \"Stitch process\")".into(),
+                    ),
+                ));
+            }
+            (StitchType::S301, None, None) => {
+                return Err(self.err(
+                    &path,
+                    "a lockstitch (301) needs its hook",
+                    Some(
+                        "add [stitch.hook] with beak_radius_mm, case_radius_mm, offset_mm and cast_off_deg \
+                         (docs/model-format.md, \"Stitch process\")"
+                            .into(),
+                    ),
+                ));
+            }
+            (_, _, Some(_)) => {
+                return Err(self.err(
+                    &path.key("hook"),
+                    format!("stitch {} has a looper, not a hook", s.stitch_type),
+                    Some("remove [stitch.hook]; only a lockstitch (type \"301\") has one".into()),
+                ));
+            }
+            (_, Some(l), None) => (Some(self.looper(l, &path, threads)?), None),
+            (_, None, None) => {
+                return Err(self.err(
+                    &path,
+                    format!(
+                        "stitch {} needs the looper that catches the needle loops",
+                        s.stitch_type
+                    ),
+                    Some("add [stitch.looper] (docs/model-format.md, \"Stitch process\")".into()),
+                ));
+            }
+        };
+        if let (Some(_), false) = (&s.interlace, stitch_type == StitchType::S301) {
+            return Err(self.err(
+                &path.key("interlace"),
+                format!("stitch {} has no interlacing depth", s.stitch_type),
+                Some("remove `interlace`; only a lockstitch (type \"301\") has one".into()),
+            ));
+        }
         let upper = self.upper_looper(s, stitch_type, &path, threads)?;
         let spreader = self.spreader(s, stitch_type, &path)?;
         let moments = self.moments(s, stitch_type, &path)?;
@@ -252,15 +304,17 @@ impl Loader<'_> {
             feed,
             needles,
             looper,
+            hook,
             upper,
             spreader,
             moments,
         }))
     }
 
-    /// The stitch type: 401, 406, 407, 503 or 504.
+    /// The stitch type: 301, 401, 406, 407, 503 or 504.
     fn stitch_type(&self, s: &StitchFile, path: &KeyPath) -> LoadResult<StitchType> {
         Ok(match s.stitch_type.as_str() {
+            "301" => StitchType::S301,
             "401" => StitchType::S401,
             "406" => StitchType::S406,
             "407" => StitchType::S407,
@@ -270,7 +324,7 @@ impl Loader<'_> {
                 return Err(self.err(
                     &path.key("type"),
                     format!("unknown or unsupported stitch type `{other}`"),
-                    Some("write \"401\", \"406\", \"407\", \"503\" or \"504\"".into()),
+                    Some("write \"301\", \"401\", \"406\", \"407\", \"503\" or \"504\"".into()),
                 ));
             }
         })
@@ -444,15 +498,39 @@ impl Loader<'_> {
         Ok(needles)
     }
 
+    /// The hook of a lockstitch (six lengths and angles) and the
+    /// interlacing depth f, checked when the parameters change.
+    fn hook(&mut self, h: &StitchHook, s: &StitchFile, path: &KeyPath) -> LoadResult<([QuantityId; 6], QuantityId)> {
+        let hp = path.key("hook");
+        let default = |v: &Option<Value>, x: f64| v.clone().unwrap_or(Value::Number(x));
+        let q = [
+            self.positive_length(&h.beak_radius_mm, hp.key("beak_radius_mm"), "the beak radius")?,
+            self.positive_length(&h.case_radius_mm, hp.key("case_radius_mm"), "the bobbin case radius")?,
+            self.length(&h.offset_mm, hp.key("offset_mm"))?,
+            self.positive_length(
+                &default(&h.catch_rise_mm, 2.0),
+                hp.key("catch_rise_mm"),
+                "the needle rise at the catch",
+            )?,
+            self.positive_length(
+                &default(&h.beak_above_eye_mm, 1.5),
+                hp.key("beak_above_eye_mm"),
+                "the beak's height above the eye at the catch",
+            )?,
+            self.angle(&h.cast_off_deg, hp.key("cast_off_deg"))?,
+        ];
+        let f = self.qty(&default(&s.interlace, 0.5), Some(Dim::ONE), path.key("interlace"))?;
+        Ok((q, f))
+    }
+
     /// The looper: its eye (a point or a law), body and thread path.
     fn looper(
         &mut self,
-        s: &StitchFile,
+        l: &StitchLooper,
         path: &KeyPath,
         threads: Option<&ThreadsDef>,
     ) -> LoadResult<(OrganDef, [QuantityId; 4], Option<String>)> {
         let lp = path.key("looper");
-        let l = &s.looper;
         let looper_eye = match (self.organ_point(&l.eye, l.law.is_some(), &lp, "looper")?, &l.law) {
             (Some(slot), _) => OrganDef::Point(slot),
             (None, Some(w)) => {
@@ -678,33 +756,21 @@ impl Model {
         let q = self.quantities(&base)?;
         let tilt_deg = d.tilt.map_or(0.0, |i| q[i]);
         let samples = self.sample_organs(d, &q)?;
-        let (k, a, bb, gmax) = (q[d.looper.1[0]], q[d.looper.1[1]], q[d.looper.1[2]], q[d.looper.1[3]]);
         let needles = d
             .needles
             .iter()
             .map(|nd| needle_spec(nd, &q, &samples, tilt_deg))
             .collect();
-        let looper_eye = match &d.looper.0 {
-            OrganDef::Point(slot) => samples.table(*slot),
-            OrganDef::LooperLaw {
-                stroke,
-                far,
-                catch,
-                catch_x,
-                y0,
-                avoid,
-                depth,
-            } => Motion::LooperLaw {
-                stroke_mm: q[*stroke],
-                far_deg: q[*far],
-                catch_deg: q[*catch],
-                catch_x_mm: catch_x.map_or(0.0, |i| q[i]),
-                y0_mm: y0.map_or((k + bb) * tilt_deg.to_radians().tan(), |i| q[i]),
-                avoid_mm: avoid.map_or(0.0, |i| q[i]),
-                depth_mm: q[*depth],
-            },
-            _ => unreachable!("the looper takes a point or a looper law"),
-        };
+        let looper = d.looper.as_ref().map(|l| looper_spec(l, &q, &samples, tilt_deg));
+        let hook = d.hook.as_ref().map(|(h, _)| HookSpec {
+            beak_radius_mm: q[h[0]],
+            case_radius_mm: q[h[1]],
+            offset_mm: q[h[2]],
+            catch_rise_mm: q[h[3]],
+            beak_above_eye_mm: q[h[4]],
+            cast_off_deg: q[h[5]],
+        });
+        let interlace = d.hook.as_ref().map_or(0.5, |(_, f)| q[*f]);
         let upper_looper = d.upper.as_ref().map(|(o, w, _)| UpperLooperSpec {
             eye: polyline_motion(o, &samples),
             pick_window_deg: *w,
@@ -730,15 +796,9 @@ impl Model {
                 },
             },
             needles,
-            looper: Some(LooperSpec {
-                eye: looper_eye,
-                k_mm: k,
-                a_mm: a,
-                b_mm: bb,
-                gamma_max_rad: gmax.to_radians(),
-            }),
-            hook: None,
-            interlace: 0.5,
+            looper,
+            hook,
+            interlace,
             upper_looper,
             spreader,
             // Chain stitches have no looper-thread moments.
@@ -770,7 +830,7 @@ impl Model {
     /// mechanism is solved only when some organ is a point.
     fn sample_organs(&self, d: &StitchDef, q: &[f64]) -> Result<OrganSamples, Error> {
         let needs_mechanism = d.needles.iter().any(|n| matches!(n.eye, OrganDef::Point(_)))
-            || matches!(d.looper.0, OrganDef::Point(_))
+            || matches!(&d.looper, Some((OrganDef::Point(_), ..)))
             || matches!(&d.upper, Some((OrganDef::Point(_), ..)))
             || matches!(&d.spreader, Some((OrganDef::Point(_), _)))
             || matches!(d.feed, FeedDef::Point(_));
@@ -836,6 +896,44 @@ fn needle_spec(nd: &NeedleDef, q: &[f64], samples: &OrganSamples, tilt_deg: f64)
     }
 }
 
+/// The looper: its catching point (a mechanism point or its law) and body.
+fn looper_spec(
+    (organ, body, _): &(OrganDef, [QuantityId; 4], Option<String>),
+    q: &[f64],
+    samples: &OrganSamples,
+    tilt_deg: f64,
+) -> LooperSpec {
+    let (k, a, bb, gmax) = (q[body[0]], q[body[1]], q[body[2]], q[body[3]]);
+    let eye = match organ {
+        OrganDef::Point(slot) => samples.table(*slot),
+        OrganDef::LooperLaw {
+            stroke,
+            far,
+            catch,
+            catch_x,
+            y0,
+            avoid,
+            depth,
+        } => Motion::LooperLaw {
+            stroke_mm: q[*stroke],
+            far_deg: q[*far],
+            catch_deg: q[*catch],
+            catch_x_mm: catch_x.map_or(0.0, |i| q[i]),
+            y0_mm: y0.map_or((k + bb) * tilt_deg.to_radians().tan(), |i| q[i]),
+            avoid_mm: avoid.map_or(0.0, |i| q[i]),
+            depth_mm: q[*depth],
+        },
+        _ => unreachable!("the looper takes a point or a looper law"),
+    };
+    LooperSpec {
+        eye,
+        k_mm: k,
+        a_mm: a,
+        b_mm: bb,
+        gamma_max_rad: gmax.to_radians(),
+    }
+}
+
 /// The upper looper and the spreader: a point or a polyline law.
 fn polyline_motion(o: &OrganDef, samples: &OrganSamples) -> Motion {
     match o {
@@ -859,7 +957,7 @@ fn polyline_motion(o: &OrganDef, samples: &OrganSamples) -> Motion {
 fn compared_paths(d: &StitchDef) -> Vec<Option<String>> {
     let mut paths: Vec<Option<String>> = d.needles.iter().map(|n| n.path.clone()).collect();
     if matches!(d.stitch_type, StitchType::S503 | StitchType::S504) {
-        paths.push(d.looper.2.clone());
+        paths.push(d.looper.as_ref().and_then(|l| l.2.clone()));
     }
     if d.stitch_type == StitchType::S504 {
         paths.push(d.upper.as_ref().and_then(|u| u.2.clone()));

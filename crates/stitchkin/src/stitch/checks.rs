@@ -4,7 +4,8 @@
 //! - `thread_bound`: the thread the take-up passes through B, P_B(φ),
 //!   never exceeds what the needle can take through B: twice its deepest
 //!   travel below B so far in the cycle (the branch from B down to the eye
-//!   and the branch back up to the material) plus the loop on the looper.
+//!   and the branch back up to the material) plus the loop on the looper
+//!   (or a lockstitch's hook).
 //!   More than that can only hang slack.
 //! - `catch_clearance`: at the catch φ1 the looper's point passes 1–3 mm
 //!   above the needle eye, where the loop forms (seed 004 §2.1: the eye
@@ -102,7 +103,7 @@ pub fn thread_bound(thread: &str, phis_deg: &[f64], p_b: &[f64], bound: &[f64], 
     let ok = value <= bound + 1e-9;
     let parts = |bound: f64, lp: f64| {
         format!(
-            "twice the needle's {:.1} mm deepest travel below B so far plus {lp:.1} mm of loop on the looper",
+            "twice the needle's {:.1} mm deepest travel below B so far plus {lp:.1} mm of loop on the looper or hook",
             0.5 * (bound - lp)
         )
     };

@@ -1415,6 +1415,34 @@ fn takeup_lever() -> Vec<Fact> {
     ]
 }
 
+/// The lockstitch preset: the loop its hook draws beside Union Special's
+/// published size, and the hook timing (inputs from the makers' manuals).
+fn lockstitch() -> Vec<Fact> {
+    let m = Model::preset("lockstitch").unwrap();
+    let t = run(&m, &m.defaults(), 1.0);
+    let st = t.stitch.as_ref().unwrap();
+    let released = st.threads[0].released_mm;
+    // ρ = the loop + 2(1 − f)·l_m: the loop alone at the cast-off.
+    let loop_mm = released - 2.0 * 0.5 * 2.0;
+    vec![
+        fact(
+            "LS01",
+            Verdict::Partly,
+            format!(
+                "{} mm on the hook at the cast-off (illustrative household hook)",
+                f(loop_mm, 1)
+            ),
+            vec![loop_mm],
+        ),
+        fact(
+            "LS02",
+            Verdict::NotApplicable,
+            "2 mm of rise, the beak 1.5 mm above the eye (inputs)".into(),
+            vec![2.0, 1.5],
+        ),
+    ]
+}
+
 fn overlock500() -> Vec<Fact> {
     let m = Model::preset("overlock500").unwrap();
     let t = run(&m, &m.defaults(), 2.0);
@@ -1557,12 +1585,13 @@ fn doc_rows() -> Vec<Row> {
 #[test]
 fn published_facts_table_is_current() {
     let started = std::time::Instant::now();
-    let sections: [(&str, Section); 6] = [
+    let sections: [(&str, Section); 7] = [
         ("mf7923d", mf7923d),
         ("needle876", needle876),
         ("altin-needle", altin_needle),
         ("altin504", altin504),
         ("takeup-lever", takeup_lever),
+        ("lockstitch", lockstitch),
         ("overlock500", overlock500),
     ];
     let print = std::env::var_os("STITCHKIN_PRINT_FACTS").is_some();
@@ -1686,8 +1715,8 @@ fn check_summaries(errors: &mut String) {
             }
         }
     }
-    if sections != 6 {
-        writeln!(errors, "{sections} summary lines, one per preset (6) expected").unwrap();
+    if sections != 7 {
+        writeln!(errors, "{sections} summary lines, one per preset (7) expected").unwrap();
     }
 }
 

@@ -14,6 +14,7 @@ mod history;
 mod invariants;
 mod limits;
 mod loading;
+mod lockstitch;
 mod measured;
 mod mechgen;
 #[path = "../fuzz/mutate.rs"]

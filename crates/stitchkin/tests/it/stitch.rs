@@ -299,9 +299,15 @@ fn a_401_model_with_stand_in_laws_runs() {
 
 #[test]
 fn bad_stitch_tables_are_rejected_with_the_place_and_the_fix() {
+    let e = stitch_err(r#"type = "401""#, r#"type = "302""#);
+    assert!(
+        e.contains("unknown or unsupported stitch type `302`") && e.contains("\"301\"") && e.contains("\"407\""),
+        "{e}"
+    );
+    // A lockstitch has a hook where a chain stitch has its looper.
     let e = stitch_err(r#"type = "401""#, r#"type = "301""#);
     assert!(
-        e.contains("unknown or unsupported stitch type `301`") && e.contains("\"407\""),
+        e.contains("stitch.looper") && e.contains("has a hook, not a looper"),
         "{e}"
     );
     let e = stitch_err(r#"type = "401""#, r#"type = "503""#);

@@ -325,10 +325,15 @@ fn thread_details(t: &StitchThreadSummary) -> String {
                 .join(", ")
         }
     };
+    // Seed 004 numbers the contours of its stitches; the lockstitch has none.
+    let contour = if t.contour == 0 {
+        "lockstitch".to_string()
+    } else {
+        format!("contour {}", t.contour)
+    };
     let mut s = format!(
-        "\n{} (contour {}){}, measured at {}\n",
+        "\n{} ({contour}){}, measured at {}\n",
         t.thread,
-        t.contour,
         t.path
             .as_ref()
             .map(|p| format!(", take-up path {p}"))
@@ -341,7 +346,7 @@ fn thread_details(t: &StitchThreadSummary) -> String {
     );
     if t.released_mm > 0.0 {
         s += &format!(
-            "  loop released       {:>9.3} mm when it drops off the looper\n",
+            "  loop released       {:>9.3} mm when it leaves the looper or hook (the lock)\n",
             t.released_mm
         );
     }

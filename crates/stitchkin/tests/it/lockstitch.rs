@@ -1,0 +1,109 @@
+//! The `lockstitch` preset: seed 001's take-up lever with a needle bar and a
+//! rotary hook, stitch 301 (docs/stitch-formation.md §13).
+
+use stitchkin::eval::stitch_process::StitchSummary;
+use stitchkin::eval::{CycleOptions, CycleTable, run_cycle};
+use stitchkin::model::Model;
+use stitchkin::study::tune::{TuneOptions, tune};
+use stitchkin::{StitchGeometry, consumption};
+
+fn run_with(set: &[(&str, f64)]) -> CycleTable {
+    let model = Model::preset("lockstitch").unwrap();
+    let mut params = model.defaults();
+    for (k, v) in set {
+        model.set(&mut params, k, *v).unwrap();
+    }
+    run_cycle(&model, &params, &CycleOptions::default()).unwrap()
+}
+
+fn stitch(t: &CycleTable) -> &StitchSummary {
+    t.stitch.as_ref().expect("lockstitch has a [stitch]")
+}
+
+#[test]
+fn the_default_is_possible_and_matches() {
+    let t = run_with(&[]);
+    let s = stitch(&t);
+    assert_eq!(s.stitch_type, 301);
+    assert!(s.checks.iter().all(|c| c.ok), "{:?}", s.checks);
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    assert!(s.transfers.iter().any(|w| w.contains("401")), "{:?}", s.transfers);
+    let [needle] = &s.threads[..] else {
+        panic!("one thread: {:?}", s.threads.len())
+    };
+    assert_eq!(needle.thread, "needle");
+    // The thread locked per stitch is 301's needle thread, t + 2·f·l_m.
+    let c = consumption(301, &StitchGeometry::new(2.0, 2.5)).unwrap();
+    assert!((needle.per_stitch_mm - c.threads[0].length_mm.unwrap()).abs() < 1e-12);
+    assert!((needle.locked_mm - needle.per_stitch_mm).abs() < 1e-9);
+    // Golden: the match and the loop released at the cast-off (φ = 343.5°).
+    let mm = needle.mismatch.as_ref().unwrap();
+    assert!((mm.score.unwrap() - 84.8).abs() < 0.05, "{mm:?}");
+    assert!((mm.rms_d_mm - 11.857).abs() < 1e-3, "{mm:?}");
+    assert!((needle.lock_phi_deg - 343.5).abs() < 0.05, "{}", needle.lock_phi_deg);
+    assert!((needle.released_mm - 82.943).abs() < 1e-3, "{}", needle.released_mm);
+    assert!((needle.max_pprime_mm - 84.159).abs() < 1e-3, "{}", needle.max_pprime_mm);
+    // P and P' at B are 0 at φ0 = TDC and finite everywhere.
+    for name in ["needle.P_B_mm", "needle.Pprime_B_mm"] {
+        let v = t.column(name).unwrap();
+        assert!(v[0].abs() < 1e-12 && v.iter().all(|x| x.is_finite()), "{name}");
+    }
+}
+
+#[test]
+fn the_hook_timing_moves_the_stitch() {
+    // A later catch (more needle rise) finds a longer loop: P' grows.
+    let base = stitch(&run_with(&[])).threads[0].max_pprime_mm;
+    let late = stitch(&run_with(&[("catch_rise", 2.8)])).threads[0].max_pprime_mm;
+    assert!(late != base);
+    // An earlier cast-off releases the loop before it has gone as far round.
+    let early_run = run_with(&[("cast_off", 240.0)]);
+    let early = &stitch(&early_run).threads[0];
+    assert!(early.lock_phi_deg < 343.0 && early.released_mm < 82.9, "{early:?}");
+}
+
+#[test]
+fn tune_adjusts_the_lever_and_the_hook_timing() {
+    let model = Model::preset("lockstitch").unwrap();
+    let base = model.defaults();
+    let adjust = model.default_adjustables(&base).unwrap();
+    assert_eq!(adjust, ["x4", "y4"]);
+    let opts = TuneOptions {
+        adjust: vec!["y4".into(), "catch_rise".into()],
+        samples: 64,
+        seed: 1,
+        step_deg: 6.0,
+    };
+    let r = tune(&model, &base, &opts).unwrap();
+    assert!(r.after_figures.feasible, "{:?}", r.after_figures);
+    assert!(r.after_figures.score_mean >= r.before_figures.score_mean - 1e-9);
+}
+
+#[test]
+fn a_lockstitch_model_must_have_its_hook() {
+    let text = Model::preset("lockstitch").unwrap().text().to_string();
+    let hook_start = text.find("[stitch.hook]").unwrap();
+    let err = |t: &str| Model::from_toml_str(t, "lockstitch.toml").unwrap_err().to_string();
+    // No hook.
+    let e = err(&text[..hook_start]);
+    assert!(e.contains("needs its hook") && e.contains("lockstitch.toml"), "{e}");
+    // A looper instead.
+    let with_looper = format!(
+        "{}\n[stitch.looper]\nlaw = {{ stroke_mm = 32, far_deg = 180, catch_deg = 30, depth_mm = 5.5 }}\nk_mm = 4\na_mm = 1\nb_mm = 2.5\ngamma_max_deg = 23\n",
+        &text[..hook_start]
+    );
+    assert!(err(&with_looper).contains("has a hook, not a looper"));
+    // The interlacing belongs to the lockstitch only.
+    let chain = Model::preset("mf7923d")
+        .unwrap()
+        .text()
+        .replace("type = \"407\"", "type = \"407\"\ninterlace = 0.5");
+    assert!(err(&chain).contains("no interlacing depth"));
+    // A case that reaches across the needle line is refused when run.
+    let wide = text.replace("case_radius_mm = 11", "case_radius_mm = 12.5");
+    let model = Model::from_toml_str(&wide, "lockstitch.toml").unwrap();
+    let e = run_cycle(&model, &model.defaults(), &CycleOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("hook") && e.contains("beside the needle line"), "{e}");
+}
