@@ -1,6 +1,6 @@
 //! The seed-study scripts in examples/ run: each one with this test build of
 //! the binary (`STITCHKIN`) and coarse grids (`STITCHKIN_QUICK=1`), writing
-//! its tables to a scratch folder (`STITCHKIN_OUT`). The four scripts run at
+//! its tables to a scratch folder (`STITCHKIN_OUT`). The scripts run at
 //! once; every command in them runs, only on fewer points.
 
 use std::path::Path;
@@ -36,6 +36,15 @@ const SCRIPTS: &[(&str, &[(&str, &str)])] = &[
             ("seed000_nomogram_z_at_lock.txt", "z within 1 pt"),
             ("seed000_nomogram_z_t1phase0.txt", "Every match score is 0"),
             ("seed000_nomogram_z_dphi.csv", "dphi_lo_deg"),
+        ],
+    ),
+    (
+        "lockstitch_cam.sh",
+        &[
+            ("lockstitch_match.txt", "(lockstitch)"),
+            ("lockstitch_tune.txt", "Recommended setting"),
+            ("lockstitch_cam.csv", "theta_deg,radius_mm"),
+            ("lockstitch_cam.toml", "[[cams]]"),
         ],
     ),
     (
