@@ -198,9 +198,47 @@ macro_rules! with_plane {
     };
 }
 
+/// The convex hull of planar points, counter-clockwise without repeated or
+/// collinear vertices (Andrew's monotone chain); sorts `points`.
+pub fn convex_hull(points: &mut [[f64; 2]]) -> Vec<[f64; 2]> {
+    points.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    let mut hull: Vec<[f64; 2]> = Vec::with_capacity(points.len() + 1);
+    for pass in 0..2 {
+        let start = hull.len();
+        let ordered: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
+            Box::new(points.iter())
+        } else {
+            Box::new(points.iter().rev())
+        };
+        for &p in ordered {
+            while hull.len() >= start + 2 && turn(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+/// (a − o) × (b − o): positive when o → a → b turns counter-clockwise.
+pub fn turn(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn hull_of_a_square_with_inner_and_edge_points() {
+        let mut pts = [[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [2.0, 2.0], [0.0, 2.0], [1.0, 1.0]];
+        assert_eq!(
+            convex_hull(&mut pts),
+            vec![[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]]
+        );
+        assert!(turn([0.0, 0.0], [1.0, 0.0], [1.0, 1.0]) > 0.0);
+    }
     use approx::assert_relative_eq;
 
     #[test]

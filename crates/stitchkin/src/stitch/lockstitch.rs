@@ -24,7 +24,7 @@
 
 use crate::Error;
 use crate::error::StitchError;
-use crate::geometry::V3;
+use crate::geometry::{V3, convex_hull};
 
 use super::feed::Feed;
 use super::needle_thread::{NeedleLine, Side, before, bisect, needle_line};
@@ -35,27 +35,10 @@ use super::spec::{EventKind, HookSpec, NeedleSpec};
 /// for a case of radius 11 mm wrapped a full turn.
 const ARC_STEP_DEG: f64 = 0.5;
 
-/// Perimeter of the convex hull of points in a plane (y, z), mm. Andrew's
-/// monotone chain; fewer than two distinct points have perimeter 0.
+/// Perimeter of the convex hull of points in a plane (y, z), mm; fewer
+/// than two distinct points have perimeter 0.
 pub fn hull_perimeter(points: &mut [[f64; 2]]) -> f64 {
-    points.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-    let mut hull: Vec<[f64; 2]> = Vec::with_capacity(points.len() + 1);
-    for pass in 0..2 {
-        let start = hull.len();
-        let ordered: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
-            Box::new(points.iter())
-        } else {
-            Box::new(points.iter().rev())
-        };
-        for &p in ordered {
-            while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
-                hull.pop();
-            }
-            hull.push(p);
-        }
-        hull.pop();
-    }
+    let hull = convex_hull(points);
     let n = hull.len();
     (0..n)
         .map(|i| {

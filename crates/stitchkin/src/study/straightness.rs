@@ -248,24 +248,7 @@ pub fn zone_width(pts: &[[f64; 2]]) -> f64 {
     if p.len() < 3 {
         return 0.0;
     }
-    // Andrew's monotone chain.
-    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-    let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * p.len());
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
-            Box::new(p.iter())
-        } else {
-            Box::new(p.iter().rev())
-        };
-        for &q in iter {
-            while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0.0 {
-                hull.pop();
-            }
-            hull.push(q);
-        }
-        hull.pop();
-    }
+    let hull = crate::geometry::convex_hull(&mut p);
     if hull.len() < 3 {
         return 0.0;
     }
@@ -274,7 +257,9 @@ pub fn zone_width(pts: &[[f64; 2]]) -> f64 {
         .map(|i| {
             let (a, b) = (hull[i], hull[(i + 1) % h]);
             let len = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
-            hull.iter().map(|&q| cross(a, b, q).abs() / len).fold(0.0, f64::max)
+            hull.iter()
+                .map(|&q| crate::geometry::turn(a, b, q).abs() / len)
+                .fold(0.0, f64::max)
         })
         .fold(f64::MAX, f64::min)
 }
