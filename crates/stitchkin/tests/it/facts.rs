@@ -1411,8 +1411,39 @@ fn takeup_lever() -> Vec<Fact> {
             format!("P from {} to {} mm (illustrative dimensions)", f(lo, 2), f(hi, 2)),
             vec![lo, hi],
         ),
-        fact("TL03", Verdict::NotApplicable, "—".into(), vec![]),
+        tl03(),
     ]
+}
+
+/// TL03 on the lockstitch preset, the same lever in a lockstitch machine:
+/// the slack (D > 0) area against the reconstructed P′ with the fork's
+/// eyelets P6, P7 on the thread, and with the coupler's eyelet P5 alone.
+fn tl03() -> Fact {
+    let forks = Model::preset("lockstitch").unwrap();
+    let text = forks.text().replace(
+        r#"nodes = ["N1", "P6", "P5", "P7", "N2", "G", "N"]"#,
+        r#"nodes = ["N1", "P5", "N2", "G", "N"]"#,
+    );
+    let plain = Model::from_toml_str(&text, "lockstitch-plain.toml").unwrap();
+    let slack = |m: &Model| {
+        let t = run(m, &m.defaults(), 1.0);
+        t.stitch.as_ref().unwrap().threads[0]
+            .mismatch
+            .as_ref()
+            .unwrap()
+            .excess_area_mm_deg
+    };
+    let (with_forks, without) = (slack(&forks), slack(&plain));
+    fact(
+        "TL03",
+        Verdict::NotApplicable,
+        format!(
+            "slack {} mm·deg with the fork's eyelets, {} with P5 alone (preset lockstitch, illustrative)",
+            f(with_forks, 1),
+            f(without, 1)
+        ),
+        vec![with_forks, without],
+    )
 }
 
 /// The lockstitch preset: the loop its hook draws beside Union Special's
