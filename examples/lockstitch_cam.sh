@@ -17,7 +17,7 @@ mkdir -p "$OUT"
 stitchkin() { if [[ -n "${STITCHKIN:-}" ]]; then "$STITCHKIN" "$@"; else cargo run --release --quiet -- "$@"; fi; }
 # The hook timing changes the stitch, so each of its settings recomputes P'
 # (the lever alone shares one P'): the smoke run tunes the lever only.
-if [[ -n "${STITCHKIN_QUICK:-}" ]]; then STEP=6 POINTS=60 ADJUST=y4; else STEP=1 POINTS=360 ADJUST=y4,catch_rise,beak_above_eye; fi
+if [[ -n "${STITCHKIN_QUICK:-}" ]]; then STEP=6 POINTS=60 ADJUST=y4; else STEP=1 POINTS=360 ADJUST=y4,catch_rise,s_b; fi
 
 stitchkin match --preset lockstitch --details --step $STEP -o "$OUT/lockstitch_match.txt"
 stitchkin tune --preset lockstitch --adjust $ADJUST --step $STEP -o "$OUT/lockstitch_tune.txt"

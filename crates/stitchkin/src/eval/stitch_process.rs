@@ -10,7 +10,7 @@ use super::{Column, wrap_deg};
 use crate::error::Error;
 use crate::model::stitch_setup::StitchSetup;
 use crate::model::{Model, Params};
-use crate::stitch::checks::{Check, bound_curve, catch_and_stab, thread_bound};
+use crate::stitch::checks::{Check, bound_curve, catch_and_stab, hook_clearance, thread_bound};
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::stitch::required_take_up::required_take_up;
 use crate::stitch::spec::{DEFAULT_REGULATOR_WIDTH_DEG, EventKind, Regulator, RequiredThread, StitchType, ThreadRole};
@@ -144,8 +144,11 @@ impl Prepared {
         self.required
             .threads
             .iter()
-            .filter_map(|th| th.needle_moments.map(|m| catch_and_stab(&th.name, &m, from_c)))
-            .flatten()
+            .flat_map(|th| {
+                let looper = th.needle_moments.map(|m| catch_and_stab(&th.name, &m, from_c));
+                let hook = th.hook_moments.map(|m| hook_clearance(&th.name, &m, from_c));
+                looper.into_iter().flatten().chain(hook)
+            })
             .collect()
     }
 

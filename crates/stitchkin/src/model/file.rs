@@ -807,14 +807,12 @@ pub struct StitchHook {
     /// The hook axis's distance from the needle line along the seam (+:
     /// in the feed direction); case radius < |offset| < beak radius.
     pub offset_mm: Value,
-    /// The needle's rise from its BDC when the beak meets it (default 2.0;
-    /// the makers' timing gauges set 1.8–2.8).
+    /// The hook axis below the plate top; deeper than the beak radius.
+    pub depth_mm: Value,
+    /// The needle's rise from its BDC when the beak meets it: the hook's
+    /// timing (default 2.0; the makers' gauges set 1.8–2.8).
     #[serde(default)]
     pub catch_rise_mm: Option<Value>,
-    /// The beak above the needle eye at the catch (default 1.5; the makers
-    /// set 0.5–2.4).
-    #[serde(default)]
-    pub beak_above_eye_mm: Option<Value>,
     /// The beak's turn from the catch to where the loop leaves the hook,
     /// degrees.
     pub cast_off_deg: Value,

@@ -97,8 +97,8 @@ pub(crate) struct StitchDef {
     pub needles: Vec<NeedleDef>,
     /// Every type but 301: the looper's organ, body (k, a, b, γmax) and path.
     pub looper: Option<(OrganDef, [QuantityId; 4], Option<String>)>,
-    /// 301: the hook (beak radius, case radius, offset, catch rise, beak
-    /// above the eye, cast-off turn) and the interlacing depth f.
+    /// 301: the hook (beak radius, case radius, offset, depth, catch rise,
+    /// cast-off turn) and the interlacing depth f.
     pub hook: Option<([QuantityId; 6], QuantityId)>,
     pub upper: Option<(OrganDef, [f64; 2], Option<String>)>,
     /// 503: the spreader and its pick-up window.
@@ -498,7 +498,7 @@ impl Loader<'_> {
         Ok(needles)
     }
 
-    /// The hook of a lockstitch (six lengths and angles) and the
+    /// The hook of a lockstitch (five lengths and an angle) and the
     /// interlacing depth f, checked when the parameters change.
     fn hook(&mut self, h: &StitchHook, s: &StitchFile, path: &KeyPath) -> LoadResult<([QuantityId; 6], QuantityId)> {
         let hp = path.key("hook");
@@ -507,15 +507,11 @@ impl Loader<'_> {
             self.positive_length(&h.beak_radius_mm, hp.key("beak_radius_mm"), "the beak radius")?,
             self.positive_length(&h.case_radius_mm, hp.key("case_radius_mm"), "the bobbin case radius")?,
             self.length(&h.offset_mm, hp.key("offset_mm"))?,
+            self.positive_length(&h.depth_mm, hp.key("depth_mm"), "the hook axis's depth below the plate")?,
             self.positive_length(
                 &default(&h.catch_rise_mm, 2.0),
                 hp.key("catch_rise_mm"),
                 "the needle rise at the catch",
-            )?,
-            self.positive_length(
-                &default(&h.beak_above_eye_mm, 1.5),
-                hp.key("beak_above_eye_mm"),
-                "the beak's height above the eye at the catch",
             )?,
             self.angle(&h.cast_off_deg, hp.key("cast_off_deg"))?,
         ];
@@ -766,8 +762,8 @@ impl Model {
             beak_radius_mm: q[h[0]],
             case_radius_mm: q[h[1]],
             offset_mm: q[h[2]],
-            catch_rise_mm: q[h[3]],
-            beak_above_eye_mm: q[h[4]],
+            depth_mm: q[h[3]],
+            catch_rise_mm: q[h[4]],
             cast_off_deg: q[h[5]],
         });
         let interlace = d.hook.as_ref().map_or(0.5, |(_, f)| q[*f]);

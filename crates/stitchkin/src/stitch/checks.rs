@@ -10,6 +10,8 @@
 //! - `catch_clearance`: at the catch φ1 the looper's point passes 1–3 mm
 //!   above the needle eye, where the loop forms (seed 004 §2.1: the eye
 //!   1.5–2 mm below the looper nose).
+//! - `hook_clearance` (lockstitch): at the catch the hook's beak passes
+//!   0.5–2.4 mm above the eye, as the makers' timing gauges set it.
 //! - `stab_before_drop`: when the needle loop drops off the looper (φ4) the
 //!   needle point is already below the looper's upper face, inside the
 //!   triangle of the looper thread (seed 004 Table 2: the stab φ3 comes
@@ -54,6 +56,53 @@ pub struct NeedleMoments {
     pub point_z_at_drop_mm: f64,
     /// Height of the looper's upper face above the plate top, −k, mm.
     pub looper_top_z_mm: f64,
+}
+
+/// The beak's height above the needle eye at a lockstitch's catch that the
+/// hook makers' timing gauges set, mm (Brother S-7000DD 0.5–0.7, Juki
+/// LU-2210N-7 1.4 ± 0.2, Consew 255RB-3 2.4; docs/references.md).
+pub const HOOK_CLEARANCE_MM: [f64; 2] = [0.5, 2.4];
+
+/// The catch of a lockstitch's hook, for `hook_clearance`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct HookMoments {
+    /// The catch φ1, deg (cyclogram).
+    pub catch_deg: f64,
+    /// The beak point above the eye there, along the needle, mm.
+    pub beak_above_eye_mm: f64,
+}
+
+/// `hook_clearance`: at the catch the beak passes within the makers' range
+/// above the eye, where the loop has formed.
+pub fn hook_clearance(thread: &str, m: &HookMoments, from_c: impl Fn(f64) -> f64) -> Check {
+    let [lo, hi] = HOOK_CLEARANCE_MM;
+    let (h, at) = (m.beak_above_eye_mm, from_c(m.catch_deg));
+    let ok = (lo..=hi).contains(&h);
+    let message = if ok {
+        format!(
+            "at the catch (φ = {at:.1}°) the hook's beak passes {h:.2} mm above the eye, within {lo}–{hi} mm: it enters the loop"
+        )
+    } else if h < lo {
+        format!(
+            "at the catch (φ = {at:.1}°) the hook's beak passes {} the eye ({h:+.2} mm; {lo}–{hi} mm above it wanted): it can \
+             miss the loop and skip stitches; set the needle bar lower, or time the hook later",
+            if h < 0.0 { "below" } else { "too close above" }
+        )
+    } else {
+        format!(
+            "at the catch (φ = {at:.1}°) the hook's beak passes {h:.2} mm above the eye ({lo}–{hi} mm wanted), above the loop: it can \
+             miss it and skip stitches; set the needle bar higher, or time the hook earlier"
+        )
+    };
+    Check {
+        name: "hook_clearance",
+        thread: thread.into(),
+        ok,
+        value: h,
+        limit: [Some(lo), Some(hi)],
+        at_deg: at,
+        message,
+    }
 }
 
 /// The most thread the needle can take through B at each φ of the model

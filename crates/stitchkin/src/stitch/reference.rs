@@ -167,8 +167,9 @@ pub fn mf7923d_407(m: f64, t: f64) -> StitchSpec {
 /// A lockstitch 301 stand-in (§13): a harmonic needle of stroke 30 mm, its
 /// eye 17 mm above the plate at TDC (13 mm below at BDC), a rotary hook of
 /// beak radius 14 mm around a bobbin case of radius 11 mm, its axis 11.5 mm
-/// along the seam from the needle line; the catch at 2 mm of needle rise,
-/// the beak 1.5 mm above the eye; the loop cast off after 270° of the
+/// along the seam from the needle line and 17.5 mm below the plate; the
+/// catch at 2 mm of needle rise (the beak then 1.48 mm above the eye); the
+/// loop cast off after 270° of the
 /// beak's turn; the feed from 110° for 140°. Illustrative numbers in the
 /// range of the makers' timing (docs/references.md).
 pub fn lockstitch301(m: f64, t: f64) -> StitchSpec {
@@ -201,8 +202,8 @@ pub fn lockstitch301(m: f64, t: f64) -> StitchSpec {
             beak_radius_mm: 14.0,
             case_radius_mm: 11.0,
             offset_mm: 11.5,
+            depth_mm: 17.5,
             catch_rise_mm: 2.0,
-            beak_above_eye_mm: 1.5,
             cast_off_deg: 270.0,
         }),
         interlace: 0.5,

@@ -428,6 +428,10 @@ fn required_thread(
         gamma_deg,
         loop_mm,
         needle_moments,
+        hook_moments: match c {
+            Contour::Lock(n) => Some(n.moments_for_checks()),
+            _ => None,
+        },
         regulator_window_deg: window,
         events,
     };

@@ -335,12 +335,11 @@ pub struct HookSpec {
     /// in the feed direction); the case's outline must lie beside the needle
     /// line, case radius < |offset| < beak radius.
     pub offset_mm: f64,
-    /// The needle's rise from its BDC when the beak meets it (the makers'
-    /// timing: 1.8–2.8 mm).
+    /// The hook axis below the plate top.
+    pub depth_mm: f64,
+    /// The needle's rise from its BDC when the beak meets it: the hook's
+    /// timing (the makers' gauges: 1.8–2.8 mm).
     pub catch_rise_mm: f64,
-    /// The beak above the needle eye at the catch (the makers' timing:
-    /// 0.5–2.4 mm).
-    pub beak_above_eye_mm: f64,
     /// The beak's turn from the catch to where the loop leaves the hook,
     /// deg (the hook turns twice per stitch, so φ_K = φ1 + turn/2).
     pub cast_off_deg: f64,
@@ -352,8 +351,8 @@ impl HookSpec {
         let positive = [
             ("beak_radius_mm", self.beak_radius_mm, "e.g. 14"),
             ("case_radius_mm", self.case_radius_mm, "e.g. 11"),
+            ("depth_mm", self.depth_mm, "e.g. 16"),
             ("catch_rise_mm", self.catch_rise_mm, "the makers set 1.8–2.8 mm"),
-            ("beak_above_eye_mm", self.beak_above_eye_mm, "the makers set 0.5–2.4 mm"),
             ("cast_off_deg", self.cast_off_deg, "e.g. 270"),
         ];
         for (name, v, hint) in positive {
@@ -367,6 +366,15 @@ impl HookSpec {
                 "offset_mm = {} must put the hook axis beside the needle line: farther than the case radius {} mm \
                  and nearer than the beak radius {} mm, so the beak crosses the needle line and the case does not",
                 self.offset_mm, self.case_radius_mm, self.beak_radius_mm
+            ));
+        }
+        if self.depth_mm <= self.beak_radius_mm {
+            return Err(format!(
+                "depth_mm = {} puts the hook's top {:.3} mm above the plate top: the hook axis must lie deeper than \
+                 the beak radius {} mm",
+                self.depth_mm,
+                self.beak_radius_mm - self.depth_mm,
+                self.beak_radius_mm
             ));
         }
         // The beak stays on the hook's side of the needle line for
@@ -572,6 +580,8 @@ pub struct RequiredThread {
     pub loop_mm: Option<Vec<f64>>,
     /// Needle threads: the catch and drop geometry of the physical checks.
     pub needle_moments: Option<super::checks::NeedleMoments>,
+    /// A lockstitch's needle thread: the hook's catch for its check.
+    pub hook_moments: Option<super::checks::HookMoments>,
     /// Where its per-stitch thread passes the regulator, φ_c [from, to] deg
     /// (`to` may exceed 360); `None` with [`Regulator::AtLock`].
     pub regulator_window_deg: Option<[f64; 2]>,

@@ -1455,6 +1455,7 @@ fn lockstitch() -> Vec<Fact> {
     let released = st.threads[0].released_mm;
     // ρ = the loop + 2(1 − f)·l_m: the loop alone at the cast-off.
     let loop_mm = released - 2.0 * 0.5 * 2.0;
+    let beak = st.checks.iter().find(|c| c.name == "hook_clearance").unwrap().value;
     vec![
         fact(
             "LS01",
@@ -1468,8 +1469,11 @@ fn lockstitch() -> Vec<Fact> {
         fact(
             "LS02",
             Verdict::NotApplicable,
-            "2 mm of rise, the beak 1.5 mm above the eye (inputs)".into(),
-            vec![2.0, 1.5],
+            format!(
+                "2 mm of rise (input), the beak {} mm above the eye (the check `hook_clearance`)",
+                f(beak, 2)
+            ),
+            vec![2.0, beak],
         ),
     ]
 }

@@ -26,6 +26,13 @@ fn the_default_is_possible_and_matches() {
     let s = stitch(&t);
     assert_eq!(s.stitch_type, 301);
     assert!(s.checks.iter().all(|c| c.ok), "{:?}", s.checks);
+    let names: Vec<&str> = s.checks.iter().map(|c| c.name).collect();
+    assert_eq!(names, ["thread_bound", "hook_clearance"]);
+    let beak = s.checks[1].value;
+    assert!(
+        (beak - 1.48).abs() < 0.005,
+        "the beak {beak} mm above the eye at the catch"
+    );
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
     assert!(s.transfers.iter().any(|w| w.contains("401")), "{:?}", s.transfers);
     let [needle] = &s.threads[..] else {
@@ -39,10 +46,10 @@ fn the_default_is_possible_and_matches() {
     // Golden: the match and the loop released at the cast-off (φ = 343.5°).
     let mm = needle.mismatch.as_ref().unwrap();
     assert!((mm.score.unwrap() - 84.8).abs() < 0.05, "{mm:?}");
-    assert!((mm.rms_d_mm - 11.857).abs() < 1e-3, "{mm:?}");
+    assert!((mm.rms_d_mm - 11.862).abs() < 1e-3, "{mm:?}");
     assert!((needle.lock_phi_deg - 343.5).abs() < 0.05, "{}", needle.lock_phi_deg);
-    assert!((needle.released_mm - 82.943).abs() < 1e-3, "{}", needle.released_mm);
-    assert!((needle.max_pprime_mm - 84.159).abs() < 1e-3, "{}", needle.max_pprime_mm);
+    assert!((needle.released_mm - 82.964).abs() < 1e-3, "{}", needle.released_mm);
+    assert!((needle.max_pprime_mm - 84.180).abs() < 1e-3, "{}", needle.max_pprime_mm);
     // P and P' at B are 0 at φ0 = TDC and finite everywhere.
     for name in ["needle.P_B_mm", "needle.Pprime_B_mm"] {
         let v = t.column(name).unwrap();
@@ -56,6 +63,18 @@ fn the_hook_timing_moves_the_stitch() {
     let base = stitch(&run_with(&[])).threads[0].max_pprime_mm;
     let late = stitch(&run_with(&[("catch_rise", 2.8)])).threads[0].max_pprime_mm;
     assert!(late != base);
+    // The needle bar set 2 mm higher: the beak meets the needle below the
+    // eye, where there is no loop; the check says so.
+    let high = run_with(&[("s_b", 15.0)]);
+    let clearance = stitch(&high)
+        .checks
+        .iter()
+        .find(|c| c.name == "hook_clearance")
+        .unwrap();
+    assert!(
+        !clearance.ok && clearance.value < 0.0 && clearance.message.contains("below"),
+        "{clearance:?}"
+    );
     // An earlier cast-off releases the loop before it has gone as far round.
     let early_run = run_with(&[("cast_off", 240.0)]);
     let early = &stitch(&early_run).threads[0];
@@ -68,15 +87,23 @@ fn tune_adjusts_the_lever_and_the_hook_timing() {
     let base = model.defaults();
     let adjust = model.default_adjustables(&base).unwrap();
     assert_eq!(adjust, ["x4", "y4"]);
-    let opts = TuneOptions {
-        adjust: vec!["y4".into(), "catch_rise".into()],
-        samples: 64,
-        seed: 1,
-        step_deg: 6.0,
-    };
-    let r = tune(&model, &base, &opts).unwrap();
-    assert!(r.after_figures.feasible, "{:?}", r.after_figures);
-    assert!(r.after_figures.score_mean >= r.before_figures.score_mean - 1e-9);
+    // The lever shares one P′ over its settings; the hook's timing changes
+    // the stitch, so each of its settings recomputes P′: a few samples here
+    // (the command line's default is 32 per setting).
+    for (adjust, samples) in [(vec!["x4", "y4"], 64), (vec!["catch_rise"], 6)] {
+        let opts = TuneOptions {
+            adjust: adjust.iter().map(|s| s.to_string()).collect(),
+            samples,
+            seed: 1,
+            step_deg: 6.0,
+        };
+        let r = tune(&model, &base, &opts).unwrap();
+        assert!(r.after_figures.feasible, "{adjust:?}: {:?}", r.after_figures);
+        assert!(
+            r.after_figures.score_mean >= r.before_figures.score_mean - 1e-9,
+            "{adjust:?}"
+        );
+    }
 }
 
 #[test]
@@ -99,6 +126,13 @@ fn a_lockstitch_model_must_have_its_hook() {
         .text()
         .replace("type = \"407\"", "type = \"407\"\ninterlace = 0.5");
     assert!(err(&chain).contains("no interlacing depth"));
+    // A hook that would stand above the plate is refused when run.
+    let shallow = text.replace(r#"hook_depth = { value = 15.7"#, r#"hook_depth = { value = 12"#);
+    let model = Model::from_toml_str(&shallow, "lockstitch.toml").unwrap();
+    let e = run_cycle(&model, &model.defaults(), &CycleOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("above the plate top"), "{e}");
     // A case that reaches across the needle line is refused when run.
     let wide = text.replace("case_radius_mm = 11", "case_radius_mm = 12.5");
     let model = Model::from_toml_str(&wide, "lockstitch.toml").unwrap();
