@@ -194,7 +194,7 @@ impl LockstitchThread {
         let half_b = w[0] * uy + w[1] * uz;
         let c = w[0] * w[0] + w[1] * w[1] - r_h * r_h;
         let disc = half_b * half_b - c;
-        if !(disc >= 0.0) {
+        if disc.is_nan() || disc < 0.0 {
             return hook_err(
                 name,
                 "the beak's circle does not reach the needle line; give a smaller offset_mm or a larger beak_radius_mm"
