@@ -14,14 +14,24 @@ fn len(v: Option<f64>) -> String {
 /// seam without and with waste, formula), the total and what the figures
 /// leave out.
 pub fn table(c: &Consumption, g: &StitchGeometry) -> String {
+    // The inputs each family's formulas use: the overedge width and edge
+    // split for class 500, the interlacing depth for the lockstitch.
+    let overedge = (500..600).contains(&c.stitch_type);
     let mut s = format!(
-        "stitch {}: m = {} mm, t = {} mm, a = {} mm, β = {}°, e = {}, f = {}\n",
-        c.stitch_type, g.thickness_mm, g.stitch_mm, g.width_mm, g.incline_deg, g.edge_fraction, g.interlace_fraction
+        "stitch {}: m = {} mm, t = {} mm, β = {}°",
+        c.stitch_type, g.thickness_mm, g.stitch_mm, g.incline_deg
     );
-    s += &format!(
-        "l_m = m/cos β = {:.4} mm, l = √(a² + t²) = {:.4} mm\n",
-        c.l_m_mm, c.l_mm
-    );
+    if overedge {
+        s += &format!(", a = {} mm, e = {}", g.width_mm, g.edge_fraction);
+    }
+    if c.stitch_type == 301 {
+        s += &format!(", f = {}", g.interlace_fraction);
+    }
+    s += &format!("\nl_m = m/cos β = {:.4} mm", c.l_m_mm);
+    if overedge {
+        s += &format!(", l = √(a² + t²) = {:.4} mm", c.l_mm);
+    }
+    s += "\n";
     s += &format!(
         "seam {} mm = {:.1} stitches, waste allowance {} %\n\n",
         c.seam.length_mm, c.stitches, c.seam.waste_pct
