@@ -798,11 +798,7 @@ impl Model {
             upper_looper,
             spreader,
             // Chain stitches have no looper-thread moments.
-            moments: d.moments.unwrap_or(Moments {
-                stab_deg: 0.0,
-                upper_release_deg: 0.0,
-                draw_in_deg: 0.0,
-            }),
+            moments: d.moments.unwrap_or(Moments::NONE),
             regulator: match d.regulator {
                 RegulatorDef::Window([from, to]) => Regulator::Window {
                     from_deg: from - d.cyclogram_zero_deg,

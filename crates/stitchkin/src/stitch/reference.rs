@@ -210,11 +210,7 @@ pub fn lockstitch301(m: f64, t: f64) -> StitchSpec {
         upper_looper: None,
         spreader: None,
         // A lockstitch has no looper thread and so no looper-thread moments.
-        moments: Moments {
-            stab_deg: 0.0,
-            upper_release_deg: 0.0,
-            draw_in_deg: 0.0,
-        },
+        moments: Moments::NONE,
         regulator: Regulator::default(),
     }
 }

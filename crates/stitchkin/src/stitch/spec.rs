@@ -429,6 +429,16 @@ pub struct Moments {
     pub draw_in_deg: f64,
 }
 
+impl Moments {
+    /// The moments of a stitch without looper threads (chain stitches and
+    /// the lockstitch), which nothing reads.
+    pub const NONE: Moments = Moments {
+        stab_deg: 0.0,
+        upper_release_deg: 0.0,
+        draw_in_deg: 0.0,
+    };
+}
+
 /// Where the thread of one stitch, L_s, passes a thread's tension
 /// regulator (`docs/stitch-formation.md` §3.3): P' gives back L_s at the
 /// thread's lock and draws it over a window, which the mismatch metrics

@@ -119,16 +119,6 @@ fn sf(v: f64, d: usize) -> String {
     }
 }
 
-fn opts(step_deg: f64) -> CycleOptions {
-    CycleOptions {
-        step_deg,
-        rpm: None,
-        analogs: false,
-        points: None,
-        lean: true,
-    }
-}
-
 fn with(m: &Model, base: &Params, set: &[(&str, f64)]) -> Params {
     let mut p = base.clone();
     for (k, v) in set {
@@ -138,7 +128,7 @@ fn with(m: &Model, base: &Params, set: &[(&str, f64)]) -> Params {
 }
 
 fn run(m: &Model, p: &Params, step_deg: f64) -> CycleTable {
-    run_cycle(m, p, &opts(step_deg)).unwrap_or_else(|e| panic!("{}: {e}", m.name()))
+    run_cycle(m, p, &CycleOptions::for_figures(step_deg)).unwrap_or_else(|e| panic!("{}: {e}", m.name()))
 }
 
 fn path<'a>(t: &'a CycleTable, name: &str) -> &'a PathSummary {
@@ -346,7 +336,7 @@ impl MfCycles {
         let shared = stitchkin::eval::stitch_process::prepare(m, d, MF_STEP)
             .unwrap()
             .unwrap();
-        let runs = |p: &Params| run_cycle_with(m, p, &opts(MF_STEP), Some(&shared)).unwrap();
+        let runs = |p: &Params| run_cycle_with(m, p, &CycleOptions::for_figures(MF_STEP), Some(&shared)).unwrap();
         let t = runs(d);
         let t0 = runs(&phase0);
         let r2_up = run(m, &with(m, d, &[("r2", 16.5)]), MF_STEP);
@@ -506,7 +496,7 @@ fn mf_sensitivities(c: &MfCycles) -> Vec<Fact> {
         r2_up,
         ..
     } = c;
-    let runs = |p: &Params| run_cycle_with(m, p, &opts(MF_STEP), Some(shared)).unwrap();
+    let runs = |p: &Params| run_cycle_with(m, p, &CycleOptions::for_figures(MF_STEP), Some(shared)).unwrap();
     let mut out = Vec::new();
     // The published sensitivities of max P, needle 3 (Fig. 7 is drawn for
     // the far needle): the change over the stated step of each setting.
@@ -563,7 +553,7 @@ fn mf_shifts(c: &MfCycles) -> Vec<Fact> {
     let MfCycles {
         m, d, shared, t, phis, ..
     } = c;
-    let runs = |p: &Params| run_cycle_with(m, p, &opts(MF_STEP), Some(shared)).unwrap();
+    let runs = |p: &Params| run_cycle_with(m, p, &CycleOptions::for_figures(MF_STEP), Some(shared)).unwrap();
     let mut out = Vec::new();
     // z ±10 mm and Δφ ±20°: the change of max P and the phase shift.
     let shift = |name: &str, v: f64, c: &str| {
@@ -652,7 +642,15 @@ fn mf_at_lock(c: &MfCycles) -> (Fact, [f64; 3], [f64; 3]) {
         (p, pr)
     };
     let score_at = |model: &Model, p: &Params, pr: &stitchkin::eval::stitch_process::Prepared, name: &str, v: f64| {
-        score_mean(&run_cycle_with(model, &with(model, p, &[(name, v)]), &opts(MF_STEP), Some(pr)).unwrap())
+        score_mean(
+            &run_cycle_with(
+                model,
+                &with(model, p, &[(name, v)]),
+                &CycleOptions::for_figures(MF_STEP),
+                Some(pr),
+            )
+            .unwrap(),
+        )
     };
     let sd = (score_at(m, d, shared, "z", -2.0), score_at(m, d, shared, "z", 0.0));
     let mut at_lock_z = [0.0; 3];
@@ -698,7 +696,7 @@ fn mf_mechanism(c: &MfCycles) -> Vec<Fact> {
         phis,
         ..
     } = c;
-    let runs = |p: &Params| run_cycle_with(m, p, &opts(MF_STEP), Some(shared)).unwrap();
+    let runs = |p: &Params| run_cycle_with(m, p, &CycleOptions::for_figures(MF_STEP), Some(shared)).unwrap();
     let v = |n: &str| d.values[m.param_index(n).unwrap()];
     let mut out = Vec::new();
     // Needle stroke 31…33 mm for r2 15.5…16.5 mm.
@@ -1034,7 +1032,7 @@ fn nd_angles_and_checks(
             &CycleOptions {
                 step_deg: 2.0,
                 analogs: true,
-                ..opts(2.0)
+                ..CycleOptions::for_figures(2.0)
             },
         )
         .unwrap();
