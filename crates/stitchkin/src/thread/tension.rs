@@ -1,0 +1,1093 @@
+//! The real thread over the cycle: an elastic thread held by friction on
+//! every guide, drawn from a tension regulator that passes thread only when
+//! pulled hard enough, with an optional check spring and thread clamps,
+//! feeding a stitch that takes what it needs (`docs/thread-physics.md`).
+//!
+//! The thread from the regulator to the anchor of the newest finished
+//! stitch is a chain of spans i = 0 … S−1 joined at nodes i = 0 … S−2 (node
+//! i between span i and span i + 1: the guides, the eyelets, the eye); the
+//! last span is the stitch's consumption contour, from the eye to the
+//! anchor. The state is the unstretched thread m_i each span holds. With
+//! ℓ_i(φ) its reach (the length the kinematics gives), a span's tension is
+//!
+//! ```text
+//! T_i = EA·(ℓ_i/m_i − 1)   when taut (m_i < ℓ_i),   0 when slack
+//! ```
+//!
+//! A node with the capstan factor E = e^{μθ} (θ its wrap at φ, μ the
+//! friction) and an additive hold H (a closed clamp, else 0) holds the
+//! thread while T_{i+1} ≤ E·T_i + H and T_i ≤ E·T_{i+1} + H; beyond that
+//! the thread slides toward the larger tension with the bound met
+//! (Euler–Eytelwein). The regulator passes thread into span 0 while T_0
+//! reaches its passing tension, never back. The stitch's anchor holds; at
+//! the moment the stitch is set the finished stitch leaves the last span
+//! with the strain it has there.
+//!
+//! Friction is rate-independent, so each φ is an incremental problem: from
+//! the state at the previous φ, find the thread moved across each node
+//! (the fluxes) such that every node holds or slips by its law. It is
+//! solved by Newton's method on the slipping nodes' equations (a
+//! tridiagonal system) inside an active set of holding, forward- and
+//! backward-slipping nodes, warm-started from the previous φ. The cycle is
+//! repeated until the state at its start repeats: the periodic steady
+//! state.
+
+use serde::Serialize;
+
+/// Cycles run at most to reach the periodic steady state.
+pub const MAX_CYCLES: usize = 60;
+
+/// The state has settled when no span's thread changes by more than this
+/// over a cycle, mm.
+pub const SETTLE_MM: f64 = 1e-5;
+
+/// A check spring (take-up spring) on one span: it holds thread out of the
+/// path, lengthening the span's reach by `take_up_mm·(1 − x)`, where x, its
+/// travel from rest (0) to its end (1), balances the thread's tension:
+/// x = (T − F₀)/(F₁ − F₀) clamped to [0, 1].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CheckSpring {
+    /// The span it acts on.
+    pub span: usize,
+    /// The thread it stores over its travel, mm.
+    pub take_up_mm: f64,
+    /// The thread tension that holds it at the start and at the end of its
+    /// travel, [F₀, F₁] with 0 ≤ F₀ < F₁, N.
+    pub force_n: [f64; 2],
+}
+
+/// The thread and the machine's parts that hold it, for one thread path.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Chain {
+    /// Axial stiffness EA of the thread, N (tension per unit strain).
+    pub ea_n: f64,
+    /// The tension past the regulator at which it passes thread, N.
+    pub pass_n: f64,
+    pub spring: Option<CheckSpring>,
+}
+
+/// What the chain meets over one cycle of a uniform φ grid of n positions:
+/// every array is row-major, one row per φ.
+#[derive(Debug, Clone, Copy)]
+pub struct Course<'a> {
+    /// The spans' reaches ℓ_i(φ_k), n × S, mm.
+    pub len_mm: &'a [f64],
+    /// The nodes' capstan factors e^{μθ}, n × (S − 1).
+    pub factor: &'a [f64],
+    /// The nodes' additive holds (closed clamps), n × (S − 1), N.
+    pub hold_n: &'a [f64],
+    /// The step at which the finished stitch leaves the last span: before
+    /// solving φ_k for k = `set_k` the last span gives up `set_mm` of thread
+    /// at the strain it has (its reach already drops by it at φ_k).
+    pub set_k: usize,
+    /// The finished stitch's length L_s, mm.
+    pub set_mm: f64,
+}
+
+/// The periodic steady state of a thread over the cycle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tensions {
+    /// The number of spans S.
+    pub spans: usize,
+    /// Tension of every span at every φ, n × S, N (0 where slack).
+    pub tension_n: Vec<f64>,
+    /// Thread each span holds beyond its reach (slack that is not in a
+    /// check spring's store), n × S, mm.
+    pub slack_mm: Vec<f64>,
+    /// Thread moved across each node in the step that ends at φ_k, toward
+    /// the stitch positive, n × (S − 1), mm (unstretched).
+    pub moved_mm: Vec<f64>,
+    /// How each node passes thread at φ_k, n × (S − 1): 1 toward the
+    /// stitch, −1 back toward the regulator, 0 holding.
+    pub slip: Vec<i8>,
+    /// Thread passed by the regulator in the step that ends at φ_k, mm
+    /// (unstretched, ≥ 0).
+    pub drawn_mm: Vec<f64>,
+    /// The check spring's travel at each φ, as the thread it has given
+    /// out of its store (0 at rest, its take-up at the end of its travel),
+    /// mm; empty without a spring.
+    pub spring_mm: Vec<f64>,
+    /// Thread drawn past the regulator over the cycle, mm (unstretched).
+    pub drawn_per_cycle_mm: f64,
+    /// The strain the finished stitch keeps: the last span's where the
+    /// stitch is set.
+    pub lock_strain: f64,
+    /// Cycles run from the start (the thread just drawn through every
+    /// guide from the regulator).
+    pub cycles: usize,
+    /// Whether the state at the cycle's start repeated within
+    /// [`SETTLE_MM`].
+    pub settled: bool,
+    /// The largest change of a span's thread over the last cycle, mm.
+    pub change_mm: f64,
+}
+
+impl Tensions {
+    /// The tension of span `i` at the `k`-th φ.
+    pub fn tension(&self, k: usize, i: usize) -> f64 {
+        self.tension_n[k * self.spans + i]
+    }
+}
+
+/// A step the solver could not balance (a bug or a degenerate input).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TensionError {
+    /// The position in the cycle.
+    pub k: usize,
+    pub message: String,
+}
+
+/// A span's tension law.
+#[derive(Debug, Clone, Copy)]
+struct Law {
+    ea: f64,
+    /// A check spring's take-up and [F₀, F₁].
+    spring: Option<(f64, f64, f64)>,
+}
+
+/// T = EA·(ℓ/m − 1) and dT/dm. Negative when the span is slack: a slack
+/// span carries no tension (every law reads max(0, T) of it), but the
+/// pulling side of a slipping node is solved on this smooth extension, so
+/// Newton's method meets no kink where a span just goes taut; its roots
+/// there have T ≥ 0, the same as the physical law's.
+#[inline]
+fn stretch_tension(ea: f64, l: f64, m: f64) -> (f64, f64) {
+    (ea * (l / m - 1.0), -ea * l / (m * m))
+}
+
+/// The push of a slack span's thread, a fraction of its stretch tension
+/// (which is negative there). A slack thread carries no tension; this
+/// stands for the bending stiffness that spreads its slack, so small that
+/// it moves no tension by more than 1e-6·EA times a span's slack over its
+/// reach. It decides where slack goes where friction cannot (every tension
+/// around it zero): slack spreads over neighbouring slack spans in
+/// proportion to their reach, but not through a closed clamp. It also keeps
+/// Newton's matrix regular.
+const SLACK_PUSH: f64 = 1e-6;
+
+/// A span's thread in the guides' laws: its tension T⁺ = max(0, T), which
+/// the capstan multiplies, and its slack push [`SLACK_PUSH`]·min(0, T),
+/// which passes a guide unchanged; with their slopes in T.
+#[inline]
+fn parts(t: f64) -> [f64; 4] {
+    if t >= 0.0 {
+        [t, 0.0, 1.0, 0.0]
+    } else {
+        [0.0, SLACK_PUSH * t, 0.0, SLACK_PUSH]
+    }
+}
+
+impl Law {
+    /// The tension of `m` mm of thread over a reach of `l` mm, and dT/dm
+    /// (negative when slack, [`stretch_tension`]).
+    #[inline]
+    fn tension(&self, l: f64, m: f64) -> (f64, f64) {
+        let Some((s, f0, f1)) = self.spring else {
+            return stretch_tension(self.ea, l, m);
+        };
+        // At rest the spring holds its whole store out: reach ℓ + s.
+        let l_max = l + s;
+        let at_rest = stretch_tension(self.ea, l_max, m);
+        if at_rest.0 <= f0 {
+            return at_rest;
+        }
+        // At the end of its travel: reach ℓ.
+        let at_end = stretch_tension(self.ea, l, m);
+        if at_end.0 >= f1 {
+            return at_end;
+        }
+        // Between: the reach ℓ + s − c·(T − F₀), c = s/(F₁ − F₀), so
+        // T = EA·(ℓ + s + c·F₀ − m)/(m + EA·c).
+        let ea = self.ea;
+        let c = s / (f1 - f0);
+        let den = m + ea * c;
+        let t = ea * (l_max + c * f0 - m) / den;
+        (t, -ea * (ea * c + l_max + c * f0) / (den * den))
+    }
+
+    /// The thread a span holds at tension `t` ≥ 0 over a reach of `l`.
+    fn thread_at(&self, l: f64, t: f64) -> f64 {
+        let reach = match self.spring {
+            None => l,
+            Some((s, f0, f1)) => l + s * (1.0 - ((t - f0) / (f1 - f0)).clamp(0.0, 1.0)),
+        };
+        reach / (1.0 + t / self.ea)
+    }
+
+    /// The longest reach of a span: with a check spring at rest.
+    fn max_reach(&self, l: f64) -> f64 {
+        l + self.spring.map_or(0.0, |(s, ..)| s)
+    }
+
+    /// The thread a check spring has given out of its store at tension `t`.
+    fn spring_travel(&self, t: f64) -> f64 {
+        self.spring
+            .map_or(0.0, |(s, f0, f1)| s * ((t - f0) / (f1 - f0)).clamp(0.0, 1.0))
+    }
+}
+
+/// A step has balanced when every row's residual, as a force (its Φ over
+/// its ρ), is below this, N…
+const TOL_N: f64 = 1e-9;
+/// …or, where the damped steps stall on a kink of the laws, below this.
+const STALL_N: f64 = 1e-6;
+/// Newton's iterations per step.
+const MAX_NEWTON: usize = 200;
+/// Gauss–Seidel sweeps at most where Newton's method stalls.
+const RELAX_SWEEPS: usize = 400;
+/// A step is halved at most this many times (2^−12 of it).
+const MAX_HALVINGS: u32 = 12;
+
+/// One φ's inputs: reaches, capstan factors, holds.
+#[derive(Clone, Copy)]
+struct At<'a> {
+    l: &'a [f64],
+    e: &'a [f64],
+    h: &'a [f64],
+}
+
+/// One φ's inputs, owned (a position between two of the grid's).
+#[derive(Clone)]
+struct Inputs {
+    l: Vec<f64>,
+    e: Vec<f64>,
+    h: Vec<f64>,
+}
+
+impl Inputs {
+    fn of(at: At<'_>) -> Inputs {
+        Inputs {
+            l: at.l.to_vec(),
+            e: at.e.to_vec(),
+            h: at.h.to_vec(),
+        }
+    }
+
+    fn at(&self) -> At<'_> {
+        At {
+            l: &self.l,
+            e: &self.e,
+            h: &self.h,
+        }
+    }
+
+    /// The inputs a fraction `f` of the way to `to`.
+    fn toward(&self, to: At<'_>, f: f64) -> Inputs {
+        let lerp = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a + f * (b - a)).collect();
+        Inputs {
+            l: lerp(&self.l, to.l),
+            e: lerp(&self.e, to.e),
+            h: lerp(&self.h, to.h),
+        }
+    }
+}
+
+/// Which of a row's two slip laws act at the current fluxes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+struct Branch {
+    forward: bool,
+    backward: bool,
+}
+
+/// The balance of one step and its buffers.
+///
+/// The unknowns are x[0], the thread the regulator passes, and x[i + 1],
+/// the thread moved across node i (toward the stitch positive). Each node's
+/// law is written as one equation (a complementarity function), with
+/// r = T⁺_{i+1} − E·T⁺_i − H + (Q_{i+1} − Q_i) its forward and
+/// b = T⁺_i − E·T⁺_{i+1} − H + (Q_i − Q_{i+1}) its backward excess (T⁺ the
+/// spans' tensions, Q their slack pushes, [`parts`]):
+///
+/// ```text
+/// Φ = x − max(0, x + ρ·r) − min(0, x − ρ·b) = 0
+/// ```
+///
+/// which holds exactly when x > 0 with r = 0, x < 0 with b = 0, or x = 0
+/// with r ≤ 0 and b ≤ 0 (ρ, mm/N, scales tensions to thread). The
+/// regulator's is Φ = x − max(0, x + ρ·(T⁺_0 + Q_0 − T_pass)). Newton's method on
+/// Φ (semismooth: the Jacobian of the branch that acts) needs no guess of
+/// which guides hold: a frictionless guide slips either way with one
+/// equation, and a span pulled from both ends takes its thread from the end
+/// that gives it more easily.
+struct Stepper {
+    laws: Vec<Law>,
+    pass: f64,
+    x: Vec<f64>,
+    trial: Vec<f64>,
+    dx: Vec<f64>,
+    g: Vec<f64>,
+    sub: Vec<f64>,
+    diag: Vec<f64>,
+    sup: Vec<f64>,
+    t: Vec<f64>,
+    dt: Vec<f64>,
+    /// ρ of each row, mm/N: the compliance of the spans it joins.
+    rho: Vec<f64>,
+    branch: Vec<Branch>,
+    /// The step's fluxes so far (its halves add up): `moved[0]` passed by
+    /// the regulator, `moved[i + 1]` across node i.
+    moved: Vec<f64>,
+}
+
+impl Stepper {
+    fn new(chain: &Chain, spans: usize) -> Stepper {
+        let laws = (0..spans)
+            .map(|i| Law {
+                ea: chain.ea_n,
+                spring: chain
+                    .spring
+                    .filter(|s| s.span == i)
+                    .map(|s| (s.take_up_mm, s.force_n[0], s.force_n[1])),
+            })
+            .collect();
+        let zeros = vec![0.0; spans];
+        Stepper {
+            laws,
+            pass: chain.pass_n,
+            x: zeros.clone(),
+            trial: zeros.clone(),
+            dx: zeros.clone(),
+            g: zeros.clone(),
+            sub: zeros.clone(),
+            diag: zeros.clone(),
+            sup: zeros.clone(),
+            t: zeros.clone(),
+            dt: zeros.clone(),
+            rho: zeros.clone(),
+            branch: vec![Branch::default(); spans],
+            moved: zeros,
+        }
+    }
+
+    /// Tensions at the fluxes `x` (into `t`, `dt`), each row's residual Φ
+    /// (into `g`) and branch; the sum of squares of Φ, or `None` when a
+    /// span would hold no thread.
+    fn residual(&mut self, m: &[f64], x: &[f64], at: At<'_>) -> Option<f64> {
+        let s = m.len();
+        for i in 0..s {
+            let out = if i + 1 < s { x[i + 1] } else { 0.0 };
+            let mi = m[i] + x[i] - out;
+            if mi.is_nan() || mi <= 0.0 {
+                return None;
+            }
+            (self.t[i], self.dt[i]) = self.laws[i].tension(at.l[i], mi);
+        }
+        let t = &self.t;
+        let p0 = parts(t[0]);
+        let f = x[0] + self.rho[0] * (p0[0] + p0[1] - self.pass);
+        self.branch[0] = Branch {
+            forward: f > 0.0,
+            backward: false,
+        };
+        self.g[0] = x[0] - f.max(0.0);
+        for i in 0..s - 1 {
+            let (e, h, rho, xi) = (at.e[i], at.h[i], self.rho[i + 1], x[i + 1]);
+            // The capstan acts on tensions; a slack push passes unchanged.
+            let ([ti, qi, ..], [tj, qj, ..]) = (parts(t[i]), parts(t[i + 1]));
+            let r = tj - e * ti - h + (qj - qi);
+            let b = ti - e * tj - h + (qi - qj);
+            let (fwd, bwd) = (xi + rho * r, xi - rho * b);
+            self.branch[i + 1] = Branch {
+                forward: fwd > 0.0,
+                backward: bwd < 0.0,
+            };
+            self.g[i + 1] = xi - fwd.max(0.0) - bwd.min(0.0);
+        }
+        Some(self.g.iter().map(|g| g * g).sum())
+    }
+
+    /// The derivative of Φ in the unknowns on the acting branches
+    /// (tridiagonal), from the tensions' slopes of the last
+    /// [`Self::residual`].
+    fn jacobian(&mut self, at: At<'_>) {
+        let s = self.t.len();
+        let (t, dt) = (&self.t, &self.dt);
+        // The slopes of the tension and the push of span i in the thread it
+        // holds, m_i + x_i − x_{i+1}.
+        let slope = |i: usize| {
+            let p = parts(t[i]);
+            (p[2] * dt[i], p[3] * dt[i])
+        };
+        let rho0 = self.rho[0];
+        let (p0, q0) = slope(0);
+        (self.sub[0], self.diag[0], self.sup[0]) = if self.branch[0].forward {
+            (0.0, -rho0 * (p0 + q0), rho0 * (p0 + q0))
+        } else {
+            (0.0, 1.0, 0.0)
+        };
+        for i in 0..s - 1 {
+            let (row, e, rho) = (i + 1, at.e[i], self.rho[i + 1]);
+            let ((pi, qi), (pj, qj)) = (slope(i), slope(i + 1));
+            // ∂r and ∂b over x_i, x_{i+1}, x_{i+2} (span i: +x_i, −x_{i+1};
+            // span i + 1: +x_{i+1}, −x_{i+2}).
+            let (ri, rj) = (-e * pi - qi, pj + qj);
+            let (bi, bj) = (pi + qi, -e * pj - qj);
+            let dr = [ri, rj - ri, -rj];
+            let db = [bi, bj - bi, -bj];
+            let mut j = [0.0, 1.0, 0.0];
+            let br = self.branch[row];
+            for c in 0..3 {
+                if br.forward {
+                    j[c] -= rho * dr[c] + if c == 1 { 1.0 } else { 0.0 };
+                }
+                if br.backward {
+                    j[c] -= -rho * db[c] + if c == 1 { 1.0 } else { 0.0 };
+                }
+            }
+            self.sub[row] = j[0];
+            self.diag[row] = j[1];
+            self.sup[row] = if row + 1 < s { j[2] } else { 0.0 };
+        }
+    }
+
+    /// Balances the step to `at`: moves thread in `m` and adds the fluxes
+    /// to `moved`. Starts from the previous step's fluxes; when Newton's
+    /// method stalls from there, starts again from none; false when that
+    /// stalls too (`m` untouched).
+    fn balance(&mut self, m: &mut [f64], at: At<'_>) -> bool {
+        let s = m.len();
+        // ρ: the compliance of the spans a row joins, mm/N.
+        let ea = self.laws[0].ea;
+        self.rho[0] = m[0] / ea;
+        for i in 0..s - 1 {
+            self.rho[i + 1] = 0.5 * (m[i] + m[i + 1]) / ea;
+        }
+        if !self.newton(m, at) {
+            self.x.fill(0.0);
+            if !self.newton(m, at) {
+                return false;
+            }
+        }
+        for i in 0..s {
+            let out = if i + 1 < s { self.x[i + 1] } else { 0.0 };
+            m[i] += self.x[i] - out;
+            self.moved[i] += self.x[i];
+        }
+        true
+    }
+
+    /// Balances the step from `from` to `to`; where Newton's method stalls
+    /// (a sudden change turns several guides at once), in halves, down to
+    /// 2^−`depth` of the step, the inputs interpolated linearly: the path
+    /// the thread follows between the two positions.
+    fn advance(&mut self, m: &mut [f64], from: &Inputs, to: At<'_>, depth: u32) -> Result<(), String> {
+        if self.balance(m, to) {
+            return Ok(());
+        }
+        if depth == 0 {
+            return Err(
+                "the thread's balance does not converge (a span with no thread, or holds that cannot be met)".into(),
+            );
+        }
+        let mid = from.toward(to, 0.5);
+        self.x.fill(0.0);
+        self.advance(m, from, mid.at(), depth - 1)?;
+        self.advance(m, &mid, to, depth - 1)
+    }
+
+    /// Semismooth Newton on Φ from `self.x`, damped so that |Φ|² falls;
+    /// false when it stalls.
+    fn newton(&mut self, m: &[f64], at: At<'_>) -> bool {
+        let s = m.len();
+        let x = std::mem::take(&mut self.x);
+        let merit = self.residual(m, &x, at);
+        self.x = x;
+        let Some(mut merit) = merit else { return false };
+        for _ in 0..MAX_NEWTON {
+            if self.within(TOL_N) {
+                return true;
+            }
+            self.jacobian(at);
+            solve_tridiagonal(&self.sub, &mut self.diag, &self.sup, &mut self.g, &mut self.dx);
+            let mut alpha = 1.0;
+            let mut accepted = false;
+            for _ in 0..50 {
+                for j in 0..s {
+                    self.trial[j] = self.x[j] - alpha * self.dx[j];
+                }
+                let trial = std::mem::take(&mut self.trial);
+                let r = self.residual(m, &trial, at);
+                self.trial = trial;
+                if let Some(r) = r
+                    && r <= (1.0 - 1e-4 * alpha) * merit
+                {
+                    merit = r;
+                    std::mem::swap(&mut self.x, &mut self.trial);
+                    accepted = true;
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            if !accepted {
+                // Stalled on a kink of the laws (a span squeezed between
+                // two guides at their bounds): relax row by row, then go on.
+                if !self.relax(m, at) {
+                    return false;
+                }
+                let x = std::mem::take(&mut self.x);
+                let r = self.residual(m, &x, at);
+                self.x = x;
+                match r {
+                    Some(r) if r < merit => merit = r,
+                    _ => return self.within(STALL_N),
+                }
+            }
+        }
+        self.within(TOL_N)
+    }
+
+    /// Gauss–Seidel sweeps over the rows, each row's law solved exactly in
+    /// its own flux with its neighbours' held (bisection): slow, but every
+    /// sweep brings a monotone system like this one closer to its
+    /// solution, kinks or not. False when a span would hold no thread.
+    fn relax(&mut self, m: &[f64], at: At<'_>) -> bool {
+        let s = m.len();
+        for sweep in 0..RELAX_SWEEPS {
+            for jj in 0..s {
+                let j = if sweep % 2 == 0 { jj } else { s - 1 - jj };
+                self.x[j] = self.row_solution(m, at, j);
+            }
+            let x = std::mem::take(&mut self.x);
+            let ok = self.residual(m, &x, at).is_some();
+            self.x = x;
+            if !ok {
+                return false;
+            }
+            if self.within(TOL_N) {
+                break;
+            }
+        }
+        true
+    }
+
+    /// The flux of row `j` that meets its law with the other fluxes held.
+    fn row_solution(&self, m: &[f64], at: At<'_>, j: usize) -> f64 {
+        let s = m.len();
+        let x = &self.x;
+        let next = |j: usize| if j < s { x[j] } else { 0.0 };
+        // The thread span i holds with row j's flux at `v`.
+        let held = |i: usize, v: f64| {
+            let inflow = if i == j { v } else { x[i] };
+            let out = if i + 1 == j { v } else { next(i + 1) };
+            m[i] + inflow - out
+        };
+        let parts_of = |i: usize, v: f64| parts(self.laws[i].tension(at.l[i], held(i, v)).0);
+        // Where span i keeps some thread.
+        let eps = 1e-12;
+        if j == 0 {
+            // The regulator: passes while span 0 is above its tension.
+            let excess = |v: f64| {
+                let p = parts_of(0, v);
+                p[0] + p[1] - self.pass
+            };
+            if excess(0.0) <= 0.0 {
+                return 0.0;
+            }
+            let hi = self.laws[0].max_reach(at.l[0]) + next(1) - m[0] + 1.0;
+            return bisect(excess, 0.0, hi);
+        }
+        let i = j - 1;
+        let (e, h) = (at.e[i], at.h[i]);
+        let r = |v: f64| {
+            let (pi, pj) = (parts_of(i, v), parts_of(j, v));
+            pj[0] - e * pi[0] - h + (pj[1] - pi[1])
+        };
+        let b = |v: f64| {
+            let (pi, pj) = (parts_of(i, v), parts_of(j, v));
+            pi[0] - e * pj[0] - h + (pi[1] - pj[1])
+        };
+        if r(0.0) > 0.0 {
+            // Forward, until span i (which gives) would be empty.
+            bisect(r, 0.0, m[i] + x[i] - eps)
+        } else if b(0.0) > 0.0 {
+            // Backward, until span j would be empty; b rises with the flux.
+            bisect(|v| -b(v), next(j + 1) - m[j] + eps, 0.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// Whether every row's residual, as a force, is within `tol_n`.
+    fn within(&self, tol_n: f64) -> bool {
+        self.g.iter().zip(&self.rho).all(|(g, rho)| g.abs() <= rho * tol_n)
+    }
+}
+
+/// The root of `f`, decreasing from f(lo) > 0 to f(hi) < 0 (or the end it
+/// does not cross), by bisection to the last bit.
+fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+    if f(hi) >= 0.0 {
+        return hi;
+    }
+    if f(lo) <= 0.0 {
+        return lo;
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if f(mid) > 0.0 { lo = mid } else { hi = mid }
+    }
+    0.5 * (lo + hi)
+}
+
+/// Solves `a·x = d` for a tridiagonal `a` (sub-, main and super-diagonal;
+/// `sub[0]` and the last `sup` unused), Thomas's algorithm; overwrites
+/// `diag` and `d`.
+fn solve_tridiagonal(sub: &[f64], diag: &mut [f64], sup: &[f64], d: &mut [f64], x: &mut [f64]) {
+    let n = diag.len();
+    for i in 1..n {
+        let w = sub[i] / diag[i - 1];
+        diag[i] -= w * sup[i - 1];
+        d[i] -= w * d[i - 1];
+    }
+    x[n - 1] = d[n - 1] / diag[n - 1];
+    for i in (0..n - 1).rev() {
+        x[i] = (d[i] - sup[i] * x[i + 1]) / diag[i];
+    }
+}
+
+/// The periodic steady state of `chain` over `course`: the thread starts as
+/// if just drawn through every guide from the regulator, and whole cycles are run until the
+/// state at the cycle's start repeats (at most [`MAX_CYCLES`]).
+pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionError> {
+    let n = rows(course)?;
+    let s = course.len_mm.len() / n;
+    let nodes = s - 1;
+    let mut st = Stepper::new(chain, s);
+    // The start: the thread just drawn through every guide from the
+    // regulator at φ_0, T_0 at the passing tension and each next span at
+    // the capstan bound of the guide before it (as the stitch's own pull
+    // leaves it).
+    let mut t0 = chain.pass_n;
+    let mut m = Vec::with_capacity(s);
+    for i in 0..s {
+        if i > 0 {
+            t0 = course.factor[i - 1] * t0 + course.hold_n[i - 1];
+        }
+        m.push(st.laws[i].thread_at(course.len_mm[i], t0));
+    }
+    let mut out = Tensions {
+        spans: s,
+        tension_n: vec![0.0; n * s],
+        slack_mm: vec![0.0; n * s],
+        moved_mm: vec![0.0; n * nodes],
+        slip: vec![0; n * nodes],
+        drawn_mm: vec![0.0; n],
+        spring_mm: if chain.spring.is_some() {
+            vec![0.0; n]
+        } else {
+            Vec::new()
+        },
+        drawn_per_cycle_mm: 0.0,
+        lock_strain: 0.0,
+        cycles: 0,
+        settled: false,
+        change_mm: f64::INFINITY,
+    };
+    let last = s - 1;
+    for cycle in 0..MAX_CYCLES {
+        let start = m.clone();
+        let mut drawn = 0.0;
+        for k in 0..n {
+            let at = At {
+                l: &course.len_mm[k * s..(k + 1) * s],
+                e: &course.factor[k * nodes..(k + 1) * nodes],
+                h: &course.hold_n[k * nodes..(k + 1) * nodes],
+            };
+            // The finished stitch leaves with the strain it has (the first
+            // cycle starts after the set when it is set at φ_0).
+            if k == course.set_k && !(cycle == 0 && k == 0) {
+                let prev = if k == 0 { n - 1 } else { k - 1 };
+                let l_prev = course.len_mm[prev * s + last];
+                let t = st.laws[last].tension(l_prev, m[last]).0.max(0.0);
+                let strain = t / chain.ea_n;
+                out.lock_strain = strain;
+                m[last] -= course.set_mm / (1.0 + strain);
+                if m[last].is_nan() || m[last] <= 0.0 {
+                    return Err(TensionError {
+                        k,
+                        message: format!(
+                            "the stitch's contour holds less thread than the finished stitch takes ({:.3} mm)",
+                            course.set_mm
+                        ),
+                    });
+                }
+            }
+            st.moved.fill(0.0);
+            if !st.balance(&mut m, at) {
+                // In halves from the previous position (the finished
+                // stitch's length already gone from the last span's reach).
+                let prev = if k == 0 { n - 1 } else { k - 1 };
+                let mut from = Inputs::of(At {
+                    l: &course.len_mm[prev * s..(prev + 1) * s],
+                    e: &course.factor[prev * nodes..(prev + 1) * nodes],
+                    h: &course.hold_n[prev * nodes..(prev + 1) * nodes],
+                });
+                if k == course.set_k {
+                    from.l[last] -= course.set_mm;
+                }
+                st.x.fill(0.0);
+                st.advance(&mut m, &from, at, MAX_HALVINGS)
+                    .map_err(|message| TensionError { k, message })?;
+            }
+            let passed = st.moved[0].max(0.0);
+            drawn += passed;
+            out.drawn_mm[k] = passed;
+            out.moved_mm[k * nodes..(k + 1) * nodes].copy_from_slice(&st.moved[1..]);
+            for (slip, b) in out.slip[k * nodes..(k + 1) * nodes].iter_mut().zip(&st.branch[1..]) {
+                *slip = b.forward as i8 - b.backward as i8;
+            }
+            for i in 0..s {
+                let law = &st.laws[i];
+                let t = st.t[i].max(0.0);
+                out.tension_n[k * s + i] = t;
+                out.slack_mm[k * s + i] = (m[i] - law.max_reach(at.l[i])).max(0.0);
+                if law.spring.is_some() {
+                    out.spring_mm[k] = law.spring_travel(t);
+                }
+            }
+        }
+        out.cycles = cycle + 1;
+        out.drawn_per_cycle_mm = drawn;
+        out.change_mm = m.iter().zip(&start).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        if out.change_mm <= SETTLE_MM {
+            out.settled = true;
+            break;
+        }
+    }
+    Ok(out)
+}
+
+/// The number of positions of a course, checked against its arrays.
+fn rows(course: &Course<'_>) -> Result<usize, TensionError> {
+    let bad = |message: String| Err(TensionError { k: 0, message });
+    let (nl, nf) = (course.len_mm.len(), course.factor.len());
+    if nl == 0 {
+        return bad("the course has no positions".into());
+    }
+    // n·S reaches and n·(S − 1) factors: n = nl − nf.
+    let n = nl - nf.min(nl);
+    if n == 0 || nl % n != 0 || nf != n * (nl / n - 1) || course.hold_n.len() != nf || course.set_k >= n {
+        return bad(format!(
+            "the course's arrays do not fit one grid ({nl} reaches, {nf} factors, {} holds, set at {})",
+            course.hold_n.len(),
+            course.set_k
+        ));
+    }
+    Ok(n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A course of `n` positions over φ = 2πk/n: `reach(i, φ)` for each of
+    /// `s` spans, `factor(i, φ)` and `hold(i, φ)` for each node.
+    struct Built {
+        len: Vec<f64>,
+        factor: Vec<f64>,
+        hold: Vec<f64>,
+    }
+
+    fn build(
+        n: usize,
+        s: usize,
+        reach: impl Fn(usize, f64) -> f64,
+        factor: impl Fn(usize, f64) -> f64,
+        hold: impl Fn(usize, f64) -> f64,
+    ) -> Built {
+        let mut b = Built {
+            len: Vec::new(),
+            factor: Vec::new(),
+            hold: Vec::new(),
+        };
+        for k in 0..n {
+            let phi = std::f64::consts::TAU * k as f64 / n as f64;
+            b.len.extend((0..s).map(|i| reach(i, phi)));
+            b.factor.extend((0..s - 1).map(|i| factor(i, phi)));
+            b.hold.extend((0..s - 1).map(|i| hold(i, phi)));
+        }
+        b
+    }
+
+    fn course(b: &Built, set_k: usize, set_mm: f64) -> Course<'_> {
+        Course {
+            len_mm: &b.len,
+            factor: &b.factor,
+            hold_n: &b.hold,
+            set_k,
+            set_mm,
+        }
+    }
+
+    /// A take-up eyelet between two fixed guides, three path spans and the
+    /// stitch: the eyelet swings the middle span, the stitch draws 20 mm
+    /// over the turn and lets 6 mm go again before it is set at φ = 0 with
+    /// 9 mm of thread.
+    fn takeup(n: usize, mu_theta: f64) -> Built {
+        build(
+            n,
+            4,
+            |i, phi| match i {
+                0 => 80.0,
+                1 => 60.0 + 12.0 * (1.0 - phi.cos()),
+                2 => 40.0 + 6.0 * phi.sin(),
+                _ => 30.0 + 20.0 * (phi / std::f64::consts::TAU) - 6.0 * (phi > 4.0) as u8 as f64,
+            },
+            |_, _| mu_theta.exp(),
+            |_, _| 0.0,
+        )
+    }
+
+    const EA: f64 = 85.0;
+
+    fn chain(pass_n: f64) -> Chain {
+        Chain {
+            ea_n: EA,
+            pass_n,
+            spring: None,
+        }
+    }
+
+    /// Every node within its capstan bound, slipping the way the larger
+    /// tension pulls; the regulator never past its tension, never back; a
+    /// slack span without tension; the thread balanced over the cycle.
+    fn check_laws(b: &Built, c: &Chain, t: &Tensions, set_mm: f64) {
+        let s = t.spans;
+        let n = t.drawn_mm.len();
+        let tol = 1e-4;
+        for k in 0..n {
+            assert!(t.drawn_mm[k] >= -1e-9, "never back through the regulator (k = {k})");
+            assert!(
+                t.tension(k, 0) <= c.pass_n + tol,
+                "past the regulator at most its tension (k = {k})"
+            );
+            for i in 0..s {
+                if t.slack_mm[k * s + i] > 0.0 {
+                    assert_eq!(t.tension(k, i), 0.0, "a slack span carries nothing (k = {k}, span {i})");
+                }
+            }
+            for i in 0..s - 1 {
+                let (e, h) = (b.factor[k * (s - 1) + i], b.hold[k * (s - 1) + i]);
+                let (ta, tb) = (t.tension(k, i), t.tension(k, i + 1));
+                // A slack neighbour's push (SLACK_PUSH) moves a bound by
+                // up to 1e-6·EA times its slack strain.
+                let strain = |j: usize| t.slack_mm[k * s + j] / b.len[k * s + j];
+                let tol = tol + 2.0 * SLACK_PUSH * c.ea_n * (strain(i) + strain(i + 1));
+                assert!(
+                    tb <= e * ta + h + tol && ta <= e * tb + h + tol,
+                    "capstan bound at node {i}, k = {k}: {ta} {tb}"
+                );
+                // A slipping node is at its bound, the larger tension on the
+                // side the thread goes (ta == 0 where a slack span gives).
+                match t.slip[k * (s - 1) + i] {
+                    1 => assert!(
+                        (tb - (e * ta + h)).abs() < tol || tb == 0.0,
+                        "slips toward the larger pull at node {i}, k = {k}: {ta} {tb}"
+                    ),
+                    -1 => assert!(
+                        (ta - (e * tb + h)).abs() < tol || ta == 0.0,
+                        "slips back toward the larger pull at node {i}, k = {k}: {ta} {tb}"
+                    ),
+                    _ => {}
+                }
+            }
+        }
+        let balance = t.drawn_per_cycle_mm * (1.0 + t.lock_strain);
+        if !t.settled {
+            // Said plainly: the last cycle still moved thread.
+            assert!(t.change_mm > SETTLE_MM && t.cycles == MAX_CYCLES);
+            return;
+        }
+        // Settled: no span's thread changes by more than SETTLE_MM a cycle.
+        assert!(
+            (balance - set_mm).abs() <= s as f64 * SETTLE_MM,
+            "drawn {balance} against the stitch's {set_mm}"
+        );
+    }
+
+    #[test]
+    fn the_laws_hold_at_every_position() {
+        let b = takeup(360, 0.3);
+        let c = chain(0.8);
+        let t = solve(&c, &course(&b, 0, 9.0)).unwrap();
+        assert!(
+            t.settled,
+            "settles: change {} mm after {} cycles",
+            t.change_mm, t.cycles
+        );
+        check_laws(&b, &c, &t, 9.0);
+        assert!(t.drawn_per_cycle_mm > 8.8 && t.drawn_per_cycle_mm <= 9.0 + 1e-9);
+        assert!(t.cycles <= 10, "settles in a few cycles: {}", t.cycles);
+    }
+
+    #[test]
+    fn without_friction_a_taut_path_carries_one_tension() {
+        let b = takeup(360, 0.0);
+        let c = chain(0.8);
+        let t = solve(&c, &course(&b, 0, 9.0)).unwrap();
+        check_laws(&b, &c, &t, 9.0);
+        for k in 0..360 {
+            let row: Vec<f64> = (0..4).map(|i| t.tension(k, i)).collect();
+            let hi = row.iter().cloned().fold(0.0, f64::max);
+            let lo = row.iter().cloned().fold(f64::MAX, f64::min);
+            assert!(
+                hi - lo < 1e-6 || lo == 0.0 && hi < 1e-6,
+                "one tension at k = {k}: {row:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_stronger_regulator_raises_the_peak() {
+        let b = takeup(360, 0.3);
+        let peak = |pass| {
+            let t = solve(&chain(pass), &course(&b, 0, 9.0)).unwrap();
+            t.tension_n.iter().cloned().fold(0.0, f64::max)
+        };
+        let (weak, strong) = (peak(0.5), peak(1.2));
+        assert!(strong > weak + 0.5, "{weak} N → {strong} N");
+    }
+
+    #[test]
+    fn a_check_spring_takes_up_the_slack_a_rigid_guide_leaves() {
+        let b = takeup(360, 0.3);
+        let slack = |spring: Option<CheckSpring>| {
+            let c = Chain { spring, ..chain(0.8) };
+            let t = solve(&c, &course(&b, 0, 9.0)).unwrap();
+            check_laws(&b, &c, &t, 9.0);
+            (0..360)
+                .map(|k| (0..4).map(|i| t.slack_mm[k * 4 + i]).sum::<f64>())
+                .fold(0.0, f64::max)
+        };
+        let rigid = slack(None);
+        let sprung = slack(Some(CheckSpring {
+            span: 0,
+            take_up_mm: 8.0,
+            force_n: [0.2, 0.5],
+        }));
+        assert!(rigid > 1.0, "the path goes slack without a spring: {rigid} mm");
+        assert!(sprung < rigid - 1.0, "the spring stores it: {rigid} → {sprung} mm");
+    }
+
+    /// A closed clamp holds up to its force between its two sides.
+    #[test]
+    fn a_clamp_holds_its_force() {
+        let b = build(
+            360,
+            3,
+            |i, phi| if i == 1 { 50.0 + 10.0 * phi.sin() } else { 50.0 },
+            |_, _| 1.0,
+            |i, _| if i == 1 { 0.4 } else { 0.0 },
+        );
+        let c = chain(0.6);
+        let t = solve(&c, &course(&b, 0, 1.0)).unwrap();
+        check_laws(&b, &c, &t, 1.0);
+        let jump = (0..360)
+            .map(|k| (t.tension(k, 1) - t.tension(k, 2)).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            jump > 0.3 && jump < 0.4 + 1e-6,
+            "the tensions across the clamp differ by up to its hold: {jump}"
+        );
+    }
+
+    #[test]
+    fn the_spring_law_is_continuous_and_falls_with_thread() {
+        let law = Law {
+            ea: EA,
+            spring: Some((8.0, 0.2, 0.5)),
+        };
+        let l = 40.0;
+        let mut prev = f64::INFINITY;
+        for j in 0..4000 {
+            let m = 38.0 + j as f64 * 0.003;
+            let (t, d) = law.tension(l, m);
+            assert!(t < prev + 1e-12 && d < 0.0, "falls at m = {m}");
+            if j > 0 {
+                assert!(prev - t < 0.01, "continuous at m = {m}: {prev} → {t}");
+            }
+            let h = 1e-7;
+            let fd = (law.tension(l, m + h).0 - law.tension(l, m - h).0) / (2.0 * h);
+            assert!(
+                (fd - d).abs() < 1e-4 * d.abs().max(1e-3),
+                "slope at m = {m}: {fd} vs {d}"
+            );
+            if t >= 0.0 {
+                assert!(
+                    (law.thread_at(l, t) - m).abs() < 1e-9,
+                    "thread_at inverts it at m = {m}"
+                );
+            }
+            prev = t;
+        }
+    }
+
+    #[test]
+    fn a_course_that_does_not_fit_is_refused() {
+        let b = takeup(10, 0.3);
+        let mut c = course(&b, 0, 9.0);
+        c.factor = &b.factor[1..];
+        assert!(solve(&chain(0.8), &c).is_err());
+        let c = course(&b, 10, 9.0);
+        assert!(solve(&chain(0.8), &c).is_err());
+    }
+
+    /// A random chain of `s` spans ([`random_chains_keep_the_laws`]).
+    #[allow(clippy::too_many_arguments)]
+    fn check_random(
+        s: usize,
+        base: &[f64],
+        swing: &[f64],
+        lag: &[f64],
+        mu_theta: &[f64],
+        clamp: &[f64],
+        pass: f64,
+        ea: f64,
+        set_k: usize,
+        set_mm: f64,
+    ) {
+        let mut b = build(
+            72,
+            s,
+            |i, phi| base[i] + swing[i] * (phi + lag[i]).sin(),
+            |i, phi| (mu_theta[i] * (1.0 + 0.5 * (phi + lag[i]).cos())).exp(),
+            |i, phi| if (phi + lag[i]).sin() > 0.5 { clamp[i] } else { 0.0 },
+        );
+        // The stitch's reach drops by its length where it is set.
+        for k in 0..set_k {
+            b.len[k * s + s - 1] += set_mm;
+        }
+        let c = Chain {
+            ea_n: ea,
+            pass_n: pass,
+            spring: None,
+        };
+        let t = solve(&c, &course(&b, set_k, set_mm)).unwrap();
+        check_laws(&b, &c, &t, set_mm);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+        /// Random chains of 2–9 spans with swinging reaches, wraps and
+        /// clamps: the laws hold at every position.
+        #[test]
+        fn random_chains_keep_the_laws(
+            s in 2usize..9,
+            base in proptest::collection::vec(10.0f64..120.0, 9),
+            swing in proptest::collection::vec(-8.0f64..8.0, 9),
+            lag in proptest::collection::vec(0.0f64..6.3, 9),
+            mu_theta in proptest::collection::vec(0.0f64..1.5, 9),
+            clamp in proptest::collection::vec(0.0f64..0.5, 9),
+            pass in 0.2f64..2.0,
+            ea in 20.0f64..2000.0,
+            set_k in 0usize..72,
+            set_mm in 0.5f64..12.0,
+        ) {
+            check_random(s, &base, &swing, &lag, &mu_theta, &clamp, pass, ea, set_k, set_mm);
+        }
+    }
+}
