@@ -24,7 +24,7 @@ pub(crate) struct ModelArgs {
     /// A shipped preset by name (see `stitchkin presets`).
     #[arg(long, conflicts_with = "model")]
     preset: Option<String>,
-    /// Override a parameter: NAME=VALUE in the parameter's unit (mm or deg).
+    /// Override a parameter: NAME=VALUE in the parameter's unit (mm, deg or N).
     /// Repeatable. Values outside the parameter's adjustable range are rejected.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     set: Vec<String>,

@@ -79,7 +79,7 @@ struct Model {
 
 impl Model {
     /// The model's default parameters with `set` applied (`{name: value}`
-    /// in each parameter's unit, mm or deg), as `--set` does.
+    /// in each parameter's unit, mm, deg or N), as `--set` does.
     fn params(&self, py: Python<'_>, set: Option<&Bound<'_, PyDict>>) -> PyResult<Params> {
         let mut params = self.model.defaults();
         if let Some(set) = set {

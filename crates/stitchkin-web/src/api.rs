@@ -298,7 +298,9 @@ impl App {
                     "max_pprime_mm": t.max_pprime_mm,
                     "split": t.split,
                     "max_pprime_eye_mm": t.max_pprime_eye_mm,
-                    "regulator_window_deg": t.regulator_window_deg,
+                    "regulator_windows_deg": t.regulator_windows_deg,
+                    "regulator_computed": t.regulator_computed,
+                    "tension": t.tension,
                     "rms_d_mm": m.map(|m| m.rms_d_mm),
                     "max_abs_d_mm": m.map(|m| m.max_abs_d_mm),
                     "max_abs_d_at_deg": m.map(|m| m.max_abs_d_at_deg),
@@ -422,7 +424,7 @@ fn number(s: &str, key: &str) -> Result<f64, Reply> {
         _ => Err(Reply::error(
             400,
             format!("{key} = `{}` is not a finite number", clip(s, ECHO_CHARS)),
-            Some("write a plain decimal number in the parameter's unit (mm or deg), e.g. 5.25"),
+            Some("write a plain decimal number in the parameter's unit (mm, deg or N), e.g. 5.25"),
         )),
     }
 }

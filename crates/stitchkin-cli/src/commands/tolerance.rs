@@ -32,7 +32,7 @@ pub(crate) struct Args {
     /// The largest max |deviation| allowed, mm (seed 004: ± 0.05 mm).
     #[arg(long, default_value_t = 0.05, value_name = "MM", allow_negative_numbers = true)]
     limit: f64,
-    /// A parameter's tolerance NAME=±T in its unit (mm or deg); T = 0 holds
+    /// A parameter's tolerance NAME=±T in its unit (mm, deg or N); T = 0 holds
     /// it exact. Repeatable.
     #[arg(long = "tol", value_name = "NAME=±T", allow_hyphen_values = true)]
     tol: Vec<String>,

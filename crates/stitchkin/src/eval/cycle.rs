@@ -9,6 +9,9 @@ use crate::scalar::Real;
 use crate::thread::Threads;
 
 use super::paths::PathColumns;
+use super::tension::PathInput;
+use super::PathCourse;
+use crate::thread::tension::ThreadPhysics;
 use super::{
     Column, CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, PathSummary, RangeSummary, TransmissionSummary,
     cycle_phis_deg, extremes, stitch_process, wrap_deg,
@@ -226,12 +229,24 @@ fn cycle_in_pieces<T: Real>(
     } else {
         None
     };
+    // The paths whose thread's tension is solved: those a stitch thread is
+    // compared with, when they carry thread physics.
+    let physics = model.thread_physics(params)?;
+    let stitch_paths = model.stitch_paths();
+    let record: Vec<bool> = threads.as_ref().map_or(Vec::new(), |t| {
+        t.paths
+            .iter()
+            .zip(&physics)
+            .map(|(p, ph)| ph.is_some() && stitch_paths.iter().flatten().any(|n| *n == p.name))
+            .collect()
+    });
     let solved = Pieces {
         mech: &mech,
         plain: plain.as_ref(),
         threads: threads.as_ref(),
         phis: &phis,
         opts,
+        record: &record,
     };
     // The stitch process needs the mechanism's columns only at the end: it
     // is prepared on another core while they are solved.
@@ -242,7 +257,7 @@ fn cycle_in_pieces<T: Real>(
             None => stitch_process::prepare(model, params, opts.step_deg),
         },
     );
-    let (paths, take_up) = match solved_columns {
+    let (paths, take_up, courses) = match solved_columns {
         Ok(p) => p,
         // A long cycle that fails may fail in several ways: say the one a
         // solve of the whole cycle at once meets first.
@@ -251,7 +266,10 @@ fn cycle_in_pieces<T: Real>(
     };
     let own_prepared = own_prepared?;
     let stitch = match prepared.or(own_prepared.as_ref()) {
-        Some(p) => Some(stitch_process::stitch_columns(p, &phis, opts.lean, &mut b.columns)?),
+        Some(p) => {
+            let inputs = tension_inputs(threads.as_ref(), &p.setup.paths, &physics, &courses);
+            Some(stitch_process::stitch_columns(p, &phis, opts.lean, &inputs, &mut b.columns)?)
+        }
         None => None,
     };
     let columns = b.columns;
@@ -272,6 +290,30 @@ fn cycle_in_pieces<T: Real>(
     })
 }
 
+/// For each stitch thread (compared with the path named in `paths`), what
+/// its tension is solved from, when its path carries thread physics.
+fn tension_inputs<'a, T: Real>(
+    threads: Option<&'a Threads<T>>,
+    paths: &[Option<String>],
+    physics: &'a [Option<ThreadPhysics>],
+    courses: &'a [Option<PathCourse>],
+) -> Vec<Option<PathInput<'a>>> {
+    let Some(threads) = threads else {
+        return vec![None; paths.len()];
+    };
+    paths
+        .iter()
+        .map(|name| {
+            let i = threads.paths.iter().position(|p| Some(&p.name) == name.as_ref())?;
+            Some(PathInput {
+                physics: physics.get(i)?.as_ref()?,
+                path: &threads.paths[i],
+                course: courses.get(i)?.as_ref()?,
+            })
+        })
+        .collect()
+}
+
 /// A cycle's mechanism and thread paths, to be solved piece by piece.
 struct Pieces<'a, T: Real> {
     mech: &'a Mechanism<T>,
@@ -280,6 +322,8 @@ struct Pieces<'a, T: Real> {
     threads: Option<&'a Threads<T>>,
     phis: &'a [f64],
     opts: &'a CycleOptions,
+    /// The paths whose course the threads' tensions need.
+    record: &'a [bool],
 }
 
 impl<T: Real> Pieces<'_, T> {
@@ -291,7 +335,7 @@ impl<T: Real> Pieces<'_, T> {
         layout: &Layout,
         piece: usize,
         columns: &mut Vec<Column>,
-    ) -> Result<(Vec<PathSummary>, Option<String>), Error> {
+    ) -> Result<(Vec<PathSummary>, Option<String>, Vec<Option<PathCourse>>), Error> {
         let omega = self.opts.rpm.map_or(0.0, |r| r * std::f64::consts::TAU / 60.0);
         let mut solver = PieceSolver::new(self.mech, self.plain, piece.min(self.phis.len()));
         let mut paths: Option<PathColumns<T>> = None;
@@ -301,7 +345,7 @@ impl<T: Real> Pieces<'_, T> {
             if let Some(threads) = self.threads {
                 let p = match &mut paths {
                     Some(p) => p,
-                    None => paths.insert(PathColumns::new(self.mech, threads, self.opts)?),
+                    None => paths.insert(PathColumns::new(self.mech, threads, self.opts, self.record)?),
                 };
                 // The mechanism's columns and the paths' are apart: one
                 // core each.
@@ -312,7 +356,7 @@ impl<T: Real> Pieces<'_, T> {
         }
         Ok(match (paths, self.threads) {
             (Some(p), Some(threads)) => p.finish(threads, self.phis, self.opts, columns),
-            _ => (Vec::new(), None),
+            _ => (Vec::new(), None, Vec::new()),
         })
     }
 
@@ -327,7 +371,9 @@ impl<T: Real> Pieces<'_, T> {
         let Some(threads) = self.threads else {
             return fallback;
         };
-        match PathColumns::new(self.mech, threads, self.opts).and_then(|mut p| p.add(threads, &pose, self.phis)) {
+        match PathColumns::new(self.mech, threads, self.opts, self.record)
+            .and_then(|mut p| p.add(threads, &pose, self.phis))
+        {
             Err(e) => e,
             Ok(()) => fallback,
         }

@@ -6,7 +6,9 @@ mod cycle;
 mod paths;
 mod step;
 pub mod stitch_process;
+pub mod tension;
 
+pub use paths::PathCourse;
 pub use step::MAX_STEP_DEG;
 pub(crate) use step::check_step;
 

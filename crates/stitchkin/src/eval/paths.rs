@@ -26,6 +26,20 @@ pub(super) struct PathColumns<T: Real> {
     paths: Vec<PathValues>,
     analogs: bool,
     lean: bool,
+    /// For each path whose thread's tension is solved, what the solver
+    /// needs of it at every φ.
+    courses: Vec<Option<PathCourse>>,
+}
+
+/// A path over the cycle as the thread's tension needs it: the length
+/// between each pair of consecutive nodes and the angle the thread turns
+/// through at each node, one row per φ.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PathCourse {
+    /// n × (nodes − 1), mm ([`Threads::gap_lengths`]).
+    pub gaps_mm: Vec<f64>,
+    /// n × nodes, rad ([`Threads::wrap_angles`]).
+    pub wraps_rad: Vec<f64>,
 }
 
 /// One path's values over the positions added so far.
@@ -49,7 +63,14 @@ struct PathValues {
 }
 
 impl<T: Real> PathColumns<T> {
-    pub(super) fn new(mech: &Mechanism<T>, threads: &Threads<T>, opts: &CycleOptions) -> Result<Self, Error> {
+    /// The columns of every path; `record[i]`: keep path i's course for
+    /// its thread's tension.
+    pub(super) fn new(
+        mech: &Mechanism<T>,
+        threads: &Threads<T>,
+        opts: &CycleOptions,
+        record: &[bool],
+    ) -> Result<Self, Error> {
         let at0 = tracks_at_phi0(mech, threads)?;
         let paths = threads
             .paths
@@ -70,6 +91,9 @@ impl<T: Real> PathColumns<T> {
             paths,
             analogs: opts.analogs,
             lean: opts.lean,
+            courses: (0..threads.paths.len())
+                .map(|i| record.get(i).copied().unwrap_or(false).then(PathCourse::default))
+                .collect(),
         })
     }
 
@@ -93,18 +117,32 @@ impl<T: Real> PathColumns<T> {
             let paths = threads.paths.par_iter().zip(&self.work.tracks).zip(&self.at0);
             paths.zip(&mut self.paths).for_each(add);
         }
+        let work = &self.work;
+        self.courses
+            .par_iter_mut()
+            .zip(threads.paths.par_iter())
+            .for_each(|(course, path)| {
+                let Some(course) = course else { return };
+                let mut gaps = Vec::new();
+                for k in 0..phis.len() {
+                    threads.gap_lengths(path, pose, work, k, &mut gaps);
+                    course.gaps_mm.extend_from_slice(&gaps);
+                    course.wraps_rad.extend(threads.wrap_angles(path, pose, k));
+                }
+            });
         Ok(())
     }
 
     /// Moves each path's columns into `columns` and returns the paths'
-    /// summaries and the words that say how P is counted.
+    /// summaries and the words that say how P is counted…
+    /// …and the courses kept for the threads' tensions.
     pub(super) fn finish(
         self,
         threads: &Threads<T>,
         phis: &[f64],
         opts: &CycleOptions,
         columns: &mut Vec<Column>,
-    ) -> (Vec<PathSummary>, Option<String>) {
+    ) -> (Vec<PathSummary>, Option<String>, Vec<Option<PathCourse>>) {
         let summaries = threads
             .paths
             .iter()
@@ -112,7 +150,7 @@ impl<T: Real> PathColumns<T> {
             .zip(&self.at0)
             .map(|((path, v), at0)| one_path(path, v, at0, phis, opts, columns))
             .collect();
-        (summaries, Some(convention_words(threads)))
+        (summaries, Some(convention_words(threads)), self.courses)
     }
 }
 

@@ -16,6 +16,8 @@ use crate::stitch::required_take_up::required_take_up;
 use crate::stitch::spec::{DEFAULT_REGULATOR_WIDTH_DEG, EventKind, Regulator, RequiredThread, StitchType, ThreadRole};
 use crate::thread::SplitPoint;
 
+use super::tension::{PathInput, Solved, solve_thread, tension_checks, tension_columns};
+
 /// A moment of a thread's cyclogram, at the model's φ.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StitchEvent {
@@ -50,8 +52,11 @@ pub struct StitchThreadSummary {
     pub released_mm: f64,
     /// Where its per-stitch thread passes the regulator, model φ [from, to]
     /// deg (from in [0, 360), `to` may pass 360): left out of its metrics.
-    /// `None` when the regulator passes it at the lock.
-    pub regulator_window_deg: Option<[f64; 2]>,
+    /// Empty when the regulator passes it at the lock.
+    pub regulator_windows_deg: Vec<[f64; 2]>,
+    /// Whether those windows are computed from the thread's tension
+    /// (otherwise assumed: `[stitch] regulator`).
+    pub regulator_computed: bool,
     /// The largest P' at the split and where, mm and deg.
     pub max_pprime_mm: f64,
     pub phi_at_max_pprime_deg: f64,
@@ -60,6 +65,9 @@ pub struct StitchThreadSummary {
     pub events: Vec<StitchEvent>,
     /// P − P' metrics (with a path).
     pub mismatch: Option<Mismatch>,
+    /// The thread's tension over the cycle, when its path carries thread
+    /// physics (`docs/thread-physics.md`).
+    pub tension: Option<super::tension::ThreadTension>,
 }
 
 /// The stitch process of a cycle.
@@ -203,8 +211,8 @@ impl Prepared {
 
 /// Whether each φ of `phis` (model φ) is compared: outside the regulator
 /// `window`, if any.
-pub(crate) fn compared_outside(phis: &[f64], window: Option<[f64; 2]>) -> Vec<bool> {
-    phis.iter().map(|&p| !window.is_some_and(|w| in_window(p, w))).collect()
+pub(crate) fn compared_outside(phis: &[f64], windows: &[[f64; 2]]) -> Vec<bool> {
+    phis.iter().map(|&p| !windows.iter().any(|&w| in_window(p, w))).collect()
 }
 
 /// P' of the model's stitch process with `params` on the cycle grid of
@@ -233,7 +241,10 @@ pub fn prepare_on(model: &Model, params: &Params, phis: Vec<f64>) -> Result<Opti
         .iter()
         .map(|th| window_in_model_phi(th, setup.cyclogram_zero_deg))
         .collect();
-    let compared = windows_deg.iter().map(|&w| compared_outside(&phis, w)).collect();
+    let compared = windows_deg
+        .iter()
+        .map(|w| compared_outside(&phis, w.as_slice()))
+        .collect();
     Ok(Some(Prepared {
         setup,
         required,
@@ -309,7 +320,8 @@ fn transfers(ty: StitchType) -> Vec<String> {
 
 /// A thread's columns: per needle thread (split at B) η_B, P'_B and
 /// P'_eye; per looper thread η and P'; the needle loop's carry angle γ.
-fn thread_columns(th: &RequiredThread, pprime: &[f64], n: usize, columns: &mut Vec<Column>) {
+fn thread_columns(th: &RequiredThread, acc: &Accounting, n: usize, columns: &mut Vec<Column>) {
+    let pprime = &acc.pprime_split[..];
     let push = |columns: &mut Vec<Column>, col: &str, values: Vec<f64>| {
         columns.push(Column {
             name: format!("{}.{col}", th.name),
@@ -320,7 +332,7 @@ fn thread_columns(th: &RequiredThread, pprime: &[f64], n: usize, columns: &mut V
         Some(s) => {
             push(columns, "eta_B_mm", (0..n).map(|k| th.eta_mm[k] + s[k]).collect());
             push(columns, "Pprime_B_mm", pprime.to_vec());
-            push(columns, "Pprime_eye_mm", th.pprime_mm[..n].to_vec());
+            push(columns, "Pprime_eye_mm", acc.pprime_eye[..n].to_vec());
         }
         None => {
             push(columns, "eta_mm", th.eta_mm[..n].to_vec());
@@ -334,14 +346,10 @@ fn thread_columns(th: &RequiredThread, pprime: &[f64], n: usize, columns: &mut V
 
 /// A thread's events at model φ (φ_c + `cyclogram_zero_deg`) with the jump
 /// of η at each.
-fn events(th: &RequiredThread, cyclogram_zero_deg: f64) -> Vec<StitchEvent> {
+fn events(th: &RequiredThread, cyclogram_zero_deg: f64, drawn_apart: bool) -> Vec<StitchEvent> {
     // At the lock P' gives back the stitch's thread when the regulator
-    // draws it in its own window.
-    let lock_back = if th.regulator_window_deg.is_some() {
-        th.per_stitch_mm
-    } else {
-        0.0
-    };
+    // draws it apart from the lock (in an assumed or a computed window).
+    let lock_back = if drawn_apart { th.per_stitch_mm } else { 0.0 };
     th.events
         .iter()
         .map(|e| StitchEvent {
@@ -351,6 +359,112 @@ fn events(th: &RequiredThread, cyclogram_zero_deg: f64) -> Vec<StitchEvent> {
             jump_mm: e.eta_right_mm - e.eta_left_mm + if e.kind == EventKind::Lock { lock_back } else { 0.0 },
         })
         .collect()
+}
+
+/// Where a thread's stitch passes the regulator, and the P' and compared
+/// positions that follow from it.
+#[derive(Debug, Clone)]
+struct Accounting {
+    /// P' at the split (B for a needle thread) and at the moving eye (the
+    /// first n positions).
+    pprime_split: Vec<f64>,
+    pprime_eye: Vec<f64>,
+    /// Whether each φ is compared (no thread passes the regulator there).
+    compared: Vec<bool>,
+    windows: Vec<[f64; 2]>,
+    computed: bool,
+}
+
+impl Accounting {
+    /// The assumed accounting of `prepared` (`[stitch] regulator`).
+    fn prepared(prepared: &Prepared, i: usize, n: usize) -> Accounting {
+        let th = &prepared.required.threads[i];
+        Accounting {
+            pprime_split: pprime_at_split(th, n),
+            pprime_eye: th.pprime_mm[..n].to_vec(),
+            compared: prepared.compared[i].clone(),
+            windows: prepared.windows_deg[i].into_iter().collect(),
+            computed: false,
+        }
+    }
+
+    /// Where the thread's tension draws the stitch's thread: P' = η − η(φ0)
+    /// + L_s·(H_L − w), w the share of the cycle's draw past the regulator
+    /// since φ0 (§3.3 with the window computed), and the positions where
+    /// thread passes left out. `th` was built at the lock (no window).
+    fn computed(th: &RequiredThread, sol: &Solved, phis: &[f64], phi0_deg: f64, cz: f64) -> Accounting {
+        let n = phis.len();
+        let since = |phi: f64| (phi - phi0_deg).rem_euclid(360.0);
+        // The draw since φ0, in the cycle's order from φ0 (the step ending
+        // at φ0 belongs to the end of the cycle).
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| since(phis[a]).total_cmp(&since(phis[b])));
+        let steps = &sol.tensions.drawn_mm;
+        let total = sol.summary.drawn_per_cycle_mm;
+        let mut w = vec![0.0; n];
+        let mut sum = 0.0;
+        for (j, &k) in order.iter().enumerate() {
+            if j > 0 || since(phis[k]) > 1e-9 {
+                sum += steps[k];
+            }
+            w[k] = if total > 0.0 { (sum / total).min(1.0) } else { 0.0 };
+        }
+        let lock_since = match since(th.lock_deg + cz) {
+            0.0 => 360.0,
+            x => x,
+        };
+        let l_s = th.per_stitch_mm;
+        let pprime_eye: Vec<f64> = (0..n)
+            .map(|k| {
+                let h_l = if since(phis[k]) >= lock_since { 1.0 } else { 0.0 };
+                th.pprime_mm[k] + l_s * (h_l - w[k])
+            })
+            .collect();
+        let pprime_split = match &th.travel_mm {
+            Some(s) => (0..n).map(|k| pprime_eye[k] + s[k] - s[n]).collect(),
+            None => pprime_eye.clone(),
+        };
+        Accounting {
+            pprime_split,
+            pprime_eye,
+            compared: sol.passing.iter().map(|&p| !p).collect(),
+            windows: sol.summary.regulator_windows_deg.clone(),
+            computed: true,
+        }
+    }
+}
+
+/// The regulator in words: each distinct window with its threads, computed
+/// or assumed.
+fn regulator_words(prepared: &Prepared, accounts: &[Accounting]) -> String {
+    if !accounts.iter().any(|a| a.computed) {
+        return prepared.regulator_words();
+    }
+    let parts: Vec<String> = prepared
+        .required
+        .threads
+        .iter()
+        .zip(accounts)
+        .map(|(th, a)| {
+            let ws: Vec<String> = a
+                .windows
+                .iter()
+                .map(|[x, y]| {
+                    let to = if *y > 360.0 + 1e-9 { wrap_deg(*y) } else { *y };
+                    format!("{x:.0}°…{to:.0}°")
+                })
+                .collect();
+            match (a.computed, ws.is_empty()) {
+                (true, true) => format!("{} none (no thread passes)", th.name),
+                (_, false) => format!("{} φ = {}", th.name, ws.join(", ")),
+                (false, true) => format!("{} at the lock", th.name),
+            }
+        })
+        .collect();
+    format!(
+        "{}: where each thread's tension draws thread through the regulator (computed), left out of the metrics",
+        parts.join("; ")
+    )
 }
 
 /// One thread's take-up P compared with its P': D = P − P', the mismatch,
@@ -367,13 +481,14 @@ struct Compared {
 fn compare(
     prepared: &Prepared,
     i: usize,
-    pprime_split: &[f64],
+    acc: &Accounting,
     path: &str,
     phis: &[f64],
     columns: &[Column],
     lean: bool,
 ) -> Result<Compared, Error> {
     let th = &prepared.required.threads[i];
+    let pprime_split = &acc.pprime_split[..];
     let n = phis.len();
     let at_b = th.travel_mm.is_some();
     // The path's take-up at its split: B for a path that ends at this
@@ -389,12 +504,12 @@ fn compare(
                     format!("the take-up column `{p_name}` of its path is missing"),
                 ))
             })?;
-            (&c.values, &th.pprime_mm[..n], false)
+            (&c.values, &acc.pprime_eye[..n], false)
         }
     };
     let d_mm = (0..n).map(|k| p[k] - pprime[k]).collect();
     let tolerance_mm = prepared.setup.tolerance_mm;
-    let mismatch = mismatch_on_cycle(phis, p, pprime, &prepared.compared[i], tolerance_mm, !lean);
+    let mismatch = mismatch_on_cycle(phis, p, pprime, &acc.compared, tolerance_mm, !lean);
     let bound = match (p_at_b, &th.travel_mm, &th.loop_mm) {
         (true, Some(s), Some(lp)) => {
             let curve = bound_curve(phis, &s[..n], &lp[..n], prepared.phi0_deg);
@@ -414,6 +529,7 @@ pub(crate) fn stitch_columns(
     prepared: &Prepared,
     phis: &[f64],
     lean: bool,
+    inputs: &[Option<PathInput<'_>>],
     columns: &mut Vec<Column>,
 ) -> Result<StitchSummary, Error> {
     if prepared.phis.len() != phis.len() || prepared.phis.first() != phis.first() {
@@ -426,28 +542,53 @@ pub(crate) fn stitch_columns(
     let (setup, req, phi0_deg) = (&prepared.setup, &prepared.required, prepared.phi0_deg);
     let from_c = |phi_c: f64| wrap_deg(phi_c + setup.cyclogram_zero_deg);
     let n = phis.len();
-    let pprimes: Vec<Vec<f64>> = req.threads.iter().map(|th| pprime_at_split(th, n)).collect();
+    // Each thread's tension stands alone: on every core.
+    let solved: Vec<Option<Solved>> = req
+        .threads
+        .par_iter()
+        .enumerate()
+        .map(|(i, th)| {
+            inputs
+                .get(i)
+                .copied()
+                .flatten()
+                .map(|input| solve_thread(th, input, phis, setup.cyclogram_zero_deg))
+                .transpose()
+        })
+        .collect::<Result<_, Error>>()?;
+    // Where each thread's stitch passes the regulator: computed from its
+    // tension, or as prepared.
+    let accounts: Vec<Accounting> = req
+        .threads
+        .iter()
+        .enumerate()
+        .map(|(i, th)| match (&solved[i], setup.spec.regulator) {
+            (Some(sol), Regulator::Computed) => Accounting::computed(th, sol, phis, phi0_deg, setup.cyclogram_zero_deg),
+            _ => Accounting::prepared(prepared, i, n),
+        })
+        .collect();
     // Each thread's comparison with its path stands alone (a best lag is
     // three FFTs of the cycle): on every core, read from the path columns.
-    let compared_threads: Vec<Option<Compared>> = pprimes
+    let compared_threads: Vec<Option<Compared>> = accounts
         .par_iter()
         .zip(&setup.paths)
         .enumerate()
-        .map(|(i, (pprime, path))| {
+        .map(|(i, (acc, path))| {
             path.as_ref()
-                .map(|path| compare(prepared, i, pprime, path, phis, columns, lean))
+                .map(|path| compare(prepared, i, acc, path, phis, columns, lean))
                 .transpose()
         })
         .collect::<Result<_, Error>>()?;
     let mut threads = Vec::new();
     let mut checks = Vec::new();
     let needle_checks = prepared.needle_checks();
-    let each = req.threads.iter().zip(&setup.paths).zip(pprimes).zip(compared_threads);
-    for (i, (((th, path), pprime), c)) in each.enumerate() {
+    let each = req.threads.iter().zip(&setup.paths).zip(&accounts).zip(compared_threads);
+    for (i, (((th, path), acc), c)) in each.enumerate() {
         let name = &th.name;
         let at_b = th.travel_mm.is_some();
         let split = if at_b { SplitPoint::B } else { SplitPoint::Eye };
-        thread_columns(th, &pprime, n, columns);
+        let pprime = &acc.pprime_split;
+        thread_columns(th, acc, n, columns);
         let mut m = None;
         if let Some(c) = c {
             columns.push(Column {
@@ -458,6 +599,11 @@ pub(crate) fn stitch_columns(
             checks.extend(c.bound);
         }
         checks.extend(needle_checks.iter().filter(|c| &c.thread == name).cloned());
+        let tension = solved[i].as_ref().map(|sol| {
+            tension_columns(name, sol, sol.summary.ea_n, columns);
+            checks.extend(tension_checks(name, &sol.summary));
+            sol.summary.clone()
+        });
         let kmax = (0..n)
             .max_by(|&a, &b| pprime[a].total_cmp(&pprime[b]).then(b.cmp(&a)))
             .unwrap_or(0);
@@ -471,12 +617,14 @@ pub(crate) fn stitch_columns(
             locked_mm: th.cut_mm,
             lock_phi_deg: from_c(th.lock_deg),
             released_mm: th.released_mm,
-            regulator_window_deg: prepared.windows_deg[i],
+            regulator_windows_deg: acc.windows.clone(),
+            regulator_computed: acc.computed,
             max_pprime_mm: pprime[kmax],
             phi_at_max_pprime_deg: wrap_deg(phis[kmax]),
-            max_pprime_eye_mm: at_b.then(|| th.pprime_mm[..n].iter().cloned().fold(f64::MIN, f64::max)),
-            events: events(th, setup.cyclogram_zero_deg),
+            max_pprime_eye_mm: at_b.then(|| acc.pprime_eye[..n].iter().cloned().fold(f64::MIN, f64::max)),
+            events: events(th, setup.cyclogram_zero_deg, !acc.windows.is_empty()),
             mismatch: m,
+            tension,
         });
     }
     Ok(StitchSummary {
@@ -485,7 +633,7 @@ pub(crate) fn stitch_columns(
         t_mm: setup.spec.t_mm,
         cyclogram_zero_deg: setup.cyclogram_zero_deg,
         phi0_deg: wrap_deg(phi0_deg),
-        regulator: prepared.regulator_words(),
+        regulator: regulator_words(prepared, &accounts),
         tolerance_mm: setup.tolerance_mm,
         threads,
         checks,

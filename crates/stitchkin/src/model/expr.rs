@@ -3,43 +3,71 @@
 //! Grammar: numbers, parameter names, `+ - * / ^`, parentheses, unary minus,
 //! the constant `pi` and the functions `sin cos tan` (argument in degrees),
 //! `asin acos atan atan2` (result in degrees), `sqrt abs hypot min max`.
-//! Every expression carries a [`Dim`]: lengths (mm), angles (deg) or pure
-//! numbers; mixing them wrongly (`l_ab + alpha`, `sin(l_ab)`) is rejected
-//! when the model is loaded.
+//! Every expression carries a [`Dim`]: lengths (mm), angles (deg), forces
+//! (N), their products or pure numbers; mixing them wrongly (`l_ab +
+//! alpha`, `sin(l_ab)`) is rejected when the model is loaded.
 
 use crate::scalar::Real;
 
-/// Physical dimension: powers of length (mm) and angle (deg).
+/// Physical dimension: powers of length (mm), angle (deg) and force (N).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Dim {
     pub length: i8,
     pub angle: i8,
+    pub force: i8,
 }
 
 impl Dim {
-    pub const ONE: Dim = Dim { length: 0, angle: 0 };
-    pub const LENGTH: Dim = Dim { length: 1, angle: 0 };
-    pub const ANGLE: Dim = Dim { length: 0, angle: 1 };
+    pub const ONE: Dim = Dim {
+        length: 0,
+        angle: 0,
+        force: 0,
+    };
+    pub const LENGTH: Dim = Dim {
+        length: 1,
+        angle: 0,
+        force: 0,
+    };
+    pub const ANGLE: Dim = Dim {
+        length: 0,
+        angle: 1,
+        force: 0,
+    };
+    pub const FORCE: Dim = Dim {
+        length: 0,
+        angle: 0,
+        force: 1,
+    };
 
     /// Unit exponents beyond this are surely a mistake (and would overflow).
     const MAX_POWER: i32 = 12;
 
-    fn checked(length: i32, angle: i32) -> Result<Dim, String> {
-        if length.abs() > Self::MAX_POWER || angle.abs() > Self::MAX_POWER {
+    fn checked(length: i32, angle: i32, force: i32) -> Result<Dim, String> {
+        let max = Self::MAX_POWER;
+        if length.abs() > max || angle.abs() > max || force.abs() > max {
             return Err(format!(
-                "the units grow to mm^{length}·deg^{angle}, beyond any physical quantity"
+                "the units grow to mm^{length}·deg^{angle}·N^{force}, beyond any physical quantity"
             ));
         }
         Ok(Dim {
             length: length as i8,
             angle: angle as i8,
+            force: force as i8,
         })
     }
     fn mul(self, o: Dim) -> Result<Dim, String> {
-        Dim::checked(self.length as i32 + o.length as i32, self.angle as i32 + o.angle as i32)
+        Dim::checked(
+            self.length as i32 + o.length as i32,
+            self.angle as i32 + o.angle as i32,
+            self.force as i32 + o.force as i32,
+        )
     }
     fn div(self, o: Dim) -> Result<Dim, String> {
-        Dim::checked(self.length as i32 - o.length as i32, self.angle as i32 - o.angle as i32)
+        Dim::checked(
+            self.length as i32 - o.length as i32,
+            self.angle as i32 - o.angle as i32,
+            self.force as i32 - o.force as i32,
+        )
     }
 
     /// The unit a quantity of this dimension is written in, e.g. `mm^2`.
@@ -49,13 +77,18 @@ impl Dim {
             1 => name.to_string(),
             p => format!("{name}^{p}"),
         };
-        let l = part("mm", self.length);
-        let a = part("deg", self.angle);
-        match (l.is_empty(), a.is_empty()) {
-            (true, true) => "1 (a pure number)".to_string(),
-            (false, true) => l,
-            (true, false) => a,
-            (false, false) => format!("{l}·{a}"),
+        let parts: Vec<String> = [
+            part("mm", self.length),
+            part("deg", self.angle),
+            part("N", self.force),
+        ]
+        .into_iter()
+        .filter(|p| !p.is_empty())
+        .collect();
+        if parts.is_empty() {
+            "1 (a pure number)".to_string()
+        } else {
+            parts.join("·")
         }
     }
 }
@@ -431,7 +464,11 @@ impl Expr {
             }
             Expr::Pow(a, n) => match a.dimension(param_dim)? {
                 Free => Free,
-                Is(d) => Is(Dim::checked(d.length as i32 * *n, d.angle as i32 * *n)?),
+                Is(d) => Is(Dim::checked(
+                    d.length as i32 * *n,
+                    d.angle as i32 * *n,
+                    d.force as i32 * *n,
+                )?),
             },
             Expr::Call(f, args) => {
                 let dims: Vec<Dimension> = args.iter().map(|a| a.dimension(param_dim)).collect::<Result<_, _>>()?;
@@ -464,9 +501,10 @@ impl Expr {
                     }
                     Func::Sqrt => match dims[0] {
                         Free => Free,
-                        Is(d) if d.length % 2 == 0 && d.angle % 2 == 0 => Is(Dim {
+                        Is(d) if d.length % 2 == 0 && d.angle % 2 == 0 && d.force % 2 == 0 => Is(Dim {
                             length: d.length / 2,
                             angle: d.angle / 2,
+                            force: d.force / 2,
                         }),
                         Is(d) => return Err(format!("cannot take the square root of {}", d.unit())),
                     },
@@ -578,7 +616,14 @@ mod tests {
         assert!(d("sin(l_ab)").is_err());
         assert!(d("acos(l_ab)").is_err());
         assert!(d("sqrt(l_ab)").is_err());
-        assert_eq!(d("l_ab*l_ab").unwrap(), Dimension::Is(Dim { length: 2, angle: 0 }));
+        assert_eq!(
+            d("l_ab*l_ab").unwrap(),
+            Dimension::Is(Dim {
+                length: 2,
+                angle: 0,
+                force: 0
+            })
+        );
         assert_eq!(d("k*alpha").unwrap(), Dimension::Is(Dim::ANGLE));
         assert!(d("(l_ab^16)^16").unwrap_err().contains("beyond"));
         assert!(d(&vec!["l_ab"; 20].join("*")).is_err());

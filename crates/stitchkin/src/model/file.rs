@@ -155,6 +155,9 @@ pub enum Unit {
     /// A pure number (ratios, counts).
     #[serde(rename = "1")]
     One,
+    /// Newtons (thread tensions, holding forces, stiffness EA).
+    #[serde(rename = "N")]
+    N,
 }
 
 /// Where a number comes from.
@@ -174,7 +177,7 @@ pub enum Provenance {
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Parameter {
-    /// Nominal value (mm, deg or a pure number, per `unit`).
+    /// Nominal value (mm, deg, N or a pure number, per `unit`).
     #[serde(default)]
     pub value: Option<f64>,
     /// Expression of other parameters; the parameter is then derived and
@@ -564,8 +567,84 @@ pub struct ThreadSpec {
     /// Default friction coefficient μ of the thread on every guide.
     #[serde(default)]
     pub friction: Option<f64>,
+    /// The real thread and what holds it: its stiffness and strength, the
+    /// regulator's hold, a check spring, thread clamps. With it, the
+    /// thread's tension over the cycle is solved for every path the stitch
+    /// compares (`docs/thread-physics.md`).
+    #[serde(default)]
+    pub physics: Option<ThreadPhysicsFile>,
     /// The thread paths, each from the tension regulator to an eye.
     pub paths: Vec<ThreadPath>,
+}
+
+/// The `[thread.physics]` table (and a path's own `physics`, whose fields
+/// override it for that path): the thread sewn and the parts that hold it.
+/// Forces in newtons, numbers or expressions of parameters with unit `N`.
+#[derive(Debug, Clone, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ThreadPhysicsFile {
+    /// The thread, in words (e.g. `tex 30 spun polyester`).
+    #[serde(default)]
+    pub thread: Option<String>,
+    /// Where the numbers come from, and whether they are illustrative.
+    #[serde(default)]
+    pub source: Option<String>,
+    /// Axial stiffness EA, N: the tension per unit strain (tex 30 spun
+    /// polyester about 70–105 N).
+    #[serde(default)]
+    pub ea_n: Option<Value>,
+    /// Breaking force, N (tex 30 spun polyester about 10.5 N).
+    #[serde(default)]
+    pub breaking_n: Option<Value>,
+    /// The regulator's hold, N: the tension the thread needs just past the
+    /// regulator to be drawn through it (the discs' 2μN and a pre-tensioner
+    /// together; industrial needle threads about 0.6–1.7 N).
+    #[serde(default)]
+    pub regulator_n: Option<Value>,
+    /// A check spring (take-up spring) on the path.
+    #[serde(default)]
+    pub check_spring: Option<CheckSpringFile>,
+    /// Thread clamps at guides of the paths.
+    #[serde(default)]
+    pub clamps: Vec<ClampFile>,
+}
+
+/// A check spring: it holds thread out of the path between the node it
+/// follows and the next, up to `take_up_mm`, at a tension that rises over
+/// its travel. Give `force_n`, or `preload_n` and `rate_n_per_mm`.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CheckSpringFile {
+    /// The path's node (a point name) the spring follows; it acts on the
+    /// thread from there to the next node.
+    pub after: String,
+    /// The thread it stores over its travel, mm (Juki SC-916: 6–10 mm).
+    pub take_up_mm: Value,
+    /// The thread tension that holds it at the start and at the end of its
+    /// travel, N.
+    #[serde(default)]
+    pub force_n: Option<[Value; 2]>,
+    /// The thread tension at the start of its travel, N…
+    #[serde(default)]
+    pub preload_n: Option<Value>,
+    /// …and how much it rises per mm of thread taken up, N/mm.
+    #[serde(default)]
+    pub rate_n_per_mm: Option<Value>,
+}
+
+/// A thread clamp: it holds the thread at a guide while the tensions on its
+/// two sides differ by less than its hold (seed 000's G7).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ClampFile {
+    /// The guide (a node's point name) it holds the thread at.
+    pub at: String,
+    /// Its holding force, N.
+    pub hold_n: Value,
+    /// When it is closed, `[from, to]` in the model's φ, degrees (default:
+    /// always).
+    #[serde(default)]
+    pub closed_deg: Option<[f64; 2]>,
 }
 
 /// One thread path ("feed contour"): nodes in thread order, from the
@@ -581,6 +660,10 @@ pub struct ThreadPath {
     /// Friction coefficient for this path's guides (overrides `[thread]`).
     #[serde(default)]
     pub friction: Option<f64>,
+    /// This path's own thread physics: each field given here overrides
+    /// `[thread.physics]` (clamps add to it).
+    #[serde(default)]
+    pub physics: Option<ThreadPhysicsFile>,
     pub nodes: Vec<Node>,
 }
 
@@ -680,8 +763,10 @@ pub struct StitchFile {
     pub tolerance_mm: Option<f64>,
     /// Where the thread of one stitch passes the tension regulator (drawn
     /// from the bobbin): P' draws it there and the mismatch metrics leave
-    /// that window out. Default: the last 60° before each thread's stitch is
-    /// pulled tight (the needle's TDC; a looper thread's draw-in).
+    /// that window out. Default: computed from the thread's tension when
+    /// every compared path carries `[thread.physics]`; otherwise the last
+    /// 60° before each thread's stitch is pulled tight (the needle's TDC; a
+    /// looper thread's draw-in).
     #[serde(default)]
     pub regulator: Option<StitchRegulator>,
     /// How the material is fed.
@@ -729,6 +814,11 @@ pub struct StitchRegulator {
     /// left out of the metrics (the accounting of the reference tables).
     #[serde(default)]
     pub at_lock: Option<bool>,
+    /// `true`: where the thread's tension draws it, computed for each
+    /// setting (needs `[thread.physics]` on every compared path; the
+    /// default when they have it).
+    #[serde(default)]
+    pub computed: Option<bool>,
 }
 
 /// The material transport T(φ_c).

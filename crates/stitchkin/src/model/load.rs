@@ -1343,6 +1343,7 @@ impl<'a> Loader<'a> {
             paths.push(def);
         }
         let layout = Arc::new(super::ThreadLayout::new(&paths));
+        let physics = self.thread_physics(t, &paths, f.stitch.is_some())?;
         Ok(Some(ThreadsDef {
             convention,
             elongation,
@@ -1351,6 +1352,7 @@ impl<'a> Loader<'a> {
             paths,
             cams,
             layout,
+            physics,
         }))
     }
 
@@ -1780,6 +1782,7 @@ fn unit_dim(u: Unit) -> Option<Dim> {
         Unit::Mm => Dim::LENGTH,
         Unit::Deg => Dim::ANGLE,
         Unit::One => Dim::ONE,
+        Unit::N => Dim::FORCE,
     })
 }
 

@@ -13,6 +13,7 @@
 pub mod expr;
 pub mod file;
 mod load;
+mod physics;
 mod resolve;
 pub(crate) mod spans;
 pub mod stitch_setup;
@@ -57,6 +58,7 @@ impl ParamDef {
             Unit::Mm => "mm",
             Unit::Deg => "deg",
             Unit::One => "1",
+            Unit::N => "N",
         }
     }
 }
@@ -328,6 +330,8 @@ pub(crate) struct ThreadsDef {
     pub paths: Vec<PathDef>,
     pub cams: Vec<CamDef>,
     pub layout: Arc<ThreadLayout>,
+    /// Each path's thread physics (`[thread.physics]`), in path order.
+    pub physics: Vec<Option<physics::PhysicsDef>>,
 }
 
 #[derive(Debug, Clone)]
@@ -843,7 +847,7 @@ impl Model {
             ParamError::new(
                 Input::Set,
                 format!("`{assignment}`: `{value}` is not a number"),
-                Some("values are plain numbers in the parameter's unit (mm or deg)".into()),
+                Some("values are plain numbers in the parameter's unit (mm, deg or N)".into()),
             )
         })?;
         self.set(params, name, v).map_err(|e| e.in_input(Input::Set))

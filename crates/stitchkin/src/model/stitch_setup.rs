@@ -71,6 +71,7 @@ pub(crate) enum RegulatorDef {
     Window([f64; 2]),
     BeforeTightening(Option<QuantityId>),
     AtLock,
+    Computed,
 }
 
 /// The material feed: harmonic (start, duration) or a feed-dog tooth point.
@@ -335,8 +336,24 @@ impl Loader<'_> {
     /// the lock.
     fn regulator(&mut self, f: &ModelFile, s: &StitchFile, path: &KeyPath) -> LoadResult<RegulatorDef> {
         let rp = path.key("regulator");
+        // Thread physics on every compared path computes the window.
+        let physics = compared_paths_have_physics(f, s);
         Ok(match &s.regulator {
+            None if physics.is_ok() => RegulatorDef::Computed,
             None => RegulatorDef::BeforeTightening(None),
+            Some(r) if r.computed == Some(true) => {
+                if r.window_deg.is_some() || r.width_deg.is_some() || r.at_lock == Some(true) {
+                    return Err(self.err(&rp, "give exactly one of `computed = true`, `window_deg`, `width_deg` or `at_lock = true`", None));
+                }
+                if let Err(missing) = physics {
+                    return Err(self.err(
+                        &rp.key("computed"),
+                        format!("the regulator's window is computed from the thread's tension, and {missing}"),
+                        Some("give [thread.physics] (or the path's own `physics`), or assume a window: regulator = { width_deg = 60 }".into()),
+                    ));
+                }
+                RegulatorDef::Computed
+            }
             Some(r) => match (r.window_deg, &r.width_deg, r.at_lock) {
                 (Some(w), None, None | Some(false)) => {
                     let width = w[1] - w[0];
@@ -373,7 +390,7 @@ impl Loader<'_> {
                 }
                 (None, None, Some(true)) => RegulatorDef::AtLock,
                 _ => {
-                    return Err(self.err(&rp, "give exactly one of `window_deg`, `width_deg` or `at_lock = true`", Some("e.g. regulator = { width_deg = 60 } (the default), or regulator = { window_deg = [300, 360] }".into())));
+                    return Err(self.err(&rp, "give exactly one of `computed = true`, `window_deg`, `width_deg` or `at_lock = true`", Some("e.g. regulator = { width_deg = 60 } (the default without thread physics), or regulator = { window_deg = [300, 360] }".into())));
                 }
             },
         })
@@ -743,6 +760,13 @@ fn motion_table(points: Vec<V3<f64>>) -> Motion {
 }
 
 impl Model {
+    /// For each thread of the stitch (needles in order, then the looper
+    /// threads), the thread path it is compared with; empty without a
+    /// `[stitch]`. It does not depend on the parameters.
+    pub fn stitch_paths(&self) -> Vec<Option<String>> {
+        self.stitch.as_ref().map_or(Vec::new(), compared_paths)
+    }
+
     /// The model's stitch process resolved with `params`, organ motions
     /// sampled from the solved mechanism; `None` when the model has no
     /// `[stitch]`.
@@ -808,6 +832,7 @@ impl Model {
                     width_deg: w.map_or(DEFAULT_REGULATOR_WIDTH_DEG, |i| q[i]),
                 },
                 RegulatorDef::AtLock => Regulator::AtLock,
+                RegulatorDef::Computed => Regulator::Computed,
             },
         };
         Ok(Some(StitchSetup {
@@ -941,6 +966,27 @@ fn polyline_motion(o: &OrganDef, samples: &OrganSamples) -> Motion {
         },
         _ => unreachable!("the upper looper and the spreader take a point or a polyline law"),
     }
+}
+
+/// `Ok` when every thread path the stitch compares carries thread physics
+/// (and there is at least one); otherwise which path does not, in words.
+fn compared_paths_have_physics(f: &ModelFile, s: &StitchFile) -> Result<(), String> {
+    let Some(t) = &f.thread else {
+        return Err("the model has no thread paths".into());
+    };
+    let mut names: Vec<&str> = s.needles.iter().filter_map(|n| n.path.as_deref()).collect();
+    names.extend(s.looper.as_ref().and_then(|l| l.path.as_deref()));
+    names.extend(s.upper_looper.as_ref().and_then(|u| u.path.as_deref()));
+    if names.is_empty() {
+        return Err("the stitch compares no thread path".into());
+    }
+    for name in names {
+        let own = t.paths.iter().find(|p| p.name == name).is_some_and(|p| p.physics.is_some());
+        if !(own || t.physics.is_some()) {
+            return Err(format!("path `{name}` has no thread physics"));
+        }
+    }
+    Ok(())
 }
 
 /// For each thread of the spec (needles in order, then the looper threads:

@@ -437,13 +437,8 @@ fn checks(t: &CycleTable) -> String {
                 } else {
                     "<span class=\"bad\">FAIL</span>".into()
                 },
-                num(Some(c.value), 2),
-                match c.limit {
-                    [Some(a), Some(b)] => format!("{}…{}", num(Some(a), 2), num(Some(b), 2)),
-                    [None, Some(b)] => format!("≤ {}", num(Some(b), 2)),
-                    [Some(a), None] => format!("≥ {}", num(Some(a), 2)),
-                    [None, None] => "–".into(),
-                },
+                escape(&c.value_words()),
+                escape(&c.limit_words()),
                 num(Some(c.at_deg), 1),
                 format!("<span class=\"text\">{}</span>", escape(&c.message)),
             ]
@@ -452,7 +447,9 @@ fn checks(t: &CycleTable) -> String {
     let mut s = String::from(
         "<p>What no real machine can do: more thread through B than the needle can take (twice its deepest travel below B plus the \
          loop on the looper), a looper point that does not pass 1–3 mm above the eye at the catch, a loop that drops before the \
-         needle has entered the looper thread's triangle.</p>",
+         needle has entered the looper thread's triangle; and, where the thread's tension is solved, a peak too close to the \
+         thread's breaking force, a slack loop that can catch, a check spring still moving when thread slips through the \
+         regulator.</p>",
     );
     s += &table(
         "checks",
@@ -460,8 +457,8 @@ fn checks(t: &CycleTable) -> String {
             "thread",
             "check",
             "result",
-            "value, mm",
-            "allowed, mm",
+            "value",
+            "allowed",
             "at φ, deg",
             "what it means",
         ],

@@ -25,20 +25,52 @@ pub const CATCH_CLEARANCE_MM: [f64; 2] = [1.0, 3.0];
 /// One check of one thread.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Check {
-    /// `thread_bound`, `catch_clearance` or `stab_before_drop`.
+    /// `thread_bound`, `catch_clearance`, `hook_clearance`,
+    /// `stab_before_drop`, or from the thread's tension `tension_margin`,
+    /// `slack_loop` and `spring_before_slip`.
     pub name: &'static str,
     /// The thread checked (`n1`, `needle`).
     pub thread: String,
     pub ok: bool,
-    /// The quantity checked, mm.
+    /// The quantity checked, in `unit`.
     pub value: f64,
-    /// Its bounds [lowest, highest] allowed, mm (`None`: no bound that side).
+    /// Its bounds [lowest, highest] allowed (`None`: no bound that side).
     pub limit: [Option<f64>; 2],
+    /// The unit of `value` and `limit`: `mm`, or `1` for a ratio.
+    pub unit: &'static str,
     /// The model φ where it is checked (the worst φ of a bound over the
     /// cycle), deg.
     pub at_deg: f64,
     /// What the value means for the machine, and what to change if it fails.
     pub message: String,
+}
+
+impl Check {
+    /// `value` with its unit, as tables print it: `2.35 mm`, `3.10×` for a
+    /// ratio, `n/a` for a check that does not apply (no bounds).
+    pub fn value_words(&self) -> String {
+        match (self.limit, self.unit) {
+            ([None, None], _) => "n/a".into(),
+            (_, "1") => format!("{:.2}×", self.value),
+            (_, u) => format!("{:.2} {u}", self.value),
+        }
+    }
+
+    /// The allowed range with its unit: `1…3 mm`, `≤ -4.00 mm`, `≥ 3.00×`,
+    /// or `—` without bounds.
+    pub fn limit_words(&self) -> String {
+        let u = |x: f64| match self.unit {
+            "1" => format!("{x:.2}×"),
+            u => format!("{x:.2} {u}"),
+        };
+        match self.limit {
+            [Some(a), Some(b)] if self.unit == "1" => format!("{a}…{b}×"),
+            [Some(a), Some(b)] => format!("{a}…{b} {}", self.unit),
+            [None, Some(b)] => format!("≤ {}", u(b)),
+            [Some(a), None] => format!("≥ {}", u(a)),
+            [None, None] => "—".into(),
+        }
+    }
 }
 
 /// The geometry of a needle thread's catch and drop that the checks need,
@@ -100,6 +132,7 @@ pub fn hook_clearance(thread: &str, m: &HookMoments, from_c: impl Fn(f64) -> f64
         ok,
         value: h,
         limit: [Some(lo), Some(hi)],
+        unit: "mm",
         at_deg: at,
         message,
     }
@@ -140,6 +173,7 @@ pub fn thread_bound(thread: &str, phis_deg: &[f64], p_b: &[f64], bound: &[f64], 
             ok: true,
             value: 0.0,
             limit: [None, None],
+            unit: "mm",
             at_deg: 0.0,
             message: "no positions to check".into(),
         };
@@ -179,6 +213,7 @@ pub fn thread_bound(thread: &str, phis_deg: &[f64], p_b: &[f64], bound: &[f64], 
         ok,
         value,
         limit: [None, Some(bound)],
+        unit: "mm",
         at_deg: at,
         message,
     }
@@ -213,6 +248,7 @@ pub fn catch_and_stab(thread: &str, m: &NeedleMoments, from_c: impl Fn(f64) -> f
         ok: catch_ok,
         value: h,
         limit: [Some(lo), Some(hi)],
+        unit: "mm",
         at_deg: at,
         message,
     };
@@ -239,6 +275,7 @@ pub fn catch_and_stab(thread: &str, m: &NeedleMoments, from_c: impl Fn(f64) -> f
         ok: stab_ok,
         value: z,
         limit: [None, Some(top)],
+        unit: "mm",
         at_deg: at,
         message,
     };

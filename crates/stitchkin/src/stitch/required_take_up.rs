@@ -412,12 +412,21 @@ fn required_thread(
         ),
         (_, None) => (None, None, None, None),
     };
+    // The eye is in the material from φ_in (entering) to φ_out (leaving),
+    // across the needle's BDC (φ_c = 0).
+    let in_material = |(out, inn): (f64, f64)| phis.iter().map(|&p| p < out || p > inn).collect();
+    let eye_in_material = match c {
+        Contour::Lock(n) => Some(in_material((n.phi_out, n.phi_in))),
+        _ => c.needle().map(|n| in_material((n.phi_out, n.phi_in))),
+    };
     let thread = RequiredThread {
         name: name.clone(),
         role: *role,
         contour: *contour,
         per_stitch_mm,
         lock_deg: lock,
+        tight_deg: tight,
+        eye_in_material,
         cut_mm,
         released_mm,
         snap_mm,
@@ -445,7 +454,9 @@ fn required_thread(
 /// inside is an error: P' is 0 at φ0 and the draw must not straddle it.
 fn regulator_window(reg: Regulator, tight: f64, phi0: f64) -> Result<Option<[f64; 2]>, String> {
     let (from, width) = match reg {
-        Regulator::AtLock => return Ok(None),
+        // A computed window is the thread's tension's, known per cycle: P'
+        // is built at the lock here and drawn over it there.
+        Regulator::AtLock | Regulator::Computed => return Ok(None),
         Regulator::BeforeTightening { width_deg } => (tight - width_deg, width_deg),
         Regulator::Window { from_deg, to_deg } => (from_deg, to_deg - from_deg),
     };

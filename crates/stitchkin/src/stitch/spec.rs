@@ -458,6 +458,12 @@ pub enum Regulator {
     /// All at once at the thread's lock, with nothing left out of the
     /// metrics: the accounting of the independent reference tables.
     AtLock,
+    /// Where the thread's tension draws it, computed for each setting from
+    /// the thread physics (`docs/thread-physics.md`): P' draws the stitch's
+    /// thread in proportion to the thread passing the regulator, and those
+    /// stretches are left out of the metrics. The default for a model whose
+    /// stitch paths carry thread physics.
+    Computed,
 }
 
 impl Default for Regulator {
@@ -565,6 +571,10 @@ pub struct RequiredThread {
     pub per_stitch_mm: f64,
     /// The lock moment φ_L, deg.
     pub lock_deg: f64,
+    /// The moment its stitch is pulled tight, deg: a needle thread's at the
+    /// needle's TDC, a looper thread's at its lock (the draw-in). The
+    /// finished stitch is complete there.
+    pub tight_deg: f64,
     /// The thread cut at the lock, recomputed from the final nodes, mm (must
     /// equal `per_stitch_mm`).
     pub cut_mm: f64,
@@ -588,6 +598,10 @@ pub struct RequiredThread {
     /// Needle threads: the loop on the looper body at φ_c (0 outside the
     /// carry), mm.
     pub loop_mm: Option<Vec<f64>>,
+    /// Needle threads: whether the eye is below the material's top face at
+    /// each φ_c (between φ_in and φ_out), where the thread turns back up
+    /// through the eye toward the stitch.
+    pub eye_in_material: Option<Vec<bool>>,
     /// Needle threads: the catch and drop geometry of the physical checks.
     pub needle_moments: Option<super::checks::NeedleMoments>,
     /// A lockstitch's needle thread: the hook's catch for its check.

@@ -137,7 +137,7 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
         }
         _ => {}
     }
-    let compared_at = compared_outside(phis, th.regulator_window_deg);
+    let compared_at = compared_outside(phis, &th.regulator_windows_deg);
     let eps = st.tolerance_mm;
     let (against_other, against_model) = match curve.kind() {
         CurveKind::TakeUp => (

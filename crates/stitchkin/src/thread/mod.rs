@@ -568,6 +568,46 @@ impl<T: Real> Threads<T> {
     }
 }
 
+impl<T: Real> Threads<T> {
+    /// The length of thread between each pair of consecutive nodes of
+    /// `path` at the `k`-th φ of `pose`, from the pieces' lengths of the
+    /// last evaluation of that pose in `work`, mm, into `out` (one per node
+    /// gap). A straight piece is its own gap; a piece over a guide (a pin
+    /// or a cam, a node of its own) is split at the guide in the ratio of
+    /// its ends' distances from it: from a pin's axis (ρp : ρq, exactly
+    /// where a thin pin's contact divides the unrolled thread, and where the
+    /// straight thread crosses the axis' plane when it does not bear), from
+    /// a cam's shaft.
+    pub fn gap_lengths(&self, path: &ThreadPath, pose: &Pose<T>, work: &ThreadWork<T>, k: usize, out: &mut Vec<f64>) {
+        out.clear();
+        for &s in &path.spans {
+            let buf = &work.spans[s];
+            let len = buf.constant.unwrap_or_else(|| buf.len[k]).re();
+            let at = |slot: usize| pose.point(slot, k).map(|x| x.re());
+            match &self.spans[s] {
+                Span::Straight { .. } => out.push(len),
+                Span::Pin { a, b, c, axis, .. } => {
+                    let (pa, pb, pc) = (at(*a), at(*b), at(*c));
+                    let ax = axis.map(|x| x.re());
+                    let off_axis = |p: V3<f64>| {
+                        let w = p - pc;
+                        (w - ax * w.dot(&ax)).norm()
+                    };
+                    let (ra, rb) = (off_axis(pa), off_axis(pb));
+                    let f = if ra + rb > 0.0 { ra / (ra + rb) } else { 0.5 };
+                    out.extend([len * f, len * (1.0 - f)]);
+                }
+                Span::Cam { a, b, cam, .. } => {
+                    let pc = at(self.cams[*cam].center);
+                    let (ra, rb) = ((at(*a) - pc).norm(), (at(*b) - pc).norm());
+                    let f = if ra + rb > 0.0 { ra / (ra + rb) } else { 0.5 };
+                    out.extend([len * f, len * (1.0 - f)]);
+                }
+            }
+        }
+    }
+}
+
 /// Tension after each node by the capstan (Euler–Eytelwein) law with
 /// Amontons friction, `T_{i+1} = T_i · exp(μ_i · θ_i)`, from `t0` (N) at the
 /// first node, the thread drawn toward the last node; θ_i the angle it

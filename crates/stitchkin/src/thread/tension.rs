@@ -41,6 +41,57 @@ pub const MAX_CYCLES: usize = 60;
 /// over a cycle, mm.
 pub const SETTLE_MM: f64 = 1e-5;
 
+/// A thread path's real thread and the parts that hold it, in numbers
+/// (the model file's `[thread.physics]`, resolved for one path).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ThreadPhysics {
+    /// The thread, in words.
+    pub thread: Option<String>,
+    /// Where the numbers come from.
+    pub source: Option<String>,
+    /// Axial stiffness EA, N.
+    pub ea_n: f64,
+    /// Breaking force, N.
+    pub breaking_n: f64,
+    /// The tension past the regulator at which it passes thread, N.
+    pub regulator_n: f64,
+    pub spring: Option<SpringAt>,
+    pub clamps: Vec<ClampAt>,
+}
+
+/// A check spring after the path's node `node` (it acts on the thread from
+/// there to the next node).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SpringAt {
+    pub node: usize,
+    pub take_up_mm: f64,
+    /// [F₀, F₁], N.
+    pub force_n: [f64; 2],
+}
+
+/// A thread clamp at the path's node `node`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ClampAt {
+    pub node: usize,
+    pub hold_n: f64,
+    /// When it is closed, [from, to] in the model's φ, deg; `None`: always.
+    pub closed_deg: Option<[f64; 2]>,
+}
+
+impl ClampAt {
+    /// Its hold at model-φ `phi_deg`: `hold_n` while closed, else 0.
+    pub fn hold_at(&self, phi_deg: f64) -> f64 {
+        match self.closed_deg {
+            None => self.hold_n,
+            Some([from, to]) => {
+                let (a, len) = (from.rem_euclid(360.0), (to - from).rem_euclid(360.0));
+                let closed = len == 0.0 || (phi_deg - a).rem_euclid(360.0) <= len;
+                if closed { self.hold_n } else { 0.0 }
+            }
+        }
+    }
+}
+
 /// A check spring (take-up spring) on one span: it holds thread out of the
 /// path, lengthening the span's reach by `take_up_mm·(1 − x)`, where x, its
 /// travel from rest (0) to its end (1), balances the thread's tension:

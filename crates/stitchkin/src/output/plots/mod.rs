@@ -209,14 +209,21 @@ fn take_up_subtitle(table: &CycleTable) -> String {
         if at_b {
             sub += "; needle threads at B, the eye's top position";
         }
-        if let Some([a, b]) = st.threads.iter().find_map(|t| t.regulator_window_deg) {
-            let end = if b > 360.0 + 1e-9 { wrap_deg(b) } else { b };
+        if let Some(t) = st.threads.iter().find(|t| !t.regulator_windows_deg.is_empty()) {
+            let ws: Vec<String> = t
+                .regulator_windows_deg
+                .iter()
+                .map(|&[a, b]| {
+                    let end = if b > 360.0 + 1e-9 { wrap_deg(b) } else { b };
+                    format!("{a:.0}°…{end:.0}°")
+                })
+                .collect();
             sub += &format!(
-                "; regulator window {a:.0}°…{end:.0}° of {} left out of the match",
-                st.threads
-                    .iter()
-                    .find(|t| t.regulator_window_deg.is_some())
-                    .map_or("", |t| t.thread.as_str())
+                "; regulator window{} {} of {}{} left out of the match",
+                if ws.len() > 1 { "s" } else { "" },
+                ws.join(", "),
+                t.thread,
+                if t.regulator_computed { " (computed)" } else { "" }
             );
         }
     } else if table.paths.iter().any(|p| !p.engaged.is_empty()) {

@@ -176,7 +176,7 @@ fn sparklines(table: &CycleTable, st: &StitchSummary, measured: &[MeasuredMatch]
     // The regulator windows, one line per distinct window.
     let mut windows: Vec<([f64; 2], Vec<&str>)> = Vec::new();
     for t in &st.threads {
-        if let Some(w) = t.regulator_window_deg {
+        for &w in &t.regulator_windows_deg {
             match windows
                 .iter_mut()
                 .find(|(v, _)| (v[0] - w[0]).abs() < 1e-9 && (v[1] - w[1]).abs() < 1e-9)
@@ -192,10 +192,12 @@ fn sparklines(table: &CycleTable, st: &StitchSummary, measured: &[MeasuredMatch]
         } else {
             String::new()
         };
+        let computed = st.threads.iter().any(|t| t.regulator_computed);
         s += &format!(
-            "{:<12}{}  regulator window{whose} (left out of the metrics)\n",
+            "{:<12}{}  regulator window{whose}{} (left out of the metrics)\n",
             "",
-            window_marks(start, SPARK_COLS, *w, '~')
+            window_marks(start, SPARK_COLS, *w, '~'),
+            if computed { ", computed" } else { "" }
         );
     }
     s
@@ -210,12 +212,6 @@ fn checks_block(table: &CycleTable, st: &StitchSummary, details: bool) -> String
     }
     let mut s = "\nchecks (what no machine can do):\n".to_string();
     for c in &st.checks {
-        let limit = match c.limit {
-            [Some(a), Some(b)] => format!("{a}…{b} mm"),
-            [None, Some(b)] => format!("≤ {b:.2} mm"),
-            [Some(a), None] => format!("≥ {a:.2} mm"),
-            [None, None] => "—".into(),
-        };
         let figure = match (c.name, c.limit[1]) {
             ("thread_bound", Some(bound)) => {
                 let peak = st
@@ -239,7 +235,13 @@ fn checks_block(table: &CycleTable, st: &StitchSummary, details: bool) -> String
                     )
                 }
             }
-            _ => format!("{:>8.2} mm  (allowed {limit}; φ = {:.1}°)", c.value, c.at_deg),
+            _ if c.limit == [None, None] => format!("{:>11}  ({})", c.value_words(), c.message),
+            _ => format!(
+                "{:>11}  (allowed {}; φ = {:.1}°)",
+                c.value_words(),
+                c.limit_words(),
+                c.at_deg
+            ),
         };
         s += &format!(
             "  {:<5} {:<6} {:<17} {figure}\n",
