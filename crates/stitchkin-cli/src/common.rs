@@ -92,6 +92,18 @@ pub(crate) struct SearchArgs {
     /// Step of the main-shaft angle φ, degrees.
     #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
     pub step: f64,
+    /// What to minimise: the mismatch of P and P' (match), or the thread's
+    /// highest peak tension as a share of its breaking force (peak-tension;
+    /// needs thread physics). The physical checks are constraints either way.
+    #[arg(long, value_enum, default_value = "match")]
+    pub objective: Objective,
+}
+
+/// `--objective`.
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum Objective {
+    Match,
+    PeakTension,
 }
 
 impl SearchArgs {
@@ -103,6 +115,10 @@ impl SearchArgs {
     /// The tuning options with the settings to `adjust`.
     pub fn options(&self, adjust: Vec<String>) -> stitchkin::study::tune::TuneOptions {
         stitchkin::study::tune::TuneOptions {
+            objective: match self.objective {
+                Objective::Match => stitchkin::study::tune::TuneObjective::Match,
+                Objective::PeakTension => stitchkin::study::tune::TuneObjective::PeakTension,
+            },
             adjust,
             samples: self.samples,
             seed: self.seed,

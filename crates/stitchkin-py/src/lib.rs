@@ -300,6 +300,7 @@ impl Model {
                     None => model.default_adjustables(&params)?,
                 };
                 let options = tune::TuneOptions {
+                    objective: Default::default(),
                     adjust,
                     samples,
                     seed,

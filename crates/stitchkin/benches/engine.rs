@@ -221,6 +221,7 @@ fn tune_mf7923d(bencher: Bencher) {
     let mut base = model.defaults();
     model.set(&mut base, "t1_phase", 180.0).unwrap();
     let opts = TuneOptions {
+        objective: Default::default(),
         adjust: vec!["z".into(), "dphi".into()],
         samples: 0,
         seed: 1,
@@ -247,4 +248,20 @@ fn mismatch_lag_360000(bencher: Bencher) {
         .collect();
     let compared: Vec<bool> = phi_deg.iter().map(|&f| f < 300.0).collect();
     bencher.bench_local(|| black_box(mismatch(&phi_deg, &p, &pprime, &compared, 0.5, true)));
+}
+
+/// The thread's tension of the MF-7923D's three needle threads over one
+/// cycle at 1°, from their courses (the path geometry and the stitch's
+/// contour, computed once): the periodic steady state, every cycle run to
+/// reach it.
+#[divan::bench]
+fn mf7923d_thread_tension(bencher: Bencher) {
+    let model = Model::preset("mf7923d").unwrap();
+    let courses = stitchkin::eval::tension::courses(&model, &model.defaults(), 1.0).unwrap();
+    assert_eq!(courses.len(), 3);
+    bencher.bench_local(|| {
+        for (_, c) in &courses {
+            black_box(stitchkin::thread::tension::solve(&c.chain, &c.course()).unwrap());
+        }
+    });
 }

@@ -380,6 +380,7 @@ fn plot_of(args: &Args, model: &Model, params: &Params, step: f64) -> Result<Plo
                 .map(|s| Axis::parse(s, Input::StitchLength))
                 .transpose()?;
             let tune = TuneOptions {
+                objective: Default::default(),
                 adjust: args.adjust.clone(),
                 samples: args.samples.unwrap_or(0),
                 seed: args.seed.unwrap_or(1),

@@ -11,7 +11,7 @@ use rayon::prelude::*;
 use crate::error::Error;
 use crate::mechanism::{Mechanism, Pose};
 use crate::scalar::Real;
-use crate::thread::{Convention, PathTrack, SplitPoint, ThreadWork, Threads};
+use crate::thread::{Convention, PathTrack, SplitPoint, ThreadPath, ThreadWork, Threads};
 
 use super::{
     Column, CycleOptions, FLAT_MIN_DEG, FLAT_SLOPE_MM_PER_DEG, PathSummary, extremes, path_error, take_up_name,
@@ -40,6 +40,25 @@ pub struct PathCourse {
     pub gaps_mm: Vec<f64>,
     /// n × nodes, rad ([`Threads::wrap_angles`]).
     pub wraps_rad: Vec<f64>,
+}
+
+impl PathCourse {
+    /// Adds the first `n` positions of `pose`, whose thread pieces `work`
+    /// holds (`Threads::evaluate_into` of that pose).
+    pub fn extend<T: Real>(&mut self, threads: &Threads<T>, path: &ThreadPath, pose: &Pose<T>, work: &ThreadWork<T>, n: usize) {
+        let mut gaps = Vec::new();
+        for k in 0..n {
+            threads.gap_lengths(path, pose, work, k, &mut gaps);
+            self.gaps_mm.extend_from_slice(&gaps);
+            self.wraps_rad.extend(threads.wrap_angles(path, pose, k));
+        }
+    }
+
+    /// Empty, keeping its buffers.
+    pub fn clear(&mut self) {
+        self.gaps_mm.clear();
+        self.wraps_rad.clear();
+    }
 }
 
 /// One path's values over the positions added so far.
@@ -122,12 +141,8 @@ impl<T: Real> PathColumns<T> {
             .par_iter_mut()
             .zip(threads.paths.par_iter())
             .for_each(|(course, path)| {
-                let Some(course) = course else { return };
-                let mut gaps = Vec::new();
-                for k in 0..phis.len() {
-                    threads.gap_lengths(path, pose, work, k, &mut gaps);
-                    course.gaps_mm.extend_from_slice(&gaps);
-                    course.wraps_rad.extend(threads.wrap_angles(path, pose, k));
+                if let Some(course) = course {
+                    course.extend(threads, path, pose, work, phis.len());
                 }
             });
         Ok(())
@@ -160,7 +175,7 @@ impl PathValues {
     fn add<T: Real>(
         &mut self,
         threads: &Threads<T>,
-        path: &crate::thread::ThreadPath,
+        path: &ThreadPath,
         track: &PathTrack<T>,
         at0: &PathTrack<T>,
         pose: &Pose<T>,
@@ -215,7 +230,7 @@ impl PathValues {
 
 /// One path's columns and summary.
 fn one_path<T: Real>(
-    path: &crate::thread::ThreadPath,
+    path: &ThreadPath,
     v: PathValues,
     at0: &PathTrack<T>,
     phis: &[f64],

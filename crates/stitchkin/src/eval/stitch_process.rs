@@ -434,6 +434,20 @@ impl Accounting {
     }
 }
 
+/// A thread's P' at its split and the positions compared, with the
+/// regulator's window computed from its tension `sol` (a sweep's fast path
+/// reads its figures from these, as [`stitch_columns`] does).
+pub(crate) fn computed_pprime(
+    th: &RequiredThread,
+    sol: &Solved,
+    phis: &[f64],
+    phi0_deg: f64,
+    cz: f64,
+) -> (Vec<f64>, Vec<bool>) {
+    let a = Accounting::computed(th, sol, phis, phi0_deg, cz);
+    (a.pprime_split, a.compared)
+}
+
 /// The regulator in words: each distinct window with its threads, computed
 /// or assumed.
 fn regulator_words(prepared: &Prepared, accounts: &[Accounting]) -> String {

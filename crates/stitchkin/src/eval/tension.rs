@@ -11,7 +11,9 @@ use super::{Column, wrap_deg};
 use crate::error::{Error, ThreadError};
 use crate::stitch::checks::Check;
 use crate::stitch::spec::RequiredThread;
-use crate::thread::ThreadPath;
+use crate::mechanism::Phi;
+use crate::model::{Machine, Model, Params};
+use crate::thread::{ThreadPath, ThreadWork};
 use crate::thread::tension::{Chain, CheckSpring, Course, Tensions, ThreadPhysics, solve};
 
 /// The least breaking margin (breaking force over the peak tension) the
@@ -59,10 +61,14 @@ pub struct ThreadTension {
     /// Where thread passes the regulator, model φ [from, to] deg (from in
     /// [0, 360), `to` may pass 360).
     pub regulator_windows_deg: Vec<[f64; 2]>,
-    /// The largest slack loop (thread beyond the path's reach that no check
-    /// spring holds) and where, mm and deg.
+    /// The largest slack loop on the path from the regulator to the eye
+    /// (thread beyond the guides' reach that no check spring holds, where
+    /// nothing controls it) and where, mm and deg.
     pub max_slack_mm: f64,
     pub max_slack_at_deg: f64,
+    /// The largest slack below the eye, in the stitch's own contour (the
+    /// loop released at the drop, which the stitch uses up), mm.
+    pub max_stitch_slack_mm: f64,
     /// The check spring, when the path has one.
     pub spring: Option<SpringSummary>,
     /// Cycles run to the periodic steady state, whether it settled, and the
@@ -108,21 +114,40 @@ pub struct PathInput<'a> {
     pub course: &'a PathCourse,
 }
 
-/// Solves the tension of the stitch thread `th` fed through `input` over
-/// the model-φ grid `phis` (uniform, one cycle; `th` computed on it,
-/// cyclogram zero `cz`).
-pub fn solve_thread(th: &RequiredThread, input: PathInput<'_>, phis: &[f64], cz: f64) -> Result<Solved, Error> {
+/// The solver's inputs for one stitch thread over a cycle, owned: the
+/// chain and its course ([`Course`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TensionCourse {
+    pub chain: Chain,
+    /// n × S reaches, n × (S − 1) capstan factors and holds.
+    pub len_mm: Vec<f64>,
+    pub factor: Vec<f64>,
+    pub hold_n: Vec<f64>,
+    pub set_k: usize,
+    pub set_mm: f64,
+}
+
+impl TensionCourse {
+    /// The course as the solver reads it.
+    pub fn course(&self) -> Course<'_> {
+        Course {
+            len_mm: &self.len_mm,
+            factor: &self.factor,
+            hold_n: &self.hold_n,
+            set_k: self.set_k,
+            set_mm: self.set_mm,
+        }
+    }
+}
+
+/// The course of the stitch thread `th` fed through `input` over the
+/// model-φ grid `phis` (uniform, one cycle; `th` computed on it, cyclogram
+/// zero `cz`).
+pub fn tension_course(th: &RequiredThread, input: PathInput<'_>, phis: &[f64], cz: f64) -> Result<TensionCourse, Error> {
     let PathInput { physics, path, course } = input;
     let n = phis.len();
     let nodes = path.nodes.len();
     let s = nodes; // the path's node gaps and the stitch
-    let fail = |k: usize, message: String| {
-        Error::Thread(ThreadError {
-            path: path.name.clone(),
-            phi_deg: Some(wrap_deg(phis[k.min(n - 1)])),
-            message,
-        })
-    };
     if course.gaps_mm.len() != n * (nodes - 1) || course.wraps_rad.len() != n * nodes || th.eta_mm.len() < n {
         return Err(Error::Internal(format!(
             "the course of path `{}` does not fit the cycle's {n} positions",
@@ -142,13 +167,13 @@ pub fn solve_thread(th: &RequiredThread, input: PathInput<'_>, phis: &[f64], cz:
             d(a).total_cmp(&d(b))
         })
         .unwrap_or(0);
-    let mut len = Vec::with_capacity(n * s);
+    let mut len_mm = Vec::with_capacity(n * s);
     let mut factor = Vec::with_capacity(n * (s - 1));
-    let mut hold = vec![0.0; n * (s - 1)];
+    let mut hold_n = vec![0.0; n * (s - 1)];
     let eye_mu = path.friction[nodes - 1];
     for k in 0..n {
-        len.extend_from_slice(&course.gaps_mm[k * (nodes - 1)..(k + 1) * (nodes - 1)]);
-        len.push(th.eta_mm[k] + if unset(phis[k]) { l_s } else { 0.0 });
+        len_mm.extend_from_slice(&course.gaps_mm[k * (nodes - 1)..(k + 1) * (nodes - 1)]);
+        len_mm.push(th.eta_mm[k] + if unset(phis[k]) { l_s } else { 0.0 });
         // The guides between the regulator and the eye…
         for j in 1..nodes - 1 {
             factor.push((path.friction[j] * course.wraps_rad[k * nodes + j]).exp());
@@ -159,30 +184,83 @@ pub fn solve_thread(th: &RequiredThread, input: PathInput<'_>, phis: &[f64], cz:
         let in_material = th.eye_in_material.as_ref().is_some_and(|e| e[k]);
         factor.push(if in_material { (eye_mu * std::f64::consts::PI).exp() } else { 1.0 });
         for c in &physics.clamps {
-            hold[k * (s - 1) + c.node - 1] = c.hold_at(phis[k]);
+            hold_n[k * (s - 1) + c.node - 1] = c.hold_at(phis[k]);
         }
     }
-    let chain = Chain {
-        ea_n: physics.ea_n,
-        pass_n: physics.regulator_n,
-        spring: physics.spring.map(|sp| CheckSpring {
-            span: sp.node,
-            take_up_mm: sp.take_up_mm,
-            force_n: sp.force_n,
-        }),
-    };
-    let tensions = solve(
-        &chain,
-        &Course {
-            len_mm: &len,
-            factor: &factor,
-            hold_n: &hold,
-            set_k,
-            set_mm: l_s,
+    Ok(TensionCourse {
+        chain: Chain {
+            ea_n: physics.ea_n,
+            pass_n: physics.regulator_n,
+            spring: physics.spring.map(|sp| CheckSpring {
+                span: sp.node,
+                take_up_mm: sp.take_up_mm,
+                force_n: sp.force_n,
+            }),
         },
-    )
-    .map_err(|e| fail(e.k, e.message))?;
-    Ok(read_off(th, physics, path, phis, tensions))
+        len_mm,
+        factor,
+        hold_n,
+        set_k,
+        set_mm: l_s,
+    })
+}
+
+/// Solves the tension of the stitch thread `th` fed through `input` over
+/// the model-φ grid `phis` ([`tension_course`]).
+pub fn solve_thread(th: &RequiredThread, input: PathInput<'_>, phis: &[f64], cz: f64) -> Result<Solved, Error> {
+    let tc = tension_course(th, input, phis, cz)?;
+    let tensions = solve(&tc.chain, &tc.course()).map_err(|e| {
+        Error::Thread(ThreadError {
+            path: input.path.name.clone(),
+            phi_deg: Some(wrap_deg(phis[e.k.min(phis.len() - 1)])),
+            message: e.message,
+        })
+    })?;
+    Ok(read_off(th, input.physics, input.path, phis, tensions))
+}
+
+/// The tension course of every stitch thread of `model` with `params` whose
+/// path carries thread physics, on the cycle grid of `step_deg`, with the
+/// thread's name: what [`solve_thread`] solves in a cycle, for a study or a
+/// benchmark that runs the solver alone.
+pub fn courses(model: &Model, params: &Params, step_deg: f64) -> Result<Vec<(String, TensionCourse)>, Error> {
+    let Some(prepared) = super::stitch_process::prepare(model, params, step_deg)? else {
+        return Ok(Vec::new());
+    };
+    let Machine {
+        mechanism: mech,
+        threads,
+    } = model.machine::<f64>(params)?;
+    let Some(threads) = threads else { return Ok(Vec::new()) };
+    let phis = &prepared.phis;
+    let mut pose = mech.new_pose(phis.len());
+    mech.solve(&Phi::table(phis), &mut pose)?;
+    let mut work = ThreadWork::default();
+    threads
+        .evaluate_into(&pose, None, &mut work)
+        .map_err(|e| {
+            let phi = phis[e.k];
+            super::path_error(e, phi)
+        })?;
+    let physics = model.thread_physics(params)?;
+    let mut out = Vec::new();
+    for (th, name) in prepared.required.threads.iter().zip(&prepared.setup.paths) {
+        let Some(i) = threads.paths.iter().position(|p| Some(&p.name) == name.as_ref()) else {
+            continue;
+        };
+        let Some(ph) = physics.get(i).and_then(Option::as_ref) else {
+            continue;
+        };
+        let mut course = PathCourse::default();
+        course.extend(&threads, &threads.paths[i], &pose, &work, phis.len());
+        let input = PathInput {
+            physics: ph,
+            path: &threads.paths[i],
+            course: &course,
+        };
+        out.push((th.name.clone(), tension_course(th, input, phis, prepared.setup.cyclogram_zero_deg)?));
+    }
+    Ok(out)
 }
 
 /// The summary and the per-φ series of a solved thread.
@@ -207,8 +285,10 @@ fn read_off(th: &RequiredThread, physics: &ThreadPhysics, path: &ThreadPath, phi
     }
     let eye = (0..n).map(|k| t.tension(k, s - 2));
     let eye_n = [eye.clone().fold(f64::MAX, f64::min), eye.fold(0.0, f64::max)];
-    let slack = |k: usize| t.slack_mm[k * s..(k + 1) * s].iter().sum::<f64>();
+    // The path's slack: every span but the stitch's.
+    let slack = |k: usize| t.slack_mm[k * s..(k + 1) * s - 1].iter().sum::<f64>();
     let slack_k = (0..n).max_by(|&a, &b| slack(a).total_cmp(&slack(b))).unwrap_or(0);
+    let stitch_slack = (0..n).map(|k| t.slack_mm[k * s + s - 1]).fold(0.0, f64::max);
     let passing: Vec<bool> = t.drawn_mm.iter().map(|&d| d > DRAW_MM).collect();
     let windows = windows(phis, &passing);
     let mut drawn = Vec::with_capacity(n);
@@ -247,6 +327,7 @@ fn read_off(th: &RequiredThread, physics: &ThreadPhysics, path: &ThreadPath, phi
         regulator_windows_deg: windows,
         max_slack_mm: slack(slack_k),
         max_slack_at_deg: wrap_deg(phis[slack_k]),
+        max_stitch_slack_mm: stitch_slack,
         spring,
         cycles: t.cycles,
         settled: t.settled,
@@ -304,7 +385,8 @@ fn windows(phis: &[f64], passing: &[bool]) -> Vec<[f64; 2]> {
 /// `THR.T_eye_N` (arriving at the eye), `THR.T_stitch_N` (in the stitch),
 /// `THR.T_max_N` (the largest on the thread), `THR.strain_max_pct`,
 /// `THR.drawn_mm` (past the regulator since the cycle's start),
-/// `THR.slack_mm` (the slack loop) and, with a check spring,
+/// `THR.slack_mm` (the slack loop on the path to the eye),
+/// `THR.slack_stitch_mm` (slack below the eye) and, with a check spring,
 /// `THR.spring_mm` (the thread it has given out of its store).
 pub fn tension_columns(thread: &str, solved: &Solved, ea_n: f64, columns: &mut Vec<Column>) {
     let t = &solved.tensions;
@@ -322,7 +404,8 @@ pub fn tension_columns(thread: &str, solved: &Solved, ea_n: f64, columns: &mut V
     push("T_max_N", (0..n).map(row_max).collect());
     push("strain_max_pct", (0..n).map(|k| 100.0 * row_max(k) / ea_n).collect());
     push("drawn_mm", solved.drawn_mm.clone());
-    push("slack_mm", (0..n).map(|k| t.slack_mm[k * s..(k + 1) * s].iter().sum()).collect());
+    push("slack_mm", (0..n).map(|k| t.slack_mm[k * s..(k + 1) * s - 1].iter().sum()).collect());
+    push("slack_stitch_mm", (0..n).map(|k| t.slack_mm[k * s + s - 1]).collect());
     if !t.spring_mm.is_empty() {
         push("spring_mm", t.spring_mm.clone());
     }
@@ -374,13 +457,15 @@ pub fn tension_checks(thread: &str, t: &ThreadTension) -> [Check; 3] {
         t.max_slack_at_deg,
         if slack_ok {
             format!(
-                "the largest slack loop is {:.2} mm, at φ = {:.1}° (at most {SLACK_LOOP_MAX_MM} mm wanted)",
+                "the largest slack loop between the regulator and the eye is {:.2} mm, at φ = {:.1}° (at most \
+                 {SLACK_LOOP_MAX_MM} mm wanted)",
                 t.max_slack_mm, t.max_slack_at_deg
             )
         } else {
             format!(
-                "{:.2} mm of thread hangs slack at φ = {:.1}°, more than {SLACK_LOOP_MAX_MM} mm: a loop that can catch on \
-                 the needle or the looper and make loose stitches; the take-up gives more than the stitch takes there",
+                "{:.2} mm of thread hangs slack between the regulator and the eye at φ = {:.1}°, more than \
+                 {SLACK_LOOP_MAX_MM} mm: a loop no guide controls, that can catch and make loose stitches; the take-up \
+                 gives more than the stitch takes there",
                 t.max_slack_mm, t.max_slack_at_deg
             )
         },

@@ -69,6 +69,13 @@ impl Loader<'_> {
             return Ok(vec![None; paths.len()]);
         }
         let top_path = root.key("physics");
+        if t.tension_n.is_some() {
+            return Err(self.err(
+                &root.key("tension_n"),
+                "`tension_n` estimates the tension by the capstan law alone; with thread physics the tension is solved",
+                Some("remove `tension_n`: the regulator's hold is `regulator_n` in [thread.physics]".into()),
+            ));
+        }
         if !has_stitch {
             let at = if t.physics.is_some() {
                 top_path.clone()

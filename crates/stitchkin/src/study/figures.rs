@@ -14,7 +14,9 @@ use crate::model::{Model, Params};
 /// extremes per path, transmission-angle extremes (per dyad and overall),
 /// measure ranges, point strokes along each axis (`POINT.y_stroke_mm`),
 /// and per stitch thread the match
-/// score, RMS and largest |D|, plus the mean and worst score.
+/// score, RMS and largest |D|, plus the mean and worst score; where the
+/// thread's tension is solved, its peak `THR.max_T_N`, breaking margin
+/// `THR.tension_margin` and largest slack loop `THR.max_slack_mm`.
 pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
     let mut out = Vec::new();
     for p in &table.paths {
@@ -74,6 +76,11 @@ pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
                 ),
                 t.max_pprime_mm,
             ));
+            if let Some(tn) = &t.tension {
+                out.push((format!("{}.max_T_N", t.thread), tn.peak_n));
+                out.push((format!("{}.tension_margin", t.thread), tn.margin));
+                out.push((format!("{}.max_slack_mm", t.thread), tn.max_slack_mm));
+            }
             let checks: Vec<_> = st.checks.iter().filter(|c| c.thread == t.thread).collect();
             if !checks.is_empty() {
                 out.push((

@@ -149,6 +149,25 @@ struct StitchPlan {
     /// not depend on the take-up (catch, stab) pass.
     has_checks: bool,
     fixed_checks_ok: bool,
+    /// Where its path carries thread physics: the tension solved each
+    /// setting (and, with the regulator's window computed, P' with it).
+    tension: Option<TensionPlan>,
+}
+
+/// A stitch thread whose tension is solved for each setting.
+struct TensionPlan {
+    /// Its index among the stitch's threads.
+    thread: usize,
+    /// Whether the regulator's window is computed (P' and the compared
+    /// positions follow the tension).
+    computed: bool,
+    /// The path's course and this setting's tension, P' and weights.
+    course: crate::eval::PathCourse,
+    solved: Option<crate::eval::tension::Solved>,
+    pprime: Vec<f64>,
+    weight: Vec<f64>,
+    count: usize,
+    range: f64,
 }
 
 /// What a sweep of a model needs besides its design, worked out once: the
@@ -318,7 +337,7 @@ impl Fast {
         let kinds = Kinds::of(model, threads, &path_names, names)?;
         let phis = crate::eval::cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
         let plans = if kinds.stitch {
-            StitchPlan::all(shared?, &phis, threads, &path_names)?
+            StitchPlan::all(model, shared?, &phis, threads, &path_names)?
         } else {
             Vec::new()
         };
@@ -361,6 +380,9 @@ impl Fast {
         mech.solve(&self.table, &mut self.pose)?;
         if let Some(threads) = &threads {
             self.take_up_figures(&mech, threads, out)?;
+            if let Some(shared) = shared {
+                self.tensions(model, threads, shared)?;
+            }
         }
         if self.mu && !model.dyads.is_empty() {
             self.transmission_figures(model, &mech, out)?;
@@ -373,6 +395,50 @@ impl Fast {
         }
         if !self.stitch.is_empty() && shared.is_some() {
             self.stitch_figures(out);
+        }
+        Ok(())
+    }
+
+    /// The tension of every stitch thread whose path carries thread
+    /// physics, with this setting's P' and compared positions where the
+    /// regulator's window is computed: what `eval::stitch_process` reads.
+    fn tensions(&mut self, model: &Model, threads: &Threads<f64>, shared: &Prepared) -> Result<(), Error> {
+        if self.stitch.iter().all(|p| p.tension.is_none()) {
+            return Ok(());
+        }
+        let physics = model.thread_physics(&self.params)?;
+        let n = self.phis.len();
+        let cz = shared.setup.cyclogram_zero_deg;
+        for plan in &mut self.stitch {
+            let (Some(tp), Some(pi)) = (&mut plan.tension, plan.path) else {
+                continue;
+            };
+            let Some(ph) = physics.get(pi).and_then(Option::as_ref) else {
+                tp.solved = None;
+                continue;
+            };
+            let th = &shared.required.threads[tp.thread];
+            tp.course.clear();
+            tp.course.extend(threads, &threads.paths[pi], &self.pose, &self.work, n);
+            let input = crate::eval::tension::PathInput {
+                physics: ph,
+                path: &threads.paths[pi],
+                course: &tp.course,
+            };
+            let solved = crate::eval::tension::solve_thread(th, input, &self.phis, cz)?;
+            if tp.computed {
+                let (pprime, compared) =
+                    crate::eval::stitch_process::computed_pprime(th, &solved, &self.phis, shared.phi0_deg, cz);
+                let (mut hi, mut lo) = (f64::MIN, f64::MAX);
+                for k in (0..n).filter(|&k| compared[k]) {
+                    (hi, lo) = (hi.max(pprime[k]), lo.min(pprime[k]));
+                }
+                tp.count = compared.iter().filter(|&&c| c).count();
+                tp.range = hi - lo;
+                tp.weight = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
+                tp.pprime = pprime;
+            }
+            tp.solved = Some(solved);
         }
         Ok(())
     }
@@ -511,10 +577,30 @@ impl Fast {
         let mut all_ok = true;
         let mut any_checks = false;
         for plan in &self.stitch {
-            out.push(
-                || format!("{}.{}", plan.name, plan.max_pprime_figure),
-                plan.max_pprime_mm,
-            );
+            let solved = plan.tension.as_ref().and_then(|t| t.solved.as_ref());
+            // With the window computed, P' and the compared positions are
+            // this setting's.
+            let (pprime, weight, count, range) = match &plan.tension {
+                Some(t) if t.computed && t.solved.is_some() => (&t.pprime, &t.weight, t.count, t.range),
+                _ => (&plan.pprime, &plan.weight, plan.ks.len(), plan.range),
+            };
+            let max_pprime = match &plan.tension {
+                Some(t) if t.computed && t.solved.is_some() => {
+                    t.pprime.iter().cloned().fold(f64::MIN, f64::max)
+                }
+                _ => plan.max_pprime_mm,
+            };
+            out.push(|| format!("{}.{}", plan.name, plan.max_pprime_figure), max_pprime);
+            let tension_ok = match solved {
+                Some(sol) => {
+                    let tn = &sol.summary;
+                    out.push(|| format!("{}.max_T_N", plan.name), tn.peak_n);
+                    out.push(|| format!("{}.tension_margin", plan.name), tn.margin);
+                    out.push(|| format!("{}.max_slack_mm", plan.name), tn.max_slack_mm);
+                    crate::eval::tension::tension_checks(&plan.name, tn).iter().all(|c| c.ok)
+                }
+                None => true,
+            };
             // As `eval::stitch`: the thread bound where P comes
             // closest to it, and every check of the thread.
             let margin = match (plan.path, &plan.bound) {
@@ -528,7 +614,7 @@ impl Fast {
                 _ => None,
             };
             if plan.has_checks || margin.is_some() {
-                let ok = plan.fixed_checks_ok && margin.is_none_or(|m| m >= -1e-9);
+                let ok = plan.fixed_checks_ok && tension_ok && margin.is_none_or(|m| m >= -1e-9);
                 all_ok &= ok;
                 any_checks = true;
                 out.push(|| format!("{}.checks_ok", plan.name), if ok { 1.0 } else { 0.0 });
@@ -537,20 +623,19 @@ impl Fast {
                 out.push(|| format!("{}.bound_margin_mm", plan.name), m);
             }
             let Some(pi) = plan.path else { continue };
-            if plan.ks.is_empty() {
+            if count == 0 {
                 continue;
             }
             // As `stitch::mismatch::mismatch`: D = P − P' over the
             // compared positions, in order.
             let p = &self.p[pi];
-            let count = plan.ks.len() as f64;
-            let rms = (crate::stitch::mismatch::sum_sq_diff(p, &plan.pprime, &plan.weight) / count).sqrt();
+            let rms = (crate::stitch::mismatch::sum_sq_diff(p, pprime, weight) / count as f64).sqrt();
             let mut max_abs = 0.0f64;
-            for ((a, b), w) in p.iter().zip(&plan.pprime).zip(&plan.weight) {
+            for ((a, b), w) in p.iter().zip(pprime).zip(weight) {
                 max_abs = max_abs.max((a - b).abs() * w);
             }
-            if plan.range > 1e-12 {
-                let score = 100.0 * (1.0 - rms / plan.range).max(0.0);
+            if range > 1e-12 {
+                let score = 100.0 * (1.0 - rms / range).max(0.0);
                 out.push(|| format!("{}.score", plan.name), score);
                 scores.push(score);
             }
@@ -612,6 +697,9 @@ impl Kinds {
                     ".max_Pprime_B_mm",
                     ".checks_ok",
                     ".bound_margin_mm",
+                    ".max_T_N",
+                    ".tension_margin",
+                    ".max_slack_mm",
                 ]
                 .iter()
                 .any(|s| n.ends_with(s))
@@ -630,6 +718,7 @@ impl StitchPlan {
     /// the grid `phis`), or `None` when the fast path cannot reproduce the
     /// full cycle's figures for one.
     fn all(
+        model: &Model,
         prepared: &Prepared,
         phis: &[f64],
         threads: Option<&Threads<f64>>,
@@ -638,6 +727,15 @@ impl StitchPlan {
         if prepared.phis != phis {
             return None;
         }
+        let has_physics = model.has_thread_physics();
+        let physics_at = |path: usize| {
+            model
+                .thread_physics(&model.defaults())
+                .ok()
+                .and_then(|p| p.get(path).map(Option::is_some))
+                .unwrap_or(false)
+        };
+        let computed = prepared.setup.spec.regulator == crate::stitch::spec::Regulator::Computed;
         let n = phis.len();
         let setup = &prepared.setup;
         let fixed_checks = prepared.needle_checks();
@@ -673,6 +771,16 @@ impl StitchPlan {
             };
             let weight = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
             let mine: Vec<_> = fixed_checks.iter().filter(|c| c.thread == th.name).collect();
+            let tension = path.filter(|&pi| has_physics && physics_at(pi)).map(|_| TensionPlan {
+                thread: i,
+                computed,
+                course: Default::default(),
+                solved: None,
+                pprime: Vec::new(),
+                weight: Vec::new(),
+                count: 0,
+                range: 0.0,
+            });
             plans.push(StitchPlan {
                 name: th.name.clone(),
                 path,
@@ -683,8 +791,9 @@ impl StitchPlan {
                 weight,
                 range: hi - lo,
                 bound,
-                has_checks: !mine.is_empty(),
+                has_checks: !mine.is_empty() || tension.is_some(),
                 fixed_checks_ok: mine.iter().all(|c| c.ok),
+                tension,
             });
         }
         Some(plans)

@@ -1,9 +1,12 @@
 //! Tuning: the adjustable settings that make the take-up P(φ) match the
-//! required P'(φ) of every thread together.
+//! required P'(φ) of every thread together, or that keep the thread's
+//! tension lowest.
 //!
-//! The objective is the mean over the compared threads of RMS(D)/range(P'),
-//! D = P − P' (docs/stitch-formation.md §8; the match score is
-//! 100·max(0, 1 − that)), plus a penalty for every degree a transmission
+//! The objective ([`TuneObjective`]) is the mean over the compared threads
+//! of RMS(D)/range(P'), D = P − P' (docs/stitch-formation.md §8; the match
+//! score is 100·max(0, 1 − that)), or on the thread's tension the highest
+//! peak over the threads as a share of its breaking force; plus a penalty
+//! for every physical check that fails, a penalty for every degree a transmission
 //! angle leaves 30°…150° and a large one where the mechanism does not
 //! assemble. The search runs in the box of the adjustable ranges: a seeded
 //! Latin-hypercube sample on all cores (global), then Nelder–Mead (argmin)
@@ -39,6 +42,33 @@ pub struct TuneOptions {
     pub seed: u64,
     /// φ step of the evaluation, degrees.
     pub step_deg: f64,
+    /// What is minimised.
+    pub objective: TuneObjective,
+}
+
+/// What a tuning minimises, with the transmission-angle band and every
+/// physical check as constraints.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TuneObjective {
+    /// The mismatch of P and P': the mean of RMS(D)/range(P') over the
+    /// compared threads (the match score's complement).
+    #[default]
+    Match,
+    /// The thread's tension: the largest peak over the threads, as a share
+    /// of each thread's breaking force (`docs/thread-physics.md`); needs
+    /// thread physics.
+    PeakTension,
+}
+
+impl TuneObjective {
+    /// Its name on the command line and in JSON.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TuneObjective::Match => "match",
+            TuneObjective::PeakTension => "peak_tension",
+        }
+    }
 }
 
 /// The match at one setting.
@@ -58,6 +88,9 @@ pub struct MatchFigures {
     pub failed_checks: Vec<String>,
     /// Every constraint holds: the transmission angles and the checks.
     pub feasible: bool,
+    /// The largest peak tension over the threads, N, where the thread's
+    /// tension is solved.
+    pub peak_tension_n: Option<f64>,
     /// The objective minimised (see the module docs).
     pub objective: f64,
 }
@@ -88,6 +121,8 @@ pub struct TuneResult {
     pub notes: Vec<String>,
     /// Cycles evaluated.
     pub evaluations: usize,
+    /// What was minimised.
+    pub objective: TuneObjective,
 }
 
 /// Objective penalty per degree a transmission angle leaves the band.
@@ -106,6 +141,7 @@ struct Problem<'a> {
     vary: &'a [Vary],
     opts: CycleOptions,
     shared: Option<&'a Prepared>,
+    goal: TuneObjective,
 }
 
 impl Problem<'_> {
@@ -143,6 +179,15 @@ impl Problem<'_> {
             return None;
         }
         let mean_rel = rel.iter().sum::<f64>() / rel.len() as f64;
+        // The highest peak tension, and as a share of its thread's breaking
+        // force.
+        let tensions = st.threads.iter().filter_map(|th| th.tension.as_ref());
+        let peak_tension_n = tensions.clone().map(|tn| tn.peak_n).reduce(f64::max);
+        let peak_share = tensions.map(|tn| tn.peak_n / tn.breaking_n).reduce(f64::max);
+        let goal = match self.goal {
+            TuneObjective::Match => mean_rel,
+            TuneObjective::PeakTension => peak_share?,
+        };
         let scores: Vec<f64> = threads.iter().filter_map(|t| t.1).collect();
         let mu_min = t.transmission.iter().map(|m| m.min_deg).reduce(f64::min);
         let mu_max = t.transmission.iter().map(|m| m.max_deg).reduce(f64::max);
@@ -169,7 +214,8 @@ impl Problem<'_> {
             mu_ok: out_of_band == 0.0,
             failed_checks: failed.iter().map(|c| format!("{} {}", c.thread, c.name)).collect(),
             feasible: out_of_band == 0.0 && failed.is_empty(),
-            objective: mean_rel
+            peak_tension_n,
+            objective: goal
                 + MU_PENALTY_PER_DEG * out_of_band
                 + CHECK_PENALTY * failed.len() as f64
                 + CHECK_PENALTY_PER_MM * excess_mm,
@@ -327,6 +373,16 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
             seed: opts.seed,
         },
     )?;
+    if opts.objective == TuneObjective::PeakTension && !model.has_thread_physics() {
+        return Err(Error::Param(ParamError::new(
+            Input::Adjust,
+            format!(
+                "model `{}` has no thread physics, so its thread's tension cannot be tuned",
+                model.name()
+            ),
+            Some("give [thread.physics] in the model file (docs/thread-physics.md), or tune the match".into()),
+        )));
+    }
     let shared = shared_stitch(model, base, &design, opts.step_deg)?;
     let problem = Problem {
         model,
@@ -334,6 +390,7 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
         vary: &vary,
         opts: cycle,
         shared: shared.as_ref(),
+        goal: opts.objective,
     };
     let before: Vec<f64> = vary
         .iter()
@@ -394,7 +451,7 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
             )
         })
         .collect();
-    let notes = standing(&vary, &names, &after, &before_figures, &after_figures);
+    let notes = standing(&vary, &names, &after, &before_figures, &after_figures, opts.objective);
     Ok(TuneResult {
         names,
         before,
@@ -404,6 +461,7 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
         flatness,
         notes,
         evaluations: count.into_inner(),
+        objective: opts.objective,
     })
 }
 
@@ -416,7 +474,9 @@ fn tuned_ranges(model: &Model, adjust: &[String]) -> Result<Vec<Vary>, Error> {
         let ranged: Vec<&str> = model
             .params
             .iter()
-            .filter(|p| p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived())
+            // The mechanism's settings: the thread's (forces, unit N) are
+            // tuned when named.
+            .filter(|p| p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived() && p.unit != crate::model::file::Unit::N)
             .map(|p| p.name.as_str())
             .filter(|n| !stitch_values.contains(&Some(*n)))
             .collect();
@@ -437,7 +497,9 @@ fn tuned_ranges(model: &Model, adjust: &[String]) -> Result<Vec<Vary>, Error> {
             let names: Vec<&str> = model
                 .params
                 .iter()
-                .filter(|p| p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived())
+                // The mechanism's settings: the thread's (forces, unit N) are
+            // tuned when named.
+            .filter(|p| p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived() && p.unit != crate::model::file::Unit::N)
                 .map(|p| p.name.as_str())
                 .collect();
             bad(
@@ -474,8 +536,13 @@ fn standing(
     after: &[f64],
     before: &MatchFigures,
     best: &MatchFigures,
+    goal: TuneObjective,
 ) -> Vec<String> {
     let mut notes = Vec::new();
+    let what = match goal {
+        TuneObjective::Match => "the best match",
+        TuneObjective::PeakTension => "the lowest peak tension",
+    };
     for ((v, (name, unit)), &x) in vary.iter().zip(names).zip(after) {
         let tol = 1e-3 * (v.hi - v.lo);
         let end = if x <= v.lo + tol {
@@ -486,14 +553,24 @@ fn standing(
             continue;
         };
         notes.push(format!(
-            "{name} = {} {unit} lies on the {end} end of its adjustable range ({}…{} {unit}): the best match may lie beyond what \
+            "{name} = {} {unit} lies on the {end} end of its adjustable range ({}…{} {unit}): {what} may lie beyond what \
              the range allows",
             crate::format::fmt_num((x * 1e6).round() / 1e6),
             crate::format::fmt_num(v.lo),
             crate::format::fmt_num(v.hi)
         ));
     }
-    if best.score_mean <= before.score_mean + 0.05 && best.failed_checks.len() >= before.failed_checks.len() {
+    let no_gain = match goal {
+        TuneObjective::Match => best.score_mean <= before.score_mean + 0.05,
+        TuneObjective::PeakTension => best.objective >= before.objective - 1e-4,
+    };
+    if goal == TuneObjective::PeakTension && no_gain && best.failed_checks.len() >= before.failed_checks.len() {
+        notes.push(format!(
+            "the peak tension does not fall ({:.2} N → {:.2} N): within these ranges the starting setting is as good as any",
+            before.peak_tension_n.unwrap_or(0.0),
+            best.peak_tension_n.unwrap_or(0.0)
+        ));
+    } else if no_gain && best.failed_checks.len() >= before.failed_checks.len() {
         notes.push(format!(
             "the match does not improve (mean score {:.1} → {:.1}): within these ranges the starting setting is as good as any",
             before.score_mean, best.score_mean

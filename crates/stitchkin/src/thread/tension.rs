@@ -285,7 +285,7 @@ const STALL_N: f64 = 1e-6;
 /// Newton's iterations per step.
 const MAX_NEWTON: usize = 200;
 /// Gauss–Seidel sweeps at most where Newton's method stalls.
-const RELAX_SWEEPS: usize = 400;
+const RELAX_SWEEPS: usize = 30;
 /// A step is halved at most this many times (2^−12 of it).
 const MAX_HALVINGS: u32 = 12;
 
@@ -658,6 +658,28 @@ impl Stepper {
         }
     }
 
+    /// The step to φ_k into `out`: what the regulator passed, the thread
+    /// moved across each node and how, each span's tension and slack, the
+    /// check spring's travel.
+    fn record(&self, out: &mut Tensions, k: usize, m: &[f64], at: At<'_>) {
+        let s = m.len();
+        let nodes = s - 1;
+        out.drawn_mm[k] = self.moved[0].max(0.0);
+        out.moved_mm[k * nodes..(k + 1) * nodes].copy_from_slice(&self.moved[1..]);
+        for (slip, b) in out.slip[k * nodes..(k + 1) * nodes].iter_mut().zip(&self.branch[1..]) {
+            *slip = b.forward as i8 - b.backward as i8;
+        }
+        for i in 0..s {
+            let law = &self.laws[i];
+            let t = self.t[i].max(0.0);
+            out.tension_n[k * s + i] = t;
+            out.slack_mm[k * s + i] = (m[i] - law.max_reach(at.l[i])).max(0.0);
+            if law.spring.is_some() {
+                out.spring_mm[k] = law.spring_travel(t);
+            }
+        }
+    }
+
     /// Whether every row's residual, as a force, is within `tol_n`.
     fn within(&self, tol_n: f64) -> bool {
         self.g.iter().zip(&self.rho).all(|(g, rho)| g.abs() <= rho * tol_n)
@@ -673,7 +695,7 @@ fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     if f(lo) <= 0.0 {
         return lo;
     }
-    for _ in 0..200 {
+    for _ in 0..64 {
         let mid = 0.5 * (lo + hi);
         if mid <= lo || mid >= hi {
             break;
@@ -688,14 +710,16 @@ fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
 /// `diag` and `d`.
 fn solve_tridiagonal(sub: &[f64], diag: &mut [f64], sup: &[f64], d: &mut [f64], x: &mut [f64]) {
     let n = diag.len();
+    // diag becomes the reciprocal of each eliminated pivot.
+    diag[0] = 1.0 / diag[0];
     for i in 1..n {
-        let w = sub[i] / diag[i - 1];
-        diag[i] -= w * sup[i - 1];
+        let w = sub[i] * diag[i - 1];
+        diag[i] = 1.0 / (diag[i] - w * sup[i - 1]);
         d[i] -= w * d[i - 1];
     }
-    x[n - 1] = d[n - 1] / diag[n - 1];
+    x[n - 1] = d[n - 1] * diag[n - 1];
     for i in (0..n - 1).rev() {
-        x[i] = (d[i] - sup[i] * x[i + 1]) / diag[i];
+        x[i] = (d[i] - sup[i] * x[i + 1]) * diag[i];
     }
 }
 
@@ -738,8 +762,12 @@ pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionErro
         change_mm: f64::INFINITY,
     };
     let last = s - 1;
+    // The state after each step of the last cycle: where this cycle's state
+    // meets it again, the rest of the cycle repeats it (the same state and
+    // the same inputs give the same steps), and the steady state is reached.
+    let mut after = vec![f64::NAN; n * s];
     for cycle in 0..MAX_CYCLES {
-        let start = m.clone();
+        out.cycles = cycle + 1;
         let mut drawn = 0.0;
         for k in 0..n {
             let at = At {
@@ -785,28 +813,22 @@ pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionErro
             }
             let passed = st.moved[0].max(0.0);
             drawn += passed;
-            out.drawn_mm[k] = passed;
-            out.moved_mm[k * nodes..(k + 1) * nodes].copy_from_slice(&st.moved[1..]);
-            for (slip, b) in out.slip[k * nodes..(k + 1) * nodes].iter_mut().zip(&st.branch[1..]) {
-                *slip = b.forward as i8 - b.backward as i8;
+            st.record(&mut out, k, &m, at);
+            let before = &mut after[k * s..(k + 1) * s];
+            let change = m.iter().zip(before.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            before.copy_from_slice(&m);
+            if cycle > 0 && change <= SETTLE_MM {
+                // The rest of the cycle is the last one's, already recorded.
+                out.drawn_per_cycle_mm = drawn + out.drawn_mm[k + 1..].iter().sum::<f64>();
+                out.change_mm = change;
+                out.settled = true;
+                return Ok(out);
             }
-            for i in 0..s {
-                let law = &st.laws[i];
-                let t = st.t[i].max(0.0);
-                out.tension_n[k * s + i] = t;
-                out.slack_mm[k * s + i] = (m[i] - law.max_reach(at.l[i])).max(0.0);
-                if law.spring.is_some() {
-                    out.spring_mm[k] = law.spring_travel(t);
-                }
+            if k + 1 == n {
+                out.change_mm = change;
             }
         }
-        out.cycles = cycle + 1;
         out.drawn_per_cycle_mm = drawn;
-        out.change_mm = m.iter().zip(&start).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-        if out.change_mm <= SETTLE_MM {
-            out.settled = true;
-            break;
-        }
     }
     Ok(out)
 }

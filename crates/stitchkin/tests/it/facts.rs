@@ -218,6 +218,7 @@ fn mf7923d() -> Vec<Fact> {
                             m,
                             &p,
                             &TuneOptions {
+                                objective: Default::default(),
                                 adjust: vec![name.into()],
                                 samples: 24,
                                 seed: 1,

@@ -15,6 +15,7 @@ fn said(e: Error) -> String {
 
 fn tune_opts(samples: usize) -> TuneOptions {
     TuneOptions {
+        objective: Default::default(),
         adjust: vec!["z".into(), "dphi".into()],
         samples,
         seed: 1,

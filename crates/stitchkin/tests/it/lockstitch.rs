@@ -92,6 +92,7 @@ fn tune_adjusts_the_lever_and_the_hook_timing() {
     // (the command line's default is 32 per setting).
     for (adjust, samples) in [(vec!["x4", "y4"], 64), (vec!["catch_rise"], 6)] {
         let opts = TuneOptions {
+            objective: Default::default(),
             adjust: adjust.iter().map(|s| s.to_string()).collect(),
             samples,
             seed: 1,

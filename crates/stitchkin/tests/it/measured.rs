@@ -180,18 +180,17 @@ fn the_regulator_is_declared_and_checked() {
     };
     let st = |t: CycleTable| t.stitch.unwrap();
     let w = st(run(&with("regulator = { width_deg = 30 }")).unwrap()).threads[0]
-        .regulator_window_deg
-        .unwrap();
+        .regulator_windows_deg[0];
     assert!((w[0] - 330.0).abs() < 1e-6 && (w[1] - 360.0).abs() < 1e-6, "{w:?}");
     let s = st(run(&with("regulator = { window_deg = [250, 310] }")).unwrap());
     assert!(
-        s.threads.iter().all(|t| t.regulator_window_deg == Some([250.0, 310.0])),
+        s.threads.iter().all(|t| t.regulator_windows_deg == vec![[250.0, 310.0]]),
         "{:?}",
         s.regulator
     );
     assert!(s.regulator.contains("declared"), "{}", s.regulator);
     let s = st(run(&with("regulator = { at_lock = true }")).unwrap());
-    assert!(s.threads.iter().all(|t| t.regulator_window_deg.is_none()) && s.regulator.contains("at its lock"));
+    assert!(s.threads.iter().all(|t| t.regulator_windows_deg.is_empty()) && s.regulator.contains("at its lock"));
     // A window around φ0 (where P' = 0) cannot be.
     // Said in the model's φ, as the file gives it, where it stands in the
     // file, with a window that fits.
@@ -212,7 +211,7 @@ fn the_regulator_is_declared_and_checked() {
     // ends there.
     let s = st(run(&with("regulator = { width_deg = 300 }")).unwrap());
     assert!(
-        s.threads.iter().all(|t| t.regulator_window_deg == Some([60.0, 360.0])),
+        s.threads.iter().all(|t| t.regulator_windows_deg == vec![[60.0, 360.0]]),
         "{:?}",
         s.regulator
     );
@@ -241,6 +240,7 @@ fn tuning_says_where_it_stands() {
         &m,
         &p,
         &TuneOptions {
+            objective: Default::default(),
             adjust: vec!["r1".into()],
             samples: 16,
             seed: 1,
@@ -263,6 +263,7 @@ fn tuning_says_where_it_stands() {
         &m,
         &q,
         &TuneOptions {
+            objective: Default::default(),
             adjust: vec!["r1".into()],
             samples: 16,
             seed: 1,
@@ -282,6 +283,7 @@ fn tuning_says_where_it_stands() {
         &m,
         &q,
         &TuneOptions {
+            objective: Default::default(),
             adjust: vec!["z".into()],
             samples: 16,
             seed: 1,

@@ -17,6 +17,7 @@ fn opts(thickness: &str, stitch: Option<&str>, adjust: &[&str], step_deg: f64) -
         thickness: Axis::parse(thickness, stitchkin::Input::Thickness).unwrap(),
         stitch: stitch.map(|s| Axis::parse(s, stitchkin::Input::StitchLength).unwrap()),
         tune: TuneOptions {
+            objective: Default::default(),
             adjust: adjust.iter().map(|s| s.to_string()).collect(),
             samples: 0,
             seed: 1,

@@ -847,6 +847,7 @@ fn nomogram_chart_reads_off_z_for_the_thickness() {
         thickness: GridAxis { lo: 3.0, hi: 5.0, n: 3 },
         stitch: None,
         tune: TuneOptions {
+            objective: Default::default(),
             adjust: vec!["z".into()],
             samples: 0,
             seed: 1,

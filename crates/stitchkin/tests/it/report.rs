@@ -184,6 +184,7 @@ fn tuning_and_nomogram_sections_when_asked() {
     let model = Model::preset("mf7923d").unwrap();
     let params = model.defaults();
     let tune = TuneOptions {
+        objective: Default::default(),
         adjust: vec!["dphi".into()],
         samples: 8,
         seed: 1,

@@ -136,7 +136,7 @@ fn mf7923d_locks_one_stitch_of_thread_per_needle() {
         }
         assert!(table.column(&format!("n{}.gamma_deg", j + 1)).is_some());
         // The regulator window: the last 60° before the needle's TDC (φ = 0).
-        let w = t.regulator_window_deg.unwrap();
+        let w = t.regulator_windows_deg[0];
         assert!((w[0] - 300.0).abs() < 1e-6 && (w[1] - 360.0).abs() < 1e-6, "{w:?}");
         // At the lock P' drops by the loop it releases only; the stitch's
         // own 9 mm is drawn through the regulator over 300…360°.
@@ -616,7 +616,7 @@ fn a_503_model_with_stand_in_laws_runs_and_gives_the_reference_pprime() {
     // With the reference's accounting (the regulator passes each stitch at
     // the lock) nothing is left out of the metrics.
     assert!(
-        st.threads.iter().all(|t| t.regulator_window_deg.is_none()),
+        st.threads.iter().all(|t| t.regulator_windows_deg.is_empty()),
         "{:?}",
         st.regulator
     );

@@ -109,6 +109,7 @@ fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
     let adjust = m.default_adjustables(&p).unwrap();
     assert_eq!(adjust, ["r1", "l_o2b", "z", "dphi"]);
     let opts = TuneOptions {
+        objective: Default::default(),
         adjust: vec!["z".into(), "dphi".into()],
         samples: 0,
         seed: 5,
@@ -130,6 +131,7 @@ fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
         &m,
         &p,
         &TuneOptions {
+            objective: Default::default(),
             adjust: vec!["t1_phase".into()],
             ..opts.clone()
         },
@@ -141,6 +143,7 @@ fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
         &m,
         &p,
         &TuneOptions {
+            objective: Default::default(),
             adjust: vec!["zz".into()],
             ..opts.clone()
         },
@@ -153,6 +156,7 @@ fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
         &n,
         &n.defaults(),
         &TuneOptions {
+            objective: Default::default(),
             adjust: vec!["alpha".into()],
             ..opts
         },

@@ -73,6 +73,7 @@ pub fn screen(
         );
     }
     s += &sparklines(table, st, measured);
+    s += &tension_block(st);
     s += &checks_block(table, st, details);
     for mm in measured {
         s += &measured_line(mm);
@@ -173,33 +174,95 @@ fn sparklines(table: &CycleTable, st: &StitchSummary, measured: &[MeasuredMatch]
             s += &format!("{:<6}{:<6}{}\n", "", what, sparkline(&m.values_mm, lo, hi, SPARK_COLS));
         }
     }
-    // The regulator windows, one line per distinct window.
-    let mut windows: Vec<([f64; 2], Vec<&str>)> = Vec::new();
-    for t in &st.threads {
-        for &w in &t.regulator_windows_deg {
-            match windows
-                .iter_mut()
-                .find(|(v, _)| (v[0] - w[0]).abs() < 1e-9 && (v[1] - w[1]).abs() < 1e-9)
-            {
-                Some((_, names)) => names.push(&t.thread),
-                None => windows.push((w, vec![&t.thread])),
-            }
+    // The regulator windows, one line per distinct set of windows.
+    let mut windows: Vec<(&[[f64; 2]], Vec<&str>)> = Vec::new();
+    for t in st.threads.iter().filter(|t| !t.regulator_windows_deg.is_empty()) {
+        let w = t.regulator_windows_deg.as_slice();
+        let same = |v: &[[f64; 2]]| {
+            v.len() == w.len()
+                && v.iter()
+                    .zip(w)
+                    .all(|(a, b)| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9)
+        };
+        match windows.iter_mut().find(|(v, _)| same(v)) {
+            Some((_, names)) => names.push(&t.thread),
+            None => windows.push((w, vec![&t.thread])),
         }
     }
-    for (w, names) in &windows {
+    let computed = st.threads.iter().any(|t| t.regulator_computed);
+    for (ws, names) in &windows {
         let whose = if windows.len() > 1 {
             format!(" of {}", names.join(", "))
         } else {
             String::new()
         };
-        let computed = st.threads.iter().any(|t| t.regulator_computed);
+        // Every window of the set on one line.
+        let mut marks: Vec<char> = window_marks(start, SPARK_COLS, ws[0], '~').chars().collect();
+        for w in &ws[1..] {
+            for (m, c) in marks.iter_mut().zip(window_marks(start, SPARK_COLS, *w, '~').chars()) {
+                if c == '~' {
+                    *m = '~';
+                }
+            }
+        }
+        let plural = if ws.len() > 1 { "s" } else { "" };
         s += &format!(
-            "{:<12}{}  regulator window{whose}{} (left out of the metrics)\n",
+            "{:<12}{}  regulator window{plural}{whose}{} (left out of the metrics)\n",
             "",
-            window_marks(start, SPARK_COLS, *w, '~'),
+            marks.into_iter().collect::<String>(),
             if computed { ", computed" } else { "" }
         );
     }
+    s
+}
+
+/// Each thread's tension, where it is solved: the peak and where, the
+/// breaking margin, the thread drawn per cycle and the strain the stitch
+/// keeps, the largest slack loop and the regulator's computed window.
+fn tension_block(st: &StitchSummary) -> String {
+    let with: Vec<_> = st.threads.iter().filter_map(|t| t.tension.as_ref().map(|tn| (t, tn))).collect();
+    let Some((_, first)) = with.first() else {
+        return String::new();
+    };
+    let mut s = format!(
+        "\nthread tension ({}: EA {} N, breaking {} N; regulator {} N):\n",
+        first.material.as_deref().unwrap_or("the thread"),
+        crate::format::fmt_num(first.ea_n),
+        crate::format::fmt_num(first.breaking_n),
+        crate::format::fmt_num(first.regulator_n)
+    );
+    s += &format!(
+        "{:<8} {:>9} {:>8}  {:<16} {:>7} {:>11} {:>7} {:>10}  {}\n",
+        "thread", "peak T", "at φ", "between", "margin", "drawn", "strain", "slack", "regulator window (where thread passes)"
+    );
+    for (t, tn) in &with {
+        let windows: Vec<String> = tn
+            .regulator_windows_deg
+            .iter()
+            .map(|&[a, b]| format!("{a:.0}°…{:.0}°", crate::eval::wrap_deg(b).max(if b >= 360.0 { 0.0 } else { b })))
+            .collect();
+        s += &format!(
+            "{:<8} {:>7.2} N {:>7.1}°  {:<16} {:>6.2}× {:>8.2} mm {:>6.2} % {:>7.2} mm  {}\n",
+            t.thread,
+            tn.peak_n,
+            tn.peak_at_deg,
+            tn.peak_span,
+            tn.margin.min(999.0),
+            tn.drawn_per_cycle_mm,
+            100.0 * tn.lock_strain,
+            tn.max_slack_mm,
+            if windows.is_empty() { "none".into() } else { windows.join(", ") }
+        );
+        if !tn.settled {
+            s += &format!(
+                "         the thread does not settle: after {} cycles its state still moves {:.3} mm a cycle \
+                 (the figures are the last cycle's)\n",
+                tn.cycles, tn.change_mm
+            );
+        }
+    }
+    s += "(drawn: thread past the regulator per cycle, unstretched; strain: what the finished stitch keeps; slack: the \
+          largest loop between the regulator and the eye)\n";
     s
 }
 

@@ -3,7 +3,7 @@
 //! setting may move.
 
 use crate::format::{hundredths, score};
-use crate::study::tune::{MatchFigures, TuneResult};
+use crate::study::tune::{MatchFigures, TuneObjective, TuneResult};
 
 /// The transmission angles' extremes, or `none`.
 fn mu(f: &MatchFigures) -> String {
@@ -35,7 +35,13 @@ pub fn table(r: &TuneResult) -> String {
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let mut s = format!("Recommended setting: {}\n", setting(&r.after));
+    let mut s = match r.objective {
+        TuneObjective::Match => String::new(),
+        TuneObjective::PeakTension => {
+            "Tuned for the lowest peak tension (as a share of each thread's breaking force), the checks kept:\n".into()
+        }
+    };
+    s += &format!("Recommended setting: {}\n", setting(&r.after));
     s += &format!("(from {})\n\n", setting(&r.before));
     s += &format!(
         "{:<12} {:>14} {:>14} {:>16} {:>16}\n",
@@ -55,6 +61,9 @@ pub fn table(r: &TuneResult) -> String {
         "{:<12} {:>14.1} {:>14.1}\n",
         "mean", r.before_figures.score_mean, r.after_figures.score_mean
     );
+    if let (Some(b), Some(a)) = (r.before_figures.peak_tension_n, r.after_figures.peak_tension_n) {
+        s += &format!("{:<12} {:>12.2} N {:>12.2} N\n", "peak tension", b, a);
+    }
     s += &format!(
         "\ntransmission angles: before {}, after {}\n",
         mu(&r.before_figures),
@@ -65,7 +74,12 @@ pub fn table(r: &TuneResult) -> String {
         checks(&r.before_figures),
         checks(&r.after_figures)
     );
-    s += "within one score point of the optimum (each setting alone, the others held):\n";
+    s += match r.objective {
+        TuneObjective::Match => "within one score point of the optimum (each setting alone, the others held):\n",
+        TuneObjective::PeakTension => {
+            "within 1 % of the breaking force of the lowest peak (each setting alone, the others held):\n"
+        }
+    };
     for f in &r.flatness {
         let unit = r.names.iter().find(|n| n.0 == f.name).map_or("", |n| n.1);
         s += &format!(
