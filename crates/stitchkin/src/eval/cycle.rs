@@ -8,14 +8,14 @@ use crate::model::{Machine, Model, Params};
 use crate::scalar::Real;
 use crate::thread::Threads;
 
+use super::PathCourse;
 use super::paths::PathColumns;
 use super::tension::PathInput;
-use super::PathCourse;
-use crate::thread::tension::ThreadPhysics;
 use super::{
     Column, CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, PathSummary, RangeSummary, TransmissionSummary,
     cycle_phis_deg, extremes, stitch_process, wrap_deg,
 };
+use crate::thread::tension::ThreadPhysics;
 
 /// Columns under construction, each with room for a cycle's rows.
 pub(super) struct Builder {
@@ -268,7 +268,13 @@ fn cycle_in_pieces<T: Real>(
     let stitch = match prepared.or(own_prepared.as_ref()) {
         Some(p) => {
             let inputs = tension_inputs(threads.as_ref(), &p.setup.paths, &physics, &courses);
-            Some(stitch_process::stitch_columns(p, &phis, opts.lean, &inputs, &mut b.columns)?)
+            Some(stitch_process::stitch_columns(
+                p,
+                &phis,
+                opts.lean,
+                &inputs,
+                &mut b.columns,
+            )?)
         }
         None => None,
     };
@@ -314,6 +320,10 @@ fn tension_inputs<'a, T: Real>(
         .collect()
 }
 
+/// The paths' summaries, how P is counted, and the courses kept for the
+/// threads' tensions.
+type SolvedPaths = (Vec<PathSummary>, Option<String>, Vec<Option<PathCourse>>);
+
 /// A cycle's mechanism and thread paths, to be solved piece by piece.
 struct Pieces<'a, T: Real> {
     mech: &'a Mechanism<T>,
@@ -335,7 +345,7 @@ impl<T: Real> Pieces<'_, T> {
         layout: &Layout,
         piece: usize,
         columns: &mut Vec<Column>,
-    ) -> Result<(Vec<PathSummary>, Option<String>, Vec<Option<PathCourse>>), Error> {
+    ) -> Result<SolvedPaths, Error> {
         let omega = self.opts.rpm.map_or(0.0, |r| r * std::f64::consts::TAU / 60.0);
         let mut solver = PieceSolver::new(self.mech, self.plain, piece.min(self.phis.len()));
         let mut paths: Option<PathColumns<T>> = None;

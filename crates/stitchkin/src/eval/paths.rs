@@ -45,7 +45,14 @@ pub struct PathCourse {
 impl PathCourse {
     /// Adds the first `n` positions of `pose`, whose thread pieces `work`
     /// holds (`Threads::evaluate_into` of that pose).
-    pub fn extend<T: Real>(&mut self, threads: &Threads<T>, path: &ThreadPath, pose: &Pose<T>, work: &ThreadWork<T>, n: usize) {
+    pub fn extend<T: Real>(
+        &mut self,
+        threads: &Threads<T>,
+        path: &ThreadPath,
+        pose: &Pose<T>,
+        work: &ThreadWork<T>,
+        n: usize,
+    ) {
         let mut gaps = Vec::new();
         for k in 0..n {
             threads.gap_lengths(path, pose, work, k, &mut gaps);

@@ -212,7 +212,9 @@ impl Prepared {
 /// Whether each φ of `phis` (model φ) is compared: outside the regulator
 /// `window`, if any.
 pub(crate) fn compared_outside(phis: &[f64], windows: &[[f64; 2]]) -> Vec<bool> {
-    phis.iter().map(|&p| !windows.iter().any(|&w| in_window(p, w))).collect()
+    phis.iter()
+        .map(|&p| !windows.iter().any(|&w| in_window(p, w)))
+        .collect()
 }
 
 /// P' of the model's stitch process with `params` on the cycle grid of
@@ -389,9 +391,10 @@ impl Accounting {
     }
 
     /// Where the thread's tension draws the stitch's thread: P' = η − η(φ0)
-    /// + L_s·(H_L − w), w the share of the cycle's draw past the regulator
-    /// since φ0 (§3.3 with the window computed), and the positions where
-    /// thread passes left out. `th` was built at the lock (no window).
+    /// plus L_s·(H_L − w), w the share of the cycle's draw past the
+    /// regulator since φ0 (§3.3 with the window computed), and the
+    /// positions where thread passes left out. `th` was built at the lock
+    /// (no window).
     fn computed(th: &RequiredThread, sol: &Solved, phis: &[f64], phi0_deg: f64, cz: f64) -> Accounting {
         let n = phis.len();
         let since = |phi: f64| (phi - phi0_deg).rem_euclid(360.0);
@@ -596,7 +599,12 @@ pub(crate) fn stitch_columns(
     let mut threads = Vec::new();
     let mut checks = Vec::new();
     let needle_checks = prepared.needle_checks();
-    let each = req.threads.iter().zip(&setup.paths).zip(&accounts).zip(compared_threads);
+    let each = req
+        .threads
+        .iter()
+        .zip(&setup.paths)
+        .zip(&accounts)
+        .zip(compared_threads);
     for (i, (((th, path), acc), c)) in each.enumerate() {
         let name = &th.name;
         let at_b = th.travel_mm.is_some();

@@ -9,12 +9,12 @@ use serde::Serialize;
 use super::paths::PathCourse;
 use super::{Column, wrap_deg};
 use crate::error::{Error, ThreadError};
-use crate::stitch::checks::Check;
-use crate::stitch::spec::RequiredThread;
 use crate::mechanism::Phi;
 use crate::model::{Machine, Model, Params};
-use crate::thread::{ThreadPath, ThreadWork};
+use crate::stitch::checks::Check;
+use crate::stitch::spec::RequiredThread;
 use crate::thread::tension::{Chain, CheckSpring, Course, Tensions, ThreadPhysics, solve};
+use crate::thread::{ThreadPath, ThreadWork};
 
 /// The least breaking margin (breaking force over the peak tension) the
 /// check `tension_margin` asks for: what the published figures imply for
@@ -143,7 +143,12 @@ impl TensionCourse {
 /// The course of the stitch thread `th` fed through `input` over the
 /// model-φ grid `phis` (uniform, one cycle; `th` computed on it, cyclogram
 /// zero `cz`).
-pub fn tension_course(th: &RequiredThread, input: PathInput<'_>, phis: &[f64], cz: f64) -> Result<TensionCourse, Error> {
+pub fn tension_course(
+    th: &RequiredThread,
+    input: PathInput<'_>,
+    phis: &[f64],
+    cz: f64,
+) -> Result<TensionCourse, Error> {
     let PathInput { physics, path, course } = input;
     let n = phis.len();
     let nodes = path.nodes.len();
@@ -182,7 +187,11 @@ pub fn tension_course(th: &RequiredThread, input: PathInput<'_>, phis: &[f64], c
         // stitch while the eye is in the material, and runs on down to the
         // material above it (a looper's eye: no turn).
         let in_material = th.eye_in_material.as_ref().is_some_and(|e| e[k]);
-        factor.push(if in_material { (eye_mu * std::f64::consts::PI).exp() } else { 1.0 });
+        factor.push(if in_material {
+            (eye_mu * std::f64::consts::PI).exp()
+        } else {
+            1.0
+        });
         for c in &physics.clamps {
             hold_n[k * (s - 1) + c.node - 1] = c.hold_at(phis[k]);
         }
@@ -236,12 +245,10 @@ pub fn courses(model: &Model, params: &Params, step_deg: f64) -> Result<Vec<(Str
     let mut pose = mech.new_pose(phis.len());
     mech.solve(&Phi::table(phis), &mut pose)?;
     let mut work = ThreadWork::default();
-    threads
-        .evaluate_into(&pose, None, &mut work)
-        .map_err(|e| {
-            let phi = phis[e.k];
-            super::path_error(e, phi)
-        })?;
+    threads.evaluate_into(&pose, None, &mut work).map_err(|e| {
+        let phi = phis[e.k];
+        super::path_error(e, phi)
+    })?;
     let physics = model.thread_physics(params)?;
     let mut out = Vec::new();
     for (th, name) in prepared.required.threads.iter().zip(&prepared.setup.paths) {
@@ -258,7 +265,10 @@ pub fn courses(model: &Model, params: &Params, step_deg: f64) -> Result<Vec<(Str
             path: &threads.paths[i],
             course: &course,
         };
-        out.push((th.name.clone(), tension_course(th, input, phis, prepared.setup.cyclogram_zero_deg)?));
+        out.push((
+            th.name.clone(),
+            tension_course(th, input, phis, prepared.setup.cyclogram_zero_deg)?,
+        ));
     }
     Ok(out)
 }
@@ -319,7 +329,11 @@ fn read_off(th: &RequiredThread, physics: &ThreadPhysics, path: &ThreadPath, phi
         peak_n: peak,
         peak_at_deg: wrap_deg(phis[peak_k]),
         peak_span: span_name(peak_i),
-        margin: if peak > 0.0 { physics.breaking_n / peak } else { f64::INFINITY },
+        margin: if peak > 0.0 {
+            physics.breaking_n / peak
+        } else {
+            f64::INFINITY
+        },
         eye_n,
         drawn_per_cycle_mm: t.drawn_per_cycle_mm,
         lock_strain: t.lock_strain,
@@ -404,7 +418,12 @@ pub fn tension_columns(thread: &str, solved: &Solved, ea_n: f64, columns: &mut V
     push("T_max_N", (0..n).map(row_max).collect());
     push("strain_max_pct", (0..n).map(|k| 100.0 * row_max(k) / ea_n).collect());
     push("drawn_mm", solved.drawn_mm.clone());
-    push("slack_mm", (0..n).map(|k| t.slack_mm[k * s..(k + 1) * s - 1].iter().sum()).collect());
+    push(
+        "slack_mm",
+        (0..n)
+            .map(|k| t.slack_mm[k * s..(k + 1) * s - 1].iter().sum())
+            .collect(),
+    );
     push("slack_stitch_mm", (0..n).map(|k| t.slack_mm[k * s + s - 1]).collect());
     if !t.spring_mm.is_empty() {
         push("spring_mm", t.spring_mm.clone());

@@ -77,14 +77,10 @@ impl Dim {
             1 => name.to_string(),
             p => format!("{name}^{p}"),
         };
-        let parts: Vec<String> = [
-            part("mm", self.length),
-            part("deg", self.angle),
-            part("N", self.force),
-        ]
-        .into_iter()
-        .filter(|p| !p.is_empty())
-        .collect();
+        let parts: Vec<String> = [part("mm", self.length), part("deg", self.angle), part("N", self.force)]
+            .into_iter()
+            .filter(|p| !p.is_empty())
+            .collect();
         if parts.is_empty() {
             "1 (a pure number)".to_string()
         } else {

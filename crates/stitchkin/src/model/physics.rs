@@ -107,27 +107,37 @@ impl Loader<'_> {
     /// Every top-level clamp and spring names a node some path passes.
     fn placed_somewhere(&self, top: &ThreadPhysicsFile, at: &KeyPath, paths: &[PathDef]) -> LoadResult<()> {
         let inner = |name: &str| {
-            paths
-                .iter()
-                .any(|p| p.node_names[1..p.node_names.len().saturating_sub(1)].iter().any(|n| n == name))
+            paths.iter().any(|p| {
+                p.node_names[1..p.node_names.len().saturating_sub(1)]
+                    .iter()
+                    .any(|n| n == name)
+            })
         };
         for (i, c) in top.clamps.iter().enumerate() {
             if !inner(&c.at) {
                 return Err(self.err(
                     &at.key("clamps").index(i).key("at"),
-                    format!("the clamp's guide `{}` is not between the regulator and the eye of any path", c.at),
+                    format!(
+                        "the clamp's guide `{}` is not between the regulator and the eye of any path",
+                        c.at
+                    ),
                     Some("name a guide the thread passes (a node of a path other than its first and last)".into()),
                 ));
             }
         }
         if let Some(s) = &top.check_spring
-            && !paths
-                .iter()
-                .any(|p| p.node_names[..p.node_names.len().saturating_sub(1)].iter().any(|n| n == &s.after))
+            && !paths.iter().any(|p| {
+                p.node_names[..p.node_names.len().saturating_sub(1)]
+                    .iter()
+                    .any(|n| n == &s.after)
+            })
         {
             return Err(self.err(
                 &at.key("check_spring").key("after"),
-                format!("the check spring's node `{}` is on no path (or only as its eye)", s.after),
+                format!(
+                    "the check spring's node `{}` is on no path (or only as its eye)",
+                    s.after
+                ),
                 Some("name the node the spring follows, e.g. the regulator's (the path's first node)".into()),
             ));
         }
@@ -158,7 +168,9 @@ impl Loader<'_> {
                 return Err(ld.err(
                     top_path,
                     format!("the thread physics of path `{}` has no {what} (`{key}`)", path.name),
-                    Some(format!("give `{key}` in [thread.physics] or in the path's `physics`, e.g. {example}")),
+                    Some(format!(
+                        "give `{key}` in [thread.physics] or in the path's `physics`, e.g. {example}"
+                    )),
                 ));
             };
             Ok((ld.qty(&v, Some(Dim::FORCE), p.clone())?, p))
@@ -234,7 +246,10 @@ impl Loader<'_> {
             if own {
                 return Err(self.err(
                     &at.key("after"),
-                    format!("the check spring's node `{}` is not a node of path `{}` before its eye", s.after, path.name),
+                    format!(
+                        "the check spring's node `{}` is not a node of path `{}` before its eye",
+                        s.after, path.name
+                    ),
                     Some(format!("name one of: {}", path.node_names[..last].join(", "))),
                 ));
             }
@@ -270,7 +285,9 @@ impl Loader<'_> {
 impl Model {
     /// Whether the model's thread paths carry thread physics.
     pub fn has_thread_physics(&self) -> bool {
-        self.threads.as_ref().is_some_and(|t| t.physics.iter().any(Option::is_some))
+        self.threads
+            .as_ref()
+            .is_some_and(|t| t.physics.iter().any(Option::is_some))
     }
 
     /// Each thread path's physics resolved with `params` (in path order;
@@ -302,7 +319,11 @@ impl Model {
             "the thread's stiffness EA",
             "EA is the tension per unit strain, e.g. 85 N for tex 30 spun polyester (docs/thread-physics.md)",
         )?;
-        let breaking_n = positive(&d.breaking, "the breaking force", "e.g. 10.5 N for tex 30 spun polyester")?;
+        let breaking_n = positive(
+            &d.breaking,
+            "the breaking force",
+            "e.g. 10.5 N for tex 30 spun polyester",
+        )?;
         let regulator_n = positive(
             &d.regulator,
             "the regulator's hold",
@@ -359,7 +380,10 @@ impl Model {
                     "the check spring's force runs {} → {} N over its travel; it must start at 0 N or more and rise",
                     force_n[0], force_n[1]
                 ),
-                Some("e.g. force_n = [0.25, 0.45] (the makers' 0.25–0.5 N), or preload_n ≥ 0 with rate_n_per_mm > 0".into()),
+                Some(
+                    "e.g. force_n = [0.25, 0.45] (the makers' 0.25–0.5 N), or preload_n ≥ 0 with rate_n_per_mm > 0"
+                        .into(),
+                ),
             ));
         }
         Ok(SpringAt {

@@ -343,7 +343,11 @@ impl Loader<'_> {
             None => RegulatorDef::BeforeTightening(None),
             Some(r) if r.computed == Some(true) => {
                 if r.window_deg.is_some() || r.width_deg.is_some() || r.at_lock == Some(true) {
-                    return Err(self.err(&rp, "give exactly one of `computed = true`, `window_deg`, `width_deg` or `at_lock = true`", None));
+                    return Err(self.err(
+                        &rp,
+                        "give exactly one of `computed = true`, `window_deg`, `width_deg` or `at_lock = true`",
+                        None,
+                    ));
                 }
                 if let Err(missing) = physics {
                     return Err(self.err(
@@ -981,7 +985,11 @@ fn compared_paths_have_physics(f: &ModelFile, s: &StitchFile) -> Result<(), Stri
         return Err("the stitch compares no thread path".into());
     }
     for name in names {
-        let own = t.paths.iter().find(|p| p.name == name).is_some_and(|p| p.physics.is_some());
+        let own = t
+            .paths
+            .iter()
+            .find(|p| p.name == name)
+            .is_some_and(|p| p.physics.is_some());
         if !(own || t.physics.is_some()) {
             return Err(format!("path `{name}` has no thread physics"));
         }

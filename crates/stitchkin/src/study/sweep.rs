@@ -585,9 +585,7 @@ impl Fast {
                 _ => (&plan.pprime, &plan.weight, plan.ks.len(), plan.range),
             };
             let max_pprime = match &plan.tension {
-                Some(t) if t.computed && t.solved.is_some() => {
-                    t.pprime.iter().cloned().fold(f64::MIN, f64::max)
-                }
+                Some(t) if t.computed && t.solved.is_some() => t.pprime.iter().cloned().fold(f64::MIN, f64::max),
                 _ => plan.max_pprime_mm,
             };
             out.push(|| format!("{}.{}", plan.name, plan.max_pprime_figure), max_pprime);
@@ -597,7 +595,9 @@ impl Fast {
                     out.push(|| format!("{}.max_T_N", plan.name), tn.peak_n);
                     out.push(|| format!("{}.tension_margin", plan.name), tn.margin);
                     out.push(|| format!("{}.max_slack_mm", plan.name), tn.max_slack_mm);
-                    crate::eval::tension::tension_checks(&plan.name, tn).iter().all(|c| c.ok)
+                    crate::eval::tension::tension_checks(&plan.name, tn)
+                        .iter()
+                        .all(|c| c.ok)
                 }
                 None => true,
             };

@@ -476,7 +476,9 @@ fn tuned_ranges(model: &Model, adjust: &[String]) -> Result<Vec<Vary>, Error> {
             .iter()
             // The mechanism's settings: the thread's (forces, unit N) are
             // tuned when named.
-            .filter(|p| p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived() && p.unit != crate::model::file::Unit::N)
+            .filter(|p| {
+                p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived() && p.unit != crate::model::file::Unit::N
+            })
             .map(|p| p.name.as_str())
             .filter(|n| !stitch_values.contains(&Some(*n)))
             .collect();
@@ -498,8 +500,10 @@ fn tuned_ranges(model: &Model, adjust: &[String]) -> Result<Vec<Vary>, Error> {
                 .params
                 .iter()
                 // The mechanism's settings: the thread's (forces, unit N) are
-            // tuned when named.
-            .filter(|p| p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived() && p.unit != crate::model::file::Unit::N)
+                // tuned when named.
+                .filter(|p| {
+                    p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived() && p.unit != crate::model::file::Unit::N
+                })
                 .map(|p| p.name.as_str())
                 .collect();
             bad(

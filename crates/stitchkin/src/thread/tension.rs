@@ -206,25 +206,26 @@ fn stretch_tension(ea: f64, l: f64, m: f64) -> (f64, f64) {
     (ea * (l / m - 1.0), -ea * l / (m * m))
 }
 
-/// The push of a slack span's thread, a fraction of its stretch tension
-/// (which is negative there). A slack thread carries no tension; this
-/// stands for the bending stiffness that spreads its slack, so small that
-/// it moves no tension by more than 1e-6·EA times a span's slack over its
-/// reach. It decides where slack goes where friction cannot (every tension
-/// around it zero): slack spreads over neighbouring slack spans in
-/// proportion to their reach, but not through a closed clamp. It also keeps
-/// Newton's matrix regular.
+/// A slack span gives thread to a taut neighbour pulling on it with this
+/// fraction of its (negative) stretch tension as a push. A slack thread
+/// carries no tension and gives thread freely; the push only decides, where
+/// a taut span draws from two slack neighbours at once (friction cannot:
+/// both carry nothing), that it draws from each in proportion to its slack,
+/// and keeps Newton's matrix regular there. Slack does not move into a
+/// slack neighbour (nothing pulls it; a loose loop stays where it forms
+/// until a taut span draws it in), and a bound moves by no more than
+/// 1e-6·EA times a giving span's slack over its reach.
 const SLACK_PUSH: f64 = 1e-6;
 
-/// A span's thread in the guides' laws: its tension T⁺ = max(0, T), which
-/// the capstan multiplies, and its slack push [`SLACK_PUSH`]·min(0, T),
-/// which passes a guide unchanged; with their slopes in T.
+/// How a span holds thread back at a guide that passes it on with the
+/// capstan factor `e`: e·T when taut, [`SLACK_PUSH`]·T (a small push) when
+/// slack; and its slope in T.
 #[inline]
-fn parts(t: f64) -> [f64; 4] {
+fn holding(t: f64, e: f64) -> (f64, f64) {
     if t >= 0.0 {
-        [t, 0.0, 1.0, 0.0]
+        (e * t, e)
     } else {
-        [0.0, SLACK_PUSH * t, 0.0, SLACK_PUSH]
+        (SLACK_PUSH * t, SLACK_PUSH)
     }
 }
 
@@ -345,9 +346,9 @@ struct Branch {
 /// The unknowns are x[0], the thread the regulator passes, and x[i + 1],
 /// the thread moved across node i (toward the stitch positive). Each node's
 /// law is written as one equation (a complementarity function), with
-/// r = T⁺_{i+1} − E·T⁺_i − H + (Q_{i+1} − Q_i) its forward and
-/// b = T⁺_i − E·T⁺_{i+1} − H + (Q_i − Q_{i+1}) its backward excess (T⁺ the
-/// spans' tensions, Q their slack pushes, [`parts`]):
+/// r = T_{i+1} − G_i − H its forward and b = T_i − G_{i+1} − H its backward
+/// excess (T the pulling span's stretch tension, negative when slack; G the
+/// giving span's hold, E·T when taut, [`holding`]):
 ///
 /// ```text
 /// Φ = x − max(0, x + ρ·r) − min(0, x − ρ·b) = 0
@@ -355,7 +356,7 @@ struct Branch {
 ///
 /// which holds exactly when x > 0 with r = 0, x < 0 with b = 0, or x = 0
 /// with r ≤ 0 and b ≤ 0 (ρ, mm/N, scales tensions to thread). The
-/// regulator's is Φ = x − max(0, x + ρ·(T⁺_0 + Q_0 − T_pass)). Newton's method on
+/// regulator's is Φ = x − max(0, x + ρ·(T_0 − T_pass)). Newton's method on
 /// Φ (semismooth: the Jacobian of the branch that acts) needs no guess of
 /// which guides hold: a frictionless guide slips either way with one
 /// equation, and a span pulled from both ends takes its thread from the end
@@ -424,8 +425,9 @@ impl Stepper {
             (self.t[i], self.dt[i]) = self.laws[i].tension(at.l[i], mi);
         }
         let t = &self.t;
-        let p0 = parts(t[0]);
-        let f = x[0] + self.rho[0] * (p0[0] + p0[1] - self.pass);
+        // The pulling side pulls with its stretch tension (negative: a
+        // slack span pulls nothing); the giving side holds ([`holding`]).
+        let f = x[0] + self.rho[0] * (t[0] - self.pass);
         self.branch[0] = Branch {
             forward: f > 0.0,
             backward: false,
@@ -433,10 +435,8 @@ impl Stepper {
         self.g[0] = x[0] - f.max(0.0);
         for i in 0..s - 1 {
             let (e, h, rho, xi) = (at.e[i], at.h[i], self.rho[i + 1], x[i + 1]);
-            // The capstan acts on tensions; a slack push passes unchanged.
-            let ([ti, qi, ..], [tj, qj, ..]) = (parts(t[i]), parts(t[i + 1]));
-            let r = tj - e * ti - h + (qj - qi);
-            let b = ti - e * tj - h + (qi - qj);
+            let r = t[i + 1] - holding(t[i], e).0 - h;
+            let b = t[i] - holding(t[i + 1], e).0 - h;
             let (fwd, bwd) = (xi + rho * r, xi - rho * b);
             self.branch[i + 1] = Branch {
                 forward: fwd > 0.0,
@@ -453,26 +453,19 @@ impl Stepper {
     fn jacobian(&mut self, at: At<'_>) {
         let s = self.t.len();
         let (t, dt) = (&self.t, &self.dt);
-        // The slopes of the tension and the push of span i in the thread it
-        // holds, m_i + x_i − x_{i+1}.
-        let slope = |i: usize| {
-            let p = parts(t[i]);
-            (p[2] * dt[i], p[3] * dt[i])
-        };
         let rho0 = self.rho[0];
-        let (p0, q0) = slope(0);
         (self.sub[0], self.diag[0], self.sup[0]) = if self.branch[0].forward {
-            (0.0, -rho0 * (p0 + q0), rho0 * (p0 + q0))
+            (0.0, -rho0 * dt[0], rho0 * dt[0])
         } else {
             (0.0, 1.0, 0.0)
         };
         for i in 0..s - 1 {
             let (row, e, rho) = (i + 1, at.e[i], self.rho[i + 1]);
-            let ((pi, qi), (pj, qj)) = (slope(i), slope(i + 1));
-            // ∂r and ∂b over x_i, x_{i+1}, x_{i+2} (span i: +x_i, −x_{i+1};
-            // span i + 1: +x_{i+1}, −x_{i+2}).
-            let (ri, rj) = (-e * pi - qi, pj + qj);
-            let (bi, bj) = (pi + qi, -e * pj - qj);
+            // ∂r and ∂b over x_i, x_{i+1}, x_{i+2} (span i holds
+            // m_i + x_i − x_{i+1}, span i + 1 holds m_{i+1} + x_{i+1} − x_{i+2}).
+            let (hi, hj) = (holding(t[i], e).1 * dt[i], holding(t[i + 1], e).1 * dt[i + 1]);
+            let (ri, rj) = (-hi, dt[i + 1]);
+            let (bi, bj) = (dt[i], -hj);
             let dr = [ri, rj - ri, -rj];
             let db = [bi, bj - bi, -bj];
             let mut j = [0.0, 1.0, 0.0];
@@ -622,15 +615,12 @@ impl Stepper {
             let out = if i + 1 == j { v } else { next(i + 1) };
             m[i] + inflow - out
         };
-        let parts_of = |i: usize, v: f64| parts(self.laws[i].tension(at.l[i], held(i, v)).0);
+        let t_of = |i: usize, v: f64| self.laws[i].tension(at.l[i], held(i, v)).0;
         // Where span i keeps some thread.
         let eps = 1e-12;
         if j == 0 {
             // The regulator: passes while span 0 is above its tension.
-            let excess = |v: f64| {
-                let p = parts_of(0, v);
-                p[0] + p[1] - self.pass
-            };
+            let excess = |v: f64| t_of(0, v) - self.pass;
             if excess(0.0) <= 0.0 {
                 return 0.0;
             }
@@ -639,14 +629,8 @@ impl Stepper {
         }
         let i = j - 1;
         let (e, h) = (at.e[i], at.h[i]);
-        let r = |v: f64| {
-            let (pi, pj) = (parts_of(i, v), parts_of(j, v));
-            pj[0] - e * pi[0] - h + (pj[1] - pi[1])
-        };
-        let b = |v: f64| {
-            let (pi, pj) = (parts_of(i, v), parts_of(j, v));
-            pi[0] - e * pj[0] - h + (pi[1] - pj[1])
-        };
+        let r = |v: f64| t_of(j, v) - holding(t_of(i, v), e).0 - h;
+        let b = |v: f64| t_of(i, v) - holding(t_of(j, v), e).0 - h;
         if r(0.0) > 0.0 {
             // Forward, until span i (which gives) would be empty.
             bisect(r, 0.0, m[i] + x[i] - eps)
@@ -815,7 +799,11 @@ pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionErro
             drawn += passed;
             st.record(&mut out, k, &m, at);
             let before = &mut after[k * s..(k + 1) * s];
-            let change = m.iter().zip(before.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            let change = m
+                .iter()
+                .zip(before.iter())
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
             before.copy_from_slice(&m);
             if cycle > 0 && change <= SETTLE_MM {
                 // The rest of the cycle is the last one's, already recorded.

@@ -357,7 +357,13 @@ fn golden_take_up_and_match() {
     assert!((max_pe - 2.776).abs() < 0.02, "max P'_eye {max_pe}");
     // The regulator windows: the needle thread's the 60° before the needle's
     // TDC (174.85°), the looper threads' the 60° before their draw-in (330°).
-    let w = |name: &str| thread(s, name).regulator_windows_deg.first().copied().expect("a window");
+    let w = |name: &str| {
+        thread(s, name)
+            .regulator_windows_deg
+            .first()
+            .copied()
+            .expect("a window")
+    };
     assert!(
         (w("needle")[0] - 114.84).abs() < 0.02 && (w("needle")[1] - 174.84).abs() < 0.02,
         "{:?}",

@@ -179,12 +179,13 @@ fn the_regulator_is_declared_and_checked() {
         )
     };
     let st = |t: CycleTable| t.stitch.unwrap();
-    let w = st(run(&with("regulator = { width_deg = 30 }")).unwrap()).threads[0]
-        .regulator_windows_deg[0];
+    let w = st(run(&with("regulator = { width_deg = 30 }")).unwrap()).threads[0].regulator_windows_deg[0];
     assert!((w[0] - 330.0).abs() < 1e-6 && (w[1] - 360.0).abs() < 1e-6, "{w:?}");
     let s = st(run(&with("regulator = { window_deg = [250, 310] }")).unwrap());
     assert!(
-        s.threads.iter().all(|t| t.regulator_windows_deg == vec![[250.0, 310.0]]),
+        s.threads
+            .iter()
+            .all(|t| t.regulator_windows_deg == vec![[250.0, 310.0]]),
         "{:?}",
         s.regulator
     );

@@ -220,7 +220,11 @@ fn sparklines(table: &CycleTable, st: &StitchSummary, measured: &[MeasuredMatch]
 /// breaking margin, the thread drawn per cycle and the strain the stitch
 /// keeps, the largest slack loop and the regulator's computed window.
 fn tension_block(st: &StitchSummary) -> String {
-    let with: Vec<_> = st.threads.iter().filter_map(|t| t.tension.as_ref().map(|tn| (t, tn))).collect();
+    let with: Vec<_> = st
+        .threads
+        .iter()
+        .filter_map(|t| t.tension.as_ref().map(|tn| (t, tn)))
+        .collect();
     let Some((_, first)) = with.first() else {
         return String::new();
     };
@@ -233,13 +237,26 @@ fn tension_block(st: &StitchSummary) -> String {
     );
     s += &format!(
         "{:<8} {:>9} {:>8}  {:<16} {:>7} {:>11} {:>7} {:>10}  {}\n",
-        "thread", "peak T", "at φ", "between", "margin", "drawn", "strain", "slack", "regulator window (where thread passes)"
+        "thread",
+        "peak T",
+        "at φ",
+        "between",
+        "margin",
+        "drawn",
+        "strain",
+        "slack",
+        "regulator window (where thread passes)"
     );
     for (t, tn) in &with {
         let windows: Vec<String> = tn
             .regulator_windows_deg
             .iter()
-            .map(|&[a, b]| format!("{a:.0}°…{:.0}°", crate::eval::wrap_deg(b).max(if b >= 360.0 { 0.0 } else { b })))
+            .map(|&[a, b]| {
+                format!(
+                    "{a:.0}°…{:.0}°",
+                    crate::eval::wrap_deg(b).max(if b >= 360.0 { 0.0 } else { b })
+                )
+            })
             .collect();
         s += &format!(
             "{:<8} {:>7.2} N {:>7.1}°  {:<16} {:>6.2}× {:>8.2} mm {:>6.2} % {:>7.2} mm  {}\n",
@@ -251,7 +268,11 @@ fn tension_block(st: &StitchSummary) -> String {
             tn.drawn_per_cycle_mm,
             100.0 * tn.lock_strain,
             tn.max_slack_mm,
-            if windows.is_empty() { "none".into() } else { windows.join(", ") }
+            if windows.is_empty() {
+                "none".into()
+            } else {
+                windows.join(", ")
+            }
         );
         if !tn.settled {
             s += &format!(
