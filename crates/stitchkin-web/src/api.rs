@@ -280,6 +280,21 @@ impl App {
             None => None,
         };
         let chart = chart.transpose().map_err(|e| library_error(&e))?.map(|c| c.render());
+        // The thread's tension beside P and P′, where it is solved.
+        let has_tension = table
+            .stitch
+            .iter()
+            .flat_map(|s| &s.threads)
+            .any(|t| t.tension.is_some());
+        let tension_chart = if has_tension {
+            Some(
+                plots::tension(&self.model, &table)
+                    .map_err(|e| library_error(&e))?
+                    .render(),
+            )
+        } else {
+            None
+        };
         let paths: Vec<Value> = table
             .paths
             .iter()
@@ -330,6 +345,7 @@ impl App {
                 "values": self.model.params().iter().zip(&params.values).filter(|(p, _)| !p.is_derived()).map(|(p, v)| (p.name.clone(), json!(v))).collect::<serde_json::Map<_, _>>(),
                 "step_deg": step,
                 "chart_svg": chart,
+                "tension_svg": tension_chart,
                 "paths": paths,
                 "stitch": stitch,
                 "caveats": self.model.caveats(),

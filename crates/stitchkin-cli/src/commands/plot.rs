@@ -17,6 +17,9 @@ enum What {
     Takeup,
     /// Every transmission angle over φ, outside 30°…150° shaded.
     Mu,
+    /// The thread's tension over φ at the eye and in the stitch, where
+    /// thread passes the regulator shaded (models with thread physics).
+    Tension,
     /// The path of each --points point over the cycle, in the xy-plane, to scale.
     Trajectory,
     /// Velocity and acceleration analogs over φ of --points, or dP/dφ and
@@ -43,6 +46,7 @@ impl What {
         match self {
             What::Takeup => "takeup",
             What::Mu => "mu",
+            What::Tension => "tension",
             What::Trajectory => "trajectory",
             What::Analogs => "analogs",
             What::Motion => "motion",
@@ -310,6 +314,7 @@ fn plot_of(args: &Args, model: &Model, params: &Params, step: f64) -> Result<Plo
     Ok(match args.what {
         What::Takeup => Plot::TakeUp,
         What::Mu => Plot::Mu,
+        What::Tension => Plot::Tension,
         What::Trajectory => Plot::Trajectory {
             points: args.points.clone(),
             plane: args.plane.clone(),

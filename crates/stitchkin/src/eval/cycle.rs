@@ -340,12 +340,7 @@ impl<T: Real> Pieces<'_, T> {
     /// Fills the mechanism's columns (`layout`) and adds the thread paths'
     /// to `columns`, `piece` positions at a time; returns the paths'
     /// summaries and how P is counted.
-    fn columns(
-        &self,
-        layout: &Layout,
-        piece: usize,
-        columns: &mut Vec<Column>,
-    ) -> Result<SolvedPaths, Error> {
+    fn columns(&self, layout: &Layout, piece: usize, columns: &mut Vec<Column>) -> Result<SolvedPaths, Error> {
         let omega = self.opts.rpm.map_or(0.0, |r| r * std::f64::consts::TAU / 60.0);
         let mut solver = PieceSolver::new(self.mech, self.plain, piece.min(self.phis.len()));
         let mut paths: Option<PathColumns<T>> = None;

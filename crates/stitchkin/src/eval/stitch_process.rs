@@ -232,6 +232,26 @@ pub fn prepare_on(model: &Model, params: &Params, phis: Vec<f64>) -> Result<Opti
     let Some(setup) = model.stitch_setup(params)? else {
         return Ok(None);
     };
+    prepare_setup(model, setup, phis)
+}
+
+/// [`prepare_on`] with the regulator's window assumed where the model
+/// computes it from the thread's tension: the default window, the last 60°
+/// before each thread's stitch is pulled tight. For a design that changes
+/// the thread's path (a cam synthesised to give P'), whose target cannot
+/// depend on the tension of the path it replaces.
+pub fn prepare_assumed(model: &Model, params: &Params, phis: Vec<f64>) -> Result<Option<Prepared>, Error> {
+    let Some(mut setup) = model.stitch_setup(params)? else {
+        return Ok(None);
+    };
+    if setup.spec.regulator == Regulator::Computed {
+        setup.spec.regulator = Regulator::default();
+    }
+    prepare_setup(model, setup, phis)
+}
+
+/// P' of `setup` on the model-φ grid `phis`.
+fn prepare_setup(model: &Model, setup: StitchSetup, phis: Vec<f64>) -> Result<Option<Prepared>, Error> {
     let phi0_deg = model.take_up_phi0_deg();
     let to_c = |phi: f64| (phi - setup.cyclogram_zero_deg).rem_euclid(360.0);
     // φ0 rides at the end of the grid, for S(φ0) of P'_B.

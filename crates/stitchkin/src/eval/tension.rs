@@ -355,9 +355,11 @@ fn read_off(th: &RequiredThread, physics: &ThreadPhysics, path: &ThreadPath, phi
     }
 }
 
-/// The stretches of the grid where thread passes (the step ending at φ_k
-/// covers (φ_{k−1}, φ_k]), as [from, to] model φ with from in [0, 360); a
-/// stretch through the grid's end that goes on at its start is one.
+/// The stretches of the grid where thread passes (in the step ending at
+/// φ_k), as [from, to] model φ of their first and last positions, from in
+/// [0, 360); a stretch through the grid's end that goes on at its start is
+/// one. A position is inside a stretch exactly when thread passes there, so
+/// the positions a match leaves out are the stretches'.
 fn windows(phis: &[f64], passing: &[bool]) -> Vec<[f64; 2]> {
     let n = phis.len();
     if n == 0 || !passing.iter().any(|&p| p) {
@@ -365,27 +367,25 @@ fn windows(phis: &[f64], passing: &[bool]) -> Vec<[f64; 2]> {
     }
     let step = if n > 1 { phis[1] - phis[0] } else { 360.0 };
     if passing.iter().all(|&p| p) {
-        return vec![[wrap_deg(phis[0] - step), wrap_deg(phis[0] - step) + 360.0]];
+        let a = wrap_deg(phis[0]);
+        return vec![[a, a + 360.0 - step]];
     }
     // Start where a stretch begins, so none is cut by the grid's end.
     let first = (0..n).find(|&k| passing[k] && !passing[(k + n - 1) % n]).unwrap_or(0);
     let mut out = Vec::new();
     let mut from: Option<f64> = None;
-    for j in 0..n {
+    for j in 0..=n {
         let k = (first + j) % n;
         // φ unwrapped from the first stretch's start.
         let phi = phis[first] + j as f64 * step;
-        match (passing[k], from) {
-            (true, None) => from = Some(phi - step),
+        match (j < n && passing[k], from) {
+            (true, None) => from = Some(phi),
             (false, Some(a)) => {
                 out.push([a, phi - step]);
                 from = None;
             }
             _ => {}
         }
-    }
-    if let Some(a) = from {
-        out.push([a, phis[first] + n as f64 * step - step]);
     }
     out.into_iter()
         .map(|[a, b]| {
@@ -539,7 +539,13 @@ mod tests {
         for k in [0, 1, 34, 35, 10, 11, 12] {
             passing[k] = true;
         }
-        assert_eq!(windows(&phis, &passing), vec![[90.0, 120.0], [330.0, 370.0]]);
+        assert_eq!(windows(&phis, &passing), vec![[100.0, 120.0], [340.0, 370.0]]);
+        // Inside a stretch exactly where thread passes.
+        let ws = windows(&phis, &passing);
+        let inside = crate::eval::stitch_process::compared_outside(&phis, &ws);
+        for k in 0..36 {
+            assert_eq!(inside[k], !passing[k], "φ = {}", phis[k]);
+        }
         assert_eq!(windows(&phis, &[false; 36]), Vec::<[f64; 2]>::new());
     }
 }

@@ -1230,7 +1230,10 @@ impl Model {
             .params
             .iter()
             .filter_map(|p| match p.range {
-                Some([lo, hi]) if !(p.is_derived() || lo >= hi) => Some((p.name.as_str(), lo, hi)),
+                // The thread's settings are adjusted when named.
+                Some([lo, hi]) if !(p.is_derived() || lo >= hi || self.is_thread_setting(&p.name)) => {
+                    Some((p.name.as_str(), lo, hi))
+                }
                 _ => None,
             })
             .collect();

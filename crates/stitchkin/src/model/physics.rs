@@ -290,6 +290,30 @@ impl Model {
             .is_some_and(|t| t.physics.iter().any(Option::is_some))
     }
 
+    /// Whether parameter `name` sets the thread or the parts that hold it
+    /// (it appears in `[thread.physics]`): a thread setting, which a tuning
+    /// adjusts only when named.
+    pub fn is_thread_setting(&self, name: &str) -> bool {
+        let Some(i) = self.param_index(name) else { return false };
+        let Some(t) = &self.threads else { return false };
+        let mut used = Vec::new();
+        for d in t.physics.iter().flatten() {
+            let mut qs = vec![d.ea.0, d.breaking.0, d.regulator.0];
+            if let Some(sp) = &d.spring {
+                qs.push(sp.take_up);
+                match sp.force {
+                    SpringForce::Ends([a, b]) => qs.extend([a, b]),
+                    SpringForce::Rate { preload, rate } => qs.extend([preload, rate]),
+                }
+            }
+            qs.extend(d.clamps.iter().map(|c| c.hold));
+            for q in qs {
+                self.exprs[q].params(&mut used);
+            }
+        }
+        used.contains(&i)
+    }
+
     /// Each thread path's physics resolved with `params` (in path order;
     /// `None` for a path without), every value checked in range with its
     /// place in the file.

@@ -893,7 +893,9 @@ fn target_on_grid(
     // The stitch process: needed for `required`; for a curve only for the
     // match report, so a stitch that does not evaluate just leaves it out.
     let required = matches!(opts.target, Target::Required);
-    let prepared = match eval::stitch_process::prepare_on(model, params, phis.to_vec()) {
+    // The target cannot depend on the tension of the path the cam
+    // replaces: a computed regulator window is assumed here.
+    let prepared = match eval::stitch_process::prepare_assumed(model, params, phis.to_vec()) {
         Ok(p) => p,
         Err(e) if required => return Err(e),
         Err(_) => None,
@@ -916,7 +918,19 @@ fn target_on_grid(
     });
     let (label, raw) = match &opts.target {
         Target::Required => match &stitch_thread {
-            Some(t) => (format!("required take-up P' of thread `{}`", t.name), t.pprime.clone()),
+            Some(t) => (
+                format!(
+                    "required take-up P' of thread `{}`{}",
+                    t.name,
+                    if model.has_thread_physics() {
+                        " (its stitch drawn through the regulator in the last 60° before it is pulled tight, \
+                         assumed: the computed window depends on the path this cam replaces)"
+                    } else {
+                        ""
+                    }
+                ),
+                t.pprime.clone(),
+            ),
             None if setup.is_none() => {
                 return Err(bad_input(
                     Input::Target,

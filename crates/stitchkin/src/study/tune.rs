@@ -474,11 +474,9 @@ fn tuned_ranges(model: &Model, adjust: &[String]) -> Result<Vec<Vary>, Error> {
         let ranged: Vec<&str> = model
             .params
             .iter()
-            // The mechanism's settings: the thread's (forces, unit N) are
-            // tuned when named.
-            .filter(|p| {
-                p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived() && p.unit != crate::model::file::Unit::N
-            })
+            // The mechanism's settings: the thread's (`[thread.physics]`)
+            // are tuned when named.
+            .filter(|p| p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived() && !model.is_thread_setting(&p.name))
             .map(|p| p.name.as_str())
             .filter(|n| !stitch_values.contains(&Some(*n)))
             .collect();
@@ -499,11 +497,7 @@ fn tuned_ranges(model: &Model, adjust: &[String]) -> Result<Vec<Vary>, Error> {
             let names: Vec<&str> = model
                 .params
                 .iter()
-                // The mechanism's settings: the thread's (forces, unit N) are
-                // tuned when named.
-                .filter(|p| {
-                    p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived() && p.unit != crate::model::file::Unit::N
-                })
+                .filter(|p| p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived())
                 .map(|p| p.name.as_str())
                 .collect();
             bad(

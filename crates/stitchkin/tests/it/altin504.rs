@@ -10,8 +10,10 @@ use stitchkin::eval::stitch_process::{StitchSummary, StitchThreadSummary};
 use stitchkin::eval::{CycleOptions, CycleTable, run_cycle};
 use stitchkin::model::Model;
 
+/// A cycle of the preset at `set`, step `step`, with the regulator's window
+/// assumed (the stitch process's own figures; `support::assumed_window`).
 fn run_with(set: &[(&str, f64)], step: f64) -> CycleTable {
-    let model = Model::preset("altin504").unwrap();
+    let model = super::support::assumed_window("altin504");
     let mut params = model.defaults();
     for (k, v) in set {
         model.set(&mut params, k, *v).unwrap();
@@ -386,8 +388,9 @@ fn golden_take_up_and_match() {
     assert!((jump("needle", Lock) + thread(s, "needle").released_mm).abs() < 1e-9);
     assert!((jump("lower", Lock) - 0.002).abs() < 0.01, "{}", jump("lower", Lock));
     assert!((jump("upper", Lock) - 0.183).abs() < 0.01, "{}", jump("upper", Lock));
-    // Every physical check of the needle thread passes.
-    assert!(s.checks_ok() && s.checks.len() == 3, "{:?}", s.checks);
+    // Every physical check passes: the needle thread's three, and the
+    // tension's three of each thread.
+    assert!(s.checks_ok() && s.checks.len() == 12, "{:?}", s.checks);
 }
 
 /// Seed 000/004: max P' grows with the thickness and the stitch length (the

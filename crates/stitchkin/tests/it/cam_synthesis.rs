@@ -227,10 +227,11 @@ fn the_required_take_up_is_matched_and_the_checks_are_honest() {
     assert!((c.max_contact_angle_at_phi_deg - 270.9).abs() < 2.0, "{c:?}");
     assert!(c.min_radius_ok && c.min_radius_mm > 6.0);
     // The snippet pasted over the preset's disc gives the same match in a
-    // plain model run (the loader's polar profile, `stitchkin match`).
+    // plain model run (the loader's polar profile, `stitchkin match`), with
+    // the regulator's window the synthesis assumed.
     let snippet = text::cam::toml_snippet(&s);
     let polar = &snippet[snippet.find("polar = ").unwrap()..];
-    let text = stitchkin::presets::find("altin504").unwrap().toml;
+    let text = super::support::assumed_text("altin504");
     let disc_line = "disc = { radius_mm = \"cam_r\", eccentricity_mm = \"e_l\" }\n";
     assert_eq!(text.matches(disc_line).count(), 1);
     let pasted = Model::from_toml_str(&text.replace(disc_line, polar), "altin504-synth.toml").unwrap();

@@ -521,12 +521,8 @@ fn mf7923d_thread_numbers() {
         vec![(172.0, 188.0), (325.0, 395.0)],
         "mf7923d n1_B dwells"
     );
-    let [lo, hi] = a.eye_tension_n.unwrap();
-    close(lo, 0.999, 5e-4, "mf7923d n1_A eye tension min");
-    close(hi, 1.109, 5e-4, "mf7923d n1_A eye tension max");
-    let [lo, hi] = b.eye_tension_n.unwrap();
-    close(lo, 1.065, 5e-4, "mf7923d n1_B eye tension min");
-    close(hi, 1.157, 5e-4, "mf7923d n1_B eye tension max");
+    // With thread physics the capstan estimate is not given.
+    assert!(a.eye_tension_n.is_none() && b.eye_tension_n.is_none());
     // ΔP of the 2D model: S cancels, the percentage is of max P_B. With T1
     // up at TDC the w-steps G7→G8 and G3→T1 add at BDC (0.96 mm); the
     // other reading, t1_phase = 0, gives seed 000's size (0.11 mm).

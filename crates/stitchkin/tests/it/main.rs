@@ -28,4 +28,5 @@ mod sensitivity;
 mod stitch;
 mod strokes;
 mod studies;
+mod support;
 mod threads;

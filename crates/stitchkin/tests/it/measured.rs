@@ -234,7 +234,8 @@ fn the_regulator_is_declared_and_checked() {
 /// improve says that.
 #[test]
 fn tuning_says_where_it_stands() {
-    let m = Model::preset("mf7923d").unwrap();
+    // The kinematic match with the regulator's window assumed.
+    let m = super::support::assumed_window("mf7923d");
     let p = m.defaults();
     // r1 wants to be smaller than its range allows.
     let r = tune(

@@ -213,8 +213,11 @@ fn mf7923d_sensitivity_agrees_with_the_reference() {
         assert_eq!(z.derivative, Some(0.0));
         assert!((z.at_lo.unwrap() - z.at_hi.unwrap()).abs() < 1e-6);
         assert!((z.span.unwrap() - z_to_end).abs() < 2e-3, "{z:?}");
-        // m and the stitch length move P' only.
-        assert_eq!(by(&fig, "m").span, Some(0.0));
+        // m and the stitch length move P' only, the thread's settings its
+        // tension.
+        for p in ["m", "ea", "breaking", "regulator", "clamp"] {
+            assert_eq!(by(&fig, p).span, Some(0.0), "{p}");
+        }
     }
     // Ranks follow |effect|, ties broken by the span.
     for f in &r.figures {
@@ -224,9 +227,12 @@ fn mf7923d_sensitivity_agrees_with_the_reference() {
             .map(|e| (e.effect.unwrap().abs(), e.span.unwrap()))
             .collect();
         assert!(keys.windows(2).all(|w| w[0] >= w[1]), "{}: {keys:?}", f.figure);
+        // Seven settings of the mechanism and the stitch, and four of the
+        // thread (EA, breaking force, the regulator's and the clamp's holds),
+        // which move the tension only.
         assert_eq!(
             f.effects.iter().map(|e| e.rank).collect::<Vec<_>>(),
-            (1..=7).collect::<Vec<_>>()
+            (1..=11).collect::<Vec<_>>()
         );
         let order: Vec<&str> = f.effects.iter().take(5).map(|e| e.param.as_str()).collect();
         assert_eq!(order, ["r1", "l_o2b", "r2", "dphi", "z"], "{}", f.figure);

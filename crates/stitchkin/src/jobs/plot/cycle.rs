@@ -11,7 +11,7 @@ use crate::output::plots::{self, no_dyads, no_threads, param_error};
 use crate::output::svg::Chart;
 use crate::thread::measured::MeasuredCurve;
 
-/// The chart of [`Plot::TakeUp`], [`Plot::Mu`] or [`Plot::Trajectory`]
+/// The chart of [`Plot::TakeUp`], [`Plot::Mu`], [`Plot::Tension`] or [`Plot::Trajectory`]
 /// from one cycle at `params`.
 pub(super) fn cycle_chart(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Result<Chart, Error> {
     let mut opts = chart_cycle(step_deg);
@@ -27,6 +27,7 @@ pub(super) fn cycle_chart(model: &Model, params: &Params, plot: &Plot, step_deg:
     let table = run_cycle(model, params, &opts)?;
     match plot {
         Plot::Mu => plots::transmission(model, &table),
+        Plot::Tension => plots::tension(model, &table),
         Plot::Trajectory { points, plane } => {
             let frame = trajectory_frame(model, params, plane.as_deref())?;
             plots::trajectory(model, &table, points, frame)

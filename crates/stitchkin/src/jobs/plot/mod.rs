@@ -28,6 +28,10 @@ pub enum Plot {
     TakeUp,
     /// Every transmission angle over φ against the 30°…150° band.
     Mu,
+    /// The thread's tension T(φ) at the eye and in the stitch of every
+    /// stitch thread whose path carries thread physics, with the stretches
+    /// where thread passes the regulator (docs/thread-physics.md).
+    Tension,
     /// The path of each named point over the cycle, to scale, in the
     /// xy-plane of frame `plane` (`None`: the world's).
     Trajectory { points: Vec<String>, plane: Option<String> },
@@ -81,6 +85,7 @@ impl Plot {
         match self {
             Plot::TakeUp => "takeup",
             Plot::Mu => "mu",
+            Plot::Tension => "tension",
             Plot::Trajectory { .. } => "trajectory",
             Plot::Analogs { .. } => "analogs",
             Plot::Family { .. } => "family",
@@ -103,7 +108,7 @@ pub fn render(model: &Model, params: &Params, plot: &Plot, step_deg: f64) -> Res
         ..Default::default()
     })?;
     match plot {
-        Plot::TakeUp | Plot::Mu | Plot::Trajectory { .. } => {
+        Plot::TakeUp | Plot::Mu | Plot::Tension | Plot::Trajectory { .. } => {
             cycle::cycle_chart(model, params, plot, step_deg).map(|c| c.render())
         }
         Plot::Analogs { points, threads } => {

@@ -196,6 +196,83 @@ pub fn take_up_with_measured(model: &Model, table: &CycleTable, measured: &[Meas
     Ok(chart)
 }
 
+/// The thread's tension over the cycle (`docs/thread-physics.md`): per
+/// stitch thread whose tension is solved, T arriving at the eye (solid) and
+/// in the stitch (dashed), N; the stretches where thread passes the
+/// regulator shaded in the thread's colour, the breaking force over the
+/// margin the check asks for as a dotted line.
+pub fn tension(model: &Model, table: &CycleTable) -> Result<Chart, Error> {
+    let threads: Vec<_> = table
+        .stitch
+        .iter()
+        .flat_map(|s| s.threads.iter())
+        .filter_map(|t| t.tension.as_ref().map(|tn| (t, tn)))
+        .collect();
+    if threads.is_empty() {
+        return Err(param_error(
+            None,
+            format!(
+                "model `{}` has no thread physics, so there is no tension to chart",
+                model.name()
+            ),
+            "give [thread.physics] in the model file (docs/thread-physics.md)".into(),
+        ));
+    }
+    let phis = column(table, "phi_deg")?;
+    let start = model.phi_start_deg();
+    let mut chart = Chart::new(title(model, "thread tension T(φ)"), phi_axis(model), Axis::new("T, N"));
+    let (_, first) = threads[0];
+    chart.subtitle = Some(format!(
+        "solid: at the eye, dashed: in the stitch; shaded: thread passes the regulator ({} N); dotted: a third of the \
+         {} N breaking force",
+        crate::format::fmt_num(first.regulator_n),
+        crate::format::fmt_num(first.breaking_n),
+    ));
+    for (i, (t, tn)) in threads.iter().enumerate() {
+        let c = color(i).to_string();
+        for (col, dashed, what) in [("T_eye_N", false, "eye"), ("T_stitch_N", true, "stitch")] {
+            chart.series.push(Series {
+                name: format!("{} T at the {what}", t.thread),
+                points: closed(phis, column(table, &format!("{}.{col}", t.thread))?),
+                color: c.clone(),
+                dashed,
+                mark_start: false,
+            });
+        }
+        for &[a, b] in &tn.regulator_windows_deg {
+            let label = format!(
+                "{}: thread passes the regulator {:.0}°…{:.0}°",
+                t.thread,
+                wrap_deg(a),
+                wrap_deg(b)
+            );
+            // Unwrapped onto the chart's cycle from `start`.
+            let (a, b) = (
+                start + (a - start).rem_euclid(360.0),
+                start + (a - start).rem_euclid(360.0) + (b - a),
+            );
+            chart.x_shades.push(XShade {
+                from: a,
+                to: b.min(start + 360.0),
+                color: c.clone(),
+                label: label.clone(),
+            });
+            if b > start + 360.0 {
+                chart.x_shades.push(XShade {
+                    from: start,
+                    to: b - 360.0,
+                    color: c.clone(),
+                    label,
+                });
+            }
+        }
+    }
+    chart
+        .y_lines
+        .push(first.breaking_n / crate::eval::tension::TENSION_MARGIN_MIN);
+    Ok(chart)
+}
+
 /// The take-up chart's subtitle: what the lines and the shading are, where
 /// needle threads are measured, the regulator window.
 fn take_up_subtitle(table: &CycleTable) -> String {
