@@ -24,8 +24,13 @@ use crate::thread::{ThreadPath, ThreadWork};
 pub const TENSION_MARGIN_MIN: f64 = 3.0;
 
 /// The largest slack loop the check `slack_loop` allows, mm: see
-/// `docs/thread-physics.md` §5.
+/// `docs/thread-physics.md` §3.
 pub const SLACK_LOOP_MAX_MM: f64 = 10.0;
+
+/// The most slack the check `stitch_set` allows between the regulator and
+/// the stitch when the stitch is pulled tight, mm: see
+/// `docs/thread-physics.md` §3.
+pub const SET_SLACK_MAX_MM: f64 = 0.5;
 
 /// Thread passing the regulator in a step by more than this counts as a
 /// draw, mm (the solver balances to about 1e-9 mm).
@@ -69,6 +74,14 @@ pub struct ThreadTension {
     /// The largest slack below the eye, in the stitch's own contour (the
     /// loop released at the drop, which the stitch uses up), mm.
     pub max_stitch_slack_mm: f64,
+    /// The least slack between the regulator and the stitch (path and
+    /// stitch) from the release of the stitch's loop, past the moment the
+    /// stitch is complete, until the needle enters the material for the
+    /// next stitch (a looper thread: at its lock), and where,
+    /// mm and deg: the take-up pulls the finished stitch tight there, or
+    /// leaves it loose by this much.
+    pub set_slack_mm: f64,
+    pub set_at_deg: f64,
     /// The check spring, when the path has one.
     pub spring: Option<SpringSummary>,
     /// Cycles run to the periodic steady state, whether it settled, and the
@@ -125,6 +138,11 @@ pub struct TensionCourse {
     pub hold_n: Vec<f64>,
     pub set_k: usize,
     pub set_mm: f64,
+    /// Where the take-up may pull the finished stitch tight: the grid
+    /// positions from the release (the lock) past the stitch's completion
+    /// up to the needle's next entry into the material (a looper thread:
+    /// its lock alone), in order.
+    pub set_ks: Vec<usize>,
 }
 
 impl TensionCourse {
@@ -172,6 +190,37 @@ pub fn tension_course(
             d(a).total_cmp(&d(b))
         })
         .unwrap_or(0);
+    // The first position at or after φ: the contour there is the one just
+    // after an event on it.
+    let from = |phi: f64| {
+        (0..n)
+            .min_by(|&a, &b| {
+                let d = |k: usize| (phis[k] - phi).rem_euclid(360.0);
+                d(a).total_cmp(&d(b))
+            })
+            .unwrap_or(0)
+    };
+    // A needle thread's finished stitch can be pulled tight from the release
+    // of its loop (the lock), past the moment its stitch is complete (TDC),
+    // until the needle takes the next stitch's thread into the material; a
+    // looper thread's at its lock.
+    let lock_k = from(lock);
+    let set_ks: Vec<usize> = match &th.eye_in_material {
+        Some(inside) if inside.len() >= n && th.tight_deg != th.lock_deg => {
+            let mut ks = Vec::new();
+            let mut past_tight = false;
+            for j in 0..n {
+                let k = (lock_k + j) % n;
+                past_tight |= k == set_k;
+                if past_tight && inside[k] && k != set_k {
+                    break;
+                }
+                ks.push(k);
+            }
+            ks
+        }
+        _ => vec![lock_k],
+    };
     let mut len_mm = Vec::with_capacity(n * s);
     let mut factor = Vec::with_capacity(n * (s - 1));
     let mut hold_n = vec![0.0; n * (s - 1)];
@@ -211,6 +260,7 @@ pub fn tension_course(
         hold_n,
         set_k,
         set_mm: l_s,
+        set_ks,
     })
 }
 
@@ -225,7 +275,7 @@ pub fn solve_thread(th: &RequiredThread, input: PathInput<'_>, phis: &[f64], cz:
             message: e.message,
         })
     })?;
-    Ok(read_off(th, input.physics, input.path, phis, tensions))
+    Ok(read_off(th, input.physics, input.path, phis, tensions, &tc.set_ks))
 }
 
 /// The tension course of every stitch thread of `model` with `params` whose
@@ -274,7 +324,14 @@ pub fn courses(model: &Model, params: &Params, step_deg: f64) -> Result<Vec<(Str
 }
 
 /// The summary and the per-φ series of a solved thread.
-fn read_off(th: &RequiredThread, physics: &ThreadPhysics, path: &ThreadPath, phis: &[f64], t: Tensions) -> Solved {
+fn read_off(
+    th: &RequiredThread,
+    physics: &ThreadPhysics,
+    path: &ThreadPath,
+    phis: &[f64],
+    t: Tensions,
+    set_ks: &[usize],
+) -> Solved {
     let n = phis.len();
     let s = t.spans;
     let span_name = |i: usize| {
@@ -299,6 +356,14 @@ fn read_off(th: &RequiredThread, physics: &ThreadPhysics, path: &ThreadPath, phi
     let slack = |k: usize| t.slack_mm[k * s..(k + 1) * s - 1].iter().sum::<f64>();
     let slack_k = (0..n).max_by(|&a, &b| slack(a).total_cmp(&slack(b))).unwrap_or(0);
     let stitch_slack = (0..n).map(|k| t.slack_mm[k * s + s - 1]).fold(0.0, f64::max);
+    // The tightest the thread runs from the regulator to the stitch while
+    // the take-up may set the stitch.
+    let total_slack = |k: usize| t.slack_mm[k * s..(k + 1) * s].iter().sum::<f64>();
+    let set_k = set_ks
+        .iter()
+        .copied()
+        .min_by(|&a, &b| total_slack(a).total_cmp(&total_slack(b)))
+        .unwrap_or(0);
     let passing: Vec<bool> = t.drawn_mm.iter().map(|&d| d > DRAW_MM).collect();
     let windows = windows(phis, &passing);
     let mut drawn = Vec::with_capacity(n);
@@ -342,6 +407,8 @@ fn read_off(th: &RequiredThread, physics: &ThreadPhysics, path: &ThreadPath, phi
         max_slack_mm: slack(slack_k),
         max_slack_at_deg: wrap_deg(phis[slack_k]),
         max_stitch_slack_mm: stitch_slack,
+        set_slack_mm: total_slack(set_k),
+        set_at_deg: wrap_deg(phis[set_k]),
         spring,
         cycles: t.cycles,
         settled: t.settled,
@@ -432,7 +499,7 @@ pub fn tension_columns(thread: &str, solved: &Solved, ea_n: f64, columns: &mut V
 
 /// The checks of a thread's tension: `tension_margin`, `slack_loop` and
 /// `spring_before_slip`.
-pub fn tension_checks(thread: &str, t: &ThreadTension) -> [Check; 3] {
+pub fn tension_checks(thread: &str, t: &ThreadTension) -> [Check; 4] {
     let check = |name, ok, value, limit, unit, at_deg, message| Check {
         name,
         thread: thread.to_string(),
@@ -489,6 +556,31 @@ pub fn tension_checks(thread: &str, t: &ThreadTension) -> [Check; 3] {
             )
         },
     );
+    let set_ok = t.set_slack_mm <= SET_SLACK_MAX_MM;
+    let set = check(
+        "stitch_set",
+        set_ok,
+        t.set_slack_mm,
+        [None, Some(SET_SLACK_MAX_MM)],
+        "mm",
+        t.set_at_deg,
+        if set_ok {
+            format!(
+                "the take-up pulls the thread taut from the regulator to the stitch at φ = {:.1}°, after the stitch's \
+                 loop is released and before the needle takes the next stitch into the material: {:.2} mm of slack \
+                 left (at most {SET_SLACK_MAX_MM} mm wanted)",
+                t.set_at_deg, t.set_slack_mm
+            )
+        } else {
+            format!(
+                "the take-up never pulls the finished stitch tight: from the release of its loop until the needle takes \
+                 the next stitch into the material at least {:.2} mm of thread stays slack (least at φ = {:.1}°), so \
+                 the stitch is set loose and the loop shows under the seam; the take-up must draw back more thread \
+                 after the release",
+                t.set_slack_mm, t.set_at_deg
+            )
+        },
+    );
     let spring = match &t.spring {
         None => check(
             "spring_before_slip",
@@ -525,7 +617,7 @@ pub fn tension_checks(thread: &str, t: &ThreadTension) -> [Check; 3] {
             )
         }
     };
-    [margin, slack, spring]
+    [margin, slack, set, spring]
 }
 
 #[cfg(test)]

@@ -16,7 +16,8 @@ use crate::model::{Model, Params};
 /// and per stitch thread the match
 /// score, RMS and largest |D|, plus the mean and worst score; where the
 /// thread's tension is solved, its peak `THR.max_T_N`, breaking margin
-/// `THR.tension_margin` and largest slack loop `THR.max_slack_mm`.
+/// `THR.tension_margin`, largest slack loop `THR.max_slack_mm` and the
+/// slack left where the stitch is pulled tight `THR.set_slack_mm`.
 pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
     let mut out = Vec::new();
     for p in &table.paths {
@@ -80,6 +81,7 @@ pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
                 out.push((format!("{}.max_T_N", t.thread), tn.peak_n));
                 out.push((format!("{}.tension_margin", t.thread), tn.margin));
                 out.push((format!("{}.max_slack_mm", t.thread), tn.max_slack_mm));
+                out.push((format!("{}.set_slack_mm", t.thread), tn.set_slack_mm));
             }
             let checks: Vec<_> = st.checks.iter().filter(|c| c.thread == t.thread).collect();
             if !checks.is_empty() {

@@ -595,6 +595,7 @@ impl Fast {
                     out.push(|| format!("{}.max_T_N", plan.name), tn.peak_n);
                     out.push(|| format!("{}.tension_margin", plan.name), tn.margin);
                     out.push(|| format!("{}.max_slack_mm", plan.name), tn.max_slack_mm);
+                    out.push(|| format!("{}.set_slack_mm", plan.name), tn.set_slack_mm);
                     crate::eval::tension::tension_checks(&plan.name, tn)
                         .iter()
                         .all(|c| c.ok)
@@ -700,6 +701,7 @@ impl Kinds {
                     ".max_T_N",
                     ".tension_margin",
                     ".max_slack_mm",
+                    ".set_slack_mm",
                 ]
                 .iter()
                 .any(|s| n.ends_with(s))

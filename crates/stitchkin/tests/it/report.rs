@@ -113,11 +113,11 @@ fn mf7923d_report_has_every_section_and_is_self_contained() {
         "needle-eye paths are measured at B"
     );
     assert_eq!(rows(&doc, "transmission").len(), 2);
-    // The physical checks, six per needle thread (three of the stitch,
-    // three of the thread's tension), with what each means; at r1 = 5 mm
+    // The physical checks, seven per needle thread (three of the stitch,
+    // four of the thread's tension), with what each means; at r1 = 5 mm
     // every one passes.
     let c = rows(&doc, "checks");
-    assert_eq!(c.len(), 18);
+    assert_eq!(c.len(), 21);
     assert!(c.iter().all(|r| r[2] == "ok" && !r[6].is_empty()), "{c:?}");
     assert!(
         html.contains("Regulator: n1 φ = ") && html.contains("(computed)"),
