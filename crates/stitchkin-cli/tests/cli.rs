@@ -116,7 +116,8 @@ fn run_without_arguments_uses_the_default_preset() {
         "{summary}"
     );
     assert!(
-        summary.contains("# check ok   n1 thread_bound") && !summary.contains("FAIL"),
+        summary.contains("# check ok   thread_bound: n1 18.04, n2 18.04, n3 18.04 mm to spare")
+            && !summary.contains("FAIL"),
         "{summary}"
     );
 }
@@ -282,33 +283,61 @@ fn match_prints_the_mismatch_per_thread() {
         out.contains("needle threads measured at B, the eye's top position"),
         "{out}"
     );
+    // The regulator's windows, computed from each thread's tension.
     assert!(
-        out.contains("regulator: n1, n2, n3 φ = 300.0°…360.0°, the last 60° before the needle's TDC"),
+        out.contains("regulator: n1 φ = 19°…48°, 94°…113°, 215°…237°; n2 φ = ")
+            && out.contains("where each thread's tension draws thread through the regulator (computed)"),
         "{out}"
     );
-    // One row per needle thread: its score (at least 60), and every check passes.
-    for j in 1..=3 {
+    // One row per needle thread: its score, and every check passes (the
+    // stitch's three and the thread's four).
+    for (j, want) in [(1, 75.0), (2, 57.6), (3, 34.3)] {
         let row = out
             .lines()
             .find(|l| l.starts_with(&format!("n{j} ")))
             .unwrap_or_else(|| panic!("no row n{j}:\n{out}"));
         let score: f64 = row.split_whitespace().nth(2).unwrap().parse().unwrap();
-        assert!(score >= 60.0 && row.ends_with("3 of 3 pass"), "{row}");
+        assert!((score - want).abs() < 0.05 && row.ends_with("7 of 7 pass"), "{row}");
     }
+    // The thread's tension: per needle its peak, where, the margin, the
+    // thread drawn and the computed window.
+    assert!(
+        out.contains("thread tension (tex 30 spun polyester: EA 85 N, breaking 10.5 N; regulator 0.42 N):"),
+        "{out}"
+    );
+    assert!(
+        out.contains("n1          2.73 N   106.0°  N_1–stitch         3.84×     8.90 mm   1.10 %    3.20 mm  19°…48°, 94°…113°, 215°…237°"),
+        "{out}"
+    );
     // P against P′ as sparklines, the regulator window marked below them.
     assert_eq!(
-        out.lines().filter(|l| l.contains("P′    ") && l.contains('▁')).count(),
+        out.lines()
+            .filter(|l| l.contains("P′    ") && l.chars().any(|c| ('▁'..='█').contains(&c)))
+            .count(),
         3,
         "{out}"
     );
-    assert!(out.contains("~~~~~~~~~~  regulator window"), "{out}");
-    for check in ["thread_bound", "catch_clearance", "stab_before_drop"] {
-        assert_eq!(out.matches(&format!(" {check} ")).count(), 3, "{check}:\n{out}");
+    assert!(out.contains("regulator windows of n1, computed"), "{out}");
+    // Every check, one line for the three threads where all pass.
+    for check in [
+        "thread_bound",
+        "catch_clearance",
+        "stab_before_drop",
+        "tension_margin",
+        "slack_loop",
+        "stitch_set",
+        "spring_before_slip",
+    ] {
+        assert_eq!(out.matches(&format!(" {check} ")).count(), 1, "{check}:\n{out}");
     }
     assert!(!out.contains("FAIL") && !out.contains("note: P peaks"), "{out}");
-    // The thread bound as the least to spare (the loop on the looper at TDC), beside P_B's peak.
+    // The thread bound as the least to spare (the loop on the looper at TDC).
     assert!(
-        out.contains("thread_bound         18.04 mm  to spare at the least (φ = 0.0°; P_B peaks at 17.48 mm)"),
+        out.contains("thread_bound        n1 18.04, n2 18.04, n3 18.04 mm to spare at the least"),
+        "{out}"
+    );
+    assert!(
+        out.contains("tension_margin      n1 3.84×, n2 3.89×, n3 3.14×  (allowed ≥ 3.00×)"),
         "{out}"
     );
     // The model's caveats and what the stitch model carries over.
@@ -333,16 +362,17 @@ fn match_prints_the_mismatch_per_thread() {
         assert!(details.contains(line), "`{line}` missing:\n{details}");
     }
     assert!(details.contains("9.000 mm (cut from P′ at its lock"), "{details}");
-    // T1 down at TDC: the thread bound fails for every needle, and the
-    // match says what that means.
+    // T1 down at TDC: the thread bound fails for every needle, and so does
+    // the slack loop, and the match says what that means.
     let (other, _) = ok(&["match", "--set", "t1_phase=0"]);
-    assert_eq!(other.matches("FAIL  n").count(), 3, "{other}");
+    assert_eq!(other.matches("FAIL  n").count(), 6, "{other}");
+    assert_eq!(other.matches(" slack_loop ").count(), 3, "{other}");
     assert!(
         other.contains("thread_bound         30.82 mm  more than the needle can take through B (φ = 152.0°"),
         "{other}"
     );
     assert!(
-        other.contains("hangs slack") && other.contains("note: 3 physical check(s) fail"),
+        other.contains("hangs slack") && other.contains("note: 6 physical check(s) fail"),
         "{other}"
     );
     let (json, _) = ok(&["match", "--preset", "mf7923d", "--set", "m=4", "--format", "json"]);
@@ -354,9 +384,38 @@ fn match_prints_the_mismatch_per_thread() {
     assert!(v["threads"][0]["mismatch"]["score"].is_number());
     // per stitch with m = 4: t + 2m = 11 mm.
     assert!((v["threads"][0]["per_stitch_mm"].as_f64().unwrap() - 11.0).abs() < 1e-9);
-    // The checks: name, ok, value, limit, message.
+    // Per thread the thread's tension: its peak and where, the margin, the
+    // thread drawn per cycle, the strain the finished stitch keeps, the
+    // computed regulator windows and the largest slack loop.
+    for th in v["threads"].as_array().unwrap() {
+        let tn = &th["tension"];
+        for key in [
+            "peak_N",
+            "peak_at_deg",
+            "margin",
+            "drawn_per_cycle_mm",
+            "lock_strain",
+            "max_slack_mm",
+            "set_slack_mm",
+        ] {
+            assert!(tn[key].is_number(), "{key}: {tn}");
+        }
+        let windows = tn["regulator_windows_deg"].as_array().unwrap();
+        assert!(
+            !windows.is_empty() && windows.iter().all(|w| w.as_array().unwrap().len() == 2),
+            "{tn}"
+        );
+        // The balance: drawn × (1 + strain) is one stitch's thread.
+        let drawn = tn["drawn_per_cycle_mm"].as_f64().unwrap() * (1.0 + tn["lock_strain"].as_f64().unwrap());
+        assert!((drawn / 11.0 - 1.0).abs() < 1e-3, "{drawn}");
+    }
+    // The checks: name, ok, value, limit, message; the stitch's three and
+    // the thread's four per needle.
     let checks = v["checks"].as_array().unwrap();
-    assert_eq!(checks.len(), 9);
+    assert_eq!(checks.len(), 21);
+    for name in ["tension_margin", "slack_loop", "stitch_set", "spring_before_slip"] {
+        assert_eq!(checks.iter().filter(|c| c["name"] == name).count(), 3, "{name}");
+    }
     for c in checks {
         assert!(
             c["name"].is_string()
@@ -398,7 +457,8 @@ fn match_plot_and_report_take_a_measured_curve() {
     let (json, _) = ok(&["match", "--measured", &format!("n2={file}"), "--format", "json"]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["measured"][0]["thread"], "n2");
-    assert!(v["measured"][0]["against_other"]["score"].as_f64().unwrap() > 60.0);
+    // n2's own score against P′ with the regulator window computed (57.6).
+    assert!(v["measured"][0]["against_other"]["score"].as_f64().unwrap() > 50.0);
     let svg = d.join("m.svg");
     ok(&["plot", "takeup", "--measured", file, "-o", svg.to_str().unwrap()]);
     assert!(

@@ -184,9 +184,13 @@ def mf7923d_rows(repeat):
     against NumPy, after checking that NumPy's P is stitchkin's."""
     model = stitchkin.Model.preset("mf7923d")
     # The mechanism and the thread paths alone: the preset without its
-    # stitch process ([stitch] and what follows closes the file).
+    # stitch process ([stitch] and what follows closes the file) and the
+    # thread physics that needs it.
     text = model.toml
-    paths_only = stitchkin.Model.from_toml(text[: text.index("\n[stitch]\n")], "mf7923d-paths-only.toml")
+    text = text[: text.index("\n[stitch]\n")]
+    physics = text.index("\n[thread.physics]\n")
+    text = text[:physics] + text[text.index("\n[[thread.paths]]", physics) :]
+    paths_only = stitchkin.Model.from_toml(text, "mf7923d-paths-only.toml")
     phi_deg = np.arange(360.0)
     data = mf7923d_data(model)
     mine = numpy_mf7923d(data, phi_deg)

@@ -272,7 +272,11 @@ impl Model {
     /// Latin-hypercube samples (0: 32 per parameter, at least 64), drawn
     /// with `seed`. `thickness`, `stitch`: the material thickness m and
     /// stitch length t, mm, to tune for. `set`: the starting setting.
-    #[pyo3(signature = (adjust = None, samples = 0, seed = 1, step = 1.0, thickness = None, stitch = None, set = None))]
+    /// `objective`: what to minimise, `"match"` (the mismatch of P and P′)
+    /// or `"peak-tension"` (the thread's highest peak tension as a share of
+    /// its breaking force; needs thread physics), as `--objective`; the
+    /// physical checks are constraints either way.
+    #[pyo3(signature = (adjust = None, samples = 0, seed = 1, step = 1.0, thickness = None, stitch = None, set = None, objective = "match"))]
     #[allow(clippy::too_many_arguments)]
     fn tune<'py>(
         &self,
@@ -284,7 +288,17 @@ impl Model {
         thickness: Option<f64>,
         stitch: Option<f64>,
         set: Option<&Bound<'py, PyDict>>,
+        objective: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let objective = match objective {
+            "match" => tune::TuneObjective::Match,
+            "peak-tension" | "peak_tension" => tune::TuneObjective::PeakTension,
+            other => {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "objective = {other:?}: give \"match\" or \"peak-tension\""
+                )));
+            }
+        };
         let mut params = self.params(py, set)?;
         let model = &self.model;
         let json = py
@@ -300,7 +314,7 @@ impl Model {
                     None => model.default_adjustables(&params)?,
                 };
                 let options = tune::TuneOptions {
-                    objective: Default::default(),
+                    objective,
                     adjust,
                     samples,
                     seed,

@@ -36,7 +36,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let table = eval::run_cycle(&model, &params, &opts)?;
     let machine = model.machine::<f64>(&params)?;
     let mut out = text::cycle::model_check(&model, &params, machine.threads.as_ref(), args.step);
-    out += &text::cycle::summary(&model, &table);
+    out += &text::cycle::check_summary(&model, &table);
     if args.cross_check {
         let c = stitchkin::verify::cross_check(&model, &params, args.step)?;
         out += &text::cycle::cross_check(&c);

@@ -112,7 +112,9 @@ fn plot_draws_the_charts_over_parameters_sweeps_and_2d_3d() {
         (
             &["family", "--vary", "r1=4:6", "--step", "10"],
             ">r1 = 6.0 mm</text>",
-            6,
+            // P and P′ per r1: the regulator's window, computed from the
+            // thread's tension, moves P′ with the take-up.
+            10,
         ),
         (
             &["surface", "--vary", "z=-10:10:3", "--step", "10"],

@@ -114,6 +114,36 @@ def test_match_gives_the_command_lines_json(args, kwargs):
     assert all(c["ok"] for c in got["checks"])
 
 
+def test_thread_tension_is_the_command_lines():
+    """The thread's tension: its columns, its JSON object, its sweep figures
+    and the tuning for the lowest peak, as the command line gives them."""
+    import json
+
+    names, expected = cli_table("--preset", "lockstitch", "--step", "2", "--columns", "needle.T_*,needle.s*_mm")
+    table = stitchkin.Model.preset("lockstitch").run(step=2.0, columns=["needle.T_*", "needle.s*_mm"])
+    assert list(table) == names and "needle.T_reg_N" in names and "needle.spring_mm" in names
+    for name in names:
+        np.testing.assert_array_equal(as_written(table[name]), expected[name], err_msg=name)
+    got = stitchkin.Model.preset("lockstitch").match(step=2.0)
+    expected = json.loads(cli("match", "--preset", "lockstitch", "--step", "2", "--format", "json"))
+    expected.pop("measured", None)
+    assert got == expected
+    tension = got["threads"][0]["tension"]
+    assert tension["peak_N"] > 0 and tension["regulator_windows_deg"] and tension["spring"]["force_N"] == [0.25, 0.35]
+    figures = ["n1.max_T_N", "*.tension_margin", "*.max_slack_mm", "*.set_slack_mm"]
+    names, rows = cli_sweep("--preset", "mf7923d", "--vary", "regulator=0.3:0.5:3", "--step", "4", "--figures", ",".join(figures))
+    table = stitchkin.Model.preset("mf7923d").sweep(vary=["regulator=0.3:0.5:3"], step=4.0, figures=figures)
+    assert "n1.max_T_N" in names
+    assert_rows_equal(table, names, rows)
+    expected = json.loads(
+        cli("tune", "--preset", "mf7923d", "--adjust", "regulator", "--objective", "peak-tension", "--step", "4", "--format", "json")
+    )
+    got = stitchkin.Model.preset("mf7923d").tune(adjust=["regulator"], objective="peak-tension", step=4.0)
+    assert got == expected and got["objective"] == "peak_tension"
+    with pytest.raises(ValueError, match="peak-tension"):
+        stitchkin.Model.preset("mf7923d").tune(objective="tension")
+
+
 def test_match_needs_a_stitch():
     with pytest.raises(stitchkin.StitchkinError, match="no \\[stitch\\] table"):
         stitchkin.Model.preset("needle876").match()

@@ -242,7 +242,9 @@ fn moving_a_slider_redraws_the_take_up_summary_and_mechanism() {
     assert_eq!(b.eval("document.getElementById('p-r1').value"), json!("4"));
     assert_eq!(
         b.eval("document.querySelectorAll('#adjustable input[type=range]').length"),
-        json!(5),
+        // r1, l_o2b, z, dphi, t1_phase and the thread's EA, breaking force,
+        // regulator and clamp holds.
+        json!(9),
         "a slider per adjustable parameter"
     );
     assert_eq!(

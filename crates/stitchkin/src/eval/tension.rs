@@ -43,17 +43,22 @@ pub struct ThreadTension {
     /// The thread sewn, in words (`[thread.physics] thread`).
     pub material: Option<String>,
     /// Axial stiffness EA, breaking force and the regulator's hold, N.
+    #[serde(rename = "ea_N")]
     pub ea_n: f64,
+    #[serde(rename = "breaking_N")]
     pub breaking_n: f64,
+    #[serde(rename = "regulator_N")]
     pub regulator_n: f64,
     /// The largest tension anywhere on the thread over the cycle, N, where
     /// (model φ, deg) and on which span (`G3_1–T1_1`, `N_1–stitch`).
+    #[serde(rename = "peak_N")]
     pub peak_n: f64,
     pub peak_at_deg: f64,
     pub peak_span: String,
     /// Breaking force over the peak.
     pub margin: f64,
     /// The tension arriving at the eye: its least and largest, N.
+    #[serde(rename = "eye_N")]
     pub eye_n: [f64; 2],
     /// Thread drawn past the regulator per cycle (unstretched), mm.
     pub drawn_per_cycle_mm: f64,
@@ -98,6 +103,7 @@ pub struct SpringSummary {
     pub after: String,
     /// Its store, mm, and the tension at the start and end of its travel, N.
     pub take_up_mm: f64,
+    #[serde(rename = "force_N")]
     pub force_n: [f64; 2],
     /// The most thread it gave out of its store, mm.
     pub max_travel_mm: f64,

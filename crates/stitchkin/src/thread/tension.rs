@@ -657,7 +657,13 @@ impl Stepper {
             let law = &self.laws[i];
             let t = self.t[i].max(0.0);
             out.tension_n[k * s + i] = t;
-            out.slack_mm[k * s + i] = (m[i] - law.max_reach(at.l[i])).max(0.0);
+            // A span carrying tension has no slack, though rounding may
+            // leave its thread a hair over its reach.
+            out.slack_mm[k * s + i] = if t > 0.0 {
+                0.0
+            } else {
+                (m[i] - law.max_reach(at.l[i])).max(0.0)
+            };
             if law.spring.is_some() {
                 out.spring_mm[k] = law.spring_travel(t);
             }
@@ -840,6 +846,71 @@ fn rows(course: &Course<'_>) -> Result<usize, TensionError> {
     Ok(n)
 }
 
+/// The laws of the thread checked on a solution, at every φ: the regulator
+/// never passes thread back and never lets the tension past it exceed its
+/// hold; every node within its capstan bound, and a slipping node at it
+/// with the larger tension on the side the thread goes; a slack span
+/// without tension; and, where the cycle settled, the thread drawn per
+/// cycle times (1 + lock strain) equal to the finished stitch. The first
+/// law broken, in words; tolerances 1e-4 N and [`SETTLE_MM`] per span.
+pub fn verify(chain: &Chain, course: &Course<'_>, t: &Tensions) -> Result<(), String> {
+    let s = t.spans;
+    let n = t.drawn_mm.len();
+    let tol = 1e-4;
+    for k in 0..n {
+        if t.drawn_mm[k] < -1e-9 {
+            return Err(format!("thread went back through the regulator at k = {k}"));
+        }
+        if t.tension(k, 0) > chain.pass_n + tol {
+            return Err(format!(
+                "the tension past the regulator, {} N, exceeds its hold {} N at k = {k}",
+                t.tension(k, 0),
+                chain.pass_n
+            ));
+        }
+        for i in 0..s {
+            if t.slack_mm[k * s + i] > 0.0 && t.tension(k, i) != 0.0 {
+                return Err(format!("slack span {i} carries {} N at k = {k}", t.tension(k, i)));
+            }
+        }
+        for i in 0..s - 1 {
+            let (e, h) = (course.factor[k * (s - 1) + i], course.hold_n[k * (s - 1) + i]);
+            let (ta, tb) = (t.tension(k, i), t.tension(k, i + 1));
+            // A slack neighbour's push (SLACK_PUSH) moves a bound by up to
+            // 1e-6·EA times its slack strain.
+            let strain = |j: usize| t.slack_mm[k * s + j] / course.len_mm[k * s + j].max(1e-9);
+            let tol = tol + 2.0 * SLACK_PUSH * chain.ea_n * (strain(i) + strain(i + 1));
+            if tb > e * ta + h + tol || ta > e * tb + h + tol {
+                return Err(format!(
+                    "node {i} outside its capstan bound at k = {k}: {ta} N and {tb} N"
+                ));
+            }
+            let at_bound = match t.slip[k * (s - 1) + i] {
+                1 => (tb - (e * ta + h)).abs() < tol || tb == 0.0,
+                -1 => (ta - (e * tb + h)).abs() < tol || ta == 0.0,
+                _ => true,
+            };
+            if !at_bound {
+                return Err(format!(
+                    "node {i} slips against the larger pull at k = {k}: {ta} N and {tb} N"
+                ));
+            }
+        }
+    }
+    if t.settled {
+        let balance = t.drawn_per_cycle_mm * (1.0 + t.lock_strain);
+        if (balance - course.set_mm).abs() > s as f64 * SETTLE_MM {
+            return Err(format!(
+                "drawn {balance} mm per cycle against the stitch's {} mm",
+                course.set_mm
+            ));
+        }
+    } else if t.change_mm <= SETTLE_MM {
+        return Err("not settled, yet the last cycle repeated".into());
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -913,61 +984,14 @@ mod tests {
         }
     }
 
-    /// Every node within its capstan bound, slipping the way the larger
-    /// tension pulls; the regulator never past its tension, never back; a
-    /// slack span without tension; the thread balanced over the cycle.
+    /// Every law of [`verify`], and an unsettled cycle said plainly.
     fn check_laws(b: &Built, c: &Chain, t: &Tensions, set_mm: f64) {
-        let s = t.spans;
-        let n = t.drawn_mm.len();
-        let tol = 1e-4;
-        for k in 0..n {
-            assert!(t.drawn_mm[k] >= -1e-9, "never back through the regulator (k = {k})");
-            assert!(
-                t.tension(k, 0) <= c.pass_n + tol,
-                "past the regulator at most its tension (k = {k})"
-            );
-            for i in 0..s {
-                if t.slack_mm[k * s + i] > 0.0 {
-                    assert_eq!(t.tension(k, i), 0.0, "a slack span carries nothing (k = {k}, span {i})");
-                }
-            }
-            for i in 0..s - 1 {
-                let (e, h) = (b.factor[k * (s - 1) + i], b.hold[k * (s - 1) + i]);
-                let (ta, tb) = (t.tension(k, i), t.tension(k, i + 1));
-                // A slack neighbour's push (SLACK_PUSH) moves a bound by
-                // up to 1e-6·EA times its slack strain.
-                let strain = |j: usize| t.slack_mm[k * s + j] / b.len[k * s + j];
-                let tol = tol + 2.0 * SLACK_PUSH * c.ea_n * (strain(i) + strain(i + 1));
-                assert!(
-                    tb <= e * ta + h + tol && ta <= e * tb + h + tol,
-                    "capstan bound at node {i}, k = {k}: {ta} {tb}"
-                );
-                // A slipping node is at its bound, the larger tension on the
-                // side the thread goes (ta == 0 where a slack span gives).
-                match t.slip[k * (s - 1) + i] {
-                    1 => assert!(
-                        (tb - (e * ta + h)).abs() < tol || tb == 0.0,
-                        "slips toward the larger pull at node {i}, k = {k}: {ta} {tb}"
-                    ),
-                    -1 => assert!(
-                        (ta - (e * tb + h)).abs() < tol || ta == 0.0,
-                        "slips back toward the larger pull at node {i}, k = {k}: {ta} {tb}"
-                    ),
-                    _ => {}
-                }
-            }
-        }
-        let balance = t.drawn_per_cycle_mm * (1.0 + t.lock_strain);
+        // `verify` reads the factors, holds, reaches and the stitch's
+        // length; where the stitch is set does not enter the laws.
+        verify(c, &course(b, 0, set_mm), t).unwrap_or_else(|e| panic!("{e}"));
         if !t.settled {
-            // Said plainly: the last cycle still moved thread.
             assert!(t.change_mm > SETTLE_MM && t.cycles == MAX_CYCLES);
-            return;
         }
-        // Settled: no span's thread changes by more than SETTLE_MM a cycle.
-        assert!(
-            (balance - set_mm).abs() <= s as f64 * SETTLE_MM,
-            "drawn {balance} against the stitch's {set_mm}"
-        );
     }
 
     #[test]

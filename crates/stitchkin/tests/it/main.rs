@@ -29,4 +29,5 @@ mod stitch;
 mod strokes;
 mod studies;
 mod support;
+mod thread_physics;
 mod threads;

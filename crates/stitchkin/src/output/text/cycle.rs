@@ -28,8 +28,19 @@ fn intervals(iv: &[Interval], none: &str) -> String {
 
 /// The summary of a cycle, one `# `-line per item: the transmission angles
 /// with where they peak, the measure ranges, each thread path's take-up,
-/// the stitch (P′, match, checks), the model's caveats and the warnings.
+/// the stitch (P′, match, checks: one line per check every thread passes),
+/// the model's caveats and the warnings.
 pub fn summary(model: &Model, table: &CycleTable) -> String {
+    summary_with(model, table, false)
+}
+
+/// [`summary`] with every check of every thread in full (`stitchkin
+/// check`).
+pub fn check_summary(model: &Model, table: &CycleTable) -> String {
+    summary_with(model, table, true)
+}
+
+fn summary_with(model: &Model, table: &CycleTable, full_checks: bool) -> String {
     let mut s = format!(
         "# {} — {} rows, φ from {}° in steps of {}°{}\n",
         model.title().unwrap_or(model.name()),
@@ -69,7 +80,7 @@ pub fn summary(model: &Model, table: &CycleTable) -> String {
         s += &format!("# take-up: {conv}\n");
     }
     s += &take_up_lines(table, w);
-    s += &stitch_lines(table, w);
+    s += &stitch_lines(table, w, full_checks);
     for c in model.caveats() {
         s += &format!("# note: {c}\n");
     }
@@ -111,7 +122,7 @@ fn take_up_lines(table: &CycleTable, w: usize) -> String {
 
 /// The stitch: its setting, the regulator, P′ and the match per thread,
 /// the physical checks and the transfers; names padded to `w`.
-fn stitch_lines(table: &CycleTable, w: usize) -> String {
+fn stitch_lines(table: &CycleTable, w: usize, full_checks: bool) -> String {
     let Some(st) = &table.stitch else {
         return String::new();
     };
@@ -131,14 +142,26 @@ fn stitch_lines(table: &CycleTable, w: usize) -> String {
         }
         s += "\n";
     }
-    for c in &st.checks {
-        s += &format!(
-            "# check {:<4} {} {}: {}\n",
-            if c.ok { "ok" } else { "FAIL" },
-            c.thread,
-            c.name,
-            c.message
-        );
+    // Every check in full for one thread (or with `full_checks`); for
+    // several, one line per check they all pass.
+    for group in super::matching::check_groups(&st.checks) {
+        if full_checks || st.threads.len() < 2 || group.iter().any(|c| !c.ok) {
+            for c in group {
+                s += &format!(
+                    "# check {:<4} {} {}: {}\n",
+                    if c.ok { "ok" } else { "FAIL" },
+                    c.thread,
+                    c.name,
+                    c.message
+                );
+            }
+        } else {
+            s += &format!(
+                "# check ok   {}: {}\n",
+                group[0].name,
+                super::matching::group_figure(&group)
+            );
+        }
     }
     for t in &st.transfers {
         s += &format!("# note: {t}\n");

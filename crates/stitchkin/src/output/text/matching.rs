@@ -287,55 +287,115 @@ fn tension_block(st: &StitchSummary) -> String {
     s
 }
 
-/// The physical checks: one line each, in full when one fails (or with
-/// `details`). `thread_bound` is shown as the least to spare over the cycle
-/// (the sweep figure `THR.bound_margin_mm`) beside P_B's peak.
+/// The physical checks: one line each (several threads: one line per check
+/// they all pass), in full when one fails (or with `details`).
+/// `thread_bound` is shown as the least to spare over the cycle (the sweep
+/// figure `THR.bound_margin_mm`), beside P_B's peak on a thread's own line.
 fn checks_block(table: &CycleTable, st: &StitchSummary, details: bool) -> String {
     if st.checks.is_empty() {
         return String::new();
     }
     let mut s = "\nchecks (what no machine can do):\n".to_string();
+    if !details && st.threads.len() > 1 {
+        return s + &grouped_checks(table, st);
+    }
     for c in &st.checks {
-        let figure = match (c.name, c.limit[1]) {
-            ("thread_bound", Some(bound)) => {
-                let peak = st
-                    .threads
-                    .iter()
-                    .find(|t| t.thread == c.thread)
-                    .and_then(|t| t.path.as_ref())
-                    .and_then(|p| table.paths.iter().find(|s| &s.path == p))
-                    .map_or(String::new(), |s| format!("; P_B peaks at {:.2} mm", s.max_p_mm));
-                if c.ok {
-                    format!(
-                        "{:>8.2} mm  to spare at the least (φ = {:.1}°{peak})",
-                        bound - c.value,
-                        c.at_deg
-                    )
-                } else {
-                    format!(
-                        "{:>8.2} mm  more than the needle can take through B (φ = {:.1}°{peak})",
-                        c.value - bound,
-                        c.at_deg
-                    )
-                }
+        s += &check_line(table, st, c, details);
+    }
+    s
+}
+
+/// The checks of several threads, one line per check where every thread
+/// passes it (each thread's figure side by side), each thread's own line
+/// where one fails.
+fn grouped_checks(table: &CycleTable, st: &StitchSummary) -> String {
+    let mut s = String::new();
+    for group in check_groups(&st.checks) {
+        if group.iter().any(|c| !c.ok) {
+            for c in group {
+                s += &check_line(table, st, c, false);
             }
-            _ if c.limit == [None, None] => format!("{:>11}  ({})", c.value_words(), c.message),
-            _ => format!(
-                "{:>11}  (allowed {}; φ = {:.1}°)",
-                c.value_words(),
-                c.limit_words(),
-                c.at_deg
-            ),
-        };
-        s += &format!(
-            "  {:<5} {:<6} {:<17} {figure}\n",
-            if c.ok { "ok" } else { "FAIL" },
-            c.thread,
-            c.name
-        );
-        if !c.ok || details {
-            s += &format!("        {}\n", c.message);
+        } else {
+            s += &format!("  {:<5} {:<19} {}\n", "ok", group[0].name, group_figure(&group));
         }
+    }
+    s
+}
+
+/// The checks by name, in the order they first appear.
+pub(super) fn check_groups(checks: &[Check]) -> Vec<Vec<&Check>> {
+    let mut out: Vec<Vec<&Check>> = Vec::new();
+    for c in checks {
+        match out.iter_mut().find(|g| g[0].name == c.name) {
+            Some(g) => g.push(c),
+            None => out.push(vec![c]),
+        }
+    }
+    out
+}
+
+/// One check's figure for every thread side by side: `n1 3.84×, n2 3.89×
+/// (allowed ≥ 3.00×)`; `thread_bound` as the least to spare.
+pub(super) fn group_figure(group: &[&Check]) -> String {
+    let each = |f: &dyn Fn(&Check) -> String| {
+        group
+            .iter()
+            .map(|c| format!("{} {}", c.thread, f(c)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    match (group[0].name, group[0].limit) {
+        ("thread_bound", [_, Some(_)]) => format!(
+            "{} mm to spare at the least",
+            each(&|c| format!("{:.2}", c.limit[1].unwrap_or(c.value) - c.value))
+        ),
+        (_, [None, None]) => format!("n/a  ({})", group[0].message),
+        _ => format!("{}  (allowed {})", each(&|c| c.value_words()), group[0].limit_words()),
+    }
+}
+
+/// One check of one thread: its figure, and what it means where it fails
+/// (or always, with `details`).
+fn check_line(table: &CycleTable, st: &StitchSummary, c: &Check, details: bool) -> String {
+    let figure = match (c.name, c.limit[1]) {
+        ("thread_bound", Some(bound)) => {
+            let peak = st
+                .threads
+                .iter()
+                .find(|t| t.thread == c.thread)
+                .and_then(|t| t.path.as_ref())
+                .and_then(|p| table.paths.iter().find(|s| &s.path == p))
+                .map_or(String::new(), |s| format!("; P_B peaks at {:.2} mm", s.max_p_mm));
+            if c.ok {
+                format!(
+                    "{:>8.2} mm  to spare at the least (φ = {:.1}°{peak})",
+                    bound - c.value,
+                    c.at_deg
+                )
+            } else {
+                format!(
+                    "{:>8.2} mm  more than the needle can take through B (φ = {:.1}°{peak})",
+                    c.value - bound,
+                    c.at_deg
+                )
+            }
+        }
+        _ if c.limit == [None, None] => format!("{:>11}  ({})", c.value_words(), c.message),
+        _ => format!(
+            "{:>11}  (allowed {}; φ = {:.1}°)",
+            c.value_words(),
+            c.limit_words(),
+            c.at_deg
+        ),
+    };
+    let mut s = format!(
+        "  {:<5} {:<6} {:<17} {figure}\n",
+        if c.ok { "ok" } else { "FAIL" },
+        c.thread,
+        c.name
+    );
+    if !c.ok || details {
+        s += &format!("        {}\n", c.message);
     }
     s
 }
