@@ -31,6 +31,9 @@ const SCRIPTS: &[(&str, &[(&str, &str)])] = &[
         "seed000_nomogram.sh",
         &[
             ("seed000_nomogram_z.txt", "z within 1 pt"),
+            // The preset with the window assumed, and its nomogram.
+            ("mf7923d_window60.toml", "regulator = { width_deg = 60 }"),
+            ("seed000_nomogram_z_window60.txt", "z within 1 pt"),
             // The preset with the whole stitch at the lock, and its nomogram.
             ("mf7923d_at_lock.toml", "regulator = { at_lock = true }"),
             ("seed000_nomogram_z_at_lock.txt", "z within 1 pt"),
