@@ -375,6 +375,12 @@ fn match_prints_the_mismatch_per_thread() {
         other.contains("hangs slack") && other.contains("note: 6 physical check(s) fail"),
         "{other}"
     );
+}
+
+/// `match --format json`: per thread the mismatch, the thread's tension and
+/// its balance, and every check with its figures.
+#[test]
+fn match_gives_json_with_the_tension_and_the_checks() {
     let (json, _) = ok(&["match", "--preset", "mf7923d", "--set", "m=4", "--format", "json"]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["m_mm"], 4.0);
