@@ -337,7 +337,7 @@ impl Fast {
         let kinds = Kinds::of(model, threads, &path_names, names)?;
         let phis = crate::eval::cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
         let plans = if kinds.stitch {
-            StitchPlan::all(model, shared?, &phis, threads, &path_names)?
+            StitchPlan::all(model, shared?, &phis, threads, &path_names, kinds.tension)?
         } else {
             Vec::new()
         };
@@ -659,6 +659,8 @@ struct Kinds {
     measures: bool,
     strokes: bool,
     stitch: bool,
+    /// A figure of the thread's tension, or one that judges its checks.
+    tension: bool,
 }
 
 impl Kinds {
@@ -674,6 +676,7 @@ impl Kinds {
             measures: false,
             strokes: false,
             stitch: false,
+            tension: false,
         };
         for n in names {
             let path_fig = path_names.iter().enumerate().any(|(i, p)| path_figure(p, i, n));
@@ -707,6 +710,16 @@ impl Kinds {
                 .any(|s| n.ends_with(s))
             {
                 kinds.stitch = true;
+                kinds.tension |= n == "checks.ok"
+                    || [
+                        ".checks_ok",
+                        ".max_T_N",
+                        ".tension_margin",
+                        ".max_slack_mm",
+                        ".set_slack_mm",
+                    ]
+                    .iter()
+                    .any(|s| n.ends_with(s));
             } else {
                 return None;
             }
@@ -718,13 +731,17 @@ impl Kinds {
 impl StitchPlan {
     /// The plan of every stitch thread from the shared P' (`prepared`, on
     /// the grid `phis`), or `None` when the fast path cannot reproduce the
-    /// full cycle's figures for one.
+    /// full cycle's figures for one. The thread's tension is solved per
+    /// setting where the regulator's window is computed from it, or where
+    /// `tension_figures` (a figure of the tension or of the checks) is
+    /// asked for; otherwise no figure asked for reads it.
     fn all(
         model: &Model,
         prepared: &Prepared,
         phis: &[f64],
         threads: Option<&Threads<f64>>,
         path_names: &[&str],
+        tension_figures: bool,
     ) -> Option<Vec<StitchPlan>> {
         if prepared.phis != phis {
             return None;
@@ -738,6 +755,7 @@ impl StitchPlan {
                 .unwrap_or(false)
         };
         let computed = prepared.setup.spec.regulator == crate::stitch::spec::Regulator::Computed;
+        let has_physics = has_physics && (computed || tension_figures);
         let n = phis.len();
         let setup = &prepared.setup;
         let fixed_checks = prepared.needle_checks();

@@ -247,3 +247,49 @@ fn the_fast_figures_are_the_cycle_tables() {
     assert!(fast_presets >= 6, "the fast path served only {fast_presets} sweeps");
     assert!(failing >= 3, "only {failing} settings without assembly were compared");
 }
+
+/// With the regulator's window assumed, a sweep of the kinematic match
+/// alone reads nothing of the thread's tension, so the fast path does not
+/// solve it, and its rows are still the full cycle's; asked for a check or
+/// a tension figure it solves it.
+#[test]
+fn the_fast_match_with_the_window_assumed_gives_the_cycles_rows() {
+    use stitchkin::study::sweep::{Evaluator, SweepJob};
+    let text = stitchkin::presets::find("mf7923d").unwrap().toml.replacen(
+        "[stitch]\n",
+        "[stitch]\nregulator = { width_deg = 60 }\n",
+        1,
+    );
+    let m = Model::from_toml_str(&text, "mf7923d-window60.toml").unwrap();
+    let p = m.defaults();
+    let o = opts(false, true);
+    let sw = Sweep::new(vec![Vary::parse(&m, "z=-10:10:4").unwrap()], Design::Grid).unwrap();
+    let shared = figures::shared_stitch(&m, &p, &sw, o.step_deg).unwrap();
+    for figs in [
+        &["score.mean", "n1.rms_D_mm"][..],
+        &["score.mean", "checks.ok", "n3.max_T_N"][..],
+    ] {
+        let names: Vec<String> = figs.iter().map(|s| s.to_string()).collect();
+        let mut ev = Evaluator::new(SweepJob {
+            model: &m,
+            base: &p,
+            sweep: &sw,
+            names: &names,
+            opts: &o,
+            shared: shared.as_ref(),
+        });
+        assert!(ev.is_fast(), "{figs:?}");
+        for i in 0..sw.len() {
+            let row = ev.evaluate(i);
+            assert_eq!(
+                row,
+                sweep::evaluate(&m, &p, &sw, &names, &o, shared.as_ref(), i),
+                "{figs:?} setting {i}"
+            );
+            assert!(
+                row.error.is_none() && row.figures.iter().all(|v| v.is_some_and(f64::is_finite)),
+                "{row:?}"
+            );
+        }
+    }
+}
