@@ -13,7 +13,7 @@ use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use stitchkin::error::Input;
-use stitchkin::eval::{CycleOptions, PathLengths, run_cycle};
+use stitchkin::eval::{CycleOptions, PathLengths, run_cycle, run_cycle_columns};
 use stitchkin::model::{Model as LibModel, Params};
 use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::sweep::{self, Row, SweepPlan};
@@ -205,12 +205,11 @@ impl Model {
         };
         let model = &self.model;
         let table = py
-            .detach(|| {
-                let mut table = run_cycle(model, &params, &opts)?;
-                if let Some(patterns) = &columns {
-                    table.select(patterns)?;
-                }
-                Ok::<_, stitchkin::Error>(table)
+            .detach(|| match &columns {
+                // Only what the columns need: without a column of the
+                // stitch's, no stitch process and no thread tension.
+                Some(patterns) => run_cycle_columns(model, &params, &opts, patterns),
+                None => run_cycle(model, &params, &opts),
             })
             .map_err(|e| py_error(py, &e))?;
         let out = PyDict::new(py);

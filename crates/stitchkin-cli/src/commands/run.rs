@@ -65,10 +65,12 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         points,
         lean: false,
     };
-    let mut table = eval::run_cycle(&model, &params, &opts)?;
-    if let Some(patterns) = &args.columns {
-        table.select(patterns)?;
-    }
+    // Only what the columns asked for need: without a column of the
+    // stitch's, no stitch process and no thread tension.
+    let table = match &args.columns {
+        Some(patterns) => eval::run_cycle_columns(&model, &params, &opts, patterns)?,
+        None => eval::run_cycle(&model, &params, &opts)?,
+    };
     // A person at a terminal gets the summary: 360 rows of a few hundred
     // columns read nowhere but in a file or a pipe.
     if args.format.is_none() && args.output.is_none() && std::io::IsTerminal::is_terminal(&std::io::stdout()) {

@@ -190,14 +190,17 @@ impl Layout {
 /// whatever the step, where a whole cycle of 0.001° steps took 1.2 GB.
 const PIECE: usize = 4096;
 
-/// A full cycle in scalar type `T` (`f64`, or dual numbers for analogs).
+/// A full cycle in scalar type `T` (`f64`, or dual numbers for analogs);
+/// without the stitch process (its columns, summary and the thread's
+/// tension) unless `with_stitch`.
 pub(super) fn cycle<T: Real>(
     model: &Model,
     params: &Params,
     opts: &CycleOptions,
     prepared: Option<&stitch_process::Prepared>,
+    with_stitch: bool,
 ) -> Result<CycleTable, Error> {
-    cycle_in_pieces::<T>(model, params, opts, prepared, PIECE)
+    cycle_in_pieces::<T>(model, params, opts, prepared, with_stitch, PIECE)
 }
 
 /// [`cycle`], the mechanism solved `piece` positions at a time.
@@ -206,6 +209,7 @@ fn cycle_in_pieces<T: Real>(
     params: &Params,
     opts: &CycleOptions,
     prepared: Option<&stitch_process::Prepared>,
+    with_stitch: bool,
     piece: usize,
 ) -> Result<CycleTable, Error> {
     let Machine {
@@ -237,7 +241,7 @@ fn cycle_in_pieces<T: Real>(
         t.paths
             .iter()
             .zip(&physics)
-            .map(|(p, ph)| ph.is_some() && stitch_paths.iter().flatten().any(|n| *n == p.name))
+            .map(|(p, ph)| with_stitch && ph.is_some() && stitch_paths.iter().flatten().any(|n| *n == p.name))
             .collect()
     });
     let solved = Pieces {
@@ -254,6 +258,7 @@ fn cycle_in_pieces<T: Real>(
         || solved.columns(&layout, piece, &mut b.columns),
         || match prepared {
             Some(_) => Ok(None),
+            None if !with_stitch => Ok(None),
             None => stitch_process::prepare(model, params, opts.step_deg),
         },
     );
@@ -265,7 +270,7 @@ fn cycle_in_pieces<T: Real>(
         Err(e) => return Err(e),
     };
     let own_prepared = own_prepared?;
-    let stitch = match prepared.or(own_prepared.as_ref()) {
+    let stitch = match prepared.or(own_prepared.as_ref()).filter(|_| with_stitch) {
         Some(p) => {
             let inputs = tension_inputs(threads.as_ref(), &p.setup.paths, &physics, &courses);
             Some(stitch_process::stitch_columns(
@@ -481,9 +486,9 @@ mod tests {
                 };
                 let run = |piece: usize| {
                     if analogs {
-                        cycle_in_pieces::<Dual2_64>(&model, &params, &opts, None, piece)
+                        cycle_in_pieces::<Dual2_64>(&model, &params, &opts, None, true, piece)
                     } else {
-                        cycle_in_pieces::<f64>(&model, &params, &opts, None, piece)
+                        cycle_in_pieces::<f64>(&model, &params, &opts, None, true, piece)
                     }
                     .unwrap()
                 };
@@ -531,12 +536,12 @@ branch = "left"
         .unwrap();
         let params = model.defaults();
         let opts = CycleOptions::default();
-        let whole = cycle_in_pieces::<Dual2_64>(&model, &params, &opts, None, usize::MAX)
+        let whole = cycle_in_pieces::<Dual2_64>(&model, &params, &opts, None, true, usize::MAX)
             .unwrap_err()
             .to_string();
         assert!(whole.contains("φ = 43.000°"), "{whole}");
         for piece in [1, 7, 100] {
-            let e = cycle_in_pieces::<Dual2_64>(&model, &params, &opts, None, piece).unwrap_err();
+            let e = cycle_in_pieces::<Dual2_64>(&model, &params, &opts, None, true, piece).unwrap_err();
             assert_eq!(e.to_string(), whole, "pieces of {piece}");
         }
     }

@@ -278,11 +278,41 @@ pub fn run_cycle_with(
     opts: &CycleOptions,
     prepared: Option<&stitch_process::Prepared>,
 ) -> Result<CycleTable, Error> {
+    cycle_of(model, params, opts, prepared, true)
+}
+
+/// [`run_cycle`] with only the columns `patterns` name (`*` matches any
+/// run of characters; `phi_deg` is always kept), as `run --columns` and
+/// Python's `run(columns=…)` ask for them: when no pattern can name a
+/// column of the stitch process (`THREAD.Pprime_B_mm`, `THREAD.T_eye_N`,
+/// … of a stitch thread), the stitch process and the thread's tension are
+/// not computed, and the table has no stitch summary. An error names a
+/// pattern that matches no column.
+pub fn run_cycle_columns(
+    model: &Model,
+    params: &Params,
+    opts: &CycleOptions,
+    patterns: &[String],
+) -> Result<CycleTable, Error> {
+    let threads = model.stitch_thread_names();
+    let with_stitch = patterns.iter().any(|p| stitch_process::may_name_a_column(p, &threads));
+    let mut table = cycle_of(model, params, opts, None, with_stitch)?;
+    table.select(patterns)?;
+    Ok(table)
+}
+
+fn cycle_of(
+    model: &Model,
+    params: &Params,
+    opts: &CycleOptions,
+    prepared: Option<&stitch_process::Prepared>,
+    with_stitch: bool,
+) -> Result<CycleTable, Error> {
     check_options(opts)?;
     if opts.analogs {
-        cycle::cycle::<Dual2_64>(model, params, opts, prepared)
+        cycle::cycle::<Dual2_64>(model, params, opts, prepared, with_stitch)
     } else {
-        cycle::cycle::<f64>(model, params, opts, prepared)
+        cycle::cycle::<f64>(model, params, opts, prepared, with_stitch)
     }
 }
 

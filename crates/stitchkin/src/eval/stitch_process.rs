@@ -340,6 +340,39 @@ fn transfers(ty: StitchType) -> Vec<String> {
     }
 }
 
+/// What follows a stitch thread's name in the name of each column the
+/// stitch process adds (`THREAD.SUFFIX`): its own ([`thread_columns`]),
+/// D = P − P′ and the thread's tension ([`super::tension::tension_columns`]).
+/// A test holds every preset's stitch columns to it.
+pub const COLUMN_SUFFIXES: [&str; 16] = [
+    "eta_B_mm",
+    "Pprime_B_mm",
+    "Pprime_eye_mm",
+    "eta_mm",
+    "Pprime_mm",
+    "gamma_deg",
+    "D_mm",
+    "T_reg_N",
+    "T_eye_N",
+    "T_stitch_N",
+    "T_max_N",
+    "strain_max_pct",
+    "drawn_mm",
+    "slack_mm",
+    "slack_stitch_mm",
+    "spring_mm",
+];
+
+/// Whether the column pattern `pattern` can name a column of the stitch
+/// process of a stitch whose threads may be named `threads`.
+pub fn may_name_a_column(pattern: &str, threads: &[String]) -> bool {
+    threads.iter().any(|t| {
+        COLUMN_SUFFIXES
+            .iter()
+            .any(|s| super::glob_match(pattern, &format!("{t}.{s}")))
+    })
+}
+
 /// A thread's columns: per needle thread (split at B) η_B, P'_B and
 /// P'_eye; per looper thread η and P'; the needle loop's carry angle γ.
 fn thread_columns(th: &RequiredThread, acc: &Accounting, n: usize, columns: &mut Vec<Column>) {

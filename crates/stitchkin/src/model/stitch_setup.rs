@@ -771,6 +771,17 @@ impl Model {
         self.stitch.as_ref().map_or(Vec::new(), compared_paths)
     }
 
+    /// The names the stitch's threads may take, which prefix their columns:
+    /// the needles' own, and `needle`, `looper`, `lower` and `upper` (the
+    /// lockstitch's needle thread, the looper threads of 503 and 504);
+    /// empty without a `[stitch]`.
+    pub fn stitch_thread_names(&self) -> Vec<String> {
+        let Some(d) = &self.stitch else { return Vec::new() };
+        let mut names: Vec<String> = d.needles.iter().map(|n| n.name.clone()).collect();
+        names.extend(["needle", "looper", "lower", "upper"].map(String::from));
+        names
+    }
+
     /// The model's stitch process resolved with `params`, organ motions
     /// sampled from the solved mechanism; `None` when the model has no
     /// `[stitch]`.

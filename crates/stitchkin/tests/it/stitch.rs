@@ -707,3 +707,79 @@ fn bad_503_tables_are_rejected_with_the_place_and_the_fix() {
         "{e}"
     );
 }
+
+/// A run that asks only for columns the stitch process does not make
+/// computes no stitch, and gives exactly the full run's columns; a pattern
+/// that names a stitch column computes it. Every column the stitch process
+/// adds, on every preset, is `THREAD.SUFFIX` with the thread among
+/// `stitch_thread_names` and the suffix among `COLUMN_SUFFIXES`, so no
+/// pattern can miss one.
+#[test]
+fn runs_of_some_columns_compute_the_stitch_only_when_asked() {
+    use stitchkin::eval::stitch_process::{COLUMN_SUFFIXES, may_name_a_column};
+    use stitchkin::eval::{CycleOptions, run_cycle, run_cycle_columns};
+    let opts = CycleOptions {
+        step_deg: 5.0,
+        ..Default::default()
+    };
+    let mut with_stitch = 0;
+    for preset in stitchkin::presets::ALL {
+        let m = Model::preset(preset.name).unwrap();
+        let p = m.defaults();
+        let full = run_cycle(&m, &p, &opts).unwrap();
+        let threads = m.stitch_thread_names();
+        // Everything but the stitch's columns: the full run's, value for value.
+        let kinematic: Vec<String> = full
+            .columns
+            .iter()
+            .map(|c| c.name.clone())
+            .filter(|n| !may_name_a_column(n, &threads))
+            .collect();
+        let part = run_cycle_columns(&m, &p, &opts, &kinematic).unwrap();
+        assert!(part.stitch.is_none(), "{}: the stitch was computed", preset.name);
+        let names: Vec<&str> = part.columns.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(
+            names,
+            kinematic.iter().map(String::as_str).collect::<Vec<_>>(),
+            "{}",
+            preset.name
+        );
+        for c in &part.columns {
+            assert_eq!(
+                Some(c.values.as_slice()),
+                full.column(&c.name),
+                "{} {}",
+                preset.name,
+                c.name
+            );
+        }
+        // The stitch's columns: each THREAD.SUFFIX, and each computed when asked.
+        let Some(st) = &full.stitch else { continue };
+        with_stitch += 1;
+        let stitch_cols: Vec<&str> = full
+            .columns
+            .iter()
+            .map(|c| c.name.as_str())
+            .filter(|n| !kinematic.iter().any(|k| k == n))
+            .collect();
+        for n in &stitch_cols {
+            let (thread, suffix) = n.split_once('.').unwrap();
+            assert!(
+                st.threads.iter().any(|t| t.thread == thread) && threads.iter().any(|t| t == thread),
+                "{}: {n} is not a stitch thread's",
+                preset.name
+            );
+            assert!(COLUMN_SUFFIXES.contains(&suffix), "{}: {n}", preset.name);
+        }
+        let asked = vec![stitch_cols[0].to_string()];
+        let one = run_cycle_columns(&m, &p, &opts, &asked).unwrap();
+        assert!(one.stitch.is_some(), "{}", preset.name);
+        assert_eq!(
+            one.column(stitch_cols[0]),
+            full.column(stitch_cols[0]),
+            "{}",
+            preset.name
+        );
+    }
+    assert!(with_stitch >= 3, "{with_stitch} presets with a stitch");
+}

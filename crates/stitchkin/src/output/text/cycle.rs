@@ -80,7 +80,7 @@ fn summary_with(model: &Model, table: &CycleTable, full_checks: bool) -> String 
         s += &format!("# take-up: {conv}\n");
     }
     s += &take_up_lines(table, w);
-    s += &stitch_lines(table, w, full_checks);
+    s += &stitch_lines(model, table, w, full_checks);
     for c in model.caveats() {
         s += &format!("# note: {c}\n");
     }
@@ -122,9 +122,14 @@ fn take_up_lines(table: &CycleTable, w: usize) -> String {
 
 /// The stitch: its setting, the regulator, P′ and the match per thread,
 /// the physical checks and the transfers; names padded to `w`.
-fn stitch_lines(table: &CycleTable, w: usize, full_checks: bool) -> String {
+fn stitch_lines(model: &Model, table: &CycleTable, w: usize, full_checks: bool) -> String {
     let Some(st) = &table.stitch else {
-        return String::new();
+        return if model.has_stitch() {
+            "# stitch: not computed, no column asked for needs it (`stitchkin match` gives the match and the physical checks)\n"
+                .into()
+        } else {
+            String::new()
+        };
     };
     let mut s = format!(
         "# stitch {}: m = {} mm, t = {} mm; P' = 0 at φ = {}°, needle BDC at φ = {}°\n",
