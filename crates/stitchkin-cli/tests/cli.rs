@@ -377,6 +377,26 @@ fn match_prints_the_mismatch_per_thread() {
     );
 }
 
+/// Where the take-up gives far less than the stitch takes at its peak, the
+/// match screen says so beside the score, which rates only how P follows P′.
+#[test]
+fn match_says_when_the_take_up_falls_short_of_the_stitch() {
+    let (out, _) = ok(&["match"]);
+    assert!(!out.contains("short of the"), "{out}");
+    let (out, _) = ok(&["match", "--set", "r1=6"]);
+    assert!(
+        out.contains("note: n1: the take-up gives at most 0.29 mm, 15.95 mm (98 %) short of the 16.25 mm the stitch takes at its peak"),
+        "{out}"
+    );
+    assert_eq!(out.matches("short of the").count(), 3, "{out}");
+    let (out, _) = ok(&["match", "--preset", "lockstitch"]);
+    assert!(
+        out.contains("note: needle: the take-up gives at most 41.29 mm, 25.22 mm (38 %) short of the 66.51 mm")
+            && out.contains("the check spring and the regulator make up the rest, at a peak tension of 2.72 N"),
+        "{out}"
+    );
+}
+
 /// `match --format json`: per thread the mismatch, the thread's tension and
 /// its balance, and every check with its figures.
 #[test]

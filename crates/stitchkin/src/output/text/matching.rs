@@ -78,7 +78,7 @@ pub fn screen(
     for mm in measured {
         s += &measured_line(mm);
     }
-    s += &notes(st);
+    s += &notes(table, st);
     if details {
         for t in &st.threads {
             s += &thread_details(t);
@@ -434,8 +434,16 @@ fn measured_line(m: &MeasuredMatch) -> String {
     s
 }
 
+/// A take-up that gives less than this share of the thread its stitch takes
+/// at the peak (max P′ − max P over max P′) gets a note: the score rates how
+/// P follows P′ where they are compared, and reads a take-up that gives
+/// (nearly) nothing as a middling match.
+const SHORTFALL_NOTE_SHARE: f64 = 0.25;
+/// …and by at least this, mm.
+const SHORTFALL_NOTE_MIN_MM: f64 = 1.0;
+
 /// Notes that read the numbers for the user.
-fn notes(st: &StitchSummary) -> String {
+fn notes(table: &CycleTable, st: &StitchSummary) -> String {
     let mut s = String::new();
     let failed: Vec<&Check> = st.checks.iter().filter(|c| !c.ok).collect();
     if !failed.is_empty() {
@@ -445,6 +453,33 @@ fn notes(st: &StitchSummary) -> String {
         );
     }
     for t in &st.threads {
+        let max_p = t
+            .path
+            .as_ref()
+            .and_then(|p| table.paths.iter().find(|q| &q.path == p))
+            .map(|q| q.max_p_mm);
+        if let Some(max_p) = max_p
+            && t.max_pprime_mm > 0.0
+            && t.max_pprime_mm - max_p > (SHORTFALL_NOTE_SHARE * t.max_pprime_mm).max(SHORTFALL_NOTE_MIN_MM)
+        {
+            let short = t.max_pprime_mm - max_p;
+            let makes_up = match &t.tension {
+                Some(tn) => format!(
+                    "the thread's stretch, slack{} and the regulator make up the rest, at a peak tension of {:.2} N",
+                    if tn.spring.is_some() { ", the check spring" } else { "" },
+                    tn.peak_n
+                ),
+                None => "slack and the regulator must make up the rest".into(),
+            };
+            s += &format!(
+                "note: {}: the take-up gives at most {:.2} mm, {:.2} mm ({:.0} %) short of the {:.2} mm the stitch takes at its peak: {makes_up}; the score rates how P follows P′ where they are compared, not this shortfall\n",
+                t.thread,
+                max_p,
+                short,
+                100.0 * short / t.max_pprime_mm,
+                t.max_pprime_mm
+            );
+        }
         if let Some(m) = &t.mismatch
             && m.score.is_some_and(|x| x < 20.0)
             && m.phase_shift_max_deg.abs() > 90.0
