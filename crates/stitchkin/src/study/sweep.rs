@@ -746,16 +746,17 @@ impl StitchPlan {
         if prepared.phis != phis {
             return None;
         }
-        let has_physics = model.has_thread_physics();
-        let physics_at = |path: usize| {
+        let computed = prepared.setup.spec.regulator == crate::stitch::spec::Regulator::Computed;
+        // Which paths' threads have their tension solved each setting: those
+        // with thread physics, where something asked for reads the tension.
+        let solve_tension: Vec<bool> = if model.has_thread_physics() && (computed || tension_figures) {
             model
                 .thread_physics(&model.defaults())
-                .ok()
-                .and_then(|p| p.get(path).map(Option::is_some))
-                .unwrap_or(false)
+                .map(|ps| ps.iter().map(Option::is_some).collect())
+                .unwrap_or_default()
+        } else {
+            Vec::new()
         };
-        let computed = prepared.setup.spec.regulator == crate::stitch::spec::Regulator::Computed;
-        let has_physics = has_physics && (computed || tension_figures);
         let n = phis.len();
         let setup = &prepared.setup;
         let fixed_checks = prepared.needle_checks();
@@ -791,16 +792,18 @@ impl StitchPlan {
             };
             let weight = compared.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect();
             let mine: Vec<_> = fixed_checks.iter().filter(|c| c.thread == th.name).collect();
-            let tension = path.filter(|&pi| has_physics && physics_at(pi)).map(|_| TensionPlan {
-                thread: i,
-                computed,
-                course: Default::default(),
-                solved: None,
-                pprime: Vec::new(),
-                weight: Vec::new(),
-                count: 0,
-                range: 0.0,
-            });
+            let tension = path
+                .filter(|&pi| solve_tension.get(pi).copied().unwrap_or(false))
+                .map(|_| TensionPlan {
+                    thread: i,
+                    computed,
+                    course: Default::default(),
+                    solved: None,
+                    pprime: Vec::new(),
+                    weight: Vec::new(),
+                    count: 0,
+                    range: 0.0,
+                });
             plans.push(StitchPlan {
                 name: th.name.clone(),
                 path,
