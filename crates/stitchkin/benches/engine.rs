@@ -265,3 +265,19 @@ fn mf7923d_thread_tension(bencher: Bencher) {
         }
     });
 }
+
+/// P′ of the MF-7923D's three needle threads at 1° for a new material
+/// thickness m each iteration: the organs' motions, the stitch's moments
+/// and P′ on the cycle's φ steps (target: at most 200 µs).
+#[divan::bench]
+fn stitch_setup_mf7923d(bencher: Bencher) {
+    use stitchkin::eval::stitch_process::prepare;
+    let model = Model::preset("mf7923d").unwrap();
+    let mut params = model.defaults();
+    let mut i = 0;
+    bencher.bench_local(|| {
+        i = (i + 1) % 40;
+        model.set(&mut params, "m", 1.0 + 0.1 * i as f64).unwrap();
+        black_box(prepare(&model, &params, 1.0).unwrap())
+    });
+}

@@ -56,6 +56,24 @@ impl PoseAnalogs {
     pub fn len(&self) -> usize {
         self.n
     }
+    /// Whether it holds `n` positions of `points` points.
+    pub fn fits(&self, points: usize, n: usize) -> bool {
+        self.n == n && self.vel.len() == points && self.vel.iter().all(|t| t.len() == n)
+    }
+    /// Makes `self` ready for [`Mechanism::analogs`] of `mech` over `n`
+    /// positions as [`Self::new`] would, reusing its buffers: the fixed
+    /// points' analogs are zeroed, every other point's is written by the
+    /// solve.
+    pub fn reset_for(&mut self, mech: &Mechanism<f64>, n: usize) {
+        if !self.fits(mech.n_points(), n) {
+            *self = PoseAnalogs::new(mech.n_points(), n);
+            return;
+        }
+        for (slot, _) in &mech.fixed {
+            self.vel[*slot].fill(V3::zeros());
+            self.acc[*slot].fill(V3::zeros());
+        }
+    }
     pub fn is_empty(&self) -> bool {
         self.n == 0
     }

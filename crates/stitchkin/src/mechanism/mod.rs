@@ -803,6 +803,11 @@ impl<T: Real> Mechanism<T> {
     }
 
     /// Number of point slots.
+    /// The slots of the fixed points, in order.
+    pub fn fixed_slots(&self) -> Vec<usize> {
+        self.fixed.iter().map(|(s, _)| *s).collect()
+    }
+
     pub fn n_points(&self) -> usize {
         self.n_points
     }

@@ -45,6 +45,8 @@ pub struct Feed {
     dog: Option<(Motion, f64, f64)>,
     /// Law `point`: the tooth's travel differs from t by more than 1 %.
     pub warning: Option<String>,
+    /// sin(φ_tr/2), once.
+    sin_half_tr: f64,
 }
 
 impl Feed {
@@ -89,6 +91,7 @@ impl Feed {
             duration_deg,
             dog: None,
             warning: None,
+            sin_half_tr: (0.5 * duration_deg).to_radians().sin(),
         })
     }
 
@@ -165,6 +168,7 @@ impl Feed {
             duration_deg: end_deg - start_deg,
             dog: Some((dog.clone(), y_s, t_mm / travel)),
             warning,
+            sin_half_tr: (0.5 * (end_deg - start_deg)).to_radians().sin(),
         })
     }
 
@@ -175,7 +179,7 @@ impl Feed {
 
     /// Feed-dog amplitude T_d = t / sin(φ_tr/2), mm (R1).
     pub fn t_d(&self) -> f64 {
-        self.t_mm / (0.5 * self.duration_deg).to_radians().sin()
+        self.t_mm / self.sin_half_tr
     }
 
     /// T(φ_c), mm, for φ_c in [0°, 360°) of this cycle: 0 before the
@@ -191,8 +195,7 @@ impl Feed {
             return scale * (dog.at(phi_c).y - y_s);
         }
         let phi_mid = self.start_deg + 0.5 * self.duration_deg;
-        let half_tr = (0.5 * self.duration_deg).to_radians();
-        0.5 * self.t_d() * ((phi_c - phi_mid).to_radians().sin() + half_tr.sin())
+        0.5 * self.t_d() * ((phi_c - phi_mid).to_radians().sin() + self.sin_half_tr)
     }
 }
 

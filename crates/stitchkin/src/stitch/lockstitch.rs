@@ -27,7 +27,8 @@ use crate::error::StitchError;
 use crate::geometry::{V3, convex_hull};
 
 use super::feed::Feed;
-use super::needle_thread::{GRID_N, NeedleLine, Side, before, bisect, grid_deg, needle_line};
+use super::needle_thread::{NeedleLine, Side, before, needle_line};
+use super::search::first_crossing;
 use super::spec::{EventKind, HookSpec, NeedleSpec};
 
 /// The largest step of the bobbin case's outline in the loop's hull, deg:
@@ -161,8 +162,8 @@ impl LockstitchThread {
         // The catch: the needle has risen `catch_rise_mm` from its BDC
         // (φ_c = 0), as the makers' timing gauges set it.
         let rise = |phi: f64| line.s_max - line.travel(phi) - hook.catch_rise_mm;
-        // Searched over the first half turn on the moments' 0.01° grid.
-        let Some(k) = (1..GRID_N / 2).find(|&k| rise(grid_deg(k)) >= 0.0) else {
+        // The first half turn from the BDC.
+        let Some(phi_catch) = first_crossing(rise, 0.0, 180.0, true) else {
             return hook_err(
                 name,
                 format!(
@@ -171,7 +172,6 @@ impl LockstitchThread {
                 ),
             );
         };
-        let phi_catch = bisect(rise, grid_deg(k - 1), grid_deg(k));
         let eye = line.eye_at_travel(line.travel(phi_catch));
         if eye.z >= 0.0 {
             return hook_err(

@@ -23,6 +23,7 @@ pub mod mismatch;
 pub mod needle_thread;
 pub mod overedge;
 pub mod required_take_up;
+pub mod search;
 // The stand-in cases shared by the unit tests and tests/it; not part of the
 // library's documented surface.
 #[doc(hidden)]

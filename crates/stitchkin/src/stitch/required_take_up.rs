@@ -13,7 +13,7 @@ use crate::error::StitchError;
 use super::consumption::{StitchGeometry, consumption};
 use super::feed::Feed;
 use super::lockstitch::LockstitchThread;
-use super::needle_thread::{NeedleThread, Side};
+use super::needle_thread::{NeedleThread, SharedOrgans, Side, looper_far};
 use super::overedge::Overedge;
 use super::overedge::Overedge503;
 use super::spec::{
@@ -161,10 +161,11 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
         return lockstitch_take_up(spec, feed, per_stitch_mm, phis_c_deg, phi0_c_deg);
     }
     let looper = spec.the_looper()?;
+    let phi_far = looper_far(looper);
     let needles = spec
         .needles
         .iter()
-        .map(|n| NeedleThread::new(n, looper, m, tilt, feed.clone()))
+        .map(|n| NeedleThread::with_looper_far(n, looper, phi_far, m, tilt, feed.clone()))
         .collect::<Result<Vec<_>, _>>()?;
     let ov = if ty == StitchType::S504 {
         Some(Overedge::new(spec, &needles[0])?)
@@ -196,6 +197,7 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
 
     let phis: Vec<f64> = phis_c_deg.iter().map(|&p| wrap(p)).collect();
     let phi0 = wrap(phi0_c_deg);
+    let shared = SharedOrgans::new(&looper.eye, &feed, &phis);
     let mut threads = Vec::new();
     for entry in &contours {
         let (name, role, contour, c) = entry;
@@ -224,6 +226,7 @@ pub fn required_take_up(spec: &StitchSpec, phis_c_deg: &[f64], phi0_c_deg: f64) 
             spec.regulator,
             &phis,
             phi0,
+            Some(&shared),
         )?);
     }
 
@@ -272,6 +275,7 @@ fn lockstitch_take_up(
         spec.regulator,
         &phis,
         wrap(phi0_c_deg),
+        None,
     )?;
     let mut warnings: Vec<String> = lock.feed.warning.iter().cloned().collect();
     warnings.extend(lock.warnings.iter().cloned());
@@ -365,11 +369,20 @@ fn required_thread(
     regulator: Regulator,
     phis: &[f64],
     phi0: f64,
+    shared: Option<&SharedOrgans>,
 ) -> Result<RequiredThread, Error> {
-    let eta_mm = phis
-        .iter()
-        .map(|&p| c.eta(p, Side::Right))
-        .collect::<Result<Vec<_>, _>>()?;
+    // A needle thread's columns in one pass over the grid.
+    let mut series = match (c, shared) {
+        (Contour::Needle(n), Some(shared)) => Some(n.series(phis, shared)),
+        _ => None,
+    };
+    let eta_mm = match &mut series {
+        Some(sr) => std::mem::take(&mut sr.eta_mm),
+        None => phis
+            .iter()
+            .map(|&p| c.eta(p, Side::Right))
+            .collect::<Result<Vec<_>, _>>()?,
+    };
     let eta0 = c.eta(phi0, Side::Right)?;
     let lock = c.lock();
     let window = regulator_window(regulator, tight, phi0)
@@ -404,6 +417,15 @@ fn required_thread(
             Some(phis.iter().map(|&p| n.loop_on_hook(p)).collect()),
             None,
         ),
+        (_, Some(n)) if series.is_some() => {
+            let sr = series.expect("checked");
+            (
+                Some(sr.travel_mm),
+                Some(sr.gamma_deg),
+                Some(sr.loop_mm),
+                Some(n.moments_for_checks()),
+            )
+        }
         (_, Some(n)) => (
             Some(phis.iter().map(|&p| n.travel(p)).collect()),
             Some(phis.iter().map(|&p| n.carry.gamma(p).to_degrees()).collect()),
@@ -529,6 +551,41 @@ fn check_motion(organ: &str, motion: &Motion) -> Result<(), Error> {
             if let Some(k) = points.iter().position(|p| !finite(p.as_slice())) {
                 return bad(format!(
                     "the motion table has a non-finite point at φ_c = {}°",
+                    start_deg + k as f64 * step_deg
+                ));
+            }
+        }
+        Motion::Sampled {
+            start_deg,
+            step_deg,
+            points,
+            slopes,
+        } => {
+            if points.is_empty() || !(step_deg.is_finite() && *step_deg > 0.0) || !start_deg.is_finite() {
+                return bad(format!(
+                    "the sampled motion ({} points, step {step_deg}°) is empty or has no positive step",
+                    points.len()
+                ));
+            }
+            if slopes.len() != points.len() {
+                return bad(format!(
+                    "the sampled motion has {} points but {} analogs; give one analog per point",
+                    points.len(),
+                    slopes.len()
+                ));
+            }
+            let span = points.len() as f64 * step_deg;
+            if (span - 360.0).abs() > 1e-6 * 360.0 {
+                return bad(format!(
+                    "the sampled motion covers {span}° ({} points × {step_deg}°); it must cover one cycle, 360°",
+                    points.len()
+                ));
+            }
+            if let Some(k) =
+                (0..points.len()).find(|&k| !(finite(points[k].as_slice()) && finite(slopes[k].as_slice())))
+            {
+                return bad(format!(
+                    "the sampled motion has a non-finite point or analog at φ_c = {}°",
                     start_deg + k as f64 * step_deg
                 ));
             }

@@ -68,8 +68,10 @@ pub enum FeedLaw {
 }
 
 /// A point moving with the main shaft, in the stitch frame (mm) as a
-/// function of φ_c (deg). Laws are evaluated exactly; a mechanism point is a
-/// table sampled from the solved mechanism and interpolated linearly.
+/// function of φ_c (deg). Laws are evaluated exactly; a mechanism point is
+/// sampled from the solved mechanism with its exact first analogs and
+/// joined by cubic Hermite segments ([`Motion::Sampled`]); a table of
+/// positions alone is interpolated linearly.
 #[derive(Clone)]
 pub enum Motion {
     /// Samples at `start_deg + k·step_deg`, k = 0…n−1, covering one cycle
@@ -78,6 +80,16 @@ pub enum Motion {
         start_deg: f64,
         step_deg: f64,
         points: Arc<[V3<f64>]>,
+    },
+    /// Positions and their exact first analogs dN/dφ_c (mm/deg) at
+    /// `start_deg + k·step_deg`, k = 0…n−1, covering one cycle, joined by
+    /// cubic Hermite segments: within h⁴/384·|N⁗| of the motion (about
+    /// 10⁻⁸ mm for a mechanism point at a 1° step, `model::stitch_setup`).
+    Sampled {
+        start_deg: f64,
+        step_deg: f64,
+        points: Arc<[V3<f64>]>,
+        slopes: Arc<[V3<f64>]>,
     },
     /// Stand-in needle eye: `N = (x, 0, 0) + (s_B − S)·u_n` with
     /// `S = stroke/2·(1 + cos(φ_c − bdc))` and `u_n = (0, −sin β, cos β)`.
@@ -124,6 +136,18 @@ impl std::fmt::Debug for Motion {
                     points.len()
                 )
             }
+            Motion::Sampled {
+                start_deg,
+                step_deg,
+                points,
+                ..
+            } => {
+                write!(
+                    f,
+                    "Sampled {{ start_deg: {start_deg}, step_deg: {step_deg}, n: {} }}",
+                    points.len()
+                )
+            }
             Motion::NeedleLaw { .. } | Motion::LooperLaw { .. } | Motion::PolylineLaw { .. } => {
                 f.write_str(match self {
                     Motion::NeedleLaw { .. } => "NeedleLaw",
@@ -153,6 +177,20 @@ impl PartialEq for Motion {
                     points: q,
                 },
             ) => a == c && b == d && p[..] == q[..],
+            (
+                Sampled {
+                    start_deg: a,
+                    step_deg: b,
+                    points: p,
+                    slopes: u,
+                },
+                Sampled {
+                    start_deg: c,
+                    step_deg: d,
+                    points: q,
+                    slopes: v,
+                },
+            ) => a == c && b == d && p[..] == q[..] && u[..] == v[..],
             (
                 NeedleLaw {
                     x_mm: a,
@@ -216,11 +254,32 @@ impl Motion {
                 points,
             } => {
                 let n = points.len();
-                let u = (phi_c_deg - start_deg).rem_euclid(360.0) / step_deg;
-                let k = (u.floor() as usize).min(n - 1);
+                let u = wrap_360(phi_c_deg - start_deg) / step_deg;
+                let k = (u as usize).min(n - 1);
                 let s = u - k as f64;
                 let (a, b) = (points[k], points[(k + 1) % n]);
                 a + (b - a) * s
+            }
+            Motion::Sampled {
+                start_deg,
+                step_deg,
+                points,
+                slopes,
+            } => {
+                let n = points.len();
+                let u = wrap_360(phi_c_deg - start_deg) / step_deg;
+                let k = (u as usize).min(n - 1);
+                let s = u - k as f64;
+                let j = if k + 1 == n { 0 } else { k + 1 };
+                // Cubic Hermite basis on [k, k + 1], slopes per step.
+                let (s2, s3) = (s * s, s * s * s);
+                let (h00, h10, h01, h11) = (
+                    2.0 * s3 - 3.0 * s2 + 1.0,
+                    s3 - 2.0 * s2 + s,
+                    3.0 * s2 - 2.0 * s3,
+                    s3 - s2,
+                );
+                points[k] * h00 + slopes[k] * (h10 * step_deg) + points[j] * h01 + slopes[j] * (h11 * step_deg)
             }
             Motion::NeedleLaw {
                 x_mm,
@@ -246,7 +305,12 @@ impl Motion {
                 let amp = 0.5 * stroke_mm;
                 let x_c = catch_x_mm + amp * (catch_deg - far_deg + 180.0).to_radians().cos();
                 let x = x_c - amp * (phi_c_deg - far_deg + 180.0).to_radians().cos();
-                V3::new(x, y0_mm - avoid_mm * phi_c_deg.to_radians().sin(), -depth_mm)
+                let y = if *avoid_mm == 0.0 {
+                    *y0_mm
+                } else {
+                    y0_mm - avoid_mm * phi_c_deg.to_radians().sin()
+                };
+                V3::new(x, y, -depth_mm)
             }
             Motion::PolylineLaw {
                 points,
@@ -264,6 +328,23 @@ impl Motion {
             }
         }
     }
+}
+
+/// x wrapped into [0, 360): the common case (a value less than a turn
+/// out) without a division.
+#[inline]
+fn wrap_360(x: f64) -> f64 {
+    let w = if (0.0..360.0).contains(&x) {
+        x
+    } else if (-360.0..0.0).contains(&x) {
+        x + 360.0
+    } else if (360.0..720.0).contains(&x) {
+        x - 360.0
+    } else {
+        x.rem_euclid(360.0)
+    };
+    // −1e-17 + 360 rounds to 360.
+    if w >= 360.0 { 0.0 } else { w }
 }
 
 /// Point at arc-length fraction `s` ∈ [0, 1] of a polyline.
