@@ -281,3 +281,18 @@ fn stitch_setup_mf7923d(bencher: Bencher) {
         black_box(prepare(&model, &params, 1.0).unwrap())
     });
 }
+
+/// P′ of the lockstitch's needle thread at 1° for a new catch rise each
+/// iteration: the hook's loop at every φ.
+#[divan::bench]
+fn stitch_setup_lockstitch(bencher: Bencher) {
+    use stitchkin::eval::stitch_process::prepare;
+    let model = Model::preset("lockstitch").unwrap();
+    let mut params = model.defaults();
+    let mut i = 0;
+    bencher.bench_local(|| {
+        i = (i + 1) % 40;
+        model.set(&mut params, "catch_rise", 1.8 + 0.025 * i as f64).unwrap();
+        black_box(prepare(&model, &params, 1.0).unwrap())
+    });
+}

@@ -793,6 +793,8 @@ pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionErro
     // meets it again, the rest of the cycle repeats it (the same state and
     // the same inputs give the same steps), and the steady state is reached.
     let mut after = vec![f64::NAN; n * s];
+    let (mut x_last, mut x_prev) = (vec![0.0; s], vec![0.0; s]);
+    let (mut predict, mut have_last) = (false, false);
     for cycle in 0..MAX_CYCLES {
         out.cycles = cycle + 1;
         let mut drawn = 0.0;
@@ -822,7 +824,15 @@ pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionErro
                 }
             }
             st.moved.fill(0.0);
-            if !st.balance(&mut m, at) {
+            // Newton starts from the fluxes carried on from the last two
+            // steps (linearly), where both were whole steps.
+            if predict {
+                for j in 0..s {
+                    st.x[j] = 2.0 * x_last[j] - x_prev[j];
+                }
+            }
+            let whole = st.balance(&mut m, at);
+            if !whole {
                 // In halves from the previous position (the finished
                 // stitch's length already gone from the last span's reach).
                 let prev = if k == 0 { n - 1 } else { k - 1 };
@@ -838,6 +848,10 @@ pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionErro
                 st.advance(&mut m, &from, at, MAX_HALVINGS)
                     .map_err(|message| TensionError { k, message })?;
             }
+            predict = whole && have_last;
+            x_prev.copy_from_slice(&x_last);
+            x_last.copy_from_slice(&st.x);
+            have_last = whole;
             let passed = st.moved[0].max(0.0);
             drawn += passed;
             st.record(&mut out, k, &m, at);
