@@ -201,7 +201,18 @@ macro_rules! with_plane {
 /// The convex hull of planar points, counter-clockwise without repeated or
 /// collinear vertices (Andrew's monotone chain); sorts `points`.
 pub fn convex_hull(points: &mut [[f64; 2]]) -> Vec<[f64; 2]> {
-    points.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    points.sort_by(by_x_then_y);
+    convex_hull_sorted(points)
+}
+
+/// The order [`convex_hull`] sorts planar points in: by x, then by y.
+pub fn by_x_then_y(a: &[f64; 2], b: &[f64; 2]) -> std::cmp::Ordering {
+    a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1]))
+}
+
+/// [`convex_hull`] of points already in [`by_x_then_y`] order.
+pub fn convex_hull_sorted(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    debug_assert!(points.is_sorted_by(|a, b| by_x_then_y(a, b).is_le()));
     let mut hull: Vec<[f64; 2]> = Vec::with_capacity(points.len() + 1);
     for pass in 0..2 {
         let start = hull.len();

@@ -24,7 +24,7 @@
 
 use crate::Error;
 use crate::error::StitchError;
-use crate::geometry::{V3, convex_hull};
+use crate::geometry::{V3, by_x_then_y, convex_hull, convex_hull_sorted};
 
 use super::feed::Feed;
 use super::needle_thread::{NeedleLine, Side, before, needle_line};
@@ -39,14 +39,68 @@ const ARC_STEP_DEG: f64 = 0.5;
 /// Perimeter of the convex hull of points in a plane (y, z), mm; fewer
 /// than two distinct points have perimeter 0.
 pub fn hull_perimeter(points: &mut [[f64; 2]]) -> f64 {
-    let hull = convex_hull(points);
-    let n = hull.len();
+    perimeter(&convex_hull(points))
+}
+
+/// Perimeter of a closed polygon, mm.
+fn perimeter(polygon: &[[f64; 2]]) -> f64 {
+    let n = polygon.len();
     (0..n)
         .map(|i| {
-            let (a, b) = (hull[i], hull[(i + 1) % n]);
+            let (a, b) = (polygon[i], polygon[(i + 1) % n]);
             (b[0] - a[0]).hypot(b[1] - a[1])
         })
         .sum()
+}
+
+/// Into `out`: the points of `arc` (consecutive points of a circle's arc,
+/// in its order) and of `extra` (sorted), in [`by_x_then_y`] order. The
+/// arc falls into runs along which x only rises or only falls (it turns
+/// at most at every half turn); the runs, each already ordered, and the
+/// extra points are merged, not sorted.
+fn merge_arc_runs(arc: &[[f64; 2]], extra: &[[f64; 2]], out: &mut Vec<[f64; 2]>) {
+    out.clear();
+    out.extend_from_slice(extra);
+    let mut merged = Vec::with_capacity(arc.len() + extra.len());
+    let mut start = 0;
+    while start < arc.len() {
+        // The longest run from `start` that is strictly ordered one way.
+        let mut end = start + 1;
+        if end < arc.len() {
+            let rising = by_x_then_y(&arc[start], &arc[end]).is_lt();
+            while end < arc.len() && by_x_then_y(&arc[end - 1], &arc[end]).is_lt() == rising && arc[end - 1] != arc[end]
+            {
+                end += 1;
+            }
+            if !rising {
+                // A falling run, read backwards.
+                merge_into(out, arc[start..end].iter().rev(), &mut merged);
+                start = end;
+                continue;
+            }
+        }
+        merge_into(out, arc[start..end].iter(), &mut merged);
+        start = end;
+    }
+}
+
+/// `sorted` merged with the ordered `run` (both in [`by_x_then_y`] order),
+/// back into `sorted`; `scratch` is reused.
+fn merge_into<'a>(sorted: &mut Vec<[f64; 2]>, run: impl Iterator<Item = &'a [f64; 2]>, scratch: &mut Vec<[f64; 2]>) {
+    scratch.clear();
+    let mut run = run.peekable();
+    let mut i = 0;
+    while i < sorted.len() {
+        match run.peek() {
+            Some(p) if by_x_then_y(p, &sorted[i]).is_lt() => scratch.push(*run.next().expect("peeked")),
+            _ => {
+                scratch.push(sorted[i]);
+                i += 1;
+            }
+        }
+    }
+    scratch.extend(run.copied());
+    std::mem::swap(sorted, scratch);
 }
 
 /// The hook in the stitch frame: its centre, where the beak meets the
@@ -76,15 +130,33 @@ impl HookGeometry {
         [self.centre[0] + r * psi.cos(), self.centre[1] + r * psi.sin()]
     }
 
+    /// The case's outline from the catch's angle over `turn_rad`, at
+    /// `steps` + 1 evenly spaced points: each the last turned by the step
+    /// (a rotation, not a sine and cosine per point).
+    fn case_arc(&self, turn_rad: f64, steps: usize) -> Vec<[f64; 2]> {
+        let (sd, cd) = (self.sense * turn_rad / steps as f64).sin_cos();
+        let (mut s, mut c) = self.psi_catch.sin_cos();
+        let r = self.case_radius;
+        (0..=steps)
+            .map(|_| {
+                let p = [self.centre[0] + r * c, self.centre[1] + r * s];
+                (c, s) = (c * cd - s * sd, s * cd + c * sd);
+                p
+            })
+            .collect()
+    }
+
     /// Λ_h: the taut loop from root `r1` around the beak (turned `turn_rad`
     /// from the catch) and the case outline it has swept, back to root `r2`
     /// (both roots in the hook plane), mm.
     pub fn loop_length(&self, turn_rad: f64, r1: [f64; 2], r2: [f64; 2], buf: &mut Vec<[f64; 2]>) -> f64 {
-        buf.clear();
-        buf.extend([r1, r2, self.at(self.beak_radius, self.psi(turn_rad))]);
+        // The swept outline, in the order the beak passes it.
         let steps = (turn_rad.to_degrees() / ARC_STEP_DEG).ceil().max(1.0) as usize;
-        buf.extend((0..=steps).map(|k| self.at(self.case_radius, self.psi(turn_rad * k as f64 / steps as f64))));
-        hull_perimeter(buf) - (r2[0] - r1[0]).hypot(r2[1] - r1[1])
+        let arc = self.case_arc(turn_rad, steps);
+        let mut extra = [r1, r2, self.at(self.beak_radius, self.psi(turn_rad))];
+        extra.sort_by(by_x_then_y);
+        merge_arc_runs(&arc, &extra, buf);
+        perimeter(&convex_hull_sorted(buf)) - (r2[0] - r1[0]).hypot(r2[1] - r1[1])
     }
 }
 
@@ -401,6 +473,41 @@ mod tests {
         assert_relative_eq!(hull_perimeter(&mut two), 10.0, epsilon = 1e-12);
         let mut one = vec![[1.0, 1.0], [1.0, 1.0]];
         assert_eq!(hull_perimeter(&mut one), 0.0);
+    }
+
+    /// The merged runs give the hull the sort gives, to the bit, for arcs
+    /// of every length either way round and roots anywhere.
+    #[test]
+    fn merging_the_arc_runs_is_sorting_them() {
+        let mut seed = 12345u64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..200 {
+            let hook = HookGeometry {
+                centre: [10.0 * rnd() - 5.0, -10.0 * rnd()],
+                beak_radius: 8.0 + 4.0 * rnd(),
+                case_radius: 6.0 + 2.0 * rnd(),
+                psi_catch: 6.0 * rnd(),
+                sense: if rnd() < 0.5 { 1.0 } else { -1.0 },
+            };
+            let turn = 12.0 * rnd();
+            let (r1, r2) = ([8.0 * rnd() - 4.0, 4.0 * rnd()], [8.0 * rnd() - 4.0, 4.0 * rnd()]);
+            let mut buf = Vec::new();
+            let merged = hook.loop_length(turn, r1, r2, &mut buf);
+            let steps = (turn.to_degrees() / ARC_STEP_DEG).ceil().max(1.0) as usize;
+            let mut all = vec![r1, r2, hook.at(hook.beak_radius, hook.psi(turn))];
+            all.extend(hook.case_arc(turn, steps));
+            let sorted = hull_perimeter(&mut all) - (r2[0] - r1[0]).hypot(r2[1] - r1[1]);
+            assert_eq!(merged, sorted, "turn {turn}");
+            // The turned points stay on the case's circle at their angles.
+            let arc = hook.case_arc(turn, steps);
+            let exact = hook.at(hook.case_radius, hook.psi(turn));
+            assert!((arc[steps][0] - exact[0]).hypot(arc[steps][1] - exact[1]) < 1e-11);
+        }
     }
 
     #[test]
