@@ -296,3 +296,15 @@ fn stitch_setup_lockstitch(bencher: Bencher) {
         black_box(prepare(&model, &params, 1.0).unwrap())
     });
 }
+
+/// `run` of the MF-7923D at its defaults: every column of the cycle at 1°
+/// with analogs, the stitch process, the thread's tension and the checks
+/// (what `Model.preset("mf7923d").run()` computes from Python).
+#[divan::bench]
+fn run_mf7923d(bencher: Bencher) {
+    use stitchkin::eval::{CycleOptions, run_cycle};
+    let model = Model::preset("mf7923d").unwrap();
+    let params = model.defaults();
+    let opts = CycleOptions::default();
+    bencher.bench_local(|| black_box(run_cycle(&model, &params, &opts).unwrap()));
+}

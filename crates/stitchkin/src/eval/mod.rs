@@ -296,9 +296,43 @@ pub fn run_cycle_columns(
 ) -> Result<CycleTable, Error> {
     let threads = model.stitch_thread_names();
     let with_stitch = patterns.iter().any(|p| stitch_process::may_name_a_column(p, &threads));
-    let mut table = cycle_of(model, params, opts, None, with_stitch)?;
+    // What no pattern can name is not computed: the analogs, the link
+    // angles and the wrap angles of every guide.
+    let mut opts = opts.clone();
+    opts.analogs &= patterns.iter().any(|p| may_name_an_analog_column(p));
+    opts.lean |= !patterns.iter().any(|p| may_name_a_lean_column(model, p));
+    let mut table = cycle_of(model, params, &opts, None, with_stitch)?;
     table.select(patterns)?;
     Ok(table)
+}
+
+/// The last part of a column pattern (after its last `.`), and whether it
+/// is a literal (no `*`).
+fn pattern_tail(pattern: &str) -> (&str, bool) {
+    let tail = pattern.rsplit('.').next().unwrap_or(pattern);
+    (tail, !tail.contains('*'))
+}
+
+/// Whether the column pattern `pattern` can name a first or second analog,
+/// a velocity or an acceleration (`…dphi…`, `…_per_s`, `…_per_s2`).
+pub fn may_name_an_analog_column(pattern: &str) -> bool {
+    let (tail, literal) = pattern_tail(pattern);
+    !literal || tail.contains("dphi") || tail.ends_with("_per_s") || tail.ends_with("_per_s2")
+}
+
+/// Whether the column pattern `pattern` can name a column that a lean run
+/// leaves out: a guide's wrap angle (`PATH.NODE_wrap_deg`), the eye's
+/// tension by the capstan law (`PATH.tension_eye_N`) or a link angle
+/// (`ANGLE_deg` and its analogs).
+pub fn may_name_a_lean_column(model: &Model, pattern: &str) -> bool {
+    let (tail, literal) = pattern_tail(pattern);
+    !literal
+        || tail.ends_with("_wrap_deg")
+        || tail.starts_with("tension_")
+        || model
+            .link_angle_names
+            .iter()
+            .any(|a| glob_match(pattern, &format!("{a}_deg")) || pattern.starts_with(&format!("{a}.")))
 }
 
 fn cycle_of(
@@ -425,6 +459,55 @@ pub(crate) fn extremes(vals: &[f64]) -> (usize, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A run asked for columns by name computes no analogs and no lean
+    /// columns unless a name needs them: every column a full run has that
+    /// a run without analogs (or a lean run) lacks is one the patterns'
+    /// rules say needs them, on every preset.
+    #[test]
+    fn named_columns_need_analogs_and_wraps_exactly_when_the_rules_say() {
+        let names = |model: &Model, analogs: bool, lean: bool| -> Vec<String> {
+            let opts = CycleOptions {
+                step_deg: 30.0,
+                analogs,
+                lean,
+                rpm: Some(600.0),
+                ..Default::default()
+            };
+            cycle_of(model, &model.defaults(), &opts, None, false)
+                .unwrap()
+                .columns
+                .into_iter()
+                .map(|c| c.name)
+                .collect()
+        };
+        let mut seen = (0, 0);
+        for preset in crate::presets::ALL {
+            let model = Model::preset(preset.name).unwrap();
+            let full = names(&model, true, false);
+            let (plain, lean) = (names(&model, false, false), names(&model, true, true));
+            for c in &full {
+                if !plain.contains(c) {
+                    assert!(may_name_an_analog_column(c), "{}: {c}", preset.name);
+                    seen.0 += 1;
+                } else {
+                    assert!(
+                        !may_name_an_analog_column(c) || c.contains("dphi"),
+                        "{}: {c}",
+                        preset.name
+                    );
+                }
+                if !lean.contains(c) {
+                    assert!(may_name_a_lean_column(&model, c), "{}: {c}", preset.name);
+                    seen.1 += 1;
+                } else {
+                    assert!(!may_name_a_lean_column(&model, c), "{}: {c}", preset.name);
+                }
+            }
+        }
+        assert!(seen.0 > 100 && seen.1 > 20, "{seen:?}");
+        assert!(!may_name_an_analog_column("*.P_B_mm") && may_name_an_analog_column("n1_A.*"));
+    }
 
     #[test]
     fn path_lengths_are_the_tables_xi() {
