@@ -493,13 +493,25 @@ impl Stepper {
     /// to `moved`. Starts from the previous step's fluxes; when Newton's
     /// method stalls from there, starts again from none; false when that
     /// stalls too (`m` untouched).
-    fn balance(&mut self, m: &mut [f64], at: At<'_>) -> bool {
+    fn balance(&mut self, m: &mut [f64], at: At<'_>, predicted: Option<&[f64]>) -> bool {
         let s = m.len();
         // ρ: the compliance of the spans a row joins, mm/N.
         let ea = self.laws[0].ea;
         self.rho[0] = m[0] / ea;
         for i in 0..s - 1 {
             self.rho[i + 1] = 0.5 * (m[i] + m[i + 1]) / ea;
+        }
+        // Newton starts from the predicted fluxes where they balance better
+        // than the last step's.
+        if let Some(p) = predicted {
+            let x = std::mem::take(&mut self.x);
+            let last = self.residual(m, &x, at);
+            self.x = x;
+            if let Some(r) = self.residual(m, p, at)
+                && last.is_none_or(|l| r < l)
+            {
+                self.x.copy_from_slice(p);
+            }
         }
         if !self.newton(m, at) {
             self.x.fill(0.0);
@@ -520,7 +532,7 @@ impl Stepper {
     /// 2^−`depth` of the step, the inputs interpolated linearly: the path
     /// the thread follows between the two positions.
     fn advance(&mut self, m: &mut [f64], from: &Inputs, to: At<'_>, depth: u32) -> Result<(), String> {
-        if self.balance(m, to) {
+        if self.balance(m, to, None) {
             return Ok(());
         }
         if depth == 0 {
@@ -793,7 +805,7 @@ pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionErro
     // meets it again, the rest of the cycle repeats it (the same state and
     // the same inputs give the same steps), and the steady state is reached.
     let mut after = vec![f64::NAN; n * s];
-    let (mut x_last, mut x_prev) = (vec![0.0; s], vec![0.0; s]);
+    let (mut x_last, mut x_prev, mut x_guess) = (vec![0.0; s], vec![0.0; s], vec![0.0; s]);
     let (mut predict, mut have_last) = (false, false);
     for cycle in 0..MAX_CYCLES {
         out.cycles = cycle + 1;
@@ -824,14 +836,15 @@ pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionErro
                 }
             }
             st.moved.fill(0.0);
-            // Newton starts from the fluxes carried on from the last two
-            // steps (linearly), where both were whole steps.
+            // The fluxes carried on from the last two steps (linearly),
+            // where both were whole steps: Newton's start if they balance
+            // better than the last step's.
             if predict {
                 for j in 0..s {
-                    st.x[j] = 2.0 * x_last[j] - x_prev[j];
+                    x_guess[j] = 2.0 * x_last[j] - x_prev[j];
                 }
             }
-            let whole = st.balance(&mut m, at);
+            let whole = st.balance(&mut m, at, predict.then_some(&x_guess[..]));
             if !whole {
                 // In halves from the previous position (the finished
                 // stitch's length already gone from the last span's reach).
