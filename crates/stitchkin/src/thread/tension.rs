@@ -493,25 +493,13 @@ impl Stepper {
     /// to `moved`. Starts from the previous step's fluxes; when Newton's
     /// method stalls from there, starts again from none; false when that
     /// stalls too (`m` untouched).
-    fn balance(&mut self, m: &mut [f64], at: At<'_>, predicted: Option<&[f64]>) -> bool {
+    fn balance(&mut self, m: &mut [f64], at: At<'_>) -> bool {
         let s = m.len();
         // ρ: the compliance of the spans a row joins, mm/N.
         let ea = self.laws[0].ea;
         self.rho[0] = m[0] / ea;
         for i in 0..s - 1 {
             self.rho[i + 1] = 0.5 * (m[i] + m[i + 1]) / ea;
-        }
-        // Newton starts from the predicted fluxes where they balance better
-        // than the last step's.
-        if let Some(p) = predicted {
-            let x = std::mem::take(&mut self.x);
-            let last = self.residual(m, &x, at);
-            self.x = x;
-            if let Some(r) = self.residual(m, p, at)
-                && last.is_none_or(|l| r < l)
-            {
-                self.x.copy_from_slice(p);
-            }
         }
         if !self.newton(m, at) {
             self.x.fill(0.0);
@@ -532,7 +520,7 @@ impl Stepper {
     /// 2^−`depth` of the step, the inputs interpolated linearly: the path
     /// the thread follows between the two positions.
     fn advance(&mut self, m: &mut [f64], from: &Inputs, to: At<'_>, depth: u32) -> Result<(), String> {
-        if self.balance(m, to, None) {
+        if self.balance(m, to) {
             return Ok(());
         }
         if depth == 0 {
@@ -805,8 +793,6 @@ pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionErro
     // meets it again, the rest of the cycle repeats it (the same state and
     // the same inputs give the same steps), and the steady state is reached.
     let mut after = vec![f64::NAN; n * s];
-    let (mut x_last, mut x_prev, mut x_guess) = (vec![0.0; s], vec![0.0; s], vec![0.0; s]);
-    let (mut predict, mut have_last) = (false, false);
     for cycle in 0..MAX_CYCLES {
         out.cycles = cycle + 1;
         let mut drawn = 0.0;
@@ -836,16 +822,7 @@ pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionErro
                 }
             }
             st.moved.fill(0.0);
-            // The fluxes carried on from the last two steps (linearly),
-            // where both were whole steps: Newton's start if they balance
-            // better than the last step's.
-            if predict {
-                for j in 0..s {
-                    x_guess[j] = 2.0 * x_last[j] - x_prev[j];
-                }
-            }
-            let whole = st.balance(&mut m, at, predict.then_some(&x_guess[..]));
-            if !whole {
+            if !st.balance(&mut m, at) {
                 // In halves from the previous position (the finished
                 // stitch's length already gone from the last span's reach).
                 let prev = if k == 0 { n - 1 } else { k - 1 };
@@ -861,10 +838,6 @@ pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionErro
                 st.advance(&mut m, &from, at, MAX_HALVINGS)
                     .map_err(|message| TensionError { k, message })?;
             }
-            predict = whole && have_last;
-            x_prev.copy_from_slice(&x_last);
-            x_last.copy_from_slice(&st.x);
-            have_last = whole;
             let passed = st.moved[0].max(0.0);
             drawn += passed;
             st.record(&mut out, k, &m, at);
@@ -962,8 +935,12 @@ pub fn verify(chain: &Chain, course: &Course<'_>, t: &Tensions) -> Result<(), St
         }
     }
     if t.settled {
+        // Thread is conserved: over the cycle that ends where the state
+        // repeats, the thread drawn differs from the stitch's by the
+        // change in what the spans hold, at most SETTLE_MM each, scaled
+        // like the drawn thread by the stitch's strain.
         let balance = t.drawn_per_cycle_mm * (1.0 + t.lock_strain);
-        if (balance - course.set_mm).abs() > s as f64 * SETTLE_MM {
+        if (balance - course.set_mm).abs() > s as f64 * SETTLE_MM * (1.0 + t.lock_strain) {
             return Err(format!(
                 "drawn {balance} mm per cycle against the stitch's {} mm",
                 course.set_mm
