@@ -382,6 +382,26 @@ impl LockstitchThread {
 
     /// η_K(φ_c): thread from the eye to the anchor I_{c−1}, mm.
     pub fn eta(&self, phi_c: f64, side: Side) -> f64 {
+        self.eta_with(phi_c, side, None)
+    }
+
+    /// Per φ_c of `phis`: η (the right limit), the travel S and the loop
+    /// on the hook, the loop's hull taken once where η holds the same loop.
+    pub fn series(&self, phis: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let n = phis.len();
+        let (mut eta, mut travel, mut on_hook) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+        for &phi in phis {
+            let lp = self.loop_on_hook(phi);
+            let shared = (self.piece(phi, Side::Right) == LockPiece::K2b).then_some(lp);
+            eta.push(self.eta_with(phi, Side::Right, shared));
+            travel.push(self.travel(phi));
+            on_hook.push(lp);
+        }
+        (eta, travel, on_hook)
+    }
+
+    /// [`Self::eta`], with Λ_h(H_c^b, H_c^b) at φ_c when it is known.
+    fn eta_with(&self, phi_c: f64, side: Side, loop_hb: Option<f64>) -> f64 {
         let (t, l_m, s_b) = (self.feed.t_mm, self.line.l_m, self.line.s_b);
         let anchor = self.interlace * l_m;
         let s = self.travel(phi_c);
@@ -397,7 +417,7 @@ impl LockstitchThread {
                 let (e, r1) = if n.z < 0.0 { (0.0, n) } else { (s_b - s, self.line.n0) };
                 e + self.lam(phi_c, &r1, &h_b) + tail
             }
-            LockPiece::K2b => (n - h_t).norm() + l_m + self.lam(phi_c, &h_b, &h_b) + tail,
+            LockPiece::K2b => (n - h_t).norm() + l_m + loop_hb.unwrap_or_else(|| self.lam(phi_c, &h_b, &h_b)) + tail,
             LockPiece::K3a => (n - h_t).norm() + anchor,
             LockPiece::K3b => (s - self.line.s_top) + (self.line.p_top() - h_t).norm() + anchor,
         }

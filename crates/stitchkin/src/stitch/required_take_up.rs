@@ -376,9 +376,14 @@ fn required_thread(
         (Contour::Needle(n), Some(shared)) => Some(n.series(phis, shared)),
         _ => None,
     };
-    let eta_mm = match &mut series {
-        Some(sr) => std::mem::take(&mut sr.eta_mm),
-        None => phis
+    let mut lock_series = match c {
+        Contour::Lock(n) => Some(n.series(phis)),
+        _ => None,
+    };
+    let eta_mm = match (&mut series, &mut lock_series) {
+        (Some(sr), _) => std::mem::take(&mut sr.eta_mm),
+        (None, Some((eta, ..))) => std::mem::take(eta),
+        (None, None) => phis
             .iter()
             .map(|&p| c.eta(p, Side::Right))
             .collect::<Result<Vec<_>, _>>()?,
@@ -411,12 +416,10 @@ fn required_thread(
     let (travel_mm, gamma_deg, loop_mm, needle_moments) = match (c, c.needle()) {
         // The lockstitch: the needle's travel and the loop on the hook; the
         // looper's catch and drop checks do not apply.
-        (Contour::Lock(n), _) => (
-            Some(phis.iter().map(|&p| n.travel(p)).collect()),
-            None,
-            Some(phis.iter().map(|&p| n.loop_on_hook(p)).collect()),
-            None,
-        ),
+        (Contour::Lock(_), _) => {
+            let (_, travel, on_hook) = lock_series.expect("a lockstitch contour has its series");
+            (Some(travel), None, Some(on_hook), None)
+        }
         (_, Some(n)) if series.is_some() => {
             let sr = series.expect("checked");
             (

@@ -119,6 +119,10 @@ struct Fast {
     measures: bool,
     strokes: bool,
     stitch: Vec<StitchPlan>,
+    /// When the swept parameters change the stitch (no shared P′): P′ is
+    /// prepared for each setting, and its plans made again from the path
+    /// names and whether a tension figure is asked for.
+    own_stitch: Option<(Vec<String>, bool)>,
     buf: Vec<f64>,
     /// Per-φ values of the measures, one column each.
     cols: Vec<Vec<f64>>,
@@ -336,10 +340,20 @@ impl Fast {
         let path_names: Vec<&str> = threads.map_or(Vec::new(), |t| t.paths.iter().map(|p| p.name.as_str()).collect());
         let kinds = Kinds::of(model, threads, &path_names, names)?;
         let phis = crate::eval::cycle_phis_deg(model.phi_start_deg(), opts.step_deg);
-        let plans = if kinds.stitch {
-            StitchPlan::all(model, shared?, &phis, threads, &path_names, kinds.tension)?
-        } else {
-            Vec::new()
+        let (plans, own_stitch) = match (kinds.stitch, shared) {
+            (false, _) => (Vec::new(), None),
+            (true, Some(shared)) => (
+                StitchPlan::all(model, shared, &phis, threads, &path_names, kinds.tension)?,
+                None,
+            ),
+            // The setting changes the stitch: its P′ each setting, planned as
+            // the base setting's is (which must prepare).
+            (true, None) => {
+                let own = crate::eval::stitch_process::prepare_on(model, base, phis.clone()).ok()??;
+                let plans = StitchPlan::all(model, &own, &phis, threads, &path_names, kinds.tension)?;
+                let names = path_names.iter().map(|n| n.to_string()).collect();
+                (plans, Some((names, kinds.tension)))
+            }
         };
         let phi0 = [Phi::at_deg(threads.map_or(0.0, |t| t.phi0_deg))];
         Some(Fast {
@@ -356,6 +370,7 @@ impl Fast {
             measures: kinds.measures,
             strokes: kinds.strokes,
             stitch: plans,
+            own_stitch,
             buf: Vec::new(),
             cols: Vec::new(),
             parts: Vec::new(),
@@ -380,9 +395,29 @@ impl Fast {
         mech.solve(&self.table, &mut self.pose)?;
         if let Some(threads) = &threads {
             self.take_up_figures(&mech, threads, out)?;
-            if let Some(shared) = shared {
-                self.tensions(model, threads, shared)?;
+        }
+        // This setting's own P′, where the sweep changes the stitch.
+        let own;
+        let shared = match &self.own_stitch {
+            Some((names, tension)) => {
+                let unplanned = || {
+                    Error::Stitch(crate::error::StitchError::new(
+                        "stitch",
+                        "this setting's stitch cannot be planned as the base setting's; sweep without the stitch's figures",
+                    ))
+                };
+                let prepared = crate::eval::stitch_process::prepare_on(model, &self.params, self.phis.clone())?
+                    .ok_or_else(unplanned)?;
+                let names: Vec<&str> = names.iter().map(String::as_str).collect();
+                self.stitch = StitchPlan::all(model, &prepared, &self.phis, threads.as_ref(), &names, *tension)
+                    .ok_or_else(unplanned)?;
+                own = prepared;
+                Some(&own)
             }
+            None => shared,
+        };
+        if let (Some(threads), Some(shared)) = (&threads, shared) {
+            self.tensions(model, threads, shared)?;
         }
         if self.mu && !model.dyads.is_empty() {
             self.transmission_figures(model, &mech, out)?;

@@ -244,6 +244,34 @@ fn the_fast_figures_are_the_cycle_tables() {
         failing += usize::from(full.error.is_some());
         assert_eq!(ev.evaluate(i), full, "four-bar setting {i}");
     }
+    // Sweeps that change the stitch (P′ prepared each setting): the same rows.
+    for (preset, vary) in [("mf7923d", "m=1:5:4"), ("lockstitch", "catch_rise=1.8:2.8:4")] {
+        let m = Model::preset(preset).unwrap();
+        let p = m.defaults();
+        let o = opts(false, true);
+        let names: Vec<String> = figures::figures(&run_cycle(&m, &p, &o).unwrap())
+            .into_iter()
+            .map(|(n, _)| n)
+            .collect();
+        let sw = Sweep::new(vec![Vary::parse(&m, vary).unwrap()], Design::Grid).unwrap();
+        assert!(figures::shared_stitch(&m, &p, &sw, o.step_deg).unwrap().is_none());
+        let mut ev = Evaluator::new(SweepJob {
+            model: &m,
+            base: &p,
+            sweep: &sw,
+            names: &names,
+            opts: &o,
+            shared: None,
+        });
+        assert!(ev.is_fast(), "{preset} {vary}");
+        for i in (0..sw.len()).chain((0..sw.len()).rev()) {
+            assert_eq!(
+                ev.evaluate(i),
+                sweep::evaluate(&m, &p, &sw, &names, &o, None, i),
+                "{preset} {vary} setting {i}"
+            );
+        }
+    }
     assert!(fast_presets >= 6, "the fast path served only {fast_presets} sweeps");
     assert!(failing >= 3, "only {failing} settings without assembly were compared");
 }
