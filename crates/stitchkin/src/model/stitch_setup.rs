@@ -1138,7 +1138,7 @@ mod tests {
     /// Every preset organ that is a mechanism point, sampled at
     /// ORGAN_STEP_DEG and joined by Hermite segments, against the mechanism
     /// solved halfway between the samples: within 10⁻⁶ mm (a linear table
-    /// needed a 0.02° step for 3·10⁻⁷ mm).
+    /// would need a 0.02° step for 3·10⁻⁷ mm).
     #[test]
     fn sampled_organs_follow_the_mechanism_between_their_samples() {
         let mut checked = 0;

@@ -444,9 +444,9 @@ fn mf7923d_match_golden() {
                 &format!("t1_phase {phase} n{} score", j + 1),
             );
             close(t.max_pprime_mm, golden_b[j], &format!("n{} max P'_B", j + 1));
-            // The golden locks are on the 0.01° grid the drop was once
-            // resolved on (the first grid angle at or after it); found by
-            // root finding it is there or up to 0.01° before.
+            // The golden locks are on a 0.01° grid (the first grid angle at
+            // or after the drop, as the reference resolves it); found by
+            // root finding the drop is there or up to 0.01° before.
             let lock = t.lock_phi_deg;
             assert!(
                 lock <= golden_lock[j] + 1e-9 && lock > golden_lock[j] - 0.01,
