@@ -266,35 +266,33 @@ fn mf7923d_thread_tension(bencher: Bencher) {
     });
 }
 
+/// P′ at 1° of `preset` with parameter `name` set to a new value from
+/// `lo` in steps of `step` each iteration (40 values in turn).
+fn bench_stitch_setup(bencher: Bencher, preset: &str, name: &str, lo: f64, step: f64) {
+    use stitchkin::eval::stitch_process::prepare;
+    let model = Model::preset(preset).unwrap();
+    let mut params = model.defaults();
+    let mut i = 0;
+    bencher.bench_local(|| {
+        i = (i + 1) % 40;
+        model.set(&mut params, name, lo + step * i as f64).unwrap();
+        black_box(prepare(&model, &params, 1.0).unwrap())
+    });
+}
+
 /// P′ of the MF-7923D's three needle threads at 1° for a new material
 /// thickness m each iteration: the organs' motions, the stitch's moments
 /// and P′ on the cycle's φ steps (target: at most 200 µs).
 #[divan::bench]
 fn stitch_setup_mf7923d(bencher: Bencher) {
-    use stitchkin::eval::stitch_process::prepare;
-    let model = Model::preset("mf7923d").unwrap();
-    let mut params = model.defaults();
-    let mut i = 0;
-    bencher.bench_local(|| {
-        i = (i + 1) % 40;
-        model.set(&mut params, "m", 1.0 + 0.1 * i as f64).unwrap();
-        black_box(prepare(&model, &params, 1.0).unwrap())
-    });
+    bench_stitch_setup(bencher, "mf7923d", "m", 1.0, 0.1);
 }
 
 /// P′ of the lockstitch's needle thread at 1° for a new catch rise each
 /// iteration: the hook's loop at every φ.
 #[divan::bench]
 fn stitch_setup_lockstitch(bencher: Bencher) {
-    use stitchkin::eval::stitch_process::prepare;
-    let model = Model::preset("lockstitch").unwrap();
-    let mut params = model.defaults();
-    let mut i = 0;
-    bencher.bench_local(|| {
-        i = (i + 1) % 40;
-        model.set(&mut params, "catch_rise", 1.8 + 0.025 * i as f64).unwrap();
-        black_box(prepare(&model, &params, 1.0).unwrap())
-    });
+    bench_stitch_setup(bencher, "lockstitch", "catch_rise", 1.8, 0.025);
 }
 
 /// `run` of the MF-7923D at its defaults: every column of the cycle at 1°

@@ -850,11 +850,11 @@ fn sample_points(
 }
 
 fn sampled_motion(points: Vec<V3<f64>>, slopes: Vec<V3<f64>>) -> Motion {
-    Motion::Sampled {
+    Motion::Table {
         start_deg: 0.0,
         step_deg: ORGAN_STEP_DEG,
         points: Arc::from(points),
-        slopes: Arc::from(slopes),
+        slopes: Some(Arc::from(slopes)),
     }
 }
 

@@ -27,10 +27,12 @@
 use crate::Error;
 use crate::error::StitchError;
 
+use super::search::crossing;
 use super::spec::{FeedLaw, Motion};
 
-/// Grid on which the feed dog's rise and fall are searched, deg.
-const DOG_GRID_DEG: f64 = 0.01;
+/// Step of the scan that brackets the feed dog's rise and fall, deg (each
+/// then found by root finding, `super::search`).
+const DOG_GRID_DEG: f64 = super::search::SCAN_STEP_DEG;
 
 /// The transport of one cycle, resolved to numbers.
 #[derive(Debug, Clone)]
@@ -110,10 +112,12 @@ impl Feed {
                     format!("the feed dog's tooth is not finite at φ_c = {a:.2}°"),
                 )));
             }
+            // The tooth is above the plate where z > 0: −z at or above zero
+            // is below it.
             if za <= 0.0 && zb > 0.0 {
-                rises.push(crossing(&z, a, b));
+                rises.push(crossing(|phi| -z(phi), a, b));
             } else if za > 0.0 && zb <= 0.0 {
-                sinks.push(crossing(&z, a, b));
+                sinks.push(crossing(|phi| -z(phi), a, b));
             }
         }
         let (start_deg, end_deg) = match (rises.as_slice(), sinks.as_slice()) {
@@ -199,16 +203,6 @@ impl Feed {
     }
 }
 
-/// Where `z` changes sign in [a, b] (bisection), deg.
-fn crossing(z: &impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
-    let za = z(a);
-    for _ in 0..50 {
-        let c = 0.5 * (a + b);
-        if (z(c) > 0.0) == (za > 0.0) { a = c } else { b = c }
-    }
-    0.5 * (a + b)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -279,6 +273,7 @@ mod tests {
                 start_deg: 0.0,
                 step_deg: 0.01,
                 points: pts.into(),
+                slopes: None,
             },
         }
     }

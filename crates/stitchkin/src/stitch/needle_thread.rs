@@ -752,12 +752,15 @@ impl NeedleThread {
     /// material (φ_c < φ_in), then (S − S_top) + |P_top − H_c^t| down needle
     /// c+1 and along the top face, mm.
     pub fn head(&self, phi_c: f64) -> f64 {
-        let s = self.travel(phi_c);
-        let (h_t, _) = self.hole_c(phi_c);
-        if before(phi_c, self.phi_in, Side::Right) {
-            (self.line.eye_at_travel(s) - h_t).norm()
+        self.head_at(&self.organs_at(phi_c))
+    }
+
+    /// [`Self::head`] from the organs at φ_c.
+    fn head_at(&self, a: &OrgansAt) -> f64 {
+        if before(a.phi_c, self.phi_in, Side::Right) {
+            (self.line.eye_at_travel(a.s) - a.h_t).norm()
         } else {
-            (s - self.line.s_top) + (self.line.p_top() - h_t).norm()
+            (a.s - self.line.s_top) + (self.line.p_top() - a.h_t).norm()
         }
     }
 
@@ -806,13 +809,7 @@ impl NeedleThread {
             }
             NeedlePiece::N2b => (n - h_t).norm() + l_m + self.lam_at(a, &h_b, &h_b) + tail,
             NeedlePiece::N2c => via_next_needle() + l_m + self.lam_at(a, &h_b, &h_b) + tail,
-            NeedlePiece::N3a | NeedlePiece::N3b => {
-                if before(phi_c, self.phi_in, Side::Right) {
-                    (n - h_t).norm()
-                } else {
-                    via_next_needle()
-                }
-            }
+            NeedlePiece::N3a | NeedlePiece::N3b => self.head_at(a),
         }
     }
 

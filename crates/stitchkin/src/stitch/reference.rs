@@ -118,6 +118,7 @@ pub fn mf7923d_407(m: f64, t: f64) -> StitchSpec {
                 start_deg: 0.0,
                 step_deg: 0.01,
                 points: Arc::from(points),
+                slopes: None,
             },
             point_below_eye_mm: 2.0,
             catch_deg: None,

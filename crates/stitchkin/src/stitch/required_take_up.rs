@@ -359,6 +359,57 @@ fn check_organs(spec: &StitchSpec) -> Result<(), Error> {
     Ok(())
 }
 
+/// A contour's columns over a φ_c grid: η (the right limit) and, for a
+/// needle thread, the travel S, the carry angle γ (deg) and the loop on the
+/// looper or the hook (mm).
+struct Columns {
+    eta_mm: Vec<f64>,
+    travel_mm: Option<Vec<f64>>,
+    gamma_deg: Option<Vec<f64>>,
+    loop_mm: Option<Vec<f64>>,
+}
+
+impl Columns {
+    /// The columns of `c` over `phis`: in one pass for a needle thread with
+    /// its looper's organs `shared` and for the lockstitch's, point by
+    /// point otherwise.
+    fn of(c: &Contour, phis: &[f64], shared: Option<&SharedOrgans>) -> Result<Columns, Error> {
+        Ok(match (c, shared) {
+            (Contour::Needle(n), Some(shared)) => {
+                let sr = n.series(phis, shared);
+                Columns {
+                    eta_mm: sr.eta_mm,
+                    travel_mm: Some(sr.travel_mm),
+                    gamma_deg: Some(sr.gamma_deg),
+                    loop_mm: Some(sr.loop_mm),
+                }
+            }
+            (Contour::Lock(n), _) => {
+                let (eta_mm, travel, on_hook) = n.series(phis);
+                Columns {
+                    eta_mm,
+                    travel_mm: Some(travel),
+                    gamma_deg: None,
+                    loop_mm: Some(on_hook),
+                }
+            }
+            _ => {
+                let eta_mm = phis
+                    .iter()
+                    .map(|&p| c.eta(p, Side::Right))
+                    .collect::<Result<Vec<_>, _>>()?;
+                let n = c.needle();
+                Columns {
+                    eta_mm,
+                    travel_mm: n.map(|n| phis.iter().map(|&p| n.travel(p)).collect()),
+                    gamma_deg: n.map(|n| phis.iter().map(|&p| n.carry.gamma(p).to_degrees()).collect()),
+                    loop_mm: n.map(|n| phis.iter().map(|&p| n.loop_on_looper(p)).collect()),
+                }
+            }
+        })
+    }
+}
+
 /// One thread's required take-up over `phis` (φ_c, wrapped) from its
 /// contour `c`: η, P' = η − η(φ0) shifted by the regulator's draw, the
 /// events, and for a needle thread its travel, carry angle and loop.
@@ -371,23 +422,12 @@ fn required_thread(
     phi0: f64,
     shared: Option<&SharedOrgans>,
 ) -> Result<RequiredThread, Error> {
-    // A needle thread's columns in one pass over the grid.
-    let mut series = match (c, shared) {
-        (Contour::Needle(n), Some(shared)) => Some(n.series(phis, shared)),
-        _ => None,
-    };
-    let mut lock_series = match c {
-        Contour::Lock(n) => Some(n.series(phis)),
-        _ => None,
-    };
-    let eta_mm = match (&mut series, &mut lock_series) {
-        (Some(sr), _) => std::mem::take(&mut sr.eta_mm),
-        (None, Some((eta, ..))) => std::mem::take(eta),
-        (None, None) => phis
-            .iter()
-            .map(|&p| c.eta(p, Side::Right))
-            .collect::<Result<Vec<_>, _>>()?,
-    };
+    let Columns {
+        eta_mm,
+        travel_mm,
+        gamma_deg,
+        loop_mm,
+    } = Columns::of(c, phis, shared)?;
     let eta0 = c.eta(phi0, Side::Right)?;
     let lock = c.lock();
     let window = regulator_window(regulator, tight, phi0)
@@ -413,30 +453,8 @@ fn required_thread(
     let (cut_mm, released_mm) = (c.cut(), c.released());
     // σ_snap: J_L = −L_s − ρ + σ_snap (§3.3).
     let snap_mm = c.eta(lock, Side::Right)? - c.eta(lock, Side::Left)? + cut_mm + released_mm;
-    let (travel_mm, gamma_deg, loop_mm, needle_moments) = match (c, c.needle()) {
-        // The lockstitch: the needle's travel and the loop on the hook; the
-        // looper's catch and drop checks do not apply.
-        (Contour::Lock(_), _) => {
-            let (_, travel, on_hook) = lock_series.expect("a lockstitch contour has its series");
-            (Some(travel), None, Some(on_hook), None)
-        }
-        (_, Some(n)) if series.is_some() => {
-            let sr = series.expect("checked");
-            (
-                Some(sr.travel_mm),
-                Some(sr.gamma_deg),
-                Some(sr.loop_mm),
-                Some(n.moments_for_checks()),
-            )
-        }
-        (_, Some(n)) => (
-            Some(phis.iter().map(|&p| n.travel(p)).collect()),
-            Some(phis.iter().map(|&p| n.carry.gamma(p).to_degrees()).collect()),
-            Some(phis.iter().map(|&p| n.loop_on_looper(p)).collect()),
-            Some(n.moments_for_checks()),
-        ),
-        (_, None) => (None, None, None, None),
-    };
+    // The looper's catch and drop checks: not the lockstitch's hook.
+    let needle_moments = c.needle().map(NeedleThread::moments_for_checks);
     // The eye is in the material from φ_in (entering) to φ_out (leaving),
     // across the needle's BDC (φ_c = 0).
     let in_material = |(out, inn): (f64, f64)| phis.iter().map(|&p| p < out || p > inn).collect();
@@ -537,6 +555,7 @@ fn check_motion(organ: &str, motion: &Motion) -> Result<(), Error> {
             start_deg,
             step_deg,
             points,
+            slopes,
         } => {
             if points.is_empty() || !(step_deg.is_finite() && *step_deg > 0.0) || !start_deg.is_finite() {
                 return bad(format!(
@@ -551,44 +570,21 @@ fn check_motion(organ: &str, motion: &Motion) -> Result<(), Error> {
                     points.len()
                 ));
             }
-            if let Some(k) = points.iter().position(|p| !finite(p.as_slice())) {
-                return bad(format!(
-                    "the motion table has a non-finite point at φ_c = {}°",
-                    start_deg + k as f64 * step_deg
-                ));
-            }
-        }
-        Motion::Sampled {
-            start_deg,
-            step_deg,
-            points,
-            slopes,
-        } => {
-            if points.is_empty() || !(step_deg.is_finite() && *step_deg > 0.0) || !start_deg.is_finite() {
-                return bad(format!(
-                    "the sampled motion ({} points, step {step_deg}°) is empty or has no positive step",
-                    points.len()
-                ));
-            }
-            if slopes.len() != points.len() {
-                return bad(format!(
-                    "the sampled motion has {} points but {} analogs; give one analog per point",
-                    points.len(),
-                    slopes.len()
-                ));
-            }
-            let span = points.len() as f64 * step_deg;
-            if (span - 360.0).abs() > 1e-6 * 360.0 {
-                return bad(format!(
-                    "the sampled motion covers {span}° ({} points × {step_deg}°); it must cover one cycle, 360°",
-                    points.len()
-                ));
-            }
-            if let Some(k) =
-                (0..points.len()).find(|&k| !(finite(points[k].as_slice()) && finite(slopes[k].as_slice())))
+            if let Some(m) = slopes
+                && m.len() != points.len()
             {
                 return bad(format!(
-                    "the sampled motion has a non-finite point or analog at φ_c = {}°",
+                    "the motion table has {} points but {} analogs; give one analog per point",
+                    points.len(),
+                    m.len()
+                ));
+            }
+            let finite_at =
+                |k: usize| finite(points[k].as_slice()) && slopes.as_ref().is_none_or(|m| finite(m[k].as_slice()));
+            if let Some(k) = (0..points.len()).find(|&k| !finite_at(k)) {
+                return bad(format!(
+                    "the motion table has a non-finite point{} at φ_c = {}°",
+                    if slopes.is_some() { " or analog" } else { "" },
                     start_deg + k as f64 * step_deg
                 ));
             }
@@ -837,6 +833,7 @@ mod tests {
             start_deg: 0.0,
             step_deg: 0.01,
             points: Vec::new().into(),
+            slopes: None,
         };
         let err = required_take_up(&empty_table, &[0.0], 0.0).unwrap_err().to_string();
         assert!(err.contains("needle needle: the eye") && err.contains("empty"), "{err}");
@@ -845,6 +842,7 @@ mod tests {
             start_deg: 0.0,
             step_deg: 1.0,
             points: vec![crate::geometry::V3::zeros(); 90].into(),
+            slopes: None,
         };
         let err = required_take_up(&short_table, &[0.0], 0.0).unwrap_err().to_string();
         assert!(err.contains("one cycle"), "{err}");

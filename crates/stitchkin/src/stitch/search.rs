@@ -95,14 +95,9 @@ pub fn scan_angles() -> impl Iterator<Item = f64> {
     (0..SCAN_N).map(scan_deg)
 }
 
-/// `f` at the scan angles of one cycle, k·[`SCAN_STEP_DEG`].
-pub fn scan_cycle(f: impl Fn(f64) -> f64) -> Vec<f64> {
-    (0..SCAN_N).map(|k| f(scan_deg(k))).collect()
-}
-
 /// The first φ in [0, 360] where the periodic `f` crosses zero going down
 /// and the first where it crosses going up ([`first_crossing`] of both
-/// directions), from its values at the scan angles `scan` ([`scan_cycle`]).
+/// directions), from its values at the scan angles `scan`.
 pub fn first_crossings_in(scan: &[f64], f: impl Fn(f64) -> f64) -> (Option<f64>, Option<f64>) {
     let (mut down, mut up) = (None, None);
     for k in 0..scan.len() {
@@ -125,7 +120,7 @@ pub fn first_crossings_in(scan: &[f64], f: impl Fn(f64) -> f64) -> (Option<f64>,
 /// and at both ends, then polished by a Brent's search between the
 /// best one's neighbours (a function linear between samples peaks at a
 /// sample, which the search finds as well).
-pub fn max_on(f: impl Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
+fn max_on(f: impl Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
     let (mut best, mut v_best) = (a, f(a));
     let k0 = (a / SCAN_STEP_DEG).floor() as i64 + 1;
     let mut k = k0;
@@ -169,13 +164,8 @@ pub fn max_on_cycle(f: impl Fn(f64) -> f64) -> (f64, f64) {
 }
 
 /// The largest and the smallest value of the periodic `f` over one cycle,
-/// ((φ, f) at the largest, (φ, f) at the smallest), from one scan, each
-/// polished as [`max_on_cycle`] does.
-pub fn extremes_on_cycle(f: impl Fn(f64) -> f64) -> ((f64, f64), (f64, f64)) {
-    extremes_in(&scan_cycle(&f), f)
-}
-
-/// [`extremes_on_cycle`] of `f` whose values at the scan angles are `scan`.
+/// ((φ, f) at the largest, (φ, f) at the smallest), from its values at the
+/// scan angles `scan`, each polished as [`max_on_cycle`] does.
 pub fn extremes_in(scan: &[f64], f: impl Fn(f64) -> f64) -> ((f64, f64), (f64, f64)) {
     let v0 = scan[0];
     let (mut hi, mut lo) = ((0.0, v0), (0.0, v0));
@@ -298,6 +288,11 @@ fn brent_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> (f64, f64) {
 mod tests {
     use super::*;
 
+    /// `f` at the scan angles of one cycle, k·[`SCAN_STEP_DEG`].
+    fn scan_cycle(f: impl Fn(f64) -> f64) -> Vec<f64> {
+        (0..SCAN_N).map(|k| f(scan_deg(k))).collect()
+    }
+
     #[test]
     fn crossings_are_found_to_the_tolerance_and_in_order() {
         // cos crosses zero going down at 90° and up at 270°.
@@ -326,7 +321,10 @@ mod tests {
         assert!((max_on(|p| p, 10.0, 20.5).0 - 20.5).abs() < 1e-12);
         let (x, v) = min_on(|p: f64| (p - 15.25).abs(), 10.0, 20.5);
         assert!((x - 15.25).abs() < 1e-8 && v < 1e-8, "{x}");
-        let ((x_hi, _), (x_lo, v_lo)) = extremes_on_cycle(|p: f64| (p - 100.3).to_radians().cos());
+        let ((x_hi, _), (x_lo, v_lo)) = {
+            let f = |p: f64| (p - 100.3).to_radians().cos();
+            extremes_in(&scan_cycle(f), f)
+        };
         assert!((x_hi - 100.3).abs() < 1e-6 && (x_lo - 280.3).abs() < 1e-6 && (v_lo + 1.0).abs() < 1e-12);
         let cos = |p: f64| p.to_radians().cos();
         let (down, up) = first_crossings_in(&scan_cycle(cos), cos);

@@ -69,27 +69,20 @@ pub enum FeedLaw {
 
 /// A point moving with the main shaft, in the stitch frame (mm) as a
 /// function of φ_c (deg). Laws are evaluated exactly; a mechanism point is
-/// sampled from the solved mechanism with its exact first analogs and
-/// joined by cubic Hermite segments ([`Motion::Sampled`]); a table of
-/// positions alone is interpolated linearly.
+/// a table sampled from the solved mechanism with its exact first analogs.
 #[derive(Clone)]
 pub enum Motion {
     /// Samples at `start_deg + k·step_deg`, k = 0…n−1, covering one cycle
-    /// (periodic: φ_c is wrapped into the table).
+    /// (periodic: φ_c is wrapped into the table). With `slopes`, the exact
+    /// first analogs dN/dφ_c (mm/deg) at the same angles, the samples are
+    /// joined by cubic Hermite segments: within h⁴/384·|N⁗| of the motion
+    /// (about 10⁻⁸ mm for a mechanism point at a 1° step,
+    /// `model::stitch_setup`); without, linearly.
     Table {
         start_deg: f64,
         step_deg: f64,
         points: Arc<[V3<f64>]>,
-    },
-    /// Positions and their exact first analogs dN/dφ_c (mm/deg) at
-    /// `start_deg + k·step_deg`, k = 0…n−1, covering one cycle, joined by
-    /// cubic Hermite segments: within h⁴/384·|N⁗| of the motion (about
-    /// 10⁻⁸ mm for a mechanism point at a 1° step, `model::stitch_setup`).
-    Sampled {
-        start_deg: f64,
-        step_deg: f64,
-        points: Arc<[V3<f64>]>,
-        slopes: Arc<[V3<f64>]>,
+        slopes: Option<Arc<[V3<f64>]>>,
     },
     /// Stand-in needle eye: `N = (x, 0, 0) + (s_B − S)·u_n` with
     /// `S = stroke/2·(1 + cos(φ_c − bdc))` and `u_n = (0, −sin β, cos β)`.
@@ -129,23 +122,13 @@ impl std::fmt::Debug for Motion {
                 start_deg,
                 step_deg,
                 points,
+                slopes,
             } => {
                 write!(
                     f,
-                    "Table {{ start_deg: {start_deg}, step_deg: {step_deg}, n: {} }}",
-                    points.len()
-                )
-            }
-            Motion::Sampled {
-                start_deg,
-                step_deg,
-                points,
-                ..
-            } => {
-                write!(
-                    f,
-                    "Sampled {{ start_deg: {start_deg}, step_deg: {step_deg}, n: {} }}",
-                    points.len()
+                    "Table {{ start_deg: {start_deg}, step_deg: {step_deg}, n: {}, analogs: {} }}",
+                    points.len(),
+                    slopes.is_some()
                 )
             }
             Motion::NeedleLaw { .. } | Motion::LooperLaw { .. } | Motion::PolylineLaw { .. } => {
@@ -170,27 +153,15 @@ impl PartialEq for Motion {
                     start_deg: a,
                     step_deg: b,
                     points: p,
+                    slopes: u,
                 },
                 Table {
                     start_deg: c,
                     step_deg: d,
                     points: q,
-                },
-            ) => a == c && b == d && p[..] == q[..],
-            (
-                Sampled {
-                    start_deg: a,
-                    step_deg: b,
-                    points: p,
-                    slopes: u,
-                },
-                Sampled {
-                    start_deg: c,
-                    step_deg: d,
-                    points: q,
                     slopes: v,
                 },
-            ) => a == c && b == d && p[..] == q[..] && u[..] == v[..],
+            ) => a == c && b == d && p[..] == q[..] && u.as_deref() == v.as_deref(),
             (
                 NeedleLaw {
                     x_mm: a,
@@ -252,18 +223,6 @@ impl Motion {
                 start_deg,
                 step_deg,
                 points,
-            } => {
-                let n = points.len();
-                let u = wrap_360(phi_c_deg - start_deg) / step_deg;
-                let k = (u as usize).min(n - 1);
-                let s = u - k as f64;
-                let (a, b) = (points[k], points[(k + 1) % n]);
-                a + (b - a) * s
-            }
-            Motion::Sampled {
-                start_deg,
-                step_deg,
-                points,
                 slopes,
             } => {
                 let n = points.len();
@@ -271,15 +230,20 @@ impl Motion {
                 let k = (u as usize).min(n - 1);
                 let s = u - k as f64;
                 let j = if k + 1 == n { 0 } else { k + 1 };
-                // Cubic Hermite basis on [k, k + 1], slopes per step.
-                let (s2, s3) = (s * s, s * s * s);
-                let (h00, h10, h01, h11) = (
-                    2.0 * s3 - 3.0 * s2 + 1.0,
-                    s3 - 2.0 * s2 + s,
-                    3.0 * s2 - 2.0 * s3,
-                    s3 - s2,
-                );
-                points[k] * h00 + slopes[k] * (h10 * step_deg) + points[j] * h01 + slopes[j] * (h11 * step_deg)
+                match slopes {
+                    // Cubic Hermite basis on [k, k + 1], slopes per step.
+                    Some(m) => {
+                        let (s2, s3) = (s * s, s * s * s);
+                        let (h00, h10, h01, h11) = (
+                            2.0 * s3 - 3.0 * s2 + 1.0,
+                            s3 - 2.0 * s2 + s,
+                            3.0 * s2 - 2.0 * s3,
+                            s3 - s2,
+                        );
+                        points[k] * h00 + m[k] * (h10 * step_deg) + points[j] * h01 + m[j] * (h11 * step_deg)
+                    }
+                    None => points[k] + (points[j] - points[k]) * s,
+                }
             }
             Motion::NeedleLaw {
                 x_mm,
