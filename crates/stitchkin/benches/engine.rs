@@ -250,20 +250,31 @@ fn mismatch_lag_360000(bencher: Bencher) {
     bencher.bench_local(|| black_box(mismatch(&phi_deg, &p, &pprime, &compared, 0.5, true)));
 }
 
-/// The thread's tension of the MF-7923D's three needle threads over one
-/// cycle at 1°, from their courses (the path geometry and the stitch's
-/// contour, computed once): the periodic steady state, every cycle run to
-/// reach it.
-#[divan::bench]
-fn mf7923d_thread_tension(bencher: Bencher) {
-    let model = Model::preset("mf7923d").unwrap();
+/// The thread's tension of every thread of `preset` over one cycle at 1°,
+/// from their courses (the path geometry and the stitch's contour,
+/// computed once): the periodic steady state, every cycle run to reach it.
+fn bench_thread_tension(bencher: Bencher, preset: &str, threads: usize) {
+    let model = Model::preset(preset).unwrap();
     let courses = stitchkin::eval::tension::courses(&model, &model.defaults(), 1.0).unwrap();
-    assert_eq!(courses.len(), 3);
+    assert_eq!(courses.len(), threads);
     bencher.bench_local(|| {
         for (_, c) in &courses {
             black_box(stitchkin::thread::tension::solve(&c.chain, &c.course()).unwrap());
         }
     });
+}
+
+/// The tension of the MF-7923D's three needle threads.
+#[divan::bench]
+fn mf7923d_thread_tension(bencher: Bencher) {
+    bench_thread_tension(bencher, "mf7923d", 3);
+}
+
+/// The tension of the lockstitch's needle thread (its last span goes slack
+/// as the hook casts the loop off).
+#[divan::bench]
+fn lockstitch_thread_tension(bencher: Bencher) {
+    bench_thread_tension(bencher, "lockstitch", 1);
 }
 
 /// P′ at 1° of `preset` with parameter `name` set to a new value from
