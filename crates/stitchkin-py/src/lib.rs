@@ -32,9 +32,15 @@ create_exception!(
      `groups[2].lengths[1]`), `help`."
 );
 
-/// The library's error as a `StitchkinError` with its place and help.
+/// The library's error as a `StitchkinError` with its place and help. Its
+/// message is the command line's: what is wrong, then a `help:` line with
+/// the fix (a traceback shows both).
 fn py_error(py: Python<'_>, e: &stitchkin::Error) -> PyErr {
-    let err = StitchkinError::new_err(e.to_string());
+    let mut message = e.to_string();
+    if let Some(help) = e.help().filter(|h| !message.contains(h)) {
+        message = format!("{message}\n  help: {help}");
+    }
+    let err = StitchkinError::new_err(message);
     let value = err.value(py);
     let (file, line, column, key) = match e {
         stitchkin::Error::Model(m) => {
@@ -92,6 +98,47 @@ impl Model {
             }
         }
         Ok(params)
+    }
+
+    /// A sweep's arguments checked as `stitchkin sweep` checks them, before
+    /// any setting is computed: the settings (`set`), every varied
+    /// parameter's name and range, the design and the figures. Returns the
+    /// base setting, the sweep and its plan.
+    #[allow(clippy::too_many_arguments)]
+    fn plan_sweep(
+        &self,
+        py: Python<'_>,
+        vary: &Bound<'_, PyAny>,
+        samples: Option<usize>,
+        method: &str,
+        seed: u64,
+        figures: Option<&[String]>,
+        step: f64,
+        set: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<(Params, Sweep, SweepPlan)> {
+        let params = self.params(py, set)?;
+        let specs = vary_specs(vary)?;
+        let design = match (samples, method) {
+            (None, _) => Design::Grid,
+            (Some(samples), "lhs") => Design::Lhs { samples, seed },
+            (Some(samples), "random") => Design::Random { samples, seed },
+            (Some(_), other) => {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "method `{other}` is not a sampling method: give \"lhs\" or \"random\""
+                )));
+            }
+        };
+        let model = &self.model;
+        py.detach(|| {
+            let vary = specs
+                .iter()
+                .map(|v| Vary::parse(model, v))
+                .collect::<Result<Vec<_>, _>>()?;
+            let sw = Sweep::new(vary, design)?;
+            let plan = SweepPlan::new(model, &params, &sw, figures, step)?;
+            Ok::<_, stitchkin::Error>((params, sw, plan))
+        })
+        .map_err(|e| py_error(py, &e))
     }
 }
 
@@ -354,33 +401,16 @@ impl Model {
         set: Option<&Bound<'py, PyDict>>,
         shard: Option<(usize, usize)>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let params = self.params(py, set)?;
-        let model = &self.model;
-        let specs = vary_specs(vary)?;
         let (k, n) = shard.unwrap_or((1, 1));
         if !(n >= 1 && (1..=n).contains(&k)) {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(
                 "shard=({k}, {n}) is not a shard (k, n) with 1 ≤ k ≤ n"
             )));
         }
-        let design = match (samples, method) {
-            (None, _) => Design::Grid,
-            (Some(samples), "lhs") => Design::Lhs { samples, seed },
-            (Some(samples), "random") => Design::Random { samples, seed },
-            (Some(_), other) => {
-                return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                    "method `{other}` is not a sampling method: give \"lhs\" or \"random\""
-                )));
-            }
-        };
-        let (sw, plan, rows) = py
+        let (params, sw, plan) = self.plan_sweep(py, vary, samples, method, seed, figures.as_deref(), step, set)?;
+        let model = &self.model;
+        let rows = py
             .detach(|| {
-                let vary = specs
-                    .iter()
-                    .map(|v| Vary::parse(model, v))
-                    .collect::<Result<Vec<_>, _>>()?;
-                let sw = Sweep::new(vary, design)?;
-                let plan = SweepPlan::new(model, &params, &sw, figures.as_deref(), step)?;
                 let range = sw.shard(k, n);
                 let mut rows: Vec<Row> = Vec::with_capacity(range.len());
                 sweep::run(
@@ -392,7 +422,7 @@ impl Model {
                     },
                     |_| {},
                 )?;
-                Ok::<_, stitchkin::Error>((sw, plan, rows))
+                Ok::<_, stitchkin::Error>(rows)
             })
             .map_err(|e| py_error(py, &e))?;
         let out = PyDict::new(py);
@@ -410,6 +440,27 @@ impl Model {
         let status: Vec<&str> = rows.iter().map(|r| r.error.as_deref().unwrap_or("ok")).collect();
         out.set_item("status", py.import("numpy")?.getattr("array")?.call1((status,))?)?;
         py.import("stitchkin")?.getattr("Table")?.call1((out,))
+    }
+
+    /// Checks a sweep's arguments as `sweep` does (the same errors, the
+    /// same messages as `stitchkin sweep`) and returns its number of
+    /// settings, computing none of them: what `stitchkin.dask.sweep` calls
+    /// on the client before it sends work to the cluster.
+    #[pyo3(signature = (vary, samples = None, method = "lhs", seed = 1, figures = None, step = 1.0, set = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn _check_sweep<'py>(
+        &self,
+        py: Python<'py>,
+        vary: &Bound<'py, PyAny>,
+        samples: Option<usize>,
+        method: &str,
+        seed: u64,
+        figures: Option<Vec<String>>,
+        step: f64,
+        set: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<usize> {
+        let (_, sw, _) = self.plan_sweep(py, vary, samples, method, seed, figures.as_deref(), step, set)?;
+        Ok(sw.len())
     }
 
     fn __repr__(&self) -> String {
@@ -533,6 +584,23 @@ fn _time_take_up(py: Python<'_>, model: &Model, step: f64, repeat: usize) -> PyR
     .map_err(|e| py_error(py, &e))
 }
 
+/// The column of `names` that `name` most likely misspells, by the
+/// library's `did_you_mean` (the command line's hint for a mistyped name):
+/// among the names and the names without their unit ending (`z` for
+/// `z_mm`). For `stitchkin.Table`'s missing-column error.
+#[pyfunction]
+fn _closest_column(name: &str, names: Vec<String>) -> Option<String> {
+    let whole = stitchkin::error::did_you_mean(name, names.iter().map(String::as_str));
+    whole.map(str::to_string).or_else(|| {
+        let bases = names.iter().filter_map(|n| n.rsplit_once('_').map(|(base, _)| base));
+        let base = stitchkin::error::did_you_mean(name, bases)?;
+        names
+            .iter()
+            .find(|n| n.rsplit_once('_').is_some_and(|(b, _)| b == base))
+            .cloned()
+    })
+}
+
 /// `vary` as `--vary` specs: a list of `NAME=LO:HI:N` strings, or a dict
 /// `{name: (lo, hi, n)}` (or `(lo, hi)`: 11 values).
 fn vary_specs(vary: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
@@ -570,6 +638,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(consumption, m)?)?;
     m.add_function(wrap_pyfunction!(_time_run, m)?)?;
     m.add_function(wrap_pyfunction!(_time_take_up, m)?)?;
+    m.add_function(wrap_pyfunction!(_closest_column, m)?)?;
     m.add("StitchkinError", m.py().get_type::<StitchkinError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -18,9 +18,10 @@ fn target_dir() -> PathBuf {
         .to_path_buf()
 }
 
-/// Runs `command`; panics with its output when it fails.
+/// Runs `command` and returns its standard output; panics with its output
+/// when it fails.
 #[track_caller]
-fn run(command: &mut Command, what: &str) {
+fn run(command: &mut Command, what: &str) -> String {
     let out = command
         .output()
         .unwrap_or_else(|e| panic!("cannot {what}: {e} ({command:?})"));
@@ -31,6 +32,7 @@ fn run(command: &mut Command, what: &str) {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
+    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 #[test]
@@ -90,13 +92,21 @@ fn python_package_tests_pass() {
         "build the command line",
     );
     let cli = target.join("debug").join("stitchkin");
-    run(
+    let report = run(
         Command::new(&python)
-            .args(["-m", "pytest", "-q", "-p", "no:cacheprovider"])
+            // `-rs`: each skipped test with its reason.
+            .args(["-m", "pytest", "-q", "-rs", "-p", "no:cacheprovider"])
             .arg(crate_dir.join("tests").join("python"))
             .env("STITCHKIN_CLI", &cli)
             // Imported from the installed wheel, not from the source folder.
             .current_dir(&target),
         "pass the package's tests (pytest)",
+    );
+    // Every requirement a test can skip for (pandas, dask) is installed
+    // above: here a skipped test is a test that did not run.
+    let summary = report.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or_default();
+    assert!(
+        !summary.contains("skipped"),
+        "some of the package's tests were skipped although their requirements are installed ({summary}):\n{report}"
     );
 }

@@ -1,4 +1,4 @@
-from typing import Iterator, Mapping
+from typing import Iterator, Mapping, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -11,9 +11,15 @@ from ._native import consumption as consumption
 from ._native import default_preset as default_preset
 from ._native import presets as presets
 
+class MissingColumnError(KeyError, StitchkinError):
+    name: str
+    help: str
+    def __init__(self, name: str, columns: Sequence[str]) -> None: ...
+
 class Table(Mapping[str, npt.NDArray[np.float64]]):
     def __init__(self, columns: Mapping[str, npt.NDArray[np.float64]]) -> None: ...
     def __getitem__(self, name: str) -> npt.NDArray[np.float64]: ...
+    def __contains__(self, name: object) -> bool: ...
     def __iter__(self) -> Iterator[str]: ...
     def __len__(self) -> int: ...
     @property

@@ -23,6 +23,7 @@ class StitchkinError(Exception):
     help: Optional[str]
 
 def presets() -> list[str]: ...
+def _closest_column(name: str, names: Sequence[str]) -> Optional[str]: ...
 def default_preset() -> str: ...
 def consumption(
     stitch_type: int,
@@ -72,6 +73,7 @@ class Model:
         thickness: Optional[float] = None,
         stitch: Optional[float] = None,
         set: Optional[Mapping[str, float]] = None,
+        objective: str = "match",
     ) -> dict: ...
     def sweep(
         self,
@@ -84,3 +86,13 @@ class Model:
         set: Optional[Mapping[str, float]] = None,
         shard: Optional[tuple[int, int]] = None,
     ) -> "Table": ...
+    def _check_sweep(
+        self,
+        vary: Union[Sequence[str], Mapping[str, Sequence[float]]],
+        samples: Optional[int] = None,
+        method: str = "lhs",
+        seed: int = 1,
+        figures: Optional[Sequence[str]] = None,
+        step: float = 1.0,
+        set: Optional[Mapping[str, float]] = None,
+    ) -> int: ...

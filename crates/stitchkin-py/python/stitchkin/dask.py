@@ -29,19 +29,26 @@ def sweep(model, vary, *, client=None, shards=None, samples=None, method="lhs", 
     client: a ``distributed.Client`` (default: the current one). shards:
     how many tasks (default: four per worker thread), each a contiguous
     block of the settings. The other arguments are those of
-    :meth:`stitchkin.Model.sweep`.
+    :meth:`stitchkin.Model.sweep`; they are checked here before any task
+    is sent (the errors of ``Model.sweep``: an unknown parameter, with the
+    parameter meant when the name looks like a typo of one, a malformed ``NAME=LO:HI:N``, a value outside
+    a parameter's range, a figure the model does not have).
     """
     try:
         import pandas
         from distributed import get_client
     except ImportError as e:
         raise ImportError("stitchkin.dask needs dask[distributed] and pandas: pip install 'dask[distributed]' pandas") from e
+    options = dict(vary=vary, samples=samples, method=method, seed=seed, figures=figures, step=step, set=set)
+    # Checked here, on the client, before any work is sent: a misspelt
+    # parameter or a malformed range raises at once, with the command line's
+    # message, not from every worker.
+    model._check_sweep(**options)
+    if shards is not None and not (isinstance(shards, int) and shards >= 1):
+        raise ValueError(f"shards={shards!r} must be a whole number ≥ 1")
     client = client if client is not None else get_client()
     if shards is None:
         shards = 4 * max(1, sum(client.nthreads().values()))
-    if not (isinstance(shards, int) and shards >= 1):
-        raise ValueError(f"shards={shards!r} must be a whole number ≥ 1")
-    options = dict(vary=vary, samples=samples, method=method, seed=seed, figures=figures, step=step, set=set)
     futures = [
         client.submit(_shard, model.toml, model.file_name, k, shards, options, pure=False)
         for k in range(1, shards + 1)

@@ -1,10 +1,16 @@
 """The Python package against the command line: the same presets, the same
 numbers, errors with their place and help."""
 
+import ast
 import csv
+import importlib
+import importlib.util
 import io
 import os
+import signal
 import subprocess
+import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -19,6 +25,33 @@ def cli(*args):
         pytest.fail("STITCHKIN_CLI names no stitchkin binary: run these tests through `cargo test --workspace`")
     done = subprocess.run([exe, *args], capture_output=True, text=True, check=True)
     return done.stdout
+
+
+def cli_error(*args):
+    """The message and help of the command line's error for ARGS (it must
+    fail): the text after `×` and after `help:`, as one line each."""
+    exe = os.environ.get("STITCHKIN_CLI")
+    if not exe:
+        pytest.fail("STITCHKIN_CLI names no stitchkin binary: run these tests through `cargo test --workspace`")
+    done = subprocess.run([exe, *args], capture_output=True, text=True)
+    assert done.returncode != 0, f"stitchkin {' '.join(args)} succeeded"
+    text = done.stderr
+    message, _, help = text.split("×", 1)[1].partition("help:")
+    return " ".join(message.split()), " ".join(help.split())
+
+
+def need(module):
+    """Imports `module`, or skips the test with a warning that names what
+    is not installed (shown in pytest's summary; `cargo test` installs the
+    test requirements and fails on any skipped test)."""
+    if importlib.util.find_spec(module) is None:
+        message = (
+            f"`{module}` is not installed, so this test did not run: "
+            "pip install -r crates/stitchkin-py/requirements-test.txt"
+        )
+        warnings.warn(message)
+        pytest.skip(message)
+    return importlib.import_module(module)
 
 
 def cli_table(*args):
@@ -197,6 +230,70 @@ def test_consumption_per_seam():
     assert "taut" in c["notes"][0]
 
 
+@pytest.mark.parametrize("spec", ["zz=-10:10", "z=10", "z=-100:100:3", "z=1:2:x", "z=3:3:4", "z", "dphi=-20:20:1"])
+def test_a_sweeps_errors_are_the_command_lines(spec):
+    """A misspelt parameter (with its "did you mean"), a range without its
+    ends, a value outside the parameter's range, a malformed N: the command
+    line's message and help (its `--vary` named `vary`), from `sweep` and
+    from the check a Dask sweep runs before it sends work."""
+    message, help = cli_error("sweep", "--preset", "mf7923d", "--vary", spec, "--samples", "3")
+    assert message.endswith("(in --vary)")
+    message = message.replace("(in --vary)", "(in `vary`)")
+    model = stitchkin.Model.preset("mf7923d")
+    for call in (model.sweep, model._check_sweep):
+        with pytest.raises(stitchkin.StitchkinError) as e:
+            call([spec], samples=3)
+        assert e.value.help == help
+        assert str(e.value) == f"{message}\n  help: {help}"
+    if spec == "zz=-10:10":
+        assert help == "did you mean `z`?"
+
+
+def test_a_descending_range_sweeps_down_as_the_command_lines():
+    """`z=5:1` is the values from 5 mm down to 1 mm, as `--vary z=5:1`."""
+    names, rows = cli_sweep("--preset", "mf7923d", "--vary", "z=5:1:3", "--figures", "score.mean")
+    table = stitchkin.Model.preset("mf7923d").sweep(vary=["z=5:1:3"], figures=["score.mean"])
+    assert list(table["z_mm"]) == [5.0, 3.0, 1.0]
+    assert_rows_equal(table, names, rows)
+    assert stitchkin.Model.preset("mf7923d")._check_sweep(["z=5:1"], samples=7) == 7
+
+
+def test_a_missing_column_is_a_key_error_that_says_what_there_is():
+    table = stitchkin.Model.preset("mf7923d").run(step=30.0, columns=["*.P_B_mm"])
+    with pytest.raises(KeyError) as e:
+        table["n1_A.P_B_m"]
+    assert isinstance(e.value, stitchkin.MissingColumnError) and isinstance(e.value, stitchkin.StitchkinError)
+    assert e.value.name == "n1_A.P_B_m" and e.value.help == "did you mean `n1_A.P_B_mm`?"
+    assert str(e.value) == "the table has no column `n1_A.P_B_m`\n  help: did you mean `n1_A.P_B_mm`?"
+    # The same "did you mean" as the command line's for a misspelt name
+    # (the library's did_you_mean), here for a parameter.
+    _, help = cli_error("run", "--preset", "mf7923d", "--set", "r11=5")
+    with pytest.raises(stitchkin.StitchkinError) as p:
+        stitchkin.Model.preset("mf7923d").run(set={"r11": 5.0})
+    assert help == p.value.help == "did you mean `r1`?"
+    # Nothing close: some of the columns, and how to see them all.
+    with pytest.raises(KeyError) as e:
+        table["typo"]
+    assert e.value.help.startswith("its columns are phi_deg, n1_A.P_B_mm, n1_B.P_B_mm")
+    assert "did you mean" not in str(e.value)
+    big = stitchkin.Model.preset("mf7923d").run(step=30.0)
+    with pytest.raises(KeyError, match="columns; list\\(table\\) names them all"):
+        big["typo"]
+    # A sweep's parameter column without its unit: the column with it.
+    grid = stitchkin.Model.preset("mf7923d").sweep(vary={"z": (-10, 10, 3)}, figures=["score.mean"])
+    with pytest.raises(KeyError, match="did you mean `z_mm`"):
+        grid["z"]
+    # The rest of the mapping is a dict's.
+    assert "typo" not in table and table.get("typo") is None and table.get("typo", 1) == 1
+    assert "n1_A.P_B_mm" in table
+    # Whole through pickle (as from a Dask worker).
+    import pickle
+
+    again = pickle.loads(pickle.dumps(e.value))
+    assert type(again) is stitchkin.MissingColumnError
+    assert (str(again), again.help, again.name) == (str(e.value), e.value.help, e.value.name)
+
+
 def test_sweep_errors():
     model = stitchkin.Model.preset("mf7923d")
     with pytest.raises(stitchkin.StitchkinError):
@@ -264,22 +361,67 @@ def test_a_missing_file_and_a_bad_setting_are_errors(tmp_path):
 
 
 def test_to_pandas():
-    pandas = pytest.importorskip("pandas")
+    pandas = need("pandas")
     frame = stitchkin.Model.preset("needle876").run(step=10.0).to_pandas()
     assert isinstance(frame, pandas.DataFrame) and frame.shape[0] == 36
     assert frame.columns[0] == "phi_deg"
 
 
-def test_the_docs_snippets_run():
-    """Every ```python block of docs/python.md, in order, in one namespace."""
-    docs = os.path.join(os.path.dirname(__file__), "..", "..", "..", "..", "docs", "python.md")
-    with open(docs, encoding="utf-8") as f:
+DOCS = os.path.join(os.path.dirname(__file__), "..", "..", "..", "..", "docs", "python.md")
+
+
+def docs_blocks():
+    """The ```python blocks of docs/python.md, in order: the snippets, and
+    the scripts (a block with an `if __name__ == "__main__":` guard, which
+    runs as a file of its own)."""
+    with open(DOCS, encoding="utf-8") as f:
         text = f.read()
     blocks = [b.split("```", 1)[0] for b in text.split("```python\n")[1:]]
-    assert len(blocks) >= 4
+    is_script = ['if __name__ == "__main__":' in b for b in blocks]
+    return [b for b, s in zip(blocks, is_script) if not s], [b for b, s in zip(blocks, is_script) if s]
+
+
+def test_the_docs_snippets_run():
+    """Every ```python block of docs/python.md that is not a script, in
+    order, in one namespace."""
+    snippets, _ = docs_blocks()
+    assert len(snippets) >= 4
     namespace = {}
-    for block in blocks:
-        exec(compile(block, docs, "exec"), namespace)
+    for block in snippets:
+        exec(compile(block, DOCS, "exec"), namespace)
+
+
+@pytest.mark.parametrize("script", docs_blocks()[1])
+def test_the_docs_scripts_run_as_files(script, tmp_path):
+    """Each script block of docs/python.md, written to a file and run as
+    `python script.py` in a process of its own, as a user pastes it (a
+    Dask LocalCluster's workers import that file)."""
+    for node in ast.walk(ast.parse(script)):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                need(alias.name.split(".")[0])
+    path = tmp_path / "script.py"
+    path.write_text(script, encoding="utf-8")
+    # A session of its own: on a timeout the script and every process it
+    # started (a cluster's workers) are stopped together.
+    proc = subprocess.Popen(
+        [sys.executable, str(path)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path, start_new_session=True
+    )
+    try:
+        stdout, stderr = proc.communicate(timeout=120)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        stdout, stderr = proc.communicate()
+        pytest.fail(f"the script of docs/python.md did not finish in 120 s:\n{script}\n{stderr[-3000:]}")
+    assert proc.returncode == 0, f"python script.py failed:\n{script}\n{stdout}\n{stderr}"
+    assert stdout.strip(), "the script printed nothing"
+
+
+def test_the_docs_have_the_dask_script():
+    """The Dask sweep of docs/python.md is a script guarded for the
+    workers' processes, so the test above runs it as a file."""
+    _, scripts = docs_blocks()
+    assert any("distributed.LocalCluster" in s and "stitchkin.dask.sweep" in s for s in scripts)
 
 
 def test_the_peer_bench_runs():
