@@ -172,6 +172,44 @@ pub enum Provenance {
     Illustrative,
 }
 
+/// What a parameter is on the machine (`docs/model-format.md` §4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ParamKind {
+    /// A machine setting: what a technician adjusts on the machine (an
+    /// eccentric's throw, a crank's timing, a guide's height). `tune`
+    /// adjusts these, within their `range`.
+    Setting,
+    /// A job input: what the job brings (the material's thickness, the
+    /// stitch length, the thread). Nomograms and sweeps vary it; `tune`
+    /// never recommends it.
+    Input,
+    /// A fixed dimension: a part's size or place, made so and not adjusted
+    /// on the machine (a derived parameter is always one).
+    Dimension,
+}
+
+impl ParamKind {
+    /// Its name in the model file and in JSON: `setting`, `input`,
+    /// `dimension`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ParamKind::Setting => "setting",
+            ParamKind::Input => "input",
+            ParamKind::Dimension => "dimension",
+        }
+    }
+
+    /// In words: `machine setting`, `job input`, `fixed dimension`.
+    pub fn describe(self) -> &'static str {
+        match self {
+            ParamKind::Setting => "machine setting",
+            ParamKind::Input => "job input",
+            ParamKind::Dimension => "fixed dimension",
+        }
+    }
+}
+
 /// One `[parameters]` entry: either `value` (a settable number) or `expr`
 /// (derived from other parameters).
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
@@ -193,6 +231,29 @@ pub struct Parameter {
     pub source: Option<String>,
     #[serde(default)]
     pub provenance: Option<Provenance>,
+    /// What it is on the machine: `"setting"`, `"input"` or `"dimension"`.
+    /// Default: `input` for the parameter `[stitch] m_mm` or `t_mm` names
+    /// and for the thread's stiffness and breaking force (`[thread.physics]`
+    /// `ea_n`, `breaking_n`); `dimension` for a derived parameter; `setting`
+    /// for one with a range `[lo, hi]`, lo < hi; otherwise `dimension`.
+    #[serde(default)]
+    pub kind: Option<ParamKind>,
+    /// The part or quantity in plain words, as a technician names it, e.g.
+    /// `"ball arm O2B on the take-up shaft"`.
+    #[serde(default)]
+    pub label: Option<String>,
+    /// One sentence: what the part is on the machine and which way the
+    /// value moves it.
+    #[serde(default)]
+    pub what: Option<String>,
+    /// What a technician does to raise the value, as advice reads it after
+    /// the label, e.g. `"slide it along the shaft toward the take-up arm"`
+    /// (give `decrease` with it).
+    #[serde(default)]
+    pub increase: Option<String>,
+    /// What a technician does to lower the value (give `increase` with it).
+    #[serde(default)]
+    pub decrease: Option<String>,
 }
 
 /// A coordinate axis name or a direction vector.
@@ -863,12 +924,15 @@ pub struct StitchNeedle {
     /// The thread path (`[[thread.paths]]`) compared with this thread.
     #[serde(default)]
     pub path: Option<String>,
-    /// Catch φ1 (φ_c degrees); default: where the looper reaches the needle.
+    /// Catch φ1 (φ_c degrees, a number or an expression, e.g. `"30 -
+    /// timing"` to follow a looper's timing); default: where the looper
+    /// reaches the needle.
     #[serde(default)]
-    pub catch_deg: Option<f64>,
-    /// Drop φ4 (φ_c degrees); default derived from the loop carry.
+    pub catch_deg: Option<Value>,
+    /// Drop φ4 (φ_c degrees, a number or an expression); default derived
+    /// from the loop carry.
     #[serde(default)]
-    pub drop_deg: Option<f64>,
+    pub drop_deg: Option<Value>,
 }
 
 /// Stand-in needle: S = stroke/2·(1 + cos(φ_c − bdc)).

@@ -5,7 +5,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use super::expr::{Dim, Dimension, Expr, ExprError};
-use super::file::{self, Axis, Branch, FixedPoint, Group, ModelFile, Unit, Value};
+use super::file::{self, Axis, Branch, FixedPoint, Group, ModelFile, ParamKind, Unit, Value};
 use super::spans::{KeyPath, SpanIndex};
 use super::{
     AxisDef, CamContactDef, CamDef, ClosureDef, FrameDef, MeasureDef, ParamDef, PathDef, PointKind, ProfileDef,
@@ -193,6 +193,7 @@ impl<'a> Loader<'a> {
                     ));
                 }
             }
+            self.describing_words(name, p, &path)?;
             self.param_index.insert(name.clone(), self.params.len());
             self.params.push(ParamDef {
                 name: name.clone(),
@@ -202,6 +203,14 @@ impl<'a> Loader<'a> {
                 range: p.range,
                 source: p.source.clone(),
                 provenance: p.provenance,
+                // Resolved once the stitch and the thread are read
+                // (`Loader::param_kinds`).
+                kind: p.kind.unwrap_or(ParamKind::Dimension),
+                kind_declared: p.kind.is_some(),
+                label: p.label.clone(),
+                what: p.what.clone(),
+                increase: p.increase.clone(),
+                decrease: p.decrease.clone(),
             });
         }
         // Derived parameters: parse, check units, order.
@@ -216,6 +225,141 @@ impl<'a> Loader<'a> {
             }
         }
         self.param_order()
+    }
+
+    /// A parameter's `label`, `what`, `increase` and `decrease`: words, not
+    /// blanks; `increase` and `decrease` together, on a value parameter.
+    fn describing_words(&self, name: &str, p: &file::Parameter, path: &KeyPath) -> LoadResult<()> {
+        for (key, text) in [
+            ("label", &p.label),
+            ("what", &p.what),
+            ("increase", &p.increase),
+            ("decrease", &p.decrease),
+        ] {
+            if let Some(t) = text
+                && t.trim().is_empty()
+            {
+                return Err(self.err(
+                    &path.key(key),
+                    format!("`{key}` is empty"),
+                    Some(format!("write the words, or leave `{key}` out")),
+                ));
+            }
+        }
+        if let Some(l) = &p.label
+            && l.contains('\n')
+        {
+            return Err(self.err(
+                &path.key("label"),
+                "a label is one line",
+                Some("keep the label short (the part's name) and put the sentence in `what`".into()),
+            ));
+        }
+        match (&p.increase, &p.decrease) {
+            (Some(_), None) | (None, Some(_)) => {
+                let (given, missing) = if p.increase.is_some() {
+                    ("increase", "decrease")
+                } else {
+                    ("decrease", "increase")
+                };
+                return Err(self.err(
+                    &path.key(given),
+                    format!("`{given}` is given without `{missing}`"),
+                    Some(format!(
+                        "give both: what a technician does to raise `{name}` and to lower it"
+                    )),
+                ));
+            }
+            (Some(_), Some(_)) if p.expr.is_some() => {
+                return Err(self.err(
+                    &path.key("increase"),
+                    "a derived parameter (with `expr`) is not set, so it has no `increase` or `decrease`",
+                    Some("put them on the parameters it is derived from".into()),
+                ));
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// Every parameter's kind: as declared, checked against what the model
+    /// does with it, or the default (`docs/model-format.md` §4). Runs once
+    /// the stitch and the thread are read.
+    pub(super) fn param_kinds(&mut self, f: &ModelFile, threads: Option<&ThreadsDef>) -> LoadResult<()> {
+        // The stitch's thickness and length, by the names its values give.
+        let mut stitch_inputs: Vec<(usize, &'static str, &'static str)> = Vec::new();
+        if let Some(st) = &f.stitch {
+            for (v, key, what) in [
+                (&st.m_mm, "m_mm", "material thickness"),
+                (&st.t_mm, "t_mm", "stitch length"),
+            ] {
+                if let Value::Expr(e) = v
+                    && let Some(&i) = self.param_index.get(e.trim())
+                {
+                    stitch_inputs.push((i, key, what));
+                }
+            }
+        }
+        // The thread's own properties: its stiffness and breaking force.
+        let mut thread_inputs = Vec::new();
+        for d in threads.iter().flat_map(|t| t.physics.iter().flatten()) {
+            for q in [d.ea.0, d.breaking.0] {
+                self.exprs[q].params(&mut thread_inputs);
+            }
+        }
+        let declared: Vec<Option<ParamKind>> = f.parameters.values().map(|p| p.kind).collect();
+        for (i, kind) in declared.into_iter().enumerate() {
+            let p = &self.params[i];
+            let path = KeyPath::root().key("parameters").key(&p.name);
+            let stitch_input = stitch_inputs.iter().find(|s| s.0 == i);
+            let ranged = p.range.is_some_and(|[lo, hi]| lo < hi);
+            let resolved = match kind {
+                None if stitch_input.is_some() || thread_inputs.contains(&i) => ParamKind::Input,
+                None if p.is_derived() => ParamKind::Dimension,
+                None if ranged => ParamKind::Setting,
+                None => ParamKind::Dimension,
+                Some(k) => {
+                    let at = path.key("kind");
+                    if p.is_derived() && k != ParamKind::Dimension {
+                        return Err(self.err(
+                            &at,
+                            format!(
+                                "`{}` is derived (with `expr`), so nothing sets it: it cannot be a {}",
+                                p.name,
+                                k.describe()
+                            ),
+                            Some("write kind = \"dimension\" or leave `kind` out".into()),
+                        ));
+                    }
+                    if let Some((_, key, what)) = stitch_input
+                        && k != ParamKind::Input
+                    {
+                        return Err(self.err(
+                            &at,
+                            format!(
+                                "`{}` is the stitch's {what} ([stitch] {key}), a job input, not a {}",
+                                p.name,
+                                k.describe()
+                            ),
+                            Some("write kind = \"input\" or leave `kind` out".into()),
+                        ));
+                    }
+                    if k == ParamKind::Setting && !ranged {
+                        return Err(self.err(
+                            &at,
+                            format!("`{}` is a machine setting but has no range to be set in", p.name),
+                            Some(
+                                "give `range = [lo, hi]` (lo < hi), the travel the machine allows, or write kind = \"dimension\""
+                                    .into(),
+                            ),
+                        ));
+                    }
+                    k
+                }
+            };
+            self.params[i].kind = resolved;
+        }
+        Ok(())
     }
 
     fn param_order(&self) -> LoadResult<Vec<usize>> {

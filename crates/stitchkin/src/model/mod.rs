@@ -25,7 +25,7 @@ use crate::mechanism::Mechanism;
 use crate::scalar::Real;
 use crate::thread::ThreadPath;
 use expr::Expr;
-pub use file::{ModelFile, Provenance, Unit};
+pub use file::{ModelFile, ParamKind, Provenance, Unit};
 use spans::KeyPath;
 
 /// Index of a compiled quantity (an expression of parameters).
@@ -47,11 +47,34 @@ pub struct ParamDef {
     pub range: Option<[f64; 2]>,
     pub source: Option<String>,
     pub provenance: Option<Provenance>,
+    /// What it is on the machine: as the file declares it, or the default
+    /// (`docs/model-format.md` §4).
+    pub kind: ParamKind,
+    /// Whether the file declares `kind` (otherwise it is the default).
+    pub kind_declared: bool,
+    /// The part or quantity in plain words.
+    pub label: Option<String>,
+    /// One sentence: what the part is and which way the value moves it.
+    pub what: Option<String>,
+    /// What a technician does to raise the value.
+    pub increase: Option<String>,
+    /// What a technician does to lower the value.
+    pub decrease: Option<String>,
 }
 
 impl ParamDef {
     pub fn is_derived(&self) -> bool {
         self.expr.is_some()
+    }
+
+    /// A machine setting with room to move: a range `[lo, hi]`, lo < hi.
+    pub fn is_adjustable_setting(&self) -> bool {
+        self.kind == ParamKind::Setting && !self.is_derived() && self.range.is_some_and(|[lo, hi]| lo < hi)
+    }
+
+    /// The label, or the name when the file gives none.
+    pub fn label_or_name(&self) -> &str {
+        self.label.as_deref().unwrap_or(&self.name)
     }
     pub fn unit_str(&self) -> &'static str {
         match self.unit {
@@ -591,6 +614,17 @@ pub struct Model {
     pub(crate) planar: bool,
     threads: Option<ThreadsDef>,
     stitch: Option<stitch_setup::StitchDef>,
+    /// Which parameters besides the machine settings a search may adjust
+    /// when they are named ([`Model::allow_adjusting`]).
+    allowed: AllowedKinds,
+}
+
+/// The kinds of parameter, besides the machine settings, that a search
+/// (`tune`, a nomogram) may adjust when they are named.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+struct AllowedKinds {
+    inputs: bool,
+    dimensions: bool,
 }
 
 impl Model {
@@ -627,6 +661,7 @@ impl Model {
         let same_body = |a: usize, b: usize| a == b || body_sets.iter().any(|s| s.contains(&a) && s.contains(&b));
         let threads = ld.threads(&file, &same_body)?;
         let stitch = ld.stitch(&file, threads.as_ref())?;
+        ld.param_kinds(&file, threads.as_ref())?;
         let measures = ld.measures(&file)?;
         let output_points = ld.output_points(&file)?;
         let point_names = ld.point_names();
@@ -706,6 +741,7 @@ impl Model {
             planar,
             threads,
             stitch,
+            allowed: AllowedKinds::default(),
         };
         // Resolve once with the nominal values so impossible geometry is
         // reported at load time.
@@ -1221,35 +1257,53 @@ impl Model {
         Ok(slot)
     }
 
-    /// The settings a technician adjusts by default: every parameter with an
-    /// adjustable range that leaves the stitch process alone (not the
-    /// material or the stitch length, not the needle's own motion), in file
-    /// order; none when the model has no stitch process.
+    /// The settings a tuning adjusts by default: the model's machine
+    /// settings (`kind = "setting"`, with a range), in file order, except
+    /// the thread's tension settings (the regulator, a clamp, the check
+    /// spring: what `[thread.physics]` reads), which a tuning adjusts when
+    /// named; none when the model has no stitch process. `base` is the
+    /// setting the tuning starts from (the list does not depend on it).
     pub fn default_adjustables(&self, base: &Params) -> Result<Vec<String>, crate::Error> {
-        let ranged: Vec<(&str, f64, f64)> = self
+        let _ = base;
+        if !self.has_stitch() {
+            return Ok(Vec::new());
+        }
+        Ok(self
             .params
             .iter()
-            .filter_map(|p| match p.range {
-                // The thread's settings are adjusted when named.
-                Some([lo, hi]) if !(p.is_derived() || lo >= hi || self.is_thread_setting(&p.name)) => {
-                    Some((p.name.as_str(), lo, hi))
-                }
-                _ => None,
-            })
-            .collect();
-        if ranged.is_empty() {
-            return Ok(Vec::new());
+            .filter(|p| p.is_adjustable_setting() && !self.is_thread_setting(&p.name))
+            .map(|p| p.name.clone())
+            .collect())
+    }
+
+    /// The machine settings (`kind = "setting"`), in file order.
+    pub fn machine_settings(&self) -> Vec<&str> {
+        self.params
+            .iter()
+            .filter(|p| p.kind == ParamKind::Setting)
+            .map(|p| p.name.as_str())
+            .collect()
+    }
+
+    /// Lets a search (`tune`, a nomogram) adjust parameters of `kind` when
+    /// they are named: job inputs (`--allow-inputs`) or fixed dimensions
+    /// (`--allow-dimensions`). Machine settings always may be.
+    pub fn allow_adjusting(&mut self, kind: ParamKind) {
+        match kind {
+            ParamKind::Setting => {}
+            ParamKind::Input => self.allowed.inputs = true,
+            ParamKind::Dimension => self.allowed.dimensions = true,
         }
-        let Some(nominal) = self.stitch_setup(base)? else {
-            return Ok(Vec::new());
-        };
-        let mut out = Vec::new();
-        for (name, lo, hi) in ranged {
-            if self.leaves_stitch_alone(base, &nominal, name, lo, hi)? {
-                out.push(name.to_string());
-            }
+    }
+
+    /// Whether a search may adjust a parameter of `kind` when it is named
+    /// (see [`Model::allow_adjusting`]).
+    pub fn may_adjust(&self, kind: ParamKind) -> bool {
+        match kind {
+            ParamKind::Setting => true,
+            ParamKind::Input => self.allowed.inputs,
+            ParamKind::Dimension => self.allowed.dimensions,
         }
-        Ok(out)
     }
 
     /// Whether parameter `name` anywhere in `lo`…`hi` leaves the stitch

@@ -63,8 +63,8 @@ pub(crate) struct NeedleDef {
     pub eye_above_plate: Option<QuantityId>,
     pub point_below_eye: Option<QuantityId>,
     pub path: Option<String>,
-    pub catch_deg: Option<f64>,
-    pub drop_deg: Option<f64>,
+    pub catch_deg: Option<QuantityId>,
+    pub drop_deg: Option<QuantityId>,
 }
 
 /// Where the stitch's thread passes the regulator: a model-φ window, the
@@ -505,19 +505,24 @@ impl Loader<'_> {
             }
             let eye_above_plate = self.opt_length(&n.eye_above_plate_mm, np.key("eye_above_plate_mm"))?;
             let point_below_eye = self.opt_length(&n.point_below_eye_mm, np.key("point_below_eye_mm"))?;
-            for (v, key) in [(n.catch_deg, "catch_deg"), (n.drop_deg, "drop_deg")] {
-                if let Some(v) = v {
-                    finite_deg(self, v, &np.key(key))?;
-                }
-            }
+            let catch_deg = n
+                .catch_deg
+                .as_ref()
+                .map(|v| self.angle(v, np.key("catch_deg")))
+                .transpose()?;
+            let drop_deg = n
+                .drop_deg
+                .as_ref()
+                .map(|v| self.angle(v, np.key("drop_deg")))
+                .transpose()?;
             needles.push(NeedleDef {
                 name: n.name.clone(),
                 eye,
                 eye_above_plate,
                 point_below_eye,
                 path: self.thread_path(&n.path, np.key("path"), threads)?,
-                catch_deg: n.catch_deg,
-                drop_deg: n.drop_deg,
+                catch_deg,
+                drop_deg,
             });
         }
         Ok(needles)
@@ -1032,8 +1037,8 @@ fn needle_spec(nd: &NeedleDef, q: &[f64], samples: &OrganSamples, tilt_deg: f64)
         name: nd.name.clone(),
         eye,
         point_below_eye_mm: nd.point_below_eye.map_or(2.0, |i| q[i]),
-        catch_deg: nd.catch_deg,
-        drop_deg: nd.drop_deg,
+        catch_deg: nd.catch_deg.map(|i| q[i]),
+        drop_deg: nd.drop_deg.map(|i| q[i]),
     }
 }
 

@@ -175,7 +175,7 @@ fn stitch_lines(model: &Model, table: &CycleTable, w: usize, full_checks: bool) 
 }
 
 /// The report of a model check up to the cycle's summary: the title, every
-/// parameter with its value, range and provenance, the solve order, the
+/// parameter with its value, range, kind, label and provenance, the solve order, the
 /// thread paths (`threads`, guides in brackets) and the φ range it
 /// assembled over at `step_deg`.
 pub fn model_check(model: &Model, params: &Params, threads: Option<&Threads<f64>>, step_deg: f64) -> String {
@@ -195,7 +195,8 @@ pub fn model_check(model: &Model, params: &Params, threads: Option<&Threads<f64>
             .provenance
             .map(|p| format!("  [{p:?}]").to_lowercase())
             .unwrap_or_default();
-        out += &format!("  {:<10} {value}{range}{prov}\n", p.name);
+        let label = p.label.as_deref().map(|l| format!(" — {l}")).unwrap_or_default();
+        out += &format!("  {:<10} {value}{range}  {}{label}{prov}\n", p.name, p.kind.describe());
     }
     out += &format!("solve order ({} steps):\n", model.step_labels().len());
     for (k, l) in model.step_labels().iter().enumerate() {
