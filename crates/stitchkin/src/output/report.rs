@@ -272,21 +272,36 @@ fn parameters(model: &Model, params: &Params) -> Result<String, Error> {
                 escape(&value),
                 unit.into(),
                 escape(&range),
+                p.kind.as_str().into(),
                 p.provenance
                     .as_ref()
                     .map_or(String::new(), |pr| escape(&format!("{pr:?}").to_lowercase())),
-                format!(
-                    "<span class=\"text\">{}</span>",
-                    escape(p.source.as_deref().unwrap_or(""))
-                ),
+                format!("<span class=\"text\">{}</span>", escape(&describe(p))),
             ]
         })
         .collect();
     Ok(table(
         "parameters",
-        &["parameter", "value", "unit", "range", "provenance", "source"],
+        &[
+            "parameter",
+            "value",
+            "unit",
+            "range",
+            "kind",
+            "provenance",
+            "what it is; source",
+        ],
         &rows,
     ))
+}
+
+/// A parameter's label and `what` before its source, as one cell.
+fn describe(p: &ParamDef) -> String {
+    [p.label.as_deref(), p.what.as_deref(), p.source.as_deref()]
+        .into_iter()
+        .flatten()
+        .collect::<Vec<_>>()
+        .join(" — ")
 }
 
 /// The mechanism drawings with their captions.
@@ -560,6 +575,13 @@ fn tuning(model: &Model, tuned: &Tuning) -> Result<String, Error> {
             let flat = r.flatness.iter().find(|f| f.name == *name).map_or(String::new(), |f| {
                 format!("{}…{}", num(Some(f.lo), 2), num(Some(f.hi), 2))
             });
+            let advice = r
+                .adjustments
+                .iter()
+                .find(|x| x.name == *name)
+                .map_or(String::new(), |x| {
+                    format!("<span class=\"text\">{}</span>", escape(&x.advice))
+                });
             vec![
                 escape(name),
                 (*unit).into(),
@@ -567,6 +589,7 @@ fn tuning(model: &Model, tuned: &Tuning) -> Result<String, Error> {
                 format!("<b>{}</b>", num(Some(*a), 3)),
                 num(Some(a - b), 3),
                 flat,
+                advice,
             ]
         })
         .collect();
@@ -583,6 +606,7 @@ fn tuning(model: &Model, tuned: &Tuning) -> Result<String, Error> {
             "recommended",
             "change",
             "within one score point",
+            "on the machine",
         ],
         &rows,
     );

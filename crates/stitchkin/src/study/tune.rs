@@ -24,6 +24,7 @@ use super::figures::shared_stitch;
 use crate::error::{Error, Input, ParamError, StitchError};
 use crate::eval::stitch_process::Prepared;
 use crate::eval::{CycleOptions, CycleTable, MU_MAX_DEG, MU_MIN_DEG, run_cycle_with};
+use crate::format::hundredths;
 use crate::model::{Model, Params};
 
 /// The most global samples of one tuning: each is a cycle of the model
@@ -105,6 +106,72 @@ pub struct Flatness {
     pub hi: f64,
 }
 
+/// One adjusted parameter in shop terms: which part, which way and how
+/// far, from the model's `label`, `what`, `increase` and `decrease`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Adjustment {
+    pub name: String,
+    pub unit: &'static str,
+    /// `setting`, `input` or `dimension` (the last two only when allowed).
+    pub kind: crate::model::ParamKind,
+    /// The part in plain words (the name when the model gives none).
+    pub label: String,
+    /// What the part is and which way the value moves it, when the model
+    /// says.
+    pub what: Option<String>,
+    pub before: f64,
+    pub after: f64,
+    /// after − before, in `unit`.
+    pub change: f64,
+    /// The advice, one line: "ball arm O2B on the take-up shaft: slide it
+    /// along the shaft away from the take-up arm by 0.32 mm (z: 0 →
+    /// -0.32 mm)".
+    pub advice: String,
+}
+
+impl Adjustment {
+    /// The adjustment of parameter `p` from `before` to `after`, worded
+    /// to the hundredth the recommendation prints.
+    pub fn new(p: &crate::model::ParamDef, before: f64, after: f64) -> Adjustment {
+        let unit = p.unit_str();
+        let with_unit = |x: f64| {
+            let n = hundredths(x);
+            if unit == "1" { n } else { format!("{n} {unit}") }
+        };
+        let label = p.label_or_name().to_string();
+        let (b, a) = (hundredths(before), hundredths(after));
+        let advice = if a == b {
+            format!("{label}: leave it as it is ({} = {})", p.name, with_unit(before))
+        } else {
+            let up = after > before;
+            let way = match (up, &p.increase, &p.decrease) {
+                (true, Some(w), _) | (false, _, Some(w)) => w.clone(),
+                (true, None, _) => "increase it".into(),
+                (false, _, None) => "decrease it".into(),
+            };
+            // The change between the two printed values.
+            let by = ((after * 100.0).round() - (before * 100.0).round()).abs() / 100.0;
+            format!(
+                "{label}: {way} by {} ({}: {b} → {})",
+                with_unit(by),
+                p.name,
+                with_unit(after)
+            )
+        };
+        Adjustment {
+            name: p.name.clone(),
+            unit,
+            kind: p.kind,
+            label,
+            what: p.what.clone(),
+            before,
+            after,
+            change: after - before,
+            advice,
+        }
+    }
+}
+
 /// The outcome of a tuning.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TuneResult {
@@ -112,6 +179,8 @@ pub struct TuneResult {
     pub names: Vec<(String, &'static str)>,
     pub before: Vec<f64>,
     pub after: Vec<f64>,
+    /// The recommendation in shop terms, one per adjusted parameter.
+    pub adjustments: Vec<Adjustment>,
     pub before_figures: MatchFigures,
     pub after_figures: MatchFigures,
     pub flatness: Vec<Flatness>,
@@ -194,13 +263,13 @@ impl Problem<'_> {
         let out_of_band =
             mu_min.map_or(0.0, |m| (MU_MIN_DEG - m).max(0.0)) + mu_max.map_or(0.0, |m| (m - MU_MAX_DEG).max(0.0));
         // The physical checks are constraints: a fixed penalty for each
-        // that fails, plus the thread beyond the bound at B, so the search
-        // is led back inside it.
+        // that fails, plus the thread beyond the bound at B or short of
+        // what the take-up must give, so the search is led back inside.
         let failed: Vec<&crate::stitch::checks::Check> = st.checks.iter().filter(|c| !c.ok).collect();
         let excess_mm: f64 = failed
             .iter()
-            .filter(|c| c.name == "thread_bound")
-            .map(|c| c.value - c.limit[1].unwrap_or(c.value))
+            .filter(|c| matches!(c.name, "thread_bound" | "takeup_gives"))
+            .map(|c| c.excess())
             .sum();
         Some(MatchFigures {
             score_mean: if scores.is_empty() {
@@ -452,10 +521,16 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
         })
         .collect();
     let notes = standing(&vary, &names, &after, &before_figures, &after_figures, opts.objective);
+    let adjustments = vary
+        .iter()
+        .zip(before.iter().zip(&after))
+        .map(|(v, (&b, &a))| Adjustment::new(&model.params[model.param_index(&v.name).unwrap_or(0)], b, a))
+        .collect();
     Ok(TuneResult {
         names,
         before,
         after,
+        adjustments,
         before_figures,
         after_figures,
         flatness,
@@ -466,45 +541,54 @@ pub fn tune(model: &Model, base: &Params, opts: &TuneOptions) -> Result<TuneResu
 }
 
 /// The ranges of the parameters `adjust` names, each checked: a
-/// parameter of the model with an adjustable range.
+/// parameter of the model with an adjustable range, a machine setting
+/// unless the model allows its kind ([`Model::allow_adjusting`]).
 fn tuned_ranges(model: &Model, adjust: &[String]) -> Result<Vec<Vary>, Error> {
     let bad = |message: String, help: &str| Error::Param(ParamError::new(Input::Adjust, message, Some(help.into())));
+    let settings: Vec<&str> = model
+        .params
+        .iter()
+        .filter(|p| p.is_adjustable_setting())
+        .map(|p| p.name.as_str())
+        .collect();
     if adjust.is_empty() {
-        let stitch_values = [model.stitch_param("m"), model.stitch_param("t")];
-        let ranged: Vec<&str> = model
-            .params
-            .iter()
-            // The mechanism's settings: the thread's (`[thread.physics]`)
-            // are tuned when named.
-            .filter(|p| p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived() && !model.is_thread_setting(&p.name))
-            .map(|p| p.name.as_str())
-            .filter(|n| !stitch_values.contains(&Some(*n)))
-            .collect();
-        let help = if ranged.is_empty() {
+        if !model.has_stitch() {
+            return Err(StitchError::new(
+                format!("model `{}`", model.name()),
+                "it has no [stitch] table, so there is no match to tune; use a model with one, such as the presets \
+                 mf7923d and altin504",
+            )
+            .into());
+        }
+        let help = if settings.is_empty() {
             format!(
-                "model `{}` has no parameter with an adjustable range besides the stitch's thickness and length: give \
-                 the settings to tune a `range = [lo, hi]` in [parameters]",
+                "model `{}` has no machine setting with a range: give the parts a technician sets `kind = \"setting\"` \
+                 and `range = [lo, hi]` in [parameters] (docs/model-format.md §4), or name the parameters to search \
+                 (a fixed dimension once the search allows them)",
                 model.name()
             )
         } else {
-            format!("name the settings to adjust, e.g. {}", ranged.join(","))
+            format!(
+                "name the settings to adjust, e.g. {} (the thread's tension settings are adjusted only when named)",
+                settings.join(",")
+            )
         };
         return Err(bad("nothing to adjust".into(), &help));
     }
     let mut vary = Vec::new();
     for name in adjust {
         let i = model.param_index(name).ok_or_else(|| {
-            let names: Vec<&str> = model
-                .params
-                .iter()
-                .filter(|p| p.range.is_some_and(|[lo, hi]| lo < hi) && !p.is_derived())
-                .map(|p| p.name.as_str())
-                .collect();
+            let hint = crate::error::did_you_mean(name, model.params.iter().map(|p| p.name.as_str()))
+                .map(|s| format!(" (did you mean `{s}`?)"))
+                .unwrap_or_default();
             bad(
-                format!("the model has no parameter `{name}`"),
-                &format!("its adjustable parameters are: {}", names.join(", ")),
+                format!("the model has no parameter `{name}`{hint}"),
+                &format!("its adjustable parameters are: {}", settings.join(", ")),
             )
         })?;
+        if let Some(r) = KindRefusal::of(model, name) {
+            return Err(bad(r.message(), &r.help(None)));
+        }
         let Some([lo, hi]) = model.params[i].range else {
             return Err(bad(
                 format!("`{name}` has no adjustable range to tune in"),
@@ -525,6 +609,81 @@ fn tuned_ranges(model: &Model, adjust: &[String]) -> Result<Vec<Vary>, Error> {
         });
     }
     Ok(vary)
+}
+
+/// Why a tuning will not adjust a parameter it is asked to: a job input or
+/// a fixed dimension, which the model does not allow searching
+/// ([`Model::allow_adjusting`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct KindRefusal {
+    pub name: String,
+    pub label: Option<String>,
+    pub kind: crate::model::ParamKind,
+    /// The model's machine settings with room to move, which a tuning
+    /// adjusts instead.
+    pub settings: Vec<String>,
+}
+
+impl KindRefusal {
+    /// The refusal of parameter `name`, if the model does not let a search
+    /// adjust its kind (`None` for a setting, an allowed kind or an unknown
+    /// name).
+    pub fn of(model: &Model, name: &str) -> Option<KindRefusal> {
+        let p = &model.params[model.param_index(name)?];
+        (!model.may_adjust(p.kind)).then(|| KindRefusal {
+            name: name.to_string(),
+            label: p.label.clone(),
+            kind: p.kind,
+            settings: model
+                .params
+                .iter()
+                .filter(|p| p.is_adjustable_setting())
+                .map(|p| p.name.clone())
+                .collect(),
+        })
+    }
+
+    /// What the parameter is and why it is not tuned.
+    pub fn message(&self) -> String {
+        let (name, what) = (
+            &self.name,
+            self.label.as_deref().map(|l| format!(" ({l})")).unwrap_or_default(),
+        );
+        match self.kind {
+            crate::model::ParamKind::Input => format!(
+                "`{name}`{what} is a job input, not a machine setting: tuning recommends how to set the machine for \
+                 a given job, never the job itself"
+            ),
+            _ => format!(
+                "`{name}`{what} is a fixed dimension, not a machine setting: no technician adjusts it on the machine"
+            ),
+        }
+    }
+
+    /// What to do instead and how to search it anyway; `allow` is how the
+    /// front end allows the kind (its option), or `None` for the library's
+    /// own words.
+    pub fn help(&self, allow: Option<&str>) -> String {
+        let (name, settings) = (&self.name, self.settings.join(", "));
+        let allow = allow.map_or_else(
+            || match self.kind {
+                crate::model::ParamKind::Input => "allow job inputs in the search".to_string(),
+                _ => "allow fixed dimensions in the search".to_string(),
+            },
+            |a| format!("add {a}"),
+        );
+        match self.kind {
+            crate::model::ParamKind::Input => format!(
+                "give the job's value (the stitch's thickness and length, or the parameter itself) and adjust the \
+                 machine settings ({settings}); a nomogram tunes them over the job's range; to search `{name}` \
+                 anyway, {allow}"
+            ),
+            _ => format!(
+                "adjust the machine settings ({settings}); to search `{name}` as a change to the machine's design, \
+                 {allow}"
+            ),
+        }
+    }
 }
 
 /// Where a tuning's result stands (see [`TuneResult::notes`]).

@@ -1,6 +1,6 @@
 //! A tuning ([`crate::study::tune`]) as a readable table: the recommended
-//! setting, the match and the checks before and after, and how far each
-//! setting may move.
+//! setting and how to make it on the machine, the match and the checks
+//! before and after, and how far each setting may move.
 
 use crate::format::{hundredths, score};
 use crate::study::tune::{MatchFigures, TuneObjective, TuneResult};
@@ -23,7 +23,8 @@ fn checks(f: &MatchFigures) -> String {
 }
 
 /// The readable result of a tuning: the recommended setting (and the one it
-/// started from), score and RMS(D) per thread before and after, the
+/// started from), each change in shop terms (which part, which way, how
+/// far), score and RMS(D) per thread before and after, the
 /// transmission angles and checks before and after, each setting's range
 /// within one score point, the notes and the cycles evaluated.
 pub fn table(r: &TuneResult) -> String {
@@ -42,7 +43,14 @@ pub fn table(r: &TuneResult) -> String {
         }
     };
     s += &format!("Recommended setting: {}\n", setting(&r.after));
-    s += &format!("(from {})\n\n", setting(&r.before));
+    s += &format!("(from {})\n", setting(&r.before));
+    if !r.adjustments.is_empty() {
+        s += "On the machine:\n";
+        for a in &r.adjustments {
+            s += &format!("  {}\n", a.advice);
+        }
+    }
+    s += "\n";
     s += &format!(
         "{:<12} {:>14} {:>14} {:>16} {:>16}\n",
         "thread", "score before", "score after", "RMS(D) before", "RMS(D) after"
