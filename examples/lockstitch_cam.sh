@@ -15,12 +15,16 @@ set -euo pipefail
 OUT="${STITCHKIN_OUT:-target/examples}"
 mkdir -p "$OUT"
 stitchkin() { if [[ -n "${STITCHKIN:-}" ]]; then "$STITCHKIN" "$@"; else cargo run --release --quiet -- "$@"; fi; }
-# The hook timing changes the stitch, so each of its settings recomputes P'
-# (the lever alone shares one P'): the smoke run tunes the lever only.
+# The tuning shapes the lever as well as setting the hook: the lever's pivot
+# height y4 is a fixed dimension of the machine, searched as a design change
+# (--allow-dimensions) beside the technician's settings, the hook's timing
+# and the needle bar's height. The hook timing changes the stitch, so each
+# of its settings recomputes P' (the lever alone shares one P'): the smoke
+# run tunes the lever only.
 if [[ -n "${STITCHKIN_QUICK:-}" ]]; then STEP=6 POINTS=60 ADJUST=y4; else STEP=1 POINTS=360 ADJUST=y4,catch_rise,s_b; fi
 
 stitchkin match --preset lockstitch --details --step $STEP -o "$OUT/lockstitch_match.txt"
-stitchkin tune --preset lockstitch --adjust $ADJUST --step $STEP -o "$OUT/lockstitch_tune.txt"
+stitchkin tune --preset lockstitch --adjust $ADJUST --allow-dimensions --step $STEP -o "$OUT/lockstitch_tune.txt"
 stitchkin cam examples/lockstitch-cam.toml --path needle --target required --anchor-radius 100 --smooth 25 \
     --points $POINTS --format all -o "$OUT/lockstitch_cam"
 
