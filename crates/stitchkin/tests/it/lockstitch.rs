@@ -145,22 +145,38 @@ fn the_hook_timing_moves_the_stitch() {
 
 #[test]
 fn tune_adjusts_the_lever_and_the_hook_timing() {
-    let model = Model::preset("lockstitch").unwrap();
+    let mut model = Model::preset("lockstitch").unwrap();
     let base = model.defaults();
+    // The technician's settings: the hook's timing and the needle bar's
+    // height (the regulator and the check spring are tuned when named).
     let adjust = model.default_adjustables(&base).unwrap();
-    assert_eq!(adjust, ["x4", "y4"]);
+    assert_eq!(adjust, ["catch_rise", "s_b"]);
+    // The lever's pivot is a fixed dimension: searched only as a change to
+    // the design, when allowed.
+    let opts = |adjust: &[&str], samples| TuneOptions {
+        objective: Default::default(),
+        adjust: adjust.iter().map(|s| s.to_string()).collect(),
+        samples,
+        seed: 1,
+        step_deg: 6.0,
+    };
+    let Err(stitchkin::error::Error::Param(e)) = tune(&model, &base, &opts(&["x4"], 6)) else {
+        panic!("x4 tuned without --allow-dimensions");
+    };
+    assert!(
+        e.message.contains("`x4`") && e.message.contains("fixed dimension"),
+        "{e:?}"
+    );
+    assert!(
+        e.help.as_deref().unwrap_or("").contains("allow fixed dimensions"),
+        "{e:?}"
+    );
+    model.allow_adjusting(stitchkin::model::ParamKind::Dimension);
     // The lever shares one P′ over its settings; the hook's timing changes
     // the stitch, so each of its settings recomputes P′: a few samples here
     // (the command line's default is 32 per setting).
     for (adjust, samples) in [(vec!["x4", "y4"], 64), (vec!["catch_rise"], 6)] {
-        let opts = TuneOptions {
-            objective: Default::default(),
-            adjust: adjust.iter().map(|s| s.to_string()).collect(),
-            samples,
-            seed: 1,
-            step_deg: 6.0,
-        };
-        let r = tune(&model, &base, &opts).unwrap();
+        let r = tune(&model, &base, &opts(&adjust, samples)).unwrap();
         // The default passes every check, and so does the tuned setting.
         assert!(
             r.after_figures.failed_checks.is_empty(),

@@ -12,6 +12,7 @@ mod fuzz_models;
 mod fuzz_regressions;
 mod history;
 mod invariants;
+mod kinds;
 mod limits;
 mod loading;
 mod lockstitch;

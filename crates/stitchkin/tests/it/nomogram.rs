@@ -100,12 +100,21 @@ fn bad_input_is_refused_before_anything_runs() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("no [stitch]"), "{e}");
-    // altin504 has nothing to tune by default, and says so.
-    let a = Model::preset("altin504").unwrap();
-    let e = nomogram(&a, &a.defaults(), &opts("1:2.5:2", None, &[], 10.0), || {})
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("nothing to adjust"), "{e}");
+    // A fixed dimension is refused before anything runs.
+    assert!(run(opts("3", None, &["z", "l_ab"], 10.0)).contains("`l_ab` (rod AB with ball ends) is a fixed dimension"));
+    // A model without machine settings has nothing to tune by default, and
+    // says so: altin504 with its looper settings made fixed dimensions.
+    let text = Model::preset("altin504")
+        .unwrap()
+        .text()
+        .replace("kind = \"setting\"", "kind = \"dimension\"");
+    let a = Model::from_toml_str(&text, "altin504.toml").unwrap();
+    let Err(stitchkin::error::Error::Param(e)) = nomogram(&a, &a.defaults(), &opts("1:2.5:2", None, &[], 10.0), || {})
+    else {
+        panic!("a model without machine settings tuned");
+    };
+    assert!(e.message.contains("nothing to adjust"), "{e:?}");
+    assert!(e.help.as_deref().unwrap_or("").contains("no machine setting"), "{e:?}");
 }
 
 /// Seed 000: "z = −2…−5 mm suits 3–5 mm material". At the default setting

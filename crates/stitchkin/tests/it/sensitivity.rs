@@ -227,15 +227,23 @@ fn mf7923d_sensitivity_agrees_with_the_reference() {
             .map(|e| (e.effect.unwrap().abs(), e.span.unwrap()))
             .collect();
         assert!(keys.windows(2).all(|w| w[0] >= w[1]), "{}: {keys:?}", f.figure);
-        // Seven settings of the mechanism and the stitch, and four of the
-        // thread (EA, breaking force, the regulator's and the clamp's holds),
-        // which move the tension only.
+        // Twelve settings of the mechanism, the guides G3 and the stitch,
+        // and four of the thread (EA, breaking force, the regulator's and
+        // the clamp's holds), which move the tension only.
         assert_eq!(
             f.effects.iter().map(|e| e.rank).collect::<Vec<_>>(),
-            (1..=11).collect::<Vec<_>>()
+            (1..=16).collect::<Vec<_>>()
         );
-        let order: Vec<&str> = f.effects.iter().take(5).map(|e| e.param.as_str()).collect();
-        assert_eq!(order, ["r1", "l_o2b", "r2", "dphi", "z"], "{}", f.figure);
+        // The eccentric, the ball arm, then the take-up arm's eyelets R
+        // (seed 000 section 4.2).
+        let order: Vec<&str> = f.effects.iter().take(3).map(|e| e.param.as_str()).collect();
+        assert_eq!(order, ["r1", "l_o2b", "R"], "{}", f.figure);
+        // Each guide G3 moves its own needle's thread only.
+        let j = &f.figure[1..2];
+        for other in ["1", "2", "3"].iter().filter(|&&k| k != j) {
+            assert_eq!(by(&f.figure, &format!("g3_{other}")).span, Some(0.0), "{}", f.figure);
+        }
+        assert!(by(&f.figure, &format!("g3_{j}")).span.unwrap() > 1.0, "{}", f.figure);
     }
     // Ranked by span instead, Δφ (5.1 mm) comes before O2B (5.0 mm) on
     // needle 1's contour A.
@@ -250,7 +258,7 @@ fn mf7923d_sensitivity_agrees_with_the_reference() {
     )
     .unwrap();
     let order: Vec<&str> = r.figures[0].effects.iter().take(5).map(|e| e.param.as_str()).collect();
-    assert_eq!(order, ["r1", "dphi", "l_o2b", "r2", "z"]);
+    assert_eq!(order, ["r1", "dphi", "l_o2b", "R", "psi"]);
     assert_eq!(r.figures[0].ranked_by, "span");
 }
 

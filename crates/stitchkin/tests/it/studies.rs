@@ -104,10 +104,15 @@ fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
     m.set(&mut p, "t1_phase", 180.0).unwrap();
     set_stitch_value(&m, &mut p, "m", 4.0).unwrap();
     assert_eq!(p.values[m.param_index("m").unwrap()], 4.0);
-    // The technician's settings: not m, the stitch length, the needle crank r2
-    // (it moves the needle, so P') or the reading switch t1_phase.
+    // The machine settings (seed 000 Table 3 and section 4.2), in file order:
+    // not m, the stitch length, the thread, the reading switch t1_phase or
+    // the thread's tension settings (the regulator and the clamp are tuned
+    // when named).
     let adjust = m.default_adjustables(&p).unwrap();
-    assert_eq!(adjust, ["r1", "l_o2b", "z", "dphi"]);
+    assert_eq!(
+        adjust,
+        ["r1", "l_o2b", "z", "r2", "R", "psi", "dphi", "g3_1", "g3_2", "g3_3"]
+    );
     let opts = TuneOptions {
         objective: Default::default(),
         adjust: vec!["z".into(), "dphi".into()],
@@ -126,18 +131,18 @@ fn tuning_improves_the_match_within_the_ranges_and_is_repeatable() {
     }
     // The same seed, the same answer.
     assert_eq!(tune(&m, &p, &opts).unwrap(), r);
-    // Bad requests.
-    let e = tune(
-        &m,
-        &p,
-        &TuneOptions {
-            objective: Default::default(),
-            adjust: vec!["t1_phase".into()],
-            ..opts.clone()
-        },
-    )
-    .unwrap_err()
-    .to_string();
+    // Bad requests: a reading of the paper is no setting, and once fixed
+    // dimensions are allowed, it still has no range to tune in.
+    let reading = TuneOptions {
+        objective: Default::default(),
+        adjust: vec!["t1_phase".into()],
+        ..opts.clone()
+    };
+    let e = tune(&m, &p, &reading).unwrap_err().to_string();
+    assert!(e.contains("`t1_phase`") && e.contains("is a fixed dimension"), "{e}");
+    let mut design = m.clone();
+    design.allow_adjusting(stitchkin::model::ParamKind::Dimension);
+    let e = tune(&design, &p, &reading).unwrap_err().to_string();
     assert!(e.contains("no adjustable range"), "{e}");
     let e = tune(
         &m,
