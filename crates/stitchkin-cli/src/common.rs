@@ -13,6 +13,7 @@ use stitchkin::model::{Model, Params};
 use stitchkin::presets;
 use stitchkin::study::measured::{MeasuredMatch, measured_match};
 use stitchkin::study::straightness::{Reference, StraightnessOptions, Window};
+use stitchkin::study::tune::set_stitch_value;
 use stitchkin::{MeasuredCurve, read_curve};
 
 /// The model a command works on: a file, a preset or the default preset,
@@ -28,7 +29,23 @@ pub(crate) struct ModelArgs {
     /// Repeatable. Values outside the parameter's adjustable range are rejected.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     set: Vec<String>,
+    /// Material thickness m (compressed), mm: sets the parameter the
+    /// model's [stitch] m_mm names, within its range.
+    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
+    pub thickness: Option<String>,
+    /// Stitch length t, mm: sets the parameter the model's [stitch] t_mm
+    /// names, within its range.
+    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
+    pub stitch: Option<String>,
 }
+
+/// The help of `--thickness` and `--stitch` where they are a grid's axis
+/// (`nomogram`, `plot nomogram`), for `mut_arg`.
+pub(crate) const THICKNESS_AXIS_HELP: &str = "Material thickness m, mm: LO:HI:N (N values, ends included), LO:HI \
+    (11 values) or one value; each sets the parameter [stitch] m_mm names, within its range (default: 5 values over \
+    that range)";
+pub(crate) const STITCH_AXIS_HELP: &str = "Stitch length t, mm: LO:HI:N, LO:HI or one value; each sets the \
+    parameter [stitch] t_mm names, within its range (default: the model's stitch length)";
 
 /// The formats of a result that is a table: readable text, CSV or JSON.
 #[derive(Clone, Copy, ValueEnum)]
@@ -79,8 +96,8 @@ impl<F: ValueEnum + Clone + Send + Sync + 'static> OutputArgs<F> {
 /// to look.
 #[derive(Args)]
 pub(crate) struct SearchArgs {
-    /// Settings to adjust, comma-separated (default: every ranged parameter
-    /// that leaves the stitch alone).
+    /// Settings to adjust, comma-separated (default: the model's machine
+    /// settings, without the thread's tension settings).
     #[arg(long, value_delimiter = ',', value_name = "NAME,…")]
     pub adjust: Option<Vec<String>>,
     /// Global samples of each tuning (default 32 per setting, at least 64).
@@ -97,6 +114,14 @@ pub(crate) struct SearchArgs {
     /// needs thread physics). The physical checks are constraints either way.
     #[arg(long, value_enum, default_value = "match")]
     pub objective: Objective,
+    /// Let --adjust name job inputs (the material, the stitch length, the
+    /// thread): searched as if they were machine settings.
+    #[arg(long)]
+    pub allow_inputs: bool,
+    /// Let --adjust name fixed dimensions (a part's size or place): a
+    /// search over the machine's design, not its settings.
+    #[arg(long)]
+    pub allow_dimensions: bool,
 }
 
 /// `--objective`.
@@ -110,6 +135,37 @@ impl SearchArgs {
     /// Checks the search's limits before any preparation.
     pub fn check(&self) -> Result<(), Error> {
         stitchkin::study::tune::check_samples(self.samples)
+    }
+
+    /// Lets the search adjust the kinds of parameter --allow-inputs and
+    /// --allow-dimensions name, besides the machine settings.
+    pub fn allow(&self, model: &mut Model) {
+        if self.allow_inputs {
+            model.allow_adjusting(stitchkin::model::ParamKind::Input);
+        }
+        if self.allow_dimensions {
+            model.allow_adjusting(stitchkin::model::ParamKind::Dimension);
+        }
+    }
+
+    /// Refuses a job input or a fixed dimension among `adjust` that
+    /// --allow-inputs or --allow-dimensions has not let in, naming the
+    /// option that would (the tuning refuses it too, in its own words).
+    pub fn check_kinds(model: &Model, adjust: &[String]) -> Result<(), Error> {
+        for name in adjust {
+            if let Some(r) = stitchkin::study::tune::KindRefusal::of(model, name) {
+                let flag = match r.kind {
+                    stitchkin::model::ParamKind::Input => "--allow-inputs",
+                    _ => "--allow-dimensions",
+                };
+                return Err(Error::Param(ParamError::new(
+                    Input::Adjust,
+                    r.message(),
+                    Some(r.help(Some(flag))),
+                )));
+            }
+        }
+        Ok(())
     }
 
     /// The tuning options with the settings to `adjust`.
@@ -166,9 +222,54 @@ impl PathArgs {
     }
 }
 
-/// The model and its parameters with the overrides applied; impossible
-/// geometry with the overrides is reported here, before any evaluation.
+/// The model and its parameters with the overrides applied (`--set`, then
+/// `--thickness` and `--stitch`); impossible geometry with the overrides is
+/// reported here, before any evaluation.
 pub(crate) fn load(args: &ModelArgs) -> Result<(Model, Params), Error> {
+    let (model, mut params) = load_without_job(args)?;
+    for (which, flag, input, given) in [
+        ("m", "--thickness", Input::Thickness, &args.thickness),
+        ("t", "--stitch", Input::StitchLength, &args.stitch),
+    ] {
+        let Some(text) = given else { continue };
+        let value = job_value(text, which, flag, input)?;
+        set_stitch_value(&model, &mut params, which, value).map_err(|e| match e {
+            Error::Param(p) => Error::Param(p.in_input(input)),
+            other => other,
+        })?;
+    }
+    if args.thickness.is_some() || args.stitch.is_some() {
+        model.machine::<f64>(&params)?;
+    }
+    Ok((model, params))
+}
+
+/// One value of `--thickness` or `--stitch`, mm.
+fn job_value(text: &str, which: &str, flag: &str, input: Input) -> Result<f64, Error> {
+    let what = if which == "m" { "thickness" } else { "stitch length" };
+    if text.contains(':') {
+        return Err(Error::Param(ParamError::new(
+            input,
+            format!("`{text}` is a range, and this command takes one {what}"),
+            Some(format!(
+                "give one value in mm, e.g. {flag} 3; a range LO:HI:N is for `stitchkin nomogram` and `stitchkin plot \
+                 nomogram` (or `stitchkin sweep --vary NAME=LO:HI:N` over the parameter)"
+            )),
+        )));
+    }
+    match text.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(Error::Param(ParamError::new(
+            input,
+            format!("`{text}` is not a {what}"),
+            Some(format!("give a number in mm, e.g. {flag} 3")),
+        ))),
+    }
+}
+
+/// The model and its parameters with `--set` applied, but not
+/// `--thickness` and `--stitch` (a nomogram reads them as its axes).
+pub(crate) fn load_without_job(args: &ModelArgs) -> Result<(Model, Params), Error> {
     let model = match (&args.model, &args.preset) {
         (Some(path), _) => Model::from_path(path)?,
         (None, Some(name)) => Model::preset(name)?,
@@ -187,6 +288,19 @@ pub(crate) fn load(args: &ModelArgs) -> Result<(Model, Params), Error> {
         }
         set.push(name);
         model.set_str(&mut params, s)?;
+    }
+    // One value, one place: the stitch's thickness and length are given
+    // with --thickness and --stitch or with --set, not both.
+    for (which, flag, given) in [("m", "--thickness", &args.thickness), ("t", "--stitch", &args.stitch)] {
+        if let (Some(_), Some(name)) = (given, model.stitch_param(which))
+            && set.contains(&name)
+        {
+            return Err(Error::Param(ParamError::new(
+                Input::Set,
+                format!("`{name}` is given twice: with --set {name}=… and with {flag}"),
+                Some(format!("give it once, with {flag}")),
+            )));
+        }
     }
     model.machine::<f64>(&params)?;
     Ok((model, params))

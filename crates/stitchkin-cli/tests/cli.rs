@@ -61,6 +61,8 @@ mod nomogram;
 mod sensitivity;
 #[path = "cli/strokes.rs"]
 mod strokes;
+#[path = "cli/tune.rs"]
+mod tune;
 
 #[path = "cli/cam.rs"]
 mod cam;
@@ -116,7 +118,7 @@ fn run_without_arguments_uses_the_default_preset() {
         "{summary}"
     );
     assert!(
-        summary.contains("# check ok   thread_bound: n1 18.04, n2 18.04, n3 18.04 mm to spare")
+        summary.contains("# check ok   thread_bound: n1 27.99 mm, n2 34.66 mm, n3 41.90 mm  (allowed ≥ 0.00 mm)")
             && !summary.contains("FAIL"),
         "{summary}"
     );
@@ -290,14 +292,14 @@ fn match_prints_the_mismatch_per_thread() {
         "{out}"
     );
     // One row per needle thread: its score, and every check passes (the
-    // stitch's three and the thread's four).
+    // stitch's three, the take-up's and the thread's four).
     for (j, want) in [(1, 75.0), (2, 57.6), (3, 34.3)] {
         let row = out
             .lines()
             .find(|l| l.starts_with(&format!("n{j} ")))
             .unwrap_or_else(|| panic!("no row n{j}:\n{out}"));
         let score: f64 = row.split_whitespace().nth(2).unwrap().parse().unwrap();
-        assert!((score - want).abs() < 0.05 && row.ends_with("7 of 7 pass"), "{row}");
+        assert!((score - want).abs() < 0.05 && row.ends_with("8 of 8 pass"), "{row}");
     }
     // The thread's tension: per needle its peak, where, the margin, the
     // thread drawn and the computed window.
@@ -321,6 +323,7 @@ fn match_prints_the_mismatch_per_thread() {
     // Every check, one line for the three threads where all pass.
     for check in [
         "thread_bound",
+        "takeup_gives",
         "catch_clearance",
         "stab_before_drop",
         "tension_margin",
@@ -331,9 +334,15 @@ fn match_prints_the_mismatch_per_thread() {
         assert_eq!(out.matches(&format!(" {check} ")).count(), 1, "{check}:\n{out}");
     }
     assert!(!out.contains("FAIL") && !out.contains("note: P peaks"), "{out}");
-    // The thread bound as the least to spare (the loop on the looper at TDC).
+    // The thread bound as the least to spare where the take-up gives thread
+    // (at the drop, where the loop leaves the looper); each value the
+    // figure of its message, beside its allowed range, in one column.
     assert!(
-        out.contains("thread_bound        n1 18.04, n2 18.04, n3 18.04 mm to spare at the least"),
+        out.contains("  ok    all    thread_bound        n1 27.99 mm, n2 34.66 mm, n3 41.90 mm  (allowed ≥ 0.00 mm)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("  ok    all    stab_before_drop    n1 3.53 mm, n2 3.48 mm, n3 2.55 mm  (allowed ≥ 0.00 mm)"),
         "{out}"
     );
     assert!(
@@ -364,11 +373,13 @@ fn match_prints_the_mismatch_per_thread() {
     assert!(details.contains("9.000 mm (cut from P′ at its lock"), "{details}");
     // T1 down at TDC: the thread bound fails for every needle, and so does
     // the slack loop, and the match says what that means.
-    let (other, _) = ok(&["match", "--set", "t1_phase=0"]);
+    let out = run(&["match", "--set", "t1_phase=0"]);
+    assert_eq!(out.status.code(), Some(1), "a failing check fails the command");
+    let other = String::from_utf8_lossy(&out.stdout).into_owned();
     assert_eq!(other.matches("FAIL  n").count(), 6, "{other}");
     assert_eq!(other.matches(" slack_loop ").count(), 3, "{other}");
     assert!(
-        other.contains("thread_bound         30.82 mm  more than the needle can take through B (φ = 152.0°"),
+        other.contains("thread_bound          -30.82 mm  (allowed ≥ 0.00 mm; φ = 152.0°; P_B peaks at"),
         "{other}"
     );
     assert!(
@@ -383,12 +394,39 @@ fn match_prints_the_mismatch_per_thread() {
 fn match_says_when_the_take_up_falls_short_of_the_stitch() {
     let (out, _) = ok(&["match"]);
     assert!(!out.contains("short of the"), "{out}");
-    let (out, _) = ok(&["match", "--set", "r1=6"]);
+    // At r1 = 6 mm, the end of its range, the take-up gives no needle
+    // thread: a check fails for each (its message in place of the note),
+    // after the screen the command fails.
+    let out = run(&["match", "--set", "r1=6"]);
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
-        out.contains("note: n1: the take-up gives at most 0.29 mm, 15.95 mm (98 %) short of the 16.25 mm the stitch takes at its peak"),
+        stderr.contains("physical check(s) fail (n1 takeup_gives, n2 takeup_gives, n3 takeup_gives"),
+        "{stderr}"
+    );
+    for j in 1..=3 {
+        assert!(stdout.contains(&format!("  FAIL  n{j}     takeup_gives ")), "{stdout}");
+    }
+    assert!(
+        stdout
+            .contains("the take-up gives at most 0.00 mm, 0 % of it (at least 25 % wanted; P is -4.94 mm at the peak)")
+            && stdout.contains("n2 n/a, n3 n/a"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("short of the"), "{stdout}");
+    // A coarse step: said, with by how much the scores move.
+    let (out, _) = ok(&["match", "--step", "30"]);
+    assert!(
+        out.contains(
+            "warning: the φ step of 30° is too coarse for the metrics: against a 1° step the scores move by up to 39.5 points"
+        ),
         "{out}"
     );
-    assert_eq!(out.matches("short of the").count(), 3, "{out}");
+    let (out, _) = ok(&["match"]);
+    assert!(!out.contains("too coarse"), "{out}");
     let (out, _) = ok(&["match", "--preset", "lockstitch"]);
     assert!(
         out.contains("note: needle: the take-up gives at most 41.29 mm, 25.22 mm (38 %) short of the 66.51 mm")
@@ -435,10 +473,10 @@ fn match_gives_json_with_the_tension_and_the_checks() {
         let drawn = tn["drawn_per_cycle_mm"].as_f64().unwrap() * (1.0 + tn["lock_strain"].as_f64().unwrap());
         assert!((drawn / 11.0 - 1.0).abs() < 1e-3, "{drawn}");
     }
-    // The checks: name, ok, value, limit, message; the stitch's three and
-    // the thread's four per needle.
+    // The checks: name, ok, value, limit, message; the stitch's three, the
+    // take-up's and the thread's four per needle.
     let checks = v["checks"].as_array().unwrap();
-    assert_eq!(checks.len(), 21);
+    assert_eq!(checks.len(), 24);
     for name in ["tension_margin", "slack_loop", "stitch_set", "spring_before_slip"] {
         assert_eq!(checks.iter().filter(|c| c["name"] == name).count(), 3, "{name}");
     }
@@ -921,8 +959,10 @@ fn serve_answers(args: &[&str]) {
 }
 
 /// The `stitchkin …` commands of the ```sh blocks of a file of the
-/// repository (comments and shell quoting taken off, as a shell would).
-fn doc_commands(file: &str) -> Vec<Vec<String>> {
+/// repository (comments and shell quoting taken off, as a shell would),
+/// each with whether its comment says a check fails there (the command
+/// then exits with status 1 after its output).
+fn doc_commands(file: &str) -> Vec<(Vec<String>, bool)> {
     let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(file)).unwrap();
     let mut in_sh = false;
     let mut out = Vec::new();
@@ -931,14 +971,16 @@ fn doc_commands(file: &str) -> Vec<Vec<String>> {
             in_sh = line == "```sh";
             continue;
         }
-        let cmd = line.split('#').next().unwrap().trim();
+        let (cmd, comment) = line.split_once('#').unwrap_or((line, ""));
+        let cmd = cmd.trim();
         if in_sh && cmd.starts_with("stitchkin ") {
-            out.push(
+            out.push((
                 cmd.split_whitespace()
                     .skip(1)
                     .map(|a| a.trim_matches('\'').to_string())
                     .collect(),
-            );
+                comment.contains(" fails"),
+            ));
         }
     }
     out
@@ -948,13 +990,24 @@ fn doc_commands(file: &str) -> Vec<Vec<String>> {
 /// (a `serve` is started, asked and stopped); returns how many ran.
 fn run_doc_commands(file: &str, d: &Path) -> usize {
     let commands = doc_commands(file);
-    for args in &commands {
+    for (args, check_fails) in &commands {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         if args[0] == "serve" {
             serve_answers(&args);
             continue;
         }
         let out = run_in(&args, d);
+        if *check_fails {
+            assert!(
+                out.status.code() == Some(1)
+                    && String::from_utf8_lossy(&out.stderr).contains("physical check(s) fail")
+                    && !out.stdout.is_empty(),
+                "{file}: `stitchkin {}` should print its output and fail a check\n{}",
+                args.join(" "),
+                String::from_utf8_lossy(&out.stderr)
+            );
+            continue;
+        }
         assert!(
             out.status.success(),
             "{file}: `stitchkin {}` failed\n{}",
@@ -1032,7 +1085,10 @@ fn errors_name_the_flag_and_refuse_what_cannot_work() {
     let e = fails(&["stroke", "--preset", "needle876", "--point", "Q"]);
     assert!(e.contains("no point `Q`") && e.contains("(in --point)"), "{e}");
     let e = fails(&["tune", "--preset", "altin504", "--adjust", "alpha"]);
-    assert!(e.contains("single value") && e.contains("(in --adjust)"), "{e}");
+    assert!(
+        e.contains("fixed dimension") && e.contains("(in --adjust)") && e.contains("--allow-dimensions"),
+        "{e}"
+    );
     let e = fails(&[
         "consumption",
         "--type",

@@ -4,7 +4,10 @@
 use stitchkin::error::{Error, Input};
 use stitchkin::study::nomogram::{Axis, NomogramOptions, default_thickness, nomogram};
 
-use crate::common::{ModelArgs, OutputArgs, SearchArgs, TableFormat, json, load, note_line, progress_bar};
+use crate::common::{
+    ModelArgs, OutputArgs, STITCH_AXIS_HELP, SearchArgs, THICKNESS_AXIS_HELP, TableFormat, json, load_without_job,
+    note_line, progress_bar,
+};
 
 /// Tune at every point of a grid of material thickness (and stitch
 /// length): the recommended settings, their tolerance and the match
@@ -21,18 +24,13 @@ use crate::common::{ModelArgs, OutputArgs, SearchArgs, TableFormat, json, load, 
     CSV columns: m_mm, t_mm, NAME_UNIT, NAME_lo_UNIT, NAME_hi_UNIT, score_mean_before, score_mean_after,\n\
     J_before, J_after, THREAD.score_before, THREAD.score_after, THREAD.rms_D_before_mm, ..., status.\n\
     Notes follow the table: a setting on an end of its range, a match that does not improve, a grid\n\
-    point where no setting passes the physical checks.")]
+    point where no setting passes the physical checks. The adjusted settings are the model's machine\n\
+    settings (as `stitchkin tune`), never the thickness or stitch length the nomogram is drawn over.")]
+#[command(mut_arg("thickness", |a| a.value_name("LO:HI:N").help(THICKNESS_AXIS_HELP)))]
+#[command(mut_arg("stitch", |a| a.value_name("LO:HI:N").help(STITCH_AXIS_HELP)))]
 pub(crate) struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Material thickness m, mm: LO:HI:N (N values, ends included), LO:HI
-    /// (11 values) or one value (default: 5 values over the range of the
-    /// parameter [stitch] m_mm names). Sets that parameter.
-    #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true)]
-    thickness: Option<String>,
-    /// Stitch length t, mm, as LO:HI:N (default: the model's stitch length).
-    #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true)]
-    stitch: Option<String>,
     #[command(flatten)]
     search: SearchArgs,
     #[command(flatten)]
@@ -41,16 +39,30 @@ pub(crate) struct Args {
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     args.search.check()?;
-    let (model, params) = load(&args.model)?;
+    let (mut model, params) = load_without_job(&args.model)?;
+    args.search.allow(&mut model);
+    // The thickness and the stitch length the nomogram is drawn over are
+    // refused by the nomogram itself, in its words.
+    let axes = [model.stitch_param("m"), model.stitch_param("t")];
+    let named: Vec<String> = args
+        .search
+        .adjust
+        .iter()
+        .flatten()
+        .filter(|n| !axes.contains(&Some(n.as_str())))
+        .cloned()
+        .collect();
+    SearchArgs::check_kinds(&model, &named)?;
     // A bad -o is reported before the tuning, not after it.
     if let Some(path) = &args.output.output {
         stitchkin::output::check_folder(path)?;
     }
-    let thickness = match &args.thickness {
+    let thickness = match &args.model.thickness {
         Some(t) => Axis::parse(t, Input::Thickness)?,
         None => default_thickness(&model)?,
     };
     let stitch = args
+        .model
         .stitch
         .as_deref()
         .map(|s| Axis::parse(s, Input::StitchLength))

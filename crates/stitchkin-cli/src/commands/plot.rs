@@ -59,7 +59,7 @@ impl What {
     }
 }
 
-use crate::common::{ModelArgs, load};
+use crate::common::{ModelArgs, STITCH_AXIS_HELP, THICKNESS_AXIS_HELP, load, load_without_job};
 
 /// Plot a cycle as SVG: the take-up P(φ) with the required P'(φ), the
 /// transmission angles, the trajectories of points, the motion law of
@@ -80,6 +80,12 @@ use crate::common::{ModelArgs, load};
     cycle's start. motion: each --series (a column of `stitchkin run`, the unit ending optional) against φ,\n\
     one panel per unit; with --vary one panel per series, a line per value. φ runs over one cycle from the\n\
     model's start (docs/plots.md).")]
+#[command(mut_arg("thickness", |a| a.value_name("MM | LO:HI:N").help(format!(
+    "Material thickness m, mm: one value for every plot but nomogram, where it is the axis. {THICKNESS_AXIS_HELP}"
+))))]
+#[command(mut_arg("stitch", |a| a.value_name("MM | LO:HI:N").help(format!(
+    "Stitch length t, mm: one value for every plot but nomogram, where it is the axis. {STITCH_AXIS_HELP}"
+))))]
 pub(crate) struct Args {
     /// What to plot.
     #[arg(value_enum)]
@@ -117,18 +123,16 @@ pub(crate) struct Args {
     /// --figures`, e.g. score.mean, n1_A.max_P_B_mm, mu.min_deg).
     #[arg(long, value_name = "NAME")]
     figure: Option<String>,
-    /// Nomogram: material thickness m, mm, LO:HI:N (default: the range of
-    /// the model's thickness parameter, 5 values).
-    #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true)]
-    thickness: Option<String>,
-    /// Nomogram: stitch length t, mm, LO:HI:N, one line each (default: the
-    /// model's stitch length).
-    #[arg(long, value_name = "LO:HI:N", allow_hyphen_values = true)]
-    stitch: Option<String>,
-    /// Nomogram: settings to tune, comma-separated (default: every ranged
-    /// parameter that leaves the stitch alone).
+    /// Nomogram: settings to tune, comma-separated (default: the model's
+    /// machine settings, as `stitchkin tune`).
     #[arg(long, value_delimiter = ',', value_name = "NAME,…")]
     adjust: Vec<String>,
+    /// Nomogram: let --adjust name job inputs (as `stitchkin tune`).
+    #[arg(long)]
+    allow_inputs: bool,
+    /// Nomogram: let --adjust name fixed dimensions (as `stitchkin tune`).
+    #[arg(long)]
+    allow_dimensions: bool,
     /// Nomogram: global samples of each tuning (default 32 per setting, at least 64).
     #[arg(long, value_name = "N")]
     samples: Option<usize>,
@@ -171,6 +175,18 @@ fn check_options(args: &Args) -> Result<(), Error> {
     use What::*;
     let nomogram_example = "stitchkin plot nomogram --set t1_phase=180 --thickness 3:5:3 --adjust z";
     let owners: [(&str, bool, &[What], &str); 13] = [
+        (
+            "--allow-inputs",
+            args.allow_inputs,
+            &[Nomogram],
+            "stitchkin plot nomogram --adjust z,stitch --allow-inputs",
+        ),
+        (
+            "--allow-dimensions",
+            args.allow_dimensions,
+            &[Nomogram],
+            "stitchkin plot nomogram --adjust z,l_ab --allow-dimensions",
+        ),
         (
             "--measured",
             !args.measured.is_empty(),
@@ -219,8 +235,6 @@ fn check_options(args: &Args) -> Result<(), Error> {
             &[Heatmap],
             "stitchkin plot heatmap --vary z=-10:10:11 --vary dphi=-20:20:11 --figure n1_A.max_P_B_mm",
         ),
-        ("--thickness", args.thickness.is_some(), &[Nomogram], nomogram_example),
-        ("--stitch", args.stitch.is_some(), &[Nomogram], nomogram_example),
         ("--adjust", !args.adjust.is_empty(), &[Nomogram], nomogram_example),
         ("--samples", args.samples.is_some(), &[Nomogram], nomogram_example),
         ("--seed", args.seed.is_some(), &[Nomogram], nomogram_example),
@@ -375,11 +389,12 @@ fn plot_of(args: &Args, model: &Model, params: &Params, step: f64) -> Result<Plo
             Plot::Heatmap { vary, figure }
         }
         What::Nomogram => {
-            let thickness = match &args.thickness {
+            let thickness = match &args.model.thickness {
                 Some(s) => Axis::parse(s, Input::Thickness)?,
                 None => stitchkin::study::nomogram::default_thickness(model)?,
             };
             let stitch = args
+                .model
                 .stitch
                 .as_deref()
                 .map(|s| Axis::parse(s, Input::StitchLength))
@@ -407,7 +422,29 @@ fn plot_of(args: &Args, model: &Model, params: &Params, step: f64) -> Result<Plo
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     check_options(&args)?;
     crate::picture::check_output(args.output.as_ref(), false)?;
-    let (model, params) = load(&args.model)?;
+    // A nomogram reads --thickness and --stitch as its axes; every other
+    // plot takes one value of each.
+    let (mut model, params) = if args.what == What::Nomogram {
+        load_without_job(&args.model)?
+    } else {
+        load(&args.model)?
+    };
+    if args.allow_inputs {
+        model.allow_adjusting(stitchkin::model::ParamKind::Input);
+    }
+    if args.allow_dimensions {
+        model.allow_adjusting(stitchkin::model::ParamKind::Dimension);
+    }
+    if args.what == What::Nomogram {
+        let axes = [model.stitch_param("m"), model.stitch_param("t")];
+        let named: Vec<String> = args
+            .adjust
+            .iter()
+            .filter(|n| !axes.contains(&Some(n.as_str())))
+            .cloned()
+            .collect();
+        crate::common::SearchArgs::check_kinds(&model, &named)?;
+    }
     let many_cycles = matches!(args.what, What::Family | What::Surface | What::Heatmap | What::Nomogram)
         || (args.what == What::Motion && !args.vary.is_empty());
     let step = args.step.unwrap_or(if many_cycles { 2.0 } else { 1.0 });

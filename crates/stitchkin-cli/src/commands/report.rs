@@ -15,7 +15,7 @@ use crate::common::{ModelArgs, SearchArgs, emit, in_flag, load, note_line, note_
 /// asked, the tuning result and a nomogram.
 #[derive(clap::Args)]
 #[command(after_help = "Examples:\n  stitchkin report -o report.html\n  \
-    stitchkin report --preset altin504 --set m=2 -o altin504.html\n  \
+    stitchkin report --preset altin504 --thickness 2 -o altin504.html\n  \
     stitchkin report --tune --nomogram-thickness 1:5:3 -o tuned.html\n  \
     stitchkin report --measured n1=n1-measured.csv -o measured.html\n\n\
     The file holds everything (styles, every picture as inline SVG, no script) and opens in any browser (docs/report.md).")]
@@ -33,8 +33,9 @@ pub(crate) struct Args {
     /// Leave out the animated drawing (a smaller file).
     #[arg(long)]
     no_animation: bool,
-    /// Tune the adjustable settings (as `stitchkin tune`) and report the
-    /// recommended setting with its P/P′ chart.
+    /// Tune the machine settings (as `stitchkin tune`) and report the
+    /// recommended setting, how to make it on the machine, and its P/P′
+    /// chart.
     #[arg(long)]
     tune: bool,
     /// Add a nomogram over this material thickness, mm: LO:HI:N (as
@@ -66,7 +67,8 @@ pub(crate) struct Args {
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     args.search.check()?;
-    let (model, params) = load(&args.model)?;
+    let (mut model, params) = load(&args.model)?;
+    args.search.allow(&mut model);
     if let Some(path) = &args.output {
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         if !matches!(ext.as_deref(), Some("html" | "htm")) {
@@ -82,6 +84,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     }
     let adjust = args.search.adjust.clone().unwrap_or_default();
     let tune_opts = args.search.options(adjust.clone());
+    SearchArgs::check_kinds(&model, &adjust)?;
     let tune = if args.tune {
         let mut t = tune_opts.clone();
         if t.adjust.is_empty() {

@@ -48,7 +48,10 @@ fn nomogram_tabulates_the_tuned_setting_per_thickness() {
     // computed no setting is pushed to a range end, so there is no note).
     let (out, err) = ok(&["nomogram", "--step", "10", "--samples", "24"]);
     assert!(
-        out.contains("adjusting r1 (mm), l_o2b (mm), z (mm), dphi (deg)"),
+        out.contains(
+            "adjusting r1 (mm), l_o2b (mm), z (mm), r2 (mm), R (mm), psi (deg), dphi (deg), g3_1 (mm), g3_2 (mm), \
+             g3_3 (mm)"
+        ),
         "{out}"
     );
     assert!(err.contains("# nomogram: 5 grid points tuned (0 failed)"), "{err}");
@@ -187,7 +190,7 @@ fn nomogram_refuses_bad_input_with_the_fix() {
         ),
         (
             vec!["--thickness", "3", "--adjust", "zz"],
-            "no parameter `zz` (in --adjust)",
+            "no parameter `zz` (did you mean `z`?) (in --adjust)",
             "adjustable parameters are",
         ),
         (
@@ -201,9 +204,16 @@ fn nomogram_refuses_bad_input_with_the_fix() {
             "mf7923d",
         ),
         (
-            vec!["--preset", "altin504", "--thickness", "1:2:2"],
-            "nothing to adjust (in --adjust)",
-            "besides the stitch's thickness and length",
+            vec![
+                "--preset",
+                "altin504",
+                "--thickness",
+                "1:2:2",
+                "--adjust",
+                "timing_l,alpha",
+            ],
+            "`alpha` (needle inclination alpha) is a fixed dimension",
+            "--allow-dimensions",
         ),
     ] {
         let e = fails(&[&["nomogram"], &args[..]].concat());

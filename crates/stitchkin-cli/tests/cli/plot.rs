@@ -244,9 +244,11 @@ fn plot_rejects_bad_chart_options_with_the_fix() {
     );
     let e = fails(&["plot", "family", "--vary", "r1=4:6", "--figure", "score.mean"]);
     assert!(e.contains("--figure is for `plot heatmap`"), "{e}");
+    // One thickness for a cycle's chart, an axis of them for a nomogram.
     let e = fails(&["plot", "mu", "--thickness", "3:5:3"]);
     assert!(
-        e.contains("--thickness is for `plot nomogram`") && e.contains("stitchkin plot nomogram"),
+        e.contains("`3:5:3` is a range, and this command takes one thickness (in --thickness)")
+            && e.contains("stitchkin plot nomogram"),
         "{e}"
     );
     let e = fails(&["plot", "nomogram", "--preset", "needle876"]);

@@ -161,12 +161,13 @@ impl StitchGeometry {
                 Some(want.to_string()),
             ))
         };
-        if !(self.thickness_mm.is_finite() && self.thickness_mm >= 0.0) {
+        // A stitch needs material: m = 0 would be a stitch through nothing.
+        if !(self.thickness_mm.is_finite() && self.thickness_mm > 0.0) {
             return bad(
                 Input::Thickness,
                 "the material thickness",
                 self.thickness_mm,
-                "give m ≥ 0 mm, e.g. 2.5",
+                "give the compressed material's thickness, m > 0 mm, e.g. 2.5",
             );
         }
         if !(self.stitch_mm.is_finite() && self.stitch_mm > 0.0) {
