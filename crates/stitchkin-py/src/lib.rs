@@ -283,14 +283,7 @@ impl Model {
         let model = &self.model;
         let json = py
             .detach(|| {
-                let opts = CycleOptions {
-                    step_deg: step,
-                    rpm: None,
-                    analogs: false,
-                    points: Some(Vec::new()),
-                    lean: false,
-                };
-                let table = run_cycle(model, &params, &opts)?;
+                let table = stitchkin::eval::run_match(model, &params, step)?;
                 let Some(st) = &table.stitch else {
                     return Err(stitchkin::Error::Stitch(stitchkin::error::StitchError::new(
                         format!("model `{}`", model.name()),

@@ -2,8 +2,8 @@
 //! P′, per thread, with the match scores and the physical checks, in one
 //! screen (`--details` for every metric, `--format json` for all of it).
 
-use stitchkin::error::{Error, StitchError};
-use stitchkin::eval::{self, CycleOptions};
+use stitchkin::error::{Error, PhysicalError, StitchError};
+use stitchkin::eval;
 use stitchkin::output::text;
 
 use crate::common::{ModelArgs, OutputArgs, TABLE_OR_JSON_HELP, TableOrJson, load, measured};
@@ -13,7 +13,7 @@ use crate::common::{ModelArgs, OutputArgs, TABLE_OR_JSON_HELP, TableOrJson, load
 /// mismatch D = P − P' and the match score.
 #[derive(clap::Args)]
 #[command(
-    after_help = "Examples:\n  stitchkin match\n  stitchkin match --preset mf7923d --set m=4 --set stitch=2.5\n  \
+    after_help = "Examples:\n  stitchkin match\n  stitchkin match --preset mf7923d --thickness 4 --stitch 2.5\n  \
     stitchkin match --details\n  stitchkin match --measured n1=n1-measured.csv\n  \
     stitchkin match my-machine.toml --format json -o match.json\n\n\
     One screen: per thread the score, RMS(D), max P, max P', the thread per stitch and the physical checks\n\
@@ -21,7 +21,10 @@ use crate::common::{ModelArgs, OutputArgs, TABLE_OR_JSON_HELP, TableOrJson, load
     the eye's top position; each thread's regulator window is left out of the metrics.\n\
     D > 0 is thread given but not needed (slack), D < 0 thread needed but not given (strain).\n\
     Score s = 100·max(0, 1 − RMS(D)/range(P')): 100 is a perfect match (docs/stitch-formation.md §8).\n\
-    The P' columns themselves come with `stitchkin run` (THR.Pprime_B_mm, THR.Pprime_mm, THR.D_mm, ...)."
+    The P' columns themselves come with `stitchkin run` (THR.Pprime_B_mm, THR.Pprime_mm, THR.D_mm, ...).\n\
+    Exit status: 0 when every physical check passes; 1 when one fails (the screen or file is written in full\n\
+    first: the setting evaluates, but no real machine can sew it) or on an error. A step coarser than 1° is\n\
+    compared with 1° and a warning says by how much the scores move."
 )]
 #[command(mut_arg("format", |a| a.help(TABLE_OR_JSON_HELP)))]
 pub(crate) struct Args {
@@ -47,14 +50,7 @@ pub(crate) struct Args {
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     let (model, params) = load(&args.model)?;
-    let opts = CycleOptions {
-        step_deg: args.step,
-        rpm: None,
-        analogs: false,
-        points: Some(Vec::new()),
-        lean: false,
-    };
-    let table = eval::run_cycle(&model, &params, &opts)?;
+    let table = eval::run_match(&model, &params, args.step)?;
     let Some(st) = &table.stitch else {
         return Err(Error::Stitch(StitchError::new(
             format!("model `{}`", model.name()),
@@ -76,5 +72,18 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         }
         TableOrJson::Table => text::matching::screen(&model, &table, st, &measured, args.details),
     };
-    args.output.emit(&out)
+    args.output.emit(&out)?;
+    // The screen in full, then a setting no machine can realise fails the
+    // command, as `check` does.
+    let failed: Vec<String> = st
+        .checks
+        .iter()
+        .filter(|c| !c.ok)
+        .map(|c| format!("{} {}", c.thread, c.name))
+        .collect();
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::Physical(PhysicalError { failed }))
+    }
 }

@@ -135,7 +135,7 @@ def test_sweep_gives_the_command_lines_rows(args, kwargs):
     assert_rows_equal(table, names, rows)
 
 
-@pytest.mark.parametrize("args, kwargs", [([], {}), (["--set", "r1=5", "--step", "2"], {"set": {"r1": 5.0}, "step": 2.0})])
+@pytest.mark.parametrize("args, kwargs", [([], {}), (["--set", "r1=4.5", "--step", "2"], {"set": {"r1": 4.5}, "step": 2.0})])
 def test_match_gives_the_command_lines_json(args, kwargs):
     import json
 
@@ -402,10 +402,10 @@ def test_the_docs_scripts_run_as_files(script, tmp_path):
                 need(alias.name.split(".")[0])
     path = tmp_path / "script.py"
     path.write_text(script, encoding="utf-8")
-    # A session of its own: on a timeout the script and every process it
+    # A process group of its own: on a timeout the script and every process it
     # started (a cluster's workers) are stopped together.
     proc = subprocess.Popen(
-        [sys.executable, str(path)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path, start_new_session=True
+        [sys.executable, str(path)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path, preexec_fn=os.setpgrp
     )
     try:
         stdout, stderr = proc.communicate(timeout=120)

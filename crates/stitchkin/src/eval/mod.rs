@@ -9,8 +9,8 @@ pub mod stitch_process;
 pub mod tension;
 
 pub use paths::PathCourse;
-pub use step::MAX_STEP_DEG;
 pub(crate) use step::check_step;
+pub use step::{MAX_STEP_DEG, REFERENCE_STEP_DEG, STEP_SCORE_POINTS, coarse_step_warning, run_match};
 
 use num_dual::Dual2_64;
 use serde::Serialize;

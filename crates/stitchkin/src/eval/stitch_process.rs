@@ -10,7 +10,7 @@ use super::{Column, wrap_deg};
 use crate::error::Error;
 use crate::model::stitch_setup::StitchSetup;
 use crate::model::{Model, Params};
-use crate::stitch::checks::{Check, bound_curve, catch_and_stab, hook_clearance, thread_bound};
+use crate::stitch::checks::{Check, bound_curve, catch_and_stab, hook_clearance, takeup_gives, thread_bound};
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::stitch::required_take_up::required_take_up;
 use crate::stitch::spec::{DEFAULT_REGULATOR_WIDTH_DEG, EventKind, Regulator, RequiredThread, StitchType, ThreadRole};
@@ -538,11 +538,12 @@ fn regulator_words(prepared: &Prepared, accounts: &[Accounting]) -> String {
 }
 
 /// One thread's take-up P compared with its P': D = P − P', the mismatch,
-/// and the thread bound where P is measured at B.
+/// and the checks of P: the thread bound where P is measured at B, and
+/// that the take-up gives thread while the stitch draws it.
 struct Compared {
     d_mm: Vec<f64>,
     mismatch: Option<Mismatch>,
-    bound: Option<Check>,
+    checks: Vec<Check>,
 }
 
 /// Compares thread `i` of `prepared`, whose P' at its split is
@@ -587,7 +588,9 @@ fn compare(
         }
         _ => None,
     };
-    Ok(Compared { d_mm, mismatch, bound })
+    let gives = takeup_gives(&th.name, phis, p, pprime, prepared.phi0_deg);
+    let checks = bound.into_iter().chain([gives]).collect();
+    Ok(Compared { d_mm, mismatch, checks })
 }
 
 /// Adds the stitch columns and returns the summary. Per needle thread THR
@@ -671,7 +674,7 @@ pub(crate) fn stitch_columns(
                 values: c.d_mm,
             });
             m = c.mismatch;
-            checks.extend(c.bound);
+            checks.extend(c.checks);
         }
         checks.extend(needle_checks.iter().filter(|c| &c.thread == name).cloned());
         let tension = solved[i].as_ref().map(|sol| {

@@ -91,10 +91,7 @@ pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
                 ));
             }
             if let Some(c) = checks.iter().find(|c| c.name == "thread_bound") {
-                out.push((
-                    format!("{}.bound_margin_mm", t.thread),
-                    c.limit[1].unwrap_or(f64::INFINITY) - c.value,
-                ));
+                out.push((format!("{}.bound_margin_mm", t.thread), c.value));
             }
             if let Some(m) = &t.mismatch {
                 if let Some(s) = m.score {

@@ -149,6 +149,8 @@ struct StitchPlan {
     /// A needle thread with a path: the most thread the needle can take
     /// through B at each φ (`stitch::checks::bound_curve`).
     bound: Option<Vec<f64>>,
+    /// φ0, deg: where P = P′ = 0, the start of the stitch's drawing phase.
+    phi0_deg: f64,
     /// Whether the thread has physical checks, and whether those that do
     /// not depend on the take-up (catch, stab) pass.
     has_checks: bool,
@@ -638,19 +640,17 @@ impl Fast {
                 None => true,
             };
             // As `eval::stitch`: the thread bound where P comes
-            // closest to it, and every check of the thread.
+            // closest to it, that the take-up gives thread while the stitch
+            // draws it, and every check of the thread.
             let margin = match (plan.path, &plan.bound) {
-                (Some(pi), Some(bound)) => Some(
-                    self.p[pi]
-                        .iter()
-                        .zip(bound)
-                        .map(|(p, b)| b - p)
-                        .fold(f64::INFINITY, f64::min),
-                ),
+                (Some(pi), Some(bound)) => Some(crate::stitch::checks::bound_margin_mm(&self.p[pi], bound)),
                 _ => None,
             };
+            let gives_ok = plan.path.is_none_or(|pi| {
+                crate::stitch::checks::Given::of(&self.phis, &self.p[pi], pprime, plan.phi0_deg).is_none_or(|g| g.ok())
+            });
             if plan.has_checks || margin.is_some() {
-                let ok = plan.fixed_checks_ok && tension_ok && margin.is_none_or(|m| m >= -1e-9);
+                let ok = plan.fixed_checks_ok && tension_ok && gives_ok && margin.is_none_or(|m| m >= -1e-9);
                 all_ok &= ok;
                 any_checks = true;
                 out.push(|| format!("{}.checks_ok", plan.name), if ok { 1.0 } else { 0.0 });
@@ -849,7 +849,8 @@ impl StitchPlan {
                 weight,
                 range: hi - lo,
                 bound,
-                has_checks: !mine.is_empty() || tension.is_some(),
+                phi0_deg: prepared.phi0_deg,
+                has_checks: !mine.is_empty() || tension.is_some() || path.is_some(),
                 fixed_checks_ok: mine.iter().all(|c| c.ok),
                 tension,
             });

@@ -388,9 +388,9 @@ fn golden_take_up_and_match() {
     assert!((jump("needle", Lock) + thread(s, "needle").released_mm).abs() < 1e-9);
     assert!((jump("lower", Lock) - 0.002).abs() < 0.01, "{}", jump("lower", Lock));
     assert!((jump("upper", Lock) - 0.183).abs() < 0.01, "{}", jump("upper", Lock));
-    // Every physical check passes: the needle thread's three, and the
-    // tension's four of each thread.
-    assert!(s.checks_ok() && s.checks.len() == 15, "{:?}", s.checks);
+    // Every physical check passes: the needle thread's three, the take-up's
+    // and the tension's four of each thread.
+    assert!(s.checks_ok() && s.checks.len() == 18, "{:?}", s.checks);
 }
 
 /// Seed 000/004: max P' grows with the thickness and the stitch length (the

@@ -923,7 +923,7 @@ fn mf_stitch(c: &MfCycles) -> Vec<Fact> {
             .checks
             .iter()
             .filter(|c| c.name == "thread_bound")
-            .map(|c| c.limit[1].unwrap() - c.value)
+            .map(|c| c.value)
             .collect()
     };
     let (bd, b0) = (bound(t), bound(t0));

@@ -40,6 +40,7 @@ fn the_default_matches_and_its_lever_draws_the_loop_back_up() {
         names,
         [
             "thread_bound",
+            "takeup_gives",
             "hook_clearance",
             "tension_margin",
             "slack_loop",
@@ -49,8 +50,8 @@ fn the_default_matches_and_its_lever_draws_the_loop_back_up() {
     );
     assert!(s.checks_ok(), "{:?}", s.checks);
     // The check spring is at its end before thread slips (0.35 N < 0.7 N).
-    assert!(s.checks[5].value < 1e-3 && s.checks[5].message.contains("pull test passes"));
-    let beak = s.checks[1].value;
+    assert!(s.checks[6].value < 1e-3 && s.checks[6].message.contains("pull test passes"));
+    let beak = s.checks[2].value;
     assert!(
         (beak - 1.48).abs() < 0.005,
         "the beak {beak} mm above the eye at the catch"

@@ -288,9 +288,8 @@ fn tension_block(st: &StitchSummary) -> String {
 }
 
 /// The physical checks: one line each (several threads: one line per check
-/// they all pass), in full when one fails (or with `details`).
-/// `thread_bound` is shown as the least to spare over the cycle (the sweep
-/// figure `THR.bound_margin_mm`), beside P_B's peak on a thread's own line.
+/// they all pass), in full when one fails (or with `details`); each value
+/// is the figure its message speaks of, beside its allowed range.
 fn checks_block(table: &CycleTable, st: &StitchSummary, details: bool) -> String {
     if st.checks.is_empty() {
         return String::new();
@@ -316,7 +315,13 @@ fn grouped_checks(table: &CycleTable, st: &StitchSummary) -> String {
                 s += &check_line(table, st, c, false);
             }
         } else {
-            s += &format!("  {:<5} {:<19} {}\n", "ok", group[0].name, group_figure(&group));
+            s += &format!(
+                "  {:<5} {:<6} {:<19} {}\n",
+                "ok",
+                "all",
+                group[0].name,
+                group_figure(&group)
+            );
         }
     }
     s
@@ -334,62 +339,59 @@ pub(super) fn check_groups(checks: &[Check]) -> Vec<Vec<&Check>> {
     out
 }
 
-/// One check's figure for every thread side by side: `n1 3.84×, n2 3.89×
-/// (allowed ≥ 3.00×)`; `thread_bound` as the least to spare.
+/// One check's figure for every thread side by side, with the allowed
+/// range: `n1 3.84×, n2 3.89×  (allowed ≥ 3.00×)`; a thread where it does
+/// not apply reads `n/a`.
 pub(super) fn group_figure(group: &[&Check]) -> String {
-    let each = |f: &dyn Fn(&Check) -> String| {
-        group
-            .iter()
-            .map(|c| format!("{} {}", c.thread, f(c)))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    match (group[0].name, group[0].limit) {
-        ("thread_bound", [_, Some(_)]) => format!(
-            "{} mm to spare at the least",
-            each(&|c| format!("{:.2}", c.limit[1].unwrap_or(c.value) - c.value))
+    let figures = group
+        .iter()
+        .map(|c| format!("{} {}", c.thread, c.value_words()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    match group.iter().find(|c| c.limit != [None, None]) {
+        Some(c) if group.iter().all(|g| g.limit == c.limit || g.limit == [None, None]) => {
+            format!("{figures}  (allowed {})", c.limit_words())
+        }
+        // Limits of each thread's own (a share of its own P′).
+        Some(_) => format!(
+            "{figures}  (allowed {})",
+            group
+                .iter()
+                .filter(|c| c.limit != [None, None])
+                .map(|c| format!("{} {}", c.thread, c.limit_words()))
+                .collect::<Vec<_>>()
+                .join(", ")
         ),
-        (_, [None, None]) => format!("n/a  ({})", group[0].message),
-        _ => format!("{}  (allowed {})", each(&|c| c.value_words()), group[0].limit_words()),
+        None => format!("n/a  ({})", group[0].message),
     }
 }
 
-/// One check of one thread: its figure, and what it means where it fails
-/// (or always, with `details`).
+/// One check of one thread: its figure and allowed range, where it is
+/// judged, and what it means where it fails (or always, with `details`).
 fn check_line(table: &CycleTable, st: &StitchSummary, c: &Check, details: bool) -> String {
-    let figure = match (c.name, c.limit[1]) {
-        ("thread_bound", Some(bound)) => {
-            let peak = st
+    let figure = if c.limit == [None, None] {
+        format!("{:>11}  ({})", c.value_words(), c.message)
+    } else {
+        // The thread bound beside P_B's peak, the thread given at its most.
+        let peak = match c.name {
+            "thread_bound" => st
                 .threads
                 .iter()
                 .find(|t| t.thread == c.thread)
                 .and_then(|t| t.path.as_ref())
                 .and_then(|p| table.paths.iter().find(|s| &s.path == p))
-                .map_or(String::new(), |s| format!("; P_B peaks at {:.2} mm", s.max_p_mm));
-            if c.ok {
-                format!(
-                    "{:>8.2} mm  to spare at the least (φ = {:.1}°{peak})",
-                    bound - c.value,
-                    c.at_deg
-                )
-            } else {
-                format!(
-                    "{:>8.2} mm  more than the needle can take through B (φ = {:.1}°{peak})",
-                    c.value - bound,
-                    c.at_deg
-                )
-            }
-        }
-        _ if c.limit == [None, None] => format!("{:>11}  ({})", c.value_words(), c.message),
-        _ => format!(
-            "{:>11}  (allowed {}; φ = {:.1}°)",
+                .map_or(String::new(), |s| format!("; P_B peaks at {:.2} mm", s.max_p_mm)),
+            _ => String::new(),
+        };
+        format!(
+            "{:>11}  (allowed {}; φ = {:.1}°{peak})",
             c.value_words(),
             c.limit_words(),
             c.at_deg
-        ),
+        )
     };
     let mut s = format!(
-        "  {:<5} {:<6} {:<17} {figure}\n",
+        "  {:<5} {:<6} {:<19} {figure}\n",
         if c.ok { "ok" } else { "FAIL" },
         c.thread,
         c.name
@@ -458,7 +460,10 @@ fn notes(table: &CycleTable, st: &StitchSummary) -> String {
             .as_ref()
             .and_then(|p| table.paths.iter().find(|q| &q.path == p))
             .map(|q| q.max_p_mm);
+        // Where `takeup_gives` fails, its message says it already.
+        let gives_failed = failed.iter().any(|c| c.name == "takeup_gives" && c.thread == t.thread);
         if let Some(max_p) = max_p
+            && !gives_failed
             && t.max_pprime_mm > 0.0
             && t.max_pprime_mm - max_p > (SHORTFALL_NOTE_SHARE * t.max_pprime_mm).max(SHORTFALL_NOTE_MIN_MM)
         {
