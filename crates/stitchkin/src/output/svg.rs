@@ -353,26 +353,97 @@ fn open_document(s: &mut String, w: f64, h: f64, title: &str) {
     );
 }
 
-/// The bold title and the grey subtitle under it; returns the y where the
-/// content may start.
-fn write_titles(s: &mut String, x: f64, title: &str, subtitle: Option<&str>) -> f64 {
+/// The bold title and the grey subtitle under it, wrapped to the page's
+/// `width`; returns the y where the content may start.
+fn write_titles(s: &mut String, x: f64, width: f64, title: &str, subtitle: Option<&str>) -> f64 {
     let _ = writeln!(
         s,
         r#"<text class="title" x="{}" y="24" font-size="16" font-weight="bold">{}</text>"#,
         n(x),
         escape(title)
     );
-    if let Some(sub) = subtitle {
+    let Some(sub) = subtitle else { return 44.0 };
+    let lines = wrap(sub, width - x - MARGIN_R);
+    if let [line] = lines.as_slice() {
         let _ = writeln!(
             s,
             r##"<text class="subtitle" x="{}" y="44" fill="#555">{}</text>"##,
             n(x),
-            escape(sub)
+            escape(line)
         );
-        62.0
     } else {
-        44.0
+        let spans: String = lines
+            .iter()
+            .enumerate()
+            .map(|(k, l)| {
+                format!(
+                    r#"<tspan x="{}" y="{}">{}</tspan>"#,
+                    n(x),
+                    n(44.0 + SUBTITLE_LINE * k as f64),
+                    escape(l)
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            r##"<text class="subtitle" x="{}" y="44" fill="#555">{spans}</text>"##,
+            n(x)
+        );
     }
+    header_height(lines.len())
+}
+
+/// The height of the title and a subtitle of `lines` lines, px.
+fn header_height(lines: usize) -> f64 {
+    if lines == 0 {
+        44.0
+    } else {
+        62.0 + SUBTITLE_LINE * (lines - 1) as f64
+    }
+}
+
+/// A subtitle's lines on a page `width` wide, px.
+fn subtitle_lines(subtitle: Option<&str>, width: f64) -> usize {
+    subtitle.map_or(0, |sub| wrap(sub, width - MARGIN_L - MARGIN_R).len())
+}
+
+/// The distance between a subtitle's lines, px.
+const SUBTITLE_LINE: f64 = 15.0;
+
+/// `text` in lines at most `width` px wide (at [`CHAR_W`] a character):
+/// broken after its clauses (`; `) where it can be, else between words.
+fn wrap(text: &str, width: f64) -> Vec<String> {
+    let max = ((width / CHAR_W).floor() as usize).max(20);
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    let clauses: Vec<&str> = text.split_inclusive("; ").collect();
+    for clause in clauses {
+        let clause_len = clause.trim_end().chars().count();
+        if line.chars().count() + clause_len <= max {
+            line.push_str(clause);
+            continue;
+        }
+        if !line.is_empty() {
+            lines.push(line.trim_end().to_string());
+            line = String::new();
+        }
+        if clause_len <= max {
+            line.push_str(clause);
+            continue;
+        }
+        // A clause longer than a line: between its words.
+        for word in clause.split_inclusive(' ') {
+            if !line.is_empty() && line.chars().count() + word.trim_end().chars().count() > max {
+                lines.push(line.trim_end().to_string());
+                line = String::new();
+            }
+            line.push_str(word);
+        }
+    }
+    if !line.trim().is_empty() {
+        lines.push(line.trim_end().to_string());
+    }
+    lines
 }
 
 /// A vertical colour bar of [`ramp`] over [lo, hi] at (x, top), `height`
@@ -478,7 +549,7 @@ impl Chart {
     pub fn render(&self) -> String {
         let mut s = String::new();
         open_document(&mut s, self.width, self.height, &self.title);
-        let top = write_titles(&mut s, MARGIN_L, &self.title, self.subtitle.as_deref());
+        let top = write_titles(&mut s, MARGIN_L, self.width, &self.title, self.subtitle.as_deref());
         self.draw(&mut s, top, self.height, self.legend_width(), "plot");
         s.push_str("</svg>\n");
         s
@@ -927,11 +998,11 @@ impl Figure {
     pub fn render(&self) -> String {
         let w = self.panels.iter().map(|p| p.width).fold(0.0, f64::max).max(400.0);
         let legend_w = self.panels.iter().map(Chart::legend_width).fold(LEGEND_W, f64::max);
-        let header = if self.subtitle.is_some() { 62.0 } else { 44.0 };
+        let header = header_height(subtitle_lines(self.subtitle.as_deref(), w));
         let h = header + self.panels.iter().map(|p| p.height).sum::<f64>();
         let mut s = String::new();
         open_document(&mut s, w, h, &self.title);
-        let mut y = write_titles(&mut s, MARGIN_L, &self.title, self.subtitle.as_deref());
+        let mut y = write_titles(&mut s, MARGIN_L, w, &self.title, self.subtitle.as_deref());
         for (k, p) in self.panels.iter().enumerate() {
             let _ = writeln!(
                 s,
@@ -1029,7 +1100,7 @@ impl Surface {
         let (w, h) = (self.width, self.height);
         let mut s = String::new();
         open_document(&mut s, w, h, &self.title);
-        let top = write_titles(&mut s, MARGIN_L, &self.title, self.subtitle.as_deref()) + 10.0;
+        let top = write_titles(&mut s, MARGIN_L, w, &self.title, self.subtitle.as_deref()) + 10.0;
         let fin = |v: &[f64]| {
             v.iter()
                 .copied()
@@ -1272,6 +1343,41 @@ impl Surface {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_long_subtitle_wraps_after_its_clauses_inside_the_page() {
+        let sub = "solid: P (take-up), dashed: P′ (required, stitch 407, m = 3 mm, t = 3 mm); shaded: one-sided guide \
+                   engaged; needle threads at B, the eye's top position; regulator windows 19°…48°, 94°…113°, \
+                   215°…237° of n1 (computed) left out of the match";
+        let lines = wrap(sub, 900.0 - MARGIN_L - MARGIN_R);
+        assert!(lines.len() >= 2, "{lines:?}");
+        for l in &lines {
+            assert!(MARGIN_L + CHAR_W * l.chars().count() as f64 <= 900.0 - MARGIN_R, "{l}");
+        }
+        assert_eq!(lines.join(" "), sub, "nothing lost");
+        assert!(lines[0].ends_with(';'), "broken after a clause: {lines:?}");
+        // A chart gives the subtitle's lines room: its plot area starts below them.
+        let mut chart = Chart::new("t", Axis::new("x"), Axis::new("y"));
+        chart
+            .series
+            .push(Series::new("a", vec![(0.0, 0.0), (1.0, 1.0)], "#000"));
+        chart.subtitle = Some(sub.to_string());
+        let svg = chart.render();
+        assert_eq!(svg.matches("<tspan").count(), lines.len());
+        let plot_top: f64 = svg
+            .split("class=\"plot-area\"")
+            .nth(1)
+            .and_then(|r| r.split("y=\"").nth(1))
+            .and_then(|r| r.split('"').next())
+            .and_then(|y| y.parse().ok())
+            .unwrap();
+        assert!(
+            plot_top >= 44.0 + SUBTITLE_LINE * (lines.len() - 1) as f64 + 12.0,
+            "{plot_top}"
+        );
+        // A short one stays one line.
+        assert_eq!(wrap("solid: P", 800.0), ["solid: P"]);
+    }
 
     #[test]
     fn steps_are_one_two_or_five_times_a_power_of_ten() {
