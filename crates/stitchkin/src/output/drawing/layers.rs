@@ -4,7 +4,7 @@
 use std::collections::BTreeSet;
 use std::fmt::Write;
 
-use super::layout::{LabelSpot, Rect, RotBox, Segment, dim_label, hull, place_label};
+use super::layout::{Clutter, LabelSpot, Rect, RotBox, Segment, dim_label, hull, label_width, place_label};
 use super::scene::{Page, Roles, Scene};
 use super::structure::{Body, Dim, Guide, Kind, guide_is_fixed, guide_line};
 use super::{Plane, View, pts_attr};
@@ -23,6 +23,8 @@ pub(super) struct Sheet {
     pub(super) svg: String,
     /// Links, rails and hatches at the first frame, px.
     segments: Vec<Segment>,
+    /// The threads' lines at the first frame, px.
+    threads: Vec<Segment>,
     /// Labels placed so far.
     labels: Vec<Rect>,
     /// Points and the grounds under pivots, px.
@@ -370,6 +372,7 @@ impl Drawing<'_> {
                 .iter()
                 .map(|l| l.iter().map(|q| self.px(q)).collect())
                 .collect();
+            out.threads.extend(frames[0].windows(2).map(|w| (w[0], w[1])));
             let values: Vec<String> = frames.iter().map(|f| pts_attr(f)).collect();
             let same_count = frames.iter().all(|f| f.len() == frames[0].len());
             let touched: Vec<&str> = (0..path.nodes.len())
@@ -621,12 +624,20 @@ impl Drawing<'_> {
                 .copied()
                 .filter(|d| (d.0 - at.0).abs() + (d.1 - at.1).abs() > 1.0)
                 .collect();
+            let clutter = Clutter {
+                placed: &out.labels,
+                segments: &out.segments,
+                threads: &out.threads,
+                dots: &others,
+                clip: &clip,
+            };
             let Some(LabelSpot {
                 x: tx,
                 y: ty,
                 anchor,
                 rect,
-            }) = place_label(&text, at, &out.labels, &out.segments, &others, droppable, &clip)
+                leader,
+            }) = place_label(label_width(&text, class == "label"), at, &clutter, droppable)
             else {
                 continue;
             };
@@ -636,10 +647,24 @@ impl Drawing<'_> {
                 "label fixed" => ("#333", "normal"),
                 _ => ("#666", "normal"),
             };
+            // A label standing off is joined to its point by a thin line.
+            let line = match leader {
+                Some((a, b)) => {
+                    out.segments.push((a, b));
+                    format!(
+                        r##"<line class="leader" x1="{}" y1="{}" x2="{}" y2="{}" stroke="#888" stroke-width="0.7"/>"##,
+                        n(a.0 - at.0),
+                        n(a.1 - at.1),
+                        n(b.0 - at.0),
+                        n(b.1 - at.1)
+                    )
+                }
+                None => String::new(),
+            };
             let (t0, anim) = self.translate(members[0]);
             let _ = writeln!(
                 out.svg,
-                r#"<g class="{class}" data-names="{}" transform="translate({t0})">{anim}<text x="{}" y="{}" text-anchor="{anchor}" fill="{fill}" font-weight="{weight}" stroke="white" stroke-width="3" paint-order="stroke">{}</text></g>"#,
+                r#"<g class="{class}" data-names="{}" transform="translate({t0})">{anim}{line}<text x="{}" y="{}" text-anchor="{anchor}" fill="{fill}" font-weight="{weight}" stroke="white" stroke-width="3" paint-order="stroke">{}</text></g>"#,
                 escape(&members.iter().map(|&p| names[p].as_str()).collect::<Vec<_>>().join(" ")),
                 n(tx - at.0),
                 n(ty - at.1),
