@@ -1,13 +1,20 @@
 //! The requests the page makes, answered without any HTTP machinery so
 //! they can be tested directly: [`App::handle`] turns a method and a URL
-//! into a [`Reply`].
+//! into a [`Reply`] ([`App::handle_body`] with a request's body).
 //!
 //! | route | answer |
 //! |---|---|
 //! | `GET /` | the page (HTML, scripts inline) |
-//! | `GET /api/model` | the model: parameters with units, ranges and roles, threads, views |
-//! | `GET /api/evaluate?p.NAME=V…&step=DEG` | P/P′ chart (SVG) and the summary: P per path, mismatch per stitch thread, transmission angles |
-//! | `GET /api/drawing?p.NAME=V…&phi=DEG&view=V&animate=1` | the mechanism with its threads at φ, or animated over the cycle (SVG) |
+//! | `GET /api/models` | the model the server started with, every preset with its title, the file limits |
+//! | `POST /api/models?name=FILE` | loads the model file in the body (`Content-Type: application/toml`): its key `file:ID`, or the library's message naming the place and the fix |
+//! | `GET /api/model?model=KEY` | the model: parameters with units, ranges, roles and labels, threads, views |
+//! | `GET /api/evaluate?model=KEY&p.NAME=V…&step=DEG` | P/P′ chart (SVG) and the summary: readouts (a stroke, the thread per stitch), P per path, mismatch per stitch thread, transmission angles |
+//! | `GET /api/drawing?model=KEY&p.NAME=V…&phi=DEG&view=V&animate=1` | the mechanism with its threads at φ, or animated over the cycle (SVG) |
+//!
+//! Each request names its model: `model=NAME` a preset, `model=file:ID` a
+//! model file loaded before (the last [`MAX_FILES`] are kept while the
+//! server runs), no `model` the one the server started with. Nothing a
+//! request does changes what another one sees.
 //!
 //! Every query is checked before any work: an unknown key, a parameter the
 //! model lacks or cannot set, a value that is not a number or lies outside
@@ -16,17 +23,33 @@
 //! body says what and how to fix it (`{"error": …, "help": …}`); a setting
 //! the mechanism cannot assemble in is a 422 with the library's message.
 
+use std::sync::{Arc, Mutex, OnceLock};
+
 use serde_json::{Value, json};
-use stitchkin::error::Error;
-use stitchkin::eval::{CycleOptions, run_cycle};
+use stitchkin::error::{Error, ModelError};
+use stitchkin::eval::{CycleOptions, CycleTable, run_cycle};
 use stitchkin::jobs::plot::Plot;
+use stitchkin::model::file::{Axis as FileAxis, Measure};
 use stitchkin::model::{Model, Params};
 use stitchkin::output::plots;
+use stitchkin::presets;
+use stitchkin::study::stroke::{Axis, stroke};
 
 use crate::view::{self, DrawingRequest};
 
 /// The page, with its scripts and styles inline (no other file is served).
 const PAGE: &str = include_str!("page.html");
+
+/// The largest model file the page may load, bytes: six times the largest
+/// preset (altin504.toml, 43 kB).
+pub const MAX_FILE_BYTES: usize = 256 * 1024;
+
+/// Model files kept at once; loading one more forgets the one used least
+/// recently.
+pub const MAX_FILES: usize = 16;
+
+/// The media type a model file is sent with (`POST /api/models`).
+pub const TOML_TYPE: &str = "application/toml";
 
 /// The longest query accepted, bytes (a model with a hundred parameters
 /// needs about 3 kB).
@@ -110,35 +133,138 @@ fn library_error(e: &Error) -> Reply {
     Reply::error(status, message, e.help())
 }
 
-/// The model a server shows, and its nominal settings.
+/// The model a server started with and its settings, and the other models
+/// a request may name: the presets, and the model files loaded while it
+/// runs.
 #[derive(Debug, Clone)]
 pub struct App {
     pub model: Model,
     /// The settings the page starts from (the model's defaults with any
     /// `--set` of the command line).
     pub base: Params,
+    store: Arc<Store>,
 }
+
+/// The presets (each loaded once, when first asked for) and the loaded
+/// model files.
+#[derive(Debug)]
+struct Store {
+    presets: Vec<OnceLock<Result<Arc<Model>, String>>>,
+    files: Mutex<Files>,
+}
+
+/// The loaded model files, at most [`MAX_FILES`], with when each was last
+/// used.
+#[derive(Debug, Default)]
+struct Files {
+    entries: Vec<FileEntry>,
+    clock: u64,
+}
+
+#[derive(Debug)]
+struct FileEntry {
+    id: String,
+    model: Arc<Model>,
+    used: u64,
+}
+
+impl Files {
+    fn get(&mut self, id: &str) -> Option<Arc<Model>> {
+        self.clock += 1;
+        let clock = self.clock;
+        self.entries.iter_mut().find(|e| e.id == id).map(|e| {
+            e.used = clock;
+            Arc::clone(&e.model)
+        })
+    }
+
+    fn insert(&mut self, id: String, model: Arc<Model>) {
+        self.clock += 1;
+        if self.entries.len() >= MAX_FILES
+            && let Some(oldest) = (0..self.entries.len()).min_by_key(|&k| self.entries[k].used)
+        {
+            self.entries.swap_remove(oldest);
+        }
+        self.entries.push(FileEntry {
+            id,
+            model,
+            used: self.clock,
+        });
+    }
+}
+
+/// The model a request names, and the settings it starts from.
+struct Chosen<'a> {
+    model: Held<'a>,
+    base: Params,
+}
+
+enum Held<'a> {
+    Started(&'a Model),
+    Shared(Arc<Model>),
+}
+
+impl std::ops::Deref for Held<'_> {
+    type Target = Model;
+    fn deref(&self) -> &Model {
+        match self {
+            Held::Started(m) => m,
+            Held::Shared(m) => m,
+        }
+    }
+}
+
+/// A file's key: FNV-1a of its bytes, 16 hex digits (the same text is the
+/// same model, whatever it is called).
+fn file_id(bytes: &[u8]) -> String {
+    let hash = bytes.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{hash:016x}")
+}
+
+/// The routes, for the help of a 404.
+const ROUTES: &str = "the page is at /, its data under /api/models, /api/model, /api/evaluate and /api/drawing";
 
 impl App {
     pub fn new(model: Model, base: Params) -> App {
-        App { model, base }
+        App {
+            model,
+            base,
+            store: Arc::new(Store {
+                presets: presets::ALL.iter().map(|_| OnceLock::new()).collect(),
+                files: Mutex::new(Files::default()),
+            }),
+        }
     }
 
-    /// Answers one request. Only GET and HEAD are served (405 otherwise).
+    /// Answers one request without a body. Only GET and HEAD are served
+    /// (405 otherwise), and POST of a model file ([`App::handle_body`]).
     pub fn handle(&self, method: &str, url: &str) -> Reply {
-        if method != "GET" && method != "HEAD" {
+        self.handle_body(method, url, None, &[])
+    }
+
+    /// Answers one request with its `Content-Type` and body (only `POST
+    /// /api/models` reads one).
+    pub fn handle_body(&self, method: &str, url: &str, content_type: Option<&str>, body: &[u8]) -> Reply {
+        let (path, query) = url.split_once('?').unwrap_or((url, ""));
+        let post = method == "POST" && path == "/api/models";
+        if method != "GET" && method != "HEAD" && !post {
             return Reply::error(
                 405,
-                format!("{method} is not served here"),
-                Some("the page only reads: use GET"),
+                format!(
+                    "{} is not served at {}",
+                    clip(method, ECHO_CHARS),
+                    clip(path, ECHO_CHARS)
+                ),
+                Some("use GET; only a model file is sent, with POST to /api/models"),
             );
         }
-        let (path, query) = url.split_once('?').unwrap_or((url, ""));
         if path.len() > MAX_PATH_BYTES {
             return Reply::error(
                 414,
                 format!("the path is {} bytes, more than {MAX_PATH_BYTES}", path.len()),
-                Some("the page is at /, its data under /api/model, /api/evaluate and /api/drawing"),
+                Some(ROUTES),
             );
         }
         if query.len() > MAX_QUERY_BYTES {
@@ -148,6 +274,11 @@ impl App {
                 None,
             );
         }
+        if post {
+            return Query::parse(query, &["name"])
+                .and_then(|q| self.load_file(&q, content_type, body))
+                .unwrap_or_else(|reply| reply);
+        }
         let result = match path {
             "/" | "/index.html" => {
                 return Reply {
@@ -156,10 +287,13 @@ impl App {
                     body: PAGE.as_bytes().to_vec(),
                 };
             }
-            "/api/model" => Query::parse(query, &[]).map(|_| Reply::json(200, &self.describe())),
-            "/api/evaluate" => Query::parse(query, &["step"]).and_then(|q| self.evaluate(&q)),
+            "/api/models" => Query::parse(query, &[]).map(|_| Reply::json(200, &self.models())),
+            "/api/model" => Query::parse(query, &["model"])
+                .and_then(|q| self.chosen(&q))
+                .map(|c| Reply::json(200, &describe(&c.model, &c.base))),
+            "/api/evaluate" => Query::parse(query, &["model", "step"]).and_then(|q| self.evaluate(&q)),
             "/api/drawing" => {
-                Query::parse(query, &["phi", "view", "animate", "trajectories"]).and_then(|q| self.drawing(&q))
+                Query::parse(query, &["model", "phi", "view", "animate", "trajectories"]).and_then(|q| self.drawing(&q))
             }
             "/favicon.ico" => {
                 return Reply {
@@ -171,63 +305,175 @@ impl App {
             _ => Err(Reply::error(
                 404,
                 format!("there is nothing at {}", clip(path, ECHO_CHARS)),
-                Some("the page is at /, its data under /api/model, /api/evaluate and /api/drawing"),
+                Some(ROUTES),
             )),
         };
         result.unwrap_or_else(|reply| reply)
     }
 
-    /// `/api/model`: what the page needs to build its controls.
+    /// `/api/model` of the model the server started with: what the page
+    /// needs to build its controls.
     pub fn describe(&self) -> Value {
-        let model = &self.model;
-        let m_param = model.stitch_param("m").map(str::to_string);
-        let t_param = model.stitch_param("t").map(str::to_string);
-        let parameters: Vec<Value> = model
+        describe(&self.model, &self.base)
+    }
+
+    /// The preset the server started with, when it started with one as it
+    /// ships (no `--set`).
+    fn started_preset(&self) -> Option<&str> {
+        let name = self.model.file_name().strip_prefix("preset:")?;
+        let preset = presets::find(name)?;
+        let same = self.model.defaults().values == self.base.values && self.model.text() == preset.toml;
+        same.then_some(preset.name)
+    }
+
+    /// `/api/models`: the model the server started with, the presets, and
+    /// how large a file may be loaded.
+    fn models(&self) -> Value {
+        let changed: serde_json::Map<String, Value> = self
+            .model
             .params()
             .iter()
+            .zip(self.model.defaults().values.iter().zip(&self.base.values))
+            .filter(|(p, (d, v))| !p.is_derived() && d != v)
+            .map(|(p, (_, v))| (p.name.clone(), json!(v)))
+            .collect();
+        let presets: Vec<Value> = presets::ALL
+            .iter()
             .enumerate()
-            .filter(|(_, p)| !p.is_derived())
-            .map(|(i, p)| {
-                let role = if Some(&p.name) == m_param.as_ref() {
-                    "thickness"
-                } else if Some(&p.name) == t_param.as_ref() {
-                    "stitch_length"
-                } else if p.range.is_some() {
-                    "adjustable"
-                } else {
-                    "setting"
-                };
-                json!({
-                    "name": p.name,
-                    "unit": p.unit_str(),
-                    "value": self.base.values[i],
-                    "nominal": p.value,
-                    "range": p.range,
-                    "role": role,
-                    "source": p.source,
-                })
+            .map(|(k, p)| match self.preset(k) {
+                Ok(m) => json!({ "name": p.name, "title": m.title(), "seed": m.seed() }),
+                Err(e) => json!({ "name": p.name, "title": null, "error": e }),
             })
             .collect();
-        let threads: Vec<&str> = model.thread_path_names();
         json!({
-            "name": model.name(),
-            "title": model.title(),
-            "file": model.file_name(),
-            "phi_start_deg": model.phi_start_deg(),
-            "parameters": parameters,
-            "stitch": model.stitch_type().map(|t| json!({ "type": t, "m_param": m_param, "t_param": t_param })),
-            "threads": threads,
-            "chart": chart_kind(model).map(|p| match p { Plot::TakeUp => "takeup", _ => "mu" }),
-            "views": view::names(model),
-            "moving_points": model.moving_point_names(),
-            "step_deg": STEP_DEG,
+            "started": {
+                "preset": self.started_preset(),
+                "name": self.model.name(),
+                "title": self.model.title(),
+                "file": self.model.file_name(),
+                "changed": changed,
+            },
+            "presets": presets,
+            "default_preset": presets::DEFAULT,
+            "max_file_bytes": MAX_FILE_BYTES,
+            "max_files": MAX_FILES,
         })
     }
 
-    /// The settings a query asks for: the base with each `p.NAME=V` applied
-    /// (checked: known, settable, finite, in range), and assembling.
-    fn params(&self, q: &Query) -> Result<Params, Reply> {
-        let mut params = self.base.clone();
+    /// Preset `k` of [`presets::ALL`], loaded once.
+    fn preset(&self, k: usize) -> Result<Arc<Model>, String> {
+        self.store.presets[k]
+            .get_or_init(|| {
+                Model::preset(presets::ALL[k].name)
+                    .map(Arc::new)
+                    .map_err(|e| e.to_string())
+            })
+            .clone()
+    }
+
+    /// The model a query names (`model=NAME` a preset, `model=file:ID` a
+    /// loaded file, none the model the server started with).
+    fn chosen(&self, q: &Query) -> Result<Chosen<'_>, Reply> {
+        let Some(key) = q.get("model") else {
+            return Ok(Chosen {
+                model: Held::Started(&self.model),
+                base: self.base.clone(),
+            });
+        };
+        let model = if let Some(id) = key.strip_prefix("file:") {
+            let kept = self.store.files.lock().ok().and_then(|mut f| f.get(id));
+            kept.ok_or_else(|| {
+                Reply::error(
+                    404,
+                    format!(
+                        "the model file `file:{}` is not kept by this server",
+                        clip(id, ECHO_CHARS)
+                    ),
+                    Some(&format!(
+                        "the server keeps the last {MAX_FILES} files loaded while it runs: load the file again"
+                    )),
+                )
+            })?
+        } else {
+            let Some(k) = presets::ALL.iter().position(|p| p.name == key) else {
+                let names: Vec<&str> = presets::ALL.iter().map(|p| p.name).collect();
+                return Err(Reply::error(
+                    400,
+                    format!("model = `{}` is not a preset", clip(key, ECHO_CHARS)),
+                    Some(&format!(
+                        "the presets are {}; a loaded model file is file:ID (POST /api/models gives the ID); leave model out for the model the server started with",
+                        names.join(", ")
+                    )),
+                ));
+            };
+            self.preset(k).map_err(|e| Reply::error(500, e, None))?
+        };
+        Ok(Chosen {
+            base: model.defaults(),
+            model: Held::Shared(model),
+        })
+    }
+
+    /// `POST /api/models?name=FILE`: loads the model file in the body with
+    /// the library's loader and keeps it under its key.
+    fn load_file(&self, q: &Query, content_type: Option<&str>, body: &[u8]) -> Result<Reply, Reply> {
+        let media = content_type.and_then(|c| c.split(';').next()).map(str::trim);
+        if !media.is_some_and(|m| m.eq_ignore_ascii_case(TOML_TYPE)) {
+            return Err(Reply::error(
+                415,
+                format!(
+                    "a model file is sent as {TOML_TYPE}, not {}",
+                    clip(content_type.unwrap_or("without a Content-Type"), ECHO_CHARS)
+                ),
+                Some(&format!(
+                    "send the file's text as the body with `Content-Type: {TOML_TYPE}`"
+                )),
+            ));
+        }
+        if body.len() > MAX_FILE_BYTES {
+            return Err(too_large(Some(body.len())));
+        }
+        if body.is_empty() {
+            return Err(Reply::error(
+                400,
+                "the model file is empty",
+                Some("choose a TOML model file (presets/*.toml are examples; docs/model-format.md describes them)"),
+            ));
+        }
+        // The file's own name, for the messages: no folders, not too long.
+        let name = q.get("name").map(|n| n.rsplit(['/', '\\']).next().unwrap_or(n).trim());
+        let name = match name {
+            Some(n) if !n.is_empty() && !n.chars().any(char::is_control) => clip_name(n),
+            _ => "model.toml".to_string(),
+        };
+        let id = file_id(body);
+        let kept = self.store.files.lock().ok().and_then(|mut f| f.get(&id));
+        let model = match kept {
+            Some(m) => m,
+            None => {
+                let model = Arc::new(Model::from_toml_bytes(body, &name).map_err(|e| file_error(&e))?);
+                if let Ok(mut files) = self.store.files.lock() {
+                    files.insert(id.clone(), Arc::clone(&model));
+                }
+                model
+            }
+        };
+        Ok(Reply::json(
+            200,
+            &json!({
+                "model": format!("file:{id}"),
+                "name": model.name(),
+                "title": model.title(),
+                "file": model.file_name(),
+            }),
+        ))
+    }
+
+    /// The settings a query asks for: the chosen model's base with each
+    /// `p.NAME=V` applied (checked: known, settable, finite, in range), and
+    /// assembling.
+    fn params(&self, c: &Chosen, q: &Query) -> Result<Params, Reply> {
+        let mut params = c.base.clone();
         for (name, value) in &q.params {
             let key = format!("p.{}", clip(name, ECHO_CHARS));
             if name.chars().count() > ECHO_CHARS {
@@ -238,11 +484,11 @@ impl App {
                 ));
             }
             let v = number(value, &key)?;
-            self.model
+            c.model
                 .set(&mut params, name, v)
                 .map_err(|e| Reply::error(400, format!("{key}: {}", e.message), e.help.as_deref()))?;
         }
-        self.model
+        c.model
             .machine::<f64>(&params)
             .map_err(|e| library_error(&Error::Model(e)))?;
         Ok(params)
@@ -250,7 +496,9 @@ impl App {
 
     /// `/api/evaluate`: the cycle at these settings, charted and summed up.
     fn evaluate(&self, q: &Query) -> Result<Reply, Reply> {
-        let params = self.params(q)?;
+        let c = self.chosen(q)?;
+        let model = &*c.model;
+        let params = self.params(&c, q)?;
         let step = match q.get("step") {
             None => STEP_DEG,
             Some(s) => {
@@ -272,11 +520,11 @@ impl App {
             points: Some(Vec::new()),
             ..Default::default()
         };
-        let table = run_cycle(&self.model, &params, &opts).map_err(|e| library_error(&e))?;
+        let table = run_cycle(model, &params, &opts).map_err(|e| library_error(&e))?;
         // The chart from the same cycle as the summary.
-        let chart = match chart_kind(&self.model) {
-            Some(Plot::TakeUp) => Some(plots::take_up(&self.model, &table)),
-            Some(_) => Some(plots::transmission(&self.model, &table)),
+        let chart = match chart_kind(model) {
+            Some(Plot::TakeUp) => Some(plots::take_up(model, &table)),
+            Some(_) => Some(plots::transmission(model, &table)),
             None => None,
         };
         let chart = chart.transpose().map_err(|e| library_error(&e))?.map(|c| c.render());
@@ -287,14 +535,11 @@ impl App {
             .flat_map(|s| &s.threads)
             .any(|t| t.tension.is_some());
         let tension_chart = if has_tension {
-            Some(
-                plots::tension(&self.model, &table)
-                    .map_err(|e| library_error(&e))?
-                    .render(),
-            )
+            Some(plots::tension(model, &table).map_err(|e| library_error(&e))?.render())
         } else {
             None
         };
+        let readouts = readouts(model, &params, &table, step)?;
         let paths: Vec<Value> = table
             .paths
             .iter()
@@ -342,13 +587,14 @@ impl App {
         Ok(Reply::json(
             200,
             &json!({
-                "values": self.model.params().iter().zip(&params.values).filter(|(p, _)| !p.is_derived()).map(|(p, v)| (p.name.clone(), json!(v))).collect::<serde_json::Map<_, _>>(),
+                "values": model.params().iter().zip(&params.values).filter(|(p, _)| !p.is_derived()).map(|(p, v)| (p.name.clone(), json!(v))).collect::<serde_json::Map<_, _>>(),
                 "step_deg": step,
+                "readouts": readouts,
                 "chart_svg": chart,
                 "tension_svg": tension_chart,
                 "paths": paths,
                 "stitch": stitch,
-                "caveats": self.model.caveats(),
+                "caveats": model.caveats(),
                 "transmission": table.transmission,
                 "warnings": warnings,
             }),
@@ -357,9 +603,10 @@ impl App {
 
     /// `/api/drawing`: the mechanism at φ (or animated), as SVG.
     fn drawing(&self, q: &Query) -> Result<Reply, Reply> {
-        let params = self.params(q)?;
+        let c = self.chosen(q)?;
+        let params = self.params(&c, q)?;
         let phi_deg = match q.get("phi") {
-            None => self.model.phi_start_deg(),
+            None => c.model.phi_start_deg(),
             Some(s) => number(s, "phi")?,
         };
         let animate = match q.get("animate") {
@@ -388,10 +635,182 @@ impl App {
             animate,
             trajectories,
         };
-        view::render(&self.model, &params, &request)
+        view::render(&c.model, &params, &request)
             .map(Reply::svg)
             .map_err(|e| library_error(&e))
     }
+}
+
+/// `/api/model` of a model from its starting settings.
+fn describe(model: &Model, base: &Params) -> Value {
+    let m_param = model.stitch_param("m").map(str::to_string);
+    let t_param = model.stitch_param("t").map(str::to_string);
+    let parameters: Vec<Value> = model
+        .params()
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| !p.is_derived())
+        .map(|(i, p)| {
+            let role = if Some(&p.name) == m_param.as_ref() {
+                "thickness"
+            } else if Some(&p.name) == t_param.as_ref() {
+                "stitch_length"
+            } else if p.range.is_some() {
+                "adjustable"
+            } else {
+                "setting"
+            };
+            json!({
+                "name": p.name,
+                "unit": p.unit_str(),
+                "value": base.values[i],
+                "nominal": p.value,
+                "range": p.range,
+                "role": role,
+                "source": p.source,
+                "kind": p.kind.as_str(),
+                "label": p.label,
+                "what": p.what,
+            })
+        })
+        .collect();
+    let threads: Vec<&str> = model.thread_path_names();
+    json!({
+        "name": model.name(),
+        "title": model.title(),
+        "file": model.file_name(),
+        "phi_start_deg": model.phi_start_deg(),
+        "parameters": parameters,
+        "stitch": model.stitch_type().map(|t| json!({ "type": t, "m_param": m_param, "t_param": t_param })),
+        "threads": threads,
+        "chart": chart_kind(model).map(|p| match p { Plot::TakeUp => "takeup", _ => "mu" }),
+        "views": view::names(model),
+        "moving_points": model.moving_point_names(),
+        "step_deg": STEP_DEG,
+    })
+}
+
+/// The quantities a model is about, as figures the page shows first: the
+/// thread each stitch takes, per stitch thread, for a model with a stitch
+/// process (the stitch's own contour, as `stitchkin consumption`); for a
+/// model without one, the stroke of every point a `coordinate` measure
+/// follows (max − min along its axis, as `stitchkin stroke`: the needle
+/// bar's stroke of needle876).
+fn readouts(model: &Model, params: &Params, table: &CycleTable, step_deg: f64) -> Result<Vec<Value>, Reply> {
+    if let Some(s) = &table.stitch {
+        return Ok(s
+            .threads
+            .iter()
+            .map(|t| {
+                json!({
+                    "name": format!("{}.per_stitch", t.thread),
+                    "label": format!("thread per stitch, {}", t.thread),
+                    "value": t.per_stitch_mm,
+                    "unit": "mm",
+                    "what": format!(
+                        "the {} thread one finished stitch {} takes (m = {} mm, t = {} mm), from the stitch's contour",
+                        t.thread, s.stitch_type, s.m_mm, s.t_mm
+                    ),
+                })
+            })
+            .collect());
+    }
+    let mut out = Vec::new();
+    for m in &model.file().measures {
+        let Measure::Coordinate {
+            name,
+            point,
+            axis,
+            frame,
+            from,
+        } = m
+        else {
+            continue;
+        };
+        // A coordinate from a moving point is not the point's stroke.
+        let from_moving = from
+            .as_deref()
+            .is_some_and(|f| model.point_slot(f).is_ok_and(|s| !model.is_fixed(s)));
+        let FileAxis::Named(letter) = axis else { continue };
+        let letter = letter.trim_start_matches(['-', '+']);
+        let spec = match frame.as_deref() {
+            Some(f) if f != "world" => format!("{f}.{letter}"),
+            _ => letter.to_string(),
+        };
+        let (Ok(slot), Ok(axis)) = (model.moving_point_slot(point), Axis::parse(model, &spec)) else {
+            continue;
+        };
+        if from_moving {
+            continue;
+        }
+        let s = stroke(model, params, slot, &axis, step_deg).map_err(|e| library_error(&e))?;
+        let at = |d: &stitchkin::study::stroke::DeadCentre| {
+            d.phi_deg.map_or_else(String::new, |p| format!(" at φ = {p:.1}°"))
+        };
+        out.push(json!({
+            "name": format!("{name}.stroke"),
+            "label": format!("{name} stroke"),
+            "value": s.stroke_mm,
+            "unit": "mm",
+            "what": format!(
+                "the travel of {point} along {}: from {:.2} mm{} to {:.2} mm{} (as `stitchkin stroke --point {point} --axis {spec}`)",
+                axis.describe(),
+                s.min.position_mm,
+                at(&s.min),
+                s.max.position_mm,
+                at(&s.max),
+            ),
+        }));
+    }
+    Ok(out)
+}
+
+/// A model file's text beyond [`MAX_FILE_BYTES`] (its size when known).
+pub fn too_large(bytes: Option<usize>) -> Reply {
+    let size = bytes.map_or_else(|| "larger".to_string(), |b| format!("{b} bytes"));
+    Reply::error(
+        413,
+        format!(
+            "the model file is {size}, more than the {} kB ({MAX_FILE_BYTES} bytes) this server loads",
+            MAX_FILE_BYTES / 1024
+        ),
+        Some(
+            "choose the TOML model file itself: a model file is a few tens of kB (the largest preset, altin504.toml, is 43 kB)",
+        ),
+    )
+}
+
+/// A file name for messages: at most 100 characters.
+fn clip_name(name: &str) -> String {
+    match name.char_indices().nth(100) {
+        None => name.to_string(),
+        Some((end, _)) => format!("{}…", &name[..end]),
+    }
+}
+
+/// A model file that does not load: the library's message with the place
+/// (file, line and column, the key path) and the fix, and the line itself.
+fn file_error(e: &ModelError) -> Reply {
+    let (line, column) = e.line_col().unzip();
+    let mut message = match (line, column) {
+        (Some(l), Some(c)) => format!("{}:{l}:{c}: ", e.file),
+        _ => format!("{}: ", e.file),
+    };
+    if !e.path.is_empty() {
+        message += &format!("{}: ", e.path);
+    }
+    message += &e.message;
+    let excerpt = line.and_then(|l| e.text.lines().nth(l - 1)).map(|t| clip(t, 200));
+    Reply::json(
+        422,
+        &json!({
+            "error": message,
+            "help": e.help,
+            "line": line,
+            "column": column,
+            "excerpt": excerpt,
+        }),
+    )
 }
 
 /// The points of `trajectories=A,B…`, each once, in their first order; more

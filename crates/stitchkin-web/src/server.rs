@@ -28,18 +28,18 @@ use std::task::{Context, Poll};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use http_body_util::Full;
+use http_body_util::{BodyExt, Full, LengthLimitError, Limited};
 use hyper::body::{Bytes, Incoming};
 use hyper::header::{self, HeaderValue};
 use hyper::server::conn::http1;
 use hyper::service::service_fn;
-use hyper::{Request, Response, StatusCode};
+use hyper::{Method, Request, Response, StatusCode};
 use hyper_util::rt::{TokioIo, TokioTimer};
 use stitchkin::error::{Error, IoError};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::oneshot;
 
-use crate::api::{App, Reply, clip};
+use crate::api::{App, MAX_FILE_BYTES, Reply, clip, too_large};
 
 /// How the server treats its connections. Every figure has a default
 /// ([`ServerConfig::default`]) fit for one user's browser and a few
@@ -584,6 +584,7 @@ const LOG_CHARS: usize = 200;
 async fn answer(request: Request<Incoming>, shared: Arc<Shared>) -> Result<Response<Full<Bytes>>, Infallible> {
     let method = request.method().as_str().to_string();
     let url = request.uri().path_and_query().map_or("/", |p| p.as_str()).to_string();
+    let path = request.uri().path().to_string();
     let reply = match foreign_host(&request, shared.loopback) {
         Some(host) => Reply::error(
             403,
@@ -593,11 +594,33 @@ async fn answer(request: Request<Incoming>, shared: Arc<Shared>) -> Result<Respo
             ),
             Some("open the page at http://127.0.0.1:PORT/ (or http://localhost:PORT/)"),
         ),
+        None if request.method() == Method::POST && foreign_origin(&request) => Reply::error(
+            403,
+            "a model file is loaded from this server's own page only",
+            Some("choose the file with the page's file picker"),
+        ),
         None => {
-            let (app, method, url) = (Arc::clone(&shared), method.clone(), url.clone());
-            tokio::task::spawn_blocking(move || app.app.handle(&method, &url))
-                .await
-                .unwrap_or_else(|_| Reply::error(500, "the answer could not be computed", None))
+            let content_type = request
+                .headers()
+                .get(header::CONTENT_TYPE)
+                .and_then(|v| v.to_str().ok())
+                .map(str::to_string);
+            let body = if request.method() == Method::POST {
+                read_body(request, shared.header_timeout).await
+            } else {
+                Ok(Bytes::new())
+            };
+            match body {
+                Err(reply) => reply,
+                Ok(body) => {
+                    let (app, method, url) = (Arc::clone(&shared), method.clone(), url.clone());
+                    tokio::task::spawn_blocking(move || {
+                        app.app.handle_body(&method, &url, content_type.as_deref(), &body)
+                    })
+                    .await
+                    .unwrap_or_else(|_| Reply::error(500, "the answer could not be computed", None))
+                }
+            }
         }
     };
     if reply.status >= 400 {
@@ -608,7 +631,58 @@ async fn answer(request: Request<Incoming>, shared: Arc<Shared>) -> Result<Respo
             clip(reply.text(), LOG_CHARS)
         );
     }
-    Ok(response(reply))
+    let allow = if path == "/api/models" {
+        "GET, HEAD, POST"
+    } else {
+        "GET, HEAD"
+    };
+    Ok(response(reply, allow))
+}
+
+/// The body of a POST, at most [`MAX_FILE_BYTES`] and within `timeout`;
+/// otherwise the answer that says so (413, 408).
+async fn read_body(request: Request<Incoming>, timeout: Duration) -> Result<Bytes, Reply> {
+    let declared = request
+        .headers()
+        .get(header::CONTENT_LENGTH)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.trim().parse::<u64>().ok());
+    if let Some(n) = declared
+        && n > MAX_FILE_BYTES as u64
+    {
+        return Err(too_large(usize::try_from(n).ok()));
+    }
+    let body = Limited::new(request.into_body(), MAX_FILE_BYTES);
+    match tokio::time::timeout(timeout, body.collect()).await {
+        Err(_) => Err(Reply::error(
+            408,
+            format!("the model file did not arrive within {} s", timeout.as_secs()),
+            Some("send it again"),
+        )),
+        Ok(Err(e)) if e.downcast_ref::<LengthLimitError>().is_some() => Err(too_large(None)),
+        Ok(Err(e)) => Err(Reply::error(
+            400,
+            format!("the model file could not be read: {}", clip(&e.to_string(), 100)),
+            Some("send it again"),
+        )),
+        Ok(Ok(collected)) => Ok(collected.to_bytes()),
+    }
+}
+
+/// Whether a request carries an `Origin` that is not the host it asks (a
+/// page elsewhere sending to this server).
+fn foreign_origin(request: &Request<Incoming>) -> bool {
+    let Some(origin) = request.headers().get(header::ORIGIN) else {
+        return false;
+    };
+    let origin = String::from_utf8_lossy(origin.as_bytes());
+    let authority = origin.split_once("://").map_or("", |(_, a)| a).trim_end_matches('/');
+    let host = request
+        .headers()
+        .get(header::HOST)
+        .map(|h| String::from_utf8_lossy(h.as_bytes()).into_owned())
+        .or_else(|| request.uri().authority().map(|a| a.as_str().to_string()));
+    host.is_none_or(|h| !h.eq_ignore_ascii_case(authority))
 }
 
 /// The host a request names (its `Host`, or the authority of an absolute
@@ -636,9 +710,9 @@ fn is_local_host(host: &str) -> bool {
     matches!(name.to_ascii_lowercase().as_str(), "127.0.0.1" | "localhost" | "::1")
 }
 
-fn response(reply: Reply) -> Response<Full<Bytes>> {
+fn response(reply: Reply, allow: &'static str) -> Response<Full<Bytes>> {
     let status = StatusCode::from_u16(reply.status).unwrap_or(StatusCode::INTERNAL_SERVER_ERROR);
-    let allow = (status == StatusCode::METHOD_NOT_ALLOWED).then_some("GET, HEAD");
+    let allow = (status == StatusCode::METHOD_NOT_ALLOWED).then_some(allow);
     let mut response = Response::new(Full::new(Bytes::from(reply.body)));
     *response.status_mut() = status;
     let headers = response.headers_mut();

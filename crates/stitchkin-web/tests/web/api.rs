@@ -57,6 +57,14 @@ fn model_lists_parameters_with_units_ranges_and_roles() {
     assert_eq!(find("r1")["unit"], "mm");
     assert_eq!(find("r1")["range"], serde_json::json!([4.0, 6.0]));
     assert_eq!(find("dphi")["unit"], "deg");
+    // The model's words for each part, as the library reads them.
+    let model = Model::preset("mf7923d").unwrap();
+    let r1 = &model.params()[model.param_index("r1").unwrap()];
+    assert_eq!(find("r1")["kind"], r1.kind.as_str());
+    assert_eq!(find("r1")["label"].as_str(), r1.label.as_deref());
+    assert_eq!(find("r1")["what"].as_str(), r1.what.as_deref());
+    assert!(find("r1")["label"].is_string(), "r1 has a plain label");
+    assert_eq!(find("m")["kind"], "input");
     assert_eq!(find("m")["role"], "thickness");
     assert_eq!(find("stitch")["role"], "stitch_length");
     assert_eq!(v["stitch"]["type"], "407");
@@ -268,4 +276,206 @@ fn long_input_is_not_repeated_in_the_answer() {
         assert!(!r.text().contains(&run) && r.body.len() < 1000, "{}", r.text());
     }
     assert_client_error(&app, &format!("/{}", "b".repeat(300)), 414, "more than 256");
+}
+
+/// A model file sent as the page sends it.
+fn post_file(app: &App, name: &str, text: &[u8]) -> Reply {
+    app.handle_body(
+        "POST",
+        &format!("/api/models?name={name}"),
+        Some("application/toml"),
+        text,
+    )
+}
+
+#[test]
+fn every_preset_is_listed_with_its_title_and_can_be_asked_for() {
+    let app = app("mf7923d");
+    let v = json(&get(&app, "/api/models"));
+    assert_eq!(v["started"]["preset"], "mf7923d");
+    let listed = v["presets"].as_array().unwrap();
+    assert_eq!(listed.len(), stitchkin::presets::ALL.len());
+    for (entry, preset) in listed.iter().zip(stitchkin::presets::ALL) {
+        let model = Model::preset(preset.name).unwrap();
+        assert_eq!(entry["name"], preset.name);
+        assert_eq!(entry["title"].as_str(), model.title(), "{}", preset.name);
+        // Each one by name, without restarting anything.
+        let m = json(&get(&app, &format!("/api/model?model={}", preset.name)));
+        assert_eq!(m["name"], model.name());
+        let e = get(&app, &format!("/api/evaluate?model={}&step=4", preset.name));
+        assert_eq!(e.status, 200, "{}: {}", preset.name, e.text());
+        let d = get(&app, &format!("/api/drawing?model={}", preset.name));
+        assert_eq!(d.status, 200, "{}: {}", preset.name, d.text());
+    }
+    assert_client_error(&app, "/api/evaluate?model=needle877", 400, "not a preset");
+    let r = json(&get(&app, "/api/evaluate?model=needle877"));
+    assert!(r["help"].as_str().unwrap().contains("needle876"), "{r}");
+}
+
+#[test]
+fn a_request_for_another_model_leaves_the_started_one_alone() {
+    // Started with r1 = 5 (as `--set r1=5` does): not the preset as shipped.
+    let model = Model::preset("mf7923d").unwrap();
+    let mut base = model.defaults();
+    model.set(&mut base, "r1", 5.0).unwrap();
+    let app = App::new(model, base);
+    let v = json(&get(&app, "/api/models"));
+    assert!(v["started"]["preset"].is_null(), "{v}");
+    assert_eq!(v["started"]["changed"]["r1"], 5.0);
+    let needle = json(&get(&app, "/api/evaluate?model=needle876&p.alpha=20"));
+    assert_eq!(needle["values"]["alpha"], 20.0);
+    // A second tab without a model still sees the started one, with its r1.
+    let started = json(&get(&app, "/api/evaluate"));
+    assert_eq!(started["values"]["r1"], 5.0);
+    assert!(started["values"].get("alpha").is_none());
+    // The preset by name has its own values.
+    assert_eq!(json(&get(&app, "/api/evaluate?model=mf7923d"))["values"]["r1"], 4.0);
+    // Parameters are checked against the model named.
+    assert_client_error(&app, "/api/evaluate?model=needle876&p.r1=5", 400, "no parameter `r1`");
+}
+
+#[test]
+fn readouts_are_the_needle_stroke_and_the_thread_per_stitch_the_library_computes() {
+    use stitchkin::study::stroke::{Axis, stroke};
+    let app = app("mf7923d");
+    let model = Model::preset("needle876").unwrap();
+    for alpha in [0.0, 30.0] {
+        let v = json(&get(&app, &format!("/api/evaluate?model=needle876&p.alpha={alpha}")));
+        let r = &v["readouts"][0];
+        assert_eq!(r["name"], "needle_y.stroke");
+        assert_eq!(r["unit"], "mm");
+        let mut params = model.defaults();
+        model.set(&mut params, "alpha", alpha).unwrap();
+        let g = model.moving_point_slot("G").unwrap();
+        let s = stroke(&model, &params, g, &Axis::parse(&model, "y").unwrap(), 1.0).unwrap();
+        assert!(
+            (r["value"].as_f64().unwrap() - s.stroke_mm).abs() < 1e-9,
+            "{r} vs {}",
+            s.stroke_mm
+        );
+        assert!(r["what"].as_str().unwrap().contains("G along y"), "{r}");
+    }
+    // The stroke follows α (the point of the preset).
+    let stroke_at = |a: f64| {
+        json(&get(&app, &format!("/api/evaluate?model=needle876&p.alpha={a}")))["readouts"][0]["value"]
+            .as_f64()
+            .unwrap()
+    };
+    assert!((stroke_at(0.0) - stroke_at(30.0)).abs() > 1.0);
+    // A stitch model: the thread per stitch of each stitch thread.
+    let v = json(&get(&app, "/api/evaluate?p.m=5"));
+    let threads = v["stitch"]["threads"].as_array().unwrap();
+    let readouts = v["readouts"].as_array().unwrap();
+    assert_eq!(readouts.len(), threads.len());
+    for (r, t) in readouts.iter().zip(threads) {
+        assert_eq!(r["value"], t["per_stitch_mm"]);
+        assert!(r["label"].as_str().unwrap().contains(t["thread"].as_str().unwrap()));
+    }
+}
+
+#[test]
+fn a_model_file_loads_and_is_evaluated_by_its_key() {
+    let app = app("mf7923d");
+    let text = stitchkin::presets::find("needle876").unwrap().toml;
+    let r = post_file(&app, "my-needle.toml", text.as_bytes());
+    assert_eq!(r.status, 200, "{}", r.text());
+    let v = json(&r);
+    let key = v["model"].as_str().unwrap().to_string();
+    assert!(key.starts_with("file:"), "{key}");
+    assert_eq!(v["file"], "my-needle.toml");
+    // The same text again is the same model.
+    assert_eq!(
+        json(&post_file(&app, "again.toml", text.as_bytes()))["model"],
+        key.as_str()
+    );
+    let m = json(&get(&app, &format!("/api/model?model={key}")));
+    assert_eq!(m["name"], "needle876");
+    let e = json(&get(&app, &format!("/api/evaluate?model={key}&p.alpha=10")));
+    assert_eq!(e["values"]["alpha"], 10.0);
+    assert_eq!(get(&app, &format!("/api/drawing?model={key}&phi=30")).status, 200);
+    // The started model is still the default.
+    assert_eq!(json(&get(&app, "/api/model"))["name"], "mf7923d");
+}
+
+#[test]
+fn a_bad_model_file_gets_the_library_message_with_its_place_and_fix() {
+    let app = app("mf7923d");
+    // A parameter used but not declared: the loader names the place.
+    let text = stitchkin::presets::find("needle876")
+        .unwrap()
+        .toml
+        .replace("radius = \"l_oa\"", "radius = \"l_oa2\"");
+    let r = post_file(&app, "broken.toml", text.as_bytes());
+    assert_eq!(r.status, 422, "{}", r.text());
+    let v = json(&r);
+    let expected = Model::from_toml_str(&text, "broken.toml").unwrap_err();
+    let error = v["error"].as_str().unwrap();
+    assert!(error.starts_with("broken.toml:"), "{error}");
+    assert!(error.contains(&expected.message), "{error}");
+    assert_eq!(v["help"].as_str(), expected.help.as_deref());
+    let (line, column) = expected.line_col().unwrap();
+    assert_eq!(v["line"], line);
+    assert_eq!(v["column"], column);
+    assert!(v["excerpt"].as_str().unwrap().contains("l_oa2"), "{v}");
+    // TOML that does not parse, text that is not UTF-8, an empty file.
+    let r = post_file(
+        &app,
+        "bad.toml",
+        b"[model]\nname = \"x\"\n[parameters]\na = { value = 1 unit = \"mm\" }\n",
+    );
+    assert_eq!(r.status, 422);
+    assert!(
+        json(&r)["error"].as_str().unwrap().starts_with("bad.toml:4:"),
+        "{}",
+        r.text()
+    );
+    let r = post_file(&app, "latin1.toml", b"[model]\nname = \"caf\xe9\"\n");
+    assert_eq!(r.status, 422);
+    assert!(
+        json(&r)["error"].as_str().unwrap().contains("not UTF-8"),
+        "{}",
+        r.text()
+    );
+    assert_eq!(post_file(&app, "empty.toml", b"").status, 400);
+    // Folders in the name are not repeated.
+    let r = post_file(&app, "%2Fhome%2Fme%2Fbad.toml", b"[model");
+    assert!(
+        json(&r)["error"].as_str().unwrap().starts_with("bad.toml:"),
+        "{}",
+        r.text()
+    );
+}
+
+#[test]
+fn model_files_are_limited_in_size_type_and_number() {
+    let app = app("mf7923d");
+    let big = vec![b'#'; stitchkin_web::api::MAX_FILE_BYTES + 1];
+    let r = post_file(&app, "big.toml", &big);
+    assert_eq!(r.status, 413);
+    let error = json(&r)["error"].as_str().unwrap().to_string();
+    assert!(
+        error.contains("256 kB") && error.contains(&big.len().to_string()),
+        "{error}"
+    );
+    let r = app.handle_body("POST", "/api/models", Some("text/plain"), b"[model]\nname = \"x\"\n");
+    assert_eq!(r.status, 415, "{}", r.text());
+    assert!(r.text().contains("application/toml"));
+    assert_eq!(app.handle("POST", "/api/evaluate").status, 405);
+    assert_eq!(app.handle("PUT", "/api/models").status, 405);
+    // The least recently used file is forgotten past MAX_FILES.
+    let base = stitchkin::presets::find("needle876").unwrap().toml;
+    let keys: Vec<String> = (0..=stitchkin_web::api::MAX_FILES)
+        .map(|k| {
+            let text = format!("{base}\n# copy {k}\n");
+            let r = post_file(&app, "copy.toml", text.as_bytes());
+            assert_eq!(r.status, 200, "{}", r.text());
+            json(&r)["model"].as_str().unwrap().to_string()
+        })
+        .collect();
+    let first = get(&app, &format!("/api/model?model={}", keys[0]));
+    assert_eq!(first.status, 404, "{}", first.text());
+    assert!(first.text().contains("load the file again"));
+    for key in &keys[1..] {
+        assert_eq!(get(&app, &format!("/api/model?model={key}")).status, 200, "{key}");
+    }
 }

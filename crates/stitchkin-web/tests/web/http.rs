@@ -91,3 +91,56 @@ fn refuses_foreign_hosts_other_methods_and_bad_queries() {
     assert!(!body.contains("<html"), "HEAD has no body");
     server.stop();
 }
+
+/// A POST of `body` to /api/models with these extra header lines.
+fn post(server: &Server, headers: &str, body: &[u8]) -> (u16, String) {
+    let host = server.addr().to_string();
+    let head = format!(
+        "POST /api/models?name=mine.toml HTTP/1.1\r\nHost: {host}\r\nContent-Type: application/toml\r\nContent-Length: {}\r\nConnection: close\r\n{headers}\r\n",
+        body.len()
+    );
+    let mut s = TcpStream::connect(server.addr()).unwrap();
+    s.write_all(head.as_bytes()).unwrap();
+    // The server may answer before taking all of a body it refuses.
+    let _ = s.write_all(body);
+    let mut answer = Vec::new();
+    let _ = s.read_to_end(&mut answer);
+    let answer = String::from_utf8_lossy(&answer).into_owned();
+    let status = answer.split(' ').nth(1).and_then(|c| c.parse().ok()).unwrap_or(0);
+    (status, answer)
+}
+
+#[test]
+fn a_model_file_is_loaded_over_http_within_its_limits() {
+    let server = start("needle876");
+    let host = server.addr().to_string();
+    let text = stitchkin::presets::find("takeup-lever").unwrap().toml;
+    let origin = format!("Origin: http://{host}\r\n");
+    let (status, answer) = post(&server, &origin, text.as_bytes());
+    assert_eq!(status, 200, "{answer}");
+    let key = answer
+        .split("\"model\":\"")
+        .nth(1)
+        .and_then(|r| r.split('"').next())
+        .unwrap()
+        .to_string();
+    let (status, model) = get(&server, &format!("/api/model?model={key}"), &host);
+    assert_eq!(status, 200, "{model}");
+    assert!(model.contains("\"name\":\"takeup-lever\""), "{model}");
+    // A page elsewhere cannot load files into this server.
+    let (status, answer) = post(&server, "Origin: http://attacker.example\r\n", text.as_bytes());
+    assert_eq!(status, 403, "{answer}");
+    // Too large: refused from its Content-Length, the limit in the message.
+    let big = vec![b'#'; stitchkin_web::api::MAX_FILE_BYTES + 10];
+    let (status, answer) = post(&server, "", &big);
+    assert_eq!(status, 413, "{answer}");
+    assert!(answer.contains("256 kB"), "{answer}");
+    // Only /api/models takes a POST, and says so.
+    let (status, answer) = raw(
+        &server,
+        &format!("PUT /api/models HTTP/1.1\r\nHost: {host}\r\nContent-Length: 0\r\nConnection: close\r\n\r\n"),
+    );
+    assert_eq!(status, 405);
+    assert!(answer.contains("Allow: GET, HEAD, POST"), "{answer}");
+    server.stop();
+}
