@@ -1,4 +1,5 @@
-//! `stitchkin serve`: the live web page (stitchkin_web) for one model.
+//! `stitchkin serve`: the live web page (stitchkin_web), starting with one
+//! model; the page shows any preset or a model file of the user's as well.
 
 use std::io::Write;
 use std::net::IpAddr;
@@ -9,14 +10,17 @@ use stitchkin_web::{App, Server, ServerConfig};
 use crate::common::{ModelArgs, load, note_line};
 
 /// A local web page: a slider per adjustable parameter, thickness and
-/// stitch length inputs, and live P/P′, mismatch and mechanism drawing.
+/// stitch length inputs, and live P/P′, mismatch and mechanism drawing;
+/// any preset, or a model file loaded on the page, besides the model given.
 #[derive(clap::Args)]
 #[command(
     after_help = "Examples:\n  stitchkin serve\n  stitchkin serve --preset altin504 --port 8081\n  \
     stitchkin serve my-machine.toml --set r1=5 --port 0\n  \
     stitchkin serve --max-connections 16 --timeout-s 5\n\n\
-    Open the address it prints in a browser; Ctrl-C stops it. It listens on 127.0.0.1 only, unless\n\
-    --bind says otherwise, and answers requests for this machine's host names only (docs/web.md)."
+    Open the address it prints in a browser; Ctrl-C stops it. The page starts with the model given\n\
+    and can show any preset or load a model file; its address keeps the model and the settings.\n\
+    It listens on 127.0.0.1 only, unless --bind says otherwise, and answers requests for this\n\
+    machine's host names only (docs/web.md)."
 )]
 pub(crate) struct Args {
     #[command(flatten)]

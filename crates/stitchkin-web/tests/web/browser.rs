@@ -18,6 +18,7 @@ use std::time::{Duration, Instant};
 
 use base64::Engine;
 use serde_json::{Value, json};
+use stitchkin_web::Server;
 use tungstenite::stream::MaybeTlsStream;
 use tungstenite::{Message, WebSocket};
 
@@ -50,7 +51,10 @@ impl Drop for TempDir {
 
 impl Browser {
     fn launch(exe: &PathBuf) -> Browser {
-        let profile = TempDir(std::env::temp_dir().join(format!("stitchkin-chromium-{}", std::process::id())));
+        // One profile per browser: the tests of this binary run at once.
+        static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        let profile = TempDir(std::env::temp_dir().join(format!("stitchkin-chromium-{}-{k}", std::process::id())));
         std::fs::create_dir_all(&profile.0).unwrap();
         // The flags keep Chromium off the network (this machine's is closed)
         // and out of the sandbox, which needs privileges CI may not have.
@@ -212,9 +216,11 @@ impl Drop for Browser {
 /// The page is ready and nothing is being computed.
 const SETTLED: &str = "window.stitchkinReady === true && document.body.dataset.pending === '0'";
 
-#[test]
-fn moving_a_slider_redraws_the_take_up_summary_and_mechanism() {
-    let Some(exe) = chromium() else {
+/// The browser to drive, or none (said loudly; a failure where CI requires
+/// one).
+fn chromium_or_skip() -> Option<PathBuf> {
+    let exe = chromium();
+    if exe.is_none() {
         if std::env::var_os("STITCHKIN_REQUIRE_BROWSER").is_some() {
             panic!(
                 "STITCHKIN_REQUIRE_BROWSER is set but no Chromium was found: install Debian's package `chromium` (or set STITCHKIN_CHROMIUM)"
@@ -226,8 +232,13 @@ fn moving_a_slider_redraws_the_take_up_summary_and_mechanism() {
             std::io::stderr(),
             "\n\n!!!! SKIPPED the browser test: no Chromium on PATH. Install Debian's package `chromium` to run it (.ci/run does). !!!!\n"
         );
-        return;
-    };
+    }
+    exe
+}
+
+#[test]
+fn moving_a_slider_redraws_the_take_up_summary_and_mechanism() {
+    let Some(exe) = chromium_or_skip() else { return };
     let server = super::http::start("mf7923d");
     let mut b = Browser::launch(&exe);
     b.open_tab();
@@ -240,11 +251,19 @@ fn moving_a_slider_redraws_the_take_up_summary_and_mechanism() {
     let (chart0, table0, drawing0) = (b.eval(chart), b.eval(table), b.eval(drawing));
     assert!(chart0.as_str().unwrap().contains("polyline"), "a chart with curves");
     assert_eq!(b.eval("document.getElementById('p-r1').value"), json!("4"));
+    // Every parameter with a range but the stitch's m and t (r1, l_o2b, z,
+    // dphi, the thread's EA, breaking force, regulator and clamp holds, …).
+    let model = stitchkin::model::Model::preset("mf7923d").unwrap();
+    let stitch_inputs = [model.stitch_param("m"), model.stitch_param("t")];
+    let ranged = model
+        .params()
+        .iter()
+        .filter(|p| !p.is_derived() && p.range.is_some() && !stitch_inputs.contains(&Some(p.name.as_str())))
+        .count();
+    assert!(ranged >= 5, "{ranged}");
     assert_eq!(
         b.eval("document.querySelectorAll('#adjustable input[type=range]').length"),
-        // r1, l_o2b, z, dphi, t1_phase and the thread's EA, breaking force,
-        // regulator and clamp holds.
-        json!(9),
+        json!(ranged),
         "a slider per adjustable parameter"
     );
     assert_eq!(
@@ -319,6 +338,305 @@ fn moving_a_slider_redraws_the_take_up_summary_and_mechanism() {
         &format!("{SETTLED} && document.querySelector('#drawing svg animate') !== null"),
         "the animated mechanism",
     );
+    drop(b);
+    server.stop();
+}
+
+impl Browser {
+    /// Gives the file input `id` the file at `path`, as choosing it does.
+    fn choose_file(&mut self, id: &str, path: &std::path::Path) {
+        let doc = self.call("DOM.getDocument", json!({}));
+        let node = self.call(
+            "DOM.querySelector",
+            json!({ "nodeId": doc["root"]["nodeId"], "selector": format!("#{id}") }),
+        );
+        self.call(
+            "DOM.setFileInputFiles",
+            json!({ "nodeId": node["nodeId"], "files": [path.display().to_string()] }),
+        );
+    }
+
+    /// Opens `url` afresh (as a shared link is opened) and waits for the
+    /// page to settle.
+    fn open(&mut self, url: &str) {
+        self.call("Page.navigate", json!({ "url": "about:blank" }));
+        self.wait_for("location.href === 'about:blank'", "a blank page");
+        self.call("Page.navigate", json!({ "url": url }));
+        self.wait_for(SETTLED, &format!("the page at {url}"));
+    }
+}
+
+/// Text boxes of the page's drawing and charts that overlap or leave the
+/// picture (SVG units): none is the aim.
+const CROWDED: &str = r#"(() => {
+  const out = [];
+  const svg = document.querySelector('#drawing svg');
+  const boxes = [...svg.querySelectorAll('g[class^="label"] text')].map((t) => {
+    const r = t.getBoundingClientRect();
+    return { name: t.textContent, x0: r.left, y0: r.top, x1: r.right, y1: r.bottom };
+  });
+  for (let i = 0; i < boxes.length; i++) for (let j = i + 1; j < boxes.length; j++) {
+    const a = boxes[i], b = boxes[j];
+    const w = Math.min(a.x1, b.x1) - Math.max(a.x0, b.x0), h = Math.min(a.y1, b.y1) - Math.max(a.y0, b.y0);
+    // Glyph boxes include the line's ascent and descent: a sliver is not an overlap.
+    if (w > 1 && h > 2) out.push('labels ' + a.name + ' and ' + b.name + ' overlap');
+  }
+  for (const chart of document.querySelectorAll('#chart svg, #tension svg')) {
+    const width = chart.viewBox.baseVal.width;
+    for (const t of chart.querySelectorAll('text.title, text.subtitle')) {
+      const b = t.getBBox();
+      if (b.x + b.width > width + 0.5) out.push('`' + t.textContent.slice(0, 40) + '…` ends at ' + (b.x + b.width).toFixed(0) + ' of ' + width);
+    }
+  }
+  return out;
+})()"#;
+
+#[test]
+fn a_chosen_preset_a_moved_slider_and_a_loaded_file_come_back_from_the_address() {
+    let Some(exe) = chromium_or_skip() else { return };
+    let server = super::http::start("mf7923d");
+    let mut b = Browser::launch(&exe);
+    b.open_tab();
+    b.open(&server.url());
+    // The address names the model at once; the menu lists every preset
+    // with its title.
+    b.wait_for("location.search === '?model=mf7923d'", "the model in the address");
+    let options = b.eval("[...document.getElementById('model').options].map((o) => [o.value, o.textContent])");
+    for p in stitchkin::presets::ALL {
+        let title = stitchkin::model::Model::preset(p.name)
+            .unwrap()
+            .title()
+            .unwrap()
+            .to_string();
+        assert!(
+            options
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|o| o[0] == p.name && o[1].as_str().unwrap().contains(&title)),
+            "{} with its title in {options}",
+            p.name
+        );
+    }
+    // A slider's plain label with its unit; on hover what the part is.
+    let model = stitchkin::model::Model::preset("mf7923d").unwrap();
+    let r1 = &model.params()[model.param_index("r1").unwrap()];
+    let (label, what) = (r1.label.clone().unwrap(), r1.what.clone().unwrap());
+    let shown = b.eval("document.querySelector('label[for=\"p-r1\"] .name').textContent");
+    assert!(shown.as_str().unwrap().starts_with(&format!("{label}, mm")), "{shown}");
+    let hover = b.eval("document.getElementById('p-r1').closest('.ctl').title");
+    let hover = hover.as_str().unwrap();
+    assert!(hover.contains("machine setting") && hover.contains(&what), "{hover}");
+    // The MF-7923D's drawing and charts: no label over another, no title
+    // past the picture's edge.
+    assert_eq!(b.eval(CROWDED), json!([]), "crowded or clipped text");
+
+    // Choose the needle mechanism from the menu: its stroke is shown.
+    b.eval("(() => { const s = document.getElementById('model'); s.focus(); s.value = 'needle876'; s.dispatchEvent(new Event('change')); })()");
+    let readout = "document.querySelector('.readout[data-name=\"needle_y.stroke\"] .rv').textContent";
+    b.wait_for(
+        &format!(
+            "{SETTLED} && document.body.dataset.model === 'needle876' && document.getElementById('p-alpha') !== null && document.querySelector('.readout[data-name=\"needle_y.stroke\"]') !== null && location.search === '?model=needle876'"
+        ),
+        "needle876 with its stroke readout",
+    );
+    let stroke0 = b.eval(readout);
+    assert_eq!(b.eval("document.getElementById('p-alpha').value"), json!("0"));
+    assert_eq!(
+        b.eval("document.getElementById('p-r1')"),
+        json!(null),
+        "the MF-7923D's sliders are gone"
+    );
+    b.screenshot("serve-needle876.png");
+
+    // Move α to about 70 % of its 0…45° range.
+    let rect = b.eval("(() => { const e = document.getElementById('p-alpha'); e.scrollIntoView(); const r = e.getBoundingClientRect(); return [r.x, r.y, r.width, r.height]; })()");
+    let r: Vec<f64> = rect.as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    b.click(r[0] + 0.7 * r[2], r[1] + r[3] / 2.0);
+    b.wait_for(
+        &format!(
+            "{SETTLED} && Number(document.getElementById('p-alpha').value) > 20 && {readout} !== {stroke0} && location.search.includes('p.alpha=')"
+        ),
+        "the stroke after moving α, and α in the address",
+    );
+    let alpha: f64 = b
+        .eval("document.getElementById('p-alpha').value")
+        .as_str()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let stroke = b.eval(readout);
+    let href = b.eval("location.href").as_str().unwrap().to_string();
+    assert!(
+        href.contains("model=needle876") && href.contains(&format!("p.alpha={alpha}")),
+        "{href}"
+    );
+    // The readout is the library's stroke at that α.
+    let model = stitchkin::model::Model::preset("needle876").unwrap();
+    let mut params = model.defaults();
+    model.set(&mut params, "alpha", alpha).unwrap();
+    let axis = stitchkin::study::stroke::Axis::parse(&model, "y").unwrap();
+    let g = model.moving_point_slot("G").unwrap();
+    let expected = stitchkin::study::stroke::stroke(&model, &params, g, &axis, 1.0)
+        .unwrap()
+        .stroke_mm;
+    assert_eq!(stroke, json!(format!("{expected:.2}")), "α = {alpha}");
+
+    // Reload from the address: the same model, α and stroke.
+    b.open(&href);
+    b.wait_for("document.body.dataset.model === 'needle876'", "needle876 again");
+    assert_eq!(b.eval("document.getElementById('model').value"), json!("needle876"));
+    assert_eq!(
+        b.eval("document.getElementById('p-alpha').value"),
+        json!(alpha.to_string())
+    );
+    assert_eq!(b.eval(readout), stroke, "the stroke at α = {alpha}");
+    assert_eq!(
+        b.eval("document.getElementById('notice').classList.contains('shown')"),
+        json!(false)
+    );
+    assert_eq!(b.eval("location.href"), json!(href), "the address as it was");
+    b.screenshot("serve-needle876-reloaded.png");
+
+    addresses_with_what_the_page_cannot_use(&mut b, &server, &stroke0);
+    model_files_from_the_file_picker(&mut b);
+    drop(b);
+    server.stop();
+}
+
+/// An address with a value out of range, an unknown view and key: each
+/// said and ignored, the rest of the page as it should be (needle876 at
+/// α = 0 shows `stroke0`).
+fn addresses_with_what_the_page_cannot_use(b: &mut Browser, server: &Server, stroke0: &Value) {
+    let readout = "document.querySelector('.readout[data-name=\"needle_y.stroke\"] .rv').textContent";
+    b.open(&format!(
+        "{}?model=needle876&p.alpha=99&view=sideways&zoom=2",
+        server.url()
+    ));
+    let notice = b.eval("document.getElementById('notice').textContent");
+    let notice = notice.as_str().unwrap();
+    for says in [
+        "p.alpha = 99 deg is outside 0…45 deg",
+        "view = “sideways”",
+        "“zoom” is not a setting",
+    ] {
+        assert!(notice.contains(says), "`{says}` in the notice: {notice}");
+    }
+    assert_eq!(b.eval("document.getElementById('p-alpha').value"), json!("0"));
+    assert_eq!(&b.eval(readout), stroke0);
+    assert_eq!(
+        b.eval("document.getElementById('error').classList.contains('shown')"),
+        json!(false)
+    );
+}
+
+/// A model file from the file picker: a bad one shows the library's
+/// message with its place; a good one is drawn and kept by its key.
+fn model_files_from_the_file_picker(b: &mut Browser) {
+    let dir = TempDir(std::env::temp_dir().join(format!("stitchkin-files-{}", std::process::id())));
+    std::fs::create_dir_all(&dir.0).unwrap();
+    let text = stitchkin::presets::find("takeup-lever").unwrap().toml;
+    let broken = dir.0.join("broken.toml");
+    std::fs::write(
+        &broken,
+        text.replacen(
+            "[parameters]",
+            "[parameters]\nzz = { value = 1, unit = \"furlong\" }",
+            1,
+        ),
+    )
+    .unwrap();
+    b.choose_file("file-input", &broken);
+    b.wait_for(
+        &format!("{SETTLED} && document.getElementById('error').classList.contains('shown')"),
+        "the error box for broken.toml",
+    );
+    let error = b.eval("document.getElementById('error').textContent");
+    let error = error.as_str().unwrap();
+    let expected =
+        stitchkin::model::Model::from_toml_str(&std::fs::read_to_string(&broken).unwrap(), "broken.toml").unwrap_err();
+    assert!(
+        error.contains("broken.toml:") && error.contains(&expected.message),
+        "{error}"
+    );
+    assert!(error.contains("furlong"), "the file's line under the message: {error}");
+    assert_eq!(
+        b.eval("document.body.dataset.model"),
+        json!("needle876"),
+        "the page keeps its model"
+    );
+    b.screenshot("serve-file-error.png");
+    let good = dir.0.join("lever.toml");
+    std::fs::write(&good, text).unwrap();
+    b.choose_file("file-input", &good);
+    b.wait_for(
+        &format!("{SETTLED} && document.body.dataset.model.startsWith('file:') && !document.getElementById('error').classList.contains('shown')"),
+        "the loaded file drawn",
+    );
+    let key = b.eval("document.body.dataset.model").as_str().unwrap().to_string();
+    let note = b.eval("document.getElementById('file-note').textContent");
+    assert!(note.as_str().unwrap().contains("cannot be in the address"), "{note}");
+    let href = b.eval("location.href").as_str().unwrap().to_string();
+    assert!(href.contains(&format!("model={}", key.replace(':', "%3A"))), "{href}");
+    b.open(&href);
+    b.wait_for(
+        &format!("document.body.dataset.model === '{key}'"),
+        "the loaded file from the address",
+    );
+    assert!(
+        b.eval("document.getElementById('title').textContent")
+            .as_str()
+            .unwrap()
+            .contains("takeup-lever")
+    );
+    b.screenshot("serve-file.png");
+}
+
+/// Every preset's drawing in each of its views at four φ, measured in the
+/// browser with its own fonts: no label covers another.
+#[test]
+fn no_label_covers_another_in_any_preset_drawing() {
+    let Some(exe) = chromium_or_skip() else { return };
+    let server = super::http::start("mf7923d");
+    let mut b = Browser::launch(&exe);
+    b.open_tab();
+    b.open(&server.url());
+    let names: Vec<&str> = stitchkin::presets::ALL.iter().map(|p| p.name).collect();
+    let found = b.eval(&format!(
+        r#"(async () => {{
+  const out = [];
+  let drawn = 0;
+  const box = document.createElement('div');
+  box.style.cssText = 'position:absolute; left:-3000px; top:0; width:900px';
+  document.body.append(box);
+  for (const model of {names}) {{
+    const m = await (await fetch('/api/model?model=' + model)).json();
+    for (const view of m.views.map((v) => v.name)) for (const phi of [0, 90, 180, 270]) {{
+      const res = await fetch('/api/drawing?model=' + model + '&view=' + view + '&phi=' + phi);
+      if (!res.ok) {{ out.push(model + ' ' + view + ' ' + phi + ': ' + res.status); continue; }}
+      box.innerHTML = await res.text();
+      drawn++;
+      const boxes = [...box.querySelectorAll('g[class^="label"] text')].map((t) => {{
+        const r = t.getBoundingClientRect();
+        return {{ name: t.textContent, x0: r.left, y0: r.top, x1: r.right, y1: r.bottom }};
+      }});
+      for (let i = 0; i < boxes.length; i++) for (let j = i + 1; j < boxes.length; j++) {{
+        const a = boxes[i], c = boxes[j];
+        const w = Math.min(a.x1, c.x1) - Math.max(a.x0, c.x0), h = Math.min(a.y1, c.y1) - Math.max(a.y0, c.y0);
+        if (w > 1 && h > 2) out.push(model + ' ' + view + ' φ = ' + phi + ': ' + a.name + ' and ' + c.name);
+      }}
+    }}
+  }}
+  box.remove();
+  return {{ drawn, out }};
+}})()"#,
+        names = json!(names)
+    ));
+    assert!(
+        found["drawn"].as_u64().unwrap() >= 4 * 2 * names.len() as u64,
+        "{found}"
+    );
+    assert_eq!(found["out"], json!([]), "labels that cover another");
     drop(b);
     server.stop();
 }
