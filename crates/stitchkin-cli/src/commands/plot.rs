@@ -67,7 +67,7 @@ use crate::common::{ModelArgs, STITCH_AXIS_HELP, THICKNESS_AXIS_HELP, load, load
 #[derive(clap::Args)]
 #[command(after_help = "Examples:\n  stitchkin plot takeup -o mf7923d-takeup.svg\n  \
     stitchkin plot takeup --measured n1=n1-measured.csv -o measured.svg\n  \
-    stitchkin plot takeup --preset altin504 --set m=2 --step 2 -o altin504.svg\n  \
+    stitchkin plot takeup --preset altin504 --thickness 2 --step 2 -o altin504.svg\n  \
     stitchkin plot mu --preset needle876 --set alpha=38 -o mu.svg\n  \
     stitchkin plot trajectory --preset needle876 --points G,E -o paths.svg\n  \
     stitchkin plot trajectory --preset altin-needle --points E --plane guide -o altin-guide.svg\n  \
