@@ -27,6 +27,7 @@ use crate::commands::*;
         main-shaft cycle.",
     after_help = "Examples:\n  stitchkin run                         # the default preset, CSV on stdout\n  \
         stitchkin run --preset needle876 --set alpha=30 --format json -o run.json\n  \
+        stitchkin new rocking-takeup -o my-machine.toml   # a starting model of your own machine\n  \
         stitchkin check my-machine.toml\n  stitchkin presets"
 )]
 struct Cli {
@@ -37,6 +38,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Presets(presets::Args),
+    New(new::Args),
     Run(run::Args),
     Check(check::Args),
     #[command(name = "compare-2d3d")]
@@ -66,6 +68,7 @@ fn main() -> miette::Result<()> {
     let cli = Cli::try_parse().unwrap_or_else(|e| common::exit_on_bad_arguments(e));
     let result = match cli.command {
         Command::Presets(args) => presets::run(args),
+        Command::New(args) => new::run(args),
         Command::Run(args) => run::run(args),
         Command::Check(args) => check::run(args),
         Command::Compare2d3d(args) => compare_2d3d::run(args),

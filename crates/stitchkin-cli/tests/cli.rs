@@ -57,6 +57,8 @@ mod examples;
 mod limits;
 #[path = "cli/nomogram.rs"]
 mod nomogram;
+#[path = "cli/own_machine.rs"]
+mod own_machine;
 #[path = "cli/sensitivity.rs"]
 mod sensitivity;
 #[path = "cli/strokes.rs"]

@@ -1,4 +1,9 @@
-//! Machines of the seed papers, shipped inside the binary.
+//! Machines of the seed papers, shipped inside the binary, and the starting
+//! models made from them ([`templates`]).
+
+pub mod templates;
+
+use crate::error::{Input, ParamError, did_you_mean};
 
 /// A shipped model file.
 #[derive(Debug, Clone, Copy)]
@@ -45,4 +50,22 @@ pub const ALL: &[Preset] = &[
 /// A preset by name.
 pub fn find(name: &str) -> Option<&'static Preset> {
     ALL.iter().find(|p| p.name == name)
+}
+
+/// A preset by name, or the error that names the closest preset and lists
+/// them all.
+pub fn get(name: &str) -> Result<&'static Preset, ParamError> {
+    find(name).ok_or_else(|| {
+        let hint = did_you_mean(name, ALL.iter().map(|p| p.name))
+            .map(|s| format!(" (did you mean `{s}`?)"))
+            .unwrap_or_default();
+        ParamError::new(
+            Input::Preset,
+            format!("no preset named `{name}`{hint}"),
+            Some(format!(
+                "the presets are: {}",
+                ALL.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
+            )),
+        )
+    })
 }

@@ -1,15 +1,40 @@
-//! `stitchkin presets`: the shipped presets.
+//! `stitchkin presets`: the shipped presets, and a preset's model file.
+
+use std::path::PathBuf;
 
 use stitchkin::error::Error;
 use stitchkin::model::Model;
 use stitchkin::presets;
 
-/// List the shipped presets (name, machine, seed).
-#[derive(clap::Args)]
-#[command(after_help = "Example:\n  stitchkin presets")]
-pub(crate) struct Args {}
+use crate::common::{emit, in_flag, note_written};
 
-pub(crate) fn run(_args: Args) -> Result<(), Error> {
+/// List the shipped presets (name, machine, seed), or write one's model
+/// file as shipped (--export).
+#[derive(clap::Args)]
+#[command(
+    after_help = "Examples:\n  stitchkin presets\n  stitchkin presets --export lockstitch -o lockstitch.toml\n  \
+    stitchkin match lockstitch.toml      # the same as --preset lockstitch"
+)]
+pub(crate) struct Args {
+    /// Write the preset NAME's model file exactly as shipped: a file to
+    /// read, change and load like any other model.
+    #[arg(long, value_name = "NAME")]
+    export: Option<String>,
+    /// With --export: write to FILE instead of stdout (written completely
+    /// or not at all; an existing file is replaced, as by every command's -o).
+    #[arg(short, long, value_name = "FILE", requires = "export")]
+    output: Option<PathBuf>,
+}
+
+pub(crate) fn run(args: Args) -> Result<(), Error> {
+    if let Some(name) = &args.export {
+        let preset = presets::get(name).map_err(|e| in_flag(Error::Param(e), "--export"))?;
+        emit(preset.toml.as_bytes(), args.output.as_ref())?;
+        if let Some(path) = &args.output {
+            note_written(path, preset.toml.len());
+        }
+        return Ok(());
+    }
     let mut out = String::from("name          seed  machine\n");
     for p in presets::ALL {
         let (title, seed) = match Model::preset(p.name) {
@@ -22,5 +47,5 @@ pub(crate) fn run(_args: Args) -> Result<(), Error> {
         let default = if p.name == presets::DEFAULT { "  (default)" } else { "" };
         out += &format!("{:<13} {:<5} {title}{default}\n", p.name, seed);
     }
-    crate::common::emit(out.as_bytes(), None)
+    emit(out.as_bytes(), None)
 }

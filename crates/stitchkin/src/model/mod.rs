@@ -783,24 +783,7 @@ impl Model {
 
     /// A shipped preset by name (see [`crate::presets`]).
     pub fn preset(name: &str) -> Result<Model, crate::Error> {
-        let p = crate::presets::find(name).ok_or_else(|| {
-            let names = crate::presets::ALL.iter().map(|p| p.name);
-            let hint = did_you_mean(name, names)
-                .map(|s| format!(" (did you mean `{s}`?)"))
-                .unwrap_or_default();
-            crate::Error::Param(ParamError::new(
-                Input::Preset,
-                format!("no preset named `{name}`{hint}"),
-                Some(format!(
-                    "the presets are: {}",
-                    crate::presets::ALL
-                        .iter()
-                        .map(|p| p.name)
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )),
-            ))
-        })?;
+        let p = crate::presets::get(name).map_err(crate::Error::Param)?;
         Ok(Model::from_toml_str(p.toml, &format!("preset:{}", p.name))?)
     }
 
