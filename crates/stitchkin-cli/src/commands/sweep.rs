@@ -30,7 +30,10 @@ use crate::common::{ModelArgs, load, note, progress_bar};
     list is printed when a pattern matches nothing). By default: *.score, score.*, *.max_P_B_mm,\n\
     *.max_P_mm, checks.ok, mu.min_deg, mu.max_deg, *.range_mm, *_stroke_mm. Columns: index, the varied parameters, the\n\
     figures, status (ok, or why the setting did not evaluate; its figures are then empty).\n\
-    Shards are contiguous blocks and only shard 1 writes the header: `cat part*.csv` is the sweep."
+    Shards are contiguous blocks and only shard 1 writes the header: `cat part*.csv` is the sweep.\n\
+    Exit status 0 when the sweep ran, whatever its settings' checks say: a sweep maps where a machine can\n\
+    work and where not, so each row carries THREAD.checks_ok and checks.ok (1 or 0) instead of failing the\n\
+    command; `stitchkin match --set ...` on one setting exits 1 when a check fails."
 )]
 pub(crate) struct Args {
     #[command(flatten)]

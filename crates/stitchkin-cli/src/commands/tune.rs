@@ -25,7 +25,11 @@ use crate::common::{ModelArgs, OutputArgs, SearchArgs, TABLE_OR_JSON_HELP, Table
     Prints the recommended setting and how to make it on the machine (which part, which way, how far),\n\
     the match and the checks before and after, how far each setting may move with the match within one\n\
     score point of the optimum, and notes: a setting on an end of its range, a match that does not\n\
-    improve, no setting that passes the checks."
+    improve, no setting that passes the checks.\n\
+    Exit status 0 when the search ran, also when no setting in the ranges passes the checks: the answer\n\
+    is then that the ranges hold none (the note says so; JSON `after_figures.feasible` is false and\n\
+    `after_figures.failed_checks` names them), which is what a search is asked; `stitchkin match\n\
+    --set ...` on the recommended setting exits 1 when one of its checks fails."
 )]
 #[command(mut_arg("format", |a| a.help(TABLE_OR_JSON_HELP)))]
 pub(crate) struct Args {
