@@ -200,8 +200,8 @@ pub fn template(family: &Family) -> String {
     }
     if !inputs.is_empty() {
         h += "# 4. Job inputs (kind = \"input\": what the job brings: material, stitch,\n\
-              #    thread): give your usual job's, or change them per run with\n\
-              #    --thickness, --stitch or --set NAME=VALUE.\n";
+              #    thread): give your usual job's here; a run can change them without\n\
+              #    editing the file (see `stitchkin run --help`).\n";
         h += &list(&inputs);
     } else {
         h += "# 4. Job inputs (kind = \"input\": the material, stitch or thread): this\n\
