@@ -168,7 +168,13 @@ fn columns_can_be_selected_by_pattern() {
         "{header:?}"
     );
     let e = fails(&["run", "--columns", "*.Q_mm"]);
-    assert!(e.contains("no column matches `*.Q_mm`"), "{e}");
+    assert!(
+        e.contains("no column matches `*.Q_mm`") && e.contains("columns are named like phi_deg"),
+        "{e}"
+    );
+    // A near miss gets the closest name, as a misspelt parameter does.
+    let e = fails(&["run", "--columns", "n1_A.P_B_m"]);
+    assert!(e.contains("did you mean `n1_A.P_B_mm`?"), "{e}");
 }
 
 #[test]

@@ -176,13 +176,21 @@ impl CycleTable {
         for p in patterns {
             if !self.columns.iter().any(|c| glob_match(p, &c.name)) {
                 let names: Vec<&str> = self.columns.iter().map(|c| c.name.as_str()).take(12).collect();
+                // A name spelt nearly right gets the closest; a pattern the names.
+                let near = (!p.contains('*'))
+                    .then(|| crate::error::did_you_mean(p, self.columns.iter().map(|c| c.name.as_str())))
+                    .flatten();
+                let help = match near {
+                    Some(near) => format!("did you mean `{near}`? `*` matches any run of characters"),
+                    None => format!(
+                        "columns are named like {} …; `*` matches any run of characters",
+                        names.join(", ")
+                    ),
+                };
                 return Err(Error::Param(ParamError::new(
                     Input::Columns,
                     format!("no column matches `{p}`"),
-                    Some(format!(
-                        "columns are named like {} …; `*` matches any run of characters",
-                        names.join(", ")
-                    )),
+                    Some(help),
                 )));
             }
         }
