@@ -67,9 +67,10 @@ use crate::format::fmt_num;
 use crate::geometry::{V2, V3};
 use crate::mechanism::{Mechanism, Phi, Pose};
 use crate::model::{Machine, Model, Params};
+use crate::numeric::PeriodicCubic;
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::thread::cam::{CamPlacement, Profile};
-use crate::thread::measured::{MeasuredCurve, SplitPoint, periodic_segment};
+use crate::thread::measured::{MeasuredCurve, SplitPoint};
 use crate::thread::{Cam, CamModel, Convention, Span, Threads};
 
 const TAU: f64 = std::f64::consts::TAU;
@@ -418,70 +419,6 @@ impl Ray {
             return None;
         }
         Some((n.dot(&pull).abs() / (np * nn)).clamp(0.0, 1.0).acos().to_degrees())
-    }
-}
-
-/// The periodic cubic spline (C², as a polar profile) through a target
-/// curve's points, φ in degrees.
-struct PeriodicSpline {
-    x: Vec<f64>,
-    y: Vec<f64>,
-    /// Second derivatives at the points, mm/deg².
-    m: Vec<f64>,
-}
-
-impl PeriodicSpline {
-    /// Through (x_i, y_i), x strictly increasing within one turn
-    /// (x_{n−1} − x_0 < 360), at least 3 points.
-    fn new(x: &[f64], y: &[f64]) -> PeriodicSpline {
-        let n = x.len();
-        let h: Vec<f64> = (0..n)
-            .map(|i| {
-                if i + 1 < n {
-                    x[i + 1] - x[i]
-                } else {
-                    x[0] + 360.0 - x[n - 1]
-                }
-            })
-            .collect();
-        let rhs: Vec<f64> = (0..n)
-            .map(|i| {
-                let ip = (i + n - 1) % n;
-                (y[(i + 1) % n] - y[i]) / h[i] - (y[i] - y[ip]) / h[ip]
-            })
-            .collect();
-        // h_{i−1}/6·M_{i−1} + (h_{i−1} + h_i)/3·M_i + h_i/6·M_{i+1} = rhs_i,
-        // cyclic. The diagonal is twice the off-diagonal sum, so Jacobi
-        // halves the error each sweep: 80 sweeps reach rounding.
-        let mut m = vec![0.0; n];
-        for _ in 0..80 {
-            let prev = m.clone();
-            for i in 0..n {
-                let ip = (i + n - 1) % n;
-                m[i] = (rhs[i] - h[ip] / 6.0 * prev[ip] - h[i] / 6.0 * prev[(i + 1) % n]) / ((h[ip] + h[i]) / 3.0);
-            }
-        }
-        PeriodicSpline {
-            x: x.to_vec(),
-            y: y.to_vec(),
-            m,
-        }
-    }
-
-    fn at(&self, phi_deg: f64) -> f64 {
-        // The segment [x_i, x_{i+1}] holding φ, the last one wrapping to the
-        // first point a turn later.
-        let Some(seg) = periodic_segment(&self.x, phi_deg) else {
-            return f64::NAN;
-        };
-        let (i, j, x0, x1, x) = (seg.i, seg.j, seg.from_deg, seg.to_deg, seg.at_deg);
-        let h = x1 - x0;
-        let (a, b) = (x1 - x, x - x0);
-        let (m0, m1) = (self.m[i], self.m[j]);
-        m0 * a * a * a / (6.0 * h)
-            + m1 * b * b * b / (6.0 * h)
-            + (self.y[i] - m0 * h * h / 6.0) * a / h
-            + (self.y[j] - m1 * h * h / 6.0) * b / h
     }
 }
 
@@ -978,10 +915,11 @@ fn curve_on_grid(source: &str, phi_deg: &[f64], p_mm: &[f64], phis: &[f64]) -> R
             "read it with thread::measured::read_curve and make the target with Target::from_curve",
         ));
     }
-    let sp = PeriodicSpline::new(phi_deg, p_mm);
+    // The periodic cubic spline (C², as a polar profile) through the points.
+    let sp = PeriodicCubic::new(phi_deg, p_mm, 360.0);
     Ok((
         format!("curve from {source} ({} points)", phi_deg.len()),
-        phis.iter().map(|&p| sp.at(p)).collect(),
+        phis.iter().map(|&p| sp.eval(p)).collect(),
     ))
 }
 
@@ -1300,11 +1238,11 @@ mod tests {
         );
     }
 
-    fn spline(t: &Target) -> PeriodicSpline {
+    fn spline(t: &Target) -> PeriodicCubic {
         let Target::Curve { phi_deg, p_mm, .. } = t else {
             panic!("a curve")
         };
-        PeriodicSpline::new(phi_deg, p_mm)
+        PeriodicCubic::new(phi_deg, p_mm, 360.0)
     }
 
     /// The target of a curve file's text.
@@ -1329,10 +1267,13 @@ mod tests {
             (270.0 + 360.0, 1.0),
             (-90.0, 1.0),
         ] {
-            assert!((s.at(x) - y).abs() < 1e-12, "{x}");
+            assert!((s.eval::<f64>(x) - y).abs() < 1e-12, "{x}");
         }
         // Symmetric about 180°, periodic.
-        assert!((s.at(45.0) - s.at(315.0)).abs() < 1e-12 && (s.at(45.0) - s.at(405.0)).abs() < 1e-12);
+        assert!(
+            (s.eval::<f64>(45.0) - s.eval::<f64>(315.0)).abs() < 1e-12
+                && (s.eval::<f64>(45.0) - s.eval::<f64>(405.0)).abs() < 1e-12
+        );
         // Off-grid, the columns swapped, a column named as `stitchkin run`
         // writes it: a sinusoid through 10 points comes back to 1e-2
         // between them.
@@ -1347,13 +1288,13 @@ mod tests {
         };
         let s = spline(&target_csv(&file(5.0)).unwrap());
         for x in [0.0, 17.0, 100.0, 359.0] {
-            assert!((s.at(x) - sine(x)).abs() < 1e-2, "{x}: {}", s.at(x));
+            assert!((s.eval::<f64>(x) - sine(x)).abs() < 1e-2, "{x}: {}", s.eval::<f64>(x));
         }
         // The same points written from 185° on (a turn may start anywhere,
         // as `stitchkin run` writes a cycle from φ0): the same spline.
         let late = spline(&target_csv(&file(185.0)).unwrap());
         for x in [0.0, 17.0, 100.0, 359.0] {
-            assert!((late.at(x) - s.at(x)).abs() < 1e-12, "{x}");
+            assert!((late.eval::<f64>(x) - s.eval::<f64>(x)).abs() < 1e-12, "{x}");
         }
         for bad in [
             "",

@@ -17,6 +17,7 @@
 use nalgebra::ComplexField;
 
 use crate::geometry::{V2, V3};
+use crate::numeric::PeriodicCubic;
 use crate::scalar::Real;
 
 /// The shape of a polar profile ρ(θ), θ in radians in the cam's own frame.
@@ -26,7 +27,7 @@ pub enum Shape {
     /// `ρ(θ) = e cos θ + √(r² − e² sin² θ)`.
     Eccentric { r: f64, e: f64 },
     /// A periodic cubic spline through `(θ_i, ρ_i)`, θ increasing over one turn.
-    Spline { theta: Vec<f64>, coef: Vec<[f64; 4]> },
+    Spline(PeriodicCubic),
 }
 
 /// A cam profile with its points sampled once (the starting guesses of the
@@ -61,47 +62,7 @@ impl Profile {
     /// A periodic cubic spline through the points (θ in rad, strictly
     /// increasing within one turn; ρ in mm).
     pub fn spline(theta: &[f64], rho: &[f64]) -> Profile {
-        let n = theta.len();
-        let tau = std::f64::consts::TAU;
-        let h: Vec<f64> = (0..n)
-            .map(|i| {
-                if i + 1 < n {
-                    theta[i + 1] - theta[i]
-                } else {
-                    theta[0] + tau - theta[n - 1]
-                }
-            })
-            .collect();
-        let y = |i: usize| rho[i % n];
-        // Periodic natural-cubic system for the second derivatives M_i
-        // (cyclic tridiagonal; solved densely, profiles have few points).
-        let mut a = vec![0.0; n * n];
-        let mut b = vec![0.0; n];
-        for i in 0..n {
-            let hp = h[(i + n - 1) % n];
-            let hi = h[i];
-            a[i * n + (i + n - 1) % n] += hp / 6.0;
-            a[i * n + i] += (hp + hi) / 3.0;
-            a[i * n + (i + 1) % n] += hi / 6.0;
-            b[i] = (y(i + 1) - y(i)) / hi - (y(i) - y(i + n - 1)) / hp;
-        }
-        let mut piv = vec![0; n];
-        let ok = crate::numeric::lu_factor(&mut a, n, &mut piv);
-        debug_assert!(ok, "the periodic spline system is diagonally dominant");
-        crate::numeric::lu_solve(&a, n, &piv, &mut b);
-        let m = b;
-        // Segment i: ρ(θ_i + t) = c0 + c1 t + c2 t² + c3 t³.
-        let coef = (0..n)
-            .map(|i| {
-                let (hi, m0, m1) = (h[i], m[i], m[(i + 1) % n]);
-                let c1 = (y(i + 1) - y(i)) / hi - hi * (2.0 * m0 + m1) / 6.0;
-                [y(i), c1, m0 / 2.0, (m1 - m0) / (6.0 * hi)]
-            })
-            .collect();
-        Profile::new(Shape::Spline {
-            theta: theta.to_vec(),
-            coef,
-        })
+        Profile::new(Shape::Spline(PeriodicCubic::new(theta, rho, std::f64::consts::TAU)))
     }
 
     /// ρ(θ), generic so θ may carry derivatives.
@@ -111,21 +72,7 @@ impl Profile {
                 let (s, c) = theta.sin_cos();
                 c * T::cst(*e) + (T::cst(r * r) - s * s * T::cst(e * e)).sqrt()
             }
-            Shape::Spline { theta: knots, coef } => {
-                let tau = std::f64::consts::TAU;
-                let n = knots.len();
-                // Reduce θ into the turn that starts at the first knot.
-                let turns = ((theta.re() - knots[0]) / tau).floor();
-                let t0 = theta - T::cst(turns * tau);
-                let x = t0.re();
-                let i = match knots.iter().rposition(|&k| k <= x) {
-                    Some(i) => i,
-                    None => n - 1,
-                };
-                let t = t0 - T::cst(knots[i]);
-                let [c0, c1, c2, c3] = coef[i];
-                ((t * T::cst(c3) + T::cst(c2)) * t + T::cst(c1)) * t + T::cst(c0)
-            }
+            Shape::Spline(spline) => spline.eval(theta),
         }
     }
 
@@ -385,16 +332,7 @@ fn rho_prime<T: Real>(profile: &Profile, th: T) -> T {
             let root = (T::cst(r * r) - s * s * T::cst(e * e)).sqrt();
             -s * T::cst(*e) - s * c * T::cst(e * e) / root
         }
-        Shape::Spline { theta: knots, coef } => {
-            let tau = std::f64::consts::TAU;
-            let n = knots.len();
-            let turns = ((th.re() - knots[0]) / tau).floor();
-            let t0 = th - T::cst(turns * tau);
-            let i = knots.iter().rposition(|&k| k <= t0.re()).unwrap_or(n - 1);
-            let t = t0 - T::cst(knots[i]);
-            let [_, c1, c2, c3] = coef[i];
-            (t * T::cst(3.0 * c3) + T::cst(2.0 * c2)) * t + T::cst(c1)
-        }
+        Shape::Spline(spline) => spline.slope(th),
     }
 }
 
