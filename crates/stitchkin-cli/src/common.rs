@@ -3,7 +3,7 @@
 //! failed command prints.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use miette::{Diagnostic, LabeledSpan, NamedSource, SourceCode};
@@ -63,33 +63,122 @@ pub(crate) enum TableOrJson {
 }
 
 /// The `--format` help of a command with [`TableOrJson`] (`mut_arg`).
-pub(crate) const TABLE_OR_JSON_HELP: &str = "Output format: a readable table or JSON";
+pub(crate) const TABLE_OR_JSON_HELP: &str =
+    "Output format: a readable table or JSON (default: the table, wherever it goes; -o FILE.json JSON)";
 
-/// The formats of a cycle's columns: CSV or JSON.
+/// How a table command picks its format without `--format`, appended to
+/// its `--format` help.
+pub(crate) const DEFAULT_FORMAT_HELP: &str = " (default: the readable one on a terminal, CSV into a pipe or a file; -o FILE.json JSON, -o FILE.txt the readable one)";
+
+/// The formats of a streamed table: readable text or CSV.
 #[derive(Clone, Copy, ValueEnum)]
-pub(crate) enum CsvOrJson {
+pub(crate) enum TableOrCsv {
+    Table,
     Csv,
-    Json,
 }
 
-/// `--format` (readable text by default) and `-o/--output`. A command whose
-/// formats are not a table's, CSV and JSON says which in its `--format`
-/// help (`mut_arg`).
+/// `--format` and `-o/--output`. Without `--format` the result is shown
+/// where it goes ([`ByDestination`]). A command whose formats are not a
+/// table's, CSV and JSON says which in its `--format` help (`mut_arg`).
 #[derive(Args)]
 pub(crate) struct OutputArgs<F: ValueEnum + Clone + Send + Sync + 'static = TableFormat> {
-    /// Output format: a readable table, CSV or JSON.
-    #[arg(long, value_enum, default_value = "table")]
-    pub format: F,
+    /// Output format: a readable table, CSV or JSON (default: the table on
+    /// a terminal, CSV into a pipe or a file; -o FILE.json JSON, -o FILE.txt
+    /// the table).
+    #[arg(long, value_enum)]
+    pub format: Option<F>,
     /// Write to FILE instead of stdout (written completely or not at all).
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
 }
 
-impl<F: ValueEnum + Clone + Send + Sync + 'static> OutputArgs<F> {
-    /// Writes `text` to the file or to stdout.
-    pub fn emit(&self, text: &str) -> Result<(), Error> {
-        emit(text.as_bytes(), self.output.as_ref())
+impl<F: ValueEnum + Clone + Send + Sync + ByDestination + 'static> OutputArgs<F> {
+    /// The format asked for, or the one [`ByDestination`] picks for where
+    /// the result goes.
+    pub fn format(&self) -> F {
+        format_or_default(self.format.clone(), self.output.as_deref())
     }
+
+    /// Writes `text` to the file (saying so on stderr) or to stdout.
+    pub fn emit(&self, text: &str) -> Result<(), Error> {
+        emit_text(text, self.output.as_ref())
+    }
+}
+
+/// One convention for every command, by where its result goes (docs/cli.md,
+/// "What a command prints"):
+/// - stdout a terminal and no `-o`: text for people (a readable table or
+///   summary);
+/// - into a pipe or `-o FILE`: a command with a table writes the table as
+///   CSV (`-o FILE.json`: JSON; `-o FILE.txt`: the readable text); a command
+///   whose result is read as a whole (match, tune, fit) writes its text
+///   (`-o FILE.json`: JSON);
+/// - `--format` always wins.
+///
+/// The choice is a function of the destination, so a test can ask it
+/// without a terminal.
+pub(crate) trait ByDestination: Sized {
+    /// The format for `output` (`-o`), or stdout when it is a terminal
+    /// (`is_terminal`) or not.
+    fn by_destination(output: Option<&Path>, is_terminal: bool) -> Self;
+}
+
+/// The file's extension, lower-case.
+fn extension(path: &Path) -> Option<String> {
+    path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase)
+}
+
+impl ByDestination for TableFormat {
+    fn by_destination(output: Option<&Path>, is_terminal: bool) -> Self {
+        match output {
+            None if is_terminal => TableFormat::Table,
+            None => TableFormat::Csv,
+            Some(path) => match extension(path).as_deref() {
+                Some("json") => TableFormat::Json,
+                Some("txt") => TableFormat::Table,
+                _ => TableFormat::Csv,
+            },
+        }
+    }
+}
+
+impl ByDestination for TableOrJson {
+    fn by_destination(output: Option<&Path>, _is_terminal: bool) -> Self {
+        match output.and_then(extension).as_deref() {
+            Some("json") => TableOrJson::Json,
+            _ => TableOrJson::Table,
+        }
+    }
+}
+
+impl ByDestination for TableOrCsv {
+    fn by_destination(output: Option<&Path>, is_terminal: bool) -> Self {
+        match TableFormat::by_destination(output, is_terminal) {
+            TableFormat::Table => TableOrCsv::Table,
+            _ => TableOrCsv::Csv,
+        }
+    }
+}
+
+/// `given`, or the format for `output` and this process's stdout.
+pub(crate) fn format_or_default<F: ByDestination>(given: Option<F>, output: Option<&Path>) -> F {
+    given.unwrap_or_else(|| F::by_destination(output, output.is_none() && stdout_is_terminal()))
+}
+
+/// Whether stdout is a terminal. `STITCHKIN_TERMINAL=1` (or `0`) says so
+/// instead, for tests and scripts that want the terminal's output in a
+/// pipe (or the pipe's on a terminal).
+pub(crate) fn stdout_is_terminal() -> bool {
+    match std::env::var("STITCHKIN_TERMINAL").as_deref() {
+        Ok("1") => true,
+        Ok("0") => false,
+        _ => std::io::IsTerminal::is_terminal(&std::io::stdout()),
+    }
+}
+
+/// The line under a readable result that says how to get the whole table.
+pub(crate) fn full_table_hint(what: &str) -> String {
+    format!("({what}: pipe it, `-o FILE.csv` (or .json), or `--format csv`)\n")
 }
 
 /// The search of `tune`, `nomogram` and `report`: what to adjust, how hard
@@ -306,10 +395,15 @@ pub(crate) fn load_without_job(args: &ModelArgs) -> Result<(Model, Params), Erro
     Ok((model, params))
 }
 
-/// Writes `bytes` to `out` (completely or not at all) or to stdout.
+/// Writes `bytes` to `out` (completely or not at all), saying so on
+/// stderr, or to stdout.
 pub(crate) fn emit(bytes: &[u8], out: Option<&PathBuf>) -> Result<(), Error> {
     match out {
-        Some(path) => stitchkin::output::write_atomic(path, bytes),
+        Some(path) => {
+            stitchkin::output::write_atomic(path, bytes)?;
+            note_written(path, bytes.len());
+            Ok(())
+        }
         None => {
             let mut stdout = std::io::stdout().lock();
             match stdout.write_all(bytes).and_then(|_| stdout.flush()) {
@@ -322,13 +416,35 @@ pub(crate) fn emit(bytes: &[u8], out: Option<&PathBuf>) -> Result<(), Error> {
     }
 }
 
+/// [`emit`] of text for people or programs, tidied by [`tidy`].
+pub(crate) fn emit_text(text: &str, out: Option<&PathBuf>) -> Result<(), Error> {
+    emit(tidy(text).as_bytes(), out)
+}
+
+/// Text as it is printed: papers cited by authors and year
+/// (`stitchkin::references`), no negative zero (`-0.00`).
+pub(crate) fn tidy(text: &str) -> String {
+    stitchkin::format::without_negative_zeros(&stitchkin::references::cited(text)).into_owned()
+}
+
 /// A [`stitchkin::output::Sink`] as an `io::Write`, for the writers that
-/// stream a table (CSV, JSON) instead of building it whole in memory.
-pub(crate) struct SinkWriter<'a>(pub &'a mut stitchkin::output::Sink);
+/// stream a table (CSV, JSON) instead of building it whole in memory; it
+/// counts the bytes for [`note_written`].
+pub(crate) struct SinkWriter<'a> {
+    pub sink: &'a mut stitchkin::output::Sink,
+    pub bytes: usize,
+}
+
+impl<'a> SinkWriter<'a> {
+    pub fn new(sink: &'a mut stitchkin::output::Sink) -> Self {
+        SinkWriter { sink, bytes: 0 }
+    }
+}
 
 impl Write for SinkWriter<'_> {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.0.write(buf).map_err(|e| std::io::Error::other(e.to_string()))?;
+        self.sink.write(buf).map_err(|e| std::io::Error::other(e.to_string()))?;
+        self.bytes += buf.len();
         Ok(buf.len())
     }
 
@@ -343,15 +459,24 @@ pub(crate) fn json(value: &impl serde::Serialize) -> Result<String, Error> {
 }
 
 /// A progress bar on stderr when it is a terminal (hidden otherwise), of
-/// `len` steps drawn by `template`.
+/// `len` steps drawn by `template` (`{rate}`: steps per second, a whole
+/// number grouped by thousands: `{rate} settings/s`).
 pub(crate) fn progress_bar(len: usize, template: &str) -> indicatif::ProgressBar {
     if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         return indicatif::ProgressBar::hidden();
     }
     let bar = indicatif::ProgressBar::new(len as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(template).unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
+    // `{rate}`: a whole number per second (`12 652/s`), not indicatif's
+    // `{per_sec}` (`12,651.6851/s`).
+    let style = indicatif::ProgressStyle::with_template(template)
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+        .with_key(
+            "rate",
+            |state: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                let _ = w.write_str(&stitchkin::format::rate_number(state.per_sec()));
+            },
+        );
+    bar.set_style(style);
     bar
 }
 
@@ -365,7 +490,7 @@ pub(crate) fn read_measured(specs: &[String]) -> Result<Vec<(Option<String>, Mea
                 Some((t, f)) if !t.is_empty() && !t.contains(['/', '\\', '.']) => (Some(t.to_string()), f),
                 _ => (None, spec.as_str()),
             };
-            Ok((thread, read_curve(std::path::Path::new(file))?))
+            Ok((thread, read_curve(Path::new(file))?))
         })
         .collect()
 }
@@ -381,11 +506,11 @@ pub(crate) fn measured(specs: &[String], table: &CycleTable) -> Result<Vec<Measu
 /// Writes `text` to stderr, where notes and summaries go; a closed stderr
 /// (`2>&1 | head`) silences it instead of ending the program.
 pub(crate) fn note(text: &str) {
-    let _ = std::io::stderr().lock().write_all(text.as_bytes());
+    let _ = std::io::stderr().lock().write_all(tidy(text).as_bytes());
 }
 
 /// Says on stderr that `path` was written, with its size.
-pub(crate) fn note_written(path: &std::path::Path, bytes: usize) {
+pub(crate) fn note_written(path: &Path, bytes: usize) {
     let size = if bytes >= 10_000 {
         format!("{} kB", bytes / 1000)
     } else {
@@ -515,22 +640,29 @@ pub(crate) fn in_flag(e: Error, flag: &str) -> Error {
 /// The diagnostic of a failed command: a model-file error with its place in
 /// the file, a parameter error naming its flag, any other with its help.
 pub(crate) fn diagnostic(e: Error) -> miette::Report {
+    // Papers by authors and year, as everywhere else the program prints.
+    let cite = |t: &str| stitchkin::references::cited(t).into_owned();
     match e {
-        Error::Model(m) => {
+        Error::Model(mut m) => {
+            m.message = cite(&m.message);
+            m.help = m.help.as_deref().map(cite);
             let src = NamedSource::new(m.file.clone(), m.text.to_string());
             miette::Report::new(FileDiagnostic { err: *m, src })
         }
         Error::Param(p) => {
-            let message = p.describe(|i| flag(i).to_string());
+            let message = cite(&p.describe(|i| flag(i).to_string()));
             match p.help {
-                Some(h) => miette::miette!(help = h, "{message}"),
+                Some(h) => miette::miette!(help = cite(&h), "{message}"),
                 None => miette::miette!("{message}"),
             }
         }
-        other => match other.help() {
-            Some(h) => miette::miette!(help = h.to_string(), "{other}"),
-            None => miette::miette!("{other}"),
-        },
+        other => {
+            let message = cite(&other.to_string());
+            match other.help() {
+                Some(h) => miette::miette!(help = cite(h), "{message}"),
+                None => miette::miette!("{message}"),
+            }
+        }
     }
 }
 
@@ -594,5 +726,80 @@ impl Diagnostic for FileDiagnostic {
             span.start,
             len,
         ))))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(output: Option<&str>, terminal: bool) -> &'static str {
+        match TableFormat::by_destination(output.map(Path::new), terminal) {
+            TableFormat::Table => "table",
+            TableFormat::Csv => "csv",
+            TableFormat::Json => "json",
+        }
+    }
+
+    /// A terminal gets text for people; a pipe or a file the table, as the
+    /// file's name says.
+    #[test]
+    fn a_table_is_shown_by_where_it_goes() {
+        assert_eq!(table(None, true), "table");
+        assert_eq!(table(None, false), "csv");
+        for terminal in [true, false] {
+            assert_eq!(table(Some("out.csv"), terminal), "csv");
+            assert_eq!(table(Some("out"), terminal), "csv");
+            assert_eq!(table(Some("OUT.JSON"), terminal), "json");
+            assert_eq!(table(Some("out.txt"), terminal), "table");
+        }
+        assert!(matches!(TableOrCsv::by_destination(None, true), TableOrCsv::Table));
+        assert!(matches!(
+            TableOrCsv::by_destination(Some(Path::new("a.json")), false),
+            TableOrCsv::Csv
+        ));
+    }
+
+    /// A result read as a whole is its text everywhere, JSON for a .json
+    /// file.
+    #[test]
+    fn a_screen_is_the_same_everywhere() {
+        for (output, terminal) in [(None, true), (None, false), (Some("m.txt"), false), (Some("m"), true)] {
+            assert!(matches!(
+                TableOrJson::by_destination(output.map(Path::new), terminal),
+                TableOrJson::Table
+            ));
+        }
+        assert!(matches!(
+            TableOrJson::by_destination(Some(Path::new("m.json")), false),
+            TableOrJson::Json
+        ));
+    }
+
+    /// --format wins over the destination.
+    #[test]
+    fn a_format_given_wins() {
+        assert!(matches!(
+            format_or_default(Some(TableFormat::Csv), None),
+            TableFormat::Csv
+        ));
+        assert!(matches!(
+            format_or_default(Some(TableFormat::Table), Some(Path::new("x.csv"))),
+            TableFormat::Table
+        ));
+        assert!(matches!(
+            format_or_default::<TableFormat>(None, Some(Path::new("x.json"))),
+            TableFormat::Json
+        ));
+    }
+
+    /// Printed text cites papers by authors and year and has no negative
+    /// zero.
+    #[test]
+    fn printed_text_is_tidied() {
+        assert_eq!(
+            tidy("max -0.00 mm (seed 002 eq. 15), min -0.5 mm"),
+            "max 0.00 mm (Kharzhevskyi et al. (n.d.) eq. 15), min -0.5 mm"
+        );
     }
 }

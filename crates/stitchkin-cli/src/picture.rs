@@ -60,11 +60,7 @@ pub(crate) fn emit_picture(svg: &str, out: Option<&PathBuf>, animated: bool) -> 
         (Format::Png, Some(path)) => svg_to_png(svg, path)?,
         _ => svg.as_bytes().to_vec(),
     };
-    crate::common::emit(&bytes, out)?;
-    if let Some(path) = out {
-        crate::common::note_written(path, bytes.len());
-    }
-    Ok(())
+    crate::common::emit(&bytes, out)
 }
 
 /// Pixels per SVG unit of the PNG: 2, crisp on high-density screens and in

@@ -57,6 +57,8 @@ mod examples;
 mod limits;
 #[path = "cli/nomogram.rs"]
 mod nomogram;
+#[path = "cli/output.rs"]
+mod output;
 #[path = "cli/own_machine.rs"]
 mod own_machine;
 #[path = "cli/sensitivity.rs"]
@@ -149,7 +151,8 @@ fn run_on_a_terminal_shows_the_summary() {
         "{screen}"
     );
     assert!(
-        screen.contains("the full table, 360 rows") && screen.contains("stitchkin run --format csv"),
+        screen.contains("the full table, 360 rows")
+            && screen.contains("pipe it, `-o FILE.csv` (or .json), or `--format csv`"),
         "{screen}"
     );
     assert!(tty("run --format csv --step 30").contains("phi_deg,"));
@@ -180,7 +183,7 @@ fn columns_can_be_selected_by_pattern() {
 #[test]
 fn consumption_of_a_lockstitch_seam_with_waste() {
     let args = ["consumption", "--type", "301", "--thickness", "2", "--stitch", "2.5"];
-    let (out, _) = ok(&[&args[..], &["--seam", "2500", "--waste", "15"]].concat());
+    let (out, _) = ok(&[&args[..], &["--seam", "2500", "--waste", "15", "--format", "table"]].concat());
     assert!(
         out.contains("bobbin") && out.contains("1000.0 stitches") && out.contains("10.3500"),
         "{out}"
@@ -754,23 +757,24 @@ fn every_preset_runs_as_csv_and_json_and_checks() {
 }
 
 #[test]
-fn presets_lists_name_machine_and_seed() {
+fn presets_lists_name_machine_and_the_paper_by_authors_and_year() {
     let (out, _) = ok(&["presets"]);
-    for (p, seed) in [
-        ("needle876", "002"),
-        ("overlock500", "003"),
-        ("altin-needle", "004"),
-        ("altin504", "004"),
-        ("mf7923d", "000"),
-        ("takeup-lever", "001"),
-        ("lockstitch", "001"),
+    for (p, paper) in [
+        ("needle876", "Kharzhevskyi et al. (n.d.)"),
+        ("overlock500", "Dvorzhak et al. (2024)"),
+        ("altin-needle", "Polyakov (2022)"),
+        ("altin504", "Polyakov (2022)"),
+        ("mf7923d", "Manoilenko et al. (2024)"),
+        ("takeup-lever", "Dvorzhak et al. (n.d.)"),
+        ("lockstitch", "Dvorzhak et al. (n.d.)"),
     ] {
         let line = out
             .lines()
             .find(|l| l.starts_with(p))
             .unwrap_or_else(|| panic!("{p} missing:\n{out}"));
-        assert!(line.contains(seed), "{line}");
+        assert!(line.contains(paper), "{line}");
     }
+    assert!(!out.contains("seed"), "{out}");
     assert!(out.contains("(default)"));
 }
 

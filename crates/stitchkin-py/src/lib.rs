@@ -36,8 +36,10 @@ create_exception!(
 /// message is the command line's: what is wrong, then a `help:` line with
 /// the fix (a traceback shows both).
 fn py_error(py: Python<'_>, e: &stitchkin::Error) -> PyErr {
-    let mut message = e.to_string();
-    if let Some(help) = e.help().filter(|h| !message.contains(h)) {
+    // Papers by authors and year, as the command line prints them.
+    let cite = |t: &str| stitchkin::references::cited(t).into_owned();
+    let mut message = cite(&e.to_string());
+    if let Some(help) = e.help().map(cite).filter(|h| !message.contains(h.as_str())) {
         message = format!("{message}\n  help: {help}");
     }
     let err = StitchkinError::new_err(message);
@@ -59,7 +61,7 @@ fn py_error(py: Python<'_>, e: &stitchkin::Error) -> PyErr {
     let _ = value.setattr("line", line);
     let _ = value.setattr("column", column);
     let _ = value.setattr("key", key);
-    let _ = value.setattr("help", e.help());
+    let _ = value.setattr("help", e.help().map(cite));
     err
 }
 
@@ -208,7 +210,7 @@ impl Model {
             d.set_item("value", p.value)?;
             d.set_item("range", p.range.map(|[lo, hi]| (lo, hi)))?;
             d.set_item("derived", p.is_derived())?;
-            d.set_item("source", p.source.as_deref())?;
+            d.set_item("source", p.source.as_deref().map(stitchkin::references::cited))?;
             list.append(d)?;
         }
         Ok(list)
@@ -294,7 +296,12 @@ impl Model {
                 let internal = |e: serde_json::Error| stitchkin::Error::Internal(format!("cannot write JSON: {e}"));
                 let mut json = serde_json::to_value(st).map_err(internal)?;
                 json["model"] = serde_json::json!(model.name());
-                json["caveats"] = serde_json::json!(model.caveats());
+                let caveats: Vec<String> = model
+                    .caveats()
+                    .iter()
+                    .map(|c| stitchkin::references::cited(c).into_owned())
+                    .collect();
+                json["caveats"] = serde_json::json!(caveats);
                 serde_json::to_string(&json).map_err(internal)
             })
             .map_err(|e| py_error(py, &e))?;

@@ -341,7 +341,12 @@ impl App {
             .iter()
             .enumerate()
             .map(|(k, p)| match self.preset(k) {
-                Ok(m) => json!({ "name": p.name, "title": m.title(), "seed": m.seed() }),
+                Ok(m) => json!({
+                    "name": p.name,
+                    "title": m.title(),
+                    "seed": m.seed(),
+                    "after": m.seed().and_then(stitchkin::references::cite_seed),
+                }),
                 Err(e) => json!({ "name": p.name, "title": null, "error": e }),
             })
             .collect();
@@ -594,7 +599,12 @@ impl App {
                 "tension_svg": tension_chart,
                 "paths": paths,
                 "stitch": stitch,
-                "caveats": model.caveats(),
+                // Papers by authors and year, as the command line prints them.
+                "caveats": model
+                    .caveats()
+                    .iter()
+                    .map(|c| stitchkin::references::cited(c).into_owned())
+                    .collect::<Vec<_>>(),
                 "transmission": table.transmission,
                 "warnings": warnings,
             }),
@@ -667,7 +677,7 @@ fn describe(model: &Model, base: &Params) -> Value {
                 "nominal": p.value,
                 "range": p.range,
                 "role": role,
-                "source": p.source,
+                "source": p.source.as_deref().map(stitchkin::references::cited),
                 "kind": p.kind.as_str(),
                 "label": p.label,
                 "what": p.what,

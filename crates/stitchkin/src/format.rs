@@ -185,6 +185,87 @@ pub fn decimals(x: f64, decimals: usize) -> String {
     }
 }
 
+/// `text` with every number that rounds to zero written without its minus
+/// sign: `-0.00` becomes `0.00`, `-0` becomes `0`, `+0.0` is kept as it is,
+/// `-0.001` and `x-0.00` (a minus inside a word or after a digit) are kept.
+/// In an aligned column (the minus after two spaces or at a line's start
+/// after a space) the minus becomes a space, so the column stays aligned.
+/// The last pass over text printed for people, whatever formatted its
+/// numbers (`{:.2}` writes `-0.00` for −0.001).
+pub fn without_negative_zeros(text: &str) -> std::borrow::Cow<'_, str> {
+    let bytes = text.as_bytes();
+    let negative_zero_at = |i: usize| -> bool {
+        // A minus at a number's start: not after a letter, a digit, a point
+        // or an underscore.
+        if bytes[i] != b'-' || i > 0 && (bytes[i - 1].is_ascii_alphanumeric() || matches!(bytes[i - 1], b'.' | b'_')) {
+            return false;
+        }
+        let mut j = i + 1;
+        if bytes.get(j) != Some(&b'0') {
+            return false;
+        }
+        j += 1;
+        if bytes.get(j) == Some(&b'.') && bytes.get(j + 1).is_some_and(u8::is_ascii_digit) {
+            j += 1;
+            while bytes.get(j) == Some(&b'0') {
+                j += 1;
+            }
+        }
+        // The number ends here: no other digit, and no exponent.
+        !bytes
+            .get(j)
+            .is_some_and(|b| b.is_ascii_digit() || matches!(b, b'e' | b'E' | b'.'))
+    };
+    if !(0..bytes.len()).any(negative_zero_at) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let padded = |i: usize| i >= 1 && bytes[i - 1] == b' ' && (i == 1 || matches!(bytes[i - 2], b' ' | b'\n'));
+    let mut out = String::with_capacity(text.len());
+    let mut from = 0;
+    for i in 0..bytes.len() {
+        if negative_zero_at(i) {
+            out.push_str(&text[from..i]);
+            if padded(i) {
+                out.push(' ');
+            }
+            from = i + 1;
+        }
+    }
+    out.push_str(&text[from..]);
+    std::borrow::Cow::Owned(out)
+}
+
+/// A rate for people: a whole number with a space every three digits
+/// and its unit, `12 652 settings/s` (never `12,651.6851/s`); under 10 with
+/// one decimal (`2.5 settings/s`).
+pub fn rate(per_second: f64, what: &str) -> String {
+    format!("{} {what}/s", rate_number(per_second))
+}
+
+/// The number of [`rate`]: `12 652`, `950`, `2.5`; `–` for no rate.
+pub fn rate_number(per_second: f64) -> String {
+    if !per_second.is_finite() || per_second < 0.0 {
+        "–".into()
+    } else if per_second < 10.0 {
+        decimals(per_second, 1)
+    } else {
+        grouped(per_second.round() as u64)
+    }
+}
+
+/// A whole number with a space every three digits: `12 652`, `950`.
+pub fn grouped(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::with_capacity(digits.len() + digits.len() / 3);
+    for (k, c) in digits.chars().enumerate() {
+        if k > 0 && (digits.len() - k).is_multiple_of(3) {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
 /// `x` with `digits` significant digits, always in fixed-point notation
 /// (`0.000123`, `123457`): never an exponent, and never fewer than zero
 /// decimals, so a large `x` keeps all its integer digits. Zero, a
@@ -256,6 +337,52 @@ pub fn per_unit(numerator: &str, denominator: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn negative_zeros_lose_their_sign_and_nothing_else_does() {
+        for (text, tidy) in [
+            ("-0.00", "0.00"),
+            ("max -0.000 mm, min -0 mm", "max 0.000 mm, min 0 mm"),
+            ("(-0.0°)", "(0.0°)"),
+            ("a,-0.00\n", "a,0.00\n"),
+            ("-0.001", "-0.001"),
+            ("-0.50", "-0.50"),
+            ("-0e-5", "-0e-5"),
+            ("-0.0e3", "-0.0e3"),
+            ("-05", "-05"),
+            ("x-0.00", "x-0.00"),
+            ("1-0.00", "1-0.00"),
+            ("+0.00 and -12.00", "+0.00 and -12.00"),
+            ("Δ −0.00", "Δ −0.00"),
+            ("x    -0.00\n -0.0 mm", "x     0.00\n  0.0 mm"),
+            ("", ""),
+        ] {
+            assert_eq!(without_negative_zeros(text), tidy, "{text}");
+        }
+        assert!(matches!(
+            without_negative_zeros("1.00 mm"),
+            std::borrow::Cow::Borrowed(_)
+        ));
+        for x in [-0.0, -1e-9, -0.004, -0.0049] {
+            assert_eq!(without_negative_zeros(&format!("{x:.2}")), "0.00", "{x}");
+            assert_eq!(without_negative_zeros(&format!("{x:8.2}")), "    0.00", "{x}");
+        }
+        assert_eq!(without_negative_zeros(&format!("{:.2}", -0.005_1)), "-0.01");
+    }
+
+    #[test]
+    fn rates_are_whole_numbers_grouped_by_thousands() {
+        assert_eq!(rate(12_651.685_1, "settings"), "12 652 settings/s");
+        assert_eq!(rate(950.4, "settings"), "950 settings/s");
+        assert_eq!(rate(2.46, "settings"), "2.5 settings/s");
+        assert_eq!(rate(0.0, "cycles"), "0.0 cycles/s");
+        assert_eq!(rate(f64::NAN, "cycles"), "– cycles/s");
+        assert_eq!(rate(1_234_567.0, "rows"), "1 234 567 rows/s");
+        assert_eq!(rate_number(12_651.685_1), "12 652");
+        assert_eq!(grouped(0), "0");
+        assert_eq!(grouped(100), "100");
+        assert_eq!(grouped(1000), "1 000");
+    }
 
     /// What [`fmt_num`] wrote before [`push_num`]: the exact decimal
     /// conversion for every number.

@@ -27,6 +27,7 @@ pub mod model;
 mod numeric;
 pub mod output;
 pub mod presets;
+pub mod references;
 pub mod scalar;
 pub mod stitch;
 pub mod study;

@@ -10,22 +10,23 @@ use stitchkin::output::text;
 use stitchkin::parse_curve_csv;
 use stitchkin::study::cam_synthesis::{CamOptions, Target, synthesise};
 
-use crate::common::{ModelArgs, emit, load, note};
+use crate::common::{ByDestination, ModelArgs, emit, emit_text, format_or_default, full_table_hint, load, note};
 
 /// Synthesise a thread feed cam: the polar profile ρ(θ) that makes a
 /// path's take-up P(φ) equal the stitch's required P'(φ) or a given
-/// curve (the inverse of seed 004 §2.5's cam feed, offset contact), with
+/// curve (the inverse of Polyakov (2022) §2.5's cam feed, offset contact), with
 /// checks, and CSV, SVG, DXF and a [[cams]] snippet to paste.
 #[derive(clap::Args)]
 #[command(
     after_help = "Examples:\n  stitchkin cam --preset altin504 --path lower --target required -o lower-cam\n  \
     stitchkin cam --preset altin504 --path upper --target required --anchor-radius 21 --smooth 20 --format svg -o upper-cam.svg\n  \
     stitchkin cam my-machine.toml --path looper --target wanted.csv --points 72 --min-radius 5 --format toml\n\n\
-    The profile: one radius per position φ = φ0 + k·360/N, solved from the target by seed 004 §2.5's\n\
+    The profile: one radius per position φ = φ0 + k·360/N, solved from the target by Polyakov (2022) §2.5's\n\
     offset contact (a quadratic in ρ); the rest of the path from the solved mechanism. Checks (reported,\n\
     not fixed): minimum radius, convexity, profile slope and the thread's contact angle. Files: PREFIX.csv\n\
     (theta_deg,radius_mm), PREFIX.svg (to scale, mm), PREFIX.dxf (R12, mm), PREFIX.toml ([[cams]] entry).\n\
-    Target CSV: columns phi_deg,P_mm. The summary goes to stderr."
+    Target CSV: columns phi_deg,P_mm. On a terminal without --format or -o cam shows its summary;\n\
+    into a pipe it writes the CSV, with -o the files, and the summary goes to stderr."
 )]
 pub(crate) struct Args {
     #[command(flatten)]
@@ -71,8 +72,9 @@ pub(crate) struct Args {
     /// asks for more thread (an unreachable target's error suggests one).
     #[arg(long = "anchor-radius", value_name = "MM", allow_negative_numbers = true)]
     anchor_radius: Option<f64>,
-    /// Output: csv, svg, dxf, toml (the [[cams]] snippet), or all four
-    /// (the default with -o).
+    /// Output: table (the summary), csv, svg, dxf, toml (the [[cams]]
+    /// snippet), or all four (the default with -o; without -o: the summary
+    /// on a terminal, CSV into a pipe).
     #[arg(long, value_enum)]
     format: Option<CamFormat>,
     /// Write PREFIX.csv, PREFIX.svg, PREFIX.dxf and PREFIX.toml (as
@@ -84,6 +86,7 @@ pub(crate) struct Args {
 
 #[derive(Clone, Copy, PartialEq, ValueEnum)]
 enum CamFormat {
+    Table,
     Csv,
     Svg,
     Dxf,
@@ -104,11 +107,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         })?;
         Target::from_curve(&parse_curve_csv(&text, &args.target)?)?
     };
-    let format = args.format.unwrap_or(if args.output.is_some() {
-        CamFormat::All
-    } else {
-        CamFormat::Csv
-    });
+    let format = format_or_default(args.format, args.output.as_deref());
     if format == CamFormat::All && args.output.is_none() {
         return Err(Error::Param(ParamError::general(
             "--format all writes four files",
@@ -128,15 +127,18 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         CamFormat::Svg => stitchkin::output::drawing::cam::svg(&s),
         CamFormat::Dxf => stitchkin::output::drawing::cam::dxf(&s),
         CamFormat::Toml | CamFormat::All => text::cam::toml_snippet(&s),
+        CamFormat::Table => text::cam_summary::summary(&s) + &full_table_hint("the profile, one radius per φ"),
     };
     let ext = |f: CamFormat| match f {
         CamFormat::Csv => "csv",
         CamFormat::Svg => "svg",
         CamFormat::Dxf => "dxf",
         CamFormat::Toml | CamFormat::All => "toml",
+        CamFormat::Table => "txt",
     };
-    let mut written = Vec::new();
     match &args.output {
+        // The summary is the result: on stdout, not again on stderr.
+        None if format == CamFormat::Table => return emit_text(&render(format), None),
         None => emit(render(format).as_bytes(), None)?,
         Some(prefix) => {
             let formats = if format == CamFormat::All {
@@ -153,11 +155,20 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
                     p.push(format!(".{}", ext(f)));
                     PathBuf::from(p)
                 };
-                stitchkin::output::write_atomic(&path, render(f).as_bytes())?;
-                written.push(path.display().to_string());
+                emit_text(&render(f), Some(&path))?;
             }
         }
     }
-    note(&text::cam_summary::summary(&s, &written));
+    note(&text::cam_summary::summary(&s));
     Ok(())
+}
+
+impl ByDestination for CamFormat {
+    fn by_destination(output: Option<&std::path::Path>, is_terminal: bool) -> Self {
+        match output {
+            Some(_) => CamFormat::All,
+            None if is_terminal => CamFormat::Table,
+            None => CamFormat::Csv,
+        }
+    }
 }

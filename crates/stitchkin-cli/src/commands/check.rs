@@ -5,7 +5,7 @@ use stitchkin::error::{Error, PhysicalError};
 use stitchkin::eval::{self, CycleOptions};
 use stitchkin::output::text;
 
-use crate::common::{ModelArgs, emit, load};
+use crate::common::{ModelArgs, emit_text, load};
 
 /// Check a model file: load, validate, solve a full cycle, and report
 /// its parameters, solve order, transmission angles and the stitch's
@@ -41,7 +41,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         let c = stitchkin::verify::cross_check(&model, &params, args.step)?;
         out += &text::cycle::cross_check(&c);
     }
-    emit(out.as_bytes(), None)?;
+    emit_text(&out, None)?;
     // A setting no machine can realise does not pass the check.
     let failed: Vec<String> = table
         .stitch

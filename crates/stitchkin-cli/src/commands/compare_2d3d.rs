@@ -1,20 +1,19 @@
 //! `stitchkin compare-2d3d`: each thread path against its planar model
 //! (stitchkin::study::compare_2d3d).
 
-use std::path::PathBuf;
-
 use stitchkin::error::Error;
 use stitchkin::output::text;
 use stitchkin::study::compare_2d3d::compare_2d3d;
 
-use crate::common::{CsvOrJson, ModelArgs, emit, load, note};
+use crate::common::{ModelArgs, OutputArgs, TableFormat, full_table_hint, load, note};
 
 /// Compare each thread path with its planar model: project every node
-/// onto a plane, recompute P and report ΔP = P3D − P2D (seed 000 §4.6).
+/// onto a plane, recompute P and report ΔP = P3D − P2D (Manoilenko et al. (2024) §4.6).
 #[derive(clap::Args)]
 #[command(
     after_help = "Examples:\n  stitchkin compare-2d3d\n  stitchkin compare-2d3d --preset mf7923d --plane uvw --set z=-5 --format json -o dp.json\n\n\
-    Columns: phi_deg, then per path PATH.P3D_mm, PATH.P2D_mm, PATH.dP_mm. The largest |ΔP| per path goes to stderr."
+    Columns: phi_deg, then per path PATH.P3D_mm, PATH.P2D_mm, PATH.dP_mm. On a terminal it shows the largest |ΔP| per path;\n\
+    into a pipe or a file it writes the table and the largest |ΔP| goes to stderr."
 )]
 pub(crate) struct Args {
     #[command(flatten)]
@@ -25,24 +24,25 @@ pub(crate) struct Args {
     /// Step of the main-shaft angle φ, degrees.
     #[arg(long, default_value_t = 1.0, value_name = "DEG", allow_negative_numbers = true)]
     step: f64,
-    #[arg(long, value_enum, default_value_t = CsvOrJson::Csv)]
-    format: CsvOrJson,
-    /// Write to FILE instead of stdout (written completely or not at all).
-    #[arg(short, long, value_name = "FILE")]
-    output: Option<PathBuf>,
+    #[command(flatten)]
+    output: OutputArgs,
 }
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     let (model, params) = load(&args.model)?;
     let c = compare_2d3d(&model, &params, &args.plane, args.step)?;
-    let out = match args.format {
+    let summary = text::compare_2d3d::summary(&c);
+    let out = match args.output.format() {
         // Pretty JSON without a final newline, as it always was written.
-        CsvOrJson::Json => {
+        TableFormat::Json => {
             serde_json::to_string_pretty(&c).map_err(|e| Error::Internal(format!("cannot write JSON: {e}")))?
         }
-        CsvOrJson::Csv => text::compare_2d3d::csv(&c),
+        TableFormat::Csv => text::compare_2d3d::csv(&c),
+        TableFormat::Table => {
+            return args.output.emit(&(summary + &full_table_hint("P3D, P2D and ΔP per φ")));
+        }
     };
-    emit(out.as_bytes(), args.output.as_ref())?;
-    note(&text::compare_2d3d::summary(&c));
+    args.output.emit(&out)?;
+    note(&summary);
     Ok(())
 }

@@ -8,7 +8,7 @@ use stitchkin::{Seam, StitchGeometry, consumption};
 use crate::common::{OutputArgs, TableFormat, json};
 
 /// Thread consumed by one finished stitch, per thread, from the stitch's
-/// geometry (seed 004 §2.6; docs/stitch-formation.md §6): per stitch, per
+/// geometry (Polyakov (2022) §2.6; docs/stitch-formation.md §6): per stitch, per
 /// length of seam, and for a seam with an allowance for waste. Taut
 /// consumption: real seams take more.
 #[derive(clap::Args)]
@@ -71,7 +71,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         waste_pct: args.waste,
     };
     let c = consumption(args.stitch_type, &g)?.for_seam(&seam)?;
-    let out = match args.output.format {
+    let out = match args.output.format() {
         TableFormat::Json => json(&c)?,
         TableFormat::Csv => text::consumption::csv(&c),
         TableFormat::Table => text::consumption::table(&c, &g),

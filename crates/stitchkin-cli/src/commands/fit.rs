@@ -56,7 +56,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         max_iterations: args.max_iterations,
     };
     let r = fit(&model, &params, &facts, &opts)?;
-    let out = match args.output.format {
+    let out = match args.output.format() {
         TableOrJson::Json => json(&r)?,
         TableOrJson::Table => text::fit::table(model.name(), &facts, &r),
     };

@@ -59,7 +59,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         )));
     };
     let measured = measured(&args.measured, &table)?;
-    let out = match args.output.format {
+    let out = match args.output.format() {
         TableOrJson::Json => {
             // The stitch summary, with the model's name and caveats and the
             // measured curves beside it.

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use stitchkin::error::Error;
 use stitchkin::presets::templates;
 
-use crate::common::{emit, note_written};
+use crate::common::emit;
 
 /// Write a starting model of a mechanism family: a shipped preset's file,
 /// renamed `my-machine`, under a header that says which parameters to
@@ -45,11 +45,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     };
     let family = templates::get(name).map_err(Error::Param)?;
     let text = templates::template(family);
-    emit(text.as_bytes(), args.output.as_ref())?;
-    if let Some(path) = &args.output {
-        note_written(path, text.len());
-    }
-    Ok(())
+    emit(text.as_bytes(), args.output.as_ref())
 }
 
 /// The families, one a line: name, the preset it starts from, the mechanism.

@@ -78,7 +78,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let result = nomogram(&model, &params, &opts, || bar.inc(1));
     bar.finish_and_clear();
     let n = result?;
-    let out = match args.output.format {
+    let out = match args.output.format() {
         TableFormat::Table => stitchkin::output::text::nomogram::table(&n),
         TableFormat::Csv => stitchkin::output::text::nomogram::csv(&n),
         TableFormat::Json => json(&n)?,
@@ -91,7 +91,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         n.points.len() - failed,
         started.elapsed().as_secs_f64()
     ));
-    if n.all_scores_zero() && !matches!(args.output.format, TableFormat::Table) {
+    if n.all_scores_zero() && !matches!(args.output.format(), TableFormat::Table) {
         note_line(
             "warning: every match score is 0 at every grid point: no setting in the ranges fits this stitch (the recommendations only minimise J)",
         );

@@ -6,9 +6,9 @@ use stitchkin::error::Error;
 use stitchkin::model::Model;
 use stitchkin::presets;
 
-use crate::common::{emit, in_flag, note_written};
+use crate::common::{emit, emit_text, in_flag};
 
-/// List the shipped presets (name, machine, seed), or write one's model
+/// List the shipped presets (name, the paper it follows, machine), or write one's model
 /// file as shipped (--export).
 #[derive(clap::Args)]
 #[command(
@@ -29,23 +29,32 @@ pub(crate) struct Args {
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     if let Some(name) = &args.export {
         let preset = presets::get(name).map_err(|e| in_flag(Error::Param(e), "--export"))?;
-        emit(preset.toml.as_bytes(), args.output.as_ref())?;
-        if let Some(path) = &args.output {
-            note_written(path, preset.toml.len());
-        }
-        return Ok(());
+        return emit(preset.toml.as_bytes(), args.output.as_ref());
     }
-    let mut out = String::from("name          seed  machine\n");
+    let mut rows = Vec::new();
     for p in presets::ALL {
-        let (title, seed) = match Model::preset(p.name) {
+        let (title, after) = match Model::preset(p.name) {
             Ok(m) => (
                 m.title().unwrap_or_default().to_string(),
-                m.seed().unwrap_or_default().to_string(),
+                m.seed()
+                    .and_then(stitchkin::references::cite_seed)
+                    .unwrap_or_default()
+                    .to_string(),
             ),
             Err(e) => (format!("(does not load: {e})"), String::new()),
         };
         let default = if p.name == presets::DEFAULT { "  (default)" } else { "" };
-        out += &format!("{:<13} {:<5} {title}{default}\n", p.name, seed);
+        rows.push((p.name, after, format!("{title}{default}")));
     }
-    emit(out.as_bytes(), None)
+    let w = rows
+        .iter()
+        .map(|r| r.1.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max("after".len());
+    let mut out = format!("{:<13} {:<w$}  machine\n", "name", "after");
+    for (name, after, machine) in rows {
+        out += &format!("{name:<13} {after:<w$}  {machine}\n");
+    }
+    emit_text(&out, None)
 }

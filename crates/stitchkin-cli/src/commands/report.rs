@@ -8,7 +8,7 @@ use stitchkin::jobs::report::{self, ReportOptions};
 use stitchkin::output::drawing::View;
 use stitchkin::study::nomogram::{Axis, NomogramOptions};
 
-use crate::common::{ModelArgs, SearchArgs, emit, in_flag, load, note_line, note_written};
+use crate::common::{ModelArgs, SearchArgs, emit, in_flag, load, note_line};
 
 /// One self-contained HTML report: parameters, mechanism drawing (still
 /// and animated), P/P′ chart, mismatch, transmission angles and, when
@@ -119,9 +119,5 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         note_line("# report: tuning (this takes a few seconds per tuning)…");
     }
     let html = report::render(&model, &params, &opts)?;
-    emit(html.as_bytes(), args.output.as_ref())?;
-    if let Some(path) = &args.output {
-        note_written(path, html.len());
-    }
-    Ok(())
+    emit(html.as_bytes(), args.output.as_ref())
 }

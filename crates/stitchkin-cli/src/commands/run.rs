@@ -7,7 +7,9 @@ use stitchkin::error::{Error, Input};
 use stitchkin::eval::{self, CycleOptions};
 use stitchkin::output::{self, text};
 
-use crate::common::{CsvOrJson, ModelArgs, SinkWriter, emit, load, note};
+use crate::common::{
+    ModelArgs, SinkWriter, TableFormat, emit_text, format_or_default, full_table_hint, load, note, note_written,
+};
 
 /// Evaluate a model over one main-shaft cycle: positions, analogs,
 /// velocities, link and transmission angles, measures.
@@ -20,8 +22,9 @@ use crate::common::{CsvOrJson, ModelArgs, SinkWriter, emit, load, note};
     G.vy_mm_per_s (with --rpm), angle_A_B_deg, mu_23_deg, needle_y_mm, ...; a thread path's take-up\n\
     PATH.P_mm, or PATH.P_B_mm and PATH.P_eye_mm for a needle thread split at B (the eye's top position);\n\
     a stitch thread's THR.Pprime_B_mm (needle) or THR.Pprime_mm (looper) and THR.D_mm.\n\
-    A summary (transmission angles, measure ranges, take-up, match, physical checks, notes, warnings)\n\
-    goes to stderr; on a terminal without --format or -o, run shows the summary alone.")]
+    On a terminal (without --format or -o) run shows a readable summary (transmission angles, measure\n\
+    ranges, take-up, match, physical checks, notes, warnings), or with --columns those columns every\n\
+    few degrees; into a pipe or a file it writes the table (CSV, or JSON) and the summary goes to stderr.")]
 pub(crate) struct Args {
     #[command(flatten)]
     model: ModelArgs,
@@ -42,10 +45,11 @@ pub(crate) struct Args {
     /// Positions only, without analogs.
     #[arg(long)]
     no_analogs: bool,
-    /// Output format of the table (default CSV). On a terminal, without
-    /// --format or -o, `run` shows its summary instead of the table.
+    /// Output format: table (a readable summary; with --columns, the
+    /// columns every few degrees), CSV or JSON (default: the summary on a
+    /// terminal, CSV into a pipe or a file; -o FILE.json JSON).
     #[arg(long, value_enum)]
-    format: Option<CsvOrJson>,
+    format: Option<TableFormat>,
     /// Write to FILE instead of stdout (written completely or not at all).
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
@@ -71,30 +75,47 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         Some(patterns) => eval::run_cycle_columns(&model, &params, &opts, patterns)?,
         None => eval::run_cycle(&model, &params, &opts)?,
     };
-    // A person at a terminal gets the summary: 360 rows of a few hundred
-    // columns read nowhere but in a file or a pipe.
-    if args.format.is_none() && args.output.is_none() && std::io::IsTerminal::is_terminal(&std::io::stdout()) {
-        let mut s = text::cycle::summary(&model, &table);
-        s += &format!(
-            "(the full table, {} rows × {} columns: `stitchkin run --format csv`, `-o FILE.csv`, or pipe it; how P matches P′: `stitchkin match`)\n",
-            table.rows(),
-            table.columns.len()
-        );
-        return emit(s.as_bytes(), None);
+    let format = format_or_default(args.format, args.output.as_deref());
+    if let TableFormat::Table = format {
+        // A person at a terminal gets the summary, or the asked columns
+        // every few degrees: 360 rows of a few hundred columns read
+        // nowhere but in a file or a pipe.
+        let s = match &args.columns {
+            Some(_) => {
+                text::cycle::columns_table(&table, SHOWN_ROWS)
+                    + &full_table_hint(&format!("every row, {} of them", table.rows()))
+            }
+            None => {
+                text::cycle::summary(&model, &table)
+                    + &full_table_hint(&format!(
+                        "the full table, {} rows × {} columns; how P matches P′: `stitchkin match`",
+                        table.rows(),
+                        table.columns.len()
+                    ))
+            }
+        };
+        return emit_text(&s, args.output.as_ref());
     }
-    let format = args.format.unwrap_or(CsvOrJson::Csv);
     // Streamed: a table of 0.001° steps is 700 MB of CSV. A file appears
     // whole when the sink finishes, or not at all.
     let mut sink = output::Sink::new(args.output.as_deref())?;
-    let mut out = SinkWriter(&mut sink);
+    let mut out = SinkWriter::new(&mut sink);
     match format {
-        CsvOrJson::Csv => output::write_csv(&table, &mut out),
-        CsvOrJson::Json => output::write_json(&model, &params, &table, &mut out),
+        TableFormat::Json => output::write_json(&model, &params, &table, &mut out),
+        _ => output::write_csv(&table, &mut out),
     }
     .map_err(|e| Error::Internal(format!("cannot format the cycle table: {e}")))?;
+    let bytes = out.bytes;
     sink.finish()?;
-    if matches!(format, CsvOrJson::Csv) || args.output.is_some() {
+    if matches!(format, TableFormat::Csv) || args.output.is_some() {
         note(&text::cycle::summary(&model, &table));
+    }
+    if let Some(path) = &args.output {
+        note_written(path, bytes);
     }
     Ok(())
 }
+
+/// The most rows `run --columns` shows on a terminal: every 10° of a 1°
+/// table (37 rows with both ends).
+const SHOWN_ROWS: usize = 37;

@@ -19,12 +19,12 @@ use crate::common::{ModelArgs, OutputArgs, TableFormat, json, load};
     Per figure (names as in `stitchkin sweep --figures`) and parameter: d/dp at the setting, exact by\n\
     dual numbers for smooth figures (take-up, measure, coordinate and transmission-angle extremes) and a\n\
     central difference (c) for the match figures; effect = d/dp × range width (figure unit); at lo, at hi\n\
-    = the figure at the range's ends, the others nominal (seed 000 Fig. 7); span = its max − min over the\n\
+    = the figure at the range's ends, the others nominal (Manoilenko et al. (2024) Fig. 7); span = its max − min over the\n\
     range (9 settings). Ranked by |effect| (by span for the match figures, or for all with --rank range).\n\
     Units: mm/mm, mm/deg, deg/mm, pts/mm (score points); CSV columns figure, figure_unit, nominal, rank,\n\
     parameter, parameter_unit, range_lo, range_hi, derivative, derivative_unit, method, ..., span, note.")]
 #[command(mut_arg("format", |a| a.help(
-    "Output format: a readable table, CSV (one row per figure and parameter) or JSON"
+    format!("{}{}", "Output format: a readable table, CSV (one row per figure and parameter) or JSON", crate::common::DEFAULT_FORMAT_HELP)
 )))]
 pub(crate) struct Args {
     #[command(flatten)]
@@ -68,7 +68,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         },
     };
     let r = sensitivity(&model, &params, &opts)?;
-    let out = match args.output.format {
+    let out = match args.output.format() {
         TableFormat::Json => json(&r)?,
         TableFormat::Csv => text::sensitivity::csv(&r),
         TableFormat::Table => text::sensitivity::table(&r),

@@ -20,7 +20,7 @@ use crate::common::{ModelArgs, OutputArgs, PathArgs, TableFormat, json, load, no
     far dead centre along the line to the near one. CSV: phi_deg, P.along_mm, P.dev_mm per sample."
 )]
 #[command(mut_arg("format", |a| a.help(
-    "Output format: a readable summary, CSV (the deviation per φ sample) or JSON"
+    format!("{}{}", "Output format: a readable summary, CSV (the deviation per φ sample) or JSON", crate::common::DEFAULT_FORMAT_HELP)
 )))]
 pub(crate) struct Args {
     #[command(flatten)]
@@ -36,13 +36,13 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let opts = args.path.options(&model)?;
     let s = straightness(&model, &params, &opts)?;
     let summary = text::straightness::summary(model.name(), &s, opts.step_deg);
-    let out = match args.output.format {
+    let out = match args.output.format() {
         TableFormat::Json => json(&s)?,
         TableFormat::Table => summary.clone(),
         TableFormat::Csv => text::straightness::csv(&s),
     };
     args.output.emit(&out)?;
-    if matches!(args.output.format, TableFormat::Csv) {
+    if matches!(args.output.format(), TableFormat::Csv) {
         note(&text::straightness::commented(&summary));
     }
     Ok(())

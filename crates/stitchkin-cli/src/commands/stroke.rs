@@ -10,7 +10,7 @@ use crate::common::{ModelArgs, OutputArgs, TableFormat, json, load, note};
 
 /// A point's stroke along an axis, both dead centres (refined below the
 /// φ step) and the range of every transmission angle, per setting, with
-/// where an angle leaves 30°…150° (seed 002 eq. 14, 15).
+/// where an angle leaves 30°…150° (Kharzhevskyi et al. (n.d.) eq. 14, 15).
 #[derive(clap::Args)]
 #[command(
     after_help = "Examples:\n  stitchkin stroke --preset needle876 --point G --axis y\n  \
@@ -24,7 +24,7 @@ use crate::common::{ModelArgs, OutputArgs, TableFormat, json, load, note};
     P.AX_max_phi_deg, P.AX_min_to_max_deg, P_at_min.x_mm, ..., mu_KEY.min_deg, ..., mu_KEY.ok, status."
 )]
 #[command(mut_arg("format", |a| a.help(
-    "Output format: a readable table, CSV (one row per setting) or JSON"
+    format!("{}{}", "Output format: a readable table, CSV (one row per setting) or JSON", crate::common::DEFAULT_FORMAT_HELP)
 )))]
 pub(crate) struct Args {
     #[command(flatten)]
@@ -71,13 +71,13 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         step_deg: args.step,
     };
     let s = study(&model, &params, sweep.as_ref(), &opts)?;
-    let out = match args.output.format {
+    let out = match args.output.format() {
         TableFormat::Json => json(&s)?,
         TableFormat::Csv => text::stroke::csv(&s, model.is_planar()),
         TableFormat::Table => text::stroke::table(&s),
     };
     args.output.emit(&out)?;
-    if !matches!(args.output.format, TableFormat::Table) {
+    if !matches!(args.output.format(), TableFormat::Table) {
         note(&text::stroke::footer(&s, "# "));
     }
     Ok(())

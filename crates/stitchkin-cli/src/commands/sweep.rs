@@ -11,7 +11,9 @@ use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::sweep;
 use stitchkin::study::sweep::SweepPlan;
 
-use crate::common::{ModelArgs, load, note, progress_bar};
+use crate::common::{
+    ModelArgs, TableOrCsv, emit_text, format_or_default, full_table_hint, load, note, note_written, progress_bar,
+};
 
 /// Sweep adjustable parameters over a grid or random / Latin-hypercube
 /// samples, in parallel, and write figures of merit per setting (CSV,
@@ -30,6 +32,8 @@ use crate::common::{ModelArgs, load, note, progress_bar};
     list is printed when a pattern matches nothing). By default: *.score, score.*, *.max_P_B_mm,\n\
     *.max_P_mm, checks.ok, mu.min_deg, mu.max_deg, *.range_mm, *_stroke_mm. Columns: index, the varied parameters, the\n\
     figures, status (ok, or why the setting did not evaluate; its figures are then empty).\n\
+    On a terminal (without --format or -o) sweep shows its summary; into a pipe or a file, the CSV\n\
+    (the summary goes to stderr).\n\
     Shards are contiguous blocks and only shard 1 writes the header: `cat part*.csv` is the sweep.\n\
     Exit status 0 when the sweep ran, whatever its settings' checks say: a sweep maps where a machine can\n\
     work and where not, so each row carries THREAD.checks_ok and checks.ok (1 or 0) instead of failing the\n\
@@ -61,6 +65,11 @@ pub(crate) struct Args {
     /// Evaluate only shard K of N (contiguous blocks, 1-based).
     #[arg(long, value_name = "K/N")]
     shard: Option<Shard>,
+    /// Output format: table (the summary: how many settings, the largest
+    /// and smallest figure, where) or CSV, one row per setting (default:
+    /// the summary on a terminal, CSV into a pipe or a file).
+    #[arg(long, value_enum)]
+    format: Option<TableOrCsv>,
     /// Write to FILE instead of stdout (complete, or not at all).
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
@@ -129,30 +138,58 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let Shard { k, n } = args.shard.unwrap_or(Shard::ALL);
     let range = sw.shard(k, n);
     let total = range.len();
-    let bar = progress_bar(total, "{bar:40} {pos}/{len} settings, {per_sec}, ETA {eta}");
+    let bar = progress_bar(total, "{bar:40} {pos}/{len} settings, {rate} settings/s, ETA {eta}");
+    let table = matches!(format_or_default(args.format, args.output.as_deref()), TableOrCsv::Csv);
     // Stream to a temporary file next to the output (renamed at the end), or
-    // to stdout; only the first shard writes the header.
-    let mut sink = output::Sink::new(args.output.as_deref())?;
+    // to stdout; only the first shard writes the header. On a terminal the
+    // rows are tallied, not printed.
+    let mut sink = if table {
+        Some(output::Sink::new(args.output.as_deref())?)
+    } else {
+        None
+    };
     let header = if k == 1 {
         text::sweep::header(&model, &sw, names)
     } else {
         String::new()
     };
-    sink.write(header.as_bytes())?;
+    let mut bytes = header.len();
+    if let Some(sink) = &mut sink {
+        sink.write(header.as_bytes())?;
+    }
     let mut tally = text::sweep::Tally::new(names);
     sweep::run(
         plan.job(&model, &params, &sw),
         range,
         |row| {
             tally.add(row);
-            sink.write(text::sweep::row(row).as_bytes())
+            match &mut sink {
+                Some(sink) => {
+                    let line = text::sweep::row(row);
+                    bytes += line.len();
+                    sink.write(line.as_bytes())
+                }
+                None => Ok(()),
+            }
         },
         |d| bar.inc(d as u64),
     )?;
     bar.finish_and_clear();
-    sink.finish()?;
-    note(&tally.summary(&sw, names, total, (k, n)));
-    Ok(())
+    let summary = tally.summary(&sw, names, total, (k, n));
+    match sink {
+        Some(sink) => {
+            sink.finish()?;
+            note(&summary);
+            if let Some(path) = &args.output {
+                note_written(path, bytes);
+            }
+            Ok(())
+        }
+        None => emit_text(
+            &(summary + &full_table_hint(&format!("one row per setting, {total} rows"))),
+            args.output.as_ref(),
+        ),
+    }
 }
 
 #[cfg(test)]

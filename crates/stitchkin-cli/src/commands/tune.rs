@@ -51,7 +51,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     };
     SearchArgs::check_kinds(&model, &adjust)?;
     let r = tune(&model, &params, &args.search.options(adjust))?;
-    let out = match args.output.format {
+    let out = match args.output.format() {
         TableOrJson::Json => json(&r)?,
         TableOrJson::Table => text::tune::table(&r),
     };

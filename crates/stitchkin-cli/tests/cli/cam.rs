@@ -52,7 +52,7 @@ fn cam_writes_csv_svg_dxf_and_a_toml_snippet() {
         "at the knots",
         "TOO STEEP",
         "convex         NO",
-        "written:",
+        "wrote ",
     ] {
         assert!(summary.contains(want), "no `{want}` in\n{summary}");
     }
@@ -101,7 +101,7 @@ fn cam_writes_one_format_to_stdout_or_a_file() {
         "{csv}"
     );
     assert!(
-        summary.contains("moving average over 15°") && !summary.contains("written:"),
+        summary.contains("moving average over 15°") && !summary.contains("wrote "),
         "{summary}"
     );
     let d = scratch("cam-svg");

@@ -5,7 +5,17 @@ use super::{fails, ok, scratch};
 
 #[test]
 fn nomogram_tabulates_the_tuned_setting_per_thickness() {
-    let (out, err) = ok(&["nomogram", "--thickness", "3:5:3", "--adjust", "z", "--step", "10"]);
+    let (out, err) = ok(&[
+        "nomogram",
+        "--thickness",
+        "3:5:3",
+        "--adjust",
+        "z",
+        "--step",
+        "10",
+        "--format",
+        "table",
+    ]);
     assert!(out.starts_with("Nomogram of `mf7923d`"), "{out}");
     assert!(out.contains("adjusting z (mm); seed 1, φ step 10°"), "{out}");
     let lines: Vec<&str> = out.lines().collect();
@@ -46,7 +56,7 @@ fn nomogram_tabulates_the_tuned_setting_per_thickness() {
     // Without --thickness: 5 values over the thickness parameter's range,
     // every setting tuned inside its range (with the regulator's window
     // computed no setting is pushed to a range end, so there is no note).
-    let (out, err) = ok(&["nomogram", "--step", "10", "--samples", "24"]);
+    let (out, err) = ok(&["nomogram", "--step", "10", "--samples", "24", "--format", "table"]);
     assert!(
         out.contains(
             "adjusting r1 (mm), l_o2b (mm), z (mm), r2 (mm), R (mm), psi (deg), dphi (deg), g3_1 (mm), g3_2 (mm), \
@@ -150,6 +160,8 @@ fn nomogram_says_when_no_setting_fits() {
         "z",
         "--step",
         "15",
+        "--format",
+        "table",
     ]);
     assert!(out.contains("Every match score is 0"), "{out}");
     assert!(out.contains("t1_phase = 0"), "{out}");

@@ -18,6 +18,8 @@ fn sensitivity_ranks_the_parameters_of_each_figure() {
         "n1_A.max_P_B_mm,mu.max_deg",
         "--step",
         "5",
+        "--format",
+        "table",
     ]);
     assert!(
         out.starts_with("Sensitivity of `mf7923d` at r1 = 4 mm, l_o2b = 21.5 mm, z = 0 mm"),

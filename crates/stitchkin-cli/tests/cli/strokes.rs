@@ -28,7 +28,7 @@ fn stroke_tabulates_seed_002_and_finds_where_the_mechanism_jams() {
         "--vary",
         "alpha=0:40:41",
     ];
-    let (table, _) = ok(&args);
+    let (table, _) = ok(&[&args[..], &["--format", "table"]].concat());
     assert!(
         table.starts_with("needle876: stroke of G along y (world), φ step 1°"),
         "{table}"
@@ -110,6 +110,8 @@ fn stroke_along_a_frame_axis_and_settings_without_assembly() {
         "E",
         "--axis",
         "guide.y",
+        "--format",
+        "table",
     ]);
     assert!(
         t.contains("along y of frame `guide`") && t.contains("25.4378") && t.contains("174.85"),
@@ -188,6 +190,8 @@ fn straightness_of_the_altin_needle() {
         "E",
         "--line",
         "N1,N2",
+        "--format",
+        "table",
     ]);
     for s in [
         "from the line N1 → N2, over the cycle",
@@ -280,7 +284,8 @@ fn tolerance_table_bisection_and_reproducible_monte_carlo() {
         "--step",
         "2",
     ];
-    let (t, _) = ok(&args);
+    let table = |a: &[&str]| ok(&[a, &["--format", "table"]].concat()).0;
+    let t = table(&args);
     for s in [
         "tolerances for the straightness of E",
         "limit 0.05 mm",
@@ -300,11 +305,11 @@ fn tolerance_table_bisection_and_reproducible_monte_carlo() {
     let l_ab = t.lines().find(|l| l.starts_with("l_ab")).unwrap();
     assert!(l_ab.contains(" *") && l_ab.contains("±0.042"), "{l_ab}");
     // The same seed, the same output; another seed, other samples.
-    assert_eq!(ok(&args).0, t);
+    assert_eq!(table(&args), t);
     let mut other = args.to_vec();
     let seed = other.len() - 3;
     other[seed] = "4";
-    assert_ne!(ok(&other).0, t);
+    assert_ne!(table(&other), t);
     let mut json_args = args.to_vec();
     json_args.extend(["--format", "json", "--distribution", "normal"]);
     let (json, _) = ok(&json_args);

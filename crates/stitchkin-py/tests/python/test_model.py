@@ -314,7 +314,9 @@ def test_parameters_carry_unit_range_and_source():
     params = {p["name"]: p for p in stitchkin.Model.preset("mf7923d").parameters}
     r1 = params["r1"]
     assert r1["unit"] == "mm" and r1["value"] == 4.0 and r1["range"] == (4.0, 6.0)
-    assert "seed 000" in r1["source"] and not r1["derived"]
+    # Papers cited by authors and year, as the command line prints them.
+    assert "Manoilenko et al. (2024)" in r1["source"] and "seed 0" not in r1["source"]
+    assert not r1["derived"]
 
 
 def test_a_model_file_error_has_its_place_and_help(tmp_path):

@@ -353,17 +353,22 @@ fn flat_intervals(d1: &[f64], p: &[f64], phis: &[f64], opts: &CycleOptions) -> V
 fn convention_words<T: Real>(threads: &Threads<T>) -> String {
     let mut words = match threads.convention {
         Convention::Release => format!(
-            "P = xi(phi0) - xi(phi), phi0 = {} deg (seed 000 eq. 2)",
-            threads.phi0_deg
+            "P = xi(phi0) - xi(phi), phi0 = {} deg ({} eq. 2)",
+            threads.phi0_deg,
+            crate::references::cite(0)
         ),
         Convention::Feed { elongation_mm } => format!(
-            "P = xi(phi) - xi(phi0) + dP, dP = {elongation_mm} mm, phi0 = {} deg (seed 001 eq. 22-23)",
-            threads.phi0_deg
+            "P = xi(phi) - xi(phi0) + dP, dP = {elongation_mm} mm, phi0 = {} deg ({} eq. 22-23)",
+            threads.phi0_deg,
+            crate::references::cite(1)
         ),
     };
     if threads.split_up.iter().any(Option::is_some) {
-        words += "; needle-eye paths split at B, the eye's top position: P_B = P_eye + S(phi) - S(phi0), S the needle's travel below B \
-                  (seed 004 sec. 2.3)";
+        words += &format!(
+            "; needle-eye paths split at B, the eye's top position: P_B = P_eye + S(phi) - S(phi0), S the needle's travel \
+             below B ({} sec. 2.3)",
+            crate::references::cite(4)
+        );
     }
     words
 }

@@ -321,7 +321,10 @@ pub fn window_in_model_phi(thread: &RequiredThread, cyclogram_zero_deg: f64) -> 
 
 /// Where the stitch model carries rules over from another stitch type.
 fn transfers(ty: StitchType) -> Vec<String> {
-    let source = "the moments and period rules of seed 004 §2.1 and Table 2 describe the 401 two-thread chain stitch";
+    let source = format!(
+        "the moments and period rules of {} §2.1 and Table 2 describe the 401 two-thread chain stitch",
+        crate::references::cite(4)
+    );
     match ty {
         StitchType::S301 => vec![format!(
             "{source}; the lockstitch takes its loop forming before the catch and the regulator's window from them \

@@ -135,8 +135,8 @@ pub fn render(model: &Model, params: &Params, r: &Report) -> Result<String, Erro
         escape(&title),
         escape(&model.file_name)
     );
-    if let Some(seed) = model.seed() {
-        let _ = write!(html, " · seed {}", escape(seed));
+    if let Some(paper) = model.seed().and_then(crate::references::cite_seed) {
+        let _ = write!(html, " · after {}", escape(paper));
     }
     let changed: Vec<String> = model
         .params
@@ -155,7 +155,11 @@ pub fn render(model: &Model, params: &Params, r: &Report) -> Result<String, Erro
         env!("CARGO_PKG_VERSION")
     );
     if let Some(notes) = model.notes() {
-        let _ = write!(html, "<p class=\"meta\">{}</p>", escape(notes));
+        let _ = write!(
+            html,
+            "<p class=\"meta\">{}</p>",
+            escape(&crate::references::cited(notes))
+        );
     }
     html += "<nav>";
     for (id, name, _) in &sections {
@@ -194,10 +198,12 @@ fn sections(model: &Model, params: &Params, r: &Report) -> Result<Vec<(&'static 
     if !r.measured.is_empty() {
         sections.push(("measured", "Measured curves", measured_section(&r.measured)));
     }
-    let caveats: Vec<&String> = model
+    // Papers by authors and year, as the rest of the report cites them.
+    let caveats: Vec<String> = model
         .caveats()
         .iter()
         .chain(t.stitch.iter().flat_map(|s| s.transfers.iter()))
+        .map(|c| crate::references::cited(c).into_owned())
         .collect();
     if !caveats.is_empty() {
         sections.push((
@@ -297,11 +303,12 @@ fn parameters(model: &Model, params: &Params) -> Result<String, Error> {
 
 /// A parameter's label and `what` before its source, as one cell.
 fn describe(p: &ParamDef) -> String {
-    [p.label.as_deref(), p.what.as_deref(), p.source.as_deref()]
+    let text = [p.label.as_deref(), p.what.as_deref(), p.source.as_deref()]
         .into_iter()
         .flatten()
         .collect::<Vec<_>>()
-        .join(" — ")
+        .join(" — ");
+    crate::references::cited(&text).into_owned()
 }
 
 /// The mechanism drawings with their captions.
@@ -406,11 +413,12 @@ fn mismatch(t: &CycleTable) -> String {
         .collect();
     let mut s = format!(
         "<p>Stitch {}, material thickness m = {} mm, stitch length t = {} mm; needle threads are measured at B, the eye's top \
-         position (seed 004 §2.3). D = P − P′: D &gt; 0 is thread given but not needed (slack), D &lt; 0 thread needed but not \
+         position ({} §2.3). D = P − P′: D &gt; 0 is thread given but not needed (slack), D &lt; 0 thread needed but not \
          given (strain). Score s = 100·max(0, 1 − RMS(D)/range(P′)).</p><p>Regulator: {}.</p>",
         st.stitch_type,
         num(Some(st.m_mm), 2),
         num(Some(st.t_mm), 2),
+        crate::references::cite(4),
         escape(&st.regulator)
     );
     s += &table(

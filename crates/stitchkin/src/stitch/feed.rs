@@ -73,7 +73,8 @@ impl Feed {
                 "feed",
                 format!(
                     "the transport duration φ_tr = {duration_deg}° is out of range; give 0° < φ_tr < 360° \
-                 (seed 004: 100°)"
+                 ({}: 100°)",
+                    crate::references::cite(4)
                 ),
             )));
         }

@@ -553,8 +553,11 @@ impl NeedleThread {
             return needle_err(
                 name,
                 format!(
-                    "the looper section k = {}, a = {}, b = {} mm must be ≥ 0 with k + b + a > 0 (seed 004: 4, 1, 2.5)",
-                    section.k, section.a, section.b
+                    "the looper section k = {}, a = {}, b = {} mm must be ≥ 0 with k + b + a > 0 ({}: 4, 1, 2.5)",
+                    section.k,
+                    section.a,
+                    section.b,
+                    crate::references::cite(4)
                 ),
             );
         }
@@ -562,7 +565,10 @@ impl NeedleThread {
         if !(gamma_max.is_finite() && gamma_max > 0.0 && gamma_max < 0.5 * PI) {
             return needle_err(
                 name,
-                format!("γmax = {gamma_max} rad is out of range; give 0 < γmax < π/2 (seed 004: 0.4–0.8 rad)"),
+                format!(
+                    "γmax = {gamma_max} rad is out of range; give 0 < γmax < π/2 ({}: 0.4–0.8 rad)",
+                    crate::references::cite(4)
+                ),
             );
         }
         let mut warnings = Vec::new();

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 /// The library's layers, lowest first. A module may use modules of its own
 /// layer or below, never above (docs/architecture.md, "Code map").
 const LAYERS: &[&[&str]] = &[
-    &["scalar", "format", "numeric", "error", "presets"],
+    &["scalar", "format", "numeric", "error", "presets", "references"],
     &["geometry"],
     &["mechanism"],
     &["thread", "stitch"],

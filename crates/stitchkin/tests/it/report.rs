@@ -131,10 +131,12 @@ fn mf7923d_report_has_every_section_and_is_self_contained() {
         "the regulator window is stated"
     );
     // Every caveat of the model and every rule carried over from another
-    // stitch type is listed.
+    // stitch type is listed, papers cited by authors and year.
     for c in model.caveats().iter() {
-        assert!(html.contains(&stitchkin::output::svg::escape(c)), "{c}");
+        let cited = stitchkin::references::cited(c);
+        assert!(html.contains(&stitchkin::output::svg::escape(&cited)), "{cited}");
     }
+    assert!(!html.contains("seed 00"), "a paper cited by its seed number");
     assert!(html.contains("401 two-thread chain stitch"));
 }
 

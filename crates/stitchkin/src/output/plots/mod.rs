@@ -376,7 +376,8 @@ pub fn transmission(model: &Model, table: &CycleTable) -> Result<Chart, Error> {
         },
     );
     chart.subtitle = Some(format!(
-        "shaded: outside {MU_MIN_DEG}°…{MU_MAX_DEG}°, where the mechanism risks jamming (seed 002 eq. 15)"
+        "shaded: outside {MU_MIN_DEG}°…{MU_MAX_DEG}°, where the mechanism risks jamming ({} eq. 15)",
+        crate::references::cite(2)
     ));
     for (i, t) in table.transmission.iter().enumerate() {
         chart.series.push(Series {

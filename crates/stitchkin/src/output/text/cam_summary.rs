@@ -8,13 +8,17 @@ use crate::study::cam_synthesis::CamSynthesis;
 /// knots and radii, the anchor, the smoothing, the verification (the model
 /// evaluated again with the new profile), the checks, the notes and the
 /// files `written`.
-pub fn summary(s: &CamSynthesis, written: &[String]) -> String {
+pub fn summary(s: &CamSynthesis) -> String {
     let v = &s.verify;
     let c = &s.checks;
     let n = s.knots.len();
     let mut r = format!(
-        "# cam synthesis: thread path `{}`, cam `{}` (contact = \"offset\", γ = {:.2}°, seed 004 §2.5)\n# target: {}\n",
-        s.path, s.cam, s.gamma_deg, s.target
+        "# cam synthesis: thread path `{}`, cam `{}` (contact = \"offset\", γ = {:.2}°, {} §2.5)\n# target: {}\n",
+        s.path,
+        s.cam,
+        s.gamma_deg,
+        crate::references::cite(4),
+        s.target
     );
     r += &format!(
         "# {n} knots: the contact angles at φ = {}° + k·{}°; radius {:.3}…{:.3} mm (the model's profile: {:.3}…{:.3} mm)\n",
@@ -102,9 +106,6 @@ pub fn summary(s: &CamSynthesis, written: &[String]) -> String {
     }
     if !(c.min_radius_ok && c.contact_angle_ok) && s.smooth_deg == 0.0 {
         r += "# hint: --smooth DEG rounds off steps of the target (such as the thread drawn in at a lock) at the cost of the match\n";
-    }
-    if !written.is_empty() {
-        r += &format!("# written: {}\n", written.join(", "));
     }
     r
 }

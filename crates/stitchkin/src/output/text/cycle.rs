@@ -34,6 +34,67 @@ pub fn summary(model: &Model, table: &CycleTable) -> String {
     summary_with(model, table, false)
 }
 
+/// The table's columns as a readable table of at most `max_rows` rows:
+/// every row of a short table, else every k-th row from the first, and the
+/// last (`run --columns` on a terminal). Values to 3 decimals, a column of
+/// whole numbers (a guide's engagement 0/1) without decimals, φ as it is.
+pub fn columns_table(table: &CycleTable, max_rows: usize) -> String {
+    let rows = table.rows();
+    let stride = if rows <= max_rows.max(2) {
+        1
+    } else {
+        (rows - 1).div_ceil(max_rows.max(2) - 1)
+    };
+    let mut shown: Vec<usize> = (0..rows).step_by(stride).collect();
+    if rows > 0 && shown.last() != Some(&(rows - 1)) {
+        shown.push(rows - 1);
+    }
+    let header: Vec<String> = table.columns.iter().map(|c| c.name.clone()).collect();
+    let whole: Vec<bool> = table
+        .columns
+        .iter()
+        .map(|c| c.values.iter().all(|v| v.fract() == 0.0))
+        .collect();
+    let cells: Vec<Vec<String>> = shown
+        .iter()
+        .map(|&r| {
+            table
+                .columns
+                .iter()
+                .zip(&whole)
+                .map(|(c, &w)| match c.values[r] {
+                    v if !v.is_finite() => "–".to_string(),
+                    v if c.name == "phi_deg" => crate::format::fmt_decimals(v, 3),
+                    v => crate::format::decimals(v, if w { 0 } else { 3 }),
+                })
+                .collect()
+        })
+        .collect();
+    let mut out = if stride > 1 {
+        format!(
+            "every {} row of {rows} (every {}°, and the last):\n",
+            ordinal(stride),
+            crate::format::fmt_decimals(stride as f64 * table.step_deg, 3)
+        )
+    } else {
+        String::new()
+    };
+    out += &super::columns::table(&header, &cells, false);
+    out
+}
+
+/// `2nd`, `3rd`, `10th`, …
+fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
+}
+
 /// [`summary`] with every check of every thread in full (`stitchkin
 /// check`).
 pub fn check_summary(model: &Model, table: &CycleTable) -> String {
@@ -253,4 +314,51 @@ pub fn cross_check(c: &CrossCheck) -> String {
         c.at_point,
         eval::wrap_deg(c.at_phi_deg)
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The MF-7923D's cycle at `step_deg` with the columns `patterns`.
+    fn table(step_deg: f64, patterns: &[&str]) -> CycleTable {
+        let model = Model::preset("mf7923d").unwrap();
+        let opts = eval::CycleOptions {
+            step_deg,
+            ..Default::default()
+        };
+        let patterns: Vec<String> = patterns.iter().map(|p| p.to_string()).collect();
+        eval::run_cycle_columns(&model, &model.defaults(), &opts, &patterns).unwrap()
+    }
+
+    #[test]
+    fn a_long_table_shows_every_kth_row_and_the_last() {
+        let t = columns_table(&table(1.0, &["n3_A.P_B_mm", "n1_A.G4_1_engaged"]), 37);
+        let lines: Vec<&str> = t.lines().collect();
+        assert_eq!(lines[0], "every 10th row of 360 (every 10°, and the last):");
+        let header: Vec<&str> = lines[1].split_whitespace().collect();
+        assert_eq!(header, ["phi_deg", "n1_A.G4_1_engaged", "n3_A.P_B_mm"], "{t}");
+        // φ = 0, 10, …, 350 and the last row, 359.
+        assert_eq!(lines.len(), 2 + 36 + 1, "{t}");
+        assert!(lines[2].trim_start().starts_with("0 "), "{t}");
+        assert!(lines.last().unwrap().trim_start().starts_with("359 "), "{t}");
+        // Whole numbers without decimals, the rest to 3, no negative zero
+        // (n3_A's P_B dips to −0.004 mm near φ = 0).
+        for l in &lines[2..] {
+            let cells: Vec<&str> = l.split_whitespace().collect();
+            assert!(cells[1] == "0" || cells[1] == "1", "{l}");
+            assert!(cells[2].split_once('.').is_some_and(|(_, d)| d.len() == 3), "{l}");
+        }
+        assert!(!t.contains("-0.000"), "{t}");
+    }
+
+    #[test]
+    fn a_short_table_shows_every_row() {
+        let t = columns_table(&table(30.0, &["n1_A.P_B_mm"]), 37);
+        assert_eq!(t.lines().count(), 1 + 12, "{t}");
+        assert!(t.starts_with("phi_deg"), "{t}");
+        assert_eq!(ordinal(1), "1st");
+        assert_eq!(ordinal(12), "12th");
+        assert_eq!(ordinal(22), "22nd");
+    }
 }

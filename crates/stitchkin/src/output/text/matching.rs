@@ -34,7 +34,10 @@ pub fn screen(
         st.t_mm
     );
     if st.threads.iter().any(|t| t.split == SplitPoint::B) {
-        s += "needle threads measured at B, the eye's top position (seed 004 §2.3); ";
+        s += &format!(
+            "needle threads measured at B, the eye's top position ({} §2.3); ",
+            crate::references::cite(4)
+        );
     }
     s += &format!(
         "P = P′ = 0 at φ = {}°; needle BDC at φ = {}°\n",

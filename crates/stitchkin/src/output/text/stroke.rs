@@ -177,9 +177,15 @@ pub fn table(s: &StrokeStudy) -> String {
         .filter_map(|r| r.stroke.as_ref())
         .any(|st| st.mu.iter().any(|m| !m.ok));
     if any_out {
-        out += "* outside 30°…150° somewhere in the cycle (seed 002 eq. 15): risk of jamming\n";
+        out += &format!(
+            "* outside 30°…150° somewhere in the cycle ({} eq. 15): risk of jamming\n",
+            crate::references::cite(2)
+        );
     } else if !keys.is_empty() {
-        out += "every transmission angle stays inside 30°…150° (seed 002 eq. 15)\n";
+        out += &format!(
+            "every transmission angle stays inside 30°…150° ({} eq. 15)\n",
+            crate::references::cite(2)
+        );
     }
     out += &format!("({p}'s position at each dead centre and the φ of each angle's extremes: --format csv or json)\n");
     out + &footer(s, "")
