@@ -25,10 +25,13 @@ use crate::commands::*;
         Describe a machine in one TOML model file (docs/model-format.md) or pick a shipped preset, \
         and get every position, exact velocity/acceleration analog and transmission angle over a \
         main-shaft cycle.",
-    after_help = "Examples:\n  stitchkin run                         # the default preset, CSV on stdout\n  \
+    after_help = "Examples:\n  stitchkin run                         # the default preset: a summary on a terminal, CSV into a pipe\n  \
         stitchkin run --preset needle876 --set alpha=30 --format json -o run.json\n  \
         stitchkin new rocking-takeup -o my-machine.toml   # a starting model of your own machine\n  \
-        stitchkin check my-machine.toml\n  stitchkin presets"
+        stitchkin check my-machine.toml\n  stitchkin presets\n\n\
+        Every command shows readable text on a terminal, and writes its table into a pipe or\n\
+        -o FILE (CSV; -o FILE.json JSON); --format always wins. A file written is said on\n\
+        stderr: wrote FILE (SIZE)."
 )]
 struct Cli {
     #[command(subcommand)]
