@@ -99,9 +99,15 @@ impl<F: ValueEnum + Clone + Send + Sync + ByDestination + 'static> OutputArgs<F>
         format_or_default(self.format.clone(), self.output.as_deref())
     }
 
-    /// Writes `text` to the file (saying so on stderr) or to stdout.
+    /// Writes `text` to the file (saying so on stderr) or to stdout: text
+    /// tidied for people ([`tidy`]), JSON as the library wrote it (data for
+    /// programs, the same as the Python package's).
     pub fn emit(&self, text: &str) -> Result<(), Error> {
-        emit_text(text, self.output.as_ref())
+        if self.format().is_json() {
+            emit(text.as_bytes(), self.output.as_ref())
+        } else {
+            emit_text(text, self.output.as_ref())
+        }
     }
 }
 
@@ -121,6 +127,11 @@ pub(crate) trait ByDestination: Sized {
     /// The format for `output` (`-o`), or stdout when it is a terminal
     /// (`is_terminal`) or not.
     fn by_destination(output: Option<&Path>, is_terminal: bool) -> Self;
+
+    /// Whether this is JSON, data for programs written as it is.
+    fn is_json(&self) -> bool {
+        false
+    }
 }
 
 /// The file's extension, lower-case.
@@ -140,6 +151,10 @@ impl ByDestination for TableFormat {
             },
         }
     }
+
+    fn is_json(&self) -> bool {
+        matches!(self, TableFormat::Json)
+    }
 }
 
 impl ByDestination for TableOrJson {
@@ -148,6 +163,10 @@ impl ByDestination for TableOrJson {
             Some("json") => TableOrJson::Json,
             _ => TableOrJson::Table,
         }
+    }
+
+    fn is_json(&self) -> bool {
+        matches!(self, TableOrJson::Json)
     }
 }
 

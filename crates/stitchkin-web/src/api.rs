@@ -102,7 +102,9 @@ impl Reply {
     }
     /// A client error: what is wrong and how to fix it.
     pub fn error(status: u16, error: impl Into<String>, help: Option<&str>) -> Reply {
-        Reply::json(status, &json!({ "error": error.into(), "help": help }))
+        // Papers by authors and year, as the command line prints them.
+        let cite = stitchkin::references::cited;
+        Reply::json(status, &json!({ "error": cite(&error.into()), "help": help.map(cite) }))
     }
     /// The body as text (tests, logs).
     pub fn text(&self) -> &str {
@@ -814,8 +816,8 @@ fn file_error(e: &ModelError) -> Reply {
     Reply::json(
         422,
         &json!({
-            "error": message,
-            "help": e.help,
+            "error": stitchkin::references::cited(&message),
+            "help": e.help.as_deref().map(stitchkin::references::cited),
             "line": line,
             "column": column,
             "excerpt": excerpt,

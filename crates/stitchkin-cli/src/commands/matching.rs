@@ -66,7 +66,13 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
             let json_err = |e: serde_json::Error| Error::Internal(format!("cannot write JSON: {e}"));
             let mut json = serde_json::to_value(st).map_err(json_err)?;
             json["model"] = serde_json::json!(model.name());
-            json["caveats"] = serde_json::json!(model.caveats());
+            // Papers by authors and year, as the Python package gives them.
+            let caveats: Vec<String> = model
+                .caveats()
+                .iter()
+                .map(|c| stitchkin::references::cited(c).into_owned())
+                .collect();
+            json["caveats"] = serde_json::json!(caveats);
             json["measured"] = serde_json::to_value(&measured).map_err(json_err)?;
             crate::common::json(&json)?
         }

@@ -98,6 +98,12 @@ fn evaluate_charts_and_sums_up_and_follows_the_sliders() {
         assert!((0.0..=100.0).contains(&t["score"].as_f64().unwrap()));
     }
     assert_eq!(v["values"]["r1"], 4.0);
+    // The notes cite papers by authors and year, as the command line does.
+    let caveats = v["caveats"].to_string();
+    assert!(
+        caveats.contains("Manoilenko et al. (2024)") && !caveats.contains("seed 00"),
+        "{caveats}"
+    );
     let max_p = |v: &Value| v["paths"][0]["max_p_mm"].as_f64().unwrap();
 
     // The eccentric's throw moves P: with T1 up at TDC a larger throw swings

@@ -64,7 +64,8 @@ pub struct Tuning {
 /// Numbers as the report prints them: `d` decimals, `–` for none.
 fn num(x: Option<f64>, d: usize) -> String {
     match x {
-        Some(x) if x.is_finite() => format!("{x:.d$}"),
+        // Never `-0.00`.
+        Some(x) if x.is_finite() => crate::format::decimals(x, d),
         _ => "–".into(),
     }
 }
@@ -175,7 +176,8 @@ pub fn render(model: &Model, params: &Params, r: &Report) -> Result<String, Erro
         );
     }
     html += "</body></html>\n";
-    Ok(html)
+    // No `-0.00` anywhere in the page, whatever formatted a number.
+    Ok(crate::format::without_negative_zeros(&html).into_owned())
 }
 
 /// The report's sections in order: id, heading and body.
