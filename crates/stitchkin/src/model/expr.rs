@@ -72,15 +72,25 @@ impl Dim {
 
     /// The unit a quantity of this dimension is written in, e.g. `mm^2`.
     pub fn unit(self) -> String {
+        self.unit_in(("mm", "deg"))
+    }
+
+    /// The unit a quantity of this dimension is written in, with lengths
+    /// and angles in `names` (e.g. `("in", "rad")`): `in^2`.
+    pub fn unit_in(self, names: (&str, &str)) -> String {
         let part = |name: &str, p: i8| match p {
             0 => String::new(),
             1 => name.to_string(),
             p => format!("{name}^{p}"),
         };
-        let parts: Vec<String> = [part("mm", self.length), part("deg", self.angle), part("N", self.force)]
-            .into_iter()
-            .filter(|p| !p.is_empty())
-            .collect();
+        let parts: Vec<String> = [
+            part(names.0, self.length),
+            part(names.1, self.angle),
+            part("N", self.force),
+        ]
+        .into_iter()
+        .filter(|p| !p.is_empty())
+        .collect();
         if parts.is_empty() {
             "1 (a pure number)".to_string()
         } else {
@@ -437,12 +447,28 @@ impl Expr {
 
     /// Infers the dimension given each parameter's; `Err` explains a clash.
     pub fn dimension(&self, param_dim: &impl Fn(usize) -> Dim) -> Result<Dimension, String> {
+        self.dimension_in(param_dim, ("mm", "deg"))
+    }
+
+    /// [`Self::dimension`], a clash explained with lengths and angles in
+    /// the units `names` (e.g. `("in", "rad")`).
+    pub fn dimension_in(&self, param_dim: &impl Fn(usize) -> Dim, names: (&str, &str)) -> Result<Dimension, String> {
+        self.dimension_impl(param_dim).map_err(|m| {
+            if names == ("mm", "deg") {
+                m
+            } else {
+                rename_units(&m, names)
+            }
+        })
+    }
+
+    fn dimension_impl(&self, param_dim: &impl Fn(usize) -> Dim) -> Result<Dimension, String> {
         use Dimension::{Free, Is};
         Ok(match self {
             Expr::Num(_) => Free,
             Expr::Param(i) => Is(param_dim(*i)),
-            Expr::Neg(a) => a.dimension(param_dim)?,
-            Expr::Add(a, b) | Expr::Sub(a, b) => match (a.dimension(param_dim)?, b.dimension(param_dim)?) {
+            Expr::Neg(a) => a.dimension_impl(param_dim)?,
+            Expr::Add(a, b) | Expr::Sub(a, b) => match (a.dimension_impl(param_dim)?, b.dimension_impl(param_dim)?) {
                 (Free, d) | (d, Free) => d,
                 (Is(x), Is(y)) if x == y => Is(x),
                 (Is(x), Is(y)) => {
@@ -451,14 +477,14 @@ impl Expr {
             },
             Expr::Mul(a, b) | Expr::Div(a, b) => {
                 let is_mul = matches!(self, Expr::Mul(..));
-                match (a.dimension(param_dim)?, b.dimension(param_dim)?) {
+                match (a.dimension_impl(param_dim)?, b.dimension_impl(param_dim)?) {
                     (Free, Free) => Free,
                     (Is(x), Free) => Is(x),
                     (Free, Is(y)) => Is(if is_mul { y } else { Dim::ONE.div(y)? }),
                     (Is(x), Is(y)) => Is(if is_mul { x.mul(y)? } else { x.div(y)? }),
                 }
             }
-            Expr::Pow(a, n) => match a.dimension(param_dim)? {
+            Expr::Pow(a, n) => match a.dimension_impl(param_dim)? {
                 Free => Free,
                 Is(d) => Is(Dim::checked(
                     d.length as i32 * *n,
@@ -467,7 +493,10 @@ impl Expr {
                 )?),
             },
             Expr::Call(f, args) => {
-                let dims: Vec<Dimension> = args.iter().map(|a| a.dimension(param_dim)).collect::<Result<_, _>>()?;
+                let dims: Vec<Dimension> = args
+                    .iter()
+                    .map(|a| a.dimension_impl(param_dim))
+                    .collect::<Result<_, _>>()?;
                 let want = |d: Dimension, w: Dim, what: &str| match d {
                     Free => Ok(()),
                     Is(x) if x == w => Ok(()),
@@ -517,6 +546,38 @@ impl Expr {
         })
     }
 
+    /// The expression for a model whose angles are in a unit of
+    /// `deg_per_unit` degrees (180/π for radians): trigonometric functions
+    /// take and give that unit. [`Self::eval`] works in degrees; this
+    /// rewrites `sin(x)` as `sin(x·k)` and `asin(x)` as `asin(x)/k`.
+    pub fn with_angle_unit(self, deg_per_unit: f64) -> Expr {
+        if deg_per_unit == 1.0 {
+            return self;
+        }
+        let k = || Box::new(Expr::Num(deg_per_unit));
+        let r = |e: Box<Expr>| Box::new(e.with_angle_unit(deg_per_unit));
+        match self {
+            e @ (Expr::Num(_) | Expr::Param(_)) => e,
+            Expr::Neg(a) => Expr::Neg(r(a)),
+            Expr::Add(a, b) => Expr::Add(r(a), r(b)),
+            Expr::Sub(a, b) => Expr::Sub(r(a), r(b)),
+            Expr::Mul(a, b) => Expr::Mul(r(a), r(b)),
+            Expr::Div(a, b) => Expr::Div(r(a), r(b)),
+            Expr::Pow(a, n) => Expr::Pow(r(a), n),
+            Expr::Call(f, args) => {
+                let args: Vec<Expr> = args.into_iter().map(|a| a.with_angle_unit(deg_per_unit)).collect();
+                match f {
+                    Func::Sin | Func::Cos | Func::Tan => {
+                        let x = args.into_iter().next().unwrap_or(Expr::Num(0.0));
+                        Expr::Call(f, vec![Expr::Mul(Box::new(x), k())])
+                    }
+                    Func::Asin | Func::Acos | Func::Atan | Func::Atan2 => Expr::Div(Box::new(Expr::Call(f, args)), k()),
+                    _ => Expr::Call(f, args),
+                }
+            }
+        }
+    }
+
     /// Evaluates with parameter values `p` (angles in degrees).
     pub fn eval<T: Real>(&self, p: &[T]) -> T {
         let deg = T::cst(std::f64::consts::PI / 180.0);
@@ -549,6 +610,31 @@ impl Expr {
             }
         }
     }
+}
+
+/// `message` with the words `mm` and `deg` (alone or with a power) said
+/// in the units `names`.
+fn rename_units(message: &str, names: (&str, &str)) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        out.push_str(match word.as_str() {
+            "mm" => names.0,
+            "deg" => names.1,
+            w => w,
+        });
+        word.clear();
+    };
+    for c in message.chars() {
+        if c.is_alphanumeric() || c == '_' {
+            word.push(c);
+        } else {
+            flush(&mut word, &mut out);
+            out.push(c);
+        }
+    }
+    flush(&mut word, &mut out);
+    out
 }
 
 #[cfg(test)]

@@ -11,8 +11,10 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// A number, or an arithmetic expression of parameters in a string,
-/// e.g. `"x_c + l_ef - l_ef*cos(alpha)"`. Trigonometric functions take and
-/// give degrees.
+/// e.g. `"x_c + l_ef - l_ef*cos(alpha)"`. An expression is in the model's
+/// units (`[model] units`; trigonometric functions take and give its angle
+/// unit); a plain number in a field whose name carries a unit (`*_mm`,
+/// `*_deg`, `*_n`) is in that unit, elsewhere in the model's.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(untagged)]
 pub enum Value {
@@ -141,23 +143,150 @@ pub struct ModelInfo {
     /// result carried over from another machine or stitch type.
     #[serde(default)]
     pub caveats: Vec<String>,
+    /// The units the model's parameters, expressions and unnamed numbers
+    /// are written in: `{ length = "in", angle = "rad" }`; default
+    /// millimetres and degrees. Results are always in mm and degrees.
+    #[serde(default)]
+    pub units: Option<ModelUnits>,
 }
 
-/// Physical dimension of a parameter. Angles in files are degrees.
+/// The `[model] units` table.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ModelUnits {
+    /// `"mm"` (default), `"cm"` or `"in"`.
+    #[serde(default)]
+    pub length: LengthUnit,
+    /// `"deg"` (default) or `"rad"`.
+    #[serde(default)]
+    pub angle: AngleUnit,
+}
+
+/// The length unit a model is written in.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+pub enum LengthUnit {
+    /// Millimetres.
+    #[default]
+    #[serde(rename = "mm")]
+    Mm,
+    /// Centimetres (10 mm).
+    #[serde(rename = "cm")]
+    Cm,
+    /// Inches (25.4 mm exactly).
+    #[serde(rename = "in")]
+    In,
+}
+
+/// The angle unit a model is written in.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+pub enum AngleUnit {
+    /// Degrees.
+    #[default]
+    #[serde(rename = "deg")]
+    Deg,
+    /// Radians (180/π degrees).
+    #[serde(rename = "rad")]
+    Rad,
+}
+
+impl LengthUnit {
+    /// Millimetres in one of this unit.
+    pub fn mm(self) -> f64 {
+        match self {
+            LengthUnit::Mm => 1.0,
+            LengthUnit::Cm => 10.0,
+            LengthUnit::In => 25.4,
+        }
+    }
+    /// The parameter unit it is.
+    pub fn unit(self) -> Unit {
+        match self {
+            LengthUnit::Mm => Unit::Mm,
+            LengthUnit::Cm => Unit::Cm,
+            LengthUnit::In => Unit::In,
+        }
+    }
+}
+
+impl AngleUnit {
+    /// Degrees in one of this unit.
+    pub fn deg(self) -> f64 {
+        match self {
+            AngleUnit::Deg => 1.0,
+            AngleUnit::Rad => 180.0 / std::f64::consts::PI,
+        }
+    }
+    /// The parameter unit it is.
+    pub fn unit(self) -> Unit {
+        match self {
+            AngleUnit::Deg => Unit::Deg,
+            AngleUnit::Rad => Unit::Rad,
+        }
+    }
+}
+
+/// Unit of a parameter: a length or an angle in the model's units
+/// (`[model] units`), a pure number or newtons.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 pub enum Unit {
     /// Millimetres.
     #[serde(rename = "mm")]
     Mm,
+    /// Centimetres (a model with `units.length = "cm"`).
+    #[serde(rename = "cm")]
+    Cm,
+    /// Inches (a model with `units.length = "in"`).
+    #[serde(rename = "in")]
+    In,
     /// Degrees.
     #[serde(rename = "deg")]
     Deg,
+    /// Radians (a model with `units.angle = "rad"`).
+    #[serde(rename = "rad")]
+    Rad,
     /// A pure number (ratios, counts).
     #[serde(rename = "1")]
     One,
     /// Newtons (thread tensions, holding forces, stiffness EA).
     #[serde(rename = "N")]
     N,
+}
+
+impl Unit {
+    /// Its name in the model file: `mm`, `cm`, `in`, `deg`, `rad`, `1`, `N`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Unit::Mm => "mm",
+            Unit::Cm => "cm",
+            Unit::In => "in",
+            Unit::Deg => "deg",
+            Unit::Rad => "rad",
+            Unit::One => "1",
+            Unit::N => "N",
+        }
+    }
+
+    /// A length: `mm`, `cm` or `in`.
+    pub fn is_length(self) -> bool {
+        matches!(self, Unit::Mm | Unit::Cm | Unit::In)
+    }
+
+    /// An angle: `deg` or `rad`.
+    pub fn is_angle(self) -> bool {
+        matches!(self, Unit::Deg | Unit::Rad)
+    }
+
+    /// How many of the unit results are given in (mm for a length, deg
+    /// for an angle) one of this unit is: 25.4 for `in`, 180/π for `rad`,
+    /// 1 for the others.
+    pub fn to_result_unit(self) -> f64 {
+        match self {
+            Unit::Cm => LengthUnit::Cm.mm(),
+            Unit::In => LengthUnit::In.mm(),
+            Unit::Rad => AngleUnit::Rad.deg(),
+            Unit::Mm | Unit::Deg | Unit::One | Unit::N => 1.0,
+        }
+    }
 }
 
 /// Where a number comes from.
@@ -215,7 +344,7 @@ impl ParamKind {
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Parameter {
-    /// Nominal value (mm, deg, N or a pure number, per `unit`).
+    /// Nominal value, in `unit`.
     #[serde(default)]
     pub value: Option<f64>,
     /// Expression of other parameters; the parameter is then derived and

@@ -5,7 +5,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use super::expr::{Dim, Dimension, Expr, ExprError};
-use super::file::{self, Axis, Branch, FixedPoint, Group, ModelFile, ParamKind, Unit, Value};
+use super::file::{self, Axis, Branch, FixedPoint, Group, ModelFile, ModelUnits, ParamKind, Unit, Value};
 use super::spans::{KeyPath, SpanIndex};
 use super::{
     AxisDef, CamContactDef, CamDef, ClosureDef, FrameDef, MeasureDef, ParamDef, PathDef, PointKind, ProfileDef,
@@ -34,6 +34,8 @@ pub(super) struct Loader<'a> {
     frame_index: HashMap<String, usize>,
     pub(super) points: Vec<(String, PointKind)>,
     point_index: HashMap<String, usize>,
+    /// The units the file's parameters and expressions are written in.
+    pub(super) units: ModelUnits,
 }
 
 /// What loading a part of the model gives: the part, or the place in the file
@@ -56,6 +58,7 @@ impl<'a> Loader<'a> {
             frame_index: HashMap::new(),
             points: Vec::new(),
             point_index: HashMap::new(),
+            units: ModelUnits::default(),
         }
     }
 
@@ -108,7 +111,7 @@ impl<'a> Loader<'a> {
         } else if msg.contains("missing field") {
             Some("add the field; docs/model-format.md lists what each table needs".to_string())
         } else if msg.contains("unknown variant") {
-            Some("use one of the listed values".to_string())
+            Some(unknown_variant_help(&msg))
         } else if msg.contains("a thread-path node") {
             Some("a node is a point name or a table: { at = \"G\" }, { pin = \"G\", axis = \"z\", wrap = \"cw\" } or { cam = \"C\", contact = \"exact\" | \"offset\", … }; check its keys and word values".to_string())
         } else if msg.contains("did not match any variant") || msg.contains("not a value") {
@@ -133,8 +136,10 @@ impl<'a> Loader<'a> {
     // ---- parameters -------------------------------------------------------
 
     pub(super) fn parameters(&mut self, f: &ModelFile) -> LoadResult<Vec<usize>> {
+        self.units = f.model.units.unwrap_or_default();
         for (name, p) in &f.parameters {
             let path = KeyPath::root().key("parameters").key(name);
+            self.param_unit(p.unit, &path)?;
             if !is_ident(name) {
                 return Err(self.err(
                     &path,
@@ -225,6 +230,39 @@ impl<'a> Loader<'a> {
             }
         }
         self.param_order()
+    }
+
+    /// A parameter's length or angle unit is the model's (`[model] units`).
+    fn param_unit(&self, unit: Unit, path: &KeyPath) -> LoadResult<()> {
+        let (model_unit, key, what) = match unit_dim(unit) {
+            Some(Dim::LENGTH) => (self.units.length.unit(), "length", "lengths"),
+            Some(Dim::ANGLE) => (self.units.angle.unit(), "angle", "angles"),
+            _ => return Ok(()),
+        };
+        if unit == model_unit {
+            return Ok(());
+        }
+        let declared = if self.units == ModelUnits::default() {
+            "the model declares no `units`, so its".to_string()
+        } else {
+            "the model's".to_string()
+        };
+        Err(self.err(
+            &path.key("unit"),
+            format!(
+                "the parameter is in {} but {declared} {what} are in {} ([model] units.{key})",
+                unit.as_str(),
+                model_unit.as_str()
+            ),
+            Some(format!(
+                "a model is written in one length unit and one angle unit: write `unit = \"{}\"` with the value in \
+                 {}, or set `units = {{ {key} = \"{}\" }}` in [model] and write every {} of the model in it",
+                model_unit.as_str(),
+                model_unit.as_str(),
+                unit.as_str(),
+                &what[..what.len() - 1]
+            )),
+        ))
     }
 
     /// A parameter's `label`, `what`, `increase` and `decrease`: words, not
@@ -399,9 +437,17 @@ impl<'a> Loader<'a> {
         }
     }
 
+    /// Parses an expression; its trigonometric functions take and give
+    /// the model's angle unit.
     fn parse_expr(&self, src: &str, path: &KeyPath) -> LoadResult<Expr> {
         let lookup = |n: &str| self.param_index.get(n).copied();
-        Expr::parse(src, &lookup).map_err(|e| self.expr_err(e, src, path))
+        let e = Expr::parse(src, &lookup).map_err(|e| self.expr_err(e, src, path))?;
+        Ok(e.with_angle_unit(self.units.angle.deg()))
+    }
+
+    /// The names of the model's length and angle units, for messages.
+    fn unit_names(&self) -> (&'static str, &'static str) {
+        (self.units.length.unit().as_str(), self.units.angle.unit().as_str())
     }
 
     fn expr_err(&self, e: ExprError, src: &str, path: &KeyPath) -> Box<ModelError> {
@@ -427,7 +473,8 @@ impl<'a> Loader<'a> {
 
     fn check_dim(&self, e: &Expr, want: Option<Dim>, path: &KeyPath, src: &str) -> LoadResult<()> {
         let pd = |i: usize| unit_dim(self.params[i].unit).unwrap_or(Dim::ONE);
-        match e.dimension(&pd) {
+        let names = self.unit_names();
+        match e.dimension_in(&pd, names) {
             Err(m) => Err(self.err(
                 path,
                 format!("in `{src}`: {m}"),
@@ -437,32 +484,56 @@ impl<'a> Loader<'a> {
                 let w = want.unwrap_or(Dim::ONE);
                 Err(self.err(
                     path,
-                    format!("`{src}` is in {} but {} is expected here", d.unit(), w.unit()),
-                    Some(format!("use a quantity in {}", w.unit())),
+                    format!(
+                        "`{src}` is in {} but {} is expected here",
+                        d.unit_in(names),
+                        w.unit_in(names)
+                    ),
+                    Some(format!("use a quantity in {}", w.unit_in(names))),
                 ))
             }
             Ok(_) => Ok(()),
         }
     }
 
-    /// Compiles a value expected in dimension `want` (`None`: any).
+    /// Compiles a value expected in dimension `want` (`None`: any), in
+    /// the unit results are computed in (mm, deg, N): an expression of
+    /// parameters is in the model's units and converted; a number, or an
+    /// expression of numbers alone, is in the unit the field's name
+    /// carries (`*_mm`, `*_deg`, …), else in the model's and converted.
     pub(super) fn qty(&mut self, v: &Value, want: Option<Dim>, path: KeyPath) -> LoadResult<QuantityId> {
-        let e = match v {
+        let (e, of_params) = match v {
             Value::Number(x) => {
                 if !x.is_finite() {
                     return Err(self.err(&path, "the value must be a finite number", None));
                 }
-                Expr::Num(*x)
+                (Expr::Num(*x), false)
             }
             Value::Expr(src) => {
                 let e = self.parse_expr(src, &path)?;
                 self.check_dim(&e, want, &path, src)?;
-                e
+                let pd = |i: usize| unit_dim(self.params[i].unit).unwrap_or(Dim::ONE);
+                let of_params = matches!(e.dimension(&pd), Ok(Dimension::Is(_)));
+                (e, of_params)
             }
+        };
+        let factor = match want {
+            Some(d) if of_params || !path.names_its_unit() => self.to_result_unit(d),
+            _ => 1.0,
+        };
+        let e = if factor == 1.0 {
+            e
+        } else {
+            Expr::Mul(Box::new(e), Box::new(Expr::Num(factor)))
         };
         self.exprs.push(e);
         self.expr_paths.push(path);
         Ok(self.exprs.len() - 1)
+    }
+
+    /// How many mm, deg and N one of the model's units of dimension `d` is.
+    fn to_result_unit(&self, d: Dim) -> f64 {
+        self.units.length.mm().powi(d.length.into()) * self.units.angle.deg().powi(d.angle.into())
     }
 
     pub(super) fn length(&mut self, v: &Value, path: KeyPath) -> LoadResult<QuantityId> {
@@ -1915,6 +1986,37 @@ fn spans_between(
     spans
 }
 
+/// Help for serde's "unknown variant `x`, expected one of `a`, `b`": the
+/// listed value nearest the one written (a unit's spelled-out name too:
+/// `inch` is `in`), else the list.
+fn unknown_variant_help(msg: &str) -> String {
+    let quoted: Vec<&str> = msg.split('`').skip(1).step_by(2).collect();
+    let (Some(given), allowed) = (quoted.first(), quoted.get(1..).unwrap_or_default()) else {
+        return "use one of the listed values".to_string();
+    };
+    let spelled = |g: &str| -> Option<&'static str> {
+        let g = g.trim().to_lowercase();
+        let g = g.strip_suffix("es").filter(|s| s.ends_with("ch")).unwrap_or(&g);
+        let g = g.trim_end_matches('s');
+        Some(match g {
+            "inch" | "\"" | "''" => "in",
+            "millimeter" | "millimetre" => "mm",
+            "centimeter" | "centimetre" | "cm" => "cm",
+            "degree" | "°" => "deg",
+            "radian" => "rad",
+            "newton" => "N",
+            _ => return None,
+        })
+    };
+    let nearest = spelled(given)
+        .filter(|s| allowed.contains(s))
+        .or_else(|| did_you_mean(given, allowed.iter().copied()));
+    match nearest {
+        Some(s) => format!("did you mean `{s}`? The values are: {}", allowed.join(", ")),
+        None => "use one of the listed values".to_string(),
+    }
+}
+
 pub(super) fn is_ident(s: &str) -> bool {
     let mut c = s.chars();
     matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_')
@@ -1923,8 +2025,8 @@ pub(super) fn is_ident(s: &str) -> bool {
 
 fn unit_dim(u: Unit) -> Option<Dim> {
     Some(match u {
-        Unit::Mm => Dim::LENGTH,
-        Unit::Deg => Dim::ANGLE,
+        Unit::Mm | Unit::Cm | Unit::In => Dim::LENGTH,
+        Unit::Deg | Unit::Rad => Dim::ANGLE,
         Unit::One => Dim::ONE,
         Unit::N => Dim::FORCE,
     })

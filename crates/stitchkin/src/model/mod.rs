@@ -25,7 +25,7 @@ use crate::mechanism::Mechanism;
 use crate::scalar::Real;
 use crate::thread::ThreadPath;
 use expr::Expr;
-pub use file::{ModelFile, ParamKind, Provenance, Unit};
+pub use file::{AngleUnit, LengthUnit, ModelFile, ModelUnits, ParamKind, Provenance, Unit};
 use spans::KeyPath;
 
 /// Index of a compiled quantity (an expression of parameters).
@@ -77,12 +77,19 @@ impl ParamDef {
         self.label.as_deref().unwrap_or(&self.name)
     }
     pub fn unit_str(&self) -> &'static str {
-        match self.unit {
-            Unit::Mm => "mm",
-            Unit::Deg => "deg",
-            Unit::One => "1",
-            Unit::N => "N",
-        }
+        self.unit.as_str()
+    }
+
+    /// `value` of this parameter (in its unit) in the unit results are
+    /// given in: mm for a length, deg for an angle.
+    pub fn to_result_unit(&self, value: f64) -> f64 {
+        value * self.unit.to_result_unit()
+    }
+
+    /// A value in the unit results are given in (mm, deg) in this
+    /// parameter's unit.
+    pub fn from_result_unit(&self, value: f64) -> f64 {
+        value / self.unit.to_result_unit()
     }
 }
 
@@ -866,7 +873,7 @@ impl Model {
             ParamError::new(
                 Input::Set,
                 format!("`{assignment}`: `{value}` is not a number"),
-                Some("values are plain numbers in the parameter's unit (mm, deg or N)".into()),
+                Some("values are plain numbers in the parameter's unit (the model's length or angle unit, N or a pure number)".into()),
             )
         })?;
         self.set(params, name, v).map_err(|e| e.in_input(Input::Set))
@@ -1135,6 +1142,13 @@ impl Model {
     /// the model has `[stitch]`.
     pub fn stitch_type(&self) -> Option<&str> {
         self.file.stitch.as_ref().map(|s| s.stitch_type.as_str())
+    }
+
+    /// The units the model's parameters and expressions are written in
+    /// (`[model] units`; default mm and deg). Results are in mm and deg
+    /// whatever they are.
+    pub fn units(&self) -> ModelUnits {
+        self.file.model.units.unwrap_or_default()
     }
 
     /// The parameter the stitch's material thickness (`which` = `"m"`,

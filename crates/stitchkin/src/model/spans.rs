@@ -27,6 +27,28 @@ impl KeyPath {
         p.0.push(Seg::Index(i));
         p
     }
+
+    /// Whether the field at this place names its unit (`m_mm`,
+    /// `phase_deg`, `force_n[0]`, `rate_n_per_mm`): its last key, past any
+    /// index, ends in `_mm`, `_deg` or `_n`. The keys of tables keyed by
+    /// the model's own names (`[points]`, a group's `unknowns`) are names,
+    /// not fields.
+    pub fn names_its_unit(&self) -> bool {
+        let keys: Vec<&str> = self
+            .0
+            .iter()
+            .filter_map(|s| match s {
+                Seg::Key(k) => Some(k.as_str()),
+                Seg::Index(_) => None,
+            })
+            .collect();
+        let Some(last) = keys.last() else { return false };
+        let keyed_by_name = match keys.len() {
+            n if n >= 2 => keys[n - 2] == "points" || keys[n - 2] == "unknowns",
+            _ => false,
+        };
+        !keyed_by_name && ["_mm", "_deg", "_n"].iter().any(|u| last.ends_with(u))
+    }
 }
 
 impl std::fmt::Display for KeyPath {

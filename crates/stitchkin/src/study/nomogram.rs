@@ -285,8 +285,13 @@ pub fn default_thickness(model: &Model) -> Result<Axis, Error> {
     }
     let name = model.stitch_param("m").ok_or_else(no_range)?;
     let i = model.param_index(name).ok_or_else(no_range)?;
-    match model.params[i].range {
-        Some([lo, hi]) if hi > lo => Ok(Axis { lo, hi, n: 5 }),
+    let p = &model.params[i];
+    match p.range {
+        Some([lo, hi]) if hi > lo => Ok(Axis {
+            lo: p.to_result_unit(lo),
+            hi: p.to_result_unit(hi),
+            n: 5,
+        }),
         _ => Err(no_range()),
     }
 }

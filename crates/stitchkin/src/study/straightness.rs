@@ -508,7 +508,7 @@ pub struct Tolerance {
 
 /// The tolerance of every parameter studied: those named in `specs`
 /// (`NAME=±T`, `NAME=T`; T = 0 holds the parameter exact), and every other
-/// length parameter (mm) at ± `length_tol` (seed 004: ± 0.05 mm). Angles and
+/// length parameter at ± `length_tol` mm, in its own unit (seed 004: ± 0.05 mm). Angles and
 /// dimensionless parameters need an explicit tolerance.
 pub fn tolerances(model: &Model, specs: &[String], length_tol: f64) -> Result<Vec<Tolerance>, Error> {
     let help = || Some("write NAME=±T in the parameter's unit, e.g. l_ab=±0.05 (T = 0 holds it exact)".to_string());
@@ -581,7 +581,8 @@ pub fn tolerances(model: &Model, specs: &[String], length_tol: f64) -> Result<Ve
         .filter_map(|(i, p)| {
             let tol = match explicit.iter().find(|(j, _)| *j == i) {
                 Some((_, t)) => *t,
-                None if p.unit_str() == "mm" => length_tol,
+                // `length_tol` is in mm; the parameter in the model's unit.
+                None if p.unit.is_length() => p.from_result_unit(length_tol),
                 None => 0.0,
             };
             (tol > 0.0).then(|| Tolerance {

@@ -381,14 +381,20 @@ impl CostFunction for Cost<'_, '_> {
     }
 }
 
-/// Sets the stitch's thickness (`which` = "m") or length ("t") through the
-/// parameter its `[stitch]` value names.
-pub fn set_stitch_value(model: &Model, params: &mut Params, which: &str, value: f64) -> Result<(), Error> {
+/// Sets the stitch's thickness (`which` = "m") or length ("t"), `value_mm`
+/// in mm, through the parameter its `[stitch]` value names (converted to
+/// that parameter's unit, the model's length unit).
+pub fn set_stitch_value(model: &Model, params: &mut Params, which: &str, value_mm: f64) -> Result<(), Error> {
     if !model.has_stitch() {
         return Err(StitchError::new(format!("model `{}`", model.name()), "it has no [stitch] table").into());
     }
     match model.stitch_param(which) {
-        Some(name) => model.set(params, name, value).map_err(Error::Param),
+        Some(name) => {
+            let value = model
+                .param_index(name)
+                .map_or(value_mm, |i| model.params[i].from_result_unit(value_mm));
+            model.set(params, name, value).map_err(Error::Param)
+        }
         None => Err(Error::Param(ParamError::general(
             format!("[stitch] {which}_mm is not a parameter, so it cannot be set"),
             Some(format!(

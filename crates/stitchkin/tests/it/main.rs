@@ -32,3 +32,4 @@ mod studies;
 mod support;
 mod thread_physics;
 mod threads;
+mod units;
