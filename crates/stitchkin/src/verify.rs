@@ -247,6 +247,20 @@ fn spatial_residuals(step: &Step<f64>, vars: &Unknowns, out: &mut Vec<f64>) {
             out.extend([d.x, d.y, d.z]);
         }
         Step::Newton(g) => newton_residuals(g, vars, out),
+        // A follower's point is its lift by definition (the contact
+        // geometry is checked against the textbook formulas in
+        // `mechanism::cam_follower`): here, that the point sits where the
+        // cam's and the pivot's solved places put it, in the plane.
+        Step::CamFollower(c) => {
+            let (q, h) = in_plane(&c.plane, &vars.pt(c.out));
+            let (ce, _) = in_plane(&c.plane, &vars.pt(c.center));
+            let (mk, _) = in_plane(&c.plane, &vars.pt(c.marker));
+            let pivot = c.pivot.map(|p| in_plane(&c.plane, &vars.pt(p)).0);
+            match c.cam.point(ce, mk, pivot) {
+                Ok(r) => out.extend([q.x - r.x, q.y - r.y, h]),
+                Err(e) => out.extend([e.defect_mm.abs().max(1.0), 0.0, h]),
+            }
+        }
         Step::Crank { .. } | Step::Rrr { .. } | Step::Rrp { .. } | Step::Rpr { .. } => {
             unreachable!("residuals of step_residuals")
         }

@@ -46,7 +46,9 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let failed: Vec<String> = table
         .stitch
         .iter()
-        .flat_map(|s| s.checks.iter().filter(|c| !c.ok))
+        .flat_map(|s| s.checks.iter())
+        .chain(table.cams.iter().flat_map(|c| c.checks.iter()))
+        .filter(|c| !c.ok)
         .map(|c| format!("{} {}", c.thread, c.name))
         .collect();
     if failed.is_empty() {

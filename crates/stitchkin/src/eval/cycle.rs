@@ -288,6 +288,15 @@ fn cycle_in_pieces<T: Real>(
     let mut warnings: Vec<String> = stitch.iter().flat_map(|s| s.warnings.iter().cloned()).collect();
     let transmission = transmission_summaries(model, &columns, &layout.mus, &phis, &mut warnings);
     let ranges = range_summaries(model, &columns, &layout.measures, &phis);
+    let cams = if mech
+        .steps
+        .iter()
+        .any(|s| matches!(s, crate::mechanism::Step::CamFollower(_)))
+    {
+        super::cams::cam_summaries(model, params, &phis, opts.rpm.or(model.rpm()))?
+    } else {
+        Vec::new()
+    };
     Ok(CycleTable {
         step_deg: opts.step_deg,
         rpm: opts.rpm,
@@ -297,6 +306,7 @@ fn cycle_in_pieces<T: Real>(
         paths,
         take_up,
         stitch,
+        cams,
         warnings,
     })
 }

@@ -2,6 +2,7 @@
 //! real velocities and accelerations, link and transmission angles, measures,
 //! collected into a table of named, unit-carrying columns.
 
+pub mod cams;
 mod cycle;
 mod paths;
 mod step;
@@ -165,6 +166,8 @@ pub struct CycleTable {
     /// The stitch process: P' and the mismatch per thread, when the model
     /// has a `[stitch]`.
     pub stitch: Option<stitch_process::StitchSummary>,
+    /// The checks of each cam and follower (empty without cams).
+    pub cams: Vec<cams::CamSummary>,
     pub warnings: Vec<String>,
 }
 

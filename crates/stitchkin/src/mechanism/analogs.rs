@@ -106,7 +106,7 @@ impl Mechanism<f64> {
             Step::Crank { .. } | Step::Rrr { .. } | Step::Rssr { .. } | Step::Offset { .. } => true,
             Step::Rrp { toward, .. } | Step::PointOnLine { toward, .. } => toward.is_none(),
             Step::Rigid { .. } => true,
-            Step::Rpr { .. } | Step::Rigid3 { .. } | Step::Newton(_) => false,
+            Step::Rpr { .. } | Step::Rigid3 { .. } | Step::Newton(_) | Step::CamFollower(_) => false,
         })
     }
 
@@ -232,7 +232,9 @@ fn step_analogs(step: &Step<f64>, t: &Inputs, xo: &[V3<f64>], vo: &mut [V3<f64>]
             vo.copy_from_slice(t.v(*from));
             ao.copy_from_slice(t.a(*from));
         }
-        Step::Rpr { .. } | Step::Rigid3 { .. } | Step::Newton(_) => unreachable!("checked by has_closed_form_analogs"),
+        Step::Rpr { .. } | Step::Rigid3 { .. } | Step::Newton(_) | Step::CamFollower(_) => {
+            unreachable!("checked by has_closed_form_analogs")
+        }
     }
 }
 

@@ -6,6 +6,7 @@
 //! [`Pose`] group by group; nothing is allocated per step.
 
 pub mod analogs;
+pub mod cam_follower;
 mod kernels;
 pub(crate) mod line;
 pub(crate) mod newton;
@@ -159,6 +160,25 @@ pub enum Step<T: Real> {
         out: usize,
     },
     Newton(Box<NewtonGroup<T>>),
+    /// A disc cam turning about `center` with `marker`, driving a follower
+    /// (a rocking one about `pivot`); `out` is the follower's point.
+    CamFollower(Box<CamStep<T>>),
+}
+
+/// A cam-and-follower step: where the cam and the follower's pivot are,
+/// and the cam with its follower.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CamStep<T: Real> {
+    /// The group's name (or its output point's).
+    pub name: String,
+    pub center: usize,
+    pub marker: usize,
+    pub pivot: Option<usize>,
+    pub cam: cam_follower::CamFollower<T>,
+    /// The largest pressure angle allowed, deg.
+    pub max_pressure_deg: f64,
+    pub plane: Plane<T>,
+    pub out: usize,
 }
 
 impl<T: Real> Step<T> {
@@ -175,6 +195,7 @@ impl<T: Real> Step<T> {
             | Step::Rigid { out, .. }
             | Step::Rigid3 { out, .. }
             | Step::Offset { out, .. } => Some(*out),
+            Step::CamFollower(c) => Some(c.out),
             Step::Newton(_) => None,
         }
     }
@@ -470,6 +491,14 @@ impl<T: Real> Mechanism<T> {
             Step::Offset { from, by, .. } => {
                 kernels::offset(o, tr(*from), *by);
                 Ok(())
+            }
+            Step::CamFollower(c) => {
+                let (ce, mk) = (tr(c.center), tr(c.marker));
+                let pv = c.pivot.map(tr);
+                with_plane!(&c.plane, pl => each(o, |k| {
+                    let pivot = pv.map(|p| pl.project(&p[k]));
+                    c.cam.point(pl.project(&ce[k]), pl.project(&mk[k]), pivot).map(|q| pl.lift(q, T::zero()))
+                }))
             }
             Step::Newton(_) => unreachable!("numerical groups are solved by `solve`"),
         }

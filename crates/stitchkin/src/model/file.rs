@@ -661,6 +661,150 @@ pub enum Group {
         #[serde(default)]
         planar: Option<bool>,
     },
+    /// A disc cam driving a follower (`docs/model-format.md`, "Cams and
+    /// followers"): the cam turns about `center` with the point `marker`;
+    /// `out` is the follower's roller centre, knife edge, or its flat face's
+    /// foot on the axis.
+    CamFollower(Box<CamFollowerGroup>),
+}
+
+/// A `cam_follower` group.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CamFollowerGroup {
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The cam's shaft centre.
+    pub center: String,
+    /// A point turning with the cam (e.g. a crank pin on its shaft): the
+    /// cam angle is the direction from `center` to it, less `zero_deg`.
+    pub marker: String,
+    /// The marker's direction (in the plane, from its x axis) at cam angle
+    /// 0, deg; default 0.
+    #[serde(default)]
+    pub zero_deg: Option<Value>,
+    /// `translating` or `rocking`.
+    pub follower: FollowerKind,
+    /// `knife`, `roller` or `flat` (a flat face on a translating follower).
+    pub contact: ContactKind,
+    /// The cam's base circle radius (its least radius), mm.
+    pub base_radius: Value,
+    /// The roller's radius, mm (`contact = "roller"`).
+    #[serde(default)]
+    pub roller_radius: Option<Value>,
+    /// Translating: the way the follower lifts, deg in the plane.
+    #[serde(default)]
+    pub direction_deg: Option<Value>,
+    /// Translating: the axis's distance from the cam's centre, mm, positive
+    /// to the left of `direction_deg`; default 0.
+    #[serde(default)]
+    pub offset: Option<Value>,
+    /// Rocking: the arm's pivot.
+    #[serde(default)]
+    pub pivot: Option<String>,
+    /// Rocking: pivot to roller centre (or knife edge), mm.
+    #[serde(default)]
+    pub arm: Option<Value>,
+    /// Rocking: `left` or `right` of the line from the pivot to the cam's
+    /// centre, where the roller sits.
+    #[serde(default)]
+    pub branch: Option<Branch>,
+    /// The follower's lift over the cam angle: mm for a translating
+    /// follower, deg for a rocking one.
+    pub lift: LiftFile,
+    /// `spring` (force closure, the default) or `groove` (form closure: a
+    /// groove or conjugate cams).
+    #[serde(default)]
+    pub closure: Option<ClosureKind>,
+    /// Force closure: the spring and the follower's mass, for the check
+    /// that the follower stays on the cam at the model's speed.
+    #[serde(default)]
+    pub spring: Option<SpringFile>,
+    /// The largest pressure angle allowed, deg; default 30 for a
+    /// translating follower, 45 for a rocking one.
+    #[serde(default)]
+    pub max_pressure_deg: Option<f64>,
+    pub out: String,
+    /// Frame whose xy-plane is the plane of motion; default world.
+    #[serde(default)]
+    pub plane: Option<String>,
+}
+
+/// How a cam's follower moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum FollowerKind {
+    Translating,
+    Rocking,
+}
+
+/// Where a follower touches its cam.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ContactKind {
+    Knife,
+    Roller,
+    Flat,
+}
+
+/// How a follower is kept on its cam.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ClosureKind {
+    Spring,
+    Groove,
+}
+
+/// A follower's lift over the cam angle: a table (`angle_deg` with `mm`
+/// or `deg`), or `segments` of motion laws.
+#[derive(Debug, Clone, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LiftFile {
+    /// Cam angles of the table, deg, increasing within one turn.
+    #[serde(default)]
+    pub angle_deg: Option<Vec<f64>>,
+    /// A translating follower's lift at those angles, mm.
+    #[serde(default)]
+    pub mm: Option<Vec<f64>>,
+    /// A rocking follower's lift (the arm's turn) at those angles, deg.
+    #[serde(default)]
+    pub deg: Option<Vec<f64>>,
+    /// Segments in order over one turn from cam angle 0; the first starts
+    /// from the last one's lift.
+    #[serde(default)]
+    pub segments: Option<Vec<LiftSegmentFile>>,
+}
+
+/// One segment of a lift: up to `end_deg` the follower goes to `lift_mm`
+/// (or `lift_deg`) by `law`; the same lift as before is a dwell.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LiftSegmentFile {
+    /// Cam angle where the segment ends, deg (the last one's is 360).
+    pub end_deg: f64,
+    /// The lift there, mm (translating follower).
+    #[serde(default)]
+    pub lift_mm: Option<Value>,
+    /// The lift there, deg (rocking follower).
+    #[serde(default)]
+    pub lift_deg: Option<Value>,
+    /// `cycloidal`, `harmonic` or `polynomial_345`; needed where the lift
+    /// changes.
+    #[serde(default)]
+    pub law: Option<String>,
+}
+
+/// The spring holding a force-closed follower on its cam.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SpringFile {
+    /// Spring force at zero lift, N.
+    pub preload_n: f64,
+    /// Spring rate, N per mm of the follower's travel at the roller.
+    pub rate_n_per_mm: f64,
+    /// The follower's mass moved at the roller, kg (a rocking follower:
+    /// its moment of inertia over the arm squared).
+    pub mass_kg: f64,
 }
 
 /// One closure equation of a `newton` group: either

@@ -13,6 +13,8 @@ use super::{
 };
 use crate::error::{ModelError, did_you_mean};
 
+pub(crate) mod cam_follower;
+
 /// Reserved words that cannot name a parameter.
 const RESERVED: &[&str] = &[
     "pi", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "abs", "hypot", "min", "max",
@@ -998,6 +1000,7 @@ impl<'a> Loader<'a> {
                 planar,
                 ..
             } => self.newton_group(unknowns, constraints, plane, *planar, path)?,
+            Group::CamFollower(c) => self.cam_follower_group(c, path)?,
             dyad => self.dyad_group(dyad, path)?,
         };
         Ok((step, label))
@@ -2042,6 +2045,7 @@ pub(super) fn group_out(g: &Group) -> &str {
         | Group::RigidPoint { out, .. }
         | Group::RigidPoint3d { out, .. }
         | Group::Offset { out, .. } => out,
+        Group::CamFollower(c) => &c.out,
         Group::Newton { name, .. } => name,
     }
 }
@@ -2056,6 +2060,7 @@ fn group_name(g: &Group) -> Option<&str> {
         | Group::RigidPoint { name, .. }
         | Group::RigidPoint3d { name, .. }
         | Group::Offset { name, .. } => name.as_deref(),
+        Group::CamFollower(c) => c.name.as_deref(),
         Group::Newton { name, .. } => Some(name),
     }
 }
@@ -2071,6 +2076,7 @@ pub(super) fn group_kind(g: &Group) -> &'static str {
         Group::RigidPoint3d { .. } => "rigid_point_3d",
         Group::Offset { .. } => "offset",
         Group::Newton { .. } => "newton",
+        Group::CamFollower(_) => "cam_follower",
     }
 }
 

@@ -223,6 +223,7 @@ pub(crate) enum StepDef {
         guess: Vec<QuantityId>,
         closures: Vec<ClosureDef>,
     },
+    CamFollower(Box<load::cam_follower::CamFollowerDef>),
 }
 
 impl StepDef {
@@ -245,6 +246,11 @@ impl StepDef {
             StepDef::Rigid { base, .. } => base.to_vec(),
             StepDef::Rigid3 { frame, .. } => frame.to_vec(),
             StepDef::Offset { from, .. } => vec![*from],
+            StepDef::CamFollower(c) => {
+                let mut v = vec![c.center, c.marker];
+                v.extend(c.pivot);
+                v
+            }
             StepDef::Newton { closures, .. } => {
                 let mut v = Vec::new();
                 for c in closures {
@@ -275,6 +281,7 @@ impl StepDef {
             | StepDef::Rigid { out, .. }
             | StepDef::Rigid3 { out, .. }
             | StepDef::Offset { out, .. } => vec![*out],
+            StepDef::CamFollower(c) => vec![c.out],
             StepDef::Newton { outs, .. } => outs.clone(),
         }
     }
@@ -286,6 +293,7 @@ impl StepDef {
             StepDef::Rrr { plane, .. } | StepDef::Rrp { plane, .. } | StepDef::Rpr { plane, .. } => *plane == 0,
             StepDef::Rigid { plane, .. } => *plane == 0,
             StepDef::Newton { dim, plane, .. } => *dim == 2 && *plane == 0,
+            StepDef::CamFollower(c) => c.plane == 0,
             StepDef::Rssr { .. } | StepDef::PointOnLine { .. } | StepDef::Rigid3 { .. } | StepDef::Offset { .. } => {
                 false
             }
@@ -327,6 +335,12 @@ pub(crate) fn bodies(steps: &[StepDef], kinds: &[PointKind]) -> Vec<Vec<usize>> 
             }
             StepDef::Rigid { base, out, .. } => join(&mut bodies, base, *out),
             StepDef::Rigid3 { frame, out, .. } => join(&mut bodies, frame, *out),
+            // A rocking follower turns about its pivot; a translating one
+            // slides on its own.
+            StepDef::CamFollower(c) => match c.pivot {
+                Some(p) => bodies.push(vec![p, c.out]),
+                None => bodies.push(vec![c.out]),
+            },
             StepDef::Offset { from, out, .. } => match translating.iter().find(|&&b| bodies[b].contains(from)) {
                 Some(&b) => bodies[b].push(*out),
                 None => {

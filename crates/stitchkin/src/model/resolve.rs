@@ -3,12 +3,16 @@
 //! [`Mechanism`] that is solved at any φ. Runs once per setting, so it
 //! only looks values up; every name was checked when the model was loaded.
 
+use super::file::ContactKind;
+use super::load::cam_follower::{CamFollowerDef, LiftDef, MotionDef};
 use super::{
     AxisDef, CamContactDef, CamDef, ClosureDef, ClosureRef, Machine, MeasureDef, Model, PathDef, PointKind, ProfileDef,
     SpanDef, StepDef, ThreadsDef, file, stitch_setup,
 };
 use crate::error::ModelError;
 use crate::geometry::{Placement, Plane, V2, V3, axis_rotation};
+use crate::mechanism::CamStep;
+use crate::mechanism::cam_follower::{CamFollower, Contact, Lift, Motion, Segment};
 use crate::mechanism::newton::{Closure, NewtonGroup, PointRef};
 use crate::mechanism::rssr::Rocker;
 use crate::mechanism::{MeasureStep, Mechanism, Step};
@@ -262,6 +266,7 @@ impl<T: Real> Resolver<'_, T> {
                     guess,
                     closures,
                 } => Step::Newton(Box::new(self.newton_group(*dim, *plane, outs, guess, closures))),
+                StepDef::CamFollower(c) => Step::CamFollower(Box::new(self.cam_follower(c))),
                 dyad => self.resolve_planar(dyad, fixed)?,
             };
             if let (StepDef::Rssr { pivot, out, .. }, Step::Rssr { rocker, .. }) = (s, &step) {
@@ -270,6 +275,66 @@ impl<T: Real> Resolver<'_, T> {
             steps.push(step);
         }
         Ok(steps)
+    }
+
+    /// A cam and its follower with this setting's numbers: a rocking
+    /// follower's lift from degrees to radians; each lift segment starts
+    /// where the one before ends (the first where the last ends).
+    fn cam_follower(&self, c: &CamFollowerDef) -> CamStep<T> {
+        let (q, deg) = (self.q, self.deg);
+        let rocking = matches!(c.motion, MotionDef::Rocking { .. });
+        let lift = match &c.lift {
+            LiftDef::Table(s) => Lift::Table(s.clone()),
+            LiftDef::Segments(segs) => {
+                let at = |k: usize| {
+                    let v = q[segs[k].2];
+                    if rocking { v * deg } else { v }
+                };
+                Lift::Segments(
+                    (0..segs.len())
+                        .map(|k| Segment {
+                            from: segs[k].0,
+                            to: segs[k].1,
+                            s0: at((k + segs.len() - 1) % segs.len()),
+                            s1: at(k),
+                            law: segs[k].3,
+                        })
+                        .collect(),
+                )
+            }
+        };
+        let motion = match c.motion {
+            MotionDef::Translating { direction, offset } => {
+                let (sn, cs) = (q[direction] * deg).sin_cos();
+                Motion::Translating {
+                    u: V2::new(cs, sn),
+                    offset: q[offset],
+                }
+            }
+            MotionDef::Rocking { arm, sign } => Motion::Rocking { arm: q[arm], sign },
+        };
+        let contact = match (c.contact, c.roller) {
+            (ContactKind::Roller, Some(r)) => Contact::Roller(q[r]),
+            (ContactKind::Flat, _) => Contact::Flat,
+            _ => Contact::Knife,
+        };
+        CamStep {
+            name: c.name.clone(),
+            center: c.center,
+            marker: c.marker,
+            pivot: c.pivot,
+            cam: CamFollower {
+                base: q[c.base],
+                contact,
+                motion,
+                lift,
+                zero: q[c.zero] * deg,
+                closure: c.closure,
+            },
+            max_pressure_deg: c.max_pressure_deg,
+            plane: self.plane(c.plane),
+            out: c.out,
+        }
     }
 
     /// A crank or a planar dyad (RRR, RRP, RPR); the spatial dyads go on to

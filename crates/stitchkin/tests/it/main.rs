@@ -4,6 +4,7 @@
 mod altin504;
 mod architecture;
 mod cam_synthesis;
+mod cams;
 mod cross_check;
 mod docs;
 mod drawing;

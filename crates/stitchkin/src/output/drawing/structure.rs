@@ -227,6 +227,25 @@ impl Structure {
             Step::Rigid3 { frame, out, .. } => self.attach(&frame[..], *out),
             Step::Offset { from, out, .. } => self.bar(*from, *out, Kind::Offset),
             Step::Newton(g) => self.add_newton(g),
+            Step::CamFollower(c) => {
+                // The cam's shaft to its marker, and the follower: an arm
+                // about its pivot, or a slider on its axis.
+                self.bar(c.center, c.marker, Kind::Crank);
+                match (c.pivot, c.cam.motion) {
+                    (Some(p), _) => self.bar(p, c.out, Kind::Bar),
+                    (None, crate::mechanism::cam_follower::Motion::Translating { u, offset }) => {
+                        let guide = Guide::Planar {
+                            through: c.center,
+                            toward: None,
+                            dir: u,
+                            offset,
+                            plane: c.plane,
+                        };
+                        self.sliders.push(Slider { at: c.out, guide });
+                    }
+                    (None, _) => {}
+                }
+            }
         }
     }
 

@@ -141,12 +141,32 @@ fn summary_with(model: &Model, table: &CycleTable, full_checks: bool) -> String 
         s += &format!("# take-up: {conv}\n");
     }
     s += &take_up_lines(table, w);
+    s += &cam_lines(table);
     s += &stitch_lines(model, table, w, full_checks);
     for c in model.caveats() {
         s += &format!("# note: {c}\n");
     }
     for w in &table.warnings {
         s += &format!("warning: {w}\n");
+    }
+    s
+}
+
+/// The checks of each cam and follower, one line each with its message.
+pub fn cam_lines(table: &CycleTable) -> String {
+    let mut s = String::new();
+    for cam in &table.cams {
+        for c in &cam.checks {
+            s += &format!(
+                "# cam {} {:<4} {:<16} {:>10}  (allowed {}): {}\n",
+                cam.group,
+                if c.ok { "ok" } else { "FAIL" },
+                c.name,
+                c.value_words(),
+                c.limit_words(),
+                c.message
+            );
+        }
     }
     s
 }

@@ -1,0 +1,626 @@
+//! A disc cam driving a follower: translating (with an offset) or rocking;
+//! knife-edge, roller or flat-faced; closed by a spring or by a groove
+//! (seed 004 §2.7, variants 1–6; §1.3's grooved cam).
+//!
+//! The cam is given as its follower's **lift** over the cam angle δ, as cam
+//! makers give it: a lift table (a periodic cubic spline) or segments of
+//! motion laws (dwell, cycloidal, simple harmonic, 3-4-5 polynomial). δ is
+//! the angle of the direction from the cam's centre to a point turning with
+//! it (`marker`), less `zero`. The profile the follower rides is what the
+//! lift and the follower's geometry make of it (its pitch curve: the path
+//! of the roller's centre, or the knife edge, in the cam's own frame), so
+//! the follower's position is closed form at every φ:
+//!
+//! - translating, axis along `u` at `offset` e to the left of the cam's
+//!   centre C: the roller centre `R = C + e·perp(u) + (y0 + s(δ))·u`,
+//!   `y0 = √((r_b + r_r)² − e²)` (r_b the base circle, r_r the roller; a
+//!   knife edge has r_r = 0; a flat face stands at `r_b + s` from C, its
+//!   foot on the axis);
+//! - rocking, arm `l` from the pivot O: at zero lift the roller centre
+//!   touches the base circle (`|R0 − C| = r_b + r_r`, `|R0 − O| = l`, the
+//!   branch picks the side); the arm turns from there by the lift, the way
+//!   that takes the roller away from the cam.
+//!
+//! [`CamFollower::state`] gives the figures the cam checks read: the
+//! pressure angle (between the contact normal and the follower's motion),
+//! the radius of curvature of the working profile, and for a spring-closed
+//! follower the force that keeps it on the cam.
+
+use super::NoAssembly;
+use super::rrr::rrr;
+use crate::geometry::{V2, cross2, perp};
+use crate::numeric::PeriodicCubic;
+use crate::scalar::Real;
+use nalgebra::ComplexField;
+use num_dual::Dual2_64;
+use std::f64::consts::TAU;
+use std::sync::Arc;
+
+/// A motion law of one rise or return: the fraction f(u) of the step done
+/// at the fraction u of the segment's angle, with f(0) = 0, f(1) = 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Law {
+    /// f = u − sin(2πu)/2π: zero velocity and acceleration at both ends.
+    Cycloidal,
+    /// f = (1 − cos πu)/2: zero velocity at both ends, acceleration jumps.
+    Harmonic,
+    /// f = 10u³ − 15u⁴ + 6u⁵: zero velocity and acceleration at both ends.
+    Polynomial345,
+}
+
+impl Law {
+    pub const NAMES: [&'static str; 3] = ["cycloidal", "harmonic", "polynomial_345"];
+
+    pub fn from_name(s: &str) -> Option<Law> {
+        match s {
+            "cycloidal" => Some(Law::Cycloidal),
+            "harmonic" => Some(Law::Harmonic),
+            "polynomial_345" => Some(Law::Polynomial345),
+            _ => None,
+        }
+    }
+
+    /// f(u), generic.
+    pub fn fraction<T: Real>(self, u: T) -> T {
+        match self {
+            Law::Cycloidal => u - (u * T::cst(TAU)).sin() / T::cst(TAU),
+            Law::Harmonic => (T::one() - (u * T::cst(std::f64::consts::PI)).cos()).times(0.5),
+            Law::Polynomial345 => {
+                let u3 = u * u * u;
+                u3 * (T::cst(10.0) + u * (T::cst(-15.0) + u * T::cst(6.0)))
+            }
+        }
+    }
+}
+
+/// One segment of a lift over the cam angle: from `from` to `to` (rad) the
+/// lift goes from `s0` to `s1` by `law` (a dwell when they are equal).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Segment<T: Real> {
+    pub from: f64,
+    pub to: f64,
+    pub s0: T,
+    pub s1: T,
+    pub law: Law,
+}
+
+/// The follower's lift over the cam angle δ (rad): mm for a translating
+/// follower, rad for a rocking one.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Lift<T: Real> {
+    /// A periodic cubic spline through a lift table.
+    Table(Arc<PeriodicCubic>),
+    /// Segments covering one turn from δ = 0 in order.
+    Segments(Vec<Segment<T>>),
+}
+
+impl<T: Real> Lift<T> {
+    /// s(δ); `delta` may carry derivatives (with respect to φ, or to the cam
+    /// angle itself).
+    pub fn at(&self, delta: T) -> T {
+        let turns = (delta.re() / TAU).floor();
+        let d = delta - T::cst(turns * TAU);
+        match self {
+            Lift::Table(spline) => spline.eval(d),
+            Lift::Segments(segs) => {
+                let x = d.re();
+                let seg = segs
+                    .iter()
+                    .find(|s| x < s.to)
+                    .unwrap_or_else(|| segs.last().expect("a lift has segments"));
+                let u = (d - T::cst(seg.from)) / T::cst(seg.to - seg.from);
+                seg.s0 + (seg.s1 - seg.s0) * seg.law.fraction(u)
+            }
+        }
+    }
+
+    /// The same lift over another number type (`f` maps each number).
+    pub fn map<U: Real>(&self, f: impl Fn(T) -> U) -> Lift<U> {
+        match self {
+            Lift::Table(s) => Lift::Table(s.clone()),
+            Lift::Segments(segs) => Lift::Segments(
+                segs.iter()
+                    .map(|s| Segment {
+                        from: s.from,
+                        to: s.to,
+                        s0: f(s.s0),
+                        s1: f(s.s1),
+                        law: s.law,
+                    })
+                    .collect(),
+            ),
+        }
+    }
+}
+
+/// Where the follower touches the cam.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Contact<T: Real> {
+    Knife,
+    /// A roller of this radius, mm.
+    Roller(T),
+    /// A flat face square to a translating follower's axis.
+    Flat,
+}
+
+impl<T: Real> Contact<T> {
+    fn roller(&self) -> T {
+        match self {
+            Contact::Roller(r) => *r,
+            _ => T::zero(),
+        }
+    }
+}
+
+/// How the follower moves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Motion<T: Real> {
+    /// Along the unit direction `u` (in the plane), its axis `offset` mm to
+    /// the left of the cam's centre.
+    Translating { u: V2<T>, offset: T },
+    /// On an arm of length `arm` mm about the pivot; `sign` +1 puts the
+    /// roller left of the line from the pivot to the cam's centre.
+    Rocking { arm: T, sign: f64 },
+}
+
+/// The spring that holds a force-closed follower on its cam, and the
+/// follower's mass it must hold against.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spring {
+    /// Force at zero lift, N.
+    pub preload_n: f64,
+    /// Rate, N per mm of the follower's travel at the roller.
+    pub rate_n_per_mm: f64,
+    /// The follower's mass moved at the roller, kg (a rocking follower's
+    /// moment of inertia over its arm squared).
+    pub mass_kg: f64,
+}
+
+/// How the follower is kept on the cam.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Closure {
+    /// A spring (force closure); `None` when its figures are not given.
+    Spring(Option<Spring>),
+    /// A groove or conjugate cams (form closure): the roller is held both
+    /// ways, and both flanks must be cut.
+    Groove,
+}
+
+/// A cam and its follower, resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CamFollower<T: Real> {
+    /// Base circle radius r_b, mm: the profile's least radius.
+    pub base: T,
+    pub contact: Contact<T>,
+    pub motion: Motion<T>,
+    pub lift: Lift<T>,
+    /// Cam angle 0: the direction from the centre to the marker, rad.
+    pub zero: T,
+    pub closure: Closure,
+}
+
+impl<T: Real> CamFollower<T> {
+    /// The same cam and follower as plain numbers of another type (what it
+    /// was resolved from is dropped: the checks differentiate over the cam
+    /// angle alone).
+    pub fn constant<U: Real>(&self) -> CamFollower<U> {
+        let c = |x: T| U::cst(x.re());
+        CamFollower {
+            base: c(self.base),
+            contact: match self.contact {
+                Contact::Knife => Contact::Knife,
+                Contact::Roller(r) => Contact::Roller(c(r)),
+                Contact::Flat => Contact::Flat,
+            },
+            motion: match self.motion {
+                Motion::Translating { u, offset } => Motion::Translating {
+                    u: u.map(c),
+                    offset: c(offset),
+                },
+                Motion::Rocking { arm, sign } => Motion::Rocking { arm: c(arm), sign },
+            },
+            lift: self.lift.map(c),
+            zero: c(self.zero),
+            closure: self.closure,
+        }
+    }
+
+    /// The cam angle δ (rad) with the cam's centre at `c` and its marker at `k`.
+    pub fn cam_angle(&self, c: V2<T>, k: V2<T>) -> Result<T, NoAssembly> {
+        let d = k - c;
+        if d.norm_squared().re() <= 0.0 {
+            return Err(NoAssembly::coincident("the cam's centre and its marker"));
+        }
+        Ok(d.y.angle_of(d.x) - self.zero)
+    }
+
+    /// The follower's point (roller centre, knife edge, or the flat face's
+    /// foot on the axis) with the cam's centre at `c`, the cam angle `delta`
+    /// and, for a rocking follower, its pivot at `o`.
+    pub fn point_at(&self, c: V2<T>, delta: T, o: Option<V2<T>>) -> Result<V2<T>, NoAssembly> {
+        let s = self.lift.at(delta);
+        let rc = self.base + self.contact.roller();
+        match (self.motion, o) {
+            (Motion::Translating { u, offset }, _) => {
+                if matches!(self.contact, Contact::Flat) {
+                    return Ok(c + perp(u) * offset + u * (self.base + s));
+                }
+                let y0sq = rc * rc - offset * offset;
+                if y0sq.re() <= 0.0 {
+                    return Err(NoAssembly::new(
+                        offset.re().abs() - rc.re(),
+                        format!(
+                            "the follower's axis passes {:.4} mm from the cam's centre, outside the base circle plus roller ({:.4} mm)",
+                            offset.re().abs(),
+                            rc.re()
+                        ),
+                    ));
+                }
+                Ok(c + perp(u) * offset + u * (y0sq.sqrt() + s))
+            }
+            (Motion::Rocking { arm, sign }, Some(o)) => {
+                // Zero lift: the roller on the base circle (an RRR triangle).
+                let r0 = rrr(o, c, arm * arm, rc * rc, sign).map_err(|e| {
+                    let d = (o - c).norm().re();
+                    NoAssembly::new(
+                        e.defect_mm,
+                        format!(
+                            "the follower's arm ({:.4} mm) cannot put its roller on the base circle plus roller ({:.4} mm) from its pivot {d:.4} mm from the cam's centre",
+                            arm.re(),
+                            rc.re()
+                        ),
+                    )
+                })?;
+                let a0 = r0 - o;
+                let beta0 = a0.y.angle_of(a0.x);
+                // Turn the way that takes the roller away from the cam.
+                let away = if cross2(a0, r0 - c).re() >= 0.0 { 1.0 } else { -1.0 };
+                let beta = beta0 + s.times(away);
+                let (sb, cb) = beta.sin_cos();
+                Ok(o + V2::new(cb, sb) * arm)
+            }
+            (Motion::Rocking { .. }, None) => unreachable!("a rocking follower is resolved with its pivot"),
+        }
+    }
+
+    /// The follower's point at one position of the mechanism.
+    pub fn point(&self, c: V2<T>, k: V2<T>, o: Option<V2<T>>) -> Result<V2<T>, NoAssembly> {
+        let delta = self.cam_angle(c, k)?;
+        self.point_at(c, delta, o)
+    }
+}
+
+/// The figures of the cam checks at one cam angle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CamState {
+    /// Between the contact normal and the follower's motion, deg.
+    pub pressure_deg: f64,
+    /// Radius of curvature of the pitch curve (the roller centre's path in
+    /// the cam's frame), mm, positive where the cam is convex; for a flat
+    /// face, of the profile itself.
+    pub pitch_radius_mm: f64,
+    /// The working profile's radius there (pitch less roller), mm.
+    pub profile_radius_mm: f64,
+    /// The lift's first and second derivatives over the cam angle (mm/rad,
+    /// mm/rad²; a rocking follower's at the roller, arm × rad).
+    pub ds_mm: f64,
+    pub dds_mm: f64,
+    /// The follower's travel at the roller from zero lift, mm.
+    pub travel_mm: f64,
+}
+
+impl CamFollower<f64> {
+    /// The checks' figures at cam angle `delta` (rad), the cam's centre at
+    /// `c` and a rocking follower's pivot at `o`: the follower's point is
+    /// differentiated over the cam angle (the follower's guide held fixed
+    /// relative to the cam's shaft, as on a machine).
+    pub fn state(&self, c: V2<f64>, delta: f64, o: Option<V2<f64>>) -> Result<CamState, NoAssembly> {
+        let me = self.constant::<Dual2_64>();
+        let d = Dual2_64::new(delta, 1.0, 0.0);
+        let cd = c.map(Dual2_64::from_re);
+        let od = o.map(|o| o.map(Dual2_64::from_re));
+        let r = me.point_at(cd, d, od)?;
+        let s = me.lift.at(d);
+        // The pitch curve in the cam's frame: Q(δ) = Rot(−δ)(R − C).
+        let (sn, cs) = d.sin_cos();
+        let w = r - cd;
+        let q = V2::new(w.x * cs + w.y * sn, w.y * cs - w.x * sn);
+        let q1 = V2::new(q.x.v1, q.y.v1);
+        let q2 = V2::new(q.x.v2, q.y.v2);
+        let speed = q1.norm();
+        // Q runs clockwise in the cam's frame as δ grows: a convex cam has
+        // Q′ × Q″ < 0.
+        let pitch = -speed.powi(3) / cross2(q1, q2);
+        // The pitch curve's tangent back in the machine's frame, and the
+        // way the follower's point can move.
+        let t = V2::new(q1.x * cs.re - q1.y * sn.re, q1.x * sn.re + q1.y * cs.re);
+        let (v, arm) = match (self.motion, o) {
+            (Motion::Translating { u, .. }, _) => (u, 1.0),
+            (Motion::Rocking { arm, .. }, Some(o)) => (perp(V2::new(r.x.re, r.y.re) - o), arm),
+            (Motion::Rocking { .. }, None) => unreachable!("a rocking follower is resolved with its pivot"),
+        };
+        let (ds, dds) = (s.v1 * arm, s.v2 * arm);
+        let (pressure, pitch, profile) = match self.contact {
+            // A flat face square to the axis: the contact normal is the
+            // axis; the profile's radius is r_b + s + s″.
+            Contact::Flat => {
+                let rho = self.base + s.re + s.v2;
+                (0.0, rho, rho)
+            }
+            contact => {
+                let along = t.dot(&v).abs();
+                let across = cross2(t, v).abs();
+                (along.atan2(across).to_degrees(), pitch, pitch - contact.roller())
+            }
+        };
+        Ok(CamState {
+            pressure_deg: pressure,
+            pitch_radius_mm: pitch,
+            profile_radius_mm: profile,
+            ds_mm: ds,
+            dds_mm: dds,
+            travel_mm: s.re * arm,
+        })
+    }
+
+    /// The radius the roller's working flank has at a pitch radius: where
+    /// the cam is convex (pitch > 0) the profile is the pitch less the
+    /// roller (an undercut below zero); where it is concave, a groove's
+    /// outer flank is the pitch's magnitude less the roller. `None` where
+    /// the closure leaves that side uncut (a spring-closed cam's concave
+    /// part has the roller on its outside, which always fits).
+    pub fn flank_radius(&self, pitch_radius_mm: f64) -> Option<f64> {
+        let r_r = self.contact.roller();
+        if matches!(self.contact, Contact::Flat) {
+            return Some(pitch_radius_mm);
+        }
+        if pitch_radius_mm > 0.0 {
+            Some(pitch_radius_mm - r_r)
+        } else if matches!(self.closure, Closure::Groove) && r_r > 0.0 {
+            Some(-pitch_radius_mm - r_r)
+        } else {
+            None
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn rise_return(law: Law) -> Lift<f64> {
+        let r = |d: f64| d.to_radians();
+        Lift::Segments(vec![
+            Segment {
+                from: 0.0,
+                to: r(120.0),
+                s0: 0.0,
+                s1: 8.0,
+                law,
+            },
+            Segment {
+                from: r(120.0),
+                to: r(180.0),
+                s0: 8.0,
+                s1: 8.0,
+                law,
+            },
+            Segment {
+                from: r(180.0),
+                to: r(300.0),
+                s0: 8.0,
+                s1: 0.0,
+                law,
+            },
+            Segment {
+                from: r(300.0),
+                to: TAU,
+                s0: 0.0,
+                s1: 0.0,
+                law,
+            },
+        ])
+    }
+
+    fn translating(lift: Lift<f64>, offset: f64, contact: Contact<f64>) -> CamFollower<f64> {
+        CamFollower {
+            base: 20.0,
+            contact,
+            motion: Motion::Translating {
+                u: V2::new(0.0, 1.0),
+                offset,
+            },
+            lift,
+            zero: 0.0,
+            closure: Closure::Spring(None),
+        }
+    }
+
+    #[test]
+    fn motion_laws_start_and_end_at_rest_where_they_should() {
+        for law in [Law::Cycloidal, Law::Harmonic, Law::Polynomial345] {
+            let f = |u: f64| law.fraction(Dual2_64::new(u, 1.0, 0.0));
+            assert_relative_eq!(f(0.0).re, 0.0, epsilon = 1e-15);
+            assert_relative_eq!(f(1.0).re, 1.0, epsilon = 1e-15);
+            assert_relative_eq!(f(0.0).v1, 0.0, epsilon = 1e-12);
+            assert_relative_eq!(f(1.0).v1, 0.0, epsilon = 1e-12);
+            if law != Law::Harmonic {
+                assert_relative_eq!(f(0.0).v2, 0.0, epsilon = 1e-12);
+                assert_relative_eq!(f(1.0).v2, 0.0, epsilon = 1e-12);
+            }
+            assert_relative_eq!(f(0.5).re, 0.5, epsilon = 1e-12);
+        }
+        // The 3-4-5 law's peak velocity is 15/8 of the mean, the cycloidal's 2.
+        assert_relative_eq!(
+            Law::Polynomial345.fraction(Dual2_64::new(0.5, 1.0, 0.0)).v1,
+            1.875,
+            epsilon = 1e-12
+        );
+        assert_relative_eq!(
+            Law::Cycloidal.fraction(Dual2_64::new(0.5, 1.0, 0.0)).v1,
+            2.0,
+            epsilon = 1e-12
+        );
+    }
+
+    #[test]
+    fn a_translating_roller_rides_at_base_plus_roller_plus_lift() {
+        let cf = translating(rise_return(Law::Cycloidal), 0.0, Contact::Roller(5.0));
+        let c = V2::new(1.0, 2.0);
+        // Cam angle 0: zero lift; 120°: full rise; 150°: the dwell.
+        for (deg, s) in [(0.0, 0.0), (120.0, 8.0), (150.0, 8.0), (240.0, 4.0)] {
+            let p = cf.point_at(c, (deg as f64).to_radians(), None).unwrap();
+            assert_relative_eq!(p.x, 1.0, epsilon = 1e-12);
+            assert_relative_eq!(p.y, 2.0 + 25.0 + s, epsilon = 1e-12);
+        }
+        // With an offset the axis moves over and y0 shrinks.
+        let off = translating(rise_return(Law::Cycloidal), 7.0, Contact::Roller(5.0));
+        let p = off.point_at(c, 0.0, None).unwrap();
+        assert_relative_eq!(p.x, 1.0 - 7.0, epsilon = 1e-12);
+        assert_relative_eq!(p.y, 2.0 + (25.0f64 * 25.0 - 49.0).sqrt(), epsilon = 1e-12);
+        // An offset beyond the base circle plus roller has no assembly.
+        let far = translating(rise_return(Law::Cycloidal), 26.0, Contact::Roller(5.0));
+        let e = far.point_at(c, 0.0, None).unwrap_err();
+        assert!(e.message.contains("outside the base circle"), "{}", e.message);
+    }
+
+    #[test]
+    fn the_base_circle_dwell_has_zero_pressure_angle_and_its_own_radius() {
+        let cf = translating(rise_return(Law::Cycloidal), 0.0, Contact::Roller(5.0));
+        let st = cf.state(V2::zeros(), 330f64.to_radians(), None).unwrap();
+        assert_relative_eq!(st.pressure_deg, 0.0, epsilon = 1e-9);
+        assert_relative_eq!(st.pitch_radius_mm, 25.0, epsilon = 1e-9);
+        assert_relative_eq!(st.profile_radius_mm, 20.0, epsilon = 1e-9);
+        // On the dwell at full lift: the pitch radius is base + roller + rise.
+        let top = cf.state(V2::zeros(), 150f64.to_radians(), None).unwrap();
+        assert_relative_eq!(top.pitch_radius_mm, 33.0, epsilon = 1e-9);
+    }
+
+    #[test]
+    fn the_pressure_angle_of_an_offset_translating_follower_is_the_textbook_one() {
+        // tan α = (s′ − e) / (y0 + s) for an axis e to the left, the cam
+        // turning counter-clockwise (δ growing).
+        let cf = translating(rise_return(Law::Harmonic), 4.0, Contact::Roller(5.0));
+        for deg in [20.0, 60.0, 100.0, 200.0, 260.0] {
+            let d = (deg as f64).to_radians();
+            let st = cf.state(V2::zeros(), d, None).unwrap();
+            let s = cf.lift.map(Dual2_64::from_re).at(Dual2_64::new(d, 1.0, 0.0));
+            let y0 = (25.0f64 * 25.0 - 16.0).sqrt();
+            let want = ((s.v1 + 4.0) / (y0 + s.re)).atan().to_degrees().abs();
+            let want2 = ((s.v1 - 4.0) / (y0 + s.re)).atan().to_degrees().abs();
+            assert!(
+                (st.pressure_deg - want).abs() < 1e-9 || (st.pressure_deg - want2).abs() < 1e-9,
+                "{deg}: {} vs {want} or {want2}",
+                st.pressure_deg
+            );
+        }
+    }
+
+    #[test]
+    fn a_flat_face_needs_base_plus_lift_plus_its_second_derivative_positive() {
+        let cf = translating(rise_return(Law::Harmonic), 0.0, Contact::Flat);
+        let d = 60f64.to_radians();
+        let st = cf.state(V2::zeros(), d, None).unwrap();
+        let s = cf.lift.map(Dual2_64::from_re).at(Dual2_64::new(d, 1.0, 0.0));
+        assert_relative_eq!(st.profile_radius_mm, 20.0 + s.re + s.v2, epsilon = 1e-12);
+        assert_eq!(st.pressure_deg, 0.0);
+        // A small base circle under a steep rise goes concave: a flat face
+        // cannot follow it.
+        let mut small = cf.clone();
+        small.base = 0.5;
+        let worst = (0..360)
+            .map(|k| {
+                small
+                    .state(V2::zeros(), (k as f64).to_radians(), None)
+                    .unwrap()
+                    .profile_radius_mm
+            })
+            .fold(f64::MAX, f64::min);
+        assert!(worst < 0.0, "{worst}");
+    }
+
+    #[test]
+    fn a_rocking_roller_starts_on_the_base_circle_and_lifts_away() {
+        let cf = CamFollower {
+            base: 15.0,
+            contact: Contact::Roller(4.0),
+            motion: Motion::Rocking { arm: 30.0, sign: 1.0 },
+            lift: rise_return(Law::Polynomial345),
+            zero: 0.0,
+            closure: Closure::Groove,
+        };
+        let (c, o) = (V2::new(0.0, 0.0), V2::new(40.0, 10.0));
+        let r0 = cf.point_at(c, 0.0, Some(o)).unwrap();
+        assert_relative_eq!((r0 - c).norm(), 19.0, epsilon = 1e-9);
+        assert_relative_eq!((r0 - o).norm(), 30.0, epsilon = 1e-9);
+        // Lifted by 8 (rad, as resolved) scaled down: use a real angle.
+        let mut small = cf.clone();
+        small.lift = Lift::Segments(vec![Segment {
+            from: 0.0,
+            to: TAU,
+            s0: 0.0,
+            s1: 0.0,
+            law: Law::Cycloidal,
+        }]);
+        let same = small.point_at(c, 1.0, Some(o)).unwrap();
+        assert_relative_eq!((same - r0).norm(), 0.0, epsilon = 1e-12);
+        let up = {
+            let mut lifted = cf.clone();
+            lifted.lift = rise_return(Law::Polynomial345).scaled(0.2f64.to_radians() / 8.0 * 50.0);
+            lifted.point_at(c, 120f64.to_radians(), Some(o)).unwrap()
+        };
+        assert!((up - c).norm() > 19.0, "the lift takes the roller away from the cam");
+        assert_relative_eq!((up - o).norm(), 30.0, epsilon = 1e-9);
+    }
+
+    #[test]
+    fn analogs_over_the_cam_angle_equal_finite_differences() {
+        let cf = CamFollower {
+            base: 15.0,
+            contact: Contact::Roller(4.0),
+            motion: Motion::Rocking { arm: 30.0, sign: -1.0 },
+            lift: rise_return(Law::Cycloidal).scaled(20f64.to_radians() / 8.0),
+            zero: 0.3,
+            closure: Closure::Groove,
+        };
+        let o = V2::new(35.0, -12.0);
+        let od = o.map(Dual2_64::from_re);
+        let cfd = cf.constant::<Dual2_64>();
+        let h = 1e-4;
+        for deg in [30.0, 75.0, 200.0, 250.0] {
+            let phi = (deg as f64).to_radians();
+            // The marker on a unit crank at φ.
+            let k = |p: f64| V2::new(p.cos(), p.sin());
+            let pd = Dual2_64::new(phi, 1.0, 0.0);
+            let rd = cfd.point(V2::zeros(), V2::new(pd.cos(), pd.sin()), Some(od)).unwrap();
+            let r = |p: f64| cf.point(V2::zeros(), k(p), Some(o)).unwrap();
+            let fd1 = (r(phi + h) - r(phi - h)) / (2.0 * h);
+            let fd2 = (r(phi + h) - r(phi) * 2.0 + r(phi - h)) / (h * h);
+            assert_relative_eq!(rd.x.v1, fd1.x, epsilon = 1e-6);
+            assert_relative_eq!(rd.y.v1, fd1.y, epsilon = 1e-6);
+            assert_relative_eq!(rd.x.v2, fd2.x, epsilon = 1e-3);
+            assert_relative_eq!(rd.y.v2, fd2.y, epsilon = 1e-3);
+        }
+    }
+
+    #[test]
+    fn a_table_lift_is_a_smooth_periodic_spline() {
+        let deg: Vec<f64> = (0..12).map(|k| (k * 30) as f64).collect();
+        let mm: Vec<f64> = deg.iter().map(|d| 3.0 * (1.0 - d.to_radians().cos())).collect();
+        let rad: Vec<f64> = deg.iter().map(|d| d.to_radians()).collect();
+        let lift: Lift<f64> = Lift::Table(Arc::new(PeriodicCubic::new(&rad, &mm, TAU)));
+        for (d, s) in rad.iter().zip(&mm) {
+            assert_relative_eq!(lift.at(*d), *s, epsilon = 1e-12);
+            assert_relative_eq!(lift.at(*d + TAU), *s, epsilon = 1e-12);
+            assert_relative_eq!(lift.at(*d - TAU), *s, epsilon = 1e-12);
+        }
+        assert!((lift.at(1.0) - 3.0 * (1.0 - 1f64.cos())).abs() < 0.01);
+    }
+
+    impl Lift<f64> {
+        fn scaled(&self, k: f64) -> Lift<f64> {
+            self.map(|s| s * k)
+        }
+    }
+}

@@ -1,0 +1,207 @@
+//! Cams and followers: the example models load, solve, give analogs equal to
+//! finite differences, pass the independent cross-check, and the cam checks
+//! catch what they are for (pressure angle, undercut, a follower leaving a
+//! spring-closed cam).
+
+use stitchkin::eval::{self, CycleOptions, CycleTable};
+use stitchkin::model::Model;
+use stitchkin::verify::cross_check;
+
+const ROCKING: &str = include_str!("../../../../examples/cam-rocking-roller.toml");
+const GROOVE: &str = include_str!("../../../../examples/cam-translating-groove.toml");
+
+fn model(text: &str) -> Model {
+    Model::from_toml_str(text, "cam.toml").unwrap()
+}
+
+fn cycle(m: &Model, set: &[(&str, f64)], rpm: Option<f64>) -> CycleTable {
+    let mut p = m.defaults();
+    for (k, v) in set {
+        m.set(&mut p, k, *v).unwrap();
+    }
+    let opts = CycleOptions {
+        step_deg: 0.5,
+        rpm,
+        ..Default::default()
+    };
+    eval::run_cycle(m, &p, &opts).unwrap()
+}
+
+fn check<'a>(t: &'a CycleTable, name: &str) -> &'a stitchkin::stitch::checks::Check {
+    t.cams[0].checks.iter().find(|c| c.name == name).unwrap()
+}
+
+/// A steep rise on a small base circle: undercut and too steep.
+fn steep() -> Model {
+    let text = GROOVE
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("mm = "))
+        .map(|l| {
+            if l.starts_with("lift = ") {
+                "lift = { segments = [ { end_deg = 40, lift_mm = 15, law = \"cycloidal\" }, { end_deg = 80, lift_mm = 15 }, \
+                 { end_deg = 200, lift_mm = 0, law = \"cycloidal\" }, { end_deg = 360, lift_mm = 0 } ] }"
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    Model::from_toml_str(&text, "steep.toml").unwrap()
+}
+
+#[test]
+fn both_examples_solve_and_their_analogs_equal_finite_differences() {
+    for text in [ROCKING, GROOVE] {
+        let m = model(text);
+        let t = cycle(&m, &[], None);
+        let h = 0.5f64.to_radians();
+        for axis in ["x", "y"] {
+            let pos = t.column(&format!("R.{axis}_mm")).unwrap();
+            let d1 = t.column(&format!("R.d{axis}_dphi_mm_per_rad")).unwrap();
+            let d2 = t.column(&format!("R.d2{axis}_dphi2_mm_per_rad2")).unwrap();
+            let n = pos.len();
+            // Where a motion law starts, its third derivative jumps: a
+            // central difference smears it over the step, so the second
+            // analog is compared within 2 % of its largest value.
+            let d2_scale = d2.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for k in 0..n {
+                let (a, b) = (pos[(k + n - 1) % n], pos[(k + 1) % n]);
+                let fd1 = (b - a) / (2.0 * h);
+                let fd2 = (b - 2.0 * pos[k] + a) / (h * h);
+                assert!(
+                    (d1[k] - fd1).abs() < 2e-3 * (1.0 + fd1.abs()),
+                    "{} {axis} at {k}: {} vs {fd1}",
+                    m.name(),
+                    d1[k]
+                );
+                assert!(
+                    (d2[k] - fd2).abs() <= 0.02 * d2_scale + 1e-9,
+                    "{} {axis} at {k}: {} vs {fd2}",
+                    m.name(),
+                    d2[k]
+                );
+            }
+        }
+        let c = cross_check(&m, &m.defaults(), 1.0).unwrap();
+        assert!(c.max_deviation_mm < 1e-9, "{}: {c:?}", m.name());
+    }
+}
+
+#[test]
+fn the_follower_rides_the_lift_it_is_given() {
+    // Translating roller, axis 5 mm to the left of the cam's centre along
+    // +y: x stays −5, y = √(26² − 5²) + s(δ); the table's 8 mm at 150°.
+    let m = model(GROOVE);
+    let t = cycle(&m, &[], None);
+    let (phi, x, y) = (
+        t.column("phi_deg").unwrap(),
+        t.column("R.x_mm").unwrap(),
+        t.column("R.y_mm").unwrap(),
+    );
+    let y0 = (26.0f64 * 26.0 - 25.0).sqrt();
+    for k in 0..phi.len() {
+        assert!((x[k] + 5.0).abs() < 1e-9);
+        if phi[k] == 150.0 || phi[k] == 180.0 {
+            assert!((y[k] - y0 - 8.0).abs() < 1e-9, "{} {}", phi[k], y[k]);
+        }
+        if phi[k] == 0.0 {
+            assert!((y[k] - y0).abs() < 1e-9);
+        }
+    }
+    // Rocking: the arm keeps its length and the swing reaches the rise.
+    let m = model(ROCKING);
+    let t = cycle(&m, &[], None);
+    let (x, y) = (t.column("R.x_mm").unwrap(), t.column("R.y_mm").unwrap());
+    let angle: Vec<f64> = x
+        .iter()
+        .zip(y)
+        .map(|(x, y)| (y - 20.0).atan2(x - 45.0).to_degrees())
+        .collect();
+    for (x, y) in x.iter().zip(y) {
+        assert!((((x - 45.0).powi(2) + (y - 20.0).powi(2)).sqrt() - 35.0).abs() < 1e-9);
+    }
+    let swing = angle.iter().cloned().fold(f64::MIN, f64::max) - angle.iter().cloned().fold(f64::MAX, f64::min);
+    assert!((swing - 12.0).abs() < 1e-6, "{swing}");
+}
+
+#[test]
+fn the_examples_pass_their_cam_checks() {
+    let t = cycle(&model(ROCKING), &[], None);
+    assert_eq!(t.cams.len(), 1);
+    assert!(t.cams[0].checks_ok(), "{:?}", t.cams);
+    assert_eq!(check(&t, "cam_pressure").limit, [None, Some(45.0)]);
+    // The model's own speed (1000 rpm) judges the spring.
+    assert!(check(&t, "follower_contact").value > 0.0);
+    let t = cycle(&model(GROOVE), &[], None);
+    assert!(t.cams[0].checks_ok(), "{:?}", t.cams);
+    assert_eq!(check(&t, "cam_pressure").limit, [None, Some(30.0)]);
+    // A groove holds the roller: no spring to check.
+    assert!(t.cams[0].checks.iter().all(|c| c.name != "follower_contact"));
+}
+
+#[test]
+fn a_spring_too_weak_for_the_speed_lets_the_follower_jump() {
+    let m = model(ROCKING);
+    let slow = cycle(&m, &[], Some(1000.0));
+    let fast = cycle(&m, &[], Some(3000.0));
+    let (s, f) = (check(&slow, "follower_contact"), check(&fast, "follower_contact"));
+    assert!(s.ok && !f.ok, "{s:?} {f:?}");
+    assert!(f.message.contains("leaves the cam"), "{}", f.message);
+    // The inertia force grows as the speed squared: N(3000) − F_spring =
+    // 9 × (N(1000) − F_spring) at the same φ, so the least force falls.
+    assert!(f.value < s.value - 40.0);
+}
+
+#[test]
+fn a_small_base_circle_under_a_steep_rise_is_undercut_and_too_steep() {
+    let m = steep();
+    let t = cycle(&m, &[("e", 0.0), ("r_b", 8.0)], None);
+    let c = check(&t, "cam_curvature");
+    assert!(!c.ok && c.value < 0.0, "{c:?}");
+    assert!(
+        c.message.contains("undercut") && c.message.contains("cam angle"),
+        "{}",
+        c.message
+    );
+    let p = check(&t, "cam_pressure");
+    assert!(!p.ok && p.value > 30.0, "{p:?}");
+    // A base circle large enough for the same rise passes the curvature.
+    let t = cycle(&m, &[("e", 0.0), ("r_b", 60.0)], None);
+    assert!(check(&t, "cam_curvature").ok, "{:?}", check(&t, "cam_curvature"));
+}
+
+#[test]
+fn cam_follower_mistakes_are_named_with_their_fix() {
+    let bad = |from: &str, to: &str| {
+        let text = ROCKING.replacen(from, to, 1);
+        assert_ne!(text, ROCKING, "{from}");
+        match Model::from_toml_str(&text, "bad.toml") {
+            Ok(_) => panic!("{to} loads"),
+            Err(e) => format!("{} {}", e.message, e.help.clone().unwrap_or_default()),
+        }
+    };
+    let e = bad("law = \"cycloidal\"", "law = \"cycloid\"");
+    assert!(e.contains("unknown motion law") && e.contains("polynomial_345"), "{e}");
+    let e = bad("roller_radius = \"r_r\"\n", "");
+    assert!(e.contains("roller's radius"), "{e}");
+    let e = bad("pivot = \"O3\"\n", "");
+    assert!(e.contains("pivot"), "{e}");
+    let e = bad("lift_deg = \"rise\", law", "lift_mm = 3, law");
+    assert!(e.contains("lift is in deg"), "{e}");
+    let e = bad("{ end_deg = 360, lift_deg = 0 }", "{ end_deg = 350, lift_deg = 0 }");
+    assert!(e.contains("360"), "{e}");
+    let e = bad("mass_kg = 0.05", "mass_kg = 0");
+    assert!(e.contains("mass"), "{e}");
+    let g = GROOVE.replacen("mm = [0, 0.5", "mm = [-1, 0.5", 1);
+    let e = Model::from_toml_str(&g, "bad.toml").unwrap_err();
+    assert!(e.message.contains("below the base circle"), "{}", e.message);
+    // An axis offset beyond the base circle plus roller has no assembly.
+    let m = model(GROOVE);
+    let mut p = m.defaults();
+    m.set(&mut p, "r_b", 1.0).unwrap();
+    m.set(&mut p, "e", 8.0).unwrap();
+    let e = eval::run_cycle(&m, &p, &CycleOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("outside the base circle"), "{e}");
+}
