@@ -131,15 +131,28 @@ pub struct Adjustment {
 
 impl Adjustment {
     /// The adjustment of parameter `p` from `before` to `after`, worded
-    /// to the hundredth the recommendation prints.
+    /// to the hundredth the recommendation prints (the thousandth of an
+    /// inch or a radian, whose hundredth is 0.25 mm or 0.57°).
     pub fn new(p: &crate::model::ParamDef, before: f64, after: f64) -> Adjustment {
         let unit = p.unit_str();
+        let per = match p.unit {
+            crate::model::Unit::In | crate::model::Unit::Rad => 1000.0,
+            _ => 100.0,
+        };
+        let rounded = |x: f64| {
+            if per == 100.0 {
+                hundredths(x)
+            } else {
+                let r = (x * per).round() / per;
+                if r == 0.0 { "0".to_string() } else { format!("{r}") }
+            }
+        };
         let with_unit = |x: f64| {
-            let n = hundredths(x);
+            let n = rounded(x);
             if unit == "1" { n } else { format!("{n} {unit}") }
         };
         let label = p.label_or_name().to_string();
-        let (b, a) = (hundredths(before), hundredths(after));
+        let (b, a) = (rounded(before), rounded(after));
         let advice = if a == b {
             format!("{label}: leave it as it is ({} = {})", p.name, with_unit(before))
         } else {
@@ -150,7 +163,7 @@ impl Adjustment {
                 (false, _, None) => "decrease it".into(),
             };
             // The change between the two printed values.
-            let by = ((after * 100.0).round() - (before * 100.0).round()).abs() / 100.0;
+            let by = ((after * per).round() - (before * per).round()).abs() / per;
             format!(
                 "{label}: {way} by {} ({}: {b} → {})",
                 with_unit(by),

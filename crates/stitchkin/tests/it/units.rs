@@ -95,6 +95,13 @@ fn an_inch_models_parameters_are_set_and_shown_in_inches() {
     let adj = Adjustment::new(&inch.params()[i], 0.83, 0.9);
     assert!(adj.advice.contains("by 0.07 in"), "{}", adj.advice);
     assert!(adj.advice.contains("0.83 → 0.9 in"), "{}", adj.advice);
+    // To the thousandth of an inch (0.0254 mm), as an inch machine is set.
+    let adj = Adjustment::new(&inch.params()[i], 0.8268, 0.8312);
+    assert!(
+        adj.advice.contains("by 0.004 in (l4_3: 0.827 → 0.831 in)"),
+        "{}",
+        adj.advice
+    );
 }
 
 /// `text` with every length parameter (and the plain numbers of fields
