@@ -1129,6 +1129,64 @@ mod tests {
         );
     }
 
+    /// The stitch's span goes slack while the head stays taut: the loop
+    /// is released (its reach drops by 8 mm at φ = π) while a clamp holds
+    /// the head's thread, and an eyelet draws the loop back up over the
+    /// rest of the turn. These steps are the ones where the branch Newton's
+    /// method starts on has no solution near (docs/benchmarks.md, "Studies
+    /// over the stitch"): the laws hold there (docs/thread-physics.md §1.2,
+    /// §1.5), tension and slack are complementary (a span carries tension
+    /// or holds slack, never both), and the eyelet draws the loop back
+    /// from the stitch, not from the regulator, while the stitch is slack.
+    #[test]
+    fn a_released_loop_goes_slack_below_a_taut_head() {
+        let tau = std::f64::consts::TAU;
+        let b = build(
+            360,
+            3,
+            |i, phi| match i {
+                0 => 50.0,
+                1 => 40.0 + 6.0 * phi.cos(),
+                _ => 30.0 + 10.0 * (phi / tau) - 8.0 * (phi > std::f64::consts::PI) as u8 as f64,
+            },
+            |_, _| 0.3f64.exp(),
+            |i, _| if i == 0 { 0.3 } else { 0.0 },
+        );
+        let c = chain(0.8);
+        let t = solve(&c, &course(&b, 0, 2.0)).unwrap();
+        assert!(t.settled, "settles: change {} mm", t.change_mm);
+        check_laws(&b, &c, &t, 2.0);
+        let mut slack_below_taut = 0;
+        for k in 0..360 {
+            for i in 0..3 {
+                let (tension, slack) = (t.tension(k, i), t.slack_mm[k * 3 + i]);
+                assert!(tension >= 0.0 && slack >= 0.0, "k = {k}, span {i}");
+                assert!(
+                    tension * slack == 0.0,
+                    "complementary at k = {k}, span {i}: {tension} N, {slack} mm"
+                );
+            }
+            if t.slack_mm[k * 3 + 2] > 1.0 && t.tension(k, 0) > 0.1 {
+                slack_below_taut += 1;
+                // While the stitch gives thread freely the regulator passes none.
+                assert_eq!(t.drawn_mm[k], 0.0, "k = {k}");
+            }
+        }
+        assert!(
+            slack_below_taut > 20,
+            "the stitch slack below a taut head at {slack_below_taut} positions"
+        );
+        // The eyelet takes the loop back: the stitch's slack falls as the
+        // middle span's reach grows after the release.
+        let loop_at = |k: usize| t.slack_mm[k * 3 + 2];
+        assert!(
+            loop_at(185) > 7.0 && loop_at(260) < loop_at(185) - 2.0,
+            "{} → {} mm",
+            loop_at(185),
+            loop_at(260)
+        );
+    }
+
     #[test]
     fn the_spring_law_is_continuous_and_falls_with_thread() {
         let law = Law {
