@@ -119,7 +119,13 @@ impl<'a> Loader<'a> {
         } else if msg.contains("did not match any variant") || msg.contains("not a value") {
             Some("write a number, an expression in quotes, or a list of coordinates".to_string())
         } else {
-            None
+            // The TOML itself does not parse here.
+            Some(
+                "a model file is TOML: table headers `[name]` or `[[name]]`, lines `key = value`, words in \
+                 quotes, lists in `[ ]`, inline tables in `{ }` on one line; docs/model-format.md §2 shows a \
+                 whole first model"
+                    .to_string(),
+            )
         };
         Box::new(ModelError {
             file: self.file_name.clone(),

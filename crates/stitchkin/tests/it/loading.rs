@@ -40,6 +40,14 @@ fn toml_syntax_error_has_line_and_column() {
     let (line, _, _) = place(&e);
     assert_eq!(line, 23);
     assert!(e.to_string().starts_with("bad.toml:23:"), "{e}");
+    // A line that is not TOML says how TOML is written.
+    let help = e.help.clone().unwrap_or_default();
+    assert!(
+        help.contains("a model file is TOML") && help.contains("in quotes"),
+        "{help}"
+    );
+    let e = load_err(&FOUR_BAR.replace("[points]", "[points"));
+    assert!(e.help.is_some_and(|h| h.contains("table headers")));
 }
 
 #[test]
