@@ -608,6 +608,9 @@ impl App {
                     .map(|c| stitchkin::references::cited(c).into_owned())
                     .collect::<Vec<_>>(),
                 "transmission": table.transmission,
+                // Every check of the cycle: the stitch's, then each cam's.
+                "checks": table.all_checks().collect::<Vec<_>>(),
+                "cams": table.cams,
                 "warnings": warnings,
             }),
         ))

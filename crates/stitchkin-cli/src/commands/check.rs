@@ -44,10 +44,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     emit_text(&out, None)?;
     // A setting no machine can realise does not pass the check.
     let failed: Vec<String> = table
-        .stitch
-        .iter()
-        .flat_map(|s| s.checks.iter())
-        .chain(table.cams.iter().flat_map(|c| c.checks.iter()))
+        .all_checks()
         .filter(|c| !c.ok)
         .map(|c| format!("{} {}", c.thread, c.name))
         .collect();

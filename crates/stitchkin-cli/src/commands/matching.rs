@@ -74,6 +74,8 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
                 .collect();
             json["caveats"] = serde_json::json!(caveats);
             json["measured"] = serde_json::to_value(&measured).map_err(json_err)?;
+            // Each cam and follower's checks, as `run`'s JSON gives them.
+            json["cams"] = serde_json::to_value(&table.cams).map_err(json_err)?;
             crate::common::json(&json)?
         }
         TableOrJson::Table => text::matching::screen(&model, &table, st, &measured, args.details),
@@ -81,9 +83,8 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     args.output.emit(&out)?;
     // The screen in full, then a setting no machine can realise fails the
     // command, as `check` does.
-    let failed: Vec<String> = st
-        .checks
-        .iter()
+    let failed: Vec<String> = table
+        .all_checks()
         .filter(|c| !c.ok)
         .map(|c| format!("{} {}", c.thread, c.name))
         .collect();

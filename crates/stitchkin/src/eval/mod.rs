@@ -202,6 +202,27 @@ impl CycleTable {
         Ok(())
     }
 
+    /// Every check of the cycle, the one place front ends read them from:
+    /// the stitch's physical checks, then each cam and follower's
+    /// (`cam_pressure`, `cam_curvature`, `follower_contact`, their `thread`
+    /// the group's name).
+    pub fn all_checks(&self) -> impl Iterator<Item = &crate::stitch::checks::Check> {
+        self.stitch
+            .iter()
+            .flat_map(|s| s.checks.iter())
+            .chain(self.cams.iter().flat_map(|c| c.checks.iter()))
+    }
+
+    /// Whether every check of the cycle passes ([`CycleTable::all_checks`]).
+    pub fn checks_ok(&self) -> bool {
+        self.all_checks().all(|c| c.ok)
+    }
+
+    /// The checks of every cam and follower, in group order.
+    pub fn cam_checks(&self) -> impl Iterator<Item = &crate::stitch::checks::Check> {
+        self.cams.iter().flat_map(|c| c.checks.iter())
+    }
+
     pub fn rows(&self) -> usize {
         self.columns.first().map_or(0, |c| c.values.len())
     }

@@ -195,6 +195,8 @@ fn sections(model: &Model, params: &Params, r: &Report) -> Result<Vec<(&'static 
     }
     if t.stitch.is_some() {
         sections.push(("mismatch", "Mismatch P − P′", mismatch(t)));
+    }
+    if t.stitch.is_some() || !t.cams.is_empty() {
         sections.push(("checks", "Physical checks", checks(t)));
     }
     if !r.measured.is_empty() {
@@ -444,15 +446,18 @@ fn mismatch(t: &CycleTable) -> String {
     s
 }
 
-/// The physical checks of the needle threads, failures first in red.
+/// The physical checks of the threads and of each cam and follower
+/// ([`CycleTable::all_checks`]), failures in red.
 fn checks(t: &CycleTable) -> String {
-    let Some(st) = &t.stitch else { return String::new() };
-    if st.checks.is_empty() {
-        return "<p>This stitch has no needle thread to check.</p>".into();
+    if t.all_checks().next().is_none() {
+        return if t.stitch.is_some() {
+            "<p>This stitch has no needle thread to check.</p>".into()
+        } else {
+            String::new()
+        };
     }
-    let rows: Vec<Vec<String>> = st
-        .checks
-        .iter()
+    let rows: Vec<Vec<String>> = t
+        .all_checks()
         .map(|c| {
             vec![
                 escape(&c.thread),
@@ -464,22 +469,31 @@ fn checks(t: &CycleTable) -> String {
                 },
                 escape(&c.value_words()),
                 escape(&c.limit_words()),
-                num(Some(c.at_deg), 1),
+                match c.name {
+                    "cam_pressure" | "cam_curvature" => format!("δ {}", num(Some(c.at_deg), 1)),
+                    _ => num(Some(c.at_deg), 1),
+                },
                 format!("<span class=\"text\">{}</span>", escape(&c.message)),
             ]
         })
         .collect();
-    let mut s = String::from(
-        "<p>What no real machine can do: more thread through B than the needle can take (twice its deepest travel below B plus the \
+    let mut s = String::new();
+    if t.stitch.as_ref().is_some_and(|st| !st.checks.is_empty()) {
+        s += "<p>What no real machine can do: more thread through B than the needle can take (twice its deepest travel below B plus the \
          loop on the looper), a looper point that does not pass 1–3 mm above the eye at the catch, a loop that drops before the \
          needle has entered the looper thread's triangle; and, where the thread's tension is solved, a peak too close to the \
          thread's breaking force, a slack loop that can catch, a check spring still moving when thread slips through the \
-         regulator.</p>",
-    );
+         regulator.</p>";
+    }
+    if !t.cams.is_empty() {
+        s += "<p>Each cam and follower: its largest pressure angle (at the cam angle δ), its working profile's least \
+              radius of curvature (at δ; at or below 0 the profile is cut back to a cusp or undercut), the least force \
+              keeping a spring-closed follower on the cam over the cycle (at φ; below 0 it jumps).</p>";
+    }
     s += &table(
         "checks",
         &[
-            "thread",
+            "thread or cam",
             "check",
             "result",
             "value",

@@ -106,9 +106,17 @@ pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
             out.push(("score.mean".into(), scores.iter().sum::<f64>() / scores.len() as f64));
             out.push(("score.min".into(), scores.iter().cloned().fold(f64::MAX, f64::min)));
         }
-        if !st.checks.is_empty() {
-            out.push(("checks.ok".into(), if st.checks_ok() { 1.0 } else { 0.0 }));
-        }
+    }
+    // Each cam and follower's checks, and whether every check of the cycle
+    // passes (the stitch's and the cams').
+    for cam in &table.cams {
+        out.push((
+            format!("{}.checks_ok", cam.group),
+            if cam.checks_ok() { 1.0 } else { 0.0 },
+        ));
+    }
+    if table.all_checks().next().is_some() {
+        out.push(("checks.ok".into(), if table.checks_ok() { 1.0 } else { 0.0 }));
     }
     out
 }

@@ -205,3 +205,67 @@ fn cam_follower_mistakes_are_named_with_their_fix() {
         .to_string();
     assert!(e.contains("outside the base circle"), "{e}");
 }
+
+#[test]
+fn every_check_of_a_cycle_includes_the_cams_and_a_failed_one_fails_the_setting() {
+    let m = model(ROCKING);
+    let slow = cycle(&m, &[], None);
+    let names: Vec<&str> = slow.all_checks().map(|c| c.name).collect();
+    assert_eq!(names, ["cam_pressure", "cam_curvature", "follower_contact"]);
+    assert!(slow.all_checks().all(|c| c.thread == "feed_arm"));
+    assert!(slow.checks_ok());
+    let fast = cycle(&m, &[], Some(3000.0));
+    assert!(!fast.checks_ok());
+    // A sweep's figures: the cam's own and the cycle's.
+    let figure = |t: &CycleTable, n: &str| {
+        stitchkin::study::figures::figures(t)
+            .into_iter()
+            .find(|(k, _)| k == n)
+            .unwrap_or_else(|| panic!("no figure {n}"))
+            .1
+    };
+    assert_eq!(figure(&slow, "checks.ok"), 1.0);
+    assert_eq!(figure(&slow, "feed_arm.checks_ok"), 1.0);
+    assert_eq!(figure(&fast, "checks.ok"), 0.0);
+    assert_eq!(figure(&fast, "feed_arm.checks_ok"), 0.0);
+    // The JSON of a cycle carries them.
+    let json = serde_json::to_value(&fast).unwrap();
+    assert_eq!(json["cams"][0]["group"], "feed_arm");
+    assert_eq!(json["cams"][0]["checks"][2]["ok"], false);
+}
+
+#[test]
+fn a_sweep_over_a_cam_judges_its_checks_in_checks_ok() {
+    use stitchkin::study::design::{Design, Sweep, Vary};
+    use stitchkin::study::sweep::{Evaluator, SweepPlan};
+    let m = model(ROCKING);
+    let mut base = m.defaults();
+    m.set(&mut base, "rise", 16.0).unwrap();
+    // A 16° swing on a 12 mm base circle is too steep; on 18 mm it passes.
+    let sweep = Sweep::new(vec![Vary::parse(&m, "r_b=12:18:2").unwrap()], Design::Grid).unwrap();
+    let plan = SweepPlan::new(&m, &base, &sweep, None, 1.0).unwrap();
+    let k = plan
+        .names
+        .iter()
+        .position(|n| n == "checks.ok")
+        .expect("checks.ok is a default figure");
+    let mut ev = Evaluator::new(plan.job(&m, &base, &sweep));
+    let ok: Vec<Option<f64>> = (0..2).map(|i| ev.evaluate(i).figures[k]).collect();
+    assert_eq!(ok, [Some(0.0), Some(1.0)]);
+}
+
+#[test]
+fn the_report_lists_the_cam_checks() {
+    use stitchkin::jobs::report::{ReportOptions, render};
+    let m = model(&ROCKING.replace("rpm = 1000", "rpm = 3000"));
+    let opts = ReportOptions {
+        animate: false,
+        ..Default::default()
+    };
+    let html = render(&m, &m.defaults(), &opts).unwrap();
+    assert!(html.contains("id=\"checks\""), "no checks section");
+    for name in ["cam_pressure", "cam_curvature", "follower_contact"] {
+        assert!(html.contains(name), "the report does not list {name}");
+    }
+    assert!(html.contains("FAIL"));
+}

@@ -294,15 +294,46 @@ fn tension_block(st: &StitchSummary) -> String {
 /// they all pass), in full when one fails (or with `details`); each value
 /// is the figure its message speaks of, beside its allowed range.
 fn checks_block(table: &CycleTable, st: &StitchSummary, details: bool) -> String {
-    if st.checks.is_empty() {
+    if table.all_checks().next().is_none() {
         return String::new();
     }
     let mut s = "\nchecks (what no machine can do):\n".to_string();
     if !details && st.threads.len() > 1 {
-        return s + &grouped_checks(table, st);
+        s += &grouped_checks(table, st);
+    } else {
+        for c in &st.checks {
+            s += &check_line(table, st, c, details);
+        }
     }
-    for c in &st.checks {
-        s += &check_line(table, st, c, details);
+    for c in table.cam_checks() {
+        s += &cam_check_line(c, details);
+    }
+    s
+}
+
+/// A cam and follower's check: its group, its figure beside the allowed
+/// range and where (the cam angle δ for the profile's checks, φ for the
+/// follower's contact over the cycle).
+fn cam_check_line(c: &Check, details: bool) -> String {
+    let figure = if c.limit == [None, None] || !c.at_deg.is_finite() {
+        format!("{:>11}  ({})", c.value_words(), c.message)
+    } else {
+        let at = if c.name == "follower_contact" { "φ" } else { "cam δ" };
+        format!(
+            "{:>11}  (allowed {}; {at} = {:.1}°)",
+            c.value_words(),
+            c.limit_words(),
+            c.at_deg
+        )
+    };
+    let mut s = format!(
+        "  {:<5} {:<6} {:<19} {figure}\n",
+        if c.ok { "ok" } else { "FAIL" },
+        c.thread,
+        c.name
+    );
+    if !c.ok || details {
+        s += &format!("        {}\n", c.message);
     }
     s
 }
@@ -450,7 +481,7 @@ const SHORTFALL_NOTE_MIN_MM: f64 = 1.0;
 /// Notes that read the numbers for the user.
 fn notes(table: &CycleTable, st: &StitchSummary) -> String {
     let mut s = String::new();
-    let failed: Vec<&Check> = st.checks.iter().filter(|c| !c.ok).collect();
+    let failed: Vec<&Check> = table.all_checks().filter(|c| !c.ok).collect();
     if !failed.is_empty() {
         s += &format!(
             "\nnote: {} physical check(s) fail: this setting cannot work on a real machine, whatever its score\n",
