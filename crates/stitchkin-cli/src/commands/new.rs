@@ -24,10 +24,14 @@ pub(crate) struct Args {
     /// List the families, one a line, with the preset each starts from.
     #[arg(long)]
     list: bool,
-    /// Write to FILE instead of stdout (written completely or not at all;
-    /// an existing file is replaced, as by every command's -o).
+    /// Write to FILE instead of stdout (written completely or not at all).
+    /// An existing file is kept unless --force: the file this writes is
+    /// meant to be edited into one's own model.
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
+    /// Replace FILE when it exists.
+    #[arg(long, requires = "output")]
+    force: bool,
 }
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
@@ -44,6 +48,15 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         return emit(list().as_bytes(), None);
     };
     let family = templates::get(name).map_err(Error::Param)?;
+    if let Some(path) = &args.output
+        && path.exists()
+        && !args.force
+    {
+        return Err(Error::Param(stitchkin::ParamError::general(
+            format!("`{}` exists, perhaps a model already edited", path.display()),
+            Some("write to another file, or add --force to replace it".into()),
+        )));
+    }
     let text = templates::template(family);
     emit(text.as_bytes(), args.output.as_ref())
 }

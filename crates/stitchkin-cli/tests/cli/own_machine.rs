@@ -141,14 +141,20 @@ fn an_unknown_family_or_preset_is_refused_with_the_closest_name() {
     assert!(e.contains("-o needs a family"), "{e}");
 }
 
-/// As every command's -o: an existing file is replaced whole, nothing is
-/// left beside it, and a read-only file is refused and kept.
+/// `new` keeps an existing file (perhaps a model already edited) unless
+/// told to replace it; then, as every command's -o, it is replaced whole,
+/// nothing is left beside it, and a read-only file is refused and kept.
 #[test]
 fn output_onto_an_existing_file_replaces_it_whole_and_refuses_a_read_only_one() {
     let d = scratch("new-existing");
     let file = d.join("mine.toml");
     std::fs::write(&file, "old contents\n").unwrap();
-    ok_in(&["new", "needle-bar", "-o", "mine.toml"], &d);
+    let out = run_in(&["new", "needle-bar", "-o", "mine.toml"], &d);
+    let e = String::from_utf8(out.stderr).unwrap();
+    assert!(!out.status.success(), "an existing model was replaced");
+    assert!(e.contains("`mine.toml` exists") && e.contains("--force"), "{e}");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "old contents\n");
+    ok_in(&["new", "needle-bar", "-o", "mine.toml", "--force"], &d);
     let text = std::fs::read_to_string(&file).unwrap();
     assert!(text.starts_with("# my-machine: ") && !text.contains("old contents"));
     ok_in(&["presets", "--export", "needle876", "-o", "mine.toml"], &d);
@@ -159,7 +165,7 @@ fn output_onto_an_existing_file_replaces_it_whole_and_refuses_a_read_only_one() 
     let mut perms = std::fs::metadata(&file).unwrap().permissions();
     perms.set_readonly(true);
     std::fs::set_permissions(&file, perms).unwrap();
-    let out = run_in(&["new", "takeup-lever", "-o", "mine.toml"], &d);
+    let out = run_in(&["new", "takeup-lever", "-o", "mine.toml", "--force"], &d);
     let e = String::from_utf8(out.stderr).unwrap();
     assert!(!out.status.success(), "a read-only file was replaced");
     assert!(e.contains("read-only"), "{e}");
