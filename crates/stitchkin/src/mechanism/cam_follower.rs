@@ -290,6 +290,18 @@ impl<T: Real> CamFollower<T> {
     }
 }
 
+/// A cam's outlines as it stands at cam angle 0, mm from its centre in
+/// the plane of motion ([`CamFollower::outline`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CamOutline {
+    /// The follower's point's path round the cam (empty for a flat face).
+    pub pitch: Vec<V2<f64>>,
+    /// The surface the follower rides.
+    pub profile: Vec<V2<f64>>,
+    /// A groove's outer flank (empty otherwise).
+    pub outer: Vec<V2<f64>>,
+}
+
 /// The figures of the cam checks at one cam angle.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CamState {
@@ -361,6 +373,57 @@ impl CamFollower<f64> {
             dds_mm: dds,
             travel_mm: s.re * arm,
         })
+    }
+
+    /// The cam as made, as it stands at cam angle 0 (mm from its centre;
+    /// at cam angle δ it is these turned by δ), `samples` points over its
+    /// turn: the pitch curve (the follower's point, from
+    /// [`CamFollower::point_at`], turned back by the cam angle; none for a
+    /// flat face), the working profile (the pitch curve moved in along its
+    /// normal by the roller; a flat face: the envelope of its lines) and a
+    /// groove's outer flank (moved out by the roller). The follower's guide
+    /// or pivot is held where `c` and `o` put it.
+    pub fn outline(&self, c: V2<f64>, o: Option<V2<f64>>, samples: usize) -> Result<CamOutline, NoAssembly> {
+        let me = self.constant::<Dual2_64>();
+        let cd = c.map(Dual2_64::from_re);
+        let od = o.map(|o| o.map(Dual2_64::from_re));
+        let r_r = self.contact.roller();
+        let n = samples.max(3);
+        let mut out = CamOutline {
+            pitch: Vec::with_capacity(n),
+            profile: Vec::with_capacity(n),
+            outer: Vec::new(),
+        };
+        for k in 0..n {
+            let delta = k as f64 * TAU / n as f64;
+            let d = Dual2_64::new(delta, 1.0, 0.0);
+            let (sn, cs) = d.sin_cos();
+            // Turned back into the cam's frame, at cam angle 0: Rot(−δ).
+            let back = |w: V2<Dual2_64>| V2::new(w.x * cs + w.y * sn, w.y * cs - w.x * sn);
+            if let (Contact::Flat, Motion::Translating { u, .. }) = (self.contact, self.motion) {
+                // The face's line n·q = r_b + s; its envelope q = h·n + h′·n′.
+                let h = me.base + me.lift.at(d);
+                let nd = back(u.map(Dual2_64::from_re));
+                let q = V2::new(h.re * nd.x.re + h.v1 * nd.x.v1, h.re * nd.y.re + h.v1 * nd.y.v1);
+                out.profile.push(q);
+                continue;
+            }
+            let q = back(me.point_at(cd, d, od)? - cd);
+            let (q0, t) = (V2::new(q.x.re, q.y.re), V2::new(q.x.v1, q.y.v1));
+            let len = t.norm();
+            // Q runs clockwise as δ grows: the cam is on its right.
+            let inward = if len > 1e-12 {
+                V2::new(t.y, -t.x) / len
+            } else {
+                -q0 / q0.norm().max(1e-12)
+            };
+            out.pitch.push(q0);
+            out.profile.push(q0 + inward * r_r);
+            if matches!(self.closure, Closure::Groove) && r_r > 0.0 {
+                out.outer.push(q0 - inward * r_r);
+            }
+        }
+        Ok(out)
     }
 
     /// The radius the roller's working flank has at a pitch radius: where

@@ -517,3 +517,62 @@ fn bad_options_name_what_to_change() {
     );
     assert!(View::choices(&m).contains(&"uvw".to_string()));
 }
+
+/// A model file of the repository's examples, drawn.
+fn draw_example(text: &str, opts: &DrawOptions) -> String {
+    let m = Model::from_toml_str(text, "cam.toml").unwrap();
+    let svg = render(&m, &m.defaults(), opts).unwrap();
+    assert!(!svg.contains("NaN") && !svg.contains("inf"));
+    svg
+}
+
+#[test]
+fn a_cam_is_drawn_to_scale_with_its_roller_on_its_profile() {
+    let text = include_str!("../../../../examples/cam-rocking-roller.toml");
+    for phi in [0.0, 75.0, 200.0] {
+        let svg = draw_example(text, &at(phi));
+        let s = scale(&svg);
+        let profile = points(attr(&svg, element(&svg, "class=\"cam-profile\""), "points"));
+        let pitch = points(attr(&svg, element(&svg, "class=\"cam-pitch\""), "points"));
+        let roller = points(attr(&svg, element(&svg, "class=\"cam-roller\""), "points"));
+        assert_eq!(profile.len(), 360);
+        assert_eq!(pitch.len(), 360);
+        let o1 = points(attr(&svg, element(&svg, "data-points=\"O1 K\""), "points"))[0];
+        let dist = |a: (f64, f64), b: (f64, f64)| ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt() / s;
+        // The base circle (18 mm) is the profile's least radius, the pitch
+        // curve's is it plus the roller (5 mm).
+        let least = |c: &[(f64, f64)]| c.iter().map(|&p| dist(p, o1)).fold(f64::MAX, f64::min);
+        assert!((least(&profile) - 18.0).abs() < 0.1, "φ = {phi}: {}", least(&profile));
+        assert!((least(&pitch) - 23.0).abs() < 0.1, "φ = {phi}: {}", least(&pitch));
+        // The roller (5 mm) round R touches the profile.
+        let (xs, ys): (Vec<f64>, Vec<f64>) = roller.iter().cloned().unzip();
+        let mid =
+            |v: &[f64]| (v.iter().cloned().fold(f64::MAX, f64::min) + v.iter().cloned().fold(f64::MIN, f64::max)) / 2.0;
+        let r = (mid(&xs), mid(&ys));
+        assert!((dist(roller[0], r) - 5.0).abs() < 0.05);
+        let gap = profile.iter().map(|&p| dist(p, r)).fold(f64::MAX, f64::min);
+        assert!(
+            (gap - 5.0).abs() < 0.15,
+            "φ = {phi}: the roller is {gap} mm from the profile"
+        );
+    }
+    // A groove has its outer flank drawn; an animation turns the cam.
+    let groove = draw_example(
+        include_str!("../../../../examples/cam-translating-groove.toml"),
+        &at(0.0),
+    );
+    assert_eq!(count(&groove, "cam-groove"), 1);
+    let svg = draw_example(
+        text,
+        &DrawOptions {
+            animate: true,
+            frames: 12,
+            ..Default::default()
+        },
+    );
+    let p = element(&svg, "class=\"cam-profile\"");
+    let anim = p + svg[p..].find("<animate ").unwrap();
+    let frames: Vec<&str> = attr(&svg, anim, "values").split(';').collect();
+    assert_eq!(frames.len(), 13);
+    assert_ne!(frames[0], frames[3]);
+}

@@ -284,6 +284,51 @@ impl Drawing<'_> {
         }
     }
 
+    /// Cams driving followers: the working profile (a groove's outer flank
+    /// round it), the pitch curve dashed, and the roller, turning with φ.
+    pub(super) fn draw_follower_cams(&self, out: &mut Sheet) {
+        for c in &self.sc.follower_cams {
+            let name = escape(&c.name);
+            if c.profile.first().is_none_or(|f| f.is_empty()) {
+                continue;
+            }
+            if c.outer.first().is_some_and(|f| !f.is_empty()) {
+                let frames = self.frames_attr(&c.outer);
+                let _ = writeln!(
+                    out.svg,
+                    r##"<polygon class="cam-groove" data-cam="{name}" fill="none" stroke="#5a4a2a" stroke-width="1.3" points="{}"><title>cam {name}: the groove's outer flank</title>{}</polygon>"##,
+                    frames[0],
+                    self.sc.timing.animate("points", &frames, false)
+                );
+            }
+            let frames = self.frames_attr(&c.profile);
+            let _ = writeln!(
+                out.svg,
+                r##"<polygon class="cam-profile" data-cam="{name}" fill="#f3efe6" stroke="#5a4a2a" stroke-width="1.3" points="{}"><title>cam {name}: the working profile</title>{}</polygon>"##,
+                frames[0],
+                self.sc.timing.animate("points", &frames, false)
+            );
+            if c.pitch.first().is_some_and(|f| !f.is_empty()) {
+                let frames = self.frames_attr(&c.pitch);
+                let _ = writeln!(
+                    out.svg,
+                    r##"<polygon class="cam-pitch" data-cam="{name}" fill="none" stroke="#9a8a6a" stroke-width="0.8" stroke-dasharray="6 3" points="{}"><title>cam {name}: the pitch curve (the follower's point round the cam)</title>{}</polygon>"##,
+                    frames[0],
+                    self.sc.timing.animate("points", &frames, false)
+                );
+            }
+            if c.roller.first().is_some_and(|f| !f.is_empty()) {
+                let frames = self.frames_attr(&c.roller);
+                let _ = writeln!(
+                    out.svg,
+                    r##"<polygon class="cam-roller" data-cam="{name}" fill="#ffffff" stroke="#303030" stroke-width="1.2" points="{}"><title>roller of {name}</title>{}</polygon>"##,
+                    frames[0],
+                    self.sc.timing.animate("points", &frames, false)
+                );
+            }
+        }
+    }
+
     /// Links: plates first, then bars.
     pub(super) fn draw_links(&self, out: &mut Sheet) {
         let (sc, np) = (self.sc, self.sc.np());

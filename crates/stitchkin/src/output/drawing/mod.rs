@@ -417,6 +417,7 @@ pub fn render(model: &Model, solved: Solved, opts: &DrawOptions) -> Result<Strin
     d.draw_crank_circles(&mut out);
     d.draw_guides(&mut out);
     d.draw_cams(&mut out);
+    d.draw_follower_cams(&mut out);
     d.draw_links(&mut out);
     d.draw_threads(&mut out);
     d.draw_sliders(&mut out);

@@ -50,6 +50,8 @@ pub(super) struct Scene<'a> {
     /// The cams a thread runs over, and their outlines per frame.
     pub(super) used_cams: Vec<usize>,
     pub(super) cam_outlines: Lines,
+    /// The cams that drive followers, turning with φ.
+    pub(super) follower_cams: Vec<FollowerCam>,
     /// Per traced point, its path over the cycle.
     pub(super) trajectories: Vec<(usize, Vec<V2<f64>>)>,
     /// Per crank circle, per frame, the circle.
@@ -108,6 +110,7 @@ impl<'a> Scene<'a> {
             None => Vec::new(),
         };
         let circles = crank_circles(&st, &pos, &proj);
+        let follower_cams = follower_cams(&mech, &slots, &proj);
         let travel = slider_travel(&st, cycle.as_ref().unwrap_or(&slots));
         Ok(Scene {
             model,
@@ -129,6 +132,7 @@ impl<'a> Scene<'a> {
             polylines,
             used_cams,
             cam_outlines,
+            follower_cams,
             trajectories,
             circles,
             travel,
@@ -217,6 +221,91 @@ fn cam_outlines(t: &Threads<f64>, used: &[usize], slots: &[Vec<V3<f64>>], proj: 
         .collect()
 }
 
+/// A cam driving a follower (`cam_follower`), per frame in drawing
+/// coordinates: its working profile, pitch curve and a groove's outer flank
+/// turned with the cam, and the roller round the follower's point.
+pub(super) struct FollowerCam {
+    pub(super) name: String,
+    pub(super) profile: Vec<Vec<V2<f64>>>,
+    pub(super) pitch: Vec<Vec<V2<f64>>>,
+    /// Empty per frame without a groove.
+    pub(super) outer: Vec<Vec<V2<f64>>>,
+    /// Empty per frame without a roller.
+    pub(super) roller: Vec<Vec<V2<f64>>>,
+}
+
+/// Points round a cam's outline (every 1°).
+const CAM_OUTLINE_SAMPLES: usize = 360;
+
+/// Each cam-and-follower group's cam, from the cam's outline
+/// ([`crate::mechanism::cam_follower::CamFollower::outline`]) turned by its
+/// cam angle in each frame; a frame where it cannot be made is left empty.
+fn follower_cams(mech: &Mechanism<f64>, slots: &[Vec<V3<f64>>], proj: &Projection) -> Vec<FollowerCam> {
+    use crate::mechanism::Step;
+    use crate::mechanism::cam_follower::Contact;
+    mech.steps
+        .iter()
+        .filter_map(|s| match s {
+            Step::CamFollower(c) => Some(&**c),
+            _ => None,
+        })
+        .map(|c| {
+            let mut cam = FollowerCam {
+                name: c.name.clone(),
+                profile: Vec::new(),
+                pitch: Vec::new(),
+                outer: Vec::new(),
+                roller: Vec::new(),
+            };
+            let r_r = match c.cam.contact {
+                Contact::Roller(r) => r,
+                _ => 0.0,
+            };
+            for s in slots {
+                let (c3, k3) = (s[c.center], s[c.marker]);
+                let centre = c.plane.project(&c3);
+                // Out of the plane: where the cam's centre stands off it.
+                let rise = c3 - c.plane.lift(centre, 0.0);
+                let at = |q: &V2<f64>, delta: f64| {
+                    let (sn, cs) = delta.sin_cos();
+                    let w = centre + V2::new(q.x * cs - q.y * sn, q.x * sn + q.y * cs);
+                    proj.project(&(c.plane.lift(w, 0.0) + rise))
+                };
+                let pivot = c.pivot.map(|p| c.plane.project(&s[p]));
+                let made = c
+                    .cam
+                    .cam_angle(centre, c.plane.project(&k3))
+                    .and_then(|d| Ok((d, c.cam.outline(centre, pivot, CAM_OUTLINE_SAMPLES)?)));
+                let (profile, pitch, outer) = match made {
+                    Ok((d, o)) if d.is_finite() => (
+                        o.profile.iter().map(|q| at(q, d)).collect(),
+                        o.pitch.iter().map(|q| at(q, d)).collect(),
+                        o.outer.iter().map(|q| at(q, d)).collect(),
+                    ),
+                    _ => (Vec::new(), Vec::new(), Vec::new()),
+                };
+                cam.profile.push(profile);
+                cam.pitch.push(pitch);
+                cam.outer.push(outer);
+                let roller = if r_r > 0.0 {
+                    let r = c.plane.project(&s[c.out]);
+                    (0..=48)
+                        .map(|k| {
+                            let th = k as f64 * std::f64::consts::TAU / 48.0;
+                            let w = r + V2::new(th.cos(), th.sin()) * r_r;
+                            proj.project(&(c.plane.lift(w, 0.0) + rise))
+                        })
+                        .collect()
+                } else {
+                    Vec::new()
+                };
+                cam.roller.push(roller);
+            }
+            cam
+        })
+        .collect()
+}
+
 /// Crank circles (static: their centres are fixed in every preset; a
 /// moving centre is followed per frame).
 fn crank_circles(st: &Structure, pos: &[Vec<V3<f64>>], proj: &Projection) -> Lines {
@@ -281,6 +370,9 @@ impl Page {
         sc.pts2.iter().flatten().for_each(&mut grow);
         sc.polylines.iter().flatten().flatten().for_each(&mut grow);
         sc.cam_outlines.iter().flatten().flatten().for_each(&mut grow);
+        for c in &sc.follower_cams {
+            c.profile.iter().chain(&c.outer).flatten().for_each(&mut grow);
+        }
         sc.trajectories.iter().flat_map(|(_, t)| t).for_each(&mut grow);
         sc.circles.iter().flatten().flatten().for_each(&mut grow);
         if !(lo.x.is_finite() && hi.x.is_finite()) {
