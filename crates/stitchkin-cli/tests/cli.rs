@@ -1176,3 +1176,43 @@ fn outputs_keep_devices_read_only_files_and_stopped_runs_intact() {
     assert!(!temporary(), "the temporary file outlived the signal");
     assert!(!out.exists(), "a stopped sweep wrote its output");
 }
+
+/// A repository example model's path.
+fn example(name: &str) -> String {
+    format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn cam_checks_count_in_sweeps_json_and_check() {
+    let rocking = example("cam-rocking-roller.toml");
+    // A 16° swing on a 12 mm base circle is too steep; on 18 mm it passes.
+    let (csv, _) = ok(&["sweep", &rocking, "--set", "rise=16", "--vary", "r_b=12:18:2"]);
+    let lines: Vec<&str> = csv.lines().filter(|l| !l.starts_with('#')).collect();
+    let k = lines[0]
+        .split(',')
+        .position(|c| c == "checks.ok")
+        .expect("a checks.ok column");
+    let ok_col: Vec<&str> = lines[1..].iter().map(|l| l.split(',').nth(k).unwrap()).collect();
+    assert_eq!(ok_col, ["0", "1"]);
+    let (csv, _) = ok(&[
+        "sweep",
+        &rocking,
+        "--vary",
+        "rise=6:16:2",
+        "--figures",
+        "feed_arm.checks_ok",
+    ]);
+    assert!(csv.starts_with("index,rise_deg,feed_arm.checks_ok,status"), "{csv}");
+    // run's JSON carries them; the spring fails at 3000 rpm.
+    let (json, _) = ok(&["run", &rocking, "--rpm", "3000", "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let checks = v["cams"][0]["checks"].as_array().unwrap();
+    assert_eq!(checks.len(), 3);
+    assert_eq!(checks[2]["name"], "follower_contact");
+    assert_eq!(checks[2]["ok"], false);
+    // check passes at the model's 1000 rpm; match needs a stitch.
+    let (text, _) = ok(&["check", &rocking]);
+    assert!(text.contains("# cam feed_arm ok"), "{text}");
+    let said = fails(&["match", &rocking]);
+    assert!(said.contains("no [stitch]"), "{said}");
+}

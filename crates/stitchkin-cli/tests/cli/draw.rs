@@ -148,3 +148,19 @@ fn draw_picks_the_view_that_suits_the_model() {
     let (spatial, _) = ok(&["draw", "--preset", "mf7923d"]);
     assert!(spatial.contains("isometric"), "a spatial model isometric");
 }
+
+#[test]
+fn draw_shows_a_cam_with_its_profile_pitch_curve_and_roller() {
+    let model = format!("{}/../../examples/cam-rocking-roller.toml", env!("CARGO_MANIFEST_DIR"));
+    let (svg, _) = ok(&["draw", &model, "--phi", "40"]);
+    for class in ["cam-profile", "cam-pitch", "cam-roller"] {
+        assert_eq!(svg.matches(&format!("class=\"{class}\"")).count(), 1, "{class}");
+    }
+    assert!(!svg.contains("NaN"));
+    let groove = format!(
+        "{}/../../examples/cam-translating-groove.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let (svg, _) = ok(&["draw", &groove, "--animate", "--frames", "8"]);
+    assert!(svg.contains("class=\"cam-groove\"") && svg.contains("<animate "));
+}

@@ -485,3 +485,24 @@ fn model_files_are_limited_in_size_type_and_number() {
         assert_eq!(get(&app, &format!("/api/model?model={key}")).status, 200, "{key}");
     }
 }
+
+#[test]
+fn a_cam_models_checks_are_in_the_evaluation_and_on_the_page() {
+    let app = app("needle876");
+    let text = include_str!("../../../../examples/cam-rocking-roller.toml");
+    let r = post_file(&app, "cam.toml", text.as_bytes());
+    assert_eq!(r.status, 200, "{}", r.text());
+    let key = json(&r)["model"].as_str().unwrap().to_string();
+    let e = json(&get(&app, &format!("/api/evaluate?model={key}")));
+    assert!(e["stitch"].is_null());
+    let checks = e["checks"].as_array().unwrap();
+    let names: Vec<&str> = checks.iter().map(|c| c["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["cam_pressure", "cam_curvature", "follower_contact"]);
+    assert!(checks.iter().all(|c| c["thread"] == "feed_arm" && c["ok"] == true));
+    assert_eq!(e["cams"][0]["group"], "feed_arm");
+    // The page builds its checks table from every check of the cycle.
+    let page = get(&app, "/");
+    assert!(page.text().contains("checksTable(b.checks)"));
+    let svg = get(&app, &format!("/api/drawing?model={key}&phi=30"));
+    assert!(svg.text().contains("class=\"cam-profile\""));
+}
