@@ -532,8 +532,8 @@ mod tests {
         let cf = translating(rise_return(Law::Cycloidal), 0.0, Contact::Roller(5.0));
         let c = V2::new(1.0, 2.0);
         // Cam angle 0: zero lift; 120°: full rise; 150°: the dwell.
-        for (deg, s) in [(0.0, 0.0), (120.0, 8.0), (150.0, 8.0), (240.0, 4.0)] {
-            let p = cf.point_at(c, (deg as f64).to_radians(), None).unwrap();
+        for (deg, s) in [(0.0f64, 0.0), (120.0, 8.0), (150.0, 8.0), (240.0, 4.0)] {
+            let p = cf.point_at(c, deg.to_radians(), None).unwrap();
             assert_relative_eq!(p.x, 1.0, epsilon = 1e-12);
             assert_relative_eq!(p.y, 2.0 + 25.0 + s, epsilon = 1e-12);
         }
@@ -565,8 +565,8 @@ mod tests {
         // tan α = (s′ − e) / (y0 + s) for an axis e to the left, the cam
         // turning counter-clockwise (δ growing).
         let cf = translating(rise_return(Law::Harmonic), 4.0, Contact::Roller(5.0));
-        for deg in [20.0, 60.0, 100.0, 200.0, 260.0] {
-            let d = (deg as f64).to_radians();
+        for deg in [20.0f64, 60.0, 100.0, 200.0, 260.0] {
+            let d = deg.to_radians();
             let st = cf.state(V2::zeros(), d, None).unwrap();
             let s = cf.lift.map(Dual2_64::from_re).at(Dual2_64::new(d, 1.0, 0.0));
             let y0 = (25.0f64 * 25.0 - 16.0).sqrt();
@@ -651,8 +651,8 @@ mod tests {
         let od = o.map(Dual2_64::from_re);
         let cfd = cf.constant::<Dual2_64>();
         let h = 1e-4;
-        for deg in [30.0, 75.0, 200.0, 250.0] {
-            let phi = (deg as f64).to_radians();
+        for deg in [30.0f64, 75.0, 200.0, 250.0] {
+            let phi = deg.to_radians();
             // The marker on a unit crank at φ.
             let k = |p: f64| V2::new(p.cos(), p.sin());
             let pd = Dual2_64::new(phi, 1.0, 0.0);

@@ -85,7 +85,59 @@ impl Loader<'_> {
             (_, None) => None,
         };
         let rocking = g.follower == FollowerKind::Rocking;
-        let motion = if rocking {
+        let motion = self.follower_motion(g, path)?;
+        let pivot = match (&g.pivot, rocking) {
+            (Some(p), true) => Some(self.point(p, &path.key("pivot"))?),
+            (None, true) => {
+                return Err(self.err(
+                    path,
+                    "a rocking follower needs its pivot",
+                    Some("add pivot = \"POINT\"".into()),
+                ));
+            }
+            _ => None,
+        };
+        let lift = self.lift(&g.lift, rocking, &path.key("lift"))?;
+        let closure = self.closure(g, path)?;
+        let max_pressure_deg = match g.max_pressure_deg {
+            Some(a) if a.is_finite() && a > 0.0 && a < 90.0 => a,
+            Some(a) => {
+                return Err(self.err(
+                    &path.key("max_pressure_deg"),
+                    format!("a pressure angle limit of {a}° is out of range"),
+                    Some(
+                        "give 0 < max_pressure_deg < 90 (30 is usual for a translating follower, 45 for a rocking one)"
+                            .into(),
+                    ),
+                ));
+            }
+            None if rocking => MAX_PRESSURE_ROCKING_DEG,
+            None => MAX_PRESSURE_TRANSLATING_DEG,
+        };
+        let plane = self.opt_frame(&g.plane, path.key("plane"))?;
+        Ok(StepDef::CamFollower(Box::new(CamFollowerDef {
+            name: g.name.clone().unwrap_or_else(|| g.out.clone()),
+            center,
+            marker,
+            pivot,
+            zero,
+            base,
+            contact: g.contact,
+            roller,
+            motion,
+            lift,
+            closure,
+            max_pressure_deg,
+            plane,
+            out: self.point_index[&g.out],
+        })))
+    }
+
+    /// How the follower moves: a translating one's axis or a rocking one's
+    /// arm and side.
+    fn follower_motion(&mut self, g: &CamFollowerGroup, path: &KeyPath) -> LoadResult<MotionDef> {
+        let rocking = g.follower == FollowerKind::Rocking;
+        Ok(if rocking {
             if g.contact == ContactKind::Flat {
                 return Err(self.err(
                     &path.key("contact"),
@@ -144,20 +196,12 @@ impl Loader<'_> {
                 None => self.zero(),
             };
             MotionDef::Translating { direction, offset }
-        };
-        let pivot = match (&g.pivot, rocking) {
-            (Some(p), true) => Some(self.point(p, &path.key("pivot"))?),
-            (None, true) => {
-                return Err(self.err(
-                    path,
-                    "a rocking follower needs its pivot",
-                    Some("add pivot = \"POINT\"".into()),
-                ));
-            }
-            _ => None,
-        };
-        let lift = self.lift(&g.lift, rocking, &path.key("lift"))?;
-        let closure = match g.closure.unwrap_or(ClosureKind::Spring) {
+        })
+    }
+
+    /// How the follower is kept on the cam, with a spring's figures checked.
+    fn closure(&self, g: &CamFollowerGroup, path: &KeyPath) -> LoadResult<Closure> {
+        Ok(match g.closure.unwrap_or(ClosureKind::Spring) {
             ClosureKind::Groove => {
                 if g.spring.is_some() {
                     return Err(self.err(
@@ -195,39 +239,7 @@ impl Loader<'_> {
                     })
                 }
             }),
-        };
-        let max_pressure_deg = match g.max_pressure_deg {
-            Some(a) if a.is_finite() && a > 0.0 && a < 90.0 => a,
-            Some(a) => {
-                return Err(self.err(
-                    &path.key("max_pressure_deg"),
-                    format!("a pressure angle limit of {a}° is out of range"),
-                    Some(
-                        "give 0 < max_pressure_deg < 90 (30 is usual for a translating follower, 45 for a rocking one)"
-                            .into(),
-                    ),
-                ));
-            }
-            None if rocking => MAX_PRESSURE_ROCKING_DEG,
-            None => MAX_PRESSURE_TRANSLATING_DEG,
-        };
-        let plane = self.opt_frame(&g.plane, path.key("plane"))?;
-        Ok(StepDef::CamFollower(Box::new(CamFollowerDef {
-            name: g.name.clone().unwrap_or_else(|| g.out.clone()),
-            center,
-            marker,
-            pivot,
-            zero,
-            base,
-            contact: g.contact,
-            roller,
-            motion,
-            lift,
-            closure,
-            max_pressure_deg,
-            plane,
-            out: self.point_index[&g.out],
-        })))
+        })
     }
 
     fn lift(&mut self, l: &LiftFile, rocking: bool, path: &KeyPath) -> LoadResult<LiftDef> {
