@@ -321,8 +321,10 @@ impl Model {
     /// `objective`: what to minimise, `"match"` (the mismatch of P and P′)
     /// or `"peak-tension"` (the thread's highest peak tension as a share of
     /// its breaking force; needs thread physics), as `--objective`; the
-    /// physical checks are constraints either way.
-    #[pyo3(signature = (adjust = None, samples = 0, seed = 1, step = 1.0, thickness = None, stitch = None, set = None, objective = "match"))]
+    /// physical checks are constraints either way. A job input (material,
+    /// stitch length) or a fixed dimension named in `adjust` is refused
+    /// unless `allow_inputs` or `allow_dimensions` lets it in.
+    #[pyo3(signature = (adjust = None, samples = 0, seed = 1, step = 1.0, thickness = None, stitch = None, set = None, objective = "match", allow_inputs = false, allow_dimensions = false))]
     #[allow(clippy::too_many_arguments)]
     fn tune<'py>(
         &self,
@@ -335,6 +337,8 @@ impl Model {
         stitch: Option<f64>,
         set: Option<&Bound<'py, PyDict>>,
         objective: &str,
+        allow_inputs: bool,
+        allow_dimensions: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
         let objective = match objective {
             "match" => tune::TuneObjective::Match,
@@ -346,7 +350,24 @@ impl Model {
             }
         };
         let mut params = self.params(py, set)?;
-        let model = &self.model;
+        let mut allowed = self.model.clone();
+        if allow_inputs {
+            allowed.allow_adjusting(stitchkin::model::ParamKind::Input);
+        }
+        if allow_dimensions {
+            allowed.allow_adjusting(stitchkin::model::ParamKind::Dimension);
+        }
+        let model = &allowed;
+        for name in adjust.iter().flatten() {
+            if let Some(r) = tune::KindRefusal::of(model, name) {
+                let allow = match r.kind {
+                    stitchkin::model::ParamKind::Input => "allow_inputs=True",
+                    _ => "allow_dimensions=True",
+                };
+                let e = stitchkin::ParamError::general(r.message(), Some(r.help(Some(allow))));
+                return Err(py_error(py, &stitchkin::Error::Param(e)));
+            }
+        }
         let json = py
             .detach(|| {
                 tune::check_samples(samples)?;

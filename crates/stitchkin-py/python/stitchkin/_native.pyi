@@ -74,6 +74,8 @@ class Model:
         stitch: Optional[float] = None,
         set: Optional[Mapping[str, float]] = None,
         objective: str = "match",
+        allow_inputs: bool = False,
+        allow_dimensions: bool = False,
     ) -> dict: ...
     def sweep(
         self,

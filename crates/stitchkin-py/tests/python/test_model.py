@@ -182,6 +182,12 @@ def test_match_needs_a_stitch():
         stitchkin.Model.preset("needle876").match()
 
 
+def json_dumps(value):
+    import json
+
+    return json.dumps(value)
+
+
 def test_tune_gives_the_command_lines_json():
     import json
 
@@ -190,6 +196,17 @@ def test_tune_gives_the_command_lines_json():
     assert got == expected
     with pytest.raises(stitchkin.StitchkinError):
         stitchkin.Model.preset("mf7923d").tune(samples=10**9)
+
+
+def test_tune_adjusts_machine_settings_unless_told_otherwise():
+    model = stitchkin.Model.preset("mf7923d")
+    with pytest.raises(stitchkin.StitchkinError, match="job input") as e:
+        model.tune(adjust=["m"])
+    assert "allow_inputs=True" in str(e.value)
+    with pytest.raises(stitchkin.StitchkinError, match="allow_dimensions=True"):
+        model.tune(adjust=["l_ab"])
+    got = model.tune(adjust=["m"], allow_inputs=True, samples=8, step=4.0)
+    assert "m" in json_dumps(got)
 
 
 @pytest.mark.parametrize(
