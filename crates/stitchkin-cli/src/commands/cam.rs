@@ -9,6 +9,7 @@ use stitchkin::error::{Error, ParamError};
 use stitchkin::output::text;
 use stitchkin::parse_curve_csv;
 use stitchkin::study::cam_synthesis::{CamOptions, Target, synthesise};
+use stitchkin::study::follower_synthesis::{FollowerOptions, synthesise_follower};
 
 use crate::common::{ByDestination, ModelArgs, emit, emit_text, format_or_default, full_table_hint, load, note};
 
@@ -20,7 +21,8 @@ use crate::common::{ByDestination, ModelArgs, emit, emit_text, format_or_default
 #[command(
     after_help = "Examples:\n  stitchkin cam --preset altin504 --path lower --target required -o lower-cam\n  \
     stitchkin cam --preset altin504 --path upper --target required --anchor-radius 21 --smooth 20 --format svg -o upper-cam.svg\n  \
-    stitchkin cam my-machine.toml --path looper --target wanted.csv --points 72 --min-radius 5 --format toml\n\n\
+    stitchkin cam my-machine.toml --path looper --target wanted.csv --points 72 --min-radius 5 --format toml\n  \
+    stitchkin cam examples/cam-follower-thread.toml --follower pusher --path lower --target examples/altin504-lower-pprime.csv --smooth 10 -o pusher\n\n\
     The profile: one radius per position φ = φ0 + k·360/N, solved from the target by Polyakov (2022) §2.5's\n\
     offset contact (a quadratic in ρ); the rest of the path from the solved mechanism. Checks (reported,\n\
     not fixed): minimum radius, convexity, profile slope and the thread's contact angle. Files: PREFIX.csv\n\
@@ -37,6 +39,11 @@ pub(crate) struct Args {
     /// The cam on that path (needed when it runs over several).
     #[arg(long, value_name = "NAME")]
     cam: Option<String>,
+    /// Synthesise the lift of this cam_follower group instead, whose
+    /// follower carries a point of the path: files PREFIX.csv (lift and
+    /// profile), PREFIX.dxf, PREFIX.toml (the group's base_radius and lift).
+    #[arg(long, value_name = "GROUP", conflicts_with_all = ["cam", "anchor_radius", "min_radius", "max_pressure_angle"])]
+    follower: Option<String>,
     /// What P(φ) should be: `required` (P' of the [stitch] thread compared
     /// with the path) or a CSV file with columns phi_deg,P_mm (periodic;
     /// the periodic cubic spline between its points).
@@ -114,6 +121,9 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
             Some("give -o PREFIX (PREFIX.csv, .svg, .dxf, .toml), or one --format for stdout".into()),
         )));
     }
+    if let Some(group) = &args.follower {
+        return run_follower(&args, (&model, &params), group, target, format);
+    }
     let mut opts = CamOptions::new(&args.path, target);
     opts.cam = args.cam.clone();
     opts.points = args.points;
@@ -160,6 +170,63 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         }
     }
     note(&text::cam_summary::summary(&s));
+    Ok(())
+}
+
+/// `--follower GROUP`: the lift of a cam_follower group.
+fn run_follower(
+    args: &Args,
+    (model, params): (&stitchkin::model::Model, &stitchkin::model::Params),
+    group: &str,
+    target: Target,
+    format: CamFormat,
+) -> Result<(), Error> {
+    if format == CamFormat::Svg {
+        return Err(Error::Param(ParamError::general(
+            "a follower's cam is written as csv, dxf or toml (or the summary), not svg",
+            Some("give --format csv, dxf, toml or all".into()),
+        )));
+    }
+    let mut opts = FollowerOptions::new(group, &args.path, target);
+    opts.points = args.points;
+    opts.smooth_deg = args.smooth;
+    let s = synthesise_follower(model, params, &opts)?;
+    let render = |f: CamFormat| match f {
+        CamFormat::Csv => text::follower_cam::csv(&s),
+        CamFormat::Dxf => text::follower_cam::dxf(&s),
+        CamFormat::Table => {
+            text::follower_cam::summary(&s) + &full_table_hint("the lift and the profile, every half degree")
+        }
+        _ => text::follower_cam::toml_snippet(&s),
+    };
+    let ext = |f: CamFormat| match f {
+        CamFormat::Csv => "csv",
+        CamFormat::Dxf => "dxf",
+        CamFormat::Table => "txt",
+        _ => "toml",
+    };
+    match &args.output {
+        None if format == CamFormat::Table => return emit_text(&render(format), None),
+        None => emit(render(format).as_bytes(), None)?,
+        Some(prefix) => {
+            let formats = if format == CamFormat::All {
+                vec![CamFormat::Csv, CamFormat::Dxf, CamFormat::Toml]
+            } else {
+                vec![format]
+            };
+            for f in formats {
+                let path = if format != CamFormat::All && prefix.extension().is_some_and(|e| e == ext(f)) {
+                    prefix.clone()
+                } else {
+                    let mut p = OsString::from(prefix.as_os_str());
+                    p.push(format!(".{}", ext(f)));
+                    PathBuf::from(p)
+                };
+                emit_text(&render(f), Some(&path))?;
+            }
+        }
+    }
+    note(&text::follower_cam::summary(&s));
     Ok(())
 }
 

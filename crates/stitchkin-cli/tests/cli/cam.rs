@@ -203,3 +203,78 @@ fn cam_errors_are_clear() {
     ]);
     assert!(e.contains("(in --points)") && e.contains("between 8 and 1440"), "{e}");
 }
+
+#[test]
+fn cam_follower_writes_the_lift_the_profile_and_a_closed_dxf() {
+    let ex = |f: &str| format!("{}/../../examples/{f}", env!("CARGO_MANIFEST_DIR"));
+    let d = scratch("cam-follower");
+    let prefix = d.join("pusher");
+    let model = ex("cam-follower-thread.toml");
+    let target = ex("altin504-lower-pprime.csv");
+    let (out, summary) = ok(&[
+        "cam",
+        &model,
+        "--follower",
+        "pusher",
+        "--path",
+        "lower",
+        "--target",
+        &target,
+        "--smooth",
+        "10",
+        "-o",
+        prefix.to_str().unwrap(),
+    ]);
+    assert!(out.is_empty(), "files only with -o: {out}");
+    for want in [
+        "group `pusher` (translating follower), thread path `lower`",
+        "score 99.6",
+        "pressure angle  max 15.8°",
+        "(limit 30°): ok",
+        "curvature       least radius 5.95 mm",
+        "wrote ",
+    ] {
+        assert!(summary.contains(want), "no `{want}` in\n{summary}");
+    }
+    let read = |ext: &str| std::fs::read_to_string(d.join(format!("pusher.{ext}"))).unwrap();
+    let csv = read("csv");
+    assert!(csv.starts_with("cam_deg,lift_mm,pitch_x_mm,pitch_y_mm,profile_x_mm,profile_y_mm\n"));
+    assert_eq!(csv.lines().count(), 721);
+    let toml = read("toml");
+    assert!(
+        toml.contains("base_radius = 24.97") && toml.contains("lift = { angle_deg = ["),
+        "{toml}"
+    );
+    let dxf = read("dxf");
+    assert!(dxf.contains("POLYLINE\n8\nPROFILE\n66\n1\n70\n1\n") && dxf.trim_end().ends_with("EOF"));
+    assert_eq!(dxf.matches("VERTEX").count(), 720);
+    // Without an unsmoothed profile to cut, the undercut is said.
+    let (_, summary) = ok(&[
+        "cam",
+        &model,
+        "--follower",
+        "pusher",
+        "--path",
+        "lower",
+        "--target",
+        &target,
+        "--format",
+        "toml",
+    ]);
+    assert!(summary.contains("UNDERCUT"), "{summary}");
+    // A group that is not there.
+    let err = fails(&[
+        "cam",
+        &model,
+        "--follower",
+        "nope",
+        "--path",
+        "lower",
+        "--target",
+        &target,
+    ]);
+    assert!(
+        err.contains("no cam_follower group `nope`") && err.contains("pusher"),
+        "{err}"
+    );
+}

@@ -259,12 +259,12 @@ pub struct CamSynthesis {
     pub profile: Profile,
 }
 
-fn bad(message: String, help: &str) -> Error {
+pub(crate) fn bad(message: String, help: &str) -> Error {
     Error::Param(ParamError::general(message, Some(help.to_string())))
 }
 
 /// A value given in `input` that cannot be used.
-fn bad_input(input: Input, message: String, help: &str) -> Error {
+pub(crate) fn bad_input(input: Input, message: String, help: &str) -> Error {
     Error::Param(ParamError::new(input, message, Some(help.to_string())))
 }
 
@@ -423,13 +423,13 @@ impl Ray {
 }
 
 /// An angle reduced to [0, 360) degrees (`rem_euclid` may round up to 360).
-fn turn_deg(x: f64) -> f64 {
+pub(crate) fn turn_deg(x: f64) -> f64 {
     let w = x.rem_euclid(360.0);
     if w >= 360.0 { 0.0 } else { w }
 }
 
 /// P of path `pi` at every φ of `pose` with the mechanism's current cams.
-fn take_up(
+pub(crate) fn take_up(
     mech: &Mechanism<f64>,
     threads: &Threads<f64>,
     pose: &Pose<f64>,
@@ -493,11 +493,11 @@ struct CamPiece {
 
 /// The stitch thread compared with the path: its name, P' over the grid
 /// (mm), the compared mask and the tolerance of the match, mm.
-struct StitchThread {
-    name: String,
-    pprime: Vec<f64>,
-    compared: Vec<bool>,
-    tolerance_mm: f64,
+pub(crate) struct StitchThread {
+    pub(crate) name: String,
+    pub(crate) pprime: Vec<f64>,
+    pub(crate) compared: Vec<bool>,
+    pub(crate) tolerance_mm: f64,
 }
 
 /// Synthesises the profile of the cam on `opts.path` (module docs).
@@ -634,7 +634,7 @@ fn take_up_with(
 }
 
 /// The note on a target shifted to the convention's take-up at φ0.
-fn shift_note(raw0: f64, phi0: f64, p_conv0: f64) -> String {
+pub(crate) fn shift_note(raw0: f64, phi0: f64, p_conv0: f64) -> String {
     format!(
         "the target is {} mm at φ0 = {}°, where every take-up is {} mm by definition: it is matched up to that constant (shifted by {} mm)",
         fmt_num(raw0),
@@ -645,7 +645,7 @@ fn shift_note(raw0: f64, phi0: f64, p_conv0: f64) -> String {
 }
 
 /// The options in range, each refused naming the input that sets it.
-fn check_options(opts: &CamOptions) -> Result<(), Error> {
+pub(crate) fn check_options(opts: &CamOptions) -> Result<(), Error> {
     if !(8..=1440).contains(&opts.points) {
         return Err(bad_input(
             Input::ProfilePoints,
@@ -821,7 +821,7 @@ fn check_single_sweep(rays: &[Ray], phis: &[f64], cam: &str) -> Result<(), Error
 
 /// The target over the grid, unshifted, with what it is in words, and the
 /// stitch thread compared with the path (for the match report).
-fn target_on_grid(
+pub(crate) fn target_on_grid(
     model: &Model,
     params: &Params,
     opts: &CamOptions,
@@ -1001,7 +1001,7 @@ fn solve_radii(rays: &[Ray], l_t: &[f64], phis: &[f64], anchor_rho: f64, cam: &C
 /// The take-up before and after against the target over the grid: the
 /// largest errors at the knots and between them, and the match with the
 /// stitch thread's P'.
-fn verification(
+pub(crate) fn verification(
     phis: Vec<f64>,
     target: Vec<f64>,
     p_before: Vec<f64>,
@@ -1099,7 +1099,7 @@ fn paths_sharing(threads: &Threads<f64>, ci: usize, path: &str) -> Vec<String> {
 /// Periodic moving average of the knot radii over `width_deg` of profile
 /// angle, applied twice: triangular weights reaching ±`width_deg`, each knot
 /// weighted by the angle it stands for (the knots may be spaced unevenly).
-fn smooth(knots: &mut [Knot], width_deg: f64) {
+pub(crate) fn smooth(knots: &mut [Knot], width_deg: f64) {
     let n = knots.len();
     let th: Vec<f64> = knots.iter().map(|k| k.theta_deg).collect();
     let gap = |i: usize, j: usize| (th[j] - th[i]).rem_euclid(360.0);

@@ -25,6 +25,7 @@ pub mod compare_2d3d;
 pub mod design;
 pub mod figures;
 pub mod fit;
+pub mod follower_synthesis;
 pub mod measured;
 pub mod nomogram;
 pub mod sensitivity;

@@ -110,14 +110,22 @@ pub fn svg(cam: &CamSynthesis) -> String {
 /// layer PROFILE, the centre as a POINT and the marker direction as a
 /// LINE on layer MARKER.
 pub fn dxf(cam: &CamSynthesis) -> String {
+    dxf_outline(
+        &format!("stitchkin cam: cam {} for thread path {}; units mm", cam.cam, cam.path),
+        &cam.outline(),
+    )
+}
+
+/// A closed outline `pts` (mm, about the cam's centre, x toward angle 0)
+/// as an R12 ASCII DXF with the `comment` first: a closed POLYLINE on
+/// layer PROFILE, the centre as a POINT and the angle-0 direction as a
+/// LINE on layer MARKER.
+pub fn dxf_outline(comment: &str, pts: &[(f64, f64)]) -> String {
     let mut s = String::new();
     let mut g = |code: i32, v: &str| {
         s += &format!("{code}\n{v}\n");
     };
-    g(
-        999,
-        &format!("stitchkin cam: cam {} for thread path {}; units mm", cam.cam, cam.path),
-    );
+    g(999, comment);
     for (c, v) in [
         (0, "SECTION"),
         (2, "HEADER"),
@@ -142,8 +150,7 @@ pub fn dxf(cam: &CamSynthesis) -> String {
     ] {
         g(c, v);
     }
-    let pts = cam.outline();
-    for (x, y) in &pts {
+    for (x, y) in pts {
         for (c, v) in [
             (0, "VERTEX".to_string()),
             (8, "PROFILE".into()),

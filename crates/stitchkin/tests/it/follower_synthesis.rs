@@ -1,0 +1,164 @@
+//! Cam synthesis for a follower (`stitchkin cam --follower`): the lift of
+//! a translating roller pusher that carries a looper thread between two
+//! guides (examples/cam-follower-thread.toml), from the Altin lower
+//! thread's required take-up P' written as a curve
+//! (examples/altin504-lower-pprime.csv).
+
+use stitchkin::model::Model;
+use stitchkin::study::cam_synthesis::Target;
+use stitchkin::study::follower_synthesis::{FollowerOptions, FollowerSynthesis, synthesise_follower};
+use stitchkin::thread::measured::parse_curve_csv;
+
+const MODEL: &str = include_str!("../../../../examples/cam-follower-thread.toml");
+const PPRIME: &str = include_str!("../../../../examples/altin504-lower-pprime.csv");
+
+fn model() -> Model {
+    Model::from_toml_str(MODEL, "cam-follower-thread.toml").unwrap()
+}
+
+fn target() -> Target {
+    Target::from_curve(&parse_curve_csv(PPRIME, "altin504-lower-pprime.csv").unwrap()).unwrap()
+}
+
+fn synth(smooth_deg: f64) -> FollowerSynthesis {
+    let m = model();
+    let mut o = FollowerOptions::new("pusher", "lower", target());
+    o.smooth_deg = smooth_deg;
+    synthesise_follower(&m, &m.defaults(), &o).unwrap_or_else(|e| panic!("synthesis failed: {e}"))
+}
+
+/// The example with the group's base_radius and lift replaced by `snippet`.
+fn pasted(snippet: &str) -> Model {
+    let start = MODEL.find("base_radius = \"r_b\"").unwrap();
+    let lift = MODEL.find("lift = { angle_deg").unwrap();
+    let end = lift + MODEL[lift..].find("}\n").unwrap() + 2;
+    let text = format!(
+        "{}{}{}",
+        &MODEL[..start],
+        MODEL[start..lift].replace("base_radius = \"r_b\"\n", ""),
+        &MODEL[end..]
+    )
+    .replacen("out = \"R\"\n", &format!("out = \"R\"\n{snippet}"), 1);
+    Model::from_toml_str(&text, "pasted.toml").unwrap_or_else(|e| panic!("{e}\n{text}"))
+}
+
+#[test]
+fn the_lift_gives_the_target_and_passes_the_checks() {
+    // Unsmoothed: the take-up is the target at every knot, but the fall
+    // after the draw-in bends the pitch curve tighter than the roller.
+    let raw = synth(0.0);
+    assert!(raw.verify.max_err_knots_mm < 1e-9, "{}", raw.verify.max_err_knots_mm);
+    assert!(raw.score().unwrap() > 99.9);
+    assert!(!raw.checks.curvature_ok && raw.checks.min_curvature_radius_mm < 0.0);
+    let text = stitchkin::output::text::follower_cam::summary(&raw);
+    assert!(text.contains("UNDERCUT"), "{text}");
+    // Smoothed over 10°: score ≥ 90, both checks pass.
+    let s = synth(10.0);
+    let score = s.score().unwrap();
+    assert!((90.0..100.0).contains(&score), "{score}");
+    assert!(s.checks.pressure_ok && s.checks.curvature_ok, "{:?}", s.checks);
+    assert!(s.checks.max_pressure_deg < 20.0 && s.checks.min_curvature_radius_mm > 3.0);
+    // The lift starts at 0, and the base circle moves the follower's
+    // zero-lift place to where the least lift put it: the pitch radius at
+    // the least lift is the base circle plus the roller.
+    assert_eq!(s.lift_range[0], 0.0);
+    assert!(
+        (s.base_radius_mm - (30.0 + s.least_lift)).abs() < 1e-9,
+        "{}",
+        s.base_radius_mm
+    );
+    let least_pitch = s
+        .profile
+        .iter()
+        .map(|p| p.pitch_mm[0].hypot(p.pitch_mm[1]))
+        .fold(f64::MAX, f64::min);
+    assert!(
+        (least_pitch - (s.base_radius_mm + s.roller_mm)).abs() < 1e-3,
+        "{least_pitch}"
+    );
+    // Pasted into the model, the loader takes it and the model's own cam
+    // checks and take-up agree with the synthesis.
+    let m = pasted(&stitchkin::output::text::follower_cam::toml_snippet(&s));
+    let t = stitchkin::eval::run_cycle(
+        &m,
+        &m.defaults(),
+        &stitchkin::eval::CycleOptions {
+            step_deg: 1.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(t.cams.iter().all(|c| c.checks_ok()), "{:?}", t.cams);
+    let checks = &t.cams[0].checks;
+    assert!((checks[0].value - s.checks.max_pressure_deg).abs() < 1e-6, "{checks:?}");
+    assert!(
+        (checks[1].value - s.checks.min_curvature_radius_mm).abs() < 1e-6,
+        "{checks:?}"
+    );
+    // Its take-up over 1° of φ spans what the synthesis verified.
+    let col = t.column("lower.P_mm").unwrap();
+    let span = |v: &[f64]| v.iter().fold([f64::MAX, f64::MIN], |m, x| [m[0].min(*x), m[1].max(*x)]);
+    let (a, b) = (span(col), span(&s.verify.p_after_mm));
+    assert!((a[0] - b[0]).abs() < 0.05 && (a[1] - b[1]).abs() < 0.05, "{a:?} {b:?}");
+}
+
+#[test]
+fn the_dxf_is_a_closed_profile() {
+    let s = synth(10.0);
+    let dxf = stitchkin::output::text::follower_cam::dxf(&s);
+    let lines: Vec<&str> = dxf.lines().collect();
+    let pairs: Vec<(&str, &str)> = lines.chunks(2).map(|c| (c[0].trim(), c[1].trim())).collect();
+    let poly = pairs.iter().position(|p| *p == ("0", "POLYLINE")).unwrap();
+    // The closed flag (70 = 1) on the polyline, and its vertices.
+    let end = pairs.iter().position(|p| *p == ("0", "SEQEND")).unwrap();
+    let head_end = poly + pairs[poly..].iter().position(|p| *p == ("0", "VERTEX")).unwrap();
+    assert!(pairs[poly..head_end].contains(&("70", "1")));
+    let xs: Vec<f64> = pairs[head_end..end]
+        .iter()
+        .filter(|p| p.0 == "10")
+        .map(|p| p.1.parse().unwrap())
+        .collect();
+    let ys: Vec<f64> = pairs[head_end..end]
+        .iter()
+        .filter(|p| p.0 == "20")
+        .map(|p| p.1.parse().unwrap())
+        .collect();
+    assert_eq!(xs.len(), 720);
+    assert_eq!(ys.len(), 720);
+    // Closing it back to the first vertex is a step like any other: the
+    // outline goes round once without a gap.
+    let step = |i: usize, j: usize| (xs[j] - xs[i]).hypot(ys[j] - ys[i]);
+    let longest = (0..719).map(|i| step(i, i + 1)).fold(0.0, f64::max);
+    assert!(
+        step(719, 0) <= 1.5 * longest && longest < 1.0,
+        "{} {longest}",
+        step(719, 0)
+    );
+    let turn: f64 = (0..720)
+        .map(|i| {
+            let j = (i + 1) % 720;
+            let d = ys[j].atan2(xs[j]) - ys[i].atan2(xs[i]);
+            (d + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+        })
+        .sum();
+    assert!((turn.abs() - std::f64::consts::TAU).abs() < 1e-9, "{turn}");
+}
+
+#[test]
+fn bad_input_is_refused_with_the_place_and_the_fix() {
+    let m = model();
+    let e = synthesise_follower(&m, &m.defaults(), &FollowerOptions::new("nope", "lower", target())).unwrap_err();
+    assert!(
+        e.to_string().contains("no cam_follower group `nope`") && e.help().unwrap().contains("pusher"),
+        "{e}"
+    );
+    let e = synthesise_follower(&m, &m.defaults(), &FollowerOptions::new("pusher", "upper", target())).unwrap_err();
+    assert!(e.to_string().contains("no thread path `upper`"), "{e}");
+    let e = synthesise_follower(
+        &m,
+        &m.defaults(),
+        &FollowerOptions::new("pusher", "lower", Target::Required),
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("no [stitch]"), "{e}");
+}
