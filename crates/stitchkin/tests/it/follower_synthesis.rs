@@ -162,3 +162,39 @@ fn bad_input_is_refused_with_the_place_and_the_fix() {
     .unwrap_err();
     assert!(e.to_string().contains("no [stitch]"), "{e}");
 }
+
+#[test]
+fn a_rocking_arm_gets_its_own_lift_back() {
+    // The rocking example with a thread over its eyelet E: the take-up its
+    // own lift gives, as the target, gives back that lift (12° rise) and
+    // the base circle (18 mm).
+    let text = include_str!("../../../../examples/cam-rocking-roller.toml")
+        .replace("O3 = [45, 20]\n", "O3 = [45, 20]\nG1 = [60, 80]\nG2 = [100, 70]\n")
+        .replace(
+            "[output]",
+            "[thread]\n[[thread.paths]]\nname = \"t\"\nnodes = [\"G1\", \"E\", \"G2\"]\n\n[output]",
+        );
+    let m = Model::from_toml_str(&text, "rock.toml").unwrap();
+    let t = stitchkin::eval::run_cycle(
+        &m,
+        &m.defaults(),
+        &stitchkin::eval::CycleOptions {
+            step_deg: 2.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let target = Target::Curve {
+        phi_deg: t.column("phi_deg").unwrap().to_vec(),
+        p_mm: t.column("t.P_mm").unwrap().to_vec(),
+        source: "own".into(),
+    };
+    let mut o = FollowerOptions::new("feed_arm", "t", target);
+    o.points = 180;
+    let s = synthesise_follower(&m, &m.defaults(), &o).unwrap();
+    assert_eq!(s.lift_unit, "deg");
+    assert!((s.lift_range[1] - 12.0).abs() < 1e-4, "{:?}", s.lift_range);
+    assert!((s.base_radius_mm - 18.0).abs() < 1e-4, "{}", s.base_radius_mm);
+    assert!(s.verify.max_err_knots_mm < 1e-9 && s.score().unwrap() > 99.9);
+    assert!(s.checks.pressure_ok && s.checks.curvature_ok);
+}
