@@ -117,8 +117,16 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let format = format_or_default(args.format, args.output.as_deref());
     if format == CamFormat::All && args.output.is_none() {
         return Err(Error::Param(ParamError::general(
-            "--format all writes four files",
-            Some("give -o PREFIX (PREFIX.csv, .svg, .dxf, .toml), or one --format for stdout".into()),
+            if args.follower.is_some() {
+                "--format all writes three files"
+            } else {
+                "--format all writes four files"
+            },
+            Some(if args.follower.is_some() {
+                "give -o PREFIX (PREFIX.csv, .dxf, .toml), or one --format for stdout".into()
+            } else {
+                "give -o PREFIX (PREFIX.csv, .svg, .dxf, .toml), or one --format for stdout".into()
+            }),
         )));
     }
     if let Some(group) = &args.follower {
