@@ -294,14 +294,7 @@ impl Model {
                     )));
                 };
                 let internal = |e: serde_json::Error| stitchkin::Error::Internal(format!("cannot write JSON: {e}"));
-                let mut json = serde_json::to_value(st).map_err(internal)?;
-                json["model"] = serde_json::json!(model.name());
-                let caveats: Vec<String> = model
-                    .caveats()
-                    .iter()
-                    .map(|c| stitchkin::references::cited(c).into_owned())
-                    .collect();
-                json["caveats"] = serde_json::json!(caveats);
+                let json = stitchkin::output::match_json(model, &table, st).map_err(internal)?;
                 serde_json::to_string(&json).map_err(internal)
             })
             .map_err(|e| py_error(py, &e))?;

@@ -61,21 +61,11 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
     let measured = measured(&args.measured, &table)?;
     let out = match args.output.format() {
         TableOrJson::Json => {
-            // The stitch summary, with the model's name and caveats and the
-            // measured curves beside it.
+            // The match as every front end writes it, with the measured
+            // curves beside it.
             let json_err = |e: serde_json::Error| Error::Internal(format!("cannot write JSON: {e}"));
-            let mut json = serde_json::to_value(st).map_err(json_err)?;
-            json["model"] = serde_json::json!(model.name());
-            // Papers by authors and year, as the Python package gives them.
-            let caveats: Vec<String> = model
-                .caveats()
-                .iter()
-                .map(|c| stitchkin::references::cited(c).into_owned())
-                .collect();
-            json["caveats"] = serde_json::json!(caveats);
+            let mut json = stitchkin::output::match_json(&model, &table, st).map_err(json_err)?;
             json["measured"] = serde_json::to_value(&measured).map_err(json_err)?;
-            // Each cam and follower's checks, as `run`'s JSON gives them.
-            json["cams"] = serde_json::to_value(&table.cams).map_err(json_err)?;
             crate::common::json(&json)?
         }
         TableOrJson::Table => text::matching::screen(&model, &table, st, &measured, args.details),

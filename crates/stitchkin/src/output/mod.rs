@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::eval::CycleTable;
+use crate::eval::stitch_process::StitchSummary;
 use crate::format::{fmt_num, push_num};
 use crate::model::{Model, Params};
 
@@ -99,6 +100,22 @@ struct JsonRun<'a> {
     parameters: Vec<JsonParam<'a>>,
     #[serde(flatten)]
     table: &'a CycleTable,
+}
+
+/// A match's result as JSON, the same from every front end: the stitch
+/// summary with the model's name, its caveats (papers cited by authors and
+/// year) and each cam and follower's checks (`cams`).
+pub fn match_json(model: &Model, table: &CycleTable, stitch: &StitchSummary) -> serde_json::Result<serde_json::Value> {
+    let mut json = serde_json::to_value(stitch)?;
+    json["model"] = serde_json::json!(model.name());
+    let caveats: Vec<String> = model
+        .caveats()
+        .iter()
+        .map(|c| crate::references::cited(c).into_owned())
+        .collect();
+    json["caveats"] = serde_json::json!(caveats);
+    json["cams"] = serde_json::to_value(&table.cams)?;
+    Ok(json)
 }
 
 /// The run as JSON: model, parameter values, columns and summaries.
