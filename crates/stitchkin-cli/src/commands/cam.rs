@@ -154,18 +154,39 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
         CamFormat::Toml | CamFormat::All => "toml",
         CamFormat::Table => "txt",
     };
-    match &args.output {
-        // The summary is the result: on stdout, not again on stderr.
-        None if format == CamFormat::Table => return emit_text(&render(format), None),
+    let all = [CamFormat::Csv, CamFormat::Svg, CamFormat::Dxf, CamFormat::Toml];
+    if !write_formats(args.output.as_ref(), format, &all, ext, render)? {
+        return Ok(());
+    }
+    note(&text::cam_summary::summary(&s));
+    Ok(())
+}
+
+/// Writes the result in `format`: without -o on stdout (the summary is
+/// then the result, so `false`: nothing more to say on stderr); with -o
+/// PREFIX one file per format (`all` for `--format all`), PREFIX.EXT, or
+/// PREFIX itself when it already ends in the one format's extension
+/// (`-o cam.svg --format svg` writes cam.svg, not cam.svg.svg).
+fn write_formats(
+    output: Option<&PathBuf>,
+    format: CamFormat,
+    all: &[CamFormat],
+    ext: impl Fn(CamFormat) -> &'static str,
+    render: impl Fn(CamFormat) -> String,
+) -> Result<bool, Error> {
+    match output {
+        None if format == CamFormat::Table => {
+            emit_text(&render(format), None)?;
+            return Ok(false);
+        }
         None => emit(render(format).as_bytes(), None)?,
         Some(prefix) => {
             let formats = if format == CamFormat::All {
-                vec![CamFormat::Csv, CamFormat::Svg, CamFormat::Dxf, CamFormat::Toml]
+                all.to_vec()
             } else {
                 vec![format]
             };
             for f in formats {
-                // `-o cam.svg --format svg` writes cam.svg, not cam.svg.svg.
                 let path = if format != CamFormat::All && prefix.extension().is_some_and(|e| e == ext(f)) {
                     prefix.clone()
                 } else {
@@ -177,8 +198,7 @@ pub(crate) fn run(args: Args) -> Result<(), Error> {
             }
         }
     }
-    note(&text::cam_summary::summary(&s));
-    Ok(())
+    Ok(true)
 }
 
 /// `--follower GROUP`: the lift of a cam_follower group.
@@ -213,26 +233,9 @@ fn run_follower(
         CamFormat::Table => "txt",
         _ => "toml",
     };
-    match &args.output {
-        None if format == CamFormat::Table => return emit_text(&render(format), None),
-        None => emit(render(format).as_bytes(), None)?,
-        Some(prefix) => {
-            let formats = if format == CamFormat::All {
-                vec![CamFormat::Csv, CamFormat::Dxf, CamFormat::Toml]
-            } else {
-                vec![format]
-            };
-            for f in formats {
-                let path = if format != CamFormat::All && prefix.extension().is_some_and(|e| e == ext(f)) {
-                    prefix.clone()
-                } else {
-                    let mut p = OsString::from(prefix.as_os_str());
-                    p.push(format!(".{}", ext(f)));
-                    PathBuf::from(p)
-                };
-                emit_text(&render(f), Some(&path))?;
-            }
-        }
+    let all = [CamFormat::Csv, CamFormat::Dxf, CamFormat::Toml];
+    if !write_formats(args.output.as_ref(), format, &all, ext, render)? {
+        return Ok(());
     }
     note(&text::follower_cam::summary(&s));
     Ok(())

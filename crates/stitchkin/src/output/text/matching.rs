@@ -315,27 +315,8 @@ fn checks_block(table: &CycleTable, st: &StitchSummary, details: bool) -> String
 /// range and where (the cam angle δ for the profile's checks, φ for the
 /// follower's contact over the cycle).
 fn cam_check_line(c: &Check, details: bool) -> String {
-    let figure = if c.limit == [None, None] || !c.at_deg.is_finite() {
-        format!("{:>11}  ({})", c.value_words(), c.message)
-    } else {
-        let at = if c.name == "follower_contact" { "φ" } else { "cam δ" };
-        format!(
-            "{:>11}  (allowed {}; {at} = {:.1}°)",
-            c.value_words(),
-            c.limit_words(),
-            c.at_deg
-        )
-    };
-    let mut s = format!(
-        "  {:<5} {:<6} {:<19} {figure}\n",
-        if c.ok { "ok" } else { "FAIL" },
-        c.thread,
-        c.name
-    );
-    if !c.ok || details {
-        s += &format!("        {}\n", c.message);
-    }
-    s
+    let at = if c.name == "follower_contact" { "φ" } else { "cam δ" };
+    check_row(c, at, "", details)
 }
 
 /// The checks of several threads, one line per check where every thread
@@ -403,22 +384,29 @@ pub(super) fn group_figure(group: &[&Check]) -> String {
 /// One check of one thread: its figure and allowed range, where it is
 /// judged, and what it means where it fails (or always, with `details`).
 fn check_line(table: &CycleTable, st: &StitchSummary, c: &Check, details: bool) -> String {
-    let figure = if c.limit == [None, None] {
+    // The thread bound beside P_B's peak, the thread given at its most.
+    let peak = match c.name {
+        "thread_bound" => st
+            .threads
+            .iter()
+            .find(|t| t.thread == c.thread)
+            .and_then(|t| t.path.as_ref())
+            .and_then(|p| table.paths.iter().find(|s| &s.path == p))
+            .map_or(String::new(), |s| format!("; P_B peaks at {:.2} mm", s.max_p_mm)),
+        _ => String::new(),
+    };
+    check_row(c, "φ", &peak, details)
+}
+
+/// A check's line: its verdict, whose it is, its figure beside the allowed
+/// range and where (`at` names the angle, `extra` follows it), then what
+/// it means where it fails (or always, with `details`).
+fn check_row(c: &Check, at: &str, extra: &str, details: bool) -> String {
+    let figure = if c.limit == [None, None] || !c.at_deg.is_finite() {
         format!("{:>11}  ({})", c.value_words(), c.message)
     } else {
-        // The thread bound beside P_B's peak, the thread given at its most.
-        let peak = match c.name {
-            "thread_bound" => st
-                .threads
-                .iter()
-                .find(|t| t.thread == c.thread)
-                .and_then(|t| t.path.as_ref())
-                .and_then(|p| table.paths.iter().find(|s| &s.path == p))
-                .map_or(String::new(), |s| format!("; P_B peaks at {:.2} mm", s.max_p_mm)),
-            _ => String::new(),
-        };
         format!(
-            "{:>11}  (allowed {}; φ = {:.1}°{peak})",
+            "{:>11}  (allowed {}; {at} = {:.1}°{extra})",
             c.value_words(),
             c.limit_words(),
             c.at_deg
