@@ -67,6 +67,9 @@ pub struct MeasuredCurve {
     thread: Option<String>,
     column: String,
     source: String,
+    /// The standard uncertainty of each sample's value, mm, when the curve
+    /// comes with one (repeated readings processed to their mean).
+    sigma_mm: Option<Vec<f64>>,
 }
 
 /// The take-up column names without a thread prefix, and what each says.
@@ -146,6 +149,42 @@ impl MeasuredCurve {
     /// the periodic linear interpolation of [`Self::value_at`].
     pub fn resample(&self, phis_deg: &[f64]) -> Vec<f64> {
         phis_deg.iter().map(|&phi| self.value_at(phi)).collect()
+    }
+
+    /// The standard uncertainty of each sample's value, mm (same order as
+    /// [`Self::values_mm`]), when the curve carries one: the weights of a
+    /// fit to it are 1/σ². `None` for a curve of single values.
+    pub fn sigma_mm(&self) -> Option<&[f64]> {
+        self.sigma_mm.as_deref()
+    }
+
+    /// The curve with a standard uncertainty for each sample, mm: one
+    /// finite value ≥ 0 per sample, or an error saying which is not.
+    pub fn with_sigma_mm(mut self, sigma_mm: Vec<f64>) -> Result<Self, Error> {
+        if sigma_mm.len() != self.values_mm.len() {
+            return Err(Error::Param(crate::error::ParamError::general(
+                format!(
+                    "{}: {} uncertainties for {} samples",
+                    self.source,
+                    sigma_mm.len(),
+                    self.values_mm.len()
+                ),
+                Some("give one standard uncertainty per sample".into()),
+            )));
+        }
+        if let Some(i) = sigma_mm.iter().position(|s| !(s.is_finite() && *s >= 0.0)) {
+            return Err(Error::Param(crate::error::ParamError::general(
+                format!(
+                    "{}: the uncertainty at φ = {} deg is {}, not a finite length ≥ 0",
+                    self.source,
+                    fmt_num(self.phi_deg[i]),
+                    sigma_mm[i]
+                ),
+                Some("give a standard uncertainty ≥ 0 mm for every sample".into()),
+            )));
+        }
+        self.sigma_mm = Some(sigma_mm);
+        Ok(self)
     }
 }
 
@@ -359,6 +398,7 @@ pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error>
         thread: head.thread,
         column: head.column,
         source: source.to_string(),
+        sigma_mm: None,
     })
 }
 
