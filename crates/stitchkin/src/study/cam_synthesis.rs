@@ -787,36 +787,56 @@ fn contact_rays(pose: &Pose<f64>, phis: &[f64], piece: &CamPiece, cam: &Cam<f64>
     Ok(rays)
 }
 
-/// The contact must sweep the profile exactly once per cycle, one way.
-fn check_single_sweep(rays: &[Ray], phis: &[f64], cam: &str) -> Result<(), Error> {
+/// How a sequence of angles over one cycle fails to turn once, one way.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum UnsteadyTurn {
+    /// It stops or turns back between sample `j` and the next.
+    Stops(usize),
+    /// It turns this many times (not one) over the cycle.
+    Turns(f64),
+}
+
+/// Whether `angles` (rad, one per φ of a cycle, the last followed by the
+/// first) turn exactly once per cycle, one way: every step taken the short
+/// way round has the same sign and the steps add up to ±2π.
+pub(crate) fn steady_turn(angles: &[f64]) -> Result<(), UnsteadyTurn> {
+    let pi = std::f64::consts::PI;
     let mut turn = 0.0;
     let mut sign = 0.0;
-    for j in 0..rays.len() {
-        let d = (rays[(j + 1) % rays.len()].beta - rays[j].beta + std::f64::consts::PI).rem_euclid(TAU)
-            - std::f64::consts::PI;
+    for j in 0..angles.len() {
+        let d = (angles[(j + 1) % angles.len()] - angles[j] + pi).rem_euclid(TAU) - pi;
         if d == 0.0 || (sign != 0.0 && d.signum() != sign) {
-            return Err(bad(
-                format!(
-                    "the contact on cam `{cam}` does not turn steadily over the profile (it stops or turns back near φ = {:.1}°), so one \
-                     profile angle would have to serve two take-ups",
-                    wrap_deg(phis[j])
-                ),
-                "cam synthesis needs a cam turning once per cycle relative to its guides (a cam on the main shaft)",
-            ));
+            return Err(UnsteadyTurn::Stops(j));
         }
         sign = d.signum();
         turn += d;
     }
     if (turn.abs() - TAU).abs() > 1e-6 {
-        return Err(bad(
-            format!(
-                "the contact sweeps cam `{cam}` {:.3} turns per cycle; a profile can be synthesised only for exactly one",
-                turn.abs() / TAU
-            ),
-            "cam synthesis needs a cam turning once per main-shaft cycle relative to its guides",
-        ));
+        return Err(UnsteadyTurn::Turns(turn.abs() / TAU));
     }
     Ok(())
+}
+
+/// The contact must sweep the profile exactly once per cycle, one way.
+fn check_single_sweep(rays: &[Ray], phis: &[f64], cam: &str) -> Result<(), Error> {
+    let betas: Vec<f64> = rays.iter().map(|r| r.beta).collect();
+    match steady_turn(&betas) {
+        Ok(()) => Ok(()),
+        Err(UnsteadyTurn::Stops(j)) => Err(bad(
+            format!(
+                "the contact on cam `{cam}` does not turn steadily over the profile (it stops or turns back near φ = {:.1}°), so one \
+                 profile angle would have to serve two take-ups",
+                wrap_deg(phis[j])
+            ),
+            "cam synthesis needs a cam turning once per cycle relative to its guides (a cam on the main shaft)",
+        )),
+        Err(UnsteadyTurn::Turns(turns)) => Err(bad(
+            format!(
+                "the contact sweeps cam `{cam}` {turns:.3} turns per cycle; a profile can be synthesised only for exactly one"
+            ),
+            "cam synthesis needs a cam turning once per main-shaft cycle relative to its guides",
+        )),
+    }
 }
 
 /// The target over the grid, unshifted, with what it is in words, and the
@@ -1199,6 +1219,21 @@ mod tests {
             v: V3::new(-angle.sin(), angle.cos(), 0.0),
             w: V3::z(),
         }
+    }
+
+    #[test]
+    fn a_steady_turn_is_one_turn_one_way() {
+        let n = 36;
+        let forward: Vec<f64> = (0..n).map(|k| k as f64 * TAU / n as f64).collect();
+        assert_eq!(steady_turn(&forward), Ok(()));
+        let backward: Vec<f64> = forward.iter().map(|a| -a).collect();
+        assert_eq!(steady_turn(&backward), Ok(()));
+        // Twice round: every step the same way, but two turns.
+        let twice: Vec<f64> = forward.iter().map(|a| 2.0 * a).collect();
+        assert!(matches!(steady_turn(&twice), Err(UnsteadyTurn::Turns(t)) if (t - 2.0).abs() < 1e-9));
+        // A swing back and forth stops where it turns back.
+        let swing: Vec<f64> = (0..n).map(|k| (k as f64 * TAU / n as f64).sin()).collect();
+        assert!(matches!(steady_turn(&swing), Err(UnsteadyTurn::Stops(_))));
     }
 
     #[test]

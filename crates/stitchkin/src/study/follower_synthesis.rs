@@ -41,7 +41,8 @@ use crate::model::{Machine, Model, Params};
 use crate::numeric::PeriodicCubic;
 use crate::stitch::mismatch::{Mismatch, mismatch};
 use crate::study::cam_synthesis::{
-    CamOptions, Knot, Target, Verification, bad, shift_note, smooth, take_up, target_on_grid, turn_deg, verification,
+    CamOptions, Knot, Target, UnsteadyTurn, Verification, bad, shift_note, smooth, steady_turn, take_up,
+    target_on_grid, turn_deg, verification,
 };
 use crate::thread::{Convention, Threads};
 
@@ -644,32 +645,21 @@ fn lift_table(knots: &[Knot], shifted: &[f64], least: f64, scale: f64) -> (Vec<K
 /// The cam must turn exactly once per cycle, one way, relative to the
 /// follower, so each cam angle serves one position.
 fn check_one_turn(deltas: &[f64], phis: &[f64], group: &str) -> Result<(), Error> {
-    let pi = std::f64::consts::PI;
-    let mut turn = 0.0;
-    let mut sign = 0.0;
-    for j in 0..deltas.len() {
-        let d = (deltas[(j + 1) % deltas.len()] - deltas[j] + pi).rem_euclid(TAU) - pi;
-        if d == 0.0 || (sign != 0.0 && d.signum() != sign) {
-            return Err(bad(
-                format!(
-                    "the cam of group `{group}` does not turn steadily (it stops or turns back near φ = {:.1}°), so one cam angle \
-                     would have to serve two take-ups",
-                    wrap_deg(phis[j])
-                ),
-                "the lift can be synthesised only for a cam turning once per cycle (a cam on the main shaft)",
-            ));
-        }
-        sign = d.signum();
-        turn += d;
-    }
-    if (turn.abs() - TAU).abs() > 1e-6 {
-        return Err(bad(
+    match steady_turn(deltas) {
+        Ok(()) => Ok(()),
+        Err(UnsteadyTurn::Stops(j)) => Err(bad(
             format!(
-                "the cam of group `{group}` turns {:.3} times per cycle; a lift can be synthesised only for exactly one",
-                turn.abs() / TAU
+                "the cam of group `{group}` does not turn steadily (it stops or turns back near φ = {:.1}°), so one cam angle \
+                 would have to serve two take-ups",
+                wrap_deg(phis[j])
+            ),
+            "the lift can be synthesised only for a cam turning once per cycle (a cam on the main shaft)",
+        )),
+        Err(UnsteadyTurn::Turns(turns)) => Err(bad(
+            format!(
+                "the cam of group `{group}` turns {turns:.3} times per cycle; a lift can be synthesised only for exactly one"
             ),
             "the lift can be synthesised only for a cam turning once per main-shaft cycle",
-        ));
+        )),
     }
-    Ok(())
 }
