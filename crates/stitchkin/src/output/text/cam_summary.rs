@@ -2,7 +2,33 @@
 //! summary of its profile, verification and checks.
 
 use crate::format::{dec4_or_sci, fmt_num};
-use crate::study::cam_synthesis::CamSynthesis;
+use crate::study::cam_synthesis::{CamSynthesis, Verification};
+
+/// The smoothing line of a synthesis summary: the moving average over
+/// `smooth_deg` of `angle` ("profile angle", "cam angle"), or none.
+pub(crate) fn smoothing_line(smooth_deg: f64, angle: &str) -> String {
+    if smooth_deg > 0.0 {
+        format!(
+            "# smoothing: moving average over {}° of {angle}, applied twice\n",
+            fmt_num(smooth_deg)
+        )
+    } else {
+        "# smoothing: none\n".to_string()
+    }
+}
+
+/// The verification's error line: the largest |P − target| at the knots
+/// and between them, beside the model's `own` cam or lift.
+pub(crate) fn max_error_line(v: &Verification, own: &str) -> String {
+    format!(
+        "#   max |P − target| {} mm at the knots (φ = {:.1}°), {} mm between them (φ = {:.1}°); the model's own {own}: {} mm\n",
+        dec4_or_sci(v.max_err_knots_mm),
+        v.max_err_knots_at_deg,
+        dec4_or_sci(v.max_err_between_mm),
+        v.max_err_between_at_deg,
+        dec4_or_sci(v.max_err_before_mm)
+    )
+}
 
 /// The summary of a synthesised cam, `# `-lines: the path and cam, the
 /// knots and radii, the anchor, the smoothing, the verification (the model
@@ -35,23 +61,9 @@ pub fn summary(s: &CamSynthesis) -> String {
         s.anchor_theta_deg,
         fmt_num(s.phi0_deg)
     );
-    r += &if s.smooth_deg > 0.0 {
-        format!(
-            "# smoothing: moving average over {}° of profile angle, applied twice\n",
-            fmt_num(s.smooth_deg)
-        )
-    } else {
-        "# smoothing: none\n".to_string()
-    };
+    r += &smoothing_line(s.smooth_deg, "profile angle");
     r += "# verify (the model evaluated again with the new profile as a polar cam):\n";
-    r += &format!(
-        "#   max |P − target| {} mm at the knots (φ = {:.1}°), {} mm between them (φ = {:.1}°); the model's own cam: {} mm\n",
-        dec4_or_sci(v.max_err_knots_mm),
-        v.max_err_knots_at_deg,
-        dec4_or_sci(v.max_err_between_mm),
-        v.max_err_between_at_deg,
-        dec4_or_sci(v.max_err_before_mm)
-    );
+    r += &max_error_line(v, "cam");
     if let (Some(t), Some(b), Some(a), Some(f)) = (&s.thread, &v.match_before, &v.match_after, &v.match_after_all) {
         let sc = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.1}"));
         r += &format!(

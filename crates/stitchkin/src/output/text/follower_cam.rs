@@ -2,7 +2,8 @@
 //! text: its summary, the lift and profiles as CSV, the `lift` to paste into
 //! the group, and the profile as DXF.
 
-use crate::format::{dec4_or_sci, fmt_num};
+use super::cam_summary::{max_error_line, smoothing_line};
+use crate::format::fmt_num;
 use crate::study::follower_synthesis::FollowerSynthesis;
 
 /// The summary, `# `-lines: the group and path, the lift, the base circle,
@@ -30,23 +31,9 @@ pub fn summary(s: &FollowerSynthesis) -> String {
         s.base_radius_model_mm,
         fmt_num(s.roller_mm)
     );
-    r += &if s.smooth_deg > 0.0 {
-        format!(
-            "# smoothing: moving average over {}° of cam angle, applied twice\n",
-            fmt_num(s.smooth_deg)
-        )
-    } else {
-        "# smoothing: none\n".to_string()
-    };
+    r += &smoothing_line(s.smooth_deg, "cam angle");
     r += "# verify (the model evaluated again with the new lift and base circle):\n";
-    r += &format!(
-        "#   max |P − target| {} mm at the knots (φ = {:.1}°), {} mm between them (φ = {:.1}°); the model's own lift: {} mm\n",
-        dec4_or_sci(v.max_err_knots_mm),
-        v.max_err_knots_at_deg,
-        dec4_or_sci(v.max_err_between_mm),
-        v.max_err_between_at_deg,
-        dec4_or_sci(v.max_err_before_mm)
-    );
+    r += &max_error_line(v, "lift");
     let sc = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.1}"));
     if let (Some(t), Some(b), Some(a)) = (&s.thread, &v.match_before, &v.match_after) {
         r += &format!(
