@@ -93,6 +93,20 @@ pub struct FollowerChecks {
     pub curvature_ok: bool,
 }
 
+/// The least base circle that passes the group's checks with the
+/// synthesised lift ([`least_passing_base`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BaseCircleAdvice {
+    /// The base circle, mm, rounded up to 0.1 mm.
+    pub base_radius_mm: f64,
+    /// How far the cam's centre moves back along the follower's axis, away
+    /// from the follower, mm: the follower then stands where it stood, so
+    /// the thread's take-up is the same.
+    pub move_back_mm: f64,
+    /// The checks with that base circle.
+    pub checks: FollowerChecks,
+}
+
 /// One point of the cam: its angle, the lift and the pitch and working
 /// profiles in the cam's frame (x toward the cam angle 0), mm.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -130,6 +144,10 @@ pub struct FollowerSynthesis {
     /// The lift's range, in its unit.
     pub lift_range: [f64; 2],
     pub checks: FollowerChecks,
+    /// When the checks fail on a translating follower: the least base
+    /// circle with which the same lift passes both, the cam's centre moved
+    /// back along the follower's axis so every follower position stays.
+    pub base_circle_needed: Option<BaseCircleAdvice>,
     pub verify: Verification,
     /// Score and RMS of the take-up against the target on the knots' φ,
     /// when no stitch thread is compared with the path (docs/stitch-formation.md §8,
@@ -362,31 +380,17 @@ fn shifted_base(cam: &CamFollower<f64>, c: V2<f64>, o: Option<V2<f64>>, least: f
     Ok(base)
 }
 
-/// The checks' figures and the profile over the cam's turn.
-fn checks_and_profile(
-    cam: &CamFollower<f64>,
-    c: V2<f64>,
-    o: Option<V2<f64>>,
-    limit: f64,
-    lift_scale: f64,
-) -> Result<(FollowerChecks, Vec<ProfilePoint>), Error> {
+/// The group's checks of a cam over its turn ([`PROFILE_SAMPLES`] cam
+/// angles): the largest pressure angle against `limit` (deg) and the
+/// working profile's least radius of curvature.
+fn check_figures(cam: &CamFollower<f64>, c: V2<f64>, o: Option<V2<f64>>, limit: f64) -> Result<FollowerChecks, Error> {
     let mut worst = (f64::MIN, 0.0);
     let mut least: Option<(f64, f64)> = None;
-    let mut profile = Vec::with_capacity(PROFILE_SAMPLES);
-    let me = cam.constant::<Dual2_64>();
-    let r_r = match cam.contact {
-        Contact::Roller(r) => r,
-        _ => 0.0,
-    };
     for k in 0..PROFILE_SAMPLES {
         let deg = k as f64 * 360.0 / PROFILE_SAMPLES as f64;
-        let why = |m: String| {
-            bad(
-                format!("at cam angle {deg:.1}° the new cam has no follower position: {m}"),
-                "smooth the lift",
-            )
-        };
-        let st = cam.state(c, deg.to_radians(), o).map_err(|e| why(e.message))?;
+        let st = cam
+            .state(c, deg.to_radians(), o)
+            .map_err(|e| no_position(deg, e.message))?;
         if st.pressure_deg > worst.0 {
             worst = (st.pressure_deg, deg);
         }
@@ -395,12 +399,48 @@ fn checks_and_profile(
         {
             least = Some((r, deg));
         }
+    }
+    let (radius, at) = least.unwrap_or((f64::INFINITY, 0.0));
+    Ok(FollowerChecks {
+        max_pressure_deg: worst.0,
+        max_pressure_at_cam_deg: worst.1,
+        pressure_limit_deg: limit,
+        pressure_ok: worst.0 <= limit,
+        min_curvature_radius_mm: radius,
+        min_curvature_at_cam_deg: at,
+        curvature_ok: radius > 0.0,
+    })
+}
+
+fn no_position(deg: f64, message: String) -> Error {
+    bad(
+        format!("at cam angle {deg:.1}° the new cam has no follower position: {message}"),
+        "smooth the lift",
+    )
+}
+
+/// The cam's pitch curve and working profile over its turn, every
+/// 360°/[`PROFILE_SAMPLES`], in the cam's frame.
+fn profile_points(
+    cam: &CamFollower<f64>,
+    c: V2<f64>,
+    o: Option<V2<f64>>,
+    lift_scale: f64,
+) -> Result<Vec<ProfilePoint>, Error> {
+    let me = cam.constant::<Dual2_64>();
+    let r_r = match cam.contact {
+        Contact::Roller(r) => r,
+        _ => 0.0,
+    };
+    let mut profile = Vec::with_capacity(PROFILE_SAMPLES);
+    for k in 0..PROFILE_SAMPLES {
+        let deg = k as f64 * 360.0 / PROFILE_SAMPLES as f64;
         // The pitch curve in the cam's frame, Q = Rot(−δ)(R − C), and the
         // working profile the roller's radius inside it.
         let d = Dual2_64::new(deg.to_radians(), 1.0, 0.0);
         let r = me
             .point_at(c.map(Dual2_64::from_re), d, o.map(|o| o.map(Dual2_64::from_re)))
-            .map_err(|e| why(e.message))?;
+            .map_err(|e| no_position(deg, e.message))?;
         let (sn, cs) = d.sin_cos();
         let w = r - c.map(Dual2_64::from_re);
         let q = V2::new(w.x * cs + w.y * sn, w.y * cs - w.x * sn);
@@ -417,19 +457,69 @@ fn checks_and_profile(
             profile_mm: [p.x, p.y],
         });
     }
-    let (radius, at) = least.unwrap_or((f64::INFINITY, 0.0));
-    Ok((
-        FollowerChecks {
-            max_pressure_deg: worst.0,
-            max_pressure_at_cam_deg: worst.1,
-            pressure_limit_deg: limit,
-            pressure_ok: worst.0 <= limit,
-            min_curvature_radius_mm: radius,
-            min_curvature_at_cam_deg: at,
-            curvature_ok: radius > 0.0,
-        },
-        profile,
-    ))
+    Ok(profile)
+}
+
+/// The largest base circle the search tries, mm.
+const MAX_BASE_MM: f64 = 1000.0;
+
+/// The least base circle (to 0.1 mm, rounded up) with which a translating
+/// follower's lift passes both checks, the cam's centre moved back along
+/// the axis by Δ so the follower stands where it stood: with the axis
+/// offset e and roller r_r, y0 = √((r_b + r_r)² − e²) grows by Δ and
+/// r_b′ = √((y0 + Δ)² + e²) − r_r. The pressure angle, tan α =
+/// (s′ − e)/(y0 + s) for an offset follower, falls as y0 grows, and the
+/// pitch curve's radius grows with it, so passing is taken to be
+/// monotone in Δ and found by bisection. `Ok(None)` for a rocking or
+/// flat-faced follower (moving the cam's centre there changes the arm's
+/// angles, so no one move keeps the follower's positions), and when no
+/// base circle up to [`MAX_BASE_MM`] passes.
+pub fn least_passing_base(cam: &CamFollower<f64>, c: V2<f64>, limit: f64) -> Result<Option<BaseCircleAdvice>, Error> {
+    let (Motion::Translating { u, offset }, Contact::Knife | Contact::Roller(_)) = (cam.motion, cam.contact) else {
+        return Ok(None);
+    };
+    let r_r = match cam.contact {
+        Contact::Roller(r) => r,
+        _ => 0.0,
+    };
+    let y0 = ((cam.base + r_r).powi(2) - offset * offset).max(0.0).sqrt();
+    let with_base = |base: f64| {
+        let mut moved = cam.clone();
+        moved.base = base;
+        let dy = ((base + r_r).powi(2) - offset * offset).max(0.0).sqrt() - y0;
+        (moved, c - u * dy, dy)
+    };
+    let passes = |base: f64| -> Result<(bool, FollowerChecks, f64), Error> {
+        let (moved, c_moved, dy) = with_base(base);
+        let checks = check_figures(&moved, c_moved, None, limit)?;
+        Ok((checks.pressure_ok && checks.curvature_ok, checks, dy))
+    };
+    if passes(cam.base)?.0 {
+        return Ok(None);
+    }
+    let (mut lo, mut hi) = (cam.base, (2.0 * cam.base).max(cam.base + 1.0));
+    while !passes(hi)?.0 {
+        if hi >= MAX_BASE_MM {
+            return Ok(None);
+        }
+        (lo, hi) = (hi, (2.0 * hi).min(MAX_BASE_MM));
+    }
+    while hi - lo > 0.01 {
+        let mid = 0.5 * (lo + hi);
+        if passes(mid)?.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let rounded = (hi * 10.0).ceil() / 10.0;
+    let base = if passes(rounded)?.0 { rounded } else { hi };
+    let (_, checks, dy) = passes(base)?;
+    Ok(Some(BaseCircleAdvice {
+        base_radius_mm: base,
+        move_back_mm: dy,
+        checks,
+    }))
 }
 
 /// Synthesises the lift of group `opts.group` (module docs).
@@ -532,7 +622,13 @@ pub fn synthesise_follower(model: &Model, params: &Params, opts: &FollowerOption
     let match_target = stitch_thread.is_none().then(|| match_with_target(&verify)).flatten();
     // --- checks ----------------------------------------------------------------------
     let new_cam = &cam_step(&new_mech, ci).cam;
-    let (checks, profile) = checks_and_profile(new_cam, c0, o0, step.max_pressure_deg, lift_scale)?;
+    let checks = check_figures(new_cam, c0, o0, step.max_pressure_deg)?;
+    let profile = profile_points(new_cam, c0, o0, lift_scale)?;
+    let base_circle_needed = if checks.pressure_ok && checks.curvature_ok {
+        None
+    } else {
+        least_passing_base(new_cam, c0, step.max_pressure_deg)?
+    };
     let (lift, range) = lift_table(&knots, &shifted, least, lift_scale);
     Ok(FollowerSynthesis {
         group: opts.group.clone(),
@@ -553,6 +649,7 @@ pub fn synthesise_follower(model: &Model, params: &Params, opts: &FollowerOption
         },
         lift_range: range,
         checks,
+        base_circle_needed,
         verify,
         match_target,
         profile,

@@ -198,3 +198,48 @@ fn a_rocking_arm_gets_its_own_lift_back() {
     assert!(s.verify.max_err_knots_mm < 1e-9 && s.score().unwrap() > 99.9);
     assert!(s.checks.pressure_ok && s.checks.curvature_ok);
 }
+
+#[test]
+fn the_least_passing_base_circle_keeps_the_take_up_and_passes_the_checks() {
+    // Unsmoothed, the lift undercuts a 24.9 mm base circle; the search
+    // finds the base circle that passes, with the cam's centre moved back
+    // along the follower's axis (here +y) so the follower keeps its place.
+    let raw = synth(0.0);
+    assert!(!raw.checks.curvature_ok);
+    let advice = raw.base_circle_needed.clone().expect("a base circle is advised");
+    assert!(advice.checks.pressure_ok && advice.checks.curvature_ok, "{advice:?}");
+    // The axis passes through the centre (no offset): the centre moves
+    // back by the growth of the base circle.
+    assert!((advice.move_back_mm - (advice.base_radius_mm - raw.base_radius_mm)).abs() < 1e-9);
+    let text = stitchkin::output::text::follower_cam::summary(&raw);
+    assert!(text.contains("least base circle passing both"), "{text}");
+    // Made so in the model (base circle and centre), the checks pass and
+    // the take-up is the one synthesised; 0.1 mm less fails.
+    let run = |base: f64| {
+        let snippet = stitchkin::output::text::follower_cam::toml_snippet(&raw).replace(
+            &format!("base_radius = {}", stitchkin::format::fmt_num(raw.base_radius_mm)),
+            &format!("base_radius = {base}"),
+        );
+        let moved = pasted(&snippet)
+            .text()
+            .replace("O1 = [0, 0]", &format!("O1 = [0, {}]", raw.base_radius_mm - base));
+        let m = Model::from_toml_str(&moved, "moved.toml").unwrap();
+        stitchkin::eval::run_cycle(
+            &m,
+            &m.defaults(),
+            &stitchkin::eval::CycleOptions {
+                step_deg: 1.0,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+    };
+    let t = run(advice.base_radius_mm);
+    assert!(t.cams.iter().all(|c| c.checks_ok()), "{:?}", t.cams);
+    let col = t.column("lower.P_mm").unwrap();
+    let span = |v: &[f64]| v.iter().fold([f64::MAX, f64::MIN], |m, x| [m[0].min(*x), m[1].max(*x)]);
+    let (a, b) = (span(col), span(&raw.verify.p_after_mm));
+    assert!((a[0] - b[0]).abs() < 0.05 && (a[1] - b[1]).abs() < 0.05, "{a:?} {b:?}");
+    let less = run(advice.base_radius_mm - 0.1);
+    assert!(!less.cams.iter().all(|c| c.checks_ok()), "{:?}", less.cams);
+}

@@ -75,6 +75,18 @@ pub fn summary(s: &FollowerSynthesis) -> String {
             "UNDERCUT: smooth the lift (a wider average), or use a smaller roller"
         }
     );
+    if let Some(b) = &s.base_circle_needed {
+        r += &format!(
+            "#   least base circle passing both: {:.1} mm, the cam's centre moved {:.2} mm back along the follower's axis (away from it, so the follower keeps its positions): pressure {:.1}°, least radius {:.2} mm\n",
+            b.base_radius_mm, b.move_back_mm, b.checks.max_pressure_deg, b.checks.min_curvature_radius_mm
+        );
+    } else if !(c.pressure_ok && c.curvature_ok) {
+        r += if s.motion == "translating" {
+            "#   no base circle up to 1000 mm passes both with this lift: smooth it\n"
+        } else {
+            "#   a rocking follower's base circle is not searched (moving its cam changes the arm's angles): move the pivot or smooth the lift\n"
+        };
+    }
     for note in &s.notes {
         r += &format!("# note: {note}\n");
     }
