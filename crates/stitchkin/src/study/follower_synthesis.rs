@@ -460,6 +460,23 @@ fn profile_points(
     Ok(profile)
 }
 
+/// The checks of the new cam and, when one fails, the least base circle
+/// that passes ([`least_passing_base`]).
+fn checks_and_advice(
+    cam: &CamFollower<f64>,
+    c: V2<f64>,
+    o: Option<V2<f64>>,
+    limit: f64,
+) -> Result<(FollowerChecks, Option<BaseCircleAdvice>), Error> {
+    let checks = check_figures(cam, c, o, limit)?;
+    let advice = if checks.pressure_ok && checks.curvature_ok {
+        None
+    } else {
+        least_passing_base(cam, c, limit)?
+    };
+    Ok((checks, advice))
+}
+
 /// The largest base circle the search tries, mm.
 const MAX_BASE_MM: f64 = 1000.0;
 
@@ -622,13 +639,8 @@ pub fn synthesise_follower(model: &Model, params: &Params, opts: &FollowerOption
     let match_target = stitch_thread.is_none().then(|| match_with_target(&verify)).flatten();
     // --- checks ----------------------------------------------------------------------
     let new_cam = &cam_step(&new_mech, ci).cam;
-    let checks = check_figures(new_cam, c0, o0, step.max_pressure_deg)?;
+    let (checks, base_circle_needed) = checks_and_advice(new_cam, c0, o0, step.max_pressure_deg)?;
     let profile = profile_points(new_cam, c0, o0, lift_scale)?;
-    let base_circle_needed = if checks.pressure_ok && checks.curvature_ok {
-        None
-    } else {
-        least_passing_base(new_cam, c0, step.max_pressure_deg)?
-    };
     let (lift, range) = lift_table(&knots, &shifted, least, lift_scale);
     Ok(FollowerSynthesis {
         group: opts.group.clone(),
