@@ -180,9 +180,31 @@ fn profile_checks(
     Ok(vec![pressure_check, curvature_check])
 }
 
+/// The highest main-shaft speed at which a spring keeps its follower on
+/// the cam, rpm, from the spring's force F_s(φ) = F0 + k·x (N) and the
+/// follower's acceleration per ω², a(φ) = x″(φ) (m/rad²) at the cycle's
+/// φ: N = F_s + m·a·ω² ≥ 0 wherever a < 0 holds while
+/// ω² ≤ F_s/(m·|a|), so ω_max = min over a < 0 of √(F_s/(m·|a|)).
+/// `Some(0)` when the spring does not press somewhere (F_s ≤ 0: no speed
+/// keeps contact); `None` when the follower never decelerates or has no
+/// mass (no speed loses it).
+pub fn limit_rpm(mass_kg: f64, spring_n: &[f64], accel_per_omega2: &[f64]) -> Option<f64> {
+    let mut omega2 = f64::INFINITY;
+    for (&f, &a) in spring_n.iter().zip(accel_per_omega2) {
+        if f <= 0.0 {
+            return Some(0.0);
+        }
+        if a < 0.0 && mass_kg > 0.0 {
+            omega2 = omega2.min(f / (mass_kg * -a));
+        }
+    }
+    omega2.is_finite().then(|| omega2.sqrt() * 60.0 / std::f64::consts::TAU)
+}
+
 /// The force keeping a spring-closed follower on its cam, least over the
 /// cycle: N = F0 + k·x + m·ẍ along the lift (the cam pushes, the spring
-/// pulls back; where ẍ < 0 the spring alone must decelerate the follower).
+/// pulls back; where ẍ < 0 the spring alone must decelerate the follower),
+/// and the speed up to which it stays above zero ([`limit_rpm`]).
 fn contact_check(
     c: &CamStep<Dual2_64>,
     cam: &crate::mechanism::cam_follower::CamFollower<f64>,
@@ -206,14 +228,10 @@ fn contact_check(
             "a spring holds the follower, but its preload, rate and the follower's mass are not given: whether it stays on the cam is not checked".into(),
         ));
     };
-    let Some(rpm) = rpm.filter(|r| *r > 0.0) else {
-        return Ok(unjudged(
-            "the machine's speed is not given: whether the spring holds the follower on the cam is not checked".into(),
-        ));
-    };
-    // Main-shaft angular speed, rad/s.
-    let omega = rpm * std::f64::consts::TAU / 60.0;
-    let mut least = (f64::MAX, 0.0);
+    // The spring's force (N) and the follower's acceleration per ω²
+    // (m/rad²) at every φ.
+    let mut spring_n = Vec::with_capacity(phis_deg.len());
+    let mut accel = Vec::with_capacity(phis_deg.len());
     for (k, &phi) in phis_deg.iter().enumerate() {
         let (centre, delta, pivot) = place(k).map_err(|e| no_state(c, phi, &e.message))?;
         let st = cam
@@ -221,8 +239,24 @@ fn contact_check(
             .map_err(|e| no_state(c, phi, &e.message))?;
         // Travel at the roller over φ: x″(φ) = x″(δ)·δ′² + x′(δ)·δ″, mm/rad².
         let x_phi2 = st.dds_mm * delta.v1 * delta.v1 + st.ds_mm * delta.v2;
-        let accel = x_phi2 * 1e-3 * omega * omega;
-        let force = spring.preload_n + spring.rate_n_per_mm * st.travel_mm + spring.mass_kg * accel;
+        spring_n.push(spring.preload_n + spring.rate_n_per_mm * st.travel_mm);
+        accel.push(x_phi2 * 1e-3);
+    }
+    let holds = match limit_rpm(spring.mass_kg, &spring_n, &accel) {
+        Some(max) if max > 0.0 => format!("the spring holds it up to {max:.0} rpm"),
+        Some(_) => "the spring does not press it everywhere, so it holds at no speed".to_string(),
+        None => "the follower never decelerates, so no speed loses it".to_string(),
+    };
+    let Some(rpm) = rpm.filter(|r| *r > 0.0) else {
+        return Ok(unjudged(format!(
+            "the machine's speed is not given: whether the spring holds the follower on the cam is not checked ({holds})"
+        )));
+    };
+    // Main-shaft angular speed, rad/s.
+    let omega = rpm * std::f64::consts::TAU / 60.0;
+    let mut least = (f64::MAX, 0.0);
+    for ((&f, &a), &phi) in spring_n.iter().zip(&accel).zip(phis_deg) {
+        let force = f + spring.mass_kg * a * omega * omega;
         if force < least.0 {
             least = (force, phi);
         }
@@ -239,11 +273,11 @@ fn contact_check(
         at_deg: at,
         message: if ok {
             format!(
-                "at {rpm} rpm the spring keeps at least {force:.2} N pressing the follower on the cam (at φ = {at:.1}°)"
+                "at {rpm} rpm the spring keeps at least {force:.2} N pressing the follower on the cam (at φ = {at:.1}°); {holds}"
             )
         } else {
             format!(
-                "at {rpm} rpm the follower leaves the cam near φ = {at:.1}°: decelerating it needs {:.2} N more than the spring gives, so it jumps and hammers back; a stiffer or more preloaded spring, a lighter follower, a gentler motion law, a groove (form closure) or a lower speed",
+                "at {rpm} rpm the follower leaves the cam near φ = {at:.1}°: decelerating it needs {:.2} N more than the spring gives, so it jumps and hammers back ({holds}); a stiffer or more preloaded spring, a lighter follower, a gentler motion law, a groove (form closure) or a lower speed",
                 -force
             )
         },

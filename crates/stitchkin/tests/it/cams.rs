@@ -153,6 +153,42 @@ fn a_spring_too_weak_for_the_speed_lets_the_follower_jump() {
 }
 
 #[test]
+fn the_spring_holds_up_to_the_speed_it_names() {
+    // The message names the highest speed the spring holds; just under it
+    // the check passes with little force left, just over it it fails.
+    let m = model(ROCKING);
+    let at_1000 = cycle(&m, &[], Some(1000.0));
+    let c = check(&at_1000, "follower_contact");
+    let limit: f64 = c
+        .message
+        .split("holds it up to ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("{}", c.message));
+    assert!((1000.0..3000.0).contains(&limit), "{limit}");
+    let (under, over) = (cycle(&m, &[], Some(limit * 0.99)), cycle(&m, &[], Some(limit * 1.01)));
+    let (under, over) = (check(&under, "follower_contact"), check(&over, "follower_contact"));
+    assert!(under.ok && !over.ok, "{under:?} {over:?}");
+    assert!(under.value < 0.1 * c.value.max(1.0), "{under:?}");
+    // Without a speed the check is not judged but still names the limit.
+    let unset = cycle(&model(&ROCKING.replace("rpm = 1000\n", "")), &[], None);
+    let none = check(&unset, "follower_contact");
+    assert!(none.ok && none.message.contains(&format!("up to {limit:.0} rpm")), "{}", none.message);
+}
+
+#[test]
+fn the_limit_speed_is_where_the_spring_just_decelerates_the_follower() {
+    use stitchkin::eval::cams::limit_rpm;
+    // F = 10 N, a = −0.01 m/rad², m = 0.1 kg: ω² = 10/(0.1·0.01) = 10⁴.
+    let rpm = limit_rpm(0.1, &[10.0, 12.0], &[-0.01, 0.02]).unwrap();
+    assert!((rpm - 100.0 * 60.0 / std::f64::consts::TAU).abs() < 1e-9, "{rpm}");
+    assert_eq!(limit_rpm(0.1, &[0.0, 12.0], &[0.01, 0.02]), Some(0.0));
+    assert_eq!(limit_rpm(0.1, &[5.0, 12.0], &[0.01, 0.02]), None);
+    assert_eq!(limit_rpm(0.0, &[5.0], &[-1.0]), None);
+}
+
+#[test]
 fn a_small_base_circle_under_a_steep_rise_is_undercut_and_too_steep() {
     let m = steep();
     let t = cycle(&m, &[("e", 0.0), ("r_b", 8.0)], None);
