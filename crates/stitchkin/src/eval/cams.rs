@@ -41,6 +41,11 @@ pub struct CamSummary {
     /// `cam_pressure`, `cam_curvature` and, for a spring-closed follower,
     /// `follower_contact`; each check's `thread` is the group's name.
     pub checks: Vec<Check>,
+    /// For a spring-closed follower with its spring and mass given: the
+    /// highest main-shaft speed at which the spring keeps it on the cam,
+    /// rpm ([`limit_rpm`]; 0 when the spring does not press everywhere).
+    /// `None` otherwise, or when no speed loses it.
+    pub limit_rpm: Option<f64>,
 }
 
 impl CamSummary {
@@ -80,16 +85,20 @@ pub fn cam_summaries(
             let centre = plain(at(c.center, 0));
             let pivot = c.pivot.map(|p| plain(at(p, 0)));
             let mut checks = profile_checks(c, &cam, centre, pivot)?;
+            let mut limit = None;
             if let Closure::Spring(spring) = cam.closure {
-                checks.push(contact_check(c, &cam, spring, phis_deg, rpm, |k| {
+                let (check, max_rpm) = contact_check(c, &cam, spring, phis_deg, rpm, |k| {
                     let centre = at(c.center, k);
                     let delta = c.cam.cam_angle(centre, at(c.marker, k))?;
                     Ok((plain(centre), delta, c.pivot.map(|p| plain(at(p, k)))))
-                })?);
+                })?;
+                checks.push(check);
+                limit = max_rpm;
             }
             Ok(CamSummary {
                 group: c.name.clone(),
                 checks,
+                limit_rpm: limit,
             })
         })
         .collect()
@@ -212,7 +221,7 @@ fn contact_check(
     phis_deg: &[f64],
     rpm: Option<f64>,
     place: impl Fn(usize) -> Result<(V2<f64>, Dual2_64, Option<V2<f64>>), crate::mechanism::NoAssembly>,
-) -> Result<Check, Error> {
+) -> Result<(Check, Option<f64>), Error> {
     let unjudged = |message: String| Check {
         name: "follower_contact",
         thread: c.name.clone(),
@@ -224,8 +233,11 @@ fn contact_check(
         message,
     };
     let Some(spring) = spring else {
-        return Ok(unjudged(
-            "a spring holds the follower, but its preload, rate and the follower's mass are not given: whether it stays on the cam is not checked".into(),
+        return Ok((
+            unjudged(
+                "a spring holds the follower, but its preload, rate and the follower's mass are not given: whether it stays on the cam is not checked".into(),
+            ),
+            None,
         ));
     };
     // The spring's force (N) and the follower's acceleration per ω²
@@ -242,15 +254,19 @@ fn contact_check(
         spring_n.push(spring.preload_n + spring.rate_n_per_mm * st.travel_mm);
         accel.push(x_phi2 * 1e-3);
     }
-    let holds = match limit_rpm(spring.mass_kg, &spring_n, &accel) {
+    let max_rpm = limit_rpm(spring.mass_kg, &spring_n, &accel);
+    let holds = match max_rpm {
         Some(max) if max > 0.0 => format!("the spring holds it up to {max:.0} rpm"),
         Some(_) => "the spring does not press it everywhere, so it holds at no speed".to_string(),
         None => "the follower never decelerates, so no speed loses it".to_string(),
     };
     let Some(rpm) = rpm.filter(|r| *r > 0.0) else {
-        return Ok(unjudged(format!(
-            "the machine's speed is not given: whether the spring holds the follower on the cam is not checked ({holds})"
-        )));
+        return Ok((
+            unjudged(format!(
+                "the machine's speed is not given: whether the spring holds the follower on the cam is not checked ({holds})"
+            )),
+            max_rpm,
+        ));
     };
     // Main-shaft angular speed, rad/s.
     let omega = rpm * std::f64::consts::TAU / 60.0;
@@ -263,7 +279,7 @@ fn contact_check(
     }
     let (force, at) = least;
     let ok = force > 0.0;
-    Ok(Check {
+    let check = Check {
         name: "follower_contact",
         thread: c.name.clone(),
         ok,
@@ -281,7 +297,8 @@ fn contact_check(
                 -force
             )
         },
-    })
+    };
+    Ok((check, max_rpm))
 }
 
 fn no_state(c: &CamStep<Dual2_64>, at_deg: f64, why: &str) -> Error {

@@ -114,6 +114,18 @@ pub fn figures(table: &CycleTable) -> Vec<(String, f64)> {
             format!("{}.checks_ok", cam.group),
             if cam.checks_ok() { 1.0 } else { 0.0 },
         ));
+        for c in &cam.checks {
+            let name = match c.name {
+                "cam_pressure" => "max_pressure_deg",
+                "cam_curvature" if c.limit[0].is_some() => "min_profile_radius_mm",
+                "follower_contact" if c.limit[0].is_some() => "min_contact_force_n",
+                _ => continue,
+            };
+            out.push((format!("{}.{name}", cam.group), c.value));
+        }
+        if let Some(rpm) = cam.limit_rpm {
+            out.push((format!("{}.limit_rpm", cam.group), rpm));
+        }
     }
     if table.all_checks().next().is_some() {
         out.push(("checks.ok".into(), if table.checks_ok() { 1.0 } else { 0.0 }));

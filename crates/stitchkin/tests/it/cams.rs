@@ -178,6 +178,30 @@ fn the_spring_holds_up_to_the_speed_it_names() {
 }
 
 #[test]
+fn a_sweep_reads_each_cams_figures() {
+    // The figures a sweep tabulates are the checks' values and the limit
+    // speed, named after the group.
+    let t = cycle(&model(ROCKING), &[], None);
+    let figures = stitchkin::study::figures::figures(&t);
+    let get = |name: &str| {
+        figures
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| *v)
+            .unwrap_or_else(|| panic!("{name} not in {figures:?}"))
+    };
+    let c = &t.cams[0];
+    assert_eq!(get(&format!("{}.max_pressure_deg", c.group)), check(&t, "cam_pressure").value);
+    assert_eq!(get(&format!("{}.min_profile_radius_mm", c.group)), check(&t, "cam_curvature").value);
+    assert_eq!(get(&format!("{}.min_contact_force_n", c.group)), check(&t, "follower_contact").value);
+    assert_eq!(get(&format!("{}.limit_rpm", c.group)), c.limit_rpm.unwrap());
+    // A groove holds its roller at any speed: no contact figures.
+    let g = cycle(&model(GROOVE), &[], None);
+    let names: Vec<String> = stitchkin::study::figures::figures(&g).into_iter().map(|(n, _)| n).collect();
+    assert!(names.iter().all(|n| !n.ends_with("limit_rpm") && !n.ends_with("contact_force_n")), "{names:?}");
+}
+
+#[test]
 fn the_limit_speed_is_where_the_spring_just_decelerates_the_follower() {
     use stitchkin::eval::cams::limit_rpm;
     // F = 10 N, a = −0.01 m/rad², m = 0.1 kg: ω² = 10/(0.1·0.01) = 10⁴.
