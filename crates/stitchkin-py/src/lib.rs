@@ -301,6 +301,46 @@ impl Model {
         py.import("json")?.getattr("loads")?.call1((json,))
     }
 
+    /// Every physical check of one cycle, as `stitchkin check` judges them:
+    /// a dict with `ok` (every check passes) and `checks`, a list of dicts
+    /// (`name`, `thread` (the thread, or the cam's group), `ok`, `value`,
+    /// `limit` [low, high], `unit`, `at_deg`, `message`): the stitch's
+    /// checks and each cam and follower's (`cam_pressure`, `cam_curvature`,
+    /// `follower_contact`), and `cams`, per cam group its checks and
+    /// `limit_rpm`, the highest speed its spring holds the follower at.
+    /// `rpm`: the main shaft's speed for the spring's check (default: the
+    /// model's).
+    #[pyo3(signature = (step = 1.0, set = None, rpm = None))]
+    fn check<'py>(
+        &self,
+        py: Python<'py>,
+        step: f64,
+        set: Option<&Bound<'py, PyDict>>,
+        rpm: Option<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let params = self.params(py, set)?;
+        let model = &self.model;
+        let json = py
+            .detach(|| {
+                let opts = stitchkin::eval::CycleOptions {
+                    step_deg: step,
+                    rpm,
+                    ..Default::default()
+                };
+                let table = stitchkin::eval::run_cycle(model, &params, &opts)?;
+                let checks: Vec<_> = table.all_checks().collect();
+                let json = serde_json::json!({
+                    "ok": table.checks_ok(),
+                    "checks": checks,
+                    "cams": table.cams,
+                });
+                serde_json::to_string(&json)
+                    .map_err(|e| stitchkin::Error::Internal(format!("cannot write JSON: {e}")))
+            })
+            .map_err(|e| py_error(py, &e))?;
+        py.import("json")?.getattr("loads")?.call1((json,))
+    }
+
     /// The adjustable settings that make the take-up match the stitch best,
     /// as `stitchkin tune --format json`: a dict with the recommended
     /// setting, the match and checks before and after, how far each setting

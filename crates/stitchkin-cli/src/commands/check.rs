@@ -12,7 +12,7 @@ use crate::common::{ModelArgs, emit_text, load};
 /// physical checks (a failed one makes the command fail).
 #[derive(clap::Args)]
 #[command(
-    after_help = "Examples:\n  stitchkin check my-machine.toml\n  stitchkin check --preset needle876 --set alpha=30 --cross-check"
+    after_help = "Examples:\n  stitchkin check my-machine.toml\n  stitchkin check --preset needle876 --set alpha=30 --cross-check\n  stitchkin check examples/cam-rocking-roller.toml --rpm 3000"
 )]
 pub(crate) struct Args {
     #[command(flatten)]
@@ -25,12 +25,17 @@ pub(crate) struct Args {
     /// the closed-form groups.
     #[arg(long)]
     cross_check: bool,
+    /// Main-shaft speed, rev/min, at which a spring-closed cam follower's
+    /// contact is judged (default: the model's `rpm`, if any).
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    rpm: Option<f64>,
 }
 
 pub(crate) fn run(args: Args) -> Result<(), Error> {
     let (model, params) = load(&args.model)?;
     let opts = CycleOptions {
         step_deg: args.step,
+        rpm: args.rpm,
         ..Default::default()
     };
     let table = eval::run_cycle(&model, &params, &opts)?;

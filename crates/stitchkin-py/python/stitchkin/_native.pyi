@@ -64,6 +64,9 @@ class Model:
         points: Optional[Sequence[str]] = None,
     ) -> "Table": ...
     def match(self, step: float = 1.0, set: Optional[Mapping[str, float]] = None) -> dict: ...
+    def check(
+        self, step: float = 1.0, set: Optional[Mapping[str, float]] = None, rpm: Optional[float] = None
+    ) -> dict: ...
     def tune(
         self,
         adjust: Optional[Sequence[str]] = None,

@@ -182,6 +182,28 @@ def test_match_needs_a_stitch():
         stitchkin.Model.preset("needle876").match()
 
 
+def test_check_lists_the_stitchs_and_the_cams_checks():
+    """Model.check: the checks `stitchkin check` judges, a cam's spring at
+    the speed asked."""
+    root = os.path.join(os.path.dirname(__file__), "..", "..", "..", "..")
+    m = stitchkin.Model.load(os.path.join(root, "examples", "cam-rocking-roller.toml"))
+    got = m.check()
+    assert got["ok"] is True
+    names = [c["name"] for c in got["checks"]]
+    assert names == ["cam_pressure", "cam_curvature", "follower_contact"]
+    cam = got["cams"][0]
+    assert cam["group"] == "feed_arm" and 1000 < cam["limit_rpm"] < 3000
+    fast = m.check(rpm=3000)
+    assert fast["ok"] is False
+    contact = [c for c in fast["checks"] if c["name"] == "follower_contact"][0]
+    assert contact["ok"] is False and contact["value"] < 0 and "leaves the cam" in contact["message"]
+    # The stitch's checks of a preset, all passing at its default.
+    mf = stitchkin.Model.preset("mf7923d").check()
+    assert mf["ok"] is True and mf["cams"] == [] and len(mf["checks"]) > 0
+    with pytest.raises(stitchkin.StitchkinError, match="rpm"):
+        m.check(rpm=-1)
+
+
 def json_dumps(value):
     import json
 
