@@ -164,3 +164,21 @@ fn draw_shows_a_cam_with_its_profile_pitch_curve_and_roller() {
     let (svg, _) = ok(&["draw", &groove, "--animate", "--frames", "8"]);
     assert!(svg.contains("class=\"cam-groove\"") && svg.contains("<animate "));
 }
+
+#[test]
+fn draw_shows_a_rocking_flat_face_on_its_cam() {
+    let rocking = std::fs::read_to_string(format!(
+        "{}/../../examples/cam-rocking-roller.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let flat = rocking
+        .replace("contact = \"roller\"", "contact = \"flat\"\noffset = 3")
+        .replace("roller_radius = \"r_r\"\n", "");
+    let dir = scratch("draw-flat-face");
+    let model = dir.join("flat.toml");
+    std::fs::write(&model, flat).unwrap();
+    let (svg, _) = ok(&["draw", model.to_str().unwrap(), "--animate", "--frames", "8"]);
+    assert_eq!(svg.matches("class=\"cam-face\"").count(), 1);
+    assert!(!svg.contains("class=\"cam-roller\"") && !svg.contains("NaN"));
+}

@@ -159,8 +159,11 @@ pub enum Motion<T: Real> {
     /// the left of the cam's centre.
     Translating { u: V2<T>, offset: T },
     /// On an arm of length `arm` mm about the pivot; `sign` +1 puts the
-    /// roller left of the line from the pivot to the cam's centre.
-    Rocking { arm: T, sign: f64 },
+    /// roller left of the line from the pivot to the cam's centre. A flat
+    /// face on the arm lies `face_offset` mm from the pivot (0 for a
+    /// roller or knife edge), its point `arm` mm along the face from the
+    /// foot of the pivot's perpendicular.
+    Rocking { arm: T, sign: f64, face_offset: T },
 }
 
 /// The spring that holds a force-closed follower on its cam, and the
@@ -217,7 +220,11 @@ impl<T: Real> CamFollower<T> {
                     u: u.map(c),
                     offset: c(offset),
                 },
-                Motion::Rocking { arm, sign } => Motion::Rocking { arm: c(arm), sign },
+                Motion::Rocking { arm, sign, face_offset } => Motion::Rocking {
+                    arm: c(arm),
+                    sign,
+                    face_offset: c(face_offset),
+                },
             },
             lift: self.lift.map(c),
             zero: c(self.zero),
@@ -258,7 +265,11 @@ impl<T: Real> CamFollower<T> {
                 }
                 Ok(c + perp(u) * offset + u * (y0sq.sqrt() + s))
             }
-            (Motion::Rocking { arm, sign }, Some(o)) => {
+            (Motion::Rocking { arm, sign, face_offset }, Some(o)) if matches!(self.contact, Contact::Flat) => {
+                let (n, e) = self.flat_face(c, o, s, sign, face_offset)?;
+                Ok(o + n * face_offset + e * arm)
+            }
+            (Motion::Rocking { arm, sign, .. }, Some(o)) => {
                 // Zero lift: the roller on the base circle (an RRR triangle).
                 let r0 = rrr(o, c, arm * arm, rc * rc, sign).map_err(|e| {
                     let d = (o - c).norm().re();
@@ -283,11 +294,54 @@ impl<T: Real> CamFollower<T> {
         }
     }
 
+    /// A rocking flat face's unit normal n (from the cam toward the face)
+    /// and its direction e along the face (toward the cam's side), at lift
+    /// `s` (rad). The face is the line n·(X − O) = f, f = `face_offset`;
+    /// the cam's centre lies p = f − n·(C − O) from it, on the −n side. At
+    /// zero lift p = r_b: with D = C − O, n·D = f − r_b, so n's angle is
+    /// γ ± acos((f − r_b)/|D|) (γ the angle of D, ± the `sign`), and a lift
+    /// turns n by s the same way, taking the face away from the cam.
+    fn flat_face(&self, c: V2<T>, o: V2<T>, s: T, sign: f64, face_offset: T) -> Result<(V2<T>, V2<T>), NoAssembly> {
+        let d = c - o;
+        let dist = d.norm();
+        let cos_n = (face_offset - self.base) / dist;
+        if cos_n.re().abs() > 1.0 {
+            return Err(NoAssembly::new(
+                cos_n.re().abs() - 1.0,
+                format!(
+                    "the flat face {:.4} mm from its pivot cannot rest on the base circle ({:.4} mm) of a cam {:.4} mm from the pivot",
+                    face_offset.re(),
+                    self.base.re(),
+                    dist.re()
+                ),
+            ));
+        }
+        let gamma = d.y.angle_of(d.x);
+        let beta_n0 = gamma + cos_n.acos().times(sign);
+        let (sn0, cn0) = beta_n0.sin_cos();
+        // e along the face, toward the side the cam is on at zero lift.
+        let side = if (d.x * sn0 - d.y * cn0).re() >= 0.0 { 1.0 } else { -1.0 };
+        let (sn, cn) = (beta_n0 + s.times(sign)).sin_cos();
+        Ok((V2::new(cn, sn), V2::new(sn.times(side), cn.times(-side))))
+    }
+
     /// The follower's point at one position of the mechanism.
     pub fn point(&self, c: V2<T>, k: V2<T>, o: Option<V2<T>>) -> Result<V2<T>, NoAssembly> {
         let delta = self.cam_angle(c, k)?;
         self.point_at(c, delta, o)
     }
+}
+
+/// A rocking flat face where it touches the cam ([`CamFollower::flat_support`]).
+struct FlatSupport {
+    /// The face's unit normal, from the cam toward the face.
+    n: V2<f64>,
+    /// The point of contact, mm.
+    contact: V2<f64>,
+    /// The profile's radius of curvature there, mm.
+    rho: f64,
+    /// The lift with its first and second analogs over the cam angle.
+    s: Dual2_64,
 }
 
 /// A cam's outlines as it stands at cam angle 0, mm from its centre in
@@ -327,6 +381,21 @@ impl CamFollower<f64> {
     /// differentiated over the cam angle (the follower's guide held fixed
     /// relative to the cam's shaft, as on a machine).
     pub fn state(&self, c: V2<f64>, delta: f64, o: Option<V2<f64>>) -> Result<CamState, NoAssembly> {
+        if let (Contact::Flat, Motion::Rocking { arm, .. }, Some(o)) = (self.contact, self.motion, o) {
+            let f = self.flat_support(c, delta, o)?;
+            // The force acts along n at the contact; the arm moves the
+            // contact point square to its radius from the pivot.
+            let r = f.contact - o;
+            let along = (f.n.dot(&perp(r)).abs() / r.norm()).min(1.0);
+            return Ok(CamState {
+                pressure_deg: along.acos().to_degrees(),
+                pitch_radius_mm: f.rho,
+                profile_radius_mm: f.rho,
+                ds_mm: f.s.v1 * arm,
+                dds_mm: f.s.v2 * arm,
+                travel_mm: f.s.re * arm,
+            });
+        }
         let me = self.constant::<Dual2_64>();
         let d = Dual2_64::new(delta, 1.0, 0.0);
         let cd = c.map(Dual2_64::from_re);
@@ -375,6 +444,45 @@ impl CamFollower<f64> {
         })
     }
 
+    /// A rocking flat face on the cam at cam angle `delta` (rad): the
+    /// cam's support function p(α), the distance from its centre to the
+    /// face along the face's normal n at angle α in the cam's frame
+    /// (α = β_n − δ), gives the contact C + p·n + p_α·n⊥ and the profile's
+    /// radius of curvature ρ = p + p_αα, the derivatives over α from those
+    /// over δ: p_α = p′/α′, p_αα = (p″α′ − p′α″)/α′³.
+    fn flat_support(&self, c: V2<f64>, delta: f64, o: V2<f64>) -> Result<FlatSupport, NoAssembly> {
+        let Motion::Rocking { sign, face_offset, .. } = self.motion else {
+            unreachable!("a flat support is asked of a rocking flat face only")
+        };
+        let me = self.constant::<Dual2_64>();
+        let d = Dual2_64::new(delta, 1.0, 0.0);
+        let s = me.lift.at(d);
+        let (cd, od) = (c.map(Dual2_64::from_re), o.map(Dual2_64::from_re));
+        let f = Dual2_64::from_re(face_offset);
+        let (n, _) = me.flat_face(cd, od, s, sign, f)?;
+        let p = f - n.dot(&(cd - od));
+        let alpha = n.y.angle_of(n.x) - d;
+        let (a1, a2) = (alpha.v1, alpha.v2);
+        if a1.abs() < 1e-9 {
+            return Err(NoAssembly::new(
+                0.0,
+                format!(
+                    "at cam angle {:.1}° the flat face turns with the cam, so it has no point of contact",
+                    delta.to_degrees()
+                ),
+            ));
+        }
+        let p_a = p.v1 / a1;
+        let p_aa = (p.v2 * a1 - p.v1 * a2) / a1.powi(3);
+        let n0 = V2::new(n.x.re, n.y.re);
+        Ok(FlatSupport {
+            n: n0,
+            contact: c + n0 * p.re + perp(n0) * p_a,
+            rho: p.re + p_aa,
+            s,
+        })
+    }
+
     /// The cam as made, as it stands at cam angle 0 (mm from its centre;
     /// at cam angle δ it is these turned by δ), `samples` points over its
     /// turn: the pitch curve (the follower's point, from
@@ -408,6 +516,13 @@ impl CamFollower<f64> {
                 out.profile.push(q);
                 continue;
             }
+            if let (Contact::Flat, Motion::Rocking { .. }, Some(o)) = (self.contact, self.motion, o) {
+                // The envelope of the face's lines: the contact, turned back.
+                let w = self.flat_support(c, delta, o)?.contact - c;
+                let (sn, cs) = delta.sin_cos();
+                out.profile.push(V2::new(w.x * cs + w.y * sn, w.y * cs - w.x * sn));
+                continue;
+            }
             let q = back(me.point_at(cd, d, od)? - cd);
             let (q0, t) = (V2::new(q.x.re, q.y.re), V2::new(q.x.v1, q.y.v1));
             let len = t.norm();
@@ -424,6 +539,35 @@ impl CamFollower<f64> {
             }
         }
         Ok(out)
+    }
+
+    /// A flat face as a segment to draw, its ends in the plane at cam angle
+    /// `delta` (rad): a translating face across its axis, centred on its
+    /// foot and wide enough for every contact (r_b + the lift's largest
+    /// |s′| each side); a rocking face from the foot of the pivot's
+    /// perpendicular past the contact by a fifth of the base circle.
+    /// `None` for a roller or knife edge, or where the cam has no contact.
+    pub fn face_segment(&self, c: V2<f64>, delta: f64, o: Option<V2<f64>>) -> Option<[V2<f64>; 2]> {
+        match (self.contact, self.motion, o) {
+            (Contact::Flat, Motion::Translating { u, .. }, _) => {
+                let foot = self.point_at(c, delta, o).ok()?;
+                let me = self.constant::<Dual2_64>();
+                let widest = (0..72)
+                    .map(|k| me.lift.at(Dual2_64::new(k as f64 * TAU / 72.0, 1.0, 0.0)).v1.abs())
+                    .fold(0.0, f64::max);
+                let w = perp(u) * (self.base + widest);
+                Some([foot - w, foot + w])
+            }
+            (Contact::Flat, Motion::Rocking { face_offset, .. }, Some(o)) => {
+                let f = self.flat_support(c, delta, o).ok()?;
+                let foot = o + f.n * face_offset;
+                let along = f.contact - foot;
+                let len = along.norm();
+                let dir = if len > 1e-12 { along / len } else { perp(f.n) };
+                Some([foot, f.contact + dir * (0.2 * self.base)])
+            }
+            _ => None,
+        }
     }
 
     /// The radius the roller's working flank has at a pitch radius: where
@@ -608,7 +752,11 @@ mod tests {
         let cf = CamFollower {
             base: 15.0,
             contact: Contact::Roller(4.0),
-            motion: Motion::Rocking { arm: 30.0, sign: 1.0 },
+            motion: Motion::Rocking {
+                arm: 30.0,
+                sign: 1.0,
+                face_offset: 0.0,
+            },
             lift: rise_return(Law::Polynomial345),
             zero: 0.0,
             closure: Closure::Groove,
@@ -642,7 +790,11 @@ mod tests {
         let cf = CamFollower {
             base: 15.0,
             contact: Contact::Roller(4.0),
-            motion: Motion::Rocking { arm: 30.0, sign: -1.0 },
+            motion: Motion::Rocking {
+                arm: 30.0,
+                sign: -1.0,
+                face_offset: 0.0,
+            },
             lift: rise_return(Law::Cycloidal).scaled(20f64.to_radians() / 8.0),
             zero: 0.3,
             closure: Closure::Groove,
@@ -664,6 +816,99 @@ mod tests {
             assert_relative_eq!(rd.y.v1, fd1.y, epsilon = 1e-6);
             assert_relative_eq!(rd.x.v2, fd2.x, epsilon = 1e-3);
             assert_relative_eq!(rd.y.v2, fd2.y, epsilon = 1e-3);
+        }
+    }
+
+    fn flat_rocking(sign: f64, face_offset: f64, rise_deg: f64) -> CamFollower<f64> {
+        CamFollower {
+            base: 20.0,
+            contact: Contact::Flat,
+            motion: Motion::Rocking {
+                arm: 25.0,
+                sign,
+                face_offset,
+            },
+            lift: rise_return(Law::Cycloidal).scaled(rise_deg.to_radians() / 8.0),
+            zero: 0.0,
+            closure: Closure::Spring(None),
+        }
+    }
+
+    #[test]
+    fn a_rocking_flat_face_rests_on_the_base_circle_and_envelopes_the_profile() {
+        let (c, o) = (V2::new(0.0, 0.0), V2::new(45.0, 30.0));
+        for (sign, f) in [(1.0, 0.0), (-1.0, 0.0), (1.0, 6.0), (-1.0, -4.0)] {
+            // At a dwell on the base circle the face is tangent to it.
+            let dwell = flat_rocking(sign, f, 0.0);
+            let st = dwell.state(c, 0.7, Some(o)).unwrap();
+            assert_relative_eq!(st.profile_radius_mm, 20.0, epsilon = 1e-9);
+            let fs = dwell.flat_support(c, 0.7, o).unwrap();
+            assert_relative_eq!((fs.contact - c).norm(), 20.0, epsilon = 1e-9);
+            // The contact lies on the face: n·(P − O) = f.
+            assert_relative_eq!(fs.n.dot(&(fs.contact - o)), f, epsilon = 1e-9);
+            // With a 12° rise: the profile is the envelope of the face's
+            // lines, so every profile point lies on the cam's side of the
+            // face, at most p from the centre along n, the contact on it.
+            let cam = flat_rocking(sign, f, 12.0);
+            let outline = cam.outline(c, Some(o), 720).unwrap();
+            for deg in [10.0f64, 60.0, 100.0, 170.0, 250.0, 330.0] {
+                let delta = deg.to_radians();
+                let fs = cam.flat_support(c, delta, o).unwrap();
+                // n and the contact turned back into the cam's frame.
+                let back = |w: V2<f64>| {
+                    V2::new(
+                        w.x * delta.cos() + w.y * delta.sin(),
+                        w.y * delta.cos() - w.x * delta.sin(),
+                    )
+                };
+                let (n, q) = (back(fs.n), back(fs.contact - c));
+                let p = n.dot(&q);
+                let beyond = outline.profile.iter().map(|x| n.dot(x) - p).fold(f64::MIN, f64::max);
+                assert!(beyond < 1e-3 && beyond > -1e-9, "{sign} {f} {deg}: {beyond}");
+                assert!(fs.rho > 0.0);
+            }
+            // The face turns away from the cam as it lifts: the pivot's
+            // point moves and its distance from the pivot stays.
+            let r0 = cam.point_at(c, 0.0, Some(o)).unwrap();
+            let r1 = cam.point_at(c, 120f64.to_radians(), Some(o)).unwrap();
+            assert_relative_eq!((r0 - o).norm(), (r1 - o).norm(), epsilon = 1e-9);
+            assert!((r1 - r0).norm() > 1.0);
+        }
+    }
+
+    #[test]
+    fn a_rocking_flat_faces_curvature_equals_the_outlines() {
+        // ρ = p + p_αα against the outline's own curvature by finite
+        // differences of its points (three points 0.1° of cam angle apart
+        // give the contact's circle).
+        let (c, o) = (V2::new(0.0, 0.0), V2::new(45.0, 30.0));
+        let cam = flat_rocking(1.0, 3.0, 12.0);
+        let h = 0.02f64.to_radians();
+        for deg in [40.0f64, 80.0, 200.0, 300.0] {
+            let pt = |d: f64| {
+                let w = cam.flat_support(c, d, o).unwrap().contact - c;
+                V2::new(w.x * d.cos() + w.y * d.sin(), w.y * d.cos() - w.x * d.sin())
+            };
+            let d = deg.to_radians();
+            let (a, b, e) = (pt(d - h), pt(d), pt(d + h));
+            // The circle through three points: R = |ab||be||ea| / (2|(b−a)×(e−a)|).
+            let cross = ((b - a).x * (e - a).y - (b - a).y * (e - a).x).abs();
+            let r = (b - a).norm() * (e - b).norm() * (a - e).norm() / (2.0 * cross);
+            let rho = cam.flat_support(c, d, o).unwrap().rho;
+            assert_relative_eq!(rho, r, max_relative = 1e-3);
+        }
+        // The analogs of the follower's point equal finite differences.
+        let cfd = cam.constant::<Dual2_64>();
+        let od = o.map(Dual2_64::from_re);
+        for deg in [30.0f64, 75.0, 200.0] {
+            let phi = deg.to_radians();
+            let pd = Dual2_64::new(phi, 1.0, 0.0);
+            let rd = cfd.point(V2::zeros(), V2::new(pd.cos(), pd.sin()), Some(od)).unwrap();
+            let r = |p: f64| cam.point(V2::zeros(), V2::new(p.cos(), p.sin()), Some(o)).unwrap();
+            let hh = 1e-4;
+            let fd1 = (r(phi + hh) - r(phi - hh)) / (2.0 * hh);
+            assert_relative_eq!(rd.x.v1, fd1.x, epsilon = 1e-6);
+            assert_relative_eq!(rd.y.v1, fd1.y, epsilon = 1e-6);
         }
     }
 

@@ -663,8 +663,8 @@ pub enum Group {
     },
     /// A disc cam driving a follower (`docs/model-format.md`, "Cams and
     /// followers"): the cam turns about `center` with the point `marker`;
-    /// `out` is the follower's roller centre, knife edge, or its flat face's
-    /// foot on the axis.
+    /// `out` is the follower's roller centre, knife edge, a translating flat
+    /// face's foot on the axis, or the point `arm` along a rocking flat face.
     CamFollower(Box<CamFollowerGroup>),
 }
 
@@ -685,7 +685,8 @@ pub struct CamFollowerGroup {
     pub zero_deg: Option<Value>,
     /// `translating` or `rocking`.
     pub follower: FollowerKind,
-    /// `knife`, `roller` or `flat` (a flat face on a translating follower).
+    /// `knife`, `roller` or `flat` (a flat face square to a translating
+    /// follower's axis, or on a rocking follower's arm).
     pub contact: ContactKind,
     /// The cam's base circle radius (its least radius), mm.
     pub base_radius: Value,
@@ -696,13 +697,16 @@ pub struct CamFollowerGroup {
     #[serde(default)]
     pub direction_deg: Option<Value>,
     /// Translating: the axis's distance from the cam's centre, mm, positive
-    /// to the left of `direction_deg`; default 0.
+    /// to the left of `direction_deg`; rocking with a flat face: the face's
+    /// distance from the pivot, mm; default 0.
     #[serde(default)]
     pub offset: Option<Value>,
     /// Rocking: the arm's pivot.
     #[serde(default)]
     pub pivot: Option<String>,
-    /// Rocking: pivot to roller centre (or knife edge), mm.
+    /// Rocking: pivot to roller centre (or knife edge), mm; a flat face:
+    /// its point's distance along the face from the foot of the pivot's
+    /// perpendicular.
     #[serde(default)]
     pub arm: Option<Value>,
     /// Rocking: `left` or `right` of the line from the pivot to the cam's

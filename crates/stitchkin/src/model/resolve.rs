@@ -311,7 +311,11 @@ impl<T: Real> Resolver<'_, T> {
                     offset: q[offset],
                 }
             }
-            MotionDef::Rocking { arm, sign } => Motion::Rocking { arm: q[arm], sign },
+            MotionDef::Rocking { arm, sign, face_offset } => Motion::Rocking {
+                arm: q[arm],
+                sign,
+                face_offset: q[face_offset],
+            },
         };
         let contact = match (c.contact, c.roller) {
             (ContactKind::Roller, Some(r)) => Contact::Roller(q[r]),

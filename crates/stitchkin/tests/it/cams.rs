@@ -31,6 +31,14 @@ fn check<'a>(t: &'a CycleTable, name: &str) -> &'a stitchkin::stitch::checks::Ch
     t.cams[0].checks.iter().find(|c| c.name == name).unwrap()
 }
 
+/// The rocking example with a flat face on its arm 3 mm from the pivot
+/// instead of the roller.
+fn flat_rocking() -> String {
+    ROCKING
+        .replace("contact = \"roller\"", "contact = \"flat\"\noffset = 3")
+        .replace("roller_radius = \"r_r\"\n", "")
+}
+
 /// A steep rise on a small base circle: undercut and too steep.
 fn steep() -> Model {
     let text = GROOVE
@@ -51,8 +59,8 @@ fn steep() -> Model {
 
 #[test]
 fn both_examples_solve_and_their_analogs_equal_finite_differences() {
-    for text in [ROCKING, GROOVE] {
-        let m = model(text);
+    for text in [ROCKING.to_string(), GROOVE.to_string(), flat_rocking()] {
+        let m = model(&text);
         let t = cycle(&m, &[], None);
         let h = 0.5f64.to_radians();
         for axis in ["x", "y"] {
@@ -85,6 +93,32 @@ fn both_examples_solve_and_their_analogs_equal_finite_differences() {
         let c = cross_check(&m, &m.defaults(), 1.0).unwrap();
         assert!(c.max_deviation_mm < 1e-9, "{}: {c:?}", m.name());
     }
+}
+
+#[test]
+fn a_rocking_flat_face_is_checked_like_a_roller() {
+    // Its face rests on the cam's base circle at zero lift, and the checks
+    // give a pressure angle and a convex profile; a steep swing on a small
+    // base circle asks for a concave profile, which a flat face cannot
+    // follow.
+    let m = model(&flat_rocking());
+    let t = cycle(&m, &[], None);
+    assert!(t.cams[0].checks_ok(), "{:?}", t.cams);
+    let p = check(&t, "cam_pressure");
+    assert!(p.value > 0.0 && p.value < 45.0, "{p:?}");
+    let c = check(&t, "cam_curvature");
+    assert!(
+        c.value > 0.0 && c.message.contains("the profile under the flat face"),
+        "{c:?}"
+    );
+    let steep = cycle(&m, &[("rise", 16.0), ("r_b", 6.0)], None);
+    let c = check(&steep, "cam_curvature");
+    assert!(!c.ok && c.message.contains("a flat face cannot follow it"), "{c:?}");
+    // A face too far from its pivot to reach the base circle: no assembly,
+    // named.
+    let far = flat_rocking().replace("offset = 3", "offset = 80");
+    let e = eval::run_cycle(&model(&far), &model(&far).defaults(), &CycleOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("cannot rest on the base circle"), "{e}");
 }
 
 #[test]
@@ -174,7 +208,11 @@ fn the_spring_holds_up_to_the_speed_it_names() {
     // Without a speed the check is not judged but still names the limit.
     let unset = cycle(&model(&ROCKING.replace("rpm = 1000\n", "")), &[], None);
     let none = check(&unset, "follower_contact");
-    assert!(none.ok && none.message.contains(&format!("up to {limit:.0} rpm")), "{}", none.message);
+    assert!(
+        none.ok && none.message.contains(&format!("up to {limit:.0} rpm")),
+        "{}",
+        none.message
+    );
 }
 
 #[test]
@@ -191,14 +229,31 @@ fn a_sweep_reads_each_cams_figures() {
             .unwrap_or_else(|| panic!("{name} not in {figures:?}"))
     };
     let c = &t.cams[0];
-    assert_eq!(get(&format!("{}.max_pressure_deg", c.group)), check(&t, "cam_pressure").value);
-    assert_eq!(get(&format!("{}.min_profile_radius_mm", c.group)), check(&t, "cam_curvature").value);
-    assert_eq!(get(&format!("{}.min_contact_force_n", c.group)), check(&t, "follower_contact").value);
+    assert_eq!(
+        get(&format!("{}.max_pressure_deg", c.group)),
+        check(&t, "cam_pressure").value
+    );
+    assert_eq!(
+        get(&format!("{}.min_profile_radius_mm", c.group)),
+        check(&t, "cam_curvature").value
+    );
+    assert_eq!(
+        get(&format!("{}.min_contact_force_n", c.group)),
+        check(&t, "follower_contact").value
+    );
     assert_eq!(get(&format!("{}.limit_rpm", c.group)), c.limit_rpm.unwrap());
     // A groove holds its roller at any speed: no contact figures.
     let g = cycle(&model(GROOVE), &[], None);
-    let names: Vec<String> = stitchkin::study::figures::figures(&g).into_iter().map(|(n, _)| n).collect();
-    assert!(names.iter().all(|n| !n.ends_with("limit_rpm") && !n.ends_with("contact_force_n")), "{names:?}");
+    let names: Vec<String> = stitchkin::study::figures::figures(&g)
+        .into_iter()
+        .map(|(n, _)| n)
+        .collect();
+    assert!(
+        names
+            .iter()
+            .all(|n| !n.ends_with("limit_rpm") && !n.ends_with("contact_force_n")),
+        "{names:?}"
+    );
 }
 
 #[test]

@@ -42,8 +42,13 @@ pub(crate) struct CamFollowerDef {
 pub(crate) enum MotionDef {
     /// Direction (deg) and offset (mm) of the axis.
     Translating { direction: QuantityId, offset: QuantityId },
-    /// Arm (mm) and side (+1 left).
-    Rocking { arm: QuantityId, sign: f64 },
+    /// Arm (mm), side (+1 left) and a flat face's distance from the pivot
+    /// (mm; zero for a roller or knife edge).
+    Rocking {
+        arm: QuantityId,
+        sign: f64,
+        face_offset: QuantityId,
+    },
 }
 
 /// A lift: a table (in mm, or rad for a rocking follower) or segments
@@ -138,22 +143,24 @@ impl Loader<'_> {
     fn follower_motion(&mut self, g: &CamFollowerGroup, path: &KeyPath) -> LoadResult<MotionDef> {
         let rocking = g.follower == FollowerKind::Rocking;
         Ok(if rocking {
-            if g.contact == ContactKind::Flat {
-                return Err(self.err(
-                    &path.key("contact"),
-                    "a flat face is modelled on a translating follower only",
-                    Some("use contact = \"roller\" or \"knife\" on a rocking follower".into()),
-                ));
-            }
-            for (key, given) in [
-                ("direction_deg", g.direction_deg.is_some()),
-                ("offset", g.offset.is_some()),
+            let flat = g.contact == ContactKind::Flat;
+            for (key, given, help) in [
+                (
+                    "direction_deg",
+                    g.direction_deg.is_some(),
+                    "a rocking follower is placed by pivot, arm and branch",
+                ),
+                (
+                    "offset",
+                    g.offset.is_some() && !flat,
+                    "a rocking follower is placed by pivot, arm and branch (offset places a flat face from its pivot)",
+                ),
             ] {
                 if given {
                     return Err(self.err(
                         &path.key(key),
                         format!("`{key}` places a translating follower's axis"),
-                        Some("a rocking follower is placed by pivot, arm and branch".into()),
+                        Some(help.into()),
                     ));
                 }
             }
@@ -165,9 +172,14 @@ impl Loader<'_> {
                 ));
             };
             let arm = self.positive_length(arm, path.key("arm"), "the follower's arm")?;
+            let face_offset = match &g.offset {
+                Some(v) => self.length(v, path.key("offset"))?,
+                None => self.zero(),
+            };
             MotionDef::Rocking {
                 arm,
                 sign: self.side(branch, &path.key("branch"))?,
+                face_offset,
             }
         } else {
             for (key, given) in [

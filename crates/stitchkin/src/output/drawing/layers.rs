@@ -285,7 +285,8 @@ impl Drawing<'_> {
     }
 
     /// Cams driving followers: the working profile (a groove's outer flank
-    /// round it), the pitch curve dashed, and the roller, turning with φ.
+    /// round it), the pitch curve dashed, and the roller or flat face,
+    /// turning with φ.
     pub(super) fn draw_follower_cams(&self, out: &mut Sheet) {
         for c in &self.sc.follower_cams {
             let name = escape(&c.name);
@@ -322,6 +323,15 @@ impl Drawing<'_> {
                 let _ = writeln!(
                     out.svg,
                     r##"<polygon class="cam-roller" data-cam="{name}" fill="#ffffff" stroke="#303030" stroke-width="1.2" points="{}"><title>roller of {name}</title>{}</polygon>"##,
+                    frames[0],
+                    self.sc.timing.animate("points", &frames, false)
+                );
+            }
+            if c.face.first().is_some_and(|f| !f.is_empty()) {
+                let frames = self.frames_attr(&c.face);
+                let _ = writeln!(
+                    out.svg,
+                    r##"<polyline class="cam-face" data-cam="{name}" fill="none" stroke="#303030" stroke-width="2.2" stroke-linecap="round" points="{}"><title>flat face of {name}</title>{}</polyline>"##,
                     frames[0],
                     self.sc.timing.animate("points", &frames, false)
                 );

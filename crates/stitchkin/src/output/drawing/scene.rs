@@ -232,6 +232,8 @@ pub(super) struct FollowerCam {
     pub(super) outer: Vec<Vec<V2<f64>>>,
     /// Empty per frame without a roller.
     pub(super) roller: Vec<Vec<V2<f64>>>,
+    /// A flat face's segment; empty per frame without one.
+    pub(super) face: Vec<Vec<V2<f64>>>,
 }
 
 /// Points round a cam's outline (every 1°).
@@ -256,6 +258,7 @@ fn follower_cams(mech: &Mechanism<f64>, slots: &[Vec<V3<f64>>], proj: &Projectio
                 pitch: Vec::new(),
                 outer: Vec::new(),
                 roller: Vec::new(),
+                face: Vec::new(),
             };
             let r_r = match c.cam.contact {
                 Contact::Roller(r) => r,
@@ -276,6 +279,15 @@ fn follower_cams(mech: &Mechanism<f64>, slots: &[Vec<V3<f64>>], proj: &Projectio
                     .cam
                     .cam_angle(centre, c.plane.project(&k3))
                     .and_then(|d| Ok((d, c.cam.outline(centre, pivot, CAM_OUTLINE_SAMPLES)?)));
+                let to_drawing = |w: V2<f64>| proj.project(&(c.plane.lift(w, 0.0) + rise));
+                let face = match &made {
+                    Ok((d, _)) if d.is_finite() => c
+                        .cam
+                        .face_segment(centre, *d, pivot)
+                        .map_or(Vec::new(), |[a, b]| vec![to_drawing(a), to_drawing(b)]),
+                    _ => Vec::new(),
+                };
+                cam.face.push(face);
                 let (profile, pitch, outer) = match made {
                     Ok((d, o)) if d.is_finite() => (
                         o.profile.iter().map(|q| at(q, d)).collect(),
