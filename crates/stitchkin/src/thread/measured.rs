@@ -29,6 +29,7 @@ use serde::Serialize;
 
 use crate::error::{Error, ModelError, did_you_mean};
 use crate::format::fmt_num;
+use crate::thread::repeated::{DEFAULT_CONFIDENCE, Processed};
 
 /// The largest gap between consecutive samples a curve may have, deg, the
 /// gap that closes the turn (from the last sample to the first + 360°)
@@ -70,6 +71,10 @@ pub struct MeasuredCurve {
     /// The standard uncertainty of each sample's value, mm, when the curve
     /// comes with one (repeated readings processed to their mean).
     sigma_mm: Option<Vec<f64>>,
+    /// The repeated readings behind the values, processed (seed 004 §3.4),
+    /// when the file held several readings per φ.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    readings: Option<Box<Processed>>,
 }
 
 /// The take-up column names without a thread prefix, and what each says.
@@ -156,6 +161,38 @@ impl MeasuredCurve {
     /// fit to it are 1/σ². `None` for a curve of single values.
     pub fn sigma_mm(&self) -> Option<&[f64]> {
         self.sigma_mm.as_deref()
+    }
+
+    /// The repeated readings behind the curve processed as seed 004 §3.4
+    /// does ([`crate::thread::repeated`]): per φ the mean (the curve's
+    /// value), the interval, the errors and the flagged outliers. `None`
+    /// for a curve of one value per φ.
+    pub fn readings(&self) -> Option<&Processed> {
+        self.readings.as_deref()
+    }
+
+    /// The half-width of the interval (the total error Δ of seed 004
+    /// §3.4) at `phis_deg`, mm, linear between samples like the curve;
+    /// `None` for a curve of one value per φ.
+    pub fn interval_at(&self, phis_deg: &[f64]) -> Option<Vec<f64>> {
+        let r = self.readings.as_deref()?;
+        let half: Vec<f64> = r.points.iter().map(|p| p.total_mm).collect();
+        Some(
+            phis_deg
+                .iter()
+                .map(|&phi| match periodic_segment(&self.phi_deg, phi) {
+                    None => f64::NAN,
+                    Some(g) => {
+                        let w = if g.to_deg > g.from_deg {
+                            (g.at_deg - g.from_deg) / (g.to_deg - g.from_deg)
+                        } else {
+                            0.0
+                        };
+                        half[g.i] + (half[g.j] - half[g.i]) * w
+                    }
+                })
+                .collect(),
+        )
     }
 
     /// The curve with a standard uncertainty for each sample, mm: one
@@ -250,6 +287,21 @@ pub(crate) fn periodic_segment(phis_deg: &[f64], phi_deg: f64) -> Option<Segment
 /// encoding) are read as U+FFFD and fail only where a name or number is
 /// expected.
 pub fn read_curve(path: &Path) -> Result<MeasuredCurve, Error> {
+    read_curve_with(path, &ReadingOptions::default())
+}
+
+/// How repeated readings are processed (seed 004 §3.4): the instrument's
+/// resolution, mm (its largest error, the systematic error of each mean),
+/// and the confidence of the intervals. Each, when given, stands for the
+/// file's own `# resolution_mm = …` or `# confidence = …` line.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ReadingOptions {
+    pub resolution_mm: Option<f64>,
+    pub confidence: Option<f64>,
+}
+
+/// [`read_curve`] with the processing of repeated readings set by `options`.
+pub fn read_curve_with(path: &Path, options: &ReadingOptions) -> Result<MeasuredCurve, Error> {
     let source = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| {
         Error::from(ModelError {
@@ -264,7 +316,7 @@ pub fn read_curve(path: &Path) -> Result<MeasuredCurve, Error> {
             ),
         })
     })?;
-    parse_curve_csv(&String::from_utf8_lossy(&bytes), &source)
+    parse_curve_csv_with(&String::from_utf8_lossy(&bytes), &source, options)
 }
 
 /// One line of the text, without its line ending.
@@ -369,9 +421,24 @@ fn column_kind(name: &str) -> Result<(Option<String>, CurveKind, Option<SplitPoi
 ///   first + 360°) more than [`MAX_GAP_DEG`] apart;
 /// - blank lines and lines starting with `#` anywhere.
 ///
+/// Repeated readings (seed 004 §3.4: ten readings every 10°) come as the
+/// value column written once per reading (`phi_deg,P_mm,P_mm,P_mm`), or as
+/// consecutive rows of the same φ, or both; every φ then needs at least two
+/// readings, and the instrument's resolution is given by a line
+/// `# resolution_mm = 0.05` (and optionally `# confidence = 0.95`). The
+/// curve is then the mean at each φ, carrying its standard uncertainty
+/// ([`MeasuredCurve::sigma_mm`]) and the processed table
+/// ([`MeasuredCurve::readings`], [`crate::thread::repeated`]).
+///
 /// Every error is an [`Error::Model`] naming `source`, the line (and the
 /// field) and the fix.
 pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error> {
+    parse_curve_csv_with(text, source, &ReadingOptions::default())
+}
+
+/// [`parse_curve_csv`] with the processing of repeated readings set by
+/// `options` (each given option stands for the file's own line).
+pub fn parse_curve_csv_with(text: &str, source: &str, options: &ReadingOptions) -> Result<MeasuredCurve, Error> {
     let file = CurveFile {
         source,
         text: Arc::from(text),
@@ -390,16 +457,49 @@ pub fn parse_curve_csv(text: &str, source: &str) -> Result<MeasuredCurve, Error>
         file.row(&line, &head, &mut rows)?;
     }
     file.check_coverage(&header, &rows)?;
-    Ok(MeasuredCurve {
-        phi_deg: rows.phi_deg,
-        values_mm: rows.values_mm,
+    let mut curve = MeasuredCurve {
+        values_mm: rows.readings.iter().map(|r| r[0]).collect(),
+        phi_deg: rows.phi_deg.clone(),
         kind: head.kind,
         split: head.split,
-        thread: head.thread,
-        column: head.column,
+        thread: head.thread.clone(),
+        column: head.column.clone(),
         source: source.to_string(),
         sigma_mm: None,
-    })
+        readings: None,
+    };
+    if head.ncols > 2 || rows.readings.iter().any(|r| r.len() > 1) {
+        let processed = file.process(&header, &head, &rows, options)?;
+        curve.values_mm = processed.points.iter().map(|p| p.mean_mm).collect();
+        curve.sigma_mm = Some(processed.points.iter().map(|p| p.sigma_mm).collect());
+        curve.readings = Some(Box::new(processed));
+    }
+    Ok(curve)
+}
+
+/// A `# name = value` line of the file (a setting in a comment), with its
+/// line and the span of its value.
+fn setting(text: &str, name: &str) -> Option<(usize, Range<usize>, String)> {
+    let mut start = 0;
+    for (k, raw) in text.split_inclusive('\n').enumerate() {
+        let line_start = start;
+        start += raw.len();
+        let t = raw.trim_start_matches('\u{feff}').trim();
+        let Some(rest) = t.strip_prefix('#') else { continue };
+        let Some((key, value)) = rest.split_once('=') else {
+            continue;
+        };
+        if key.trim() == name {
+            let value = value.trim();
+            let at = raw
+                .find(value)
+                .map_or(line_start..line_start + raw.trim_end().len(), |o| {
+                    line_start + o..line_start + o + value.len()
+                });
+            return Some((k + 1, at, value.to_string()));
+        }
+    }
+    None
 }
 
 /// A curve file being read: its name and text, for errors that point at
@@ -409,20 +509,24 @@ struct CurveFile<'a> {
     text: Arc<str>,
 }
 
-/// What the header says: which field is φ and what the other column holds.
+/// What the header says: which field is φ and what the other columns hold
+/// (one take-up column, written once per reading).
 struct Header {
     iphi: usize,
+    /// The number of columns: φ and one per reading.
+    ncols: usize,
     column: String,
     thread: Option<String>,
     kind: CurveKind,
     split: Option<SplitPoint>,
 }
 
-/// The rows read so far, with each row's line and φ field.
+/// The rows read so far: each φ once, its readings, and the line and φ
+/// field of its first row.
 #[derive(Default)]
 struct Rows {
     phi_deg: Vec<f64>,
-    values_mm: Vec<f64>,
+    readings: Vec<Vec<f64>>,
     at: Vec<(usize, Range<usize>)>,
 }
 
@@ -463,7 +567,7 @@ impl CurveFile<'_> {
                 "separate the columns with `,` (and write decimals with a point, `0.5`), e.g. `phi_deg,P_mm`",
             ));
         }
-        if names.len() != 2 {
+        if names.len() < 2 {
             return Err(self.err(
                 Some(header.span()),
                 format!(
@@ -474,7 +578,7 @@ impl CurveFile<'_> {
             ));
         }
         let iphi = match names.iter().filter(|f| f.text == "phi_deg").count() {
-            1 => usize::from(names[1].text == "phi_deg"),
+            1 => names.iter().position(|f| f.text == "phi_deg").expect("counted"),
             0 => {
                 let guess = names.iter().find_map(|f| did_you_mean(f.text, ["phi_deg"]).map(|_| f));
                 let message = match guess {
@@ -500,11 +604,29 @@ impl CurveFile<'_> {
                 ));
             }
         };
-        let value = &names[1 - iphi];
+        let value = &names[usize::from(iphi == 0)];
+        if let Some(other) = names
+            .iter()
+            .enumerate()
+            .find(|(k, f)| *k != iphi && f.text != value.text)
+        {
+            return Err(self.err(
+                Some(other.1.span.clone()),
+                format!(
+                    "the header names {} column(s), {listed}; a curve has `phi_deg` and one take-up column, written once per reading for repeated readings",
+                    names.len()
+                ),
+                &format!(
+                    "give one file per curve; repeated readings repeat the same name, e.g. `phi_deg,{0},{0},{0}`",
+                    value.text
+                ),
+            ));
+        }
         let (thread, kind, split) =
             column_kind(value.text).map_err(|m| self.err(Some(value.span.clone()), m, HEADER_HELP))?;
         Ok(Header {
             iphi,
+            ncols: names.len(),
             column: value.text.to_string(),
             thread,
             kind,
@@ -512,12 +634,28 @@ impl CurveFile<'_> {
         })
     }
 
-    /// One row: two numbers, φ after the previous row's and within a turn
-    /// of the first.
+    /// One row: φ and its readings, φ after the previous row's (or the
+    /// same: more readings of it) and within a turn of the first.
     fn row(&self, line: &Line<'_>, head: &Header, rows: &mut Rows) -> Result<(), Error> {
         let column = &head.column;
         let fields = line.fields();
-        if fields.len() != 2 {
+        if head.ncols > 2 && fields.len() != head.ncols {
+            return Err(self.err(
+                Some(line.span()),
+                format!(
+                    "the row has {} field(s), the header {} (`phi_deg` and {} readings of `{column}`)",
+                    fields.len(),
+                    head.ncols,
+                    head.ncols - 1
+                ),
+                &format!(
+                    "give φ and {} readings on every row, separated by commas, with a point for decimals; \
+                     a φ with fewer readings can take its readings on rows of their own in a file `phi_deg,{column}`",
+                    head.ncols - 1
+                ),
+            ));
+        }
+        if fields.len() != 2 && head.ncols == 2 {
             let (message, help) = if fields.len() > 2 {
                 (
                     format!(
@@ -540,8 +678,18 @@ impl CurveFile<'_> {
             "the required take-up P′"
         };
         let phi = self.number(line, &fields[head.iphi], "phi_deg", "φ", "deg")?;
-        let y = self.number(line, &fields[1 - head.iphi], column, what, "mm")?;
+        let mut ys = Vec::with_capacity(fields.len() - 1);
+        for (k, f) in fields.iter().enumerate() {
+            if k != head.iphi {
+                ys.push(self.number(line, f, column, what, "mm")?);
+            }
+        }
         let phi_span = fields[head.iphi].span.clone();
+        if rows.phi_deg.last() == Some(&phi) {
+            // Further readings of the same φ.
+            rows.readings.last_mut().expect("a φ has readings").extend(ys);
+            return Ok(());
+        }
         if let (Some(&prev), Some((prev_line, _))) = (rows.phi_deg.last(), rows.at.last())
             && phi <= prev
         {
@@ -569,9 +717,110 @@ impl CurveFile<'_> {
             ));
         }
         rows.phi_deg.push(phi);
-        rows.values_mm.push(y);
+        rows.readings.push(ys);
         rows.at.push((line.number, phi_span));
         Ok(())
+    }
+
+    /// The repeated readings processed (seed 004 §3.4): at least two per
+    /// φ, the resolution given (by `options` or the file), the confidence
+    /// in (0, 1).
+    fn process(
+        &self,
+        header: &Line<'_>,
+        head: &Header,
+        rows: &Rows,
+        options: &ReadingOptions,
+    ) -> Result<Processed, Error> {
+        if let Some(k) = rows.readings.iter().position(|r| r.len() < 2) {
+            let many = rows.readings.iter().position(|r| r.len() > 1).unwrap_or(0);
+            return Err(self.err(
+                Some(rows.at[k].1.clone()),
+                format!(
+                    "φ = {}° has one reading (line {}), while φ = {}° has {} (line {}): repeated readings are processed per φ and need at least two at every φ",
+                    fmt_num(rows.phi_deg[k]),
+                    rows.at[k].0,
+                    fmt_num(rows.phi_deg[many]),
+                    rows.readings[many].len(),
+                    rows.at[many].0
+                ),
+                &format!(
+                    "give every φ at least two readings (consecutive rows of the same φ, or a column `{}` per reading); a curve of one value per φ gives each φ once",
+                    head.column
+                ),
+            ));
+        }
+        let setting_help =
+            "write it as a number with a point for decimals, e.g. `# resolution_mm = 0.05` or `# confidence = 0.95`";
+        let from_file = |name: &str| -> Result<Option<f64>, Error> {
+            match setting(&self.text, name) {
+                None => Ok(None),
+                Some((_, span, value)) => value
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .map(Some)
+                    .ok_or_else(|| {
+                        self.err(
+                            Some(span),
+                            format!("`{value}` ({name}) is not a finite number"),
+                            setting_help,
+                        )
+                    }),
+            }
+        };
+        let file_resolution = from_file("resolution_mm")?;
+        let file_confidence = from_file("confidence")?;
+        let place = |name: &str| setting(&self.text, name).map(|(_, span, _)| span);
+        let resolution = match (options.resolution_mm, file_resolution) {
+            (Some(r), _) => r,
+            (None, Some(r)) => r,
+            (None, None) => {
+                return Err(self.err(
+                    Some(header.span()),
+                    format!(
+                        "the file holds repeated readings (up to {} per φ) but not the instrument's resolution, the systematic error of every mean",
+                        rows.readings.iter().map(Vec::len).max().unwrap_or(0)
+                    ),
+                    "add a line `# resolution_mm = 0.05` (the instrument's largest error, mm) before the header",
+                ));
+            }
+        };
+        if !(resolution.is_finite() && resolution > 0.0) {
+            return Err(self.err(
+                options
+                    .resolution_mm
+                    .is_none()
+                    .then(|| place("resolution_mm"))
+                    .flatten(),
+                format!("the resolution {} mm is not a length > 0", fmt_num(resolution)),
+                "give the instrument's resolution (its largest error) in mm, e.g. 0.05",
+            ));
+        }
+        let confidence = options.confidence.or(file_confidence).unwrap_or(DEFAULT_CONFIDENCE);
+        if !(confidence > 0.0 && confidence < 1.0) {
+            return Err(self.err(
+                options.confidence.is_none().then(|| place("confidence")).flatten(),
+                format!("the confidence {} is not between 0 and 1", fmt_num(confidence)),
+                "give the confidence as a fraction, e.g. 0.95 for 95 %",
+            ));
+        }
+        let processed = Processed::new(&rows.phi_deg, &rows.readings, resolution, confidence);
+        if let Some(k) = processed.points.iter().position(|p| {
+            ![p.mean_mm, p.s_mm, p.total_mm, p.sigma_mm, p.ci_low_mm, p.ci_high_mm]
+                .iter()
+                .all(|v| v.is_finite())
+        }) {
+            return Err(self.err(
+                Some(rows.at[k].1.clone()),
+                format!(
+                    "the readings of φ = {}° are too large to be processed (their spread overflows)",
+                    fmt_num(rows.phi_deg[k])
+                ),
+                "give the readings in mm",
+            ));
+        }
+        Ok(processed)
     }
 
     /// Field `f` of `line`, the column `name`, holding `what` in `unit`.
@@ -773,8 +1022,8 @@ mod tests {
             ),
             (
                 "phi_deg,P_mm,Pprime_mm",
-                "t.csv:1:1: the header names 3 column(s), `phi_deg`, `P_mm`, `Pprime_mm`; a curve has two",
-                "help: write a header",
+                "t.csv:1:14: the header names 3 column(s), `phi_deg`, `P_mm`, `Pprime_mm`; a curve has `phi_deg` and one take-up column",
+                "help: give one file per curve; repeated readings repeat the same name, e.g. `phi_deg,P_mm,P_mm,P_mm`",
             ),
             (
                 "phi_deg",
@@ -881,14 +1130,15 @@ mod tests {
                 "t.csv:4:1: φ = 30° does not come after φ = 45° on line 3",
                 "help: sort the rows by φ and give each φ once",
             ),
-            (
-                "45,2",
-                "t.csv:4:1: φ = 45° does not come after φ = 45° on line 3",
-                "help: sort the rows",
-            ),
         ] {
             refused(&format!("{head}{row}\n{tail}"), start, has);
         }
+        // The same φ again is a second reading of it: every φ then needs two.
+        refused(
+            &format!("{head}45,2\n90,2\n135,3\n{tail}"),
+            "t.csv:2:1: φ = 0° has one reading (line 2), while φ = 45° has 2 (line 3)",
+            "help: give every φ at least two readings",
+        );
         // One turn: the first row again a turn later is refused.
         refused(
             &format!("{head}90,2\n{tail}360,0\n"),
@@ -905,6 +1155,135 @@ mod tests {
             "phi_deg,P_mm\n",
             "t.csv:1:1: the curve has 0 row(s)",
             "help: give a row",
+        );
+    }
+
+    /// Rows every 30° over one turn, each with the readings `f(φ, k)`,
+    /// k = 0…n−1, as columns.
+    fn repeated(n: usize, f: impl Fn(f64, usize) -> f64) -> String {
+        let head: Vec<&str> = std::iter::once("phi_deg")
+            .chain(std::iter::repeat_n("P_mm", n))
+            .collect();
+        let mut text = format!("# resolution_mm = 0.05\n{}\n", head.join(","));
+        for k in 0..12 {
+            let phi = 30.0 * k as f64;
+            let row: Vec<String> = (0..n).map(|j| format!("{}", f(phi, j))).collect();
+            text += &format!("{phi},{}\n", row.join(","));
+        }
+        text
+    }
+
+    #[test]
+    fn repeated_readings_give_the_mean_curve_with_its_uncertainty() {
+        // Columns: 3 readings x − 0.1, x, x + 0.1 → mean x, s = 0.1.
+        let c = parse(&repeated(3, |phi, j| phi / 100.0 + 0.1 * (j as f64 - 1.0)));
+        let r = c.readings().expect("processed");
+        assert_eq!((r.resolution_mm, r.confidence, r.points.len()), (0.05, 0.95, 12));
+        let p = &r.points[3];
+        assert_eq!((p.phi_deg, p.n), (90.0, 3));
+        assert!((p.mean_mm - 0.9).abs() < 1e-12 && (p.s_mm - 0.1).abs() < 1e-12);
+        assert!((c.values_mm()[3] - 0.9).abs() < 1e-12);
+        let sigma = c.sigma_mm().expect("σ");
+        assert!((sigma[3] - (0.01f64 / 3.0 + 0.0025 / 3.0).sqrt()).abs() < 1e-12);
+        // t(0.975, 2) = 4.303: Δ_r = 4.303·0.1/√3.
+        let half = c.interval_at(&[90.0, 105.0]).unwrap();
+        assert!((half[0] - p.total_mm).abs() < 1e-15 && (half[1] - p.total_mm).abs() < 1e-12);
+        assert!((p.random_mm - 4.302_652_729_911_275 * 0.1 / 3f64.sqrt()).abs() < 1e-9);
+        // Rows per reading read the same; a flag's value stands for the file's.
+        let mut rows_text = String::from("# resolution_mm = 0.05\nphi_deg,P_mm\n");
+        for k in 0..12 {
+            for j in 0..3 {
+                rows_text += &format!("{},{}\n", 30 * k, 0.3 * k as f64 + 0.1 * (j as f64 - 1.0));
+            }
+        }
+        let d = parse(&rows_text);
+        assert_eq!(d.readings().unwrap().points[3].n, 3);
+        assert!((d.values_mm()[3] - 0.9).abs() < 1e-12);
+        let o = parse_curve_csv_with(
+            &rows_text,
+            "t.csv",
+            &ReadingOptions {
+                resolution_mm: Some(0.2),
+                confidence: Some(0.99),
+            },
+        )
+        .unwrap();
+        assert_eq!(
+            (o.readings().unwrap().resolution_mm, o.readings().unwrap().confidence),
+            (0.2, 0.99)
+        );
+        // A curve of one value per φ carries none of it.
+        let plain = parse(&format!("phi_deg,P_mm\n{}", rows(0.0, 30.0, |x| x)));
+        assert!(plain.readings().is_none() && plain.sigma_mm().is_none() && plain.interval_at(&[0.0]).is_none());
+    }
+
+    #[test]
+    fn repeated_readings_errors_name_the_place_and_the_fix() {
+        // No resolution.
+        let text = repeated(3, |_, j| j as f64).replace("# resolution_mm = 0.05\n", "");
+        refused(
+            &text,
+            "t.csv:1:1: the file holds repeated readings (up to 3 per φ) but not the instrument's resolution",
+            "help: add a line `# resolution_mm = 0.05`",
+        );
+        // Resolution ≤ 0 or not a number.
+        refused(
+            &repeated(3, |_, j| j as f64).replace("0.05", "0"),
+            "t.csv:1:19: the resolution 0 mm is not a length > 0",
+            "help: give the instrument's resolution",
+        );
+        refused(
+            &repeated(3, |_, j| j as f64).replace("0.05", "fine"),
+            "t.csv:1:19: `fine` (resolution_mm) is not a finite number",
+            "help: write it as a number",
+        );
+        refused(
+            &format!("# confidence = 1.5\n{}", repeated(3, |_, j| j as f64)),
+            "t.csv:1:16: the confidence 1.5 is not between 0 and 1",
+            "help: give the confidence as a fraction",
+        );
+        let e = parse_curve_csv_with(
+            &repeated(3, |_, j| j as f64),
+            "t.csv",
+            &ReadingOptions {
+                resolution_mm: Some(-1.0),
+                confidence: None,
+            },
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.starts_with("t.csv: the resolution -1 mm is not a length > 0"), "{e}");
+        // A ragged row.
+        let text = repeated(3, |_, j| j as f64).replace("\n60,0,1,2\n", "\n60,0,1\n");
+        refused(
+            &text,
+            "t.csv:5:1: the row has 3 field(s), the header 4 (`phi_deg` and 3 readings of `P_mm`)",
+            "help: give φ and 3 readings on every row",
+        );
+        // Not a number.
+        refused(
+            &repeated(3, |_, j| j as f64).replace("\n60,0,1,2\n", "\n60,0,x,2\n"),
+            "t.csv:5:6: `x` (P_mm) is not a number",
+            "help: write the take-up P as a number in mm",
+        );
+        // A φ with one reading among repeated ones.
+        let mut text = String::from("# resolution_mm = 0.1\nphi_deg,P_mm\n");
+        for k in 0..12 {
+            text += &format!("{},1\n", 30 * k);
+            if k != 4 {
+                text += &format!("{},1.2\n", 30 * k);
+            }
+        }
+        refused(
+            &text,
+            "t.csv:11:1: φ = 120° has one reading (line 11), while φ = 0° has 2 (line 3)",
+            "help: give every φ at least two readings",
+        );
+        // Huge readings overflow the spread: refused, never NaN.
+        refused(
+            &repeated(2, |_, j| if j == 0 { -1e308 } else { 1e308 }),
+            "t.csv:3:1: the readings of φ = 0° are too large to be processed",
+            "help:",
         );
     }
 

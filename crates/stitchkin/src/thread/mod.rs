@@ -12,6 +12,7 @@
 
 pub mod cam;
 pub mod measured;
+pub mod repeated;
 pub mod tension;
 pub mod wrap;
 
