@@ -141,6 +141,8 @@ pub struct FollowerSynthesis {
     pub base_radius_model_mm: f64,
     pub base_radius_mm: f64,
     pub roller_mm: f64,
+    /// What touches the cam: `knife`, `roller` or `flat`.
+    pub contact: &'static str,
     /// The lift's range, in its unit.
     pub lift_range: [f64; 2],
     pub checks: FollowerChecks,
@@ -352,8 +354,9 @@ fn shifted_base(cam: &CamFollower<f64>, c: V2<f64>, o: Option<V2<f64>>, least: f
             }
             (y * y + offset * offset).sqrt() - r_r
         }
-        (Motion::Rocking { .. }, _, Some(o)) => {
-            // The roller where the least lift puts it: its distance from C.
+        (Motion::Rocking { .. }, contact, Some(o)) => {
+            // The roller (or the face) where the least lift puts it: its
+            // distance from C.
             let mut shifted = cam.clone();
             shifted.lift = Lift::Segments(vec![crate::mechanism::cam_follower::Segment {
                 from: 0.0,
@@ -362,10 +365,15 @@ fn shifted_base(cam: &CamFollower<f64>, c: V2<f64>, o: Option<V2<f64>>, least: f
                 s1: least,
                 law: crate::mechanism::cam_follower::Law::Cycloidal,
             }]);
-            let r = shifted
-                .point_at(c, 0.0, Some(o))
-                .map_err(|e| bad(e.message, "move the follower's pivot or the thread's guides"))?;
-            (r - c).norm() - r_r
+            let why =
+                |e: crate::mechanism::NoAssembly| bad(e.message, "move the follower's pivot or the thread's guides");
+            if matches!(contact, Contact::Flat) {
+                // A constant lift turns the face with nothing: the profile
+                // is the circle the face stands off, p = ρ.
+                shifted.state(c, 0.0, Some(o)).map_err(why)?.profile_radius_mm
+            } else {
+                (shifted.point_at(c, 0.0, Some(o)).map_err(why)? - c).norm() - r_r
+            }
         }
         (Motion::Rocking { .. }, _, None) => unreachable!("a rocking follower is resolved with its pivot"),
     };
@@ -432,6 +440,16 @@ fn profile_points(
         Contact::Roller(r) => r,
         _ => 0.0,
     };
+    // A flat face's profile is the envelope of its lines, not an offset
+    // of the follower point's path.
+    let envelope = match cam.contact {
+        Contact::Flat => Some(
+            cam.outline(c, o, PROFILE_SAMPLES)
+                .map_err(|e| no_position(0.0, e.message))?
+                .profile,
+        ),
+        _ => None,
+    };
     let mut profile = Vec::with_capacity(PROFILE_SAMPLES);
     for k in 0..PROFILE_SAMPLES {
         let deg = k as f64 * 360.0 / PROFILE_SAMPLES as f64;
@@ -449,7 +467,7 @@ fn profile_points(
         if n.dot(&q0) < 0.0 {
             n = -n;
         }
-        let p = q0 - n * r_r;
+        let p = envelope.as_ref().map_or(q0 - n * r_r, |e| e[k]);
         profile.push(ProfilePoint {
             cam_deg: deg,
             lift: cam.lift.at(deg.to_radians()) * lift_scale,
@@ -484,26 +502,30 @@ const MAX_BASE_MM: f64 = 1000.0;
 /// follower's lift passes both checks, the cam's centre moved back along
 /// the axis by Δ so the follower stands where it stood: with the axis
 /// offset e and roller r_r, y0 = √((r_b + r_r)² − e²) grows by Δ and
-/// r_b′ = √((y0 + Δ)² + e²) − r_r. The pressure angle, tan α =
+/// r_b′ = √((y0 + Δ)² + e²) − r_r (a flat face: y0 = r_b, r_b′ = r_b + Δ,
+/// its profile's radius r_b + s + s″ grows with Δ). The pressure angle, tan α =
 /// (s′ − e)/(y0 + s) for an offset follower, falls as y0 grows, and the
 /// pitch curve's radius grows with it, so passing is taken to be
-/// monotone in Δ and found by bisection. `Ok(None)` for a rocking or
-/// flat-faced follower (moving the cam's centre there changes the arm's
-/// angles, so no one move keeps the follower's positions), and when no
+/// monotone in Δ and found by bisection. `Ok(None)` for a rocking
+/// follower (moving the cam's centre there changes the arm's angles, so no
+/// one move keeps the follower's positions), and when no
 /// base circle up to [`MAX_BASE_MM`] passes.
 pub fn least_passing_base(cam: &CamFollower<f64>, c: V2<f64>, limit: f64) -> Result<Option<BaseCircleAdvice>, Error> {
-    let (Motion::Translating { u, offset }, Contact::Knife | Contact::Roller(_)) = (cam.motion, cam.contact) else {
+    let Motion::Translating { u, offset } = cam.motion else {
         return Ok(None);
     };
-    let r_r = match cam.contact {
-        Contact::Roller(r) => r,
-        _ => 0.0,
+    // Where the follower's point stands at zero lift along the axis: a
+    // flat face at r_b.
+    let stand = |base: f64| match cam.contact {
+        Contact::Flat => base,
+        Contact::Roller(r) => ((base + r).powi(2) - offset * offset).max(0.0).sqrt(),
+        Contact::Knife => (base * base - offset * offset).max(0.0).sqrt(),
     };
-    let y0 = ((cam.base + r_r).powi(2) - offset * offset).max(0.0).sqrt();
+    let y0 = stand(cam.base);
     let with_base = |base: f64| {
         let mut moved = cam.clone();
         moved.base = base;
-        let dy = ((base + r_r).powi(2) - offset * offset).max(0.0).sqrt() - y0;
+        let dy = stand(base) - y0;
         (moved, c - u * dy, dy)
     };
     let passes = |base: f64| -> Result<(bool, FollowerChecks, f64), Error> {
@@ -655,6 +677,11 @@ pub fn synthesise_follower(model: &Model, params: &Params, opts: &FollowerOption
         least_lift: least * lift_scale,
         base_radius_model_mm: step.cam.base,
         base_radius_mm: base,
+        contact: match step.cam.contact {
+            Contact::Knife => "knife",
+            Contact::Roller(_) => "roller",
+            Contact::Flat => "flat",
+        },
         roller_mm: match step.cam.contact {
             Contact::Roller(r) => r,
             _ => 0.0,
@@ -686,16 +713,6 @@ fn path_and_group(
         )
     })?;
     let ci = cam_step_index(mech, model, &opts.group)?;
-    let step = cam_step(mech, ci);
-    if matches!(step.cam.contact, Contact::Flat) {
-        return Err(bad(
-            format!(
-                "group `{}` has a flat-faced follower: its lift is not synthesised",
-                opts.group
-            ),
-            "give the follower a roller or a knife edge (contact = \"roller\" or \"knife\")",
-        ));
-    }
     Ok((pi, ci))
 }
 

@@ -167,14 +167,24 @@ fn bad_input_is_refused_with_the_place_and_the_fix() {
 fn a_rocking_arm_gets_its_own_lift_back() {
     // The rocking example with a thread over its eyelet E: the take-up its
     // own lift gives, as the target, gives back that lift (12° rise) and
-    // the base circle (18 mm).
-    let text = include_str!("../../../../examples/cam-rocking-roller.toml")
+    // the base circle (18 mm); with a flat face 3 mm from the pivot
+    // instead of the roller, the same.
+    let roller = include_str!("../../../../examples/cam-rocking-roller.toml")
         .replace("O3 = [45, 20]\n", "O3 = [45, 20]\nG1 = [60, 80]\nG2 = [100, 70]\n")
         .replace(
             "[output]",
             "[thread]\n[[thread.paths]]\nname = \"t\"\nnodes = [\"G1\", \"E\", \"G2\"]\n\n[output]",
         );
-    let m = Model::from_toml_str(&text, "rock.toml").unwrap();
+    let flat = roller
+        .replace("contact = \"roller\"", "contact = \"flat\"\noffset = 3")
+        .replace("roller_radius = \"r_r\"\n", "");
+    for text in [roller, flat] {
+        own_lift_back(&text);
+    }
+}
+
+fn own_lift_back(text: &str) {
+    let m = Model::from_toml_str(text, "rock.toml").unwrap();
     let t = stitchkin::eval::run_cycle(
         &m,
         &m.defaults(),
@@ -242,4 +252,45 @@ fn the_least_passing_base_circle_keeps_the_take_up_and_passes_the_checks() {
     assert!((a[0] - b[0]).abs() < 0.05 && (a[1] - b[1]).abs() < 0.05, "{a:?} {b:?}");
     let less = run(advice.base_radius_mm - 0.1);
     assert!(!less.cams.iter().all(|c| c.checks_ok()), "{:?}", less.cams);
+}
+
+#[test]
+fn a_translating_flat_face_gets_a_lift_and_its_envelope() {
+    // The pusher with a flat face (base circle 36 mm, where the roller's
+    // centre stood): the target is met at the knots; the sharp fall after
+    // the draw-in asks for a concave profile unless smoothed over 20°;
+    // the profile is the envelope of the face (every profile point at
+    // r_b + s from the centre along the axis at its cam angle, or within).
+    let text = MODEL
+        .replace("contact = \"roller\"", "contact = \"flat\"")
+        .replace("roller_radius = \"r_r\"\n", "")
+        .replace("r_b = { value = 30,", "r_b = { value = 36,");
+    let m = Model::from_toml_str(&text, "flat.toml").unwrap();
+    let synth = |smooth_deg: f64| {
+        let mut o = FollowerOptions::new("pusher", "lower", target());
+        o.smooth_deg = smooth_deg;
+        synthesise_follower(&m, &m.defaults(), &o).unwrap()
+    };
+    let raw = synth(0.0);
+    assert!(raw.verify.max_err_knots_mm < 1e-9 && raw.score().unwrap() > 99.9);
+    assert_eq!(raw.contact, "flat");
+    assert!(!raw.checks.curvature_ok);
+    let text = stitchkin::output::text::follower_cam::summary(&raw);
+    assert!(text.contains("a flat face cannot follow it") && text.contains("least base circle passing both"), "{text}");
+    let s = synth(20.0);
+    assert!(s.checks.curvature_ok && s.checks.max_pressure_deg == 0.0, "{:?}", s.checks);
+    assert!(s.score().unwrap() > 98.0);
+    // The envelope: the face at cam angle δ is the line at r_b + s(δ)
+    // along the axis (+y turned back by δ); no profile point lies beyond.
+    for p in s.profile.iter().step_by(36) {
+        let d = p.cam_deg.to_radians();
+        let n = (d.sin(), d.cos()); // the axis (+y) turned back by δ
+        let h = s.base_radius_mm + p.lift;
+        let beyond = s
+            .profile
+            .iter()
+            .map(|q| n.0 * q.profile_mm[0] + n.1 * q.profile_mm[1] - h)
+            .fold(f64::MIN, f64::max);
+        assert!(beyond < 1e-2 && beyond > -1e-6, "{}: {beyond}", p.cam_deg);
+    }
 }

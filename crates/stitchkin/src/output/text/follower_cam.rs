@@ -25,11 +25,14 @@ pub fn summary(s: &FollowerSynthesis) -> String {
         s.least_lift,
         s.least_lift + s.lift_range[1]
     );
+    let touching = match s.contact {
+        "roller" => format!("roller {} mm", fmt_num(s.roller_mm)),
+        "flat" => "a flat face".to_string(),
+        _ => "a knife edge".to_string(),
+    };
     r += &format!(
-        "# base circle: {:.4} mm (the model's: {:.4} mm; roller {} mm): at zero lift the follower stands where the least lift put it\n",
-        s.base_radius_mm,
-        s.base_radius_model_mm,
-        fmt_num(s.roller_mm)
+        "# base circle: {:.4} mm (the model's: {:.4} mm; {touching}): at zero lift the follower stands where the least lift put it\n",
+        s.base_radius_mm, s.base_radius_model_mm
     );
     r += &smoothing_line(s.smooth_deg, "cam angle");
     r += "# verify (the model evaluated again with the new lift and base circle):\n";
@@ -69,10 +72,11 @@ pub fn summary(s: &FollowerSynthesis) -> String {
         "#   curvature       least radius {:.2} mm at cam angle {:.1}° (limit > 0): {}\n",
         c.min_curvature_radius_mm,
         c.min_curvature_at_cam_deg,
-        if c.curvature_ok {
-            "ok"
-        } else {
-            "UNDERCUT: smooth the lift (a wider average), or use a smaller roller"
+        match (c.curvature_ok, s.contact) {
+            (true, _) => "ok",
+            (false, "flat") =>
+                "CONCAVE: a flat face cannot follow it; smooth the lift (a wider average) or enlarge the base circle",
+            (false, _) => "UNDERCUT: smooth the lift (a wider average), or use a smaller roller",
         }
     );
     if let Some(b) = &s.base_circle_needed {
