@@ -49,6 +49,7 @@ enum Command {
     Consumption(consumption::Args),
     #[command(name = "match")]
     Match(matching::Args),
+    Measured(measured::Args),
     Sweep(sweep::Args),
     Tune(tune::Args),
     Nomogram(nomogram::Args),
@@ -77,6 +78,7 @@ fn main() -> miette::Result<()> {
         Command::Compare2d3d(args) => compare_2d3d::run(args),
         Command::Consumption(args) => consumption::run(args),
         Command::Match(args) => matching::run(args),
+        Command::Measured(args) => measured::run(args),
         Command::Sweep(args) => sweep::run(args),
         Command::Tune(args) => tune::run(args),
         Command::Nomogram(args) => nomogram::run(args),

@@ -43,4 +43,6 @@ pub use eval::{CycleOptions, CycleTable, run_cycle};
 pub use model::{Machine, Model, ParamDef, Params};
 pub use presets::Preset;
 pub use stitch::consumption::{Consumption, Seam, StitchGeometry, ThreadConsumption, consumption};
-pub use thread::measured::{CurveKind, MeasuredCurve, ReadingOptions, parse_curve_csv, read_curve};
+pub use thread::measured::{
+    CurveKind, MeasuredCurve, ReadingOptions, parse_curve_csv, parse_curve_csv_with, read_curve, read_curve_with,
+};

@@ -9,6 +9,7 @@ pub(crate) mod consumption;
 pub(crate) mod draw;
 pub(crate) mod fit;
 pub(crate) mod matching;
+pub(crate) mod measured;
 pub(crate) mod new;
 pub(crate) mod nomogram;
 pub(crate) mod plot;

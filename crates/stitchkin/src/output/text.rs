@@ -12,6 +12,7 @@ pub mod cycle;
 pub mod fit;
 pub mod follower_cam;
 pub mod matching;
+pub mod readings;
 pub mod sensitivity;
 pub mod straightness;
 pub mod stroke;
