@@ -331,13 +331,27 @@ fn solve_lifts(kn: &mut Knots, want: &[f64], s0: &[f64], h: f64) -> Result<Vec<f
         .collect())
 }
 
+/// What touches the cam, in words.
+fn contact_name(contact: Contact<f64>) -> &'static str {
+    match contact {
+        Contact::Knife => "knife",
+        Contact::Roller(_) => "roller",
+        Contact::Flat => "flat",
+    }
+}
+
+/// The roller's radius, mm (0 without a roller).
+fn roller_of(contact: Contact<f64>) -> f64 {
+    match contact {
+        Contact::Roller(r) => r,
+        _ => 0.0,
+    }
+}
+
 /// The base circle that puts the follower at zero lift where the lift
 /// `least` (in the lift's internal unit) put it with base `cam.base`.
 fn shifted_base(cam: &CamFollower<f64>, c: V2<f64>, o: Option<V2<f64>>, least: f64) -> Result<f64, Error> {
-    let r_r = match cam.contact {
-        Contact::Roller(r) => r,
-        _ => 0.0,
-    };
+    let r_r = roller_of(cam.contact);
     let base = match (cam.motion, cam.contact, o) {
         (Motion::Translating { .. }, Contact::Flat, _) => cam.base + least,
         (Motion::Translating { offset, .. }, _, _) => {
@@ -436,10 +450,7 @@ fn profile_points(
     lift_scale: f64,
 ) -> Result<Vec<ProfilePoint>, Error> {
     let me = cam.constant::<Dual2_64>();
-    let r_r = match cam.contact {
-        Contact::Roller(r) => r,
-        _ => 0.0,
-    };
+    let r_r = roller_of(cam.contact);
     // A flat face's profile is the envelope of its lines, not an offset
     // of the follower point's path.
     let envelope = match cam.contact {
@@ -677,15 +688,8 @@ pub fn synthesise_follower(model: &Model, params: &Params, opts: &FollowerOption
         least_lift: least * lift_scale,
         base_radius_model_mm: step.cam.base,
         base_radius_mm: base,
-        contact: match step.cam.contact {
-            Contact::Knife => "knife",
-            Contact::Roller(_) => "roller",
-            Contact::Flat => "flat",
-        },
-        roller_mm: match step.cam.contact {
-            Contact::Roller(r) => r,
-            _ => 0.0,
-        },
+        contact: contact_name(step.cam.contact),
+        roller_mm: roller_of(step.cam.contact),
         lift_range: range,
         checks,
         base_circle_needed,
