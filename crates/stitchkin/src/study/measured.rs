@@ -36,6 +36,32 @@ pub struct MeasuredMatch {
     /// The model's curve of the same kind against the measured one:
     /// D = model − measured, the score scaled by the measured curve's swing.
     pub against_model: Option<Mismatch>,
+    /// When the curve is the mean of repeated readings (seed 004 §3.4):
+    /// how they were processed and what the interval says.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interval: Option<MeasuredInterval>,
+}
+
+/// The interval of a mean curve of repeated readings on the cycle's grid.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeasuredInterval {
+    /// The confidence of the interval.
+    pub confidence: f64,
+    /// The most readings at any φ.
+    pub readings_per_phi: usize,
+    /// The instrument's resolution, the systematic error, mm.
+    pub resolution_mm: f64,
+    /// The half-width Δ (the total error) on the cycle's φ grid, mm.
+    pub half_width_mm: Vec<f64>,
+    /// The share of the cycle's φ at which the model's curve of the same
+    /// kind lies within the interval, %.
+    pub model_within_pct: f64,
+    /// The number of readings Grubbs' test flags.
+    pub outliers: usize,
+    /// The φ of the readings, deg, and the half-width Δ there, mm (the
+    /// error bars).
+    pub readings_phi_deg: Vec<f64>,
+    pub readings_half_width_mm: Vec<f64>,
 }
 
 fn bad(message: String, help: String) -> Error {
@@ -149,7 +175,30 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
             mismatch_on_cycle(phis, pprime, &values, &compared_at, eps, true),
         ),
     };
+    let interval = match (curve.readings(), curve.interval_at(phis)) {
+        (Some(r), Some(half)) => {
+            let model = if curve.kind() == CurveKind::TakeUp { p } else { pprime };
+            let within = values
+                .iter()
+                .zip(model)
+                .zip(&half)
+                .filter(|((v, m), h)| (*m - *v).abs() <= **h)
+                .count();
+            Some(MeasuredInterval {
+                confidence: r.confidence,
+                readings_per_phi: r.max_n(),
+                resolution_mm: r.resolution_mm,
+                model_within_pct: 100.0 * within as f64 / values.len().max(1) as f64,
+                half_width_mm: half,
+                outliers: r.outlier_count(),
+                readings_phi_deg: r.points.iter().map(|q| q.phi_deg).collect(),
+                readings_half_width_mm: r.points.iter().map(|q| q.total_mm).collect(),
+            })
+        }
+        _ => None,
+    };
     Ok(MeasuredMatch {
+        interval,
         source: source.to_string(),
         thread: th.thread.clone(),
         kind: curve.kind(),

@@ -9,12 +9,12 @@
 //! parameters as a heat map; a nomogram; and the 2D-vs-3D take-up
 //! difference.
 
-use super::svg::{Axis, Chart, Series, XShade, YBand, color};
+use super::svg::{Area, Axis, Chart, Series, XShade, YBand, color};
 use crate::error::{Error, Input, ParamError};
 use crate::eval::{CycleTable, MU_MAX_DEG, MU_MIN_DEG, wrap_deg};
 use crate::geometry::{Plane, V3};
 use crate::model::Model;
-use crate::study::measured::MeasuredMatch;
+use crate::study::measured::{MeasuredInterval, MeasuredMatch};
 use crate::thread::measured::CurveKind;
 
 pub mod analogs;
@@ -192,8 +192,52 @@ pub fn take_up_with_measured(model: &Model, table: &CycleTable, measured: &[Meas
             dashed: false,
             mark_start: false,
         });
+        if let Some(i) = &m.interval {
+            error_bars(&mut chart, phis, &m.values_mm, i, &m.thread, what);
+        }
     }
     Ok(chart)
+}
+
+/// The error bars of a mean curve of repeated readings (seed 004 §3.4):
+/// at each φ read, a thin bar from x̄ − Δ to x̄ + Δ around the curve (on
+/// the cycle's grid, so a needle thread read at its eye and moved to B is
+/// moved with it), with the interval as its tooltip.
+fn error_bars(chart: &mut Chart, phis: &[f64], values: &[f64], i: &MeasuredInterval, thread: &str, what: &str) {
+    let (Some(&first), Some(&last)) = (phis.first(), phis.last()) else {
+        return;
+    };
+    // Half the bar's width, deg.
+    let w = 0.6;
+    for (&phi, &half) in i.readings_phi_deg.iter().zip(&i.readings_half_width_mm) {
+        let x = first + (phi - first).rem_euclid(360.0);
+        if x > last || !half.is_finite() {
+            continue;
+        }
+        let k = phis.partition_point(|&p| p < x).min(phis.len() - 1);
+        let y = if k > 0 && phis[k] > x {
+            let t = (x - phis[k - 1]) / (phis[k] - phis[k - 1]);
+            values[k - 1] + t * (values[k] - values[k - 1])
+        } else {
+            values[k]
+        };
+        if !y.is_finite() {
+            continue;
+        }
+        chart.areas.push(Area {
+            upper: vec![(x - w, y + half), (x + w, y + half)],
+            lower: vec![(x - w, y - half), (x + w, y - half)],
+            color: "#222222".into(),
+            label: format!(
+                "{thread} {what} measured at φ = {:.1}°: {:.3} ± {:.3} mm ({} %, {} §3.4)",
+                phi,
+                y,
+                half,
+                crate::format::fmt_num(i.confidence * 100.0),
+                crate::references::cite(4)
+            ),
+        });
+    }
 }
 
 /// The thread's tension over the cycle (`docs/thread-physics.md`): per

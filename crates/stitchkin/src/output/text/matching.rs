@@ -5,7 +5,7 @@
 
 use crate::eval::CycleTable;
 use crate::eval::stitch_process::{StitchSummary, StitchThreadSummary};
-use crate::format::score;
+use crate::format::{fmt_num, score};
 use crate::model::Model;
 use crate::output::text::{sparkline, window_marks};
 use crate::stitch::checks::Check;
@@ -234,9 +234,9 @@ fn tension_block(st: &StitchSummary) -> String {
     let mut s = format!(
         "\nthread tension ({}: EA {} N, breaking {} N; regulator {} N):\n",
         first.material.as_deref().unwrap_or("the thread"),
-        crate::format::fmt_num(first.ea_n),
-        crate::format::fmt_num(first.breaking_n),
-        crate::format::fmt_num(first.regulator_n)
+        fmt_num(first.ea_n),
+        fmt_num(first.breaking_n),
+        fmt_num(first.regulator_n)
     );
     s += &format!(
         "{:<8} {:>9} {:>8}  {:<16} {:>7} {:>11} {:>7} {:>10}  {}\n",
@@ -436,6 +436,25 @@ fn measured_line(m: &MeasuredMatch) -> String {
         format!("taken at {}", m.split)
     };
     let mut s = format!("\n{what} of {} ({}, {split}):\n", m.thread, m.source);
+    if let Some(i) = &m.interval {
+        let (lo, hi) = i
+            .half_width_mm
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), h| (a.min(*h), b.max(*h)));
+        s += &format!(
+            "  the mean of up to {} readings per φ ({} §3.4): interval ± {:.3}…{:.3} mm at {} % \
+             (resolution {} mm); the model's {} within it at {:.0} % of φ; {} reading(s) flagged as outliers\n",
+            i.readings_per_phi,
+            crate::references::cite(4),
+            lo,
+            hi,
+            fmt_num(i.confidence * 100.0),
+            fmt_num(i.resolution_mm),
+            if m.kind == CurveKind::TakeUp { "P" } else { "P′" },
+            i.model_within_pct,
+            i.outliers
+        );
+    }
     if let Some(a) = &m.against_other {
         s += &format!(
             "  against {other}: RMS(D) {:.2} mm, max |D| {:.2} mm at φ = {:.1}°, score {}\n",
