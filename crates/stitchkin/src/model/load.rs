@@ -1538,9 +1538,10 @@ impl<'a> Loader<'a> {
                 return Err(self.err(
                     &path.key("elongation_mm"),
                     "the elongation allowance ΔP belongs to the `feed` convention",
-                    Some(
-                        "write convention = \"feed\" (P = ξ(φ) − ξ(φ0) + ΔP, seed 001), or remove elongation_mm".into(),
-                    ),
+                    Some(format!(
+                        "write convention = \"feed\" (P = ξ(φ) − ξ(φ0) + ΔP, {}), or remove elongation_mm",
+                        crate::references::cite(1)
+                    )),
                 ));
             }
             Some(v) => Some(self.length(v, path.key("elongation_mm"))?),
@@ -1824,7 +1825,10 @@ impl<'a> Loader<'a> {
                     return Err(self.err(
                         np,
                         "an offset cam contact needs `gamma_deg`",
-                        Some("seed 004 uses γ = 0.4–0.8 rad, i.e. 23–46 degrees".into()),
+                        Some(format!(
+                            "{} uses γ = 0.4–0.8 rad, i.e. 23–46 degrees",
+                            crate::references::cite(4)
+                        )),
                     ));
                 };
                 CamContactDef::Offset {

@@ -434,7 +434,7 @@ impl Loader<'_> {
                 ));
                 }
                 (other, ..) => {
-                    return Err(self.err(&fp.key("law"), format!("unknown feed law `{other}`"), Some("write law = \"harmonic\" (seed 004 §2.2.3) or law = \"point\" (a feed-dog tooth of the mechanism)".into())));
+                    return Err(self.err(&fp.key("law"), format!("unknown feed law `{other}`"), Some(format!("write law = \"harmonic\" ({} §2.2.3) or law = \"point\" (a feed-dog tooth of the mechanism)", crate::references::cite(4)))));
                 }
             },
         )
@@ -693,7 +693,7 @@ impl Loader<'_> {
                     return Err(self.err(
                         &mp,
                         format!("the moments must come in the order stab < {name} < draw_in < 360 (φ_c, degrees)"),
-                        Some("seed 004 Table 2: stab 270, draw-in 330".into()),
+                        Some(format!("{} Table 2: stab 270, draw-in 330", crate::references::cite(4))),
                     ));
                 }
                 Some(Moments {

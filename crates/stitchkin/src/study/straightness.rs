@@ -769,7 +769,7 @@ pub fn tolerance_study(model: &Model, base: &Params, opts: &ToleranceOptions) ->
         return Err(Error::Param(ParamError::new(
             Input::Limit,
             format!("the limit {} mm must be a positive number", opts.limit_mm),
-            Some("e.g. 0.05 (seed 004)".into()),
+            Some(format!("e.g. 0.05 ({})", crate::references::cite(4))),
         )));
     }
     if opts.samples > MAX_MONTE_CARLO_SAMPLES {

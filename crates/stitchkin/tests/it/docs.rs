@@ -791,7 +791,7 @@ fn looper_cam_variants(m: &Model) {
     let e = bad(edit(&text, r#", gamma_deg = "gamma" }"#, " }"), "bad8.toml");
     assert!(
         e.starts_with("bad8.toml:39:16: thread.paths[0].nodes[1]: an offset cam contact needs `gamma_deg`")
-            && e.contains("help: seed 004 uses γ = 0.4–0.8 rad, i.e. 23–46 degrees"),
+            && e.contains("help: Polyakov (2022) uses γ = 0.4–0.8 rad, i.e. 23–46 degrees"),
         "{e}"
     );
     let e = bad(
