@@ -55,6 +55,8 @@ fn scratch(name: &str) -> PathBuf {
 mod examples;
 #[path = "cli/limits.rs"]
 mod limits;
+#[path = "cli/measurement.rs"]
+mod measurement;
 #[path = "cli/nomogram.rs"]
 mod nomogram;
 #[path = "cli/output.rs"]
