@@ -334,8 +334,7 @@ impl Model {
                     "checks": checks,
                     "cams": table.cams,
                 });
-                serde_json::to_string(&json)
-                    .map_err(|e| stitchkin::Error::Internal(format!("cannot write JSON: {e}")))
+                serde_json::to_string(&json).map_err(|e| stitchkin::Error::Internal(format!("cannot write JSON: {e}")))
             })
             .map_err(|e| py_error(py, &e))?;
         py.import("json")?.getattr("loads")?.call1((json,))
@@ -573,6 +572,75 @@ fn consumption<'py>(
     py.import("json")?.getattr("loads")?.call1((json,))
 }
 
+/// Repeated readings of a take-up processed as Polyakov (2022) §3.4
+/// (docs/studies.md, "Repeated readings"): the file at `path` holds several
+/// readings per φ (a column per reading or rows of the same φ);
+/// `resolution_mm` (the instrument's largest error, mm) and `confidence`
+/// (0…1) stand for the file's `# resolution_mm` and `# confidence` lines.
+/// A dict: per φ the NumPy arrays `phi_deg`, `n`, `mean_mm`, `s_mm`,
+/// `s_mean_mm`, `t`, `ci_low_mm`, `ci_high_mm`, `random_mm`,
+/// `systematic_mm`, `total_mm`, `relative_pct` (NaN where |x̄| ≤ Δ),
+/// `sigma_mm`, and `outliers` (a list per φ of the flagged readings,
+/// 1-based); and `confidence`, `resolution_mm`, `source`, `column`.
+#[pyfunction]
+#[pyo3(signature = (path, resolution_mm = None, confidence = None))]
+fn process_readings<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    resolution_mm: Option<f64>,
+    confidence: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let options = stitchkin::ReadingOptions {
+        resolution_mm,
+        confidence,
+    };
+    let curve = py
+        .detach(|| stitchkin::read_curve_with(&path, &options))
+        .map_err(|e| py_error(py, &e))?;
+    let Some(p) = curve.readings() else {
+        let e = stitchkin::Error::Param(stitchkin::error::ParamError::general(
+            format!("{}: one reading per φ, nothing to process", curve.source()),
+            Some(
+                "give several readings per φ (a column per reading, `phi_deg,P_mm,P_mm,…`, or rows of the same φ)"
+                    .into(),
+            ),
+        ));
+        return Err(py_error(py, &e));
+    };
+    let out = PyDict::new(py);
+    fn column<T>(rows: &[T], f: impl Fn(&T) -> f64) -> Vec<f64> {
+        rows.iter().map(f).collect()
+    }
+    out.set_item("phi_deg", column(&p.points, |q| q.phi_deg).into_pyarray(py))?;
+    out.set_item(
+        "n",
+        p.points.iter().map(|q| q.n as i64).collect::<Vec<_>>().into_pyarray(py),
+    )?;
+    out.set_item("mean_mm", column(&p.points, |q| q.mean_mm).into_pyarray(py))?;
+    out.set_item("s_mm", column(&p.points, |q| q.s_mm).into_pyarray(py))?;
+    out.set_item("s_mean_mm", column(&p.points, |q| q.s_mean_mm).into_pyarray(py))?;
+    out.set_item("t", column(&p.points, |q| q.t).into_pyarray(py))?;
+    out.set_item("ci_low_mm", column(&p.points, |q| q.ci_low_mm).into_pyarray(py))?;
+    out.set_item("ci_high_mm", column(&p.points, |q| q.ci_high_mm).into_pyarray(py))?;
+    out.set_item("random_mm", column(&p.points, |q| q.random_mm).into_pyarray(py))?;
+    out.set_item("systematic_mm", column(&p.points, |q| q.systematic_mm).into_pyarray(py))?;
+    out.set_item("total_mm", column(&p.points, |q| q.total_mm).into_pyarray(py))?;
+    out.set_item(
+        "relative_pct",
+        column(&p.points, |q| q.relative_pct.unwrap_or(f64::NAN)).into_pyarray(py),
+    )?;
+    out.set_item("sigma_mm", column(&p.points, |q| q.sigma_mm).into_pyarray(py))?;
+    out.set_item(
+        "outliers",
+        p.points.iter().map(|q| q.outliers.clone()).collect::<Vec<_>>(),
+    )?;
+    out.set_item("confidence", p.confidence)?;
+    out.set_item("resolution_mm", p.resolution_mm)?;
+    out.set_item("source", curve.source())?;
+    out.set_item("column", curve.column())?;
+    Ok(out)
+}
+
 /// The time of one `Model.run(step, analogs=analogs)` computed in Rust,
 /// without Python: the median of `repeat` calls after one warm-up, seconds
 /// (as the bench times the Python calls).
@@ -690,6 +758,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(presets, m)?)?;
     m.add_function(wrap_pyfunction!(default_preset, m)?)?;
     m.add_function(wrap_pyfunction!(consumption, m)?)?;
+    m.add_function(wrap_pyfunction!(process_readings, m)?)?;
     m.add_function(wrap_pyfunction!(_time_run, m)?)?;
     m.add_function(wrap_pyfunction!(_time_take_up, m)?)?;
     m.add_function(wrap_pyfunction!(_closest_column, m)?)?;

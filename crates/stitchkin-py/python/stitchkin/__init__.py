@@ -18,7 +18,16 @@ table does not have is a :class:`MissingColumnError`, also a ``KeyError``.
 
 from collections.abc import Mapping
 
-from ._native import Model, StitchkinError, __version__, _closest_column, consumption, default_preset, presets
+from ._native import (
+    Model,
+    StitchkinError,
+    __version__,
+    _closest_column,
+    consumption,
+    default_preset,
+    presets,
+    process_readings,
+)
 
 __all__ = [
     "MissingColumnError",
@@ -28,6 +37,7 @@ __all__ = [
     "consumption",
     "default_preset",
     "presets",
+    "process_readings",
     "__version__",
 ]
 

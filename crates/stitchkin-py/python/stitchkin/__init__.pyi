@@ -10,6 +10,7 @@ from ._native import __version__ as __version__
 from ._native import consumption as consumption
 from ._native import default_preset as default_preset
 from ._native import presets as presets
+from ._native import process_readings as process_readings
 
 class MissingColumnError(KeyError, StitchkinError):
     name: str

@@ -37,6 +37,18 @@ def consumption(
     waste: float = 0.0,
 ) -> dict: ...
 
+def process_readings(
+    path: Union[str, PathLike[str]],
+    resolution_mm: Optional[float] = None,
+    confidence: Optional[float] = None,
+) -> dict:
+    """Repeated readings of a take-up processed as Polyakov (2022) §3.4: per φ
+    NumPy arrays phi_deg, n, mean_mm, s_mm, s_mean_mm, t, ci_low_mm,
+    ci_high_mm, random_mm, systematic_mm, total_mm, relative_pct (NaN where
+    |mean| ≤ total error), sigma_mm; outliers (a list per φ, 1-based); and
+    confidence, resolution_mm, source, column."""
+    ...
+
 class Model:
     @staticmethod
     def preset(name: str) -> Model: ...
