@@ -91,7 +91,7 @@ mod tests {
             "{}",
             lines[1]
         );
-        assert!(lines[2].starts_with("10,3,1.1"), "{}", lines[2]);
+        assert!(lines[2].starts_with("10,3,1.0999"), "{}", lines[2]);
         assert!(!text.contains("NaN") && !text.contains("inf"));
         let t = table(&p, "b.csv");
         assert!(
