@@ -175,28 +175,8 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
             mismatch_on_cycle(phis, pprime, &values, &compared_at, eps, true),
         ),
     };
-    let interval = match (curve.readings(), curve.interval_at(phis)) {
-        (Some(r), Some(half)) => {
-            let model = if curve.kind() == CurveKind::TakeUp { p } else { pprime };
-            let within = values
-                .iter()
-                .zip(model)
-                .zip(&half)
-                .filter(|((v, m), h)| (*m - *v).abs() <= **h)
-                .count();
-            Some(MeasuredInterval {
-                confidence: r.confidence,
-                readings_per_phi: r.max_n(),
-                resolution_mm: r.resolution_mm,
-                model_within_pct: 100.0 * within as f64 / values.len().max(1) as f64,
-                half_width_mm: half,
-                outliers: r.outlier_count(),
-                readings_phi_deg: r.points.iter().map(|q| q.phi_deg).collect(),
-                readings_half_width_mm: r.points.iter().map(|q| q.total_mm).collect(),
-            })
-        }
-        _ => None,
-    };
+    let model = if curve.kind() == CurveKind::TakeUp { p } else { pprime };
+    let interval = interval(curve, phis, &values, model);
     Ok(MeasuredMatch {
         interval,
         source: source.to_string(),
@@ -207,5 +187,29 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
         values_mm: values,
         against_other,
         against_model,
+    })
+}
+
+/// The interval of a mean curve of repeated readings on the grid `phis`
+/// (`values` the curve there), and the share of φ at which `model` lies
+/// within it; `None` for a curve of one value per φ.
+fn interval(curve: &MeasuredCurve, phis: &[f64], values: &[f64], model: &[f64]) -> Option<MeasuredInterval> {
+    let r = curve.readings()?;
+    let half = curve.interval_at(phis)?;
+    let within = values
+        .iter()
+        .zip(model)
+        .zip(&half)
+        .filter(|((v, m), h)| (*m - *v).abs() <= **h)
+        .count();
+    Some(MeasuredInterval {
+        confidence: r.confidence,
+        readings_per_phi: r.max_n(),
+        resolution_mm: r.resolution_mm,
+        model_within_pct: 100.0 * within as f64 / values.len().max(1) as f64,
+        half_width_mm: half,
+        outliers: r.outlier_count(),
+        readings_phi_deg: r.points.iter().map(|q| q.phi_deg).collect(),
+        readings_half_width_mm: r.points.iter().map(|q| q.total_mm).collect(),
     })
 }

@@ -166,7 +166,7 @@ pub fn grubbs_outlier(x: &[f64], alpha: f64) -> Option<usize> {
     let nf = n as f64;
     let mean = x.iter().sum::<f64>() / nf;
     let s = (x.iter().map(|xi| (xi - mean).powi(2)).sum::<f64>() / (nf - 1.0)).sqrt();
-    if !(s > 0.0) {
+    if s.is_nan() || s <= 0.0 {
         return None;
     }
     let (far, dev) = x
