@@ -148,4 +148,22 @@ fn the_mean_curve_goes_beside_the_model_with_its_interval() {
         36,
         "one error bar per φ read"
     );
+    let html = d.join("r.html");
+    ok(&[
+        "report",
+        "--preset",
+        "altin504",
+        "--step",
+        "5",
+        "--no-animation",
+        "--measured",
+        &file,
+        "-o",
+        html.to_str().unwrap(),
+    ]);
+    let html = std::fs::read_to_string(&html).unwrap();
+    assert!(
+        html.contains("at 95 % (10 readings per φ, Polyakov (2022) §3.4)"),
+        "the interval in the report"
+    );
 }

@@ -527,6 +527,8 @@ fn measured_section(measured: &[MeasuredMatch]) -> String {
                 score_cell(a.and_then(|a| a.score)),
                 num(b.map(|b| b.rms_d_mm), 2),
                 num(b.map(|b| b.max_abs_d_mm), 2),
+                interval_cell(m),
+                num(m.interval.as_ref().map(|i| i.model_within_pct), 0),
             ]
         })
         .collect();
@@ -542,9 +544,31 @@ fn measured_section(measured: &[MeasuredMatch]) -> String {
             "score",
             "RMS vs the model, mm",
             "max |difference| vs the model, mm",
+            "interval ± Δ, mm (repeated readings)",
+            "the model within it, % of φ",
         ],
         &rows,
     )
+}
+
+/// A mean curve's interval (seed 004 §3.4): the range of its half-widths,
+/// the confidence and the readings per φ; `—` for a curve of one value per φ.
+fn interval_cell(m: &MeasuredMatch) -> String {
+    match &m.interval {
+        None => "—".into(),
+        Some(i) => {
+            let (lo, hi) = i
+                .half_width_mm
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(a, b), h| (a.min(*h), b.max(*h)));
+            escape(&format!(
+                "{lo:.3}…{hi:.3} at {} % ({} readings per φ, {} §3.4)",
+                crate::format::fmt_num(i.confidence * 100.0),
+                i.readings_per_phi,
+                crate::references::cite(4)
+            ))
+        }
+    }
 }
 
 fn transmission(model: &Model, t: &CycleTable) -> Result<String, Error> {
