@@ -1445,6 +1445,26 @@ mod tests {
                 prop_assert!(x.iter().chain(y).all(|v| v.is_finite()));
                 prop_assert!(x.windows(2).all(|w| w[1] > w[0] && w[1] - w[0] <= MAX_GAP_DEG));
                 prop_assert!(x[n - 1] - x[0] < 360.0 && x[0] + 360.0 - x[n - 1] <= MAX_GAP_DEG);
+                if let Some(r) = c.readings() {
+                    // Repeated readings: every processed number finite, n ≥ 2, σ given.
+                    prop_assert!(r.points.len() == n && r.points.iter().all(|p| p.n >= 2));
+                    let finite = r.points.iter().all(|p| {
+                        [
+                            p.mean_mm,
+                            p.s_mm,
+                            p.t,
+                            p.ci_low_mm,
+                            p.ci_high_mm,
+                            p.total_mm,
+                            p.sigma_mm,
+                        ]
+                        .iter()
+                        .chain(p.relative_pct.iter())
+                        .all(|v| v.is_finite())
+                    });
+                    prop_assert!(finite, "a processed number not finite");
+                    prop_assert!(c.sigma_mm().is_some_and(|s| s.len() == n));
+                }
                 let (lo, hi) = y.iter().fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
                 let tol = 1e-9 * (1.0 + lo.abs().max(hi.abs()));
                 for v in c.resample(&[x[0], -1e9, -1.5, 0.0, 359.999, 1e12, f64::NAN]) {
@@ -1508,6 +1528,43 @@ mod tests {
         #[test]
         fn any_bytes_are_read_or_refused_without_panic(bytes in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..300)) {
             check_any(&String::from_utf8_lossy(&bytes))?;
+        }
+
+        #[test]
+        fn repeated_garbage_is_read_or_refused_without_panic(
+            head in proptest::collection::vec(token(), 0..5),
+            body in proptest::collection::vec(proptest::collection::vec(token(), 0..5), 0..20),
+        ) {
+            let mut text = format!("# resolution_mm = 0.05\n{}", head.join(","));
+            for row in &body {
+                text.push('\n');
+                text.push_str(&row.join(","));
+            }
+            check_any(&text)?;
+        }
+
+        #[test]
+        fn repeated_readings_parse_in_either_layout(
+            values in proptest::collection::vec(-50.0f64..50.0, 36),
+            per_row in proptest::prelude::any::<bool>(),
+        ) {
+            // Three readings at each of 12 φ, 30° apart.
+            let mut text = String::from("# resolution_mm = 0.05\n");
+            text += if per_row { "phi_deg,P_mm\n" } else { "phi_deg,P_mm,P_mm,P_mm\n" };
+            for k in 0..12 {
+                let v = &values[3 * k..3 * k + 3];
+                if per_row {
+                    for x in v { text += &format!("{},{x}\n", 30 * k) }
+                } else {
+                    text += &format!("{},{},{},{}\n", 30 * k, v[0], v[1], v[2]);
+                }
+            }
+            let c = parse_curve_csv(&text, "t.csv").map_err(|e| proptest::test_runner::TestCaseError::fail(e.to_string()))?;
+            for k in 0..12 {
+                let mean = values[3 * k..3 * k + 3].iter().sum::<f64>() / 3.0;
+                proptest::prop_assert!((c.values_mm()[k] - mean).abs() < 1e-9);
+            }
+            check_any(&text)?;
         }
 
         #[test]
