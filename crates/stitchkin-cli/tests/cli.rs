@@ -80,6 +80,8 @@ mod plot;
 mod report;
 #[path = "cli/serve.rs"]
 mod serve;
+#[path = "cli/variants.rs"]
+mod variants;
 
 const PRESETS: &[&str] = &[
     "needle876",
