@@ -24,7 +24,9 @@ fn the_variants_table_is_what_the_models_give() {
     let target = format!("{root}/examples/altin504-lower-pprime.csv");
     for (file, group, spring) in [
         ("variant1.toml", "pusher", false),
+        ("variant2.toml", "pusher", false),
         ("variant3.toml", "pusher", false),
+        ("variant4.toml", "pusher", false),
         ("variant5.toml", "feed_arm", true),
         ("variant6.toml", "feed_arm", false),
     ] {
