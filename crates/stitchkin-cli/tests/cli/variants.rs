@@ -73,3 +73,42 @@ fn the_variants_table_is_what_the_models_give() {
         assert!(score > 90.3 && row.ends_with("| yes |"), "{file}: {row}");
     }
 }
+
+/// The greatest 2·sin(θ/2) over the cycle, θ the bend of the thread over
+/// the pusher's tip T between the guides `g1` and `g2`, and its φ.
+fn greatest_press_per_newton(csv: &str, g1: (f64, f64), g2: (f64, f64)) -> (f64, f64) {
+    let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = |n: &str| head.iter().position(|h| *h == n).unwrap();
+    let (ip, ix, iy) = (at("phi_deg"), at("T.x_mm"), at("T.y_mm"));
+    let mut best = (0.0_f64, 0.0);
+    for l in lines {
+        let v: Vec<f64> = l.split(',').map(|s| s.parse().unwrap()).collect();
+        let (a, b) = ((g1.0 - v[ix], g1.1 - v[iy]), (g2.0 - v[ix], g2.1 - v[iy]));
+        let cos = (a.0 * b.0 + a.1 * b.1) / (a.0.hypot(a.1) * b.0.hypot(b.1));
+        let theta = std::f64::consts::PI - cos.clamp(-1.0, 1.0).acos();
+        let f = 2.0 * (theta / 2.0).sin();
+        if f > best.0 {
+            best = (f, v[ip]);
+        }
+    }
+    best
+}
+
+#[test]
+fn the_press_of_the_tip_on_the_thread_is_what_the_docs_say() {
+    let root = format!("{}/../..", env!("CARGO_MANIFEST_DIR"));
+    let docs = std::fs::read_to_string(format!("{root}/docs/looper-thread-feeds.md")).unwrap();
+    let docs = docs.split_whitespace().collect::<Vec<_>>().join(" ");
+    for (n, g1, g2) in [(1, (-15.0, 30.0), (15.0, 30.0)), (3, (30.0, -15.0), (30.0, 15.0))] {
+        let model = format!("{root}/examples/seed004-variants/variant{n}.toml");
+        let (o, _) = ok(&["run", &model, "--step", "1", "--format", "csv"]);
+        let (f, phi) = greatest_press_per_newton(&o, g1, g2);
+        let want = format!("variant {n}: {f:.3} at φ = {phi:.0}°");
+        assert!(docs.contains(&want), "docs/looper-thread-feeds.md lacks `{want}`");
+        assert!(
+            docs.contains(&format!("at most {f:.2} N")),
+            "the docs' greatest press is not {f:.2}"
+        );
+    }
+}
