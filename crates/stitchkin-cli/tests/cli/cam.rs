@@ -287,9 +287,15 @@ fn check_judges_a_spring_at_the_speed_asked() {
     assert!(out.contains("the spring holds it up to 1285 rpm"), "{out}");
     // 3000 rpm: the follower jumps, the check fails and says where.
     let slow = super::run(&["check", &model, "--rpm", "3000"]);
-    let (o, e) = (String::from_utf8_lossy(&slow.stdout), String::from_utf8_lossy(&slow.stderr));
+    let (o, e) = (
+        String::from_utf8_lossy(&slow.stdout),
+        String::from_utf8_lossy(&slow.stderr),
+    );
     assert!(!slow.status.success());
-    assert!(o.contains("FAIL follower_contact") && o.contains("at 3000 rpm the follower leaves the cam"), "{o}");
+    assert!(
+        o.contains("FAIL follower_contact") && o.contains("at 3000 rpm the follower leaves the cam"),
+        "{o}"
+    );
     assert!(e.contains("feed_arm follower_contact"), "{e}");
     // A speed that is no speed is refused, naming the option.
     let err = fails(&["check", &model, "--rpm", "-5"]);

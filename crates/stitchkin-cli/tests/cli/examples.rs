@@ -69,7 +69,10 @@ const SCRIPTS: &[(&str, &[(&str, &str)])] = &[
             ("seed004_bench_processed.csv", "phi_deg,n,mean_mm,s_mm"),
             ("seed004_bench_processed.txt", "Polyakov (2022) §3.4"),
             ("seed004_bench_match.txt", "the mean of up to 10 readings per φ"),
-            ("seed004_bench_takeup.svg", "0.015 ± 0.063 mm (95 %, Polyakov (2022) §3.4)"),
+            (
+                "seed004_bench_takeup.svg",
+                "0.015 ± 0.063 mm (95 %, Polyakov (2022) §3.4)",
+            ),
         ],
     ),
 ];

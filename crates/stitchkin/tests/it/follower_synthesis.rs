@@ -276,9 +276,16 @@ fn a_translating_flat_face_gets_a_lift_and_its_envelope() {
     assert_eq!(raw.contact, "flat");
     assert!(!raw.checks.curvature_ok);
     let text = stitchkin::output::text::follower_cam::summary(&raw);
-    assert!(text.contains("a flat face cannot follow it") && text.contains("least base circle passing both"), "{text}");
+    assert!(
+        text.contains("a flat face cannot follow it") && text.contains("least base circle passing both"),
+        "{text}"
+    );
     let s = synth(20.0);
-    assert!(s.checks.curvature_ok && s.checks.max_pressure_deg == 0.0, "{:?}", s.checks);
+    assert!(
+        s.checks.curvature_ok && s.checks.max_pressure_deg == 0.0,
+        "{:?}",
+        s.checks
+    );
     assert!(s.score().unwrap() > 98.0);
     // The envelope: the face at cam angle δ is the line at r_b + s(δ)
     // along the axis (+y turned back by δ); no profile point lies beyond.
