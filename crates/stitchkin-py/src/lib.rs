@@ -322,12 +322,12 @@ impl Model {
         let model = &self.model;
         let json = py
             .detach(|| {
-                let opts = stitchkin::eval::CycleOptions {
+                let opts = CycleOptions {
                     step_deg: step,
                     rpm,
                     ..Default::default()
                 };
-                let table = stitchkin::eval::run_cycle(model, &params, &opts)?;
+                let table = run_cycle(model, &params, &opts)?;
                 let checks: Vec<_> = table.all_checks().collect();
                 let json = serde_json::json!({
                     "ok": table.checks_ok(),
