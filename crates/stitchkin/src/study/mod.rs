@@ -6,6 +6,8 @@
 //! - [`tune`] and [`nomogram`]: the settings that match the take-up P to the
 //!   required P', for one stitch or over thickness and stitch length;
 //! - [`fit`]: model dimensions calibrated against results a source states;
+//! - [`fit_measured`]: the machine's setting fitted to its measured take-up,
+//!   with confidence intervals, and the advice that follows;
 //! - [`stroke`] and [`straightness`]: a point's stroke, dead centres and
 //!   transmission angles, its straightness along a line, and the tolerance
 //!   stack-up of both;
@@ -25,6 +27,7 @@ pub mod compare_2d3d;
 pub mod design;
 pub mod figures;
 pub mod fit;
+pub mod fit_measured;
 pub mod follower_synthesis;
 pub mod measured;
 pub mod nomogram;

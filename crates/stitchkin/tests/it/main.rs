@@ -9,6 +9,7 @@ mod cross_check;
 mod docs;
 mod drawing;
 mod facts;
+mod fit_measured;
 mod follower_synthesis;
 mod fuzz_models;
 mod fuzz_regressions;
