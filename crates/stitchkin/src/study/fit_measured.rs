@@ -38,6 +38,7 @@
 //! unit diagonal) exceeds [`CONDITION_LIMIT`], are named in a warning: the
 //! data shift the curve alike for both, so their values are not told apart.
 
+use crate::thread::repeated::student_t_quantile;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -941,108 +942,6 @@ fn levenberg_marquardt(
     })
 }
 
-/// ln Γ(x), x > 0 (Lanczos, g = 7, nine coefficients; relative error
-/// below 1e-14).
-fn ln_gamma(x: f64) -> f64 {
-    const G: [f64; 9] = [
-        0.999_999_999_999_809_9,
-        676.520_368_121_885_1,
-        -1_259.139_216_722_402_8,
-        771.323_428_777_653_1,
-        -176.615_029_162_140_6,
-        12.507_343_278_686_905,
-        -0.138_571_095_265_720_12,
-        9.984_369_578_019_572e-6,
-        1.505_632_735_149_311_6e-7,
-    ];
-    if x < 0.5 {
-        // Reflection: Γ(x)Γ(1 − x) = π / sin(πx).
-        return (std::f64::consts::PI / (std::f64::consts::PI * x).sin()).ln() - ln_gamma(1.0 - x);
-    }
-    let x = x - 1.0;
-    let t = x + 7.5;
-    let s = G[1..]
-        .iter()
-        .enumerate()
-        .fold(G[0], |s, (i, g)| s + g / (x + i as f64 + 1.0));
-    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + s.ln()
-}
-
-/// The regularised incomplete beta function I_x(a, b) (the continued
-/// fraction of Press et al. 2007 §6.4, evaluated by Lentz's method).
-fn incomplete_beta(x: f64, a: f64, b: f64) -> f64 {
-    if x <= 0.0 {
-        return 0.0;
-    }
-    if x >= 1.0 {
-        return 1.0;
-    }
-    let front = (ln_gamma(a + b) - ln_gamma(a) - ln_gamma(b) + a * x.ln() + b * (1.0 - x).ln()).exp();
-    // The fraction converges fast for x < (a + 1)/(a + b + 2); else use
-    // I_x(a, b) = 1 − I_(1−x)(b, a).
-    if x > (a + 1.0) / (a + b + 2.0) {
-        return 1.0 - incomplete_beta(1.0 - x, b, a);
-    }
-    let tiny = 1e-300;
-    let mut c = 1.0;
-    let mut d = 1.0 - (a + b) * x / (a + 1.0);
-    d = 1.0 / if d.abs() < tiny { tiny } else { d };
-    let mut f = d;
-    for m in 1..300 {
-        let m = m as f64;
-        for num in [
-            m * (b - m) * x / ((a + 2.0 * m - 1.0) * (a + 2.0 * m)),
-            -(a + m) * (a + b + m) * x / ((a + 2.0 * m) * (a + 2.0 * m + 1.0)),
-        ] {
-            d = 1.0 + num * d;
-            d = 1.0 / if d.abs() < tiny { tiny } else { d };
-            c = 1.0 + num / c;
-            if c.abs() < tiny {
-                c = tiny;
-            }
-            f *= c * d;
-        }
-        if (c * d - 1.0).abs() < 1e-15 {
-            break;
-        }
-    }
-    front * f / a
-}
-
-/// The Student's t distribution function with ν degrees of freedom:
-/// F(t) = 1 − ½ I_(ν/(ν+t²))(ν/2, ½) for t ≥ 0, symmetric about 0.
-pub fn student_t_cdf(t: f64, nu: f64) -> f64 {
-    let tail = 0.5 * incomplete_beta(nu / (nu + t * t), 0.5 * nu, 0.5);
-    if t >= 0.0 { 1.0 - tail } else { tail }
-}
-
-/// The quantile t_(p, ν) of Student's t (0 < p < 1, ν > 0), by bisection
-/// on [`student_t_cdf`] to 1e-12.
-pub fn student_t_quantile(p: f64, nu: f64) -> f64 {
-    if p == 0.5 {
-        return 0.0;
-    }
-    if p < 0.5 {
-        return -student_t_quantile(1.0 - p, nu);
-    }
-    let (mut lo, mut hi) = (0.0, 1.0);
-    while student_t_cdf(hi, nu) < p && hi < 1e12 {
-        hi *= 2.0;
-    }
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if student_t_cdf(mid, nu) < p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-        if hi - lo <= 1e-12 * hi.max(1.0) {
-            break;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 /// What the fit means for the stitch: the fitted machine's match and the
 /// tune from the fitted setting to the best one.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -1127,6 +1026,6 @@ mod tests {
         }
         assert!((student_t_quantile(0.975, 1e7) - 1.959_963_985).abs() < 1e-5);
         assert!((student_t_quantile(0.025, 10.0) + 2.228_138_852).abs() < 1e-6);
-        assert!((ln_gamma(5.0) - 24f64.ln()).abs() < 1e-12);
+        assert!((crate::thread::repeated::ln_gamma(5.0) - 24f64.ln()).abs() < 1e-12);
     }
 }
