@@ -7,7 +7,7 @@
 
 use std::path::PathBuf;
 
-use numpy::{IntoPyArray, PyArray1};
+use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
@@ -17,7 +17,7 @@ use stitchkin::eval::{CycleOptions, PathLengths, run_cycle, run_cycle_columns};
 use stitchkin::model::{Model as LibModel, Params};
 use stitchkin::study::design::{Design, Sweep, Vary};
 use stitchkin::study::sweep::{self, Row, SweepPlan};
-use stitchkin::study::tune;
+use stitchkin::study::{fit_measured, tune};
 
 // Named in the package (`stitchkin.StitchkinError`), where it is
 // re-exported: pickling finds it there (a Dask worker's error reaches the
@@ -427,6 +427,186 @@ impl Model {
         py.import("json")?.getattr("loads")?.call1((json,))
     }
 
+    /// The machine's setting from its measured take-up, as `stitchkin fit
+    /// --measured` finds it: the parameters `adjust` fitted to the measured
+    /// curves by weighted least squares within their bounds, with their
+    /// confidence intervals, correlation and warnings.
+    ///
+    /// `measured`: a CSV file as `stitchkin match --measured` reads it
+    /// (`phi_deg,n1.P_B_mm`, or several readings per φ, which give each
+    /// sample its uncertainty), as a path, a `"THREAD=path"` string when
+    /// its column does not name the thread, a list of them, or a dict
+    /// `{thread: path}`. `adjust`: the parameters to fit, `NAME` (within
+    /// its adjustable range) or `NAME=LO:HI`, e.g. `["z", "dphi"]` (or
+    /// `"z,dphi"`); they start at the model's values with `set` applied.
+    /// `step`: the cycle's φ step, deg (None: 1, or the largest step that
+    /// holds every measured φ). `max_iterations`: Levenberg–Marquardt
+    /// iterations at most. `confidence`: of the intervals, 0 < c < 1.
+    ///
+    /// A dict: `params` (per fitted parameter `name`, `label`, `unit`,
+    /// `start`, `fitted`, `std_error` and `interval` [lo, hi] (None when
+    /// the data do not determine it), its bounds `lo`, `hi`, `at_bound`),
+    /// `fitted` ({name: fitted value}), `correlation` (a p × p NumPy array,
+    /// NaN when the data determine none), `condition`, `chi2_per_dof`,
+    /// `samples`, `dof`, `sigma_known`, `sigma_estimated_mm` (None when
+    /// the curves carry their uncertainty), `confidence`, `quantile` (q of
+    /// the intervals, fitted ± q·std_error) and `quantile_from`,
+    /// `converged`, `iterations`, `stop`, `step_deg`, `cost` and
+    /// `cost_start` (S = Σ r², at the end and the start), `warnings` (the
+    /// parameters the data cannot tell apart, a bound reached, …), `notes`,
+    /// and `curves`: per measured curve `phi_deg`, `measured_mm`,
+    /// `model_mm`, `residual_mm` (model − measured) as NumPy arrays,
+    /// `sigma_mm` (an array, or None when σ was estimated), `thread`,
+    /// `path` (the thread path compared with), `source` (the file),
+    /// `kind` (`"take_up"` or `"required"`), `exact_jacobian` and
+    /// `rms_residual_mm`.
+    ///
+    /// With `advise`, `advice` is the tuning from the fitted setting as
+    /// `Model.tune` returns it (`advice["tune"]`, at a 1° step, with
+    /// `samples` and `seed` as `tune` takes them; None when the model has
+    /// no stitch or no fitted parameter is a machine setting) and its
+    /// `notes`; else `advice` is None.
+    ///
+    /// A file that cannot be read, a parameter the model does not have or
+    /// data that cannot fit raise `StitchkinError` with its help; a
+    /// `measured` or `adjust` of the wrong type, `TypeError`.
+    #[pyo3(signature = (measured, adjust, *, step = None, max_iterations = 100, confidence = 0.95, set = None, advise = false, samples = 0, seed = 1))]
+    #[allow(clippy::too_many_arguments)]
+    fn fit_measured<'py>(
+        &self,
+        py: Python<'py>,
+        measured: &Bound<'py, PyAny>,
+        adjust: &Bound<'py, PyAny>,
+        step: Option<f64>,
+        max_iterations: usize,
+        confidence: f64,
+        set: Option<&Bound<'py, PyDict>>,
+        advise: bool,
+        samples: usize,
+        seed: u64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let specs = measured_specs(measured)?;
+        let adjust = adjust_names(adjust)?;
+        let params = self.params(py, set)?;
+        let model = &self.model;
+        let (fit, advice) = py
+            .detach(|| {
+                if advise {
+                    tune::check_samples(samples)?;
+                }
+                let curves = specs
+                    .iter()
+                    .map(|(thread, path)| {
+                        Ok(fit_measured::CurveInput {
+                            thread: thread.clone(),
+                            curve: stitchkin::read_curve(path)?,
+                        })
+                    })
+                    .collect::<Result<Vec<_>, stitchkin::Error>>()?;
+                let options = fit_measured::FitMeasuredOptions {
+                    adjust,
+                    step_deg: step,
+                    max_iterations,
+                    confidence,
+                };
+                let fit = fit_measured::fit_measured(model, &params, &curves, &options)?;
+                let advice = if advise {
+                    let a = fit_measured::advise(model, &params, &fit, samples, seed, 1.0)?;
+                    let tune = a
+                        .tune
+                        .as_ref()
+                        .map(serde_json::to_string)
+                        .transpose()
+                        .map_err(|e| stitchkin::Error::Internal(format!("cannot write JSON: {e}")))?;
+                    Some((tune, a.notes))
+                } else {
+                    None
+                };
+                Ok::<_, stitchkin::Error>((fit, advice))
+            })
+            .map_err(|e| py_error(py, &e))?;
+        let out = PyDict::new(py);
+        let list = PyList::empty(py);
+        let fitted = PyDict::new(py);
+        for p in &fit.params {
+            let d = PyDict::new(py);
+            d.set_item("name", &p.name)?;
+            d.set_item("label", &p.label)?;
+            d.set_item("unit", p.unit)?;
+            d.set_item("start", p.start)?;
+            d.set_item("fitted", p.fitted)?;
+            d.set_item("std_error", p.std_error)?;
+            d.set_item("interval", p.interval.map(|[lo, hi]| vec![lo, hi]))?;
+            d.set_item("lo", p.lo)?;
+            d.set_item("hi", p.hi)?;
+            d.set_item("at_bound", p.at_bound)?;
+            list.append(d)?;
+            fitted.set_item(&p.name, p.fitted)?;
+        }
+        out.set_item("params", list)?;
+        out.set_item("fitted", fitted)?;
+        let n = fit.params.len();
+        let correlation = if fit.correlation.len() == n {
+            fit.correlation
+        } else {
+            vec![vec![f64::NAN; n]; n]
+        };
+        let correlation = PyArray2::from_vec2(py, &correlation)
+            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("the correlation matrix: {e}")))?;
+        out.set_item("correlation", correlation)?;
+        out.set_item("condition", fit.condition)?;
+        out.set_item("chi2_per_dof", fit.chi2_per_dof)?;
+        out.set_item("samples", fit.samples)?;
+        out.set_item("dof", fit.dof)?;
+        out.set_item("sigma_known", fit.sigma_known)?;
+        out.set_item("sigma_estimated_mm", fit.sigma_estimated_mm)?;
+        out.set_item("confidence", fit.confidence)?;
+        out.set_item("quantile", fit.quantile)?;
+        out.set_item("quantile_from", &fit.quantile_from)?;
+        out.set_item("converged", fit.converged)?;
+        out.set_item("iterations", fit.iterations)?;
+        out.set_item("stop", &fit.stop)?;
+        out.set_item("step_deg", fit.step_deg)?;
+        out.set_item("cost", fit.cost)?;
+        out.set_item("cost_start", fit.cost_start)?;
+        out.set_item("warnings", &fit.warnings)?;
+        out.set_item("notes", &fit.notes)?;
+        let curves = PyList::empty(py);
+        for c in fit.curves {
+            let d = PyDict::new(py);
+            d.set_item("thread", &c.thread)?;
+            d.set_item("path", &c.path)?;
+            d.set_item("source", &c.source)?;
+            d.set_item(
+                "kind",
+                match c.kind {
+                    stitchkin::CurveKind::TakeUp => "take_up",
+                    stitchkin::CurveKind::Required => "required",
+                },
+            )?;
+            d.set_item("exact_jacobian", c.exact_jacobian)?;
+            d.set_item("phi_deg", c.phi_deg.into_pyarray(py))?;
+            d.set_item("measured_mm", c.measured_mm.into_pyarray(py))?;
+            d.set_item("model_mm", c.model_mm.into_pyarray(py))?;
+            d.set_item("residual_mm", c.residual_mm.into_pyarray(py))?;
+            d.set_item("sigma_mm", c.sigma_mm.map(|s| s.into_pyarray(py)))?;
+            d.set_item("rms_residual_mm", c.rms_residual_mm)?;
+            curves.append(d)?;
+        }
+        out.set_item("curves", curves)?;
+        match advice {
+            Some((tune, notes)) => {
+                let d = PyDict::new(py);
+                let loads = py.import("json")?.getattr("loads")?;
+                d.set_item("tune", tune.map(|t| loads.call1((t,))).transpose()?)?;
+                d.set_item("notes", notes)?;
+                out.set_item("advice", d)?;
+            }
+            None => out.set_item("advice", py.None())?,
+        }
+        Ok(out)
+    }
+
     /// Figures of merit over a grid or samples of the adjustable
     /// parameters, as `stitchkin sweep`: a `stitchkin.Table` with `index`
     /// (int64), one column per varied parameter (`NAME_UNIT`), one per
@@ -746,6 +926,63 @@ fn vary_specs(vary: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
         vary.extract::<Vec<String>>().map_err(|_| {
             pyo3::exceptions::PyTypeError::new_err(
                 "vary is a list of \"NAME=LO:HI:N\" strings or a dict {name: (lo, hi, n)}",
+            )
+        })
+    }
+}
+
+/// `measured` as `(thread, file)` pairs, as `--measured [THREAD=]FILE`
+/// takes them: a path or `"THREAD=path"` string, a list of them, or a dict
+/// `{thread: path}`. A string's `THREAD=` prefix is a thread only when it
+/// holds no `/`, `\` or `.` (a path may hold `=`).
+fn measured_specs(measured: &Bound<'_, PyAny>) -> PyResult<Vec<(Option<String>, PathBuf)>> {
+    let wrong = || {
+        pyo3::exceptions::PyTypeError::new_err(
+            "measured is a CSV file's path, a \"THREAD=path\" string, a list of them or a dict {thread: path}",
+        )
+    };
+    let one = |item: &Bound<'_, PyAny>| -> PyResult<(Option<String>, PathBuf)> {
+        if let Ok(s) = item.extract::<String>() {
+            return Ok(match s.split_once('=') {
+                Some((t, f)) if !t.is_empty() && !t.contains(['/', '\\', '.']) => (Some(t.to_string()), f.into()),
+                _ => (None, s.into()),
+            });
+        }
+        item.extract::<PathBuf>().map(|p| (None, p)).map_err(|_| wrong())
+    };
+    if let Ok(d) = measured.cast::<PyDict>() {
+        d.iter()
+            .map(|(thread, path)| {
+                Ok((
+                    Some(thread.extract::<String>().map_err(|_| wrong())?),
+                    path.extract::<PathBuf>().map_err(|_| wrong())?,
+                ))
+            })
+            .collect()
+    } else if measured.is_instance_of::<pyo3::types::PyString>() || measured.extract::<PathBuf>().is_ok() {
+        Ok(vec![one(measured)?])
+    } else {
+        measured
+            .try_iter()
+            .map_err(|_| wrong())?
+            .map(|item| one(&item?))
+            .collect()
+    }
+}
+
+/// `adjust` as the library takes it: a list of `NAME` or `NAME=LO:HI`
+/// strings, or one string of them separated by commas (`"z,dphi"`, as
+/// `--adjust z,dphi`).
+fn adjust_names(adjust: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
+    if let Ok(s) = adjust.extract::<String>() {
+        Ok(s.split(',')
+            .map(|n| n.trim().to_string())
+            .filter(|n| !n.is_empty())
+            .collect())
+    } else {
+        adjust.extract::<Vec<String>>().map_err(|_| {
+            pyo3::exceptions::PyTypeError::new_err(
+                "adjust is a list of parameter names (NAME or NAME=LO:HI), e.g. [\"z\", \"dphi\"]",
             )
         })
     }

@@ -3,6 +3,10 @@ from typing import Iterator, Mapping, Sequence
 import numpy as np
 import numpy.typing as npt
 
+from ._native import FitAdvice as FitAdvice
+from ._native import FittedCurve as FittedCurve
+from ._native import FittedParameter as FittedParameter
+from ._native import MeasuredFit as MeasuredFit
 from ._native import Model as Model
 from ._native import Parameter as Parameter
 from ._native import StitchkinError as StitchkinError

@@ -3,6 +3,9 @@
 from os import PathLike
 from typing import Mapping, Optional, Sequence, TypedDict, Union
 
+import numpy as np
+import numpy.typing as npt
+
 from . import Table
 
 __version__: str
@@ -14,6 +17,75 @@ class Parameter(TypedDict):
     range: Optional[tuple[float, float]]
     derived: bool
     source: Optional[str]
+
+class FittedParameter(TypedDict):
+    """A parameter fitted to the measured take-up, in its unit (mm or deg)."""
+
+    name: str
+    label: str
+    unit: str
+    start: float
+    fitted: float
+    std_error: Optional[float]
+    """√Cov_jj; None when the data do not determine it."""
+    interval: Optional[list[float]]
+    """[lo, hi]: fitted ± quantile·std_error, at the fit's confidence."""
+    lo: float
+    hi: float
+    at_bound: bool
+
+class FittedCurve(TypedDict):
+    """One measured curve after the fit: per sample φ, deg, and mm."""
+
+    thread: str
+    path: str
+    """The thread path whose take-up the curve is compared with (e.g. n1_A)."""
+    source: str
+    """The file the curve was read from."""
+    kind: str
+    """What the curve's values are: P ("take_up") or P′ ("required")."""
+    exact_jacobian: bool
+    phi_deg: npt.NDArray[np.float64]
+    measured_mm: npt.NDArray[np.float64]
+    model_mm: npt.NDArray[np.float64]
+    residual_mm: npt.NDArray[np.float64]
+    """model − measured, mm."""
+    sigma_mm: Optional[npt.NDArray[np.float64]]
+    """Each sample's standard uncertainty, mm; None when σ was estimated."""
+    rms_residual_mm: float
+
+class FitAdvice(TypedDict):
+    tune: Optional[dict]
+    """The tuning from the fitted setting, as `Model.tune` returns it."""
+    notes: list[str]
+
+class MeasuredFit(TypedDict):
+    """What `Model.fit_measured` returns."""
+
+    params: list[FittedParameter]
+    fitted: dict[str, float]
+    correlation: npt.NDArray[np.float64]
+    condition: float
+    chi2_per_dof: float
+    samples: int
+    dof: int
+    sigma_known: bool
+    sigma_estimated_mm: Optional[float]
+    confidence: float
+    quantile: float
+    quantile_from: str
+    converged: bool
+    iterations: int
+    stop: str
+    step_deg: float
+    cost: float
+    cost_start: float
+    warnings: list[str]
+    notes: list[str]
+    curves: list[FittedCurve]
+    advice: Optional[FitAdvice]
+
+MeasuredSpec = Union[str, PathLike[str]]
 
 class StitchkinError(Exception):
     file: Optional[str]
@@ -92,6 +164,29 @@ class Model:
         allow_inputs: bool = False,
         allow_dimensions: bool = False,
     ) -> dict: ...
+    def fit_measured(
+        self,
+        measured: Union[MeasuredSpec, Sequence[MeasuredSpec], Mapping[str, MeasuredSpec]],
+        adjust: Union[str, Sequence[str]],
+        *,
+        step: Optional[float] = None,
+        max_iterations: int = 100,
+        confidence: float = 0.95,
+        set: Optional[Mapping[str, float]] = None,
+        advise: bool = False,
+        samples: int = 0,
+        seed: int = 1,
+    ) -> MeasuredFit:
+        """The machine's setting from its measured take-up, as `stitchkin fit
+        --measured`: the parameters `adjust` (NAME or NAME=LO:HI) fitted to
+        the measured curves (a CSV path, "THREAD=path", a list of them or
+        {thread: path}) by weighted least squares, with confidence intervals,
+        correlation and warnings for parameters the data cannot tell apart.
+        `step`: φ step, deg (None: 1, or the largest that holds every
+        measured φ). `set`: the starting setting. With `advise`, the tuning
+        from the fitted setting (1 deg step, `samples` and `seed` as
+        `Model.tune` takes them)."""
+        ...
     def sweep(
         self,
         vary: Union[Sequence[str], Mapping[str, Sequence[float]]],
