@@ -46,6 +46,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::figures::figures;
+use super::least_squares::{invert_scaled, levenberg_marquardt, normal_matrix};
 use super::sensitivity::{FD_REL_STEP, figure_derivatives, figure_unit};
 use crate::error::{Error, Input, ModelError, ParamError};
 use crate::eval::{CycleOptions, check_options, run_cycle_with};
@@ -586,28 +587,15 @@ impl Problem<'_> {
         })
     }
 
-    /// Weighted residuals w_i (F_i − v_i) and their cost Σ r².
-    fn residuals(&self, values: &[f64]) -> (Vec<f64>, f64) {
-        let r: Vec<f64> = self
-            .facts
+    /// Weighted residuals w_i (v_i − F_i).
+    fn residuals(&self, values: &[f64]) -> Vec<f64> {
+        self.facts
             .facts
             .iter()
             .zip(values)
             .map(|(f, v)| f.weight * (v - f.value))
-            .collect();
-        let c = r.iter().map(|x| x * x).sum();
-        (r, c)
+            .collect()
     }
-}
-
-/// Solves the small symmetric system `a x = b` (Cholesky; `None` when `a`
-/// is not positive definite).
-fn solve_spd(a: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
-    let n = b.len();
-    let m = nalgebra::DMatrix::from_fn(n, n, |i, j| a[i][j]);
-    let chol = nalgebra::linalg::Cholesky::new(m)?;
-    let x = chol.solve(&nalgebra::DVector::from_column_slice(b));
-    x.iter().all(|v| v.is_finite()).then(|| x.iter().cloned().collect())
 }
 
 /// Fits `opts.adjust` of `model` (starting from `base`) to `facts`.
@@ -632,31 +620,24 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
         cycles: Default::default(),
     };
     check_figures(&problem, &start)?;
-    let e0 = problem.evaluate(&start, true)?;
-    let (r, cost) = problem.residuals(&e0.values);
-    let (cost_start, start_values) = (cost, e0.values.clone());
-    let mut lm = Marquardt {
-        x: start.clone(),
-        r,
-        cost,
-        values: e0.values,
-        jac: e0.jacobian.expect("asked for"),
-        lambda: 1e-3,
+    let start_values = problem.evaluate(&start, false)?.values;
+    let bounds: Vec<(f64, f64)> = adjusted.iter().map(|a| (a.lo, a.hi)).collect();
+    // Weighted residuals r_i = w_i (v_i − F_i) and their Jacobian w_i ∂v_i/∂x_j.
+    let weigh = |jac: &[Vec<f64>]| -> Vec<Vec<f64>> {
+        jac.iter()
+            .zip(&facts.facts)
+            .map(|(row, f)| row.iter().map(|d| f.weight * d).collect())
+            .collect()
     };
-    let mut iterations = 0;
-    let (mut converged, mut stop) = (false, String::from("the iteration limit was reached"));
-    while iterations < opts.max_iterations {
-        iterations += 1;
-        if let Some((done, why)) = lm.iterate(&problem)? {
-            (converged, stop) = (done, why.to_string());
-            break;
-        }
-    }
+    let lm = levenberg_marquardt(&bounds, &start, opts.max_iterations, |x, jacobian| {
+        let e = problem.evaluate(x, jacobian)?;
+        Ok((problem.residuals(&e.values), e.jacobian.as_deref().map(weigh)))
+    })?;
     // Standard errors at the optimum: √((JᵀJ)⁻¹)_jj of the weighted Jacobian.
     let n = lm.x.len();
-    let jac = problem.evaluate(&lm.x, true)?.jacobian.expect("asked for");
-    let (a, _) = weighted_normal(&jac, &lm.r, facts);
-    let std_error: Vec<Option<f64>> = match invert_spd(&a) {
+    let end = problem.evaluate(&lm.x, true)?;
+    let a = normal_matrix(&weigh(end.jacobian.as_deref().expect("asked for")));
+    let std_error: Vec<Option<f64>> = match invert_scaled(&a).0 {
         Some(inv) => (0..n).map(|j| Some(inv[j][j].max(0.0).sqrt())).collect(),
         None => vec![None; n],
     };
@@ -679,13 +660,13 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
         .collect();
     Ok(FitResult {
         params,
-        facts: fact_results(model, facts, &start_values, &lm.values),
-        cost_start,
+        facts: fact_results(model, facts, &start_values, &end.values),
+        cost_start: lm.cost_start,
         cost: lm.cost,
-        iterations,
+        iterations: lm.iterations,
         cycles: problem.cycles.into_inner(),
-        converged,
-        stop,
+        converged: lm.converged,
+        stop: lm.stop,
         warnings,
     })
 }
@@ -778,104 +759,6 @@ fn check_figures(problem: &Problem, start: &[f64]) -> Result<(), Error> {
     Ok(())
 }
 
-/// Levenberg–Marquardt with Marquardt's scaling, projected onto the
-/// bounds: (JᵀJ + λ diag JᵀJ) δ = −Jᵀr.
-struct Marquardt {
-    x: Vec<f64>,
-    /// Weighted residuals at `x`, their cost Σ r², the facts' values and
-    /// their (unweighted) Jacobian.
-    r: Vec<f64>,
-    cost: f64,
-    values: Vec<f64>,
-    jac: Vec<Vec<f64>>,
-    lambda: f64,
-}
-
-impl Marquardt {
-    /// One iteration: a step that lowers the cost (λ raised until one
-    /// does), or why the iteration stops and whether it converged.
-    fn iterate(&mut self, problem: &Problem) -> Result<Option<(bool, &'static str)>, Error> {
-        let (adjusted, n) = (problem.adjusted, self.x.len());
-        // J is of the facts' values; the normal equations weigh it.
-        let (a, g) = weighted_normal(&self.jac, &self.r, problem.facts);
-        if self.cost <= 1e-24
-            || g.iter()
-                .zip(adjusted)
-                .all(|(g, b)| (g * (b.hi - b.lo)).abs() <= 1e-12 * (1.0 + self.cost))
-        {
-            return Ok(Some((true, "the gradient vanishes")));
-        }
-        loop {
-            let mut m = a.clone();
-            let floor = 1e-12 * (0..n).map(|j| a[j][j]).fold(0.0, f64::max).max(1e-300);
-            for j in 0..n {
-                m[j][j] += self.lambda * a[j][j].max(floor);
-            }
-            let neg: Vec<f64> = g.iter().map(|v| -v).collect();
-            let Some(delta) = solve_spd(&m, &neg) else {
-                self.lambda *= 10.0;
-                if self.lambda > 1e12 {
-                    return Ok(Some((false, "no step lowers the cost (the system is singular)")));
-                }
-                continue;
-            };
-            // Project the step onto the box.
-            let trial: Vec<f64> = self
-                .x
-                .iter()
-                .zip(&delta)
-                .zip(adjusted)
-                .map(|((x, d), b)| (x + d).clamp(b.lo, b.hi))
-                .collect();
-            let moved = trial
-                .iter()
-                .zip(&self.x)
-                .zip(adjusted)
-                .map(|((t, x), b)| (t - x).abs() / (b.hi - b.lo))
-                .fold(0.0, f64::max);
-            if moved <= 1e-12 {
-                let pressed = self
-                    .x
-                    .iter()
-                    .zip(&delta)
-                    .zip(adjusted)
-                    .any(|((x, d), b)| (*x <= b.lo && *d < 0.0) || (*x >= b.hi && *d > 0.0));
-                return Ok(Some((
-                    true,
-                    if pressed {
-                        "the step vanishes: pressed against a bound"
-                    } else {
-                        "the step vanishes"
-                    },
-                )));
-            }
-            let better = match problem.evaluate(&trial, false) {
-                Ok(e) => {
-                    let (rt, ct) = problem.residuals(&e.values);
-                    (ct < self.cost).then_some((rt, ct, e.values))
-                }
-                // A setting that does not assemble counts as no better.
-                Err(_) => None,
-            };
-            let Some((rt, ct, vt)) = better else {
-                self.lambda *= 10.0;
-                if self.lambda > 1e12 {
-                    return Ok(Some((true, "no step lowers the cost (a local minimum)")));
-                }
-                continue;
-            };
-            let drop = (self.cost - ct) / self.cost.max(1e-300);
-            (self.x, self.r, self.cost, self.values) = (trial, rt, ct, vt);
-            self.lambda = (self.lambda / 10.0).max(1e-12);
-            if drop < 1e-12 || moved < 1e-10 {
-                return Ok(Some((true, "the cost no longer decreases")));
-            }
-            self.jac = problem.evaluate(&self.x, true)?.jacobian.expect("asked for");
-            return Ok(None);
-        }
-    }
-}
-
 /// What the fit cannot tell or was not asked: parameters the facts leave
 /// undetermined, facts stated for another model, fewer facts than
 /// parameters.
@@ -946,48 +829,4 @@ fn fact_results(model: &Model, facts: &Facts, start_values: &[f64], values: &[f6
             }
         })
         .collect()
-}
-
-/// JᵀWᵀWJ and JᵀW r for the unweighted Jacobian `jac` of the facts' values
-/// and the weighted residuals `r`.
-fn weighted_normal(jac: &[Vec<f64>], r: &[f64], facts: &Facts) -> (Vec<Vec<f64>>, Vec<f64>) {
-    let n = jac.first().map_or(0, |row| row.len());
-    let mut a = vec![vec![0.0; n]; n];
-    let mut g = vec![0.0; n];
-    for ((row, ri), f) in jac.iter().zip(r).zip(&facts.facts) {
-        for j in 0..n {
-            let wj = f.weight * row[j];
-            g[j] += wj * ri;
-            for k in 0..n {
-                a[j][k] += wj * f.weight * row[k];
-            }
-        }
-    }
-    (a, g)
-}
-
-/// The inverse of a small symmetric positive definite matrix, `None` when
-/// it is singular to working precision (condition above 1e12 after scaling
-/// to a unit diagonal).
-fn invert_spd(a: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
-    let n = a.len();
-    let d: Vec<f64> = (0..n).map(|j| a[j][j].sqrt()).collect();
-    if d.iter().any(|&x| !x.is_finite() || x <= 0.0) {
-        return None;
-    }
-    // Scaled to a unit diagonal, so the condition measures correlation.
-    let s = nalgebra::DMatrix::from_fn(n, n, |i, j| a[i][j] / (d[i] * d[j]));
-    let eig = s.clone().symmetric_eigenvalues();
-    let (min, max) = eig
-        .iter()
-        .fold((f64::MAX, 0.0f64), |(lo, hi), &e| (lo.min(e), hi.max(e)));
-    if min <= max * 1e-12 {
-        return None;
-    }
-    let inv = s.try_inverse()?;
-    Some(
-        (0..n)
-            .map(|i| (0..n).map(|j| inv[(i, j)] / (d[i] * d[j])).collect())
-            .collect(),
-    )
 }

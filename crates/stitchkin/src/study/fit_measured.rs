@@ -34,15 +34,18 @@
 //! ```
 //!
 //! with n samples, p parameters and c the confidence. Two parameters whose
-//! |ρ| exceeds [`CORRELATION_LIMIT`], or an A whose condition (scaled to a
+//! |ρ| exceeds [`INSEPARABLE_LIMIT`], or an A whose condition (scaled to a
 //! unit diagonal) exceeds [`CONDITION_LIMIT`], are named in a warning: the
 //! data shift the curve alike for both, so their values are not told apart.
+//! Above [`CORRELATION_LIMIT`] a warning says they are strongly correlated
+//! and by how much each interval is widened, √(1/(1 − ρ²)).
 
 use crate::thread::repeated::student_t_quantile;
 use rayon::prelude::*;
 use serde::Serialize;
 
 use super::fit::Bounded;
+use super::least_squares::{Eval, invert_scaled, levenberg_marquardt, normal_matrix};
 use super::measured::{MeasuredMatch, measured_match};
 use super::sensitivity::{FD_REL_STEP, take_up_derivatives};
 use super::straightness::normal_quantile;
@@ -52,8 +55,14 @@ use crate::eval::{CycleOptions, CycleTable, check_options, run_cycle_with};
 use crate::model::{Model, Params};
 use crate::thread::measured::{CurveKind, MeasuredCurve};
 
-/// |ρ| above which two fitted parameters are said not to be told apart.
+/// |ρ| above which two fitted parameters are said to be strongly
+/// correlated (a variance inflation 1/(1 − ρ²) above about 10, the usual
+/// mark of collinearity).
 pub const CORRELATION_LIMIT: f64 = 0.95;
+/// |ρ| above which two fitted parameters are said not to be told apart
+/// (variance inflation above 50: each interval at least 7 times as wide as
+/// with the other known).
+pub const INSEPARABLE_LIMIT: f64 = 0.99;
 /// Condition number of JᵀWJ (scaled to a unit diagonal) above which the
 /// fitted parameters are said not to be determined independently.
 pub const CONDITION_LIMIT: f64 = 1e6;
@@ -202,9 +211,6 @@ struct Problem<'a> {
     step_deg: f64,
     cycles: std::sync::atomic::AtomicUsize,
 }
-
-/// The residual vector at x and, when asked, its Jacobian (rows: samples).
-type Eval = (Vec<f64>, Option<Vec<Vec<f64>>>);
 
 impl Problem<'_> {
     fn params_at(&self, x: &[f64]) -> Params {
@@ -570,12 +576,12 @@ fn interval_quantile(sigma_known: bool, confidence: f64, dof: usize) -> (f64, St
     if sigma_known {
         (
             normal_quantile(tail),
-            "the normal quantile (σ known from the measurement)".to_string(),
+            "the normal quantile, σ known from the measurement".to_string(),
         )
     } else {
         (
             student_t_quantile(tail, dof as f64),
-            format!("Student's t quantile with n − p = {dof} degrees of freedom (σ estimated)"),
+            format!("Student's t quantile with n − p = {dof} degrees of freedom, σ estimated"),
         )
     }
 }
@@ -595,14 +601,6 @@ fn check_start(adjusted: &[Bounded], start: &[f64]) -> Result<(), Error> {
         }
     }
     Ok(())
-}
-
-/// JᵀJ of a Jacobian `jac` (rows: residuals).
-fn normal_matrix(jac: &[Vec<f64>]) -> Vec<Vec<f64>> {
-    let p = jac.first().map_or(0, |row| row.len());
-    (0..p)
-        .map(|j| (0..p).map(|k| jac.iter().map(|row| row[j] * row[k]).sum()).collect())
-        .collect()
 }
 
 /// Fits `opts.adjust` of `model` (starting from `base`) to the measured
@@ -695,7 +693,7 @@ pub fn fit_measured(
         })
         .collect();
     let correlation = cov.as_ref().map_or_else(Vec::new, |c| correlation_of(c));
-    let warnings = warnings(model, &params, &correlation, condition, sigma_known, chi2_per_dof, dof);
+    let warnings = warnings(&params, &correlation, condition, sigma_known, chi2_per_dof, dof);
     // The curves at the optimum.
     let values = problem.placed_values(&problem.params_at(&lm.x))?;
     let curves_out = curve_fits(curves, &problem.placed, values, sigma_known);
@@ -704,7 +702,7 @@ pub fn fit_measured(
     } else {
         format!(
             "one reading per φ: σ estimated from the residuals, s² = S/(n − p), s = {} mm",
-            crate::format::fmt_num(chi2_per_dof.sqrt())
+            crate::format::sig_fixed(chi2_per_dof.sqrt(), 3)
         )
     });
     if curves_out.iter().all(|c| c.exact_jacobian) {
@@ -741,7 +739,6 @@ pub fn fit_measured(
 /// ill-conditioned or singular system, a bound reached, a model that does
 /// not reproduce the measurement within its uncertainty.
 fn warnings(
-    model: &Model,
     params: &[FittedValue],
     correlation: &[Vec<f64>],
     condition: f64,
@@ -749,7 +746,6 @@ fn warnings(
     chi2_per_dof: f64,
     dof: usize,
 ) -> Vec<String> {
-    let _ = model;
     let mut w = Vec::new();
     if correlation.is_empty() {
         w.push(
@@ -761,15 +757,29 @@ fn warnings(
     for j in 0..correlation.len() {
         for k in j + 1..correlation.len() {
             let rho = correlation[j][k];
-            if rho.abs() > CORRELATION_LIMIT {
-                let (a, b) = (&params[j], &params[k]);
+            let (a, b) = (&params[j], &params[k]);
+            if rho.abs() > INSEPARABLE_LIMIT {
                 w.push(format!(
                     "`{}` ({}) and `{}` ({}) cannot be told apart from these data: their correlation is {:+.3} \
-                     (|ρ| > {CORRELATION_LIMIT}), so a change of one is almost undone by a change of the other \
+                     (|ρ| > {INSEPARABLE_LIMIT}), so a change of one is almost undone by a change of the other \
                      (they shift the curve alike, as a phase and a length can); their intervals are wide and their \
                      values uncertain together. Fit one with the other held at its known value, or measure where \
                      their effects on P differ",
                     a.name, a.label, b.name, b.label, rho
+                ));
+            } else if rho.abs() > CORRELATION_LIMIT {
+                w.push(format!(
+                    "`{}` ({}) and `{}` ({}) are strongly correlated in these data ({:+.3}, |ρ| > \
+                     {CORRELATION_LIMIT}): an error in one is largely made up by the other, so each interval holds \
+                     with the other fitted too, and each is about {:.1} times as uncertain as it would be with the \
+                     other known. Holding one at a known value narrows the other; readings where their effects on \
+                     P differ separate them",
+                    a.name,
+                    a.label,
+                    b.name,
+                    b.label,
+                    rho,
+                    (1.0 / (1.0 - rho * rho)).sqrt()
                 ));
             }
         }
@@ -800,146 +810,6 @@ fn warnings(
         ));
     }
     w
-}
-
-/// The inverse of a small symmetric positive semidefinite matrix and its
-/// condition scaled to a unit diagonal (`None` when singular to working
-/// precision).
-fn invert_scaled(a: &[Vec<f64>]) -> (Option<Vec<Vec<f64>>>, f64) {
-    let n = a.len();
-    let d: Vec<f64> = (0..n).map(|j| a[j][j].sqrt()).collect();
-    if d.iter().any(|&x| !x.is_finite() || x <= 0.0) {
-        return (None, f64::INFINITY);
-    }
-    let s = nalgebra::DMatrix::from_fn(n, n, |i, j| a[i][j] / (d[i] * d[j]));
-    let eig = s.clone().symmetric_eigenvalues();
-    let (min, max) = eig
-        .iter()
-        .fold((f64::MAX, 0.0f64), |(lo, hi), &e| (lo.min(e), hi.max(e)));
-    let condition = if min > 0.0 { max / min } else { f64::INFINITY };
-    if min <= max * 1e-12 {
-        return (None, condition);
-    }
-    let Some(inv) = s.try_inverse() else {
-        return (None, condition);
-    };
-    (
-        Some(
-            (0..n)
-                .map(|i| (0..n).map(|j| inv[(i, j)] / (d[i] * d[j])).collect())
-                .collect(),
-        ),
-        condition,
-    )
-}
-
-/// Where Levenberg–Marquardt stopped.
-struct Lm {
-    x: Vec<f64>,
-    cost_start: f64,
-    iterations: usize,
-    converged: bool,
-    stop: String,
-}
-
-/// Levenberg–Marquardt with Marquardt's scaling, each step projected onto
-/// the box: (JᵀJ + λ diag JᵀJ) δ = −Jᵀr, x ← clamp(x + δ).
-fn levenberg_marquardt(
-    bounds: &[(f64, f64)],
-    start: &[f64],
-    max_iterations: usize,
-    eval: impl Fn(&[f64], bool) -> Result<Eval, Error>,
-) -> Result<Lm, Error> {
-    let p = start.len();
-    let (r, jac) = eval(start, true)?;
-    let mut jac = jac.expect("asked for");
-    let mut x = start.to_vec();
-    let mut cost: f64 = r.iter().map(|v| v * v).sum();
-    let mut r = r;
-    let cost_start = cost;
-    let mut lambda = 1e-3;
-    let (mut converged, mut stop) = (false, "the iteration limit was reached".to_string());
-    let mut iterations = 0;
-    'outer: while iterations < max_iterations {
-        iterations += 1;
-        let a: Vec<Vec<f64>> = (0..p)
-            .map(|j| (0..p).map(|k| jac.iter().map(|row| row[j] * row[k]).sum()).collect())
-            .collect();
-        let g: Vec<f64> = (0..p)
-            .map(|j| jac.iter().zip(&r).map(|(row, ri)| row[j] * ri).sum())
-            .collect();
-        if g.iter()
-            .zip(bounds)
-            .all(|(g, (lo, hi))| (g * (hi - lo)).abs() <= 1e-12 * (1.0 + cost))
-        {
-            (converged, stop) = (true, "the gradient vanishes".into());
-            break;
-        }
-        loop {
-            let floor = 1e-12 * (0..p).map(|j| a[j][j]).fold(0.0, f64::max).max(1e-300);
-            let m = nalgebra::DMatrix::from_fn(p, p, |i, j| {
-                a[i][j] + if i == j { lambda * a[j][j].max(floor) } else { 0.0 }
-            });
-            let rhs = nalgebra::DVector::from_iterator(p, g.iter().map(|v| -v));
-            let delta = nalgebra::linalg::Cholesky::new(m).map(|c| c.solve(&rhs));
-            let Some(delta) = delta.filter(|d| d.iter().all(|v| v.is_finite())) else {
-                lambda *= 10.0;
-                if lambda > 1e12 {
-                    (converged, stop) = (false, "no step lowers the cost (the system is singular)".into());
-                    break 'outer;
-                }
-                continue;
-            };
-            let trial: Vec<f64> = x
-                .iter()
-                .zip(delta.iter())
-                .zip(bounds)
-                .map(|((x, d), (lo, hi))| (x + d).clamp(*lo, *hi))
-                .collect();
-            let moved = trial
-                .iter()
-                .zip(&x)
-                .zip(bounds)
-                .map(|((t, x), (lo, hi))| (t - x).abs() / (hi - lo))
-                .fold(0.0, f64::max);
-            if moved <= 1e-12 {
-                (converged, stop) = (true, "the step vanishes".into());
-                break 'outer;
-            }
-            let better = match eval(&trial, false) {
-                Ok((rt, _)) => {
-                    let ct: f64 = rt.iter().map(|v| v * v).sum();
-                    (ct < cost).then_some((rt, ct))
-                }
-                // A setting that does not assemble counts as no better.
-                Err(_) => None,
-            };
-            let Some((rt, ct)) = better else {
-                lambda *= 10.0;
-                if lambda > 1e12 {
-                    (converged, stop) = (true, "no step lowers the cost (a local minimum)".into());
-                    break 'outer;
-                }
-                continue;
-            };
-            let drop = (cost - ct) / cost.max(1e-300);
-            (x, r, cost) = (trial, rt, ct);
-            lambda = (lambda / 10.0).max(1e-12);
-            if drop < 1e-10 || moved < 1e-9 {
-                (converged, stop) = (true, "the cost no longer decreases".into());
-                break 'outer;
-            }
-            jac = eval(&x, true)?.1.expect("asked for");
-            continue 'outer;
-        }
-    }
-    Ok(Lm {
-        x,
-        cost_start,
-        iterations,
-        converged,
-        stop,
-    })
 }
 
 /// What the fit means for the stitch: the fitted machine's match and the

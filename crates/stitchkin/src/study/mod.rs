@@ -28,6 +28,7 @@ pub mod design;
 pub mod figures;
 pub mod fit;
 pub mod fit_measured;
+pub(crate) mod least_squares;
 pub mod follower_synthesis;
 pub mod measured;
 pub mod nomogram;
