@@ -53,6 +53,8 @@ fn scratch(name: &str) -> PathBuf {
 
 #[path = "cli/examples.rs"]
 mod examples;
+#[path = "cli/fit_measured.rs"]
+mod fit_measured;
 #[path = "cli/limits.rs"]
 mod limits;
 #[path = "cli/measurement.rs"]

@@ -10,6 +10,7 @@ pub mod compare_2d3d;
 pub mod consumption;
 pub mod cycle;
 pub mod fit;
+pub mod fit_measured;
 pub mod follower_cam;
 pub mod matching;
 pub mod readings;

@@ -258,3 +258,58 @@ fn fitting_needs_samples_a_grid_and_known_parameters() {
     .unwrap_err();
     assert!(format!("{e:?}").contains("n1"), "{e:?}");
 }
+
+/// The advice from a fit: the tune starts at the fitted setting (its
+/// "before" is the fitted machine's match, equal to `run_match` there) and
+/// does not end worse; a fitted dimension is kept as fitted and said so.
+#[test]
+fn the_advice_tunes_from_the_fitted_setting() {
+    use stitchkin::eval::run_match;
+    use stitchkin::study::fit_measured::{advise, fitted_params};
+    let m = model();
+    let (phi, p) = truth(&m);
+    let mut rng = SplitMix(5);
+    let curve = noisy_curve(&phi, &p, &mut rng, Some(NOISE_MM));
+    let f = fit_measured(&m, &m.defaults(), &[curve.clone()], &opts(&["z", "dphi"])).unwrap();
+    let a = advise(&m, &m.defaults(), &f, 64, 1, 2.0).unwrap();
+    let t = a.tune.as_ref().expect("z and dphi are settings: a tune");
+    let fitted = fitted_params(&m, &m.defaults(), &f).unwrap();
+    assert_eq!(
+        t.before,
+        vec![
+            fitted.values[m.param_index("z").unwrap()],
+            fitted.values[m.param_index("dphi").unwrap()]
+        ]
+    );
+    let table = run_match(&m, &fitted, 2.0).unwrap();
+    let st = table.stitch.as_ref().unwrap();
+    let n1 = st.threads.iter().find(|th| th.thread == "n1").unwrap();
+    let before_n1 = t.before_figures.threads.iter().find(|th| th.0 == "n1").unwrap();
+    let score = n1.mismatch.as_ref().unwrap().score.unwrap();
+    assert!(
+        (before_n1.1.unwrap() - score).abs() < 1e-9,
+        "{:?} vs {score}",
+        before_n1.1
+    );
+    assert!(t.after_figures.score_mean >= t.before_figures.score_mean - 1e-9);
+    // A dimension fitted with a setting: kept as fitted, the setting tuned.
+    let f = fit_measured(&m, &m.defaults(), &[curve], &opts(&["z", "h=30:34"])).unwrap();
+    let a = advise(&m, &m.defaults(), &f, 64, 1, 2.0).unwrap();
+    assert_eq!(
+        a.tune
+            .as_ref()
+            .unwrap()
+            .names
+            .iter()
+            .map(|n| n.0.as_str())
+            .collect::<Vec<_>>(),
+        ["z"]
+    );
+    assert!(
+        a.notes
+            .iter()
+            .any(|n| n.contains("`h`") && n.contains("kept as fitted")),
+        "{:?}",
+        a.notes
+    );
+}

@@ -23,6 +23,7 @@ pub mod family;
 pub mod heatmap;
 pub mod motion;
 pub mod nomogram;
+pub mod residuals;
 
 pub use analogs::analogs;
 pub use compare_2d3d::delta_2d3d;
@@ -30,6 +31,7 @@ pub use family::{FamilyData, Quantity, VaryGrid, family, surface_heat, surface_w
 pub use heatmap::{FigureGrid, figure_label, heatmap};
 pub use motion::{MotionSeries, motion_chart, motion_family_chart};
 pub use nomogram::nomogram_figure;
+pub use residuals::fit_residuals;
 
 /// A parameter error with its help.
 pub(crate) fn param_error(input: impl Into<Option<Input>>, message: String, help: String) -> Error {
