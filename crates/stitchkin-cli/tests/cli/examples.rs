@@ -64,6 +64,16 @@ const SCRIPTS: &[(&str, &[(&str, &str)])] = &[
         ],
     ),
     (
+        "mf7923d_bench_fit.sh",
+        &[
+            ("mf7923d_bench_processed.csv", "phi_deg,n,mean_mm,s_mm"),
+            ("mf7923d_bench_fit.txt", "95 % interval"),
+            ("mf7923d_bench_fit.txt", "Recommended setting"),
+            ("mf7923d_bench_fit.json", "\"correlation\""),
+            ("mf7923d_bench_residuals.svg", "residuals of the fit"),
+        ],
+    ),
+    (
         "seed004_experiment.sh",
         &[
             ("seed004_bench_processed.csv", "phi_deg,n,mean_mm,s_mm"),

@@ -57,7 +57,12 @@ pub fn screen(model: &str, fit: &MeasuredFit, advice: Option<&Advice>) -> String
     for w in &fit.warnings {
         s += &format!("warning: {w}\n");
     }
-    for n in &fit.notes {
+    // The weights' note is the header's second line.
+    for n in fit
+        .notes
+        .iter()
+        .filter(|n| !n.starts_with("weights 1/σ²") && !n.starts_with("one reading per φ"))
+    {
         s += &format!("note: {n}\n");
     }
     if let Some(a) = advice {
