@@ -167,3 +167,40 @@ fn the_mean_curve_goes_beside_the_model_with_its_interval() {
         "the interval in the report"
     );
 }
+
+/// A feed mechanism without [stitch] (seed 004's variant 1) matched against
+/// a required take-up given as a file: its path's P against that P′, the
+/// cam's checks, the exit status of the checks; without a curve, the error
+/// names the way.
+#[test]
+fn a_model_without_a_stitch_matches_a_required_take_up_given_as_a_file() {
+    let root = format!("{}/../..", env!("CARGO_MANIFEST_DIR"));
+    let model = format!("{root}/examples/seed004-variants/variant1.toml");
+    let target = format!("lower={root}/examples/altin504-lower-pprime.csv");
+    let (screen, _) = ok(&["match", &model, "--measured", &target]);
+    assert!(
+        screen.contains("no [stitch]") && screen.contains("cam_pressure"),
+        "{screen}"
+    );
+    let row = screen.lines().find(|l| l.starts_with("lower ")).unwrap();
+    assert!(row.contains(" 99.0 "), "{row}");
+    let (json, _) = ok(&["match", &model, "--measured", &target, "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let m = &v["measured"][0];
+    assert_eq!(m["thread"], "lower");
+    assert_eq!(m["kind"], "required");
+    let rms = m["against_other"]["rms_d_mm"].as_f64().unwrap();
+    assert!(rms > 0.0 && rms < 0.3, "{rms}");
+    assert!(v["checks"].as_array().unwrap().iter().all(|c| c["ok"] == true));
+    // Without a curve: what to give.
+    let e = fails(&["match", &model]);
+    assert!(e.contains("--measured PATH=FILE"), "{e}");
+    // A path the model lacks.
+    let e = fails(&[
+        "match",
+        &model,
+        "--measured",
+        &format!("upper={root}/examples/altin504-lower-pprime.csv"),
+    ]);
+    assert!(e.contains("no thread path `upper`") && e.contains("lower"), "{e}");
+}

@@ -20,6 +20,10 @@ use crate::stitch::spec::{
 };
 use num_dual::Dual64;
 
+/// ε of the match metrics (D within ± ε counts as matched), mm, when
+/// `[stitch]` gives no `tolerance_mm`.
+pub const DEFAULT_TOLERANCE_MM: f64 = 0.5;
+
 /// The upper looper of a 504: its organ, its window (deg) and the thread path it feeds.
 type UpperLooper = (OrganDef, [f64; 2], Option<String>);
 
@@ -233,7 +237,7 @@ impl Loader<'_> {
         }
         let frame = self.opt_frame(&s.frame, path.key("frame"))?;
         let cyclogram_zero_deg = finite_deg(self, s.cyclogram_zero_deg, &path.key("cyclogram_zero_deg"))?;
-        let tolerance_mm = s.tolerance_mm.unwrap_or(0.5);
+        let tolerance_mm = s.tolerance_mm.unwrap_or(DEFAULT_TOLERANCE_MM);
         if !(tolerance_mm.is_finite() && tolerance_mm > 0.0) {
             return Err(self.err(
                 &path.key("tolerance_mm"),

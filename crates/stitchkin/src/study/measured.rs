@@ -79,10 +79,7 @@ fn bad_input(message: String, help: String) -> Error {
 pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<&str>) -> Result<MeasuredMatch, Error> {
     let source = curve.source();
     let Some(st) = &table.stitch else {
-        return Err(bad(
-            format!("{source}: the model has no [stitch], so a measured curve has nothing to be compared with"),
-            "use a model with a stitch process (e.g. the preset mf7923d)".into(),
-        ));
+        return path_match(table, curve, thread);
     };
     let compared: Vec<&str> = st
         .threads
@@ -183,6 +180,87 @@ pub fn measured_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<
         thread: th.thread.clone(),
         kind: curve.kind(),
         split: th.split,
+        split_declared: curve.split().is_some(),
+        values_mm: values,
+        against_other,
+        against_model,
+    })
+}
+
+/// A curve set beside a thread path of a model without `[stitch]`: a
+/// required P′ (a target, e.g. another machine's P′ or a bench's) against
+/// the path's take-up P, or a measured P against the model's P, over the
+/// whole turn (no regulator window is known) with ε = the default
+/// tolerance.
+fn path_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<&str>) -> Result<MeasuredMatch, Error> {
+    let source = curve.source();
+    let names: Vec<&str> = table.paths.iter().map(|q| q.path.as_str()).collect();
+    if names.is_empty() {
+        return Err(bad(
+            format!("{source}: the model has no thread path, so a measured curve has nothing to be compared with"),
+            "add a [thread] table with [[thread.paths]] (docs/model-format.md §13)".into(),
+        ));
+    }
+    let path = match thread.or(curve.thread()) {
+        Some(w) => table.paths.iter().find(|q| q.path == w).ok_or_else(|| {
+            bad(
+                format!("{source}: the model has no [stitch] and no thread path `{w}`"),
+                format!("name one of its thread paths: {}", names.join(", ")),
+            )
+        })?,
+        None => match table.paths.as_slice() {
+            [one] => one,
+            _ => {
+                return Err(bad_input(
+                    format!(
+                        "{source}: the curve does not say which thread path it is, and the model has {}",
+                        names.join(", ")
+                    ),
+                    format!(
+                        "name the column after the path (e.g. `{}.Pprime_mm`) or give the curve as PATH=FILE",
+                        names[0]
+                    ),
+                ));
+            }
+        },
+    };
+    if curve.split().is_some_and(|s| s != SplitPoint::End) {
+        return Err(bad(
+            format!(
+                "{source}: `{}` is read at a needle's eye or at B, but the model has no [stitch] to place a needle \
+                 thread's split",
+                curve.column()
+            ),
+            "give the curve at the path's end (a column `P_mm` or `Pprime_mm`)".into(),
+        ));
+    }
+    let column = |name: &str| -> Result<&[f64], Error> {
+        table.column(name).ok_or_else(|| {
+            bad(
+                format!("{source}: the cycle has no column `{name}`"),
+                "run the full cycle (not a lean one)".into(),
+            )
+        })
+    };
+    let phis = column("phi_deg")?;
+    let p = column(&path.p_column)?;
+    let values = curve.resample(phis);
+    let compared = vec![true; phis.len()];
+    let eps = crate::model::stitch_setup::DEFAULT_TOLERANCE_MM;
+    let (against_other, against_model, interval) = match curve.kind() {
+        CurveKind::Required => (mismatch_on_cycle(phis, p, &values, &compared, eps, true), None, None),
+        CurveKind::TakeUp => (
+            None,
+            mismatch_on_cycle(phis, p, &values, &compared, eps, true),
+            interval(curve, phis, &values, p),
+        ),
+    };
+    Ok(MeasuredMatch {
+        interval,
+        source: source.to_string(),
+        thread: path.path.clone(),
+        kind: curve.kind(),
+        split: SplitPoint::End,
         split_declared: curve.split().is_some(),
         values_mm: values,
         against_other,

@@ -624,3 +624,93 @@ fn thread_details(t: &StitchThreadSummary) -> String {
     }
     s
 }
+
+/// The match of a model without `[stitch]`: each thread path's take-up P
+/// against the curves given for it (a required P′ from a file, or a
+/// measured P), over the whole turn; the paths' P and the curves as
+/// sparklines; the cams' checks.
+pub fn paths_screen(model: &Model, table: &CycleTable, measured: &[MeasuredMatch], details: bool) -> String {
+    let mut s = format!(
+        "{} — no [stitch]: each thread path's take-up P against the curves given for it\n",
+        model.title().unwrap_or(model.name())
+    );
+    s +=
+        "compared over the whole turn (the model gives no regulator window); D = P − P′: D > 0 slack, D < 0 strain\n\n";
+    s += &format!(
+        "{:<10} {:<5} {:>6} {:>10} {:>10} {:>10}  {}\n",
+        "path", "curve", "score", "RMS(D)", "max P", "max P′", "file"
+    );
+    let phis = table.column("phi_deg").unwrap_or(&[]);
+    for m in measured {
+        let path = table.paths.iter().find(|q| q.path == m.thread);
+        let max_p = path.map_or("—".into(), |q| format!("{:.2} mm", q.max_p_mm));
+        let (what, mismatch, max_pprime) = match m.kind {
+            CurveKind::Required => (
+                "P′",
+                m.against_other.as_ref(),
+                format!("{:.2} mm", m.values_mm.iter().fold(f64::MIN, |a, &v| a.max(v))),
+            ),
+            CurveKind::TakeUp => ("P", m.against_model.as_ref(), "—".to_string()),
+        };
+        s += &format!(
+            "{:<10} {:<5} {:>6} {:>10} {:>10} {:>10}  {}\n",
+            m.thread,
+            what,
+            score(mismatch.and_then(|a| a.score)),
+            mismatch.map_or("—".into(), |a| format!("{:.3} mm", a.rms_d_mm)),
+            max_p,
+            max_pprime,
+            m.source
+        );
+    }
+    if let Some(&start) = phis.first() {
+        s += &format!(
+            "\nP (upper line) against the curve (lower line) over one turn from φ = {start}°, {}° a character\n",
+            360 / SPARK_COLS
+        );
+        for m in measured {
+            let Some(p) = table
+                .paths
+                .iter()
+                .find(|q| q.path == m.thread)
+                .and_then(|q| table.column(&q.p_column))
+            else {
+                continue;
+            };
+            let (lo, hi) = p
+                .iter()
+                .chain(&m.values_mm)
+                .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+            let what = if m.kind == CurveKind::Required {
+                "P′"
+            } else {
+                "P meas"
+            };
+            s += &format!(
+                "{:<10}{:<7}{}  {:.1}…{:.1} mm\n",
+                m.thread,
+                "P",
+                sparkline(p, lo, hi, SPARK_COLS),
+                lo + 0.0,
+                hi + 0.0
+            );
+            s += &format!("{:<10}{:<7}{}\n", "", what, sparkline(&m.values_mm, lo, hi, SPARK_COLS));
+        }
+    }
+    if table.cam_checks().next().is_some() {
+        s += "\nchecks (what no machine can do):\n";
+        for c in table.cam_checks() {
+            s += &cam_check_line(c, details);
+        }
+    }
+    for m in measured {
+        s += &measured_line(m);
+    }
+    for c in model.caveats() {
+        s += &format!("note: {c}\n");
+    }
+    for w in &table.warnings {
+        s += &format!("warning: {w}\n");
+    }
+    s
+}
