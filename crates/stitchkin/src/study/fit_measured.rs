@@ -429,25 +429,48 @@ fn place(model: &Model, table: &CycleTable, curves: &[CurveInput], step_deg: f64
         .iter()
         .map(|c| {
             let m: MeasuredMatch = measured_match(table, &c.curve, c.thread.as_deref())?;
-            let th = st
-                .and_then(|s| s.threads.iter().find(|t| t.thread == m.thread))
-                .ok_or_else(|| {
-                    bad(
-                        Some(Input::Measured),
-                        format!("{}: thread `{}` is not in the stitch", c.curve.source(), m.thread),
-                        format!("use a model whose [stitch] has it ({})", model.name()),
-                    )
-                })?;
-            let path = th.path.clone().unwrap_or_default();
-            let p_column = table
-                .paths
-                .iter()
-                .find(|q| q.path == path)
-                .map_or(format!("{path}.P_mm"), |q| q.p_column.clone());
-            let exact = m.kind == CurveKind::TakeUp && c.curve.split().is_none_or(|s| s == th.split);
-            let model_column = match m.kind {
-                CurveKind::TakeUp => p_column,
-                CurveKind::Required => th.pprime_column(),
+            let (path, model_column, exact) = match st {
+                Some(st) => {
+                    let th = st.threads.iter().find(|t| t.thread == m.thread).ok_or_else(|| {
+                        bad(
+                            Some(Input::Measured),
+                            format!("{}: thread `{}` is not in the stitch", c.curve.source(), m.thread),
+                            format!("use a model whose [stitch] has it ({})", model.name()),
+                        )
+                    })?;
+                    let path = th.path.clone().unwrap_or_default();
+                    let p_column = table
+                        .paths
+                        .iter()
+                        .find(|q| q.path == path)
+                        .map_or(format!("{path}.P_mm"), |q| q.p_column.clone());
+                    let exact = m.kind == CurveKind::TakeUp && c.curve.split().is_none_or(|s| s == th.split);
+                    let model_column = match m.kind {
+                        CurveKind::TakeUp => p_column,
+                        CurveKind::Required => th.pprime_column(),
+                    };
+                    (path, model_column, exact)
+                }
+                // A feed mechanism alone: a measured P against its path's P.
+                None => {
+                    if m.kind == CurveKind::Required {
+                        return Err(bad(
+                            Some(Input::Measured),
+                            format!(
+                                "{}: a required take-up P′ cannot be fitted on a model without [stitch] (it has \
+                                 no P′ of its own)",
+                                c.curve.source()
+                            ),
+                            "fit a measured take-up P (a column P_mm), or add a [stitch] to the model".into(),
+                        ));
+                    }
+                    let q = table
+                        .paths
+                        .iter()
+                        .find(|q| q.path == m.thread)
+                        .expect("placed on a path");
+                    (q.path.clone(), q.p_column.clone(), true)
+                }
             };
             let sigma = match c.curve.sigma_mm() {
                 Some(s) => {
@@ -702,7 +725,7 @@ pub fn fit_measured(
     } else {
         format!(
             "one reading per φ: σ estimated from the residuals, s² = S/(n − p), s = {} mm",
-            crate::format::sig_fixed(chi2_per_dof.sqrt(), 3)
+            crate::format::sig_sci(chi2_per_dof.sqrt(), 3)
         )
     });
     if curves_out.iter().all(|c| c.exact_jacobian) {

@@ -313,3 +313,65 @@ fn the_advice_tunes_from_the_fitted_setting() {
         a.notes
     );
 }
+
+/// A feed mechanism without [stitch] (seed 004's variant 5, a rocking
+/// roller follower): a measured P of its thread path fits its arm's length;
+/// a required P′ cannot be fitted there, and the error says why.
+#[test]
+fn a_feed_mechanism_without_a_stitch_fits_its_paths_take_up() {
+    let file = format!(
+        "{}/../../examples/seed004-variants/variant5.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let m = Model::from_path(std::path::Path::new(&file)).unwrap();
+    let truth = at(&m, &[("l_arm", 36.0)]);
+    let t = run_cycle(
+        &m,
+        &truth,
+        &CycleOptions {
+            step_deg: STEP,
+            rpm: None,
+            analogs: false,
+            points: Some(Vec::new()),
+            lean: false,
+        },
+    )
+    .unwrap();
+    let (phi, p) = (t.column("phi_deg").unwrap(), t.column("lower.P_mm").unwrap());
+    let mut rng = SplitMix(9);
+    let mut csv = String::from("phi_deg,lower.P_mm\n");
+    for (f, v) in phi.iter().zip(p) {
+        csv += &format!("{f},{}\n", v + 0.02 * rng.normal());
+    }
+    let curve = parse_curve_csv(&csv, "v5.csv").unwrap();
+    let f = fit_measured(
+        &m,
+        &m.defaults(),
+        &[CurveInput {
+            thread: None,
+            curve: curve.clone(),
+        }],
+        &opts(&["l_arm=30:40"]),
+    )
+    .unwrap();
+    let [lo, hi] = f.params[0].interval.unwrap();
+    assert!(
+        lo <= 36.0 && 36.0 <= hi,
+        "{} not around 36: {lo}…{hi}",
+        f.params[0].fitted
+    );
+    assert!(f.curves[0].exact_jacobian && f.curves[0].path == "lower");
+    let required = parse_curve_csv(&csv.replace("lower.P_mm", "lower.Pprime_mm"), "v5p.csv").unwrap();
+    let e = fit_measured(
+        &m,
+        &m.defaults(),
+        &[CurveInput {
+            thread: None,
+            curve: required,
+        }],
+        &opts(&["l_arm=30:40"]),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("without [stitch]"), "{e}");
+}

@@ -5,7 +5,7 @@
 //! and, with the advice, the fitted machine's match against the stitch and
 //! the adjustment from the fitted setting to the best one.
 
-use crate::format::{decimals, fmt_num, sig_fixed};
+use crate::format::{decimals, fmt_num, sig_sci};
 use crate::study::fit_measured::{Advice, CurveFit, MeasuredFit};
 use crate::thread::measured::CurveKind;
 
@@ -20,16 +20,17 @@ pub fn screen(model: &str, fit: &MeasuredFit, advice: Option<&Advice>) -> String
         .collect();
     let mut s = format!("Fit of `{model}` to {}\n", sources.join(", "));
     s += &format!(
-        "{} samples, {} parameters, {} degrees of freedom; {}\n",
+        "{} samples, {} parameter{}, {} degrees of freedom; {}\n",
         fit.samples,
         fit.params.len(),
+        if fit.params.len() == 1 { "" } else { "s" },
         fit.dof,
         if fit.sigma_known {
             "weights 1/σ² from the readings' uncertainty".to_string()
         } else {
             format!(
                 "one reading per φ: σ estimated from the residuals, s = {} mm",
-                fit.sigma_estimated_mm.map_or("—".into(), |v| sig_fixed(v, 3))
+                fit.sigma_estimated_mm.map_or("—".into(), |v| sig_sci(v, 3))
             )
         }
     );
@@ -44,9 +45,9 @@ pub fn screen(model: &str, fit: &MeasuredFit, advice: Option<&Advice>) -> String
     s += &correlation_table(fit);
     s += &format!(
         "\nχ²/dof = {} (S = {} at the start, {} fitted); condition of JᵀWJ {}\n",
-        sig_fixed(fit.chi2_per_dof, 3),
-        sig_fixed(fit.cost_start, 4),
-        sig_fixed(fit.cost, 4),
+        sig_sci(fit.chi2_per_dof, 3),
+        sig_sci(fit.cost_start, 4),
+        sig_sci(fit.cost, 4),
         if fit.condition.is_finite() {
             format!("{:.3e}", fit.condition)
         } else {
@@ -92,7 +93,7 @@ fn params_table(fit: &MeasuredFit) -> String {
     for p in &fit.params {
         let se = p
             .std_error
-            .map_or("undetermined".into(), |e| format!("± {} {}", sig_fixed(e, 2), p.unit));
+            .map_or("undetermined".into(), |e| format!("± {} {}", sig_sci(e, 2), p.unit));
         let iv = p.interval.map_or("—".into(), |[lo, hi]| {
             format!("{} … {} {}", decimals(lo, 4), decimals(hi, 4), p.unit)
         });
@@ -114,7 +115,7 @@ fn params_table(fit: &MeasuredFit) -> String {
     }
     s += &format!(
         "intervals: fitted ± {} · std error ({})\n",
-        sig_fixed(fit.quantile, 4),
+        sig_sci(fit.quantile, 4),
         fit.quantile_from
     );
     s
@@ -156,7 +157,7 @@ fn residuals(fit: &MeasuredFit) -> String {
         s += &format!(
             "  {}: RMS {} mm, largest {} mm at φ = {}°",
             curve_name(c),
-            sig_fixed(c.rms_residual_mm, 3),
+            sig_sci(c.rms_residual_mm, 3),
             decimals(worst, 3),
             fmt_num(c.phi_deg.get(k).copied().unwrap_or(f64::NAN))
         );
@@ -170,7 +171,7 @@ fn residuals(fit: &MeasuredFit) -> String {
                 .count();
             s += &format!(
                 "; within ± {}·σ at {} of {} φ",
-                sig_fixed(q, 3),
+                sig_sci(q, 3),
                 within,
                 c.residual_mm.len()
             );
@@ -180,8 +181,8 @@ fn residuals(fit: &MeasuredFit) -> String {
         s += &format!(
             "    {}  (from −{} to +{} mm, over φ {}°…{}°)\n",
             sparkline(&c.residual_mm, -top, top, c.residual_mm.len().min(72)),
-            sig_fixed(top, 2),
-            sig_fixed(top, 2),
+            sig_sci(top, 2),
+            sig_sci(top, 2),
             fmt_num(c.phi_deg.first().copied().unwrap_or(0.0)),
             fmt_num(c.phi_deg.last().copied().unwrap_or(0.0))
         );
