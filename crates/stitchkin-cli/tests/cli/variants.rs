@@ -1,7 +1,9 @@
 //! docs/looper-thread-feeds.md: each seed 004 variant's row is what the
 //! binary computes for its model in examples/seed004-variants/: the match
 //! of the synthesised lift with the Altin lower thread's P′, the cam checks
-//! and the speed up to which a spring holds its follower.
+//! and the speed up to which a spring holds its follower. The row of the
+//! Altin's own feed (examples/altin504-grooved-lever.toml) is its `match`,
+//! like the base's, and the press of its groove on the thread is its run's.
 
 use super::ok;
 
@@ -31,6 +33,28 @@ fn the_variants_table_is_what_the_models_give() {
     let base_row = format!("| {} | {} |", base[2], base[3]);
     assert!(docs.contains(&base_row), "the base row lacks `{base_row}`");
     let base_score: f64 = base[2].parse().unwrap();
+    // The Altin's own feed, reconstructed: matched as the base is, its row
+    // below the base's score (it is the base conclusion 7 improves on).
+    let lever = format!("{root}/examples/altin504-grooved-lever.toml");
+    let (o, _) = ok(&["match", &lever]);
+    let lower = o
+        .lines()
+        .find(|l| l.starts_with("lower "))
+        .expect("the grooved lever's lower thread");
+    let own: Vec<&str> = lower.split_whitespace().collect();
+    let (o, _) = ok(&["check", &lever]);
+    let groove = number_after(&o, "\n  gv_r");
+    let want = format!("| {} | {} | — | {groove} (the groove) | — | no |", own[2], own[3]);
+    let row = docs
+        .lines()
+        .find(|l| l.contains("`examples/altin504-grooved-lever.toml`"))
+        .expect("no row for altin504-grooved-lever.toml in docs/looper-thread-feeds.md");
+    assert!(
+        row.ends_with(&want),
+        "altin504-grooved-lever.toml: the docs row\n{row}\ndoes not hold the computed\n{want}"
+    );
+    let own_score: f64 = own[2].parse().unwrap();
+    assert!(own_score < base_score, "{row}");
     for (file, group, spring) in [
         ("variant1.toml", "pusher", false),
         ("variant2.toml", "pusher", false),
@@ -104,6 +128,24 @@ fn greatest_press_per_newton(csv: &str, g1: (f64, f64), g2: (f64, f64)) -> (f64,
     best
 }
 
+/// The greatest 2·sin(θ/2) over the cycle, θ the thread's turn in the
+/// groove (`lower.groove_l_wrap_deg`), and its φ.
+fn greatest_press_in_the_groove(csv: &str) -> (f64, f64) {
+    let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = |n: &str| head.iter().position(|h| *h == n).unwrap();
+    let (ip, iw) = (at("phi_deg"), at("lower.groove_l_wrap_deg"));
+    let mut best = (0.0_f64, 0.0);
+    for l in lines {
+        let v: Vec<f64> = l.split(',').map(|s| s.parse().unwrap()).collect();
+        let f = 2.0 * (v[iw].to_radians() / 2.0).sin();
+        if f > best.0 {
+            best = (f, v[ip]);
+        }
+    }
+    best
+}
+
 #[test]
 fn the_press_of_the_tip_on_the_thread_is_what_the_docs_say() {
     let root = format!("{}/../..", env!("CARGO_MANIFEST_DIR"));
@@ -120,4 +162,12 @@ fn the_press_of_the_tip_on_the_thread_is_what_the_docs_say() {
             "the docs' greatest press is not {f:.2}"
         );
     }
+    // The Altin's own feed: the groove on its lever presses on the thread.
+    let model = format!("{root}/examples/altin504-grooved-lever.toml");
+    let (o, _) = ok(&["run", &model, "--step", "1", "--format", "csv"]);
+    let (f, phi) = greatest_press_in_the_groove(&o);
+    let want = format!("grooved lever: {f:.3} at φ = {phi:.0}°");
+    assert!(docs.contains(&want), "docs/looper-thread-feeds.md lacks `{want}`");
+    let want = format!("at most {f:.2} N per newton");
+    assert!(docs.contains(&want), "docs/looper-thread-feeds.md lacks `{want}`");
 }
