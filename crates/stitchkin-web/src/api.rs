@@ -7,19 +7,23 @@
 //! | `GET /` | the page (HTML, scripts inline) |
 //! | `GET /api/models` | the model the server started with, every preset with its title, the file limits |
 //! | `POST /api/models?name=FILE` | loads the model file in the body (`Content-Type: application/toml`): its key `file:ID`, or the library's message naming the place and the fix |
+//! | `POST /api/measured?name=FILE` | reads the measured take-up curve in the body (`Content-Type: text/csv`, the CSV of `stitchkin match --measured`): its key `measured:ID`, what it is (`kind`, `thread`, `readings` per φ, `points`), or the library's message naming the line and the fix |
 //! | `GET /api/model?model=KEY` | the model: parameters with units, ranges, roles and labels, threads, views |
-//! | `GET /api/evaluate?model=KEY&p.NAME=V…&step=DEG` | P/P′ chart (SVG) and the summary: readouts (a stroke, the thread per stitch), P per path, mismatch per stitch thread, transmission angles |
+//! | `GET /api/evaluate?model=KEY&p.NAME=V…&step=DEG&measured=KEY&measured_thread=T` | P/P′ chart (SVG) and the summary: readouts (a stroke, the thread per stitch), P per path, mismatch per stitch thread, transmission angles; with `measured`, the measured curve on the chart (its mean and error bars x̄ ± Δ for repeated readings) and its match to the model |
 //! | `GET /api/drawing?model=KEY&p.NAME=V…&phi=DEG&view=V&animate=1` | the mechanism with its threads at φ, or animated over the cycle (SVG) |
 //!
 //! Each request names its model: `model=NAME` a preset, `model=file:ID` a
 //! model file loaded before (the last [`MAX_FILES`] are kept while the
 //! server runs), no `model` the one the server started with. Nothing a
-//! request does changes what another one sees.
+//! request does changes what another one sees. A measured curve is named
+//! the same way, `measured=measured:ID` (the last [`MAX_CURVES`] read are
+//! kept), and set beside the thread its column names or `measured_thread`.
 //!
 //! Every query is checked before any work: an unknown key, a parameter the
 //! model lacks or cannot set, a value that is not a number or lies outside
 //! the parameter's range, a φ step outside 0.25…10°, more than
-//! [`MAX_TRAJECTORIES`] trajectories is a 400 whose JSON
+//! [`MAX_TRAJECTORIES`] trajectories, a measured curve the server does not
+//! keep or a thread the model does not compare is a 400 whose JSON
 //! body says what and how to fix it (`{"error": …, "help": …}`); a setting
 //! the mechanism cannot assemble in is a 422 with the library's message.
 
@@ -33,7 +37,9 @@ use stitchkin::model::file::{Axis as FileAxis, Measure};
 use stitchkin::model::{Model, Params};
 use stitchkin::output::plots;
 use stitchkin::presets;
+use stitchkin::study::measured::measured_match;
 use stitchkin::study::stroke::{Axis, stroke};
+use stitchkin::thread::measured::{CurveKind, MeasuredCurve, parse_curve_csv};
 
 use crate::view::{self, DrawingRequest};
 
@@ -50,6 +56,17 @@ pub const MAX_FILES: usize = 16;
 
 /// The media type a model file is sent with (`POST /api/models`).
 pub const TOML_TYPE: &str = "application/toml";
+
+/// The largest measured curve the page may send, bytes: a reading every
+/// 0.25° with twenty readings per φ is about 170 kB (the examples are 3 kB).
+pub const MAX_CURVE_BYTES: usize = 256 * 1024;
+
+/// Measured curves kept at once; reading one more forgets the one used
+/// least recently.
+pub const MAX_CURVES: usize = 16;
+
+/// The media type a measured curve is sent with (`POST /api/measured`).
+pub const CSV_TYPE: &str = "text/csv";
 
 /// The longest query accepted, bytes (a model with a hundred parameters
 /// needs about 3 kB).
@@ -147,49 +164,59 @@ pub struct App {
     store: Arc<Store>,
 }
 
-/// The presets (each loaded once, when first asked for) and the loaded
-/// model files.
+/// The presets (each loaded once, when first asked for), the loaded
+/// model files and the measured curves read.
 #[derive(Debug)]
 struct Store {
     presets: Vec<OnceLock<Result<Arc<Model>, String>>>,
-    files: Mutex<Files>,
+    files: Mutex<Kept<Model>>,
+    curves: Mutex<Kept<MeasuredCurve>>,
 }
 
-/// The loaded model files, at most [`MAX_FILES`], with when each was last
-/// used.
-#[derive(Debug, Default)]
-struct Files {
-    entries: Vec<FileEntry>,
+/// What was sent and read (model files, measured curves), at most `max`,
+/// with when each was last used.
+#[derive(Debug)]
+struct Kept<T> {
+    entries: Vec<KeptEntry<T>>,
     clock: u64,
+    max: usize,
 }
 
 #[derive(Debug)]
-struct FileEntry {
+struct KeptEntry<T> {
     id: String,
-    model: Arc<Model>,
+    item: Arc<T>,
     used: u64,
 }
 
-impl Files {
-    fn get(&mut self, id: &str) -> Option<Arc<Model>> {
+impl<T> Kept<T> {
+    fn new(max: usize) -> Kept<T> {
+        Kept {
+            entries: Vec::new(),
+            clock: 0,
+            max,
+        }
+    }
+
+    fn get(&mut self, id: &str) -> Option<Arc<T>> {
         self.clock += 1;
         let clock = self.clock;
         self.entries.iter_mut().find(|e| e.id == id).map(|e| {
             e.used = clock;
-            Arc::clone(&e.model)
+            Arc::clone(&e.item)
         })
     }
 
-    fn insert(&mut self, id: String, model: Arc<Model>) {
+    fn insert(&mut self, id: String, item: Arc<T>) {
         self.clock += 1;
-        if self.entries.len() >= MAX_FILES
+        if self.entries.len() >= self.max
             && let Some(oldest) = (0..self.entries.len()).min_by_key(|&k| self.entries[k].used)
         {
             self.entries.swap_remove(oldest);
         }
-        self.entries.push(FileEntry {
+        self.entries.push(KeptEntry {
             id,
-            model,
+            item,
             used: self.clock,
         });
     }
@@ -226,7 +253,7 @@ fn file_id(bytes: &[u8]) -> String {
 }
 
 /// The routes, for the help of a 404.
-const ROUTES: &str = "the page is at /, its data under /api/models, /api/model, /api/evaluate and /api/drawing";
+const ROUTES: &str = "the page is at /, its data under /api/models, /api/model, /api/evaluate and /api/drawing; measured curves are sent to /api/measured";
 
 impl App {
     pub fn new(model: Model, base: Params) -> App {
@@ -235,22 +262,24 @@ impl App {
             base,
             store: Arc::new(Store {
                 presets: presets::ALL.iter().map(|_| OnceLock::new()).collect(),
-                files: Mutex::new(Files::default()),
+                files: Mutex::new(Kept::new(MAX_FILES)),
+                curves: Mutex::new(Kept::new(MAX_CURVES)),
             }),
         }
     }
 
     /// Answers one request without a body. Only GET and HEAD are served
-    /// (405 otherwise), and POST of a model file ([`App::handle_body`]).
+    /// (405 otherwise), and POST of a model file or a measured curve
+    /// ([`App::handle_body`]).
     pub fn handle(&self, method: &str, url: &str) -> Reply {
         self.handle_body(method, url, None, &[])
     }
 
     /// Answers one request with its `Content-Type` and body (only `POST
-    /// /api/models` reads one).
+    /// /api/models` and `POST /api/measured` read one).
     pub fn handle_body(&self, method: &str, url: &str, content_type: Option<&str>, body: &[u8]) -> Reply {
         let (path, query) = url.split_once('?').unwrap_or((url, ""));
-        let post = method == "POST" && path == "/api/models";
+        let post = method == "POST" && is_upload(path);
         if method != "GET" && method != "HEAD" && !post {
             return Reply::error(
                 405,
@@ -259,7 +288,9 @@ impl App {
                     clip(method, ECHO_CHARS),
                     clip(path, ECHO_CHARS)
                 ),
-                Some("use GET; only a model file is sent, with POST to /api/models"),
+                Some(
+                    "use GET; only a model file (to /api/models) and a measured curve (to /api/measured) are sent, with POST",
+                ),
             );
         }
         if path.len() > MAX_PATH_BYTES {
@@ -278,38 +309,54 @@ impl App {
         }
         if post {
             return Query::parse(query, &["name"])
-                .and_then(|q| self.load_file(&q, content_type, body))
+                .and_then(|q| {
+                    if path == "/api/measured" {
+                        self.load_curve(&q, content_type, body)
+                    } else {
+                        self.load_file(&q, content_type, body)
+                    }
+                })
                 .unwrap_or_else(|reply| reply);
         }
-        let result = match path {
-            "/" | "/index.html" => {
-                return Reply {
-                    status: 200,
-                    content_type: "text/html; charset=utf-8",
-                    body: PAGE.as_bytes().to_vec(),
-                };
-            }
-            "/api/models" => Query::parse(query, &[]).map(|_| Reply::json(200, &self.models())),
-            "/api/model" => Query::parse(query, &["model"])
-                .and_then(|q| self.chosen(&q))
-                .map(|c| Reply::json(200, &describe(&c.model, &c.base))),
-            "/api/evaluate" => Query::parse(query, &["model", "step"]).and_then(|q| self.evaluate(&q)),
-            "/api/drawing" => {
-                Query::parse(query, &["model", "phi", "view", "animate", "trajectories"]).and_then(|q| self.drawing(&q))
-            }
-            "/favicon.ico" => {
-                return Reply {
-                    status: 204,
-                    content_type: "image/x-icon",
-                    body: Vec::new(),
-                };
-            }
-            _ => Err(Reply::error(
-                404,
-                format!("there is nothing at {}", clip(path, ECHO_CHARS)),
-                Some(ROUTES),
-            )),
-        };
+        if path == "/api/measured" {
+            return Reply::error(
+                405,
+                format!("{} is not served at /api/measured", clip(method, ECHO_CHARS)),
+                Some(&format!(
+                    "send the curve's CSV with POST and `Content-Type: {CSV_TYPE}`; /api/evaluate takes its key as measured=KEY"
+                )),
+            );
+        }
+        let result =
+            match path {
+                "/" | "/index.html" => {
+                    return Reply {
+                        status: 200,
+                        content_type: "text/html; charset=utf-8",
+                        body: PAGE.as_bytes().to_vec(),
+                    };
+                }
+                "/api/models" => Query::parse(query, &[]).map(|_| Reply::json(200, &self.models())),
+                "/api/model" => Query::parse(query, &["model"])
+                    .and_then(|q| self.chosen(&q))
+                    .map(|c| Reply::json(200, &describe(&c.model, &c.base))),
+                "/api/evaluate" => Query::parse(query, &["model", "step", "measured", "measured_thread"])
+                    .and_then(|q| self.evaluate(&q)),
+                "/api/drawing" => Query::parse(query, &["model", "phi", "view", "animate", "trajectories"])
+                    .and_then(|q| self.drawing(&q)),
+                "/favicon.ico" => {
+                    return Reply {
+                        status: 204,
+                        content_type: "image/x-icon",
+                        body: Vec::new(),
+                    };
+                }
+                _ => Err(Reply::error(
+                    404,
+                    format!("there is nothing at {}", clip(path, ECHO_CHARS)),
+                    Some(ROUTES),
+                )),
+            };
         result.unwrap_or_else(|reply| reply)
     }
 
@@ -364,6 +411,8 @@ impl App {
             "default_preset": presets::DEFAULT,
             "max_file_bytes": MAX_FILE_BYTES,
             "max_files": MAX_FILES,
+            "max_curve_bytes": MAX_CURVE_BYTES,
+            "max_curves": MAX_CURVES,
         })
     }
 
@@ -438,7 +487,7 @@ impl App {
             ));
         }
         if body.len() > MAX_FILE_BYTES {
-            return Err(too_large(Some(body.len())));
+            return Err(too_large("/api/models", Some(body.len())));
         }
         if body.is_empty() {
             return Err(Reply::error(
@@ -447,18 +496,13 @@ impl App {
                 Some("choose a TOML model file (presets/*.toml are examples; docs/model-format.md describes them)"),
             ));
         }
-        // The file's own name, for the messages: no folders, not too long.
-        let name = q.get("name").map(|n| n.rsplit(['/', '\\']).next().unwrap_or(n).trim());
-        let name = match name {
-            Some(n) if !n.is_empty() && !n.chars().any(char::is_control) => clip_name(n),
-            _ => "model.toml".to_string(),
-        };
+        let name = sent_name(q, "model.toml");
         let id = file_id(body);
         let kept = self.store.files.lock().ok().and_then(|mut f| f.get(&id));
         let model = match kept {
             Some(m) => m,
             None => {
-                let model = Arc::new(Model::from_toml_bytes(body, &name).map_err(|e| file_error(&e))?);
+                let model = Arc::new(Model::from_toml_bytes(body, &name).map_err(|e| file_error(&e, 422))?);
                 if let Ok(mut files) = self.store.files.lock() {
                     files.insert(id.clone(), Arc::clone(&model));
                 }
@@ -474,6 +518,93 @@ impl App {
                 "file": model.file_name(),
             }),
         ))
+    }
+
+    /// `POST /api/measured?name=FILE`: reads the measured take-up curve in
+    /// the body with the library's reader (as `stitchkin match --measured`
+    /// does: repeated readings processed per φ, seed 004 §3.4) and keeps it
+    /// under its key.
+    fn load_curve(&self, q: &Query, content_type: Option<&str>, body: &[u8]) -> Result<Reply, Reply> {
+        let media = content_type.and_then(|c| c.split(';').next()).map(str::trim);
+        if !media.is_some_and(|m| m.eq_ignore_ascii_case(CSV_TYPE)) {
+            return Err(Reply::error(
+                415,
+                format!(
+                    "a measured curve is sent as {CSV_TYPE}, not {}",
+                    clip(content_type.unwrap_or("without a Content-Type"), ECHO_CHARS)
+                ),
+                Some(&format!(
+                    "send the CSV file's text as the body with `Content-Type: {CSV_TYPE}`"
+                )),
+            ));
+        }
+        if body.len() > MAX_CURVE_BYTES {
+            return Err(too_large("/api/measured", Some(body.len())));
+        }
+        if body.is_empty() {
+            return Err(Reply::error(400, "the measured curve is empty", Some(CURVE_HELP)));
+        }
+        let name = sent_name(q, "measured.csv");
+        let id = file_id(body);
+        let kept = self.store.curves.lock().ok().and_then(|mut c| c.get(&id));
+        let curve = match kept {
+            Some(c) => c,
+            None => {
+                // Bytes that are not UTF-8 read as U+FFFD, as the command
+                // line reads a file: they fail where a number is expected.
+                let text = String::from_utf8_lossy(body);
+                let curve = Arc::new(parse_curve_csv(&text, &name).map_err(|e| curve_error(&e))?);
+                if let Ok(mut curves) = self.store.curves.lock() {
+                    curves.insert(id.clone(), Arc::clone(&curve));
+                }
+                curve
+            }
+        };
+        Ok(Reply::json(200, &curve_summary(&id, &curve)))
+    }
+
+    /// The measured curve a query names (`measured=measured:ID`), or the
+    /// 400 that says how to send it.
+    fn curve(&self, key: &str) -> Result<Arc<MeasuredCurve>, Reply> {
+        let kept = key
+            .strip_prefix("measured:")
+            .and_then(|id| self.store.curves.lock().ok().and_then(|mut c| c.get(id)));
+        kept.ok_or_else(|| {
+            Reply::error(
+                400,
+                format!(
+                    "measured = `{}` is not a measured curve this server keeps",
+                    clip(key, ECHO_CHARS)
+                ),
+                Some(&format!(
+                    "send the curve's CSV to POST /api/measured (on the page: Measured take-up (CSV)) and give the key it answers, measured:ID; the server keeps the last {MAX_CURVES} curves read while it runs"
+                )),
+            )
+        })
+    }
+
+    /// The measured curve a query names and the thread it asks for it
+    /// (`measured=KEY&measured_thread=T`), checked.
+    fn measured<'q>(&self, q: &'q Query) -> Result<(Option<Arc<MeasuredCurve>>, Option<&'q str>), Reply> {
+        let measured = q.get("measured").map(|key| self.curve(key)).transpose()?;
+        let thread = q.get("measured_thread").map(str::trim).filter(|t| !t.is_empty());
+        if measured.is_none() && q.get("measured_thread").is_some() {
+            return Err(Reply::error(
+                400,
+                "measured_thread names the thread of a measured curve, and no measured curve is given",
+                Some("give measured=KEY (from POST /api/measured) with it, or leave measured_thread out"),
+            ));
+        }
+        if let Some(t) = thread
+            && t.chars().count() > ECHO_CHARS
+        {
+            return Err(Reply::error(
+                400,
+                format!("measured_thread: no thread is named `{}`", clip(t, ECHO_CHARS)),
+                Some("name one of the model's stitch threads (the evaluation lists them under stitch.threads)"),
+            ));
+        }
+        Ok((measured, thread))
     }
 
     /// The settings a query asks for: the chosen model's base with each
@@ -521,6 +652,8 @@ impl App {
                 v
             }
         };
+        // The measured curve and its thread, checked before any work.
+        let (measured, measured_thread) = self.measured(q)?;
         let opts = CycleOptions {
             step_deg: step,
             analogs: false,
@@ -528,9 +661,14 @@ impl App {
             ..Default::default()
         };
         let table = run_cycle(model, &params, &opts).map_err(|e| library_error(&e))?;
+        // The measured curve beside its thread, on the cycle's grid.
+        let matches = match &measured {
+            None => Vec::new(),
+            Some(curve) => vec![set_beside(&table, curve, measured_thread)?],
+        };
         // The chart from the same cycle as the summary.
         let chart = match chart_kind(model) {
-            Some(Plot::TakeUp) => Some(plots::take_up(model, &table)),
+            Some(Plot::TakeUp) => Some(plots::take_up_with_measured(model, &table, &matches)),
             Some(_) => Some(plots::transmission(model, &table)),
             None => None,
         };
@@ -591,9 +729,7 @@ impl App {
         if let Some(s) = &table.stitch {
             warnings.extend(s.warnings.iter().cloned());
         }
-        Ok(Reply::json(
-            200,
-            &json!({
+        let mut answer = json!({
                 "values": model.params().iter().zip(&params.values).filter(|(p, _)| !p.is_derived()).map(|(p, v)| (p.name.clone(), json!(v))).collect::<serde_json::Map<_, _>>(),
                 "step_deg": step,
                 "readouts": readouts,
@@ -612,8 +748,11 @@ impl App {
                 "checks": table.all_checks().collect::<Vec<_>>(),
                 "cams": table.cams,
                 "warnings": warnings,
-            }),
-        ))
+        });
+        if let (Some(m), Some(key)) = (matches.first(), q.get("measured")) {
+            answer["measured"] = measured_json(key, m, &table)?;
+        }
+        Ok(Reply::json(200, &answer))
     }
 
     /// `/api/drawing`: the mechanism at φ (or animated), as SVG.
@@ -780,19 +919,150 @@ fn readouts(model: &Model, params: &Params, table: &CycleTable, step_deg: f64) -
     Ok(out)
 }
 
-/// A model file's text beyond [`MAX_FILE_BYTES`] (its size when known).
-pub fn too_large(bytes: Option<usize>) -> Reply {
+/// Whether `path` takes a POST with a body: a model file or a measured
+/// curve.
+pub fn is_upload(path: &str) -> bool {
+    path == "/api/models" || path == "/api/measured"
+}
+
+/// The largest body a POST to `path` may carry, bytes.
+pub fn max_body_bytes(path: &str) -> usize {
+    if path == "/api/measured" {
+        MAX_CURVE_BYTES
+    } else {
+        MAX_FILE_BYTES
+    }
+}
+
+/// What a POST to `path` sends, for messages: "the model file" or "the
+/// measured curve".
+pub fn body_name(path: &str) -> &'static str {
+    if path == "/api/measured" {
+        "the measured curve"
+    } else {
+        "the model file"
+    }
+}
+
+/// A body sent to `path` beyond [`max_body_bytes`] (its size when known).
+pub fn too_large(path: &str, bytes: Option<usize>) -> Reply {
     let size = bytes.map_or_else(|| "larger".to_string(), |b| format!("{b} bytes"));
+    let max = max_body_bytes(path);
+    let help = if path == "/api/measured" {
+        "choose the CSV file of the curve itself: a curve with ten readings every 10 deg is about 3 kB"
+    } else {
+        "choose the TOML model file itself: a model file is a few tens of kB (the largest preset, altin504.toml, is 43 kB)"
+    };
     Reply::error(
         413,
         format!(
-            "the model file is {size}, more than the {} kB ({MAX_FILE_BYTES} bytes) this server loads",
-            MAX_FILE_BYTES / 1024
+            "{} is {size}, more than the {} kB ({max} bytes) this server {}",
+            body_name(path),
+            max / 1024,
+            if path == "/api/measured" { "reads" } else { "loads" }
         ),
-        Some(
-            "choose the TOML model file itself: a model file is a few tens of kB (the largest preset, altin504.toml, is 43 kB)",
-        ),
+        Some(help),
     )
+}
+
+/// The name a POST gives its file (`name=FILE`), for the messages: no
+/// folders, not too long; `default` without one.
+fn sent_name(q: &Query, default: &str) -> String {
+    let name = q.get("name").map(|n| n.rsplit(['/', '\\']).next().unwrap_or(n).trim());
+    match name {
+        Some(n) if !n.is_empty() && !n.chars().any(char::is_control) => clip_name(n),
+        _ => default.to_string(),
+    }
+}
+
+/// What a measured curve's CSV looks like, for the help of an empty one.
+const CURVE_HELP: &str = "choose a CSV file with a header `phi_deg,P_mm` (or `phi_deg,THREAD.P_B_mm`, `Pprime_mm` …) and one row per φ, \
+    or the value column repeated once per reading with a line `# resolution_mm = 0.05` (examples/seed004-bench-lower.csv is one; docs/studies.md describes them)";
+
+/// A measured curve that cannot be read: the library's message with its
+/// place and fix (400), the line itself when the message names one.
+fn curve_error(e: &Error) -> Reply {
+    match e {
+        Error::Model(m) => file_error(m, 400),
+        other => Reply::error(400, other.to_string(), other.help()),
+    }
+}
+
+/// What `POST /api/measured` answers: the curve's key and what it is.
+fn curve_summary(id: &str, c: &MeasuredCurve) -> Value {
+    let r = c.readings();
+    let half: Vec<f64> = r
+        .map(|r| r.points.iter().map(|p| p.total_mm).filter(|h| h.is_finite()).collect())
+        .unwrap_or_default();
+    let interval = (!half.is_empty()).then(|| {
+        [
+            half.iter().copied().fold(f64::INFINITY, f64::min),
+            half.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        ]
+    });
+    let phis = c.phi_deg();
+    json!({
+        "key": format!("measured:{id}"),
+        "file": c.source(),
+        "column": c.column(),
+        "kind": c.kind(),
+        "what": match c.kind() {
+            CurveKind::TakeUp => "P, an actual take-up",
+            CurveKind::Required => "P′, a required take-up",
+        },
+        "split": c.split(),
+        "thread": c.thread(),
+        "readings": r.map_or(1, |r| r.max_n()),
+        "points": phis.len(),
+        "phi_deg": [phis.first(), phis.last()],
+        "resolution_mm": r.map(|r| r.resolution_mm),
+        "confidence": r.map(|r| r.confidence),
+        "interval_mm": interval,
+        "outliers": r.map(|r| r.outlier_count()),
+    })
+}
+
+/// `curve` set beside its thread of the cycle `table` (`thread`, else the
+/// one its column names); the library's message otherwise, with the
+/// threads it can be set beside (`threads`, for the page's menu).
+fn set_beside(
+    table: &CycleTable,
+    curve: &MeasuredCurve,
+    thread: Option<&str>,
+) -> Result<stitchkin::study::measured::MeasuredMatch, Reply> {
+    measured_match(table, curve, thread).map_err(|e| {
+        let mut reply = library_error(&e);
+        if let Ok(mut v) = serde_json::from_slice::<Value>(&reply.body) {
+            v["threads"] = json!(comparable_threads(table));
+            reply.body = v.to_string().into_bytes();
+        }
+        reply
+    })
+}
+
+/// The threads of a cycle a measured curve can be set beside: the stitch
+/// threads compared with a path, or without a stitch the thread paths.
+fn comparable_threads(table: &CycleTable) -> Vec<&str> {
+    match &table.stitch {
+        Some(s) => s
+            .threads
+            .iter()
+            .filter(|t| t.path.is_some())
+            .map(|t| t.thread.as_str())
+            .collect(),
+        None => table.paths.iter().map(|p| p.path.as_str()).collect(),
+    }
+}
+
+/// The measured curve's match in the evaluation: the library's
+/// [`MeasuredMatch`](stitchkin::study::measured::MeasuredMatch) with the
+/// curve's key.
+fn measured_json(key: &str, m: &stitchkin::study::measured::MeasuredMatch, table: &CycleTable) -> Result<Value, Reply> {
+    let mut v = serde_json::to_value(m)
+        .map_err(|e| Reply::error(500, format!("the measured match could not be written: {e}"), None))?;
+    v["key"] = json!(key);
+    v["threads"] = json!(comparable_threads(table));
+    Ok(v)
 }
 
 /// A file name for messages: at most 100 characters.
@@ -803,9 +1073,10 @@ fn clip_name(name: &str) -> String {
     }
 }
 
-/// A model file that does not load: the library's message with the place
-/// (file, line and column, the key path) and the fix, and the line itself.
-fn file_error(e: &ModelError) -> Reply {
+/// A file that does not load (a model file: 422; a measured curve: 400):
+/// the library's message with the place (file, line and column, the key
+/// path) and the fix, and the line itself.
+fn file_error(e: &ModelError, status: u16) -> Reply {
     let (line, column) = e.line_col().unzip();
     let mut message = match (line, column) {
         (Some(l), Some(c)) => format!("{}:{l}:{c}: ", e.file),
@@ -817,7 +1088,7 @@ fn file_error(e: &ModelError) -> Reply {
     message += &e.message;
     let excerpt = line.and_then(|l| e.text.lines().nth(l - 1)).map(|t| clip(t, 200));
     Reply::json(
-        422,
+        status,
         &json!({
             "error": stitchkin::references::cited(&message),
             "help": e.help.as_deref().map(stitchkin::references::cited),

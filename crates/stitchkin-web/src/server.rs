@@ -39,7 +39,7 @@ use stitchkin::error::{Error, IoError};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::oneshot;
 
-use crate::api::{App, MAX_FILE_BYTES, Reply, clip, too_large};
+use crate::api::{App, Reply, body_name, clip, max_body_bytes, too_large};
 
 /// How the server treats its connections. Every figure has a default
 /// ([`ServerConfig::default`]) fit for one user's browser and a few
@@ -596,7 +596,7 @@ async fn answer(request: Request<Incoming>, shared: Arc<Shared>) -> Result<Respo
         ),
         None if request.method() == Method::POST && foreign_origin(&request) => Reply::error(
             403,
-            "a model file is loaded from this server's own page only",
+            "a model file or a measured curve is loaded from this server's own page only",
             Some("choose the file with the page's file picker"),
         ),
         None => {
@@ -606,7 +606,7 @@ async fn answer(request: Request<Incoming>, shared: Arc<Shared>) -> Result<Respo
                 .and_then(|v| v.to_str().ok())
                 .map(str::to_string);
             let body = if request.method() == Method::POST {
-                read_body(request, shared.header_timeout).await
+                read_body(request, &path, shared.header_timeout).await
             } else {
                 Ok(Bytes::new())
             };
@@ -631,38 +631,40 @@ async fn answer(request: Request<Incoming>, shared: Arc<Shared>) -> Result<Respo
             clip(reply.text(), LOG_CHARS)
         );
     }
-    let allow = if path == "/api/models" {
-        "GET, HEAD, POST"
-    } else {
-        "GET, HEAD"
+    let allow = match path.as_str() {
+        "/api/models" => "GET, HEAD, POST",
+        "/api/measured" => "POST",
+        _ => "GET, HEAD",
     };
     Ok(response(reply, allow))
 }
 
-/// The body of a POST, at most [`MAX_FILE_BYTES`] and within `timeout`;
-/// otherwise the answer that says so (413, 408).
-async fn read_body(request: Request<Incoming>, timeout: Duration) -> Result<Bytes, Reply> {
+/// The body of a POST to `path`, at most [`max_body_bytes`] and within
+/// `timeout`; otherwise the answer that says so (413, 408).
+async fn read_body(request: Request<Incoming>, path: &str, timeout: Duration) -> Result<Bytes, Reply> {
+    let limit = max_body_bytes(path);
     let declared = request
         .headers()
         .get(header::CONTENT_LENGTH)
         .and_then(|v| v.to_str().ok())
         .and_then(|v| v.trim().parse::<u64>().ok());
     if let Some(n) = declared
-        && n > MAX_FILE_BYTES as u64
+        && n > limit as u64
     {
-        return Err(too_large(usize::try_from(n).ok()));
+        return Err(too_large(path, usize::try_from(n).ok()));
     }
-    let body = Limited::new(request.into_body(), MAX_FILE_BYTES);
+    let what = body_name(path);
+    let body = Limited::new(request.into_body(), limit);
     match tokio::time::timeout(timeout, body.collect()).await {
         Err(_) => Err(Reply::error(
             408,
-            format!("the model file did not arrive within {} s", timeout.as_secs()),
+            format!("{what} did not arrive within {} s", timeout.as_secs()),
             Some("send it again"),
         )),
-        Ok(Err(e)) if e.downcast_ref::<LengthLimitError>().is_some() => Err(too_large(None)),
+        Ok(Err(e)) if e.downcast_ref::<LengthLimitError>().is_some() => Err(too_large(path, None)),
         Ok(Err(e)) => Err(Reply::error(
             400,
-            format!("the model file could not be read: {}", clip(&e.to_string(), 100)),
+            format!("{what} could not be read: {}", clip(&e.to_string(), 100)),
             Some("send it again"),
         )),
         Ok(Ok(collected)) => Ok(collected.to_bytes()),

@@ -506,3 +506,215 @@ fn a_cam_models_checks_are_in_the_evaluation_and_on_the_page() {
     let svg = get(&app, &format!("/api/drawing?model={key}&phi=30"));
     assert!(svg.text().contains("class=\"cam-profile\""));
 }
+
+/// A measured curve sent as the page sends it.
+fn post_curve(app: &App, name: &str, text: &[u8]) -> Reply {
+    app.handle_body("POST", &format!("/api/measured?name={name}"), Some("text/csv"), text)
+}
+
+const SEED004_LOWER: &str = include_str!("../../../../examples/seed004-bench-lower.csv");
+const MF7923D_N1: &str = include_str!("../../../../examples/mf7923d-bench-n1.csv");
+
+#[test]
+fn a_measured_curve_is_read_and_drawn_with_its_error_bars() {
+    use stitchkin::eval::{CycleOptions, run_cycle};
+    use stitchkin::study::measured::measured_match;
+    use stitchkin::thread::measured::parse_curve_csv;
+    for (preset, file, text, thread) in [
+        ("altin504", "seed004-bench-lower.csv", SEED004_LOWER, "lower"),
+        ("mf7923d", "mf7923d-bench-n1.csv", MF7923D_N1, "n1"),
+    ] {
+        let app = app(preset);
+        let r = post_curve(&app, file, text.as_bytes());
+        assert_eq!(r.status, 200, "{file}: {}", r.text());
+        let v = json(&r);
+        let key = v["key"].as_str().unwrap().to_string();
+        assert!(key.starts_with("measured:"), "{v}");
+        assert_eq!(v["kind"], "take_up", "{v}");
+        assert_eq!(v["thread"], thread, "{v}");
+        assert_eq!(v["readings"], 10, "{v}");
+        let curve = parse_curve_csv(text, file).unwrap();
+        assert_eq!(v["points"], curve.phi_deg().len());
+        assert_eq!(v["resolution_mm"], 0.05);
+        let [lo, hi] = [
+            v["interval_mm"][0].as_f64().unwrap(),
+            v["interval_mm"][1].as_f64().unwrap(),
+        ];
+        assert!(0.05 <= lo && lo <= hi && hi < 1.0, "{v}");
+        // The same text again is the same curve.
+        assert_eq!(
+            json(&post_curve(&app, "again.csv", text.as_bytes()))["key"],
+            key.as_str()
+        );
+
+        let e = get(&app, &format!("/api/evaluate?measured={key}"));
+        assert_eq!(e.status, 200, "{file}: {}", e.text());
+        assert!(!e.text().contains("NaN"));
+        let e = json(&e);
+        let svg = e["chart_svg"].as_str().unwrap();
+        assert!(
+            svg.contains(&format!("{thread} P measured")),
+            "the mean curve in the legend"
+        );
+        // An error bar per φ read, each with the interval as its tooltip.
+        let bars = svg.matches("Polyakov (2022) §3.4").count();
+        assert!(bars >= curve.phi_deg().len() - 1, "{bars} error bars");
+        let m = &e["measured"];
+        assert_eq!(m["key"], key.as_str());
+        assert_eq!(m["thread"], thread);
+        assert_eq!(m["interval"]["readings_per_phi"], 10);
+        let within = m["interval"]["model_within_pct"].as_f64().unwrap();
+        assert!((0.0..=100.0).contains(&within), "{within}");
+        assert!((0.0..=100.0).contains(&m["against_model"]["score"].as_f64().unwrap()));
+        // The library's match on the same cycle.
+        let model = Model::preset(preset).unwrap();
+        let opts = CycleOptions {
+            step_deg: 1.0,
+            analogs: false,
+            points: Some(Vec::new()),
+            ..Default::default()
+        };
+        let table = run_cycle(&model, &model.defaults(), &opts).unwrap();
+        let expected = measured_match(&table, &curve, None).unwrap();
+        let expected_interval = expected.interval.as_ref().unwrap();
+        assert!((within - expected_interval.model_within_pct).abs() < 1e-9, "{within}");
+        assert_eq!(
+            m["against_model"]["rms_d_mm"].as_f64().unwrap(),
+            expected.against_model.as_ref().unwrap().rms_d_mm
+        );
+        // The curve follows the sliders: the model moves, the match with it.
+        let param = if preset == "mf7923d" {
+            "p.z=-3&p.dphi=5"
+        } else {
+            "p.timing_l=4"
+        };
+        let moved = get(&app, &format!("/api/evaluate?measured={key}&{param}"));
+        assert_eq!(moved.status, 200, "{param}: {}", moved.text());
+        let moved = json(&moved);
+        let rms = |v: &Value| v["measured"]["against_model"]["rms_d_mm"].as_f64().unwrap();
+        assert!((rms(&moved) - rms(&e)).abs() > 0.01, "{} vs {}", rms(&moved), rms(&e));
+        assert!(moved["chart_svg"].as_str().unwrap().contains("Polyakov (2022) §3.4"));
+        // Without `measured` the evaluation is as before: no measured curve.
+        let plain = json(&get(&app, "/api/evaluate"));
+        assert!(plain.get("measured").is_none());
+        assert!(!plain["chart_svg"].as_str().unwrap().contains("measured"));
+    }
+}
+
+#[test]
+fn the_thread_of_a_measured_curve_is_the_columns_or_the_one_chosen() {
+    let app = app("mf7923d");
+    // The mf7923d readings without their thread in the column.
+    let text = MF7923D_N1.replace("n1.P_B_mm", "P_B_mm");
+    let key = json(&post_curve(&app, "bench.csv", text.as_bytes()))["key"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let r = get(&app, &format!("/api/evaluate?measured={key}"));
+    assert_eq!(r.status, 400, "{}", r.text());
+    let v = json(&r);
+    assert!(
+        v["error"].as_str().unwrap().contains("does not say which thread"),
+        "{v}"
+    );
+    assert!(v["help"].as_str().unwrap().contains("n1.P_B_mm"), "{v}");
+    let v = json(&get(&app, &format!("/api/evaluate?measured={key}&measured_thread=n1")));
+    assert_eq!(v["measured"]["thread"], "n1", "{v}");
+    // A thread the model does not have: the ones it compares.
+    let r = get(&app, &format!("/api/evaluate?measured={key}&measured_thread=n7"));
+    assert_eq!(r.status, 400, "{}", r.text());
+    let v = json(&r);
+    assert!(v["error"].as_str().unwrap().contains("`n7`"), "{v}");
+    assert!(v["help"].as_str().unwrap().contains("n1, n2"), "{v}");
+    // With the threads it can be set beside, for the page's menu.
+    assert_eq!(v["threads"], serde_json::json!(["n1", "n2", "n3"]));
+    // The thread names the curve, so it needs one.
+    assert_client_error(
+        &app,
+        "/api/evaluate?measured_thread=n1",
+        400,
+        "no measured curve is given",
+    );
+}
+
+#[test]
+fn a_bad_measured_curve_gets_the_library_message_naming_the_line() {
+    let app = app("altin504");
+    // A reading that is not a number on line 13.
+    let text = SEED004_LOWER.replacen("0.60,0.65", "0.60,O.65", 1);
+    let r = post_curve(&app, "bench.csv", text.as_bytes());
+    assert_eq!(r.status, 400, "{}", r.text());
+    let v = json(&r);
+    let expected = match stitchkin::thread::measured::parse_curve_csv(&text, "bench.csv").unwrap_err() {
+        stitchkin::Error::Model(m) => m,
+        other => panic!("{other}"),
+    };
+    let (line, column) = expected.line_col().unwrap();
+    assert_eq!(line, 12);
+    let error = v["error"].as_str().unwrap();
+    assert!(error.starts_with(&format!("bench.csv:{line}:{column}: ")), "{error}");
+    assert!(error.contains(&expected.message), "{error}");
+    assert_eq!(v["help"].as_str(), expected.help.as_deref());
+    assert_eq!(v["line"], line);
+    assert!(v["excerpt"].as_str().unwrap().contains("O.65"), "{v}");
+    // A header that says nothing of what the values are.
+    let r = post_curve(&app, "plain.csv", b"phi_deg,length\n0,1\n90,2\n180,3\n270,2\n");
+    assert_eq!(r.status, 400, "{}", r.text());
+    assert!(
+        json(&r)["error"].as_str().unwrap().starts_with("plain.csv:1:"),
+        "{}",
+        r.text()
+    );
+    // Empty, not CSV, too large.
+    assert_eq!(post_curve(&app, "empty.csv", b"").status, 400);
+    let r = app.handle_body(
+        "POST",
+        "/api/measured",
+        Some("application/toml"),
+        SEED004_LOWER.as_bytes(),
+    );
+    assert_eq!(r.status, 415, "{}", r.text());
+    assert!(r.text().contains("text/csv"));
+    let big = vec![b'#'; stitchkin_web::api::MAX_CURVE_BYTES + 1];
+    let r = post_curve(&app, "big.csv", &big);
+    assert_eq!(r.status, 413, "{}", r.text());
+    assert!(json(&r)["error"].as_str().unwrap().contains("256 kB"), "{}", r.text());
+    assert_eq!(app.handle("GET", "/api/measured").status, 405);
+}
+
+#[test]
+fn an_unknown_measured_key_is_a_400_that_says_to_send_the_curve() {
+    let app = app("mf7923d");
+    for key in ["measured:0123456789abcdef", "file:0123456789abcdef", "lower.csv"] {
+        let r = get(&app, &format!("/api/evaluate?measured={key}"));
+        assert_eq!(r.status, 400, "{key}: {}", r.text());
+        let v = json(&r);
+        assert!(v["error"].as_str().unwrap().contains("not a measured curve"), "{v}");
+        assert!(v["help"].as_str().unwrap().contains("POST /api/measured"), "{v}");
+    }
+    // A model file's key is not a curve's, nor the other way round.
+    let key = json(&post_curve(&app, "n1.csv", MF7923D_N1.as_bytes()))["key"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let r = get(&app, &format!("/api/model?model={}", key.replace("measured:", "file:")));
+    assert_eq!(r.status, 404, "{}", r.text());
+    // The least recently used curve is forgotten past MAX_CURVES.
+    let keys: Vec<String> = (0..=stitchkin_web::api::MAX_CURVES)
+        .map(|k| {
+            let text = format!("{MF7923D_N1}\n# copy {k}\n");
+            json(&post_curve(&app, "copy.csv", text.as_bytes()))["key"]
+                .as_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    assert_eq!(
+        get(&app, &format!("/api/evaluate?measured={}&step=5", keys[0])).status,
+        400
+    );
+    assert_eq!(
+        get(&app, &format!("/api/evaluate?measured={}&step=5", keys[1])).status,
+        200
+    );
+}

@@ -592,6 +592,150 @@ fn model_files_from_the_file_picker(b: &mut Browser) {
     b.screenshot("serve-file.png");
 }
 
+/// The repository's example of bench readings, `examples/NAME`.
+fn example(name: &str) -> PathBuf {
+    // Canonical: Chromium does not read a chosen file through `..`.
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name);
+    path.canonicalize()
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+#[test]
+fn a_measured_take_up_is_drawn_with_its_error_bars_on_every_slider_move() {
+    let Some(exe) = chromium_or_skip() else { return };
+    let server = super::http::start("mf7923d");
+    let mut b = Browser::launch(&exe);
+    b.open_tab();
+    b.open(&server.url());
+    let bars = "document.querySelectorAll('#chart svg polygon.area title').length";
+    let cited = "[...document.querySelectorAll('#chart svg polygon.area title')].filter((t) => t.textContent.includes('Polyakov (2022) §3.4')).length";
+    let note = "document.getElementById('measured-note').textContent";
+    assert_eq!(b.eval(bars), json!(0), "no error bars before a curve is loaded");
+    assert_eq!(
+        b.eval("document.getElementById('measured-clear').disabled"),
+        json!(true)
+    );
+
+    // Ten readings every 10° of needle 1 at B (the machine set 3 mm lower
+    // on z and 5° later): the mean curve and an error bar at each φ read.
+    b.choose_file("measured-input", &example("mf7923d-bench-n1.csv"));
+    b.wait_for(
+        &format!("{SETTLED} && document.body.dataset.measured.startsWith('measured:') && {cited} >= 36"),
+        "the measured curve with its error bars",
+    );
+    assert_eq!(
+        b.eval(cited),
+        b.eval(bars),
+        "every bar cites seed 004 by author and year"
+    );
+    let svg = b.eval("document.querySelector('#chart svg').outerHTML");
+    assert!(
+        svg.as_str().unwrap().contains("n1 P measured"),
+        "the mean curve in the legend"
+    );
+    let said = b.eval(note).as_str().unwrap().to_string();
+    for part in [
+        "mf7923d-bench-n1.csv",
+        "36 points",
+        "10 readings per φ",
+        "mm (95 %",
+        "set beside n1 (at B)",
+        "within the interval at",
+        "score",
+    ] {
+        assert!(said.contains(part), "`{part}` in the line: {said}");
+    }
+    assert_eq!(b.eval("document.getElementById('measured-thread').value"), json!(""));
+    assert_eq!(
+        b.eval("[...document.getElementById('measured-thread').options].map((o) => o.textContent)"),
+        json!(["from the file (n1)", "n1", "n2", "n3"])
+    );
+    b.screenshot("serve-measured.png");
+
+    // The sliders move the model; the curve and its bars stay, the match follows.
+    let revision = b
+        .eval("+document.getElementById('chart').dataset.revision")
+        .as_f64()
+        .unwrap();
+    let rect = b.eval("(() => { const e = document.getElementById('p-r1'); e.scrollIntoView(); const r = e.getBoundingClientRect(); return [r.x, r.y, r.width, r.height]; })()");
+    let r: Vec<f64> = rect.as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    b.click(r[0] + 0.6 * r[2], r[1] + r[3] / 2.0);
+    b.wait_for(
+        &format!("{SETTLED} && +document.getElementById('chart').dataset.revision > {revision} && Number(document.getElementById('p-r1').value) > 4.5"),
+        "the redraw after moving r1",
+    );
+    assert!(
+        b.eval(cited).as_u64().unwrap() >= 36,
+        "the error bars after the slider moved"
+    );
+    assert_ne!(b.eval(note).as_str().unwrap(), said, "the match follows the model");
+
+    // Another thread from the menu.
+    b.eval("(() => { const s = document.getElementById('measured-thread'); s.value = 'n2'; s.dispatchEvent(new Event('change')); })()");
+    b.wait_for(
+        &format!("{SETTLED} && document.getElementById('measured-note').textContent.includes('set beside n2')"),
+        "the curve beside n2",
+    );
+
+    // A file that does not read: the library's message with its line in the
+    // red box, the curve loaded before kept.
+    let dir = TempDir(std::env::temp_dir().join(format!("stitchkin-measured-{}", std::process::id())));
+    std::fs::create_dir_all(&dir.0).unwrap();
+    let text = std::fs::read_to_string(example("mf7923d-bench-n1.csv")).unwrap();
+    let broken = dir.0.join("bench-typo.csv");
+    std::fs::write(&broken, text.replacen("0.10,0.10,0.10", "0.10,O.10,0.10", 1)).unwrap();
+    let key = b.eval("document.body.dataset.measured");
+    b.choose_file("measured-input", &broken);
+    b.wait_for(
+        &format!("{SETTLED} && document.getElementById('error').classList.contains('shown')"),
+        "the error box for bench-typo.csv",
+    );
+    let error = b.eval("document.getElementById('error').textContent");
+    let error = error.as_str().unwrap();
+    assert!(
+        error.contains("bench-typo.csv:10:") && error.contains("O.10"),
+        "{error}"
+    );
+    assert!(b.eval(note).as_str().unwrap().contains("bench-typo.csv was not read"));
+    assert_eq!(
+        b.eval("document.body.dataset.measured"),
+        key,
+        "the curve loaded before stays"
+    );
+    b.screenshot("serve-measured-error.png");
+
+    // Seed 004's lower-looper readings name a thread the MF-7923D lacks:
+    // the message says which it compares, and the menu offers them.
+    b.choose_file("measured-input", &example("seed004-bench-lower.csv"));
+    b.wait_for(
+        &format!("{SETTLED} && document.getElementById('error').textContent.includes('`lower`')"),
+        "the message for a thread the model lacks",
+    );
+    assert!(
+        b.eval("document.getElementById('error').textContent")
+            .as_str()
+            .unwrap()
+            .contains("n1, n2, n3")
+    );
+    b.eval("(() => { const s = document.getElementById('measured-thread'); s.value = 'n3'; s.dispatchEvent(new Event('change')); })()");
+    b.wait_for(
+        &format!("{SETTLED} && !document.getElementById('error').classList.contains('shown') && document.getElementById('measured-note').textContent.includes('set beside n3') && {cited} > 0"),
+        "seed 004's curve beside n3",
+    );
+
+    // Clear: the model alone again.
+    b.eval("document.getElementById('measured-clear').click()");
+    b.wait_for(
+        &format!("{SETTLED} && document.body.dataset.measured === '' && {bars} === 0"),
+        "the chart without the measured curve",
+    );
+    assert_eq!(b.eval("document.getElementById('measured-note').hidden"), json!(true));
+    drop(b);
+    server.stop();
+}
+
 /// Every preset's drawing in each of its views at four φ, measured in the
 /// browser with its own fonts: no label covers another.
 #[test]

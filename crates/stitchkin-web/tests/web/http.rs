@@ -144,3 +144,53 @@ fn a_model_file_is_loaded_over_http_within_its_limits() {
     assert!(answer.contains("Allow: GET, HEAD, POST"), "{answer}");
     server.stop();
 }
+
+/// A POST of `body` as a measured curve with these extra header lines.
+fn post_curve(server: &Server, headers: &str, body: &[u8]) -> (u16, String) {
+    let host = server.addr().to_string();
+    let head = format!(
+        "POST /api/measured?name=bench.csv HTTP/1.1\r\nHost: {host}\r\nContent-Type: text/csv\r\nContent-Length: {}\r\nConnection: close\r\n{headers}\r\n",
+        body.len()
+    );
+    let mut s = TcpStream::connect(server.addr()).unwrap();
+    s.write_all(head.as_bytes()).unwrap();
+    let _ = s.write_all(body);
+    let mut answer = Vec::new();
+    let _ = s.read_to_end(&mut answer);
+    let answer = String::from_utf8_lossy(&answer).into_owned();
+    let status = answer.split(' ').nth(1).and_then(|c| c.parse().ok()).unwrap_or(0);
+    (status, answer)
+}
+
+#[test]
+fn a_measured_curve_is_sent_over_http_within_its_limits() {
+    let server = start("altin504");
+    let host = server.addr().to_string();
+    let text = include_str!("../../../../examples/seed004-bench-lower.csv");
+    let (status, answer) = post_curve(&server, &format!("Origin: http://{host}\r\n"), text.as_bytes());
+    assert_eq!(status, 200, "{answer}");
+    let key = answer
+        .split("\"key\":\"")
+        .nth(1)
+        .and_then(|r| r.split('"').next())
+        .unwrap()
+        .to_string();
+    let (status, evaluation) = get(&server, &format!("/api/evaluate?measured={key}&step=2"), &host);
+    assert_eq!(status, 200, "{evaluation}");
+    assert!(evaluation.contains("Polyakov (2022) §3.4"), "the error bars");
+    // Not from a page elsewhere, not larger than the limit (from its
+    // Content-Length, the limit in the message), and only by POST.
+    let (status, answer) = post_curve(&server, "Origin: http://attacker.example\r\n", text.as_bytes());
+    assert_eq!(status, 403, "{answer}");
+    let big = vec![b'#'; stitchkin_web::api::MAX_CURVE_BYTES + 10];
+    let (status, answer) = post_curve(&server, "", &big);
+    assert_eq!(status, 413, "{answer}");
+    assert!(
+        answer.contains("measured curve") && answer.contains("256 kB"),
+        "{answer}"
+    );
+    let (status, answer) = get(&server, "/api/measured", &host);
+    assert_eq!(status, 405, "{answer}");
+    assert!(answer.contains("Allow: POST"), "{answer}");
+    server.stop();
+}
