@@ -149,7 +149,7 @@ fn run_measured(args: &Args, model: &Model, params: &Params) -> Result<(), Error
 
 /// `--chart FILE`: an .svg or .png name in a folder that exists, checked
 /// before the fit.
-fn check_chart_path(chart: &PathBuf) -> Result<(), Error> {
+fn check_chart_path(chart: &std::path::Path) -> Result<(), Error> {
     let ext = chart.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if !matches!(ext.as_deref(), Some("svg" | "png")) {
         return Err(Error::Param(ParamError::general(

@@ -376,6 +376,32 @@ pub struct CamState {
 }
 
 impl CamFollower<f64> {
+    /// The direction in which a rocking follower's cam centre moves back
+    /// when its base circle grows, the arm's angles kept: from the roller's
+    /// (knife edge's) rest point R₀ through the cam's centre, so R₀ stays on
+    /// the arm's circle and on the grown base circle plus roller, on the
+    /// same branch (the triangle pivot–centre–R₀ keeps its orientation);
+    /// for a flat face along −n₀, its normal at zero lift, which keeps
+    /// n₀·(C − O) = f − r_b. `None` for a translating follower.
+    pub fn rocking_retreat(&self, c: V2<f64>, o: V2<f64>) -> Result<Option<V2<f64>>, NoAssembly> {
+        let Motion::Rocking { arm, sign, face_offset } = self.motion else {
+            return Ok(None);
+        };
+        if matches!(self.contact, Contact::Flat) {
+            let (n0, _) = self.flat_face(c, o, 0.0, sign, face_offset)?;
+            return Ok(Some(-n0));
+        }
+        let rc = self.base + self.contact.roller();
+        let r0 = rrr(o, c, arm * arm, rc * rc, sign).map_err(|e| {
+            NoAssembly::new(
+                e.defect_mm,
+                "the follower's arm cannot put its roller on the base circle plus roller".to_string(),
+            )
+        })?;
+        let d = c - r0;
+        Ok(Some(d * (1.0 / d.norm())))
+    }
+
     /// The checks' figures at cam angle `delta` (rad), the cam's centre at
     /// `c` and a rocking follower's pivot at `o`: the follower's point is
     /// differentiated over the cam angle (the follower's guide held fixed

@@ -99,10 +99,14 @@ pub struct FollowerChecks {
 pub struct BaseCircleAdvice {
     /// The base circle, mm, rounded up to 0.1 mm.
     pub base_radius_mm: f64,
-    /// How far the cam's centre moves back along the follower's axis, away
-    /// from the follower, mm: the follower then stands where it stood, so
-    /// the thread's take-up is the same.
+    /// How far the cam's centre moves back, away from the follower, mm
+    /// (along a translating follower's axis; for a rocking one from the
+    /// roller's rest point through the centre, or along a flat face's
+    /// normal at rest): the follower then keeps its positions, so the
+    /// thread's take-up is the same.
     pub move_back_mm: f64,
+    /// The same move as a vector in the model's plane, mm.
+    pub move_mm: [f64; 2],
     /// The checks with that base circle.
     pub checks: FollowerChecks,
 }
@@ -501,7 +505,7 @@ fn checks_and_advice(
     let advice = if checks.pressure_ok && checks.curvature_ok {
         None
     } else {
-        least_passing_base(cam, c, limit)?
+        least_passing_base(cam, c, o, limit)?
     };
     Ok((checks, advice))
 }
@@ -509,40 +513,68 @@ fn checks_and_advice(
 /// The largest base circle the search tries, mm.
 const MAX_BASE_MM: f64 = 1000.0;
 
-/// The least base circle (to 0.1 mm, rounded up) with which a translating
-/// follower's lift passes both checks, the cam's centre moved back along
-/// the axis by Δ so the follower stands where it stood: with the axis
-/// offset e and roller r_r, y0 = √((r_b + r_r)² − e²) grows by Δ and
-/// r_b′ = √((y0 + Δ)² + e²) − r_r (a flat face: y0 = r_b, r_b′ = r_b + Δ,
-/// its profile's radius r_b + s + s″ grows with Δ). The pressure angle, tan α =
-/// (s′ − e)/(y0 + s) for an offset follower, falls as y0 grows, and the
-/// pitch curve's radius grows with it, so passing is taken to be
-/// monotone in Δ and found by bisection. `Ok(None)` for a rocking
-/// follower (moving the cam's centre there changes the arm's angles, so no
-/// one move keeps the follower's positions), and when no
-/// base circle up to [`MAX_BASE_MM`] passes.
-pub fn least_passing_base(cam: &CamFollower<f64>, c: V2<f64>, limit: f64) -> Result<Option<BaseCircleAdvice>, Error> {
-    let Motion::Translating { u, offset } = cam.motion else {
-        return Ok(None);
-    };
-    // Where the follower's point stands at zero lift along the axis: a
-    // flat face at r_b.
-    let stand = |base: f64| match cam.contact {
-        Contact::Flat => base,
-        Contact::Roller(r) => ((base + r).powi(2) - offset * offset).max(0.0).sqrt(),
-        Contact::Knife => (base * base - offset * offset).max(0.0).sqrt(),
-    };
-    let y0 = stand(cam.base);
-    let with_base = |base: f64| {
+/// A cam with another base circle: the cam, its centre and the centre's
+/// move, mm.
+type MovedCam = (CamFollower<f64>, V2<f64>, V2<f64>);
+
+/// The least base circle (to 0.1 mm, rounded up) with which a follower's
+/// lift passes both checks, the cam's centre moved back so the follower
+/// keeps its positions.
+///
+/// Translating: along the axis by Δ; with the axis offset e and roller
+/// r_r, y0 = √((r_b + r_r)² − e²) grows by Δ and r_b′ = √((y0 + Δ)² + e²)
+/// − r_r (a flat face: y0 = r_b, r_b′ = r_b + Δ, its profile's radius
+/// r_b + s + s″ grows with Δ). The pressure angle, tan α = (s′ − e)/(y0 +
+/// s) for an offset follower, falls as y0 grows, and the pitch curve's
+/// radius grows with it.
+///
+/// Rocking: the arm's angle at zero lift is kept, so the roller's rest
+/// point R₀ (pivot O, arm l) stays where it is and the centre moves from
+/// R₀ through C by Δ = r_b′ − r_b ([`CamFollower::rocking_retreat`]); a
+/// flat face's centre moves along −n₀ by Δ. The pressure angle's part from
+/// the cam's turning falls as the centre moves off, toward the angle
+/// between the line R₀C and the roller's path at rest, which no base
+/// circle changes; a lift that fails there is not helped (`None`).
+///
+/// Passing is taken to be monotone in Δ and found by bisection. `Ok(None)`
+/// when no base circle up to [`MAX_BASE_MM`] passes.
+pub fn least_passing_base(
+    cam: &CamFollower<f64>,
+    c: V2<f64>,
+    o: Option<V2<f64>>,
+    limit: f64,
+) -> Result<Option<BaseCircleAdvice>, Error> {
+    let no_pivot = || no_position(0.0, "a rocking follower needs its pivot".into());
+    // For a base circle: the moved cam, its centre, and the move.
+    let with_base = |base: f64| -> Result<MovedCam, Error> {
         let mut moved = cam.clone();
         moved.base = base;
-        let dy = stand(base) - y0;
-        (moved, c - u * dy, dy)
+        let shift = match cam.motion {
+            Motion::Translating { u, offset } => {
+                // Where the follower's point stands at zero lift along the
+                // axis: a flat face at r_b.
+                let stand = |base: f64| match cam.contact {
+                    Contact::Flat => base,
+                    Contact::Roller(r) => ((base + r).powi(2) - offset * offset).max(0.0).sqrt(),
+                    Contact::Knife => (base * base - offset * offset).max(0.0).sqrt(),
+                };
+                u * -(stand(base) - stand(cam.base))
+            }
+            Motion::Rocking { .. } => {
+                let o = o.ok_or_else(no_pivot)?;
+                let d = cam
+                    .rocking_retreat(c, o)
+                    .map_err(|e| no_position(0.0, e.message))?
+                    .ok_or_else(no_pivot)?;
+                d * (base - cam.base)
+            }
+        };
+        Ok((moved, c + shift, shift))
     };
-    let passes = |base: f64| -> Result<(bool, FollowerChecks, f64), Error> {
-        let (moved, c_moved, dy) = with_base(base);
-        let checks = check_figures(&moved, c_moved, None, limit)?;
-        Ok((checks.pressure_ok && checks.curvature_ok, checks, dy))
+    let passes = |base: f64| -> Result<(bool, FollowerChecks, V2<f64>), Error> {
+        let (moved, c_moved, shift) = with_base(base)?;
+        let checks = check_figures(&moved, c_moved, o, limit)?;
+        Ok((checks.pressure_ok && checks.curvature_ok, checks, shift))
     };
     if passes(cam.base)?.0 {
         return Ok(None);
@@ -564,10 +596,11 @@ pub fn least_passing_base(cam: &CamFollower<f64>, c: V2<f64>, limit: f64) -> Res
     }
     let rounded = (hi * 10.0).ceil() / 10.0;
     let base = if passes(rounded)?.0 { rounded } else { hi };
-    let (_, checks, dy) = passes(base)?;
+    let (_, checks, shift) = passes(base)?;
     Ok(Some(BaseCircleAdvice {
         base_radius_mm: base,
-        move_back_mm: dy,
+        move_back_mm: shift.norm(),
+        move_mm: [shift.x, shift.y],
         checks,
     }))
 }

@@ -270,7 +270,7 @@ fn the_advice_tunes_from_the_fitted_setting() {
     let (phi, p) = truth(&m);
     let mut rng = SplitMix(5);
     let curve = noisy_curve(&phi, &p, &mut rng, Some(NOISE_MM));
-    let f = fit_measured(&m, &m.defaults(), &[curve.clone()], &opts(&["z", "dphi"])).unwrap();
+    let f = fit_measured(&m, &m.defaults(), std::slice::from_ref(&curve), &opts(&["z", "dphi"])).unwrap();
     let a = advise(&m, &m.defaults(), &f, 64, 1, 2.0).unwrap();
     let t = a.tune.as_ref().expect("z and dphi are settings: a tune");
     let fitted = fitted_params(&m, &m.defaults(), &f).unwrap();

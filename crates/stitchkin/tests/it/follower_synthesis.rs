@@ -301,3 +301,63 @@ fn a_translating_flat_face_gets_a_lift_and_its_envelope() {
         assert!(beyond < 1e-2 && beyond > -1e-6, "{}: {beyond}", p.cam_deg);
     }
 }
+
+/// Seed 004's variant 5 (a rocking roller arm) with an 8 mm roller: the
+/// unsmoothed lift undercuts; the least base circle that passes comes with
+/// the cam's centre moved back from the roller's rest point through the
+/// centre, which keeps the arm's angles. Made so in the model, the checks
+/// pass and the take-up is the one synthesised; 0.1 mm less fails.
+#[test]
+fn a_rocking_followers_least_passing_base_circle_keeps_the_arms_angles() {
+    const V5: &str = include_str!("../../../../examples/seed004-variants/variant5.toml");
+    let text = V5.replace("r_r = { value = 5,", "r_r = { value = 8,");
+    let m = Model::from_toml_str(&text, "variant5-r8.toml").unwrap();
+    let o = FollowerOptions::new("feed_arm", "lower", target());
+    let raw = synthesise_follower(&m, &m.defaults(), &o).unwrap();
+    assert!(!raw.checks.curvature_ok, "{:?}", raw.checks);
+    let advice = raw.base_circle_needed.clone().expect("a base circle is advised");
+    assert!(advice.checks.pressure_ok && advice.checks.curvature_ok, "{advice:?}");
+    assert!(advice.base_radius_mm > raw.base_radius_mm);
+    let [dx, dy] = advice.move_mm;
+    assert!((dx.hypot(dy) - advice.move_back_mm).abs() < 1e-12);
+    let text_out = stitchkin::output::text::follower_cam::summary(&raw);
+    assert!(
+        text_out.contains("from the roller's rest point through the centre"),
+        "{text_out}"
+    );
+    // The model with the synthesised lift, the base circle `base` and the
+    // cam's centre O1 moved by `shift`.
+    let run = |base: f64, shift: [f64; 2]| {
+        let snippet = stitchkin::output::text::follower_cam::toml_snippet(&raw).replace(
+            &format!("base_radius = {}", stitchkin::format::fmt_num(raw.base_radius_mm)),
+            &format!("base_radius = {base}"),
+        );
+        let start = text.find("base_radius = ").unwrap();
+        let end = start + text[start..].find("] }\n").unwrap() + 4;
+        let moved = format!("{}{}{}", &text[..start], snippet, &text[end..])
+            .replace("O1 = [0, 0]", &format!("O1 = [{}, {}]", shift[0], shift[1]));
+        let m = Model::from_toml_str(&moved, "moved.toml").unwrap_or_else(|e| panic!("{e}\n{moved}"));
+        stitchkin::eval::run_cycle(
+            &m,
+            &m.defaults(),
+            &stitchkin::eval::CycleOptions {
+                step_deg: 1.0,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+    };
+    // The profile's checks (the unsmoothed lift's spring would still need
+    // a groove: `follower_contact` is not the base circle's to mend).
+    let profile_ok =
+        |t: &stitchkin::eval::CycleTable| t.cam_checks().filter(|c| c.name != "follower_contact").all(|c| c.ok);
+    let t = run(advice.base_radius_mm, advice.move_mm);
+    assert!(profile_ok(&t), "{:?}", t.cams);
+    let col = t.column("lower.P_mm").unwrap();
+    let span = |v: &[f64]| v.iter().fold([f64::MAX, f64::MIN], |m, x| [m[0].min(*x), m[1].max(*x)]);
+    let (a, b) = (span(col), span(&raw.verify.p_after_mm));
+    assert!((a[0] - b[0]).abs() < 0.05 && (a[1] - b[1]).abs() < 0.05, "{a:?} {b:?}");
+    let scale = (advice.base_radius_mm - 0.1 - raw.base_radius_mm) / (advice.base_radius_mm - raw.base_radius_mm);
+    let less = run(advice.base_radius_mm - 0.1, [dx * scale, dy * scale]);
+    assert!(!profile_ok(&less), "{:?}", less.cams);
+}

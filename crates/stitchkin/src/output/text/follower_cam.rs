@@ -80,15 +80,23 @@ pub fn summary(s: &FollowerSynthesis) -> String {
         }
     );
     if let Some(b) = &s.base_circle_needed {
+        let along = if s.motion == "translating" {
+            "back along the follower's axis".to_string()
+        } else {
+            format!(
+                "back by ({:.2}, {:.2}) mm, from the roller's rest point through the centre (a flat face: along its normal at rest)",
+                b.move_mm[0], b.move_mm[1]
+            )
+        };
         r += &format!(
-            "#   least base circle passing both: {:.1} mm, the cam's centre moved {:.2} mm back along the follower's axis (away from it, so the follower keeps its positions): pressure {:.1}°, least radius {:.2} mm\n",
+            "#   least base circle passing both: {:.1} mm, the cam's centre moved {:.2} mm {along} (away from the follower, so it keeps its positions): pressure {:.1}°, least radius {:.2} mm\n",
             b.base_radius_mm, b.move_back_mm, b.checks.max_pressure_deg, b.checks.min_curvature_radius_mm
         );
     } else if !(c.pressure_ok && c.curvature_ok) {
         r += if s.motion == "translating" {
             "#   no base circle up to 1000 mm passes both with this lift: smooth it\n"
         } else {
-            "#   a rocking follower's base circle is not searched (moving its cam changes the arm's angles): move the pivot or smooth the lift\n"
+            "#   no base circle up to 1000 mm passes both with this lift: smooth it, or move the pivot (at rest the pressure angle is that of the line from the roller to the cam's centre against the roller's path, which no base circle changes)\n"
         };
     }
     for note in &s.notes {
