@@ -128,13 +128,13 @@ fn greatest_press_per_newton(csv: &str, g1: (f64, f64), g2: (f64, f64)) -> (f64,
     best
 }
 
-/// The greatest 2·sin(θ/2) over the cycle, θ the thread's turn in the
-/// groove (`lower.groove_l_wrap_deg`), and its φ.
-fn greatest_press_in_the_groove(csv: &str) -> (f64, f64) {
+/// The greatest 2·sin(θ/2) over the cycle, θ the thread's turn round a
+/// cam or roller (the wrap column `wrap`, deg), and its φ.
+fn greatest_press_over(csv: &str, wrap: &str) -> (f64, f64) {
     let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
     let head: Vec<&str> = lines.next().unwrap().split(',').collect();
     let at = |n: &str| head.iter().position(|h| *h == n).unwrap();
-    let (ip, iw) = (at("phi_deg"), at("lower.groove_l_wrap_deg"));
+    let (ip, iw) = (at("phi_deg"), at(wrap));
     let mut best = (0.0_f64, 0.0);
     for l in lines {
         let v: Vec<f64> = l.split(',').map(|s| s.parse().unwrap()).collect();
@@ -162,10 +162,23 @@ fn the_press_of_the_tip_on_the_thread_is_what_the_docs_say() {
             "the docs' greatest press is not {f:.2}"
         );
     }
+    // The tips' capstan rise at their greatest bend, e^(μθ), μ = 0.2.
+    let theta = 2.0 * (1.650f64 / 2.0).asin();
+    let want = format!("×{:.2} at the tips' greatest bend", (0.2 * theta).exp());
+    assert!(docs.contains(&want), "docs/looper-thread-feeds.md lacks `{want}`");
+    // The rollers (variants 2 and 4): the thread's wrap round them.
+    for n in [2, 4] {
+        let model = format!("{root}/examples/seed004-variants/variant{n}.toml");
+        let (o, _) = ok(&["run", &model, "--step", "1", "--format", "csv"]);
+        let (f, phi) = greatest_press_over(&o, "lower.T_wrap_deg");
+        let want = format!("variant {n}: {f:.3} at φ = {phi:.0}°");
+        assert!(docs.contains(&want), "docs/looper-thread-feeds.md lacks `{want}`");
+        assert!(docs.contains(&format!("at most {f:.2} N per newton")));
+    }
     // The Altin's own feed: the groove on its lever presses on the thread.
     let model = format!("{root}/examples/altin504-grooved-lever.toml");
     let (o, _) = ok(&["run", &model, "--step", "1", "--format", "csv"]);
-    let (f, phi) = greatest_press_in_the_groove(&o);
+    let (f, phi) = greatest_press_over(&o, "lower.groove_l_wrap_deg");
     let want = format!("grooved lever: {f:.3} at φ = {phi:.0}°");
     assert!(docs.contains(&want), "docs/looper-thread-feeds.md lacks `{want}`");
     let want = format!("at most {f:.2} N per newton");
