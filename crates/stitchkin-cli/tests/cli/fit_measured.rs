@@ -11,20 +11,28 @@ fn bench() -> String {
     format!("{}/../../examples/mf7923d-bench-n1.csv", env!("CARGO_MANIFEST_DIR"))
 }
 
+/// `stitchkin fit --preset mf7923d --measured n1=BENCH` and `rest`.
+fn fit_bench(rest: &[&str]) -> Vec<String> {
+    let mut args: Vec<String> = ["fit", "--preset", "mf7923d", "--measured"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    args.push(format!("n1={}", bench()));
+    args.extend(rest.iter().map(|s| s.to_string()));
+    args
+}
+
+/// [`ok`] and [`fails`] of owned arguments.
+fn ok_with(args: &[String]) -> (String, String) {
+    ok(&args.iter().map(String::as_str).collect::<Vec<_>>())
+}
+fn fails_with(args: &[String]) -> String {
+    fails(&args.iter().map(String::as_str).collect::<Vec<_>>())
+}
+
 #[test]
 fn fit_measured_recovers_z_and_dphi_within_their_intervals_and_advises() {
-    let spec = format!("n1={}", bench());
-    let (json, _) = ok(&[
-        "fit",
-        "--preset",
-        "mf7923d",
-        "--measured",
-        &spec,
-        "--adjust",
-        "z,dphi",
-        "--format",
-        "json",
-    ]);
+    let (json, _) = ok_with(&fit_bench(&["--adjust", "z,dphi", "--format", "json"]));
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     let fit = &v["fit"];
     assert_eq!(fit["sigma_known"], true, "ten readings per φ carry their uncertainty");
@@ -67,20 +75,9 @@ fn fit_measured_recovers_z_and_dphi_within_their_intervals_and_advises() {
 
 #[test]
 fn fit_measured_prints_the_setting_the_residuals_and_the_advice_and_draws_the_chart() {
-    let spec = format!("n1={}", bench());
     let d = scratch("fit-measured-screen");
     let chart = d.join("residuals.svg");
-    let (screen, err) = ok(&[
-        "fit",
-        "--preset",
-        "mf7923d",
-        "--measured",
-        &spec,
-        "--adjust",
-        "z,dphi",
-        "--chart",
-        chart.to_str().unwrap(),
-    ]);
+    let (screen, err) = ok_with(&fit_bench(&["--adjust", "z,dphi", "--chart", chart.to_str().unwrap()]));
     for part in [
         "95 % interval",
         "ball arm O2B along the take-up shaft",
@@ -101,30 +98,10 @@ fn fit_measured_prints_the_setting_the_residuals_and_the_advice_and_draws_the_ch
         "a dot per sample"
     );
     // Only the fit.
-    let (bare, _) = ok(&[
-        "fit",
-        "--preset",
-        "mf7923d",
-        "--measured",
-        &spec,
-        "--adjust",
-        "z,dphi",
-        "--no-advice",
-    ]);
+    let (bare, _) = ok_with(&fit_bench(&["--adjust", "z,dphi", "--no-advice"]));
     assert!(bare.contains("95 % interval") && !bare.contains("Recommended setting"));
     // Another confidence widens the intervals.
-    let (wide, _) = ok(&[
-        "fit",
-        "--preset",
-        "mf7923d",
-        "--measured",
-        &spec,
-        "--adjust",
-        "z",
-        "--no-advice",
-        "--confidence",
-        "0.99",
-    ]);
+    let (wide, _) = ok_with(&fit_bench(&["--adjust", "z", "--no-advice", "--confidence", "0.99"]));
     assert!(wide.contains("99 % interval") && wide.contains("± 2.576"), "{wide}");
 }
 
@@ -132,13 +109,7 @@ fn fit_measured_prints_the_setting_the_residuals_and_the_advice_and_draws_the_ch
 /// T1's swing through their ratio: the warning names them.
 #[test]
 fn fit_measured_names_two_parameters_the_data_cannot_tell_apart() {
-    let spec = format!("n1={}", bench());
-    let (screen, _) = ok(&[
-        "fit",
-        "--preset",
-        "mf7923d",
-        "--measured",
-        &spec,
+    let (screen, _) = ok_with(&fit_bench(&[
         "--set",
         "z=-3",
         "--set",
@@ -146,7 +117,7 @@ fn fit_measured_names_two_parameters_the_data_cannot_tell_apart() {
         "--adjust",
         "r1,l_o2b",
         "--no-advice",
-    ]);
+    ]));
     assert!(
         screen.contains("warning: `r1`") && screen.contains("cannot be told apart"),
         "{screen}"
@@ -156,7 +127,7 @@ fn fit_measured_names_two_parameters_the_data_cannot_tell_apart() {
 #[test]
 fn fit_measured_refuses_what_it_cannot_do_with_the_fix() {
     let spec = format!("n1={}", bench());
-    let e = fails(&["fit", "--preset", "mf7923d", "--measured", &spec]);
+    let e = fails_with(&fit_bench(&[]));
     assert!(e.contains("--adjust z,dphi"), "{e}");
     let e = fails(&[
         "fit",
@@ -168,29 +139,9 @@ fn fit_measured_refuses_what_it_cannot_do_with_the_fix() {
         "z",
     ]);
     assert!(e.contains("no-such-bench.csv"), "{e}");
-    let e = fails(&[
-        "fit",
-        "--preset",
-        "mf7923d",
-        "--measured",
-        &spec,
-        "--adjust",
-        "z",
-        "--confidence",
-        "1.5",
-    ]);
+    let e = fails_with(&fit_bench(&["--adjust", "z", "--confidence", "1.5"]));
     assert!(e.contains("confidence") && e.contains("0.95"), "{e}");
-    let e = fails(&[
-        "fit",
-        "--preset",
-        "mf7923d",
-        "--measured",
-        &spec,
-        "--adjust",
-        "z",
-        "--chart",
-        "r.pdf",
-    ]);
+    let e = fails_with(&fit_bench(&["--adjust", "z", "--chart", "r.pdf"]));
     assert!(e.contains("--chart") && e.contains(".svg"), "{e}");
     let e = fails(&["fit", "--preset", "mf7923d", "--adjust", "z"]);
     assert!(e.contains("--target") && e.contains("--measured"), "{e}");

@@ -55,12 +55,11 @@ fn at(m: &Model, pairs: &[(&str, f64)]) -> Params {
     p
 }
 
-/// φ and P of n1 at B at the true setting, every 10°.
-fn truth(m: &Model) -> (Vec<f64>, Vec<f64>) {
-    let p = at(m, &[("z", TRUE_Z), ("dphi", TRUE_DPHI)]);
-    let t = run_cycle(
+/// The cycle of `m` at `p` every 10°, without analogs or points.
+fn cycle(m: &Model, p: &Params) -> stitchkin::eval::CycleTable {
+    run_cycle(
         m,
-        &p,
+        p,
         &CycleOptions {
             step_deg: STEP,
             rpm: None,
@@ -69,7 +68,12 @@ fn truth(m: &Model) -> (Vec<f64>, Vec<f64>) {
             lean: false,
         },
     )
-    .unwrap();
+    .unwrap()
+}
+
+/// φ and P of n1 at B at the true setting, every 10°.
+fn truth(m: &Model) -> (Vec<f64>, Vec<f64>) {
+    let t = cycle(m, &at(m, &[("z", TRUE_Z), ("dphi", TRUE_DPHI)]));
     (
         t.column("phi_deg").unwrap().to_vec(),
         t.column("n1_A.P_B_mm").unwrap().to_vec(),
@@ -324,19 +328,7 @@ fn a_feed_mechanism_without_a_stitch_fits_its_paths_take_up() {
         env!("CARGO_MANIFEST_DIR")
     );
     let m = Model::from_path(std::path::Path::new(&file)).unwrap();
-    let truth = at(&m, &[("l_arm", 36.0)]);
-    let t = run_cycle(
-        &m,
-        &truth,
-        &CycleOptions {
-            step_deg: STEP,
-            rpm: None,
-            analogs: false,
-            points: Some(Vec::new()),
-            lean: false,
-        },
-    )
-    .unwrap();
+    let t = cycle(&m, &at(&m, &[("l_arm", 36.0)]));
     let (phi, p) = (t.column("phi_deg").unwrap(), t.column("lower.P_mm").unwrap());
     let mut rng = SplitMix(9);
     let mut csv = String::from("phi_deg,lower.P_mm\n");

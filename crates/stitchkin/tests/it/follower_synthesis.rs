@@ -226,30 +226,15 @@ fn the_least_passing_base_circle_keeps_the_take_up_and_passes_the_checks() {
     // Made so in the model (base circle and centre), the checks pass and
     // the take-up is the one synthesised; 0.1 mm less fails.
     let run = |base: f64| {
-        let snippet = stitchkin::output::text::follower_cam::toml_snippet(&raw).replace(
-            &format!("base_radius = {}", stitchkin::format::fmt_num(raw.base_radius_mm)),
-            &format!("base_radius = {base}"),
-        );
-        let moved = pasted(&snippet)
-            .text()
-            .replace("O1 = [0, 0]", &format!("O1 = [0, {}]", raw.base_radius_mm - base));
-        let m = Model::from_toml_str(&moved, "moved.toml").unwrap();
-        stitchkin::eval::run_cycle(
-            &m,
-            &m.defaults(),
-            &stitchkin::eval::CycleOptions {
-                step_deg: 1.0,
-                ..Default::default()
-            },
+        cycle_of(
+            &pasted(&snippet_with_base(&raw, base))
+                .text()
+                .replace("O1 = [0, 0]", &format!("O1 = [0, {}]", raw.base_radius_mm - base)),
         )
-        .unwrap()
     };
     let t = run(advice.base_radius_mm);
     assert!(t.cams.iter().all(|c| c.checks_ok()), "{:?}", t.cams);
-    let col = t.column("lower.P_mm").unwrap();
-    let span = |v: &[f64]| v.iter().fold([f64::MAX, f64::MIN], |m, x| [m[0].min(*x), m[1].max(*x)]);
-    let (a, b) = (span(col), span(&raw.verify.p_after_mm));
-    assert!((a[0] - b[0]).abs() < 0.05 && (a[1] - b[1]).abs() < 0.05, "{a:?} {b:?}");
+    assert_same_take_up(&t, &raw);
     let less = run(advice.base_radius_mm - 0.1);
     assert!(!less.cams.iter().all(|c| c.checks_ok()), "{:?}", less.cams);
 }
@@ -328,24 +313,12 @@ fn a_rocking_followers_least_passing_base_circle_keeps_the_arms_angles() {
     // The model with the synthesised lift, the base circle `base` and the
     // cam's centre O1 moved by `shift`.
     let run = |base: f64, shift: [f64; 2]| {
-        let snippet = stitchkin::output::text::follower_cam::toml_snippet(&raw).replace(
-            &format!("base_radius = {}", stitchkin::format::fmt_num(raw.base_radius_mm)),
-            &format!("base_radius = {base}"),
-        );
         let start = text.find("base_radius = ").unwrap();
         let end = start + text[start..].find("] }\n").unwrap() + 4;
-        let moved = format!("{}{}{}", &text[..start], snippet, &text[end..])
-            .replace("O1 = [0, 0]", &format!("O1 = [{}, {}]", shift[0], shift[1]));
-        let m = Model::from_toml_str(&moved, "moved.toml").unwrap_or_else(|e| panic!("{e}\n{moved}"));
-        stitchkin::eval::run_cycle(
-            &m,
-            &m.defaults(),
-            &stitchkin::eval::CycleOptions {
-                step_deg: 1.0,
-                ..Default::default()
-            },
+        cycle_of(
+            &format!("{}{}{}", &text[..start], snippet_with_base(&raw, base), &text[end..])
+                .replace("O1 = [0, 0]", &format!("O1 = [{}, {}]", shift[0], shift[1])),
         )
-        .unwrap()
     };
     // The profile's checks (the unsmoothed lift's spring would still need
     // a groove: `follower_contact` is not the base circle's to mend).
@@ -353,11 +326,38 @@ fn a_rocking_followers_least_passing_base_circle_keeps_the_arms_angles() {
         |t: &stitchkin::eval::CycleTable| t.cam_checks().filter(|c| c.name != "follower_contact").all(|c| c.ok);
     let t = run(advice.base_radius_mm, advice.move_mm);
     assert!(profile_ok(&t), "{:?}", t.cams);
-    let col = t.column("lower.P_mm").unwrap();
-    let span = |v: &[f64]| v.iter().fold([f64::MAX, f64::MIN], |m, x| [m[0].min(*x), m[1].max(*x)]);
-    let (a, b) = (span(col), span(&raw.verify.p_after_mm));
-    assert!((a[0] - b[0]).abs() < 0.05 && (a[1] - b[1]).abs() < 0.05, "{a:?} {b:?}");
+    assert_same_take_up(&t, &raw);
     let scale = (advice.base_radius_mm - 0.1 - raw.base_radius_mm) / (advice.base_radius_mm - raw.base_radius_mm);
     let less = run(advice.base_radius_mm - 0.1, [dx * scale, dy * scale]);
     assert!(!profile_ok(&less), "{:?}", less.cams);
+}
+
+/// The synthesised lift's TOML with the base circle `base`.
+fn snippet_with_base(raw: &FollowerSynthesis, base: f64) -> String {
+    stitchkin::output::text::follower_cam::toml_snippet(raw).replace(
+        &format!("base_radius = {}", stitchkin::format::fmt_num(raw.base_radius_mm)),
+        &format!("base_radius = {base}"),
+    )
+}
+
+/// The cycle of the model `text` every 1°.
+fn cycle_of(text: &str) -> stitchkin::eval::CycleTable {
+    let m = Model::from_toml_str(text, "moved.toml").unwrap_or_else(|e| panic!("{e}\n{text}"));
+    stitchkin::eval::run_cycle(
+        &m,
+        &m.defaults(),
+        &stitchkin::eval::CycleOptions {
+            step_deg: 1.0,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
+/// The path `lower`'s take-up over the cycle spans what the synthesis
+/// verified, to 0.05 mm.
+fn assert_same_take_up(t: &stitchkin::eval::CycleTable, raw: &FollowerSynthesis) {
+    let span = |v: &[f64]| v.iter().fold([f64::MAX, f64::MIN], |m, x| [m[0].min(*x), m[1].max(*x)]);
+    let (a, b) = (span(t.column("lower.P_mm").unwrap()), span(&raw.verify.p_after_mm));
+    assert!((a[0] - b[0]).abs() < 0.05 && (a[1] - b[1]).abs() < 0.05, "{a:?} {b:?}");
 }

@@ -14,13 +14,7 @@ pub fn table(model: &str, facts: &Facts, r: &FitResult) -> String {
     if let Some(t) = &facts.title {
         s += &format!(" ({t})");
     }
-    s += &format!(
-        "\nLevenberg–Marquardt: {} iterations, {} cycles; {}: {}\n\n",
-        r.iterations,
-        r.cycles,
-        if r.converged { "converged" } else { "NOT converged" },
-        r.stop
-    );
+    s += &format!("\n{}\n", solver_line(r.iterations, r.cycles, r.converged, &r.stop));
     s += &params_table(r);
     s += &facts_table(r);
     let weighted = if r.facts.iter().any(|f| f.tolerance.is_none()) {
@@ -37,6 +31,15 @@ pub fn table(model: &str, facts: &Facts, r: &FitResult) -> String {
         s += &format!("warning: {w}\n");
     }
     s
+}
+
+/// `Levenberg–Marquardt: 7 iterations, 24 cycles; converged: why` and a
+/// blank line: how a fit's solver ended.
+pub(crate) fn solver_line(iterations: usize, cycles: usize, converged: bool, stop: &str) -> String {
+    format!(
+        "Levenberg–Marquardt: {iterations} iterations, {cycles} cycles; {}: {stop}\n",
+        if converged { "converged" } else { "NOT converged" }
+    )
 }
 
 fn params_table(r: &FitResult) -> String {

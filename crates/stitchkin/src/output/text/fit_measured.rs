@@ -34,13 +34,8 @@ pub fn screen(model: &str, fit: &MeasuredFit, advice: Option<&Advice>) -> String
             )
         }
     );
-    s += &format!(
-        "Levenberg–Marquardt: {} iterations, {} cycles; {}: {}\n\n",
-        fit.iterations,
-        fit.cycles,
-        if fit.converged { "converged" } else { "NOT converged" },
-        fit.stop
-    );
+    s += &super::fit::solver_line(fit.iterations, fit.cycles, fit.converged, &fit.stop);
+    s += "\n";
     s += &params_table(fit);
     s += &correlation_table(fit);
     s += &format!(
