@@ -39,7 +39,7 @@ use stitchkin::output::plots;
 use stitchkin::presets;
 use stitchkin::study::measured::measured_match;
 use stitchkin::study::stroke::{Axis, stroke};
-use stitchkin::thread::measured::{CurveKind, MeasuredCurve, parse_curve_csv};
+use stitchkin::{CurveKind, MeasuredCurve, parse_curve_csv};
 
 use crate::view::{self, DrawingRequest};
 

@@ -197,7 +197,9 @@ fn path_match(table: &CycleTable, curve: &MeasuredCurve, thread: Option<&str>) -
     let names: Vec<&str> = table.paths.iter().map(|q| q.path.as_str()).collect();
     if names.is_empty() {
         return Err(bad(
-            format!("{source}: the model has no thread path, so a measured curve has nothing to be compared with"),
+            format!(
+                "{source}: the model has no [stitch] and no thread path, so a measured curve has nothing to be compared with"
+            ),
             "add a [thread] table with [[thread.paths]] (docs/model-format.md §13)".into(),
         ));
     }
