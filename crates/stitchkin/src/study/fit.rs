@@ -262,9 +262,11 @@ impl Bounded {
                 .filter(|p| !p.is_derived())
                 .map(|p| p.name.as_str())
                 .collect();
+            let hint = crate::error::did_you_mean(name, names.iter().copied())
+                .map_or(String::new(), |s| format!("did you mean `{s}`? "));
             bad(
                 format!("the model has no parameter `{name}` to fit"),
-                format!("its parameters are: {}", names.join(", ")),
+                format!("{hint}its parameters are: {}", names.join(", ")),
             )
         })?;
         let p = &model.params[index];

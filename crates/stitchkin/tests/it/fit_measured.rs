@@ -231,6 +231,8 @@ fn fitting_needs_samples_a_grid_and_known_parameters() {
     // A parameter the model lacks: its names.
     let e = fit_measured(&m, &m.defaults(), &[c()], &opts(&["zz"])).unwrap_err();
     assert!(format!("{e:?}").contains("dphi"), "{e:?}");
+    let e = fit_measured(&m, &m.defaults(), &[c()], &opts(&["dphii"])).unwrap_err();
+    assert!(format!("{e:?}").contains("did you mean `dphi`?"), "{e:?}");
     // A sample off the grid.
     let off = parse_curve_csv(
         "phi_deg,n1.P_B_mm\n0,0\n40,1\n85,7\n130,12\n175,17\n220,12\n265,5\n300,3\n340,2\n",
