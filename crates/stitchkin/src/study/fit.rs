@@ -346,19 +346,26 @@ impl Default for FitOptions {
     }
 }
 
-/// A parameter after the fit.
+/// A parameter after a fit (to stated figures, or to measured curves in
+/// [`super::fit_measured`]).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FittedParam {
     pub name: String,
+    /// The part in plain words (the name when the model gives none).
+    pub label: String,
     pub unit: &'static str,
     pub lo: f64,
     pub hi: f64,
     pub start: f64,
     pub fitted: f64,
     /// Linearised standard error √((JᵀJ)⁻¹)_jj, with J the weighted
-    /// residuals' Jacobian; `None` when the facts do not determine it.
+    /// residuals' Jacobian; `None` when the data do not determine it.
     pub std_error: Option<f64>,
-    /// The fit stopped at a bound.
+    /// The confidence interval fitted ± q·std_error, where the fit states
+    /// a confidence (a fit to measured curves).
+    pub interval: Option<[f64; 2]>,
+    /// The fit stopped at a bound (an interval then assumes what the bound
+    /// forbids).
     pub at_bound: bool,
 }
 
@@ -651,12 +658,14 @@ pub fn fit(model: &Model, base: &Params, facts: &Facts, opts: &FitOptions) -> Re
         .zip(&std_error)
         .map(|(((b, &xf), &x0), s)| FittedParam {
             name: b.name.clone(),
+            label: model.params[b.index].label_or_name().to_string(),
             unit: b.unit,
             lo: b.lo,
             hi: b.hi,
             start: x0,
             fitted: xf,
             std_error: *s,
+            interval: None,
             at_bound: xf <= b.lo || xf >= b.hi,
         })
         .collect();

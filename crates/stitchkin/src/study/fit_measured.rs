@@ -44,7 +44,7 @@ use crate::thread::repeated::student_t_quantile;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::fit::Bounded;
+use super::fit::{Bounded, FittedParam};
 use super::least_squares::{Eval, invert_scaled, levenberg_marquardt, normal_matrix};
 use super::measured::{MeasuredMatch, measured_match};
 use super::sensitivity::{FD_REL_STEP, take_up_derivatives};
@@ -100,26 +100,6 @@ pub struct CurveInput {
     pub curve: MeasuredCurve,
 }
 
-/// A fitted parameter.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FittedValue {
-    pub name: String,
-    /// The part in plain words (the name when the model gives none).
-    pub label: String,
-    pub unit: &'static str,
-    pub lo: f64,
-    pub hi: f64,
-    pub start: f64,
-    pub fitted: f64,
-    /// √Cov_jj; `None` when the data do not determine it.
-    pub std_error: Option<f64>,
-    /// The confidence interval fitted ± q·std_error.
-    pub interval: Option<[f64; 2]>,
-    /// The fit stopped at a bound (the interval then assumes what the bound
-    /// forbids).
-    pub at_bound: bool,
-}
-
 /// One curve after the fit: its samples, the model there and the residual.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CurveFit {
@@ -145,7 +125,7 @@ pub struct CurveFit {
 /// The outcome of a fit to measured curves.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MeasuredFit {
-    pub params: Vec<FittedValue>,
+    pub params: Vec<FittedParam>,
     pub curves: Vec<CurveFit>,
     pub step_deg: f64,
     /// n, p and n − p.
@@ -694,14 +674,14 @@ pub fn fit_measured(
     let scale = if sigma_known { 1.0 } else { chi2_per_dof };
     let cov: Option<Vec<Vec<f64>>> = inv.map(|m| m.iter().map(|row| row.iter().map(|v| v * scale).collect()).collect());
     let (quantile, quantile_from) = interval_quantile(sigma_known, opts.confidence, dof);
-    let params: Vec<FittedValue> = problem
+    let params: Vec<FittedParam> = problem
         .adjusted
         .iter()
         .enumerate()
         .map(|(j, b)| {
             let se = cov.as_ref().map(|c| c[j][j].max(0.0).sqrt()).filter(|v| v.is_finite());
             let x = lm.x[j];
-            FittedValue {
+            FittedParam {
                 name: b.name.clone(),
                 label: model.params[b.index].label_or_name().to_string(),
                 unit: b.unit,
@@ -762,7 +742,7 @@ pub fn fit_measured(
 /// ill-conditioned or singular system, a bound reached, a model that does
 /// not reproduce the measurement within its uncertainty.
 fn warnings(
-    params: &[FittedValue],
+    params: &[FittedParam],
     correlation: &[Vec<f64>],
     condition: f64,
     sigma_known: bool,
