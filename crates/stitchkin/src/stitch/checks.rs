@@ -197,16 +197,24 @@ pub const GIVEN_MM: f64 = 0.1;
 pub fn bound_margin(p_b: &[f64], bound: &[f64]) -> Option<(usize, f64)> {
     let n = p_b.len().min(bound.len());
     let margin = |k: usize| bound[k] - p_b[k];
-    let given = |k: usize| p_b[k] > GIVEN_MM;
-    let least = |ks: &mut dyn Iterator<Item = usize>| {
-        ks.map(|k| (k, margin(k)))
-            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
-    };
-    let local_min = |k: usize| {
-        let (before, after) = ((k + n - 1) % n, (k + 1) % n);
-        margin(k) <= margin(before) && margin(k) <= margin(after)
-    };
-    least(&mut (0..n).filter(|&k| given(k) && local_min(k))).or_else(|| least(&mut (0..n).filter(|&k| given(k))))
+    // The least margin (the first of equals) where the take-up gives
+    // thread at a local minimum of the margin, and anywhere it gives thread.
+    let (mut at_local, mut anywhere): (Option<(usize, f64)>, Option<(usize, f64)>) = (None, None);
+    let lower = |best: Option<(usize, f64)>, m: f64| best.is_none_or(|(_, b)| m.total_cmp(&b).is_lt());
+    for k in 0..n {
+        if p_b[k] <= GIVEN_MM || p_b[k].is_nan() {
+            continue;
+        }
+        let m = margin(k);
+        if lower(anywhere, m) {
+            anywhere = Some((k, m));
+        }
+        let (before, after) = (if k == 0 { n - 1 } else { k - 1 }, if k + 1 == n { 0 } else { k + 1 });
+        if m <= margin(before) && m <= margin(after) && lower(at_local, m) {
+            at_local = Some((k, m));
+        }
+    }
+    at_local.or(anywhere)
 }
 
 /// The figure `THR.bound_margin_mm`, mm: the margin where the take-up comes
@@ -320,13 +328,26 @@ impl Given {
     /// 0) to P′'s peak in the cycle's order; `None` for no positions.
     pub fn of(phis_deg: &[f64], p: &[f64], pprime: &[f64], phi0_deg: f64) -> Option<Given> {
         let n = phis_deg.len().min(p.len()).min(pprime.len());
-        let since = |k: usize| (phis_deg[k] - phi0_deg).rem_euclid(360.0);
-        let first_max = |ks: &mut dyn Iterator<Item = usize>, key: &dyn Fn(usize) -> f64| {
-            ks.max_by(|&a, &b| key(a).total_cmp(&key(b)).then(since(b).total_cmp(&since(a))))
+        let since = |k: usize| since_deg(phis_deg[k], phi0_deg);
+        // The largest of `key` over `ks`, the earliest after φ0 among equals
+        // (read only where the key ties).
+        let first_max = |ks: &mut dyn Iterator<Item = usize>, key: &[f64]| {
+            let mut best: Option<usize> = None;
+            for k in ks {
+                best = match best {
+                    None => Some(k),
+                    Some(b) => match key[k].total_cmp(&key[b]) {
+                        std::cmp::Ordering::Greater => Some(k),
+                        std::cmp::Ordering::Equal if since(k) <= since(b) => Some(k),
+                        _ => Some(b),
+                    },
+                };
+            }
+            best
         };
-        let k_need = first_max(&mut (0..n), &|k| pprime[k])?;
+        let k_need = first_max(&mut (0..n), pprime)?;
         let until = since(k_need);
-        let k_give = first_max(&mut (0..n).filter(|&k| since(k) <= until), &|k| p[k]).unwrap_or(k_need);
+        let k_give = first_max(&mut (0..n).filter(|&k| since(k) <= until), p).unwrap_or(k_need);
         Some(Given {
             k_need,
             need_mm: pprime[k_need],
@@ -342,6 +363,20 @@ impl Given {
 
     pub fn ok(&self) -> bool {
         self.need_mm <= 0.0 || self.given_mm >= self.wanted_mm()
+    }
+}
+
+/// How far `phi_deg` lies after `phi0_deg` in the cycle, [0, 360) deg:
+/// `(phi_deg − phi0_deg).rem_euclid(360)`, bit for bit, without its
+/// division where the two are less than a turn apart (a cycle's grid).
+#[inline]
+fn since_deg(phi_deg: f64, phi0_deg: f64) -> f64 {
+    let d = phi_deg - phi0_deg;
+    if d.abs() < 360.0 {
+        // fmod(d, 360) is d itself here.
+        if d < 0.0 { d + 360.0 } else { d }
+    } else {
+        d.rem_euclid(360.0)
     }
 }
 
@@ -464,6 +499,93 @@ pub fn catch_and_stab(thread: &str, m: &NeedleMoments, from_c: impl Fn(f64) -> f
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn since_is_the_euclidean_remainder_bit_for_bit() {
+        let mut x = 0.123_456_789f64;
+        for _ in 0..20_000 {
+            // A scrambled walk over ±900° with exact ties at the turn.
+            x = (x * 7919.0 + 0.618_033_988_7).fract();
+            for (phi, phi0) in [
+                (x * 1800.0 - 900.0, 37.5),
+                (x * 720.0, 359.0),
+                (360.0, 0.0),
+                (-0.0, 0.0),
+                (0.0, 360.0),
+            ] {
+                let (a, b) = (since_deg(phi, phi0), (phi - phi0).rem_euclid(360.0));
+                assert_eq!(a.to_bits(), b.to_bits(), "φ = {phi}, φ0 = {phi0}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_bound_margin_is_the_least_local_minimum_of_a_given_stretch() {
+        // The reference, written as the words of `bound_margin` read.
+        let reference = |p_b: &[f64], bound: &[f64]| {
+            let n = p_b.len();
+            let margin = |k: usize| bound[k] - p_b[k];
+            let least = |ks: Vec<usize>| {
+                ks.into_iter()
+                    .map(|k| (k, margin(k)))
+                    .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+            };
+            let given: Vec<usize> = (0..n).filter(|&k| p_b[k] > GIVEN_MM).collect();
+            let local = given
+                .iter()
+                .copied()
+                .filter(|&k| margin(k) <= margin((k + n - 1) % n) && margin(k) <= margin((k + 1) % n))
+                .collect();
+            least(local).or_else(|| least(given))
+        };
+        let mut seed = 11u64;
+        let mut draw = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 33) % 7) as f64 - 2.0
+        };
+        for n in [1usize, 2, 3, 5, 12, 36] {
+            for _ in 0..300 {
+                let p_b: Vec<f64> = (0..n).map(|_| draw()).collect();
+                let bound: Vec<f64> = (0..n).map(|_| draw() + 3.0).collect();
+                assert_eq!(bound_margin(&p_b, &bound), reference(&p_b, &bound), "{p_b:?} {bound:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_drawing_phase_takes_the_first_of_equal_peaks() {
+        // The reference: `max_by` with the ties broken toward φ0, as
+        // written in words on `Given::of`.
+        let reference = |phis: &[f64], key: &[f64], ks: &[usize], phi0: f64| {
+            let since = |k: usize| (phis[k] - phi0).rem_euclid(360.0);
+            ks.iter()
+                .copied()
+                .max_by(|&a, &b| key[a].total_cmp(&key[b]).then(since(b).total_cmp(&since(a))))
+        };
+        let phis: Vec<f64> = (0..72).map(|k| 5.0 * k as f64).collect();
+        let mut seed = 7u64;
+        for round in 0..400 {
+            // Values on a coarse ladder, so peaks tie often.
+            let mut draw = || {
+                seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                ((seed >> 33) % 6) as f64
+            };
+            let p: Vec<f64> = (0..72).map(|_| draw()).collect();
+            let pprime: Vec<f64> = (0..72).map(|_| draw()).collect();
+            let phi0 = (round % 72) as f64 * 5.0 + if round % 3 == 0 { 2.5 } else { 0.0 };
+            let g = Given::of(&phis, &p, &pprime, phi0).unwrap();
+            let all: Vec<usize> = (0..72).collect();
+            let k_need = reference(&phis, &pprime, &all, phi0).unwrap();
+            let until = (phis[k_need] - phi0).rem_euclid(360.0);
+            let drawing: Vec<usize> = all
+                .iter()
+                .copied()
+                .filter(|&k| (phis[k] - phi0).rem_euclid(360.0) <= until)
+                .collect();
+            let k_give = reference(&phis, &p, &drawing, phi0).unwrap_or(k_need);
+            assert_eq!((g.k_need, g.k_give), (k_need, k_give), "round {round}");
+        }
+    }
 
     #[test]
     fn the_bound_is_twice_the_deepest_travel_plus_the_loop() {
