@@ -366,6 +366,12 @@ impl Fast {
             }
         };
         let phi0 = [Phi::at_deg(threads.map_or(0.0, |t| t.phi0_deg))];
+        // Only the paths a figure reads: those asked for and those the
+        // stitch's threads are compared with.
+        let mut wanted = kinds.paths.clone();
+        for pi in plans.iter().filter_map(|p| p.path) {
+            wanted[pi] = true;
+        }
         Some(Fast {
             table: Phi::table(&phis),
             phis,
@@ -373,7 +379,7 @@ impl Fast {
             params: base.clone(),
             pose: mech.new_pose(0),
             pose0: mech.new_pose(1),
-            work: ThreadWork::default(),
+            work: ThreadWork::only_paths(wanted),
             work0: ThreadWork::default(),
             p: Vec::new(),
             mu: kinds.mu,
@@ -522,6 +528,9 @@ impl Fast {
         }
         self.p.resize_with(threads.paths.len(), Vec::new);
         for (i, (path, track)) in threads.paths.iter().zip(&self.work.tracks).enumerate() {
+            if !self.work.wants(i) {
+                continue;
+            }
             let xi0 = match k0 {
                 Some(k) => track.xi_at_split(k),
                 None => self.work0.tracks[i].xi_at_split(0),
@@ -698,6 +707,8 @@ impl Fast {
 
 /// Which kinds of figures beside the take-up extremes are asked for.
 struct Kinds {
+    /// Per thread path, whether a figure of its P is asked for.
+    paths: Vec<bool>,
     mu: bool,
     measures: bool,
     strokes: bool,
@@ -715,6 +726,7 @@ impl Kinds {
             n == format!("{p}.max_{pn}_mm") || n == format!("{p}.min_{pn}_mm")
         };
         let mut kinds = Kinds {
+            paths: vec![false; path_names.len()],
             mu: false,
             measures: false,
             strokes: false,
@@ -722,8 +734,9 @@ impl Kinds {
             tension: false,
         };
         for n in names {
-            let path_fig = path_names.iter().enumerate().any(|(i, p)| path_figure(p, i, n));
-            if path_fig {
+            let path_fig = path_names.iter().enumerate().position(|(i, p)| path_figure(p, i, n));
+            if let Some(i) = path_fig {
+                kinds.paths[i] = true;
             } else if n.starts_with("mu.") || n.starts_with("mu_") {
                 kinds.mu = true;
             } else if n.ends_with("_stroke_mm") {

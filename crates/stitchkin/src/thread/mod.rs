@@ -251,6 +251,11 @@ pub struct ThreadWork<T: Real> {
     /// Whether a piece with both ends on one body keeps the length it had
     /// in the first pose evaluated ([`Self::for_pieces`]).
     keep_constants: bool,
+    /// The paths evaluated, by index (every path when empty), and the
+    /// straight pieces none of them runs over, skipped (filled on the first
+    /// evaluation).
+    only: Vec<bool>,
+    skip: Vec<bool>,
 }
 
 impl<T: Real> Default for ThreadWork<T> {
@@ -259,6 +264,8 @@ impl<T: Real> Default for ThreadWork<T> {
             tracks: Vec::new(),
             spans: Vec::new(),
             keep_constants: false,
+            only: Vec::new(),
+            skip: Vec::new(),
         }
     }
 }
@@ -273,6 +280,23 @@ impl<T: Real> ThreadWork<T> {
             keep_constants: true,
             ..Default::default()
         }
+    }
+
+    /// Buffers that evaluate only the paths `wanted` (by index; a study
+    /// that reads a few paths' P): a straight piece no wanted path runs
+    /// over is not computed, and the other paths' tracks are left empty.
+    /// Every guide and cam is still placed, so a setting where one of
+    /// them cannot be formed fails as a whole evaluation does.
+    pub fn only_paths(wanted: Vec<bool>) -> Self {
+        ThreadWork {
+            only: wanted,
+            ..Default::default()
+        }
+    }
+
+    /// Whether path `i` is evaluated.
+    pub fn wants(&self, i: usize) -> bool {
+        self.only.get(i).is_none_or(|&w| w)
     }
 }
 
@@ -315,10 +339,25 @@ impl<T: Real> Threads<T> {
         let n = pose.len();
         let keep_constants = work.keep_constants;
         work.spans.resize_with(self.spans.len(), SpanBuf::default);
+        if !work.only.is_empty() && work.skip.len() != self.spans.len() {
+            work.skip = (0..self.spans.len())
+                .map(|s| {
+                    matches!(self.spans[s], Span::Straight { .. })
+                        && !self
+                            .paths
+                            .iter()
+                            .enumerate()
+                            .any(|(i, p)| work.wants(i) && p.spans.contains(&s))
+                })
+                .collect();
+        }
         for (i, span) in self.spans.iter().enumerate() {
             let buf = &mut work.spans[i];
             let kept = buf.constant.filter(|_| keep_constants);
             buf.reset();
+            if work.skip.get(i) == Some(&true) {
+                continue;
+            }
             match span {
                 Span::Straight {
                     a, b, constant: true, ..
@@ -389,8 +428,12 @@ impl<T: Real> Threads<T> {
             }
         }
         sum_paths(&self.paths, |s| matches!(self.spans[s], Span::Straight { .. }), n, work);
-        for ((path, track), up) in self.paths.iter().zip(&mut work.tracks).zip(&self.split_up) {
+        let only = &work.only;
+        for (i, ((path, track), up)) in self.paths.iter().zip(&mut work.tracks).zip(&self.split_up).enumerate() {
             track.eye_up.clear();
+            if !only.get(i).is_none_or(|&w| w) {
+                continue;
+            }
             if let (Some(up), Some(&eye)) = (up, path.nodes.last()) {
                 track.eye_up.extend(pose.track(eye).iter().map(|p| up.dot(p)));
             }
@@ -641,7 +684,12 @@ fn sum_paths<T: Real>(paths: &[ThreadPath], straight: impl Fn(usize) -> bool, n:
         eye_up: Vec::new(),
         engaged: Vec::new(),
     });
-    for (p, track) in paths.iter().zip(&mut work.tracks) {
+    for (i, (p, track)) in paths.iter().zip(&mut work.tracks).enumerate() {
+        if !work.only.get(i).is_none_or(|&w| w) {
+            track.xi.clear();
+            track.engaged.clear();
+            continue;
+        }
         let bufs = p.spans.iter().map(|&s| &work.spans[s]);
         let constant = bufs.clone().filter_map(|b| b.constant).fold(T::zero(), |x, l| x + l);
         track.xi.clear();
@@ -1003,6 +1051,43 @@ mod tests {
             covered >= 2,
             "only {covered} presets with threads have closed-form analogs"
         );
+    }
+
+    #[test]
+    fn only_the_wanted_paths_are_evaluated_bit_for_bit() {
+        use crate::mechanism::Phi;
+        use crate::model::Model;
+        let model = Model::preset("mf7923d").unwrap();
+        let params = model.defaults();
+        let crate::model::Machine {
+            mechanism: mech,
+            threads,
+        } = model.machine::<f64>(&params).unwrap();
+        let threads = threads.unwrap();
+        let phis_deg: Vec<f64> = (0..90).map(|k| 4.0 * k as f64).collect();
+        let mut pose = mech.new_pose(phis_deg.len());
+        mech.solve(&Phi::table(&phis_deg), &mut pose).unwrap();
+        let all = threads.evaluate(&pose, None).unwrap();
+        // Contour A of each needle: the pieces only contour B runs over
+        // are not computed.
+        let wanted: Vec<bool> = threads.paths.iter().map(|p| p.name.ends_with("_A")).collect();
+        assert!(wanted.iter().any(|&w| w) && wanted.iter().any(|&w| !w));
+        let mut work = ThreadWork::only_paths(wanted.clone());
+        for _ in 0..2 {
+            threads.evaluate_into(&pose, None, &mut work).unwrap();
+            let skipped = work.skip.iter().filter(|&&s| s).count();
+            assert!(skipped > 0, "no piece skipped");
+            for (i, (got, want)) in work.tracks.iter().zip(&all).enumerate() {
+                if wanted[i] {
+                    let bits = |t: &PathTrack<f64>| t.xi.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(got), bits(want), "{}", threads.paths[i].name);
+                    assert_eq!(got.eye_up, want.eye_up);
+                    assert_eq!(got.engaged, want.engaged);
+                } else {
+                    assert!(got.xi.is_empty() && got.eye_up.is_empty(), "{}", threads.paths[i].name);
+                }
+            }
+        }
     }
 
     #[test]
