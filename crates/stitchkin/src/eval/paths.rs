@@ -61,6 +61,11 @@ impl PathCourse {
         }
     }
 
+    /// The wrap angles of the last `rows` positions added, `nodes` a row.
+    fn last_wraps(&self, rows: usize, nodes: usize) -> &[f64] {
+        &self.wraps_rad[self.wraps_rad.len() - rows * nodes..]
+    }
+
     /// Empty, keeping its buffers.
     pub fn clear(&mut self) {
         self.gaps_mm.clear();
@@ -130,28 +135,53 @@ impl<T: Real> PathColumns<T> {
             let phi = phis[e.k];
             path_error(e, phi)
         })?;
-        let (analogs, lean) = (self.analogs, self.lean);
-        let add = |(((path, track), at0), v): (((_, _), _), &mut PathValues)| {
-            v.add(threads, path, track, at0, pose, phis.len(), analogs, lean)
-        };
-        let paths = threads.paths.iter().zip(&self.work.tracks).zip(&self.at0);
-        if lean {
-            paths.zip(&mut self.paths).for_each(add);
-        } else {
-            // The wrap angles are most of a full table's work, and the
-            // paths are independent: one per core.
-            let paths = threads.paths.par_iter().zip(&self.work.tracks).zip(&self.at0);
-            paths.zip(&mut self.paths).for_each(add);
-        }
+        let n = phis.len();
         let work = &self.work;
         self.courses
             .par_iter_mut()
             .zip(threads.paths.par_iter())
             .for_each(|(course, path)| {
                 if let Some(course) = course {
-                    course.extend(threads, path, pose, work, phis.len());
+                    course.extend(threads, path, pose, work, n);
                 }
             });
+        let (analogs, lean) = (self.analogs, self.lean);
+        type Row<'r, T> = (
+            (
+                ((&'r ThreadPath, &'r PathTrack<T>), &'r PathTrack<T>),
+                &'r Option<PathCourse>,
+            ),
+            &'r mut PathValues,
+        );
+        let add = |((((path, track), at0), course), v): Row<'_, T>| {
+            let piece = Piece {
+                track,
+                at0,
+                pose,
+                n,
+                wraps: course.as_ref().map(|c| c.last_wraps(n, path.nodes.len())),
+            };
+            v.add(threads, path, piece, analogs, lean)
+        };
+        let paths = threads
+            .paths
+            .iter()
+            .zip(&self.work.tracks)
+            .zip(&self.at0)
+            .zip(&self.courses);
+        if lean {
+            paths.zip(&mut self.paths).for_each(add);
+        } else {
+            // The wrap angles are most of a full table's work, and the
+            // paths are independent: one per core.
+            let paths = threads
+                .paths
+                .par_iter()
+                .zip(&self.work.tracks)
+                .zip(&self.at0)
+                .zip(&self.courses);
+            paths.zip(&mut self.paths).for_each(add);
+        }
         Ok(())
     }
 
@@ -176,20 +206,36 @@ impl<T: Real> PathColumns<T> {
     }
 }
 
+/// A piece of the cycle as one path's columns read it.
+struct Piece<'a, T: Real> {
+    /// The path over the piece and at φ0.
+    track: &'a PathTrack<T>,
+    at0: &'a PathTrack<T>,
+    pose: &'a Pose<T>,
+    /// The piece's positions: the first `n` of `pose`.
+    n: usize,
+    /// The path's wrap angles over the piece, n × nodes, rad, where its
+    /// thread's course already holds them.
+    wraps: Option<&'a [f64]>,
+}
+
 impl PathValues {
-    /// Adds the first `n` positions of `track`, solved in `pose`.
-    #[allow(clippy::too_many_arguments)]
+    /// Adds the positions of `piece`.
     fn add<T: Real>(
         &mut self,
         threads: &Threads<T>,
         path: &ThreadPath,
-        track: &PathTrack<T>,
-        at0: &PathTrack<T>,
-        pose: &Pose<T>,
-        n: usize,
+        piece: Piece<'_, T>,
         analogs: bool,
         lean: bool,
     ) {
+        let Piece {
+            track,
+            at0,
+            pose,
+            n,
+            wraps,
+        } = piece;
         let conv = &threads.convention;
         let xi0 = at0.xi_at_split(0);
         for k in 0..n {
@@ -214,7 +260,11 @@ impl PathValues {
         let per_phi: Vec<(Vec<f64>, Option<Vec<f64>>)> = (0..n)
             .into_par_iter()
             .map(|k| {
-                let theta = threads.wrap_angles(path, pose, k);
+                let m = path.nodes.len();
+                let theta = match wraps {
+                    Some(w) => w[k * m..(k + 1) * m].to_vec(),
+                    None => threads.wrap_angles(path, pose, k),
+                };
                 let tension = threads
                     .tension_n
                     .map(|t0| crate::thread::capstan(&theta, &path.friction, t0));
