@@ -118,6 +118,9 @@ struct Fast {
     mu: bool,
     measures: bool,
     strokes: bool,
+    /// A figure that judges the checks, and one of the bound's margin.
+    checks: bool,
+    margins: bool,
     stitch: Vec<StitchPlan>,
     /// When the swept parameters change the stitch (no shared P′): P′ is
     /// prepared for each setting, and its plans made again from the path
@@ -385,6 +388,8 @@ impl Fast {
             mu: kinds.mu,
             measures: kinds.measures,
             strokes: kinds.strokes,
+            checks: kinds.checks,
+            margins: kinds.margins,
             stitch: plans,
             own_stitch,
             buf: Vec::new(),
@@ -650,23 +655,30 @@ impl Fast {
                     out.push(|| format!("{}.tension_margin", plan.name), tn.margin);
                     out.push(|| format!("{}.max_slack_mm", plan.name), tn.max_slack_mm);
                     out.push(|| format!("{}.set_slack_mm", plan.name), tn.set_slack_mm);
-                    crate::eval::tension::tension_checks(&plan.name, tn)
-                        .iter()
-                        .all(|c| c.ok)
+                    !self.checks
+                        || crate::eval::tension::tension_checks(&plan.name, tn)
+                            .iter()
+                            .all(|c| c.ok)
                 }
                 None => true,
             };
             // As `eval::stitch`: the thread bound where P comes
             // closest to it, that the take-up gives thread while the stitch
             // draws it, and every check of the thread.
+            // The checks and the margin only where a figure reads them (the
+            // order of the figures stays the plan's).
+            let bounded = plan.path.is_some() && plan.bound.is_some();
             let margin = match (plan.path, &plan.bound) {
-                (Some(pi), Some(bound)) => Some(crate::stitch::checks::bound_margin_mm(&self.p[pi], bound)),
+                (Some(pi), Some(bound)) if self.checks || self.margins => {
+                    Some(crate::stitch::checks::bound_margin_mm(&self.p[pi], bound))
+                }
                 _ => None,
             };
-            let gives_ok = plan.path.is_none_or(|pi| {
-                crate::stitch::checks::Given::of(&self.phis, &self.p[pi], pprime, plan.phi0_deg).is_none_or(|g| g.ok())
-            });
-            if plan.has_checks || margin.is_some() {
+            if self.checks && (plan.has_checks || bounded) {
+                let gives_ok = plan.path.is_none_or(|pi| {
+                    crate::stitch::checks::Given::of(&self.phis, &self.p[pi], pprime, plan.phi0_deg)
+                        .is_none_or(|g| g.ok())
+                });
                 let ok = plan.fixed_checks_ok && tension_ok && gives_ok && margin.is_none_or(|m| m >= -1e-9);
                 all_ok &= ok;
                 any_checks = true;
@@ -712,6 +724,8 @@ struct Kinds {
     mu: bool,
     measures: bool,
     strokes: bool,
+    checks: bool,
+    margins: bool,
     stitch: bool,
     /// A figure of the thread's tension, or one that judges its checks.
     tension: bool,
@@ -730,6 +744,8 @@ impl Kinds {
             mu: false,
             measures: false,
             strokes: false,
+            checks: false,
+            margins: false,
             stitch: false,
             tension: false,
         };
@@ -766,6 +782,8 @@ impl Kinds {
                 .any(|s| n.ends_with(s))
             {
                 kinds.stitch = true;
+                kinds.checks |= n == "checks.ok" || n.ends_with(".checks_ok");
+                kinds.margins |= n.ends_with(".bound_margin_mm");
                 kinds.tension |= n == "checks.ok"
                     || [
                         ".checks_ok",
