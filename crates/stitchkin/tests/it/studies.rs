@@ -298,9 +298,13 @@ fn the_fast_match_with_the_window_assumed_gives_the_cycles_rows() {
     let o = opts(false, true);
     let sw = Sweep::new(vec![Vary::parse(&m, "z=-10:10:4").unwrap()], Design::Grid).unwrap();
     let shared = figures::shared_stitch(&m, &p, &sw, o.step_deg).unwrap();
+    // Subsets read only some paths and some checks: the others are not
+    // computed, and the rows are still the full cycle's.
     for figs in [
         &["score.mean", "n1.rms_D_mm"][..],
         &["score.mean", "checks.ok", "n3.max_T_N"][..],
+        &["n2_B.max_P_B_mm", "n1.bound_margin_mm"][..],
+        &["n3.checks_ok", "n1_A.min_P_B_mm"][..],
     ] {
         let names: Vec<String> = figs.iter().map(|s| s.to_string()).collect();
         let mut ev = Evaluator::new(SweepJob {
