@@ -155,7 +155,7 @@ fn eight_digits(v: u32) -> u64 {
 /// dropped, never `-0` (`12.5`, `3`, `-0.25`): lengths and angles written
 /// into pictures. Callers keep `x` finite.
 pub fn fmt_decimals(x: f64, decimals: usize) -> String {
-    let s = format!("{x:.decimals$}");
+    let s = fixed(x, decimals);
     let s = if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.')
     } else {
@@ -168,6 +168,36 @@ pub fn fmt_decimals(x: f64, decimals: usize) -> String {
     }
 }
 
+/// `format!("{x:.decimals$}")`, the same text: where `x` scaled by
+/// 10^decimals is surely not within 10⁻⁶ of a rounding tie, rounded in
+/// integers (a chart writes thousands of coordinates; the exact decimal
+/// conversion was an eighth of a page request), else by `format!`.
+fn fixed(x: f64, decimals: usize) -> String {
+    const SURE: f64 = 1e-6;
+    if decimals <= 6 {
+        let scale = 10f64.powi(decimals as i32);
+        let y = x * scale;
+        if y.abs() < 1e15 {
+            // x·scale exactly = y + err; its part past the integer below y.
+            let err = x.mul_add(scale, -y);
+            let below = y.floor();
+            let frac = (y - below) + err;
+            if (frac - 0.5).abs() > SURE {
+                let r = if frac > 0.5 { below + 1.0 } else { below };
+                let digits = r.abs() as u64;
+                let unit = 10u64.pow(decimals as u32);
+                let sign = if x.is_sign_negative() { "-" } else { "" };
+                return if decimals == 0 {
+                    format!("{sign}{digits}")
+                } else {
+                    format!("{sign}{}.{:0decimals$}", digits / unit, digits % unit)
+                };
+            }
+        }
+    }
+    format!("{x:.decimals$}")
+}
+
 /// A coordinate in an SVG picture: two decimals at most (a hundredth of a
 /// pixel), as [`fmt_decimals`] writes it.
 pub fn svg_num(x: f64) -> String {
@@ -177,7 +207,7 @@ pub fn svg_num(x: f64) -> String {
 /// `x` to `decimals` places, without a negative zero: `decimals(-0.00001,
 /// 3)` is `0.000`, not `-0.000`.
 pub fn decimals(x: f64, decimals: usize) -> String {
-    let s = format!("{x:.decimals$}");
+    let s = fixed(x, decimals);
     if s.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
         s.trim_start_matches('-').to_string()
     } else {
@@ -337,6 +367,53 @@ pub fn per_unit(numerator: &str, denominator: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fixed_writes_what_format_writes() {
+        let mut seed = 3u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed
+        };
+        let mut special = vec![
+            0.0,
+            -0.0,
+            0.125,
+            2.675,
+            -0.001,
+            -0.005,
+            0.005,
+            1.005,
+            999.995,
+            -2.5,
+            0.5,
+            1e14,
+            -1e16,
+            1.0 / 3.0,
+        ];
+        // Exact ties at every number of decimals, and their neighbours.
+        for d in 0..=6 {
+            let t = 0.5 / 10f64.powi(d);
+            special.extend([t, -t, 3.0 + t, t.next_up(), t.next_down()]);
+        }
+        for d in 0..=8usize {
+            for &x in &special {
+                assert_eq!(fixed(x, d), format!("{x:.d$}"), "{x:e} to {d}");
+            }
+            for _ in 0..20_000 {
+                let bits = next();
+                // Coordinates (hundreds of pixels), lengths, and any double.
+                let x = match bits % 3 {
+                    0 => ((bits >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 2000.0,
+                    1 => ((bits >> 20) % 2_000_000) as f64 / 1000.0 - 1000.0,
+                    _ => f64::from_bits(bits >> 2),
+                };
+                if x.is_finite() {
+                    assert_eq!(fixed(x, d), format!("{x:.d$}"), "{x:e} to {d}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn negative_zeros_lose_their_sign_and_nothing_else_does() {
