@@ -199,7 +199,8 @@ pub fn bound_margin(p_b: &[f64], bound: &[f64]) -> Option<(usize, f64)> {
     let margin = |k: usize| bound[k] - p_b[k];
     // The least margin (the first of equals) where the take-up gives
     // thread at a local minimum of the margin, and anywhere it gives thread.
-    let (mut at_local, mut anywhere): (Option<(usize, f64)>, Option<(usize, f64)>) = (None, None);
+    let mut at_local: Option<(usize, f64)> = None;
+    let mut anywhere: Option<(usize, f64)> = None;
     let lower = |best: Option<(usize, f64)>, m: f64| best.is_none_or(|(_, b)| m.total_cmp(&b).is_lt());
     for k in 0..n {
         if p_b[k] <= GIVEN_MM || p_b[k].is_nan() {
