@@ -664,17 +664,15 @@ impl Fast {
             };
             // As `eval::stitch`: the thread bound where P comes
             // closest to it, that the take-up gives thread while the stitch
-            // draws it, and every check of the thread.
-            // The checks and the margin only where a figure reads them (the
-            // order of the figures stays the plan's).
-            let bounded = plan.path.is_some() && plan.bound.is_some();
+            // draws it, and every check of the thread; only where a figure
+            // reads them (the order of the figures stays the plan's).
             let margin = match (plan.path, &plan.bound) {
                 (Some(pi), Some(bound)) if self.checks || self.margins => {
                     Some(crate::stitch::checks::bound_margin_mm(&self.p[pi], bound))
                 }
                 _ => None,
             };
-            if self.checks && (plan.has_checks || bounded) {
+            if self.checks && (plan.has_checks || margin.is_some()) {
                 let gives_ok = plan.path.is_none_or(|pi| {
                     crate::stitch::checks::Given::of(&self.phis, &self.p[pi], pprime, plan.phi0_deg)
                         .is_none_or(|g| g.ok())
@@ -781,19 +779,14 @@ impl Kinds {
                 .iter()
                 .any(|s| n.ends_with(s))
             {
+                let judges = n == "checks.ok" || n.ends_with(".checks_ok");
                 kinds.stitch = true;
-                kinds.checks |= n == "checks.ok" || n.ends_with(".checks_ok");
+                kinds.checks |= judges;
                 kinds.margins |= n.ends_with(".bound_margin_mm");
-                kinds.tension |= n == "checks.ok"
-                    || [
-                        ".checks_ok",
-                        ".max_T_N",
-                        ".tension_margin",
-                        ".max_slack_mm",
-                        ".set_slack_mm",
-                    ]
-                    .iter()
-                    .any(|s| n.ends_with(s));
+                kinds.tension |= judges
+                    || [".max_T_N", ".tension_margin", ".max_slack_mm", ".set_slack_mm"]
+                        .iter()
+                        .any(|s| n.ends_with(s));
             } else {
                 return None;
             }

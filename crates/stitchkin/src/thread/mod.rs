@@ -296,8 +296,14 @@ impl<T: Real> ThreadWork<T> {
 
     /// Whether path `i` is evaluated.
     pub fn wants(&self, i: usize) -> bool {
-        self.only.get(i).is_none_or(|&w| w)
+        wanted(&self.only, i)
     }
+}
+
+/// Whether path `i` is evaluated under the mask `only` (every path when
+/// it is empty).
+fn wanted(only: &[bool], i: usize) -> bool {
+    only.get(i).is_none_or(|&w| w)
 }
 
 impl<T: Real> Threads<T> {
@@ -431,7 +437,7 @@ impl<T: Real> Threads<T> {
         let only = &work.only;
         for (i, ((path, track), up)) in self.paths.iter().zip(&mut work.tracks).zip(&self.split_up).enumerate() {
             track.eye_up.clear();
-            if !only.get(i).is_none_or(|&w| w) {
+            if !wanted(only, i) {
                 continue;
             }
             if let (Some(up), Some(&eye)) = (up, path.nodes.last()) {
@@ -685,7 +691,7 @@ fn sum_paths<T: Real>(paths: &[ThreadPath], straight: impl Fn(usize) -> bool, n:
         engaged: Vec::new(),
     });
     for (i, (p, track)) in paths.iter().zip(&mut work.tracks).enumerate() {
-        if !work.only.get(i).is_none_or(|&w| w) {
+        if !wanted(&work.only, i) {
             track.xi.clear();
             track.engaged.clear();
             continue;
