@@ -317,3 +317,24 @@ fn run_mf7923d(bencher: Bencher) {
     let opts = CycleOptions::default();
     bencher.bench_local(|| black_box(run_cycle(&model, &params, &opts).unwrap()));
 }
+
+/// The two charts the live page draws for the default preset, from one
+/// cycle at 1° (as `/api/evaluate` computes it): P and P′ beside each
+/// other, and the thread's tension; rendered to SVG text.
+#[divan::bench]
+fn page_charts_mf7923d(bencher: Bencher) {
+    use stitchkin::eval::{CycleOptions, run_cycle};
+    use stitchkin::output::plots;
+    let model = Model::preset("mf7923d").unwrap();
+    let opts = CycleOptions {
+        analogs: false,
+        points: Some(Vec::new()),
+        ..Default::default()
+    };
+    let table = run_cycle(&model, &model.defaults(), &opts).unwrap();
+    bencher.bench_local(|| {
+        let take_up = plots::take_up_with_measured(&model, &table, &[]).unwrap().render();
+        let tension = plots::tension(&model, &table).unwrap().render();
+        black_box((take_up, tension))
+    });
+}

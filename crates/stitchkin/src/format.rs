@@ -155,53 +155,113 @@ fn eight_digits(v: u32) -> u64 {
 /// dropped, never `-0` (`12.5`, `3`, `-0.25`): lengths and angles written
 /// into pictures. Callers keep `x` finite.
 pub fn fmt_decimals(x: f64, decimals: usize) -> String {
-    let s = fixed(x, decimals);
-    let s = if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.')
-    } else {
-        s.as_str()
+    let mut s = String::new();
+    push_decimals(&mut s, x, decimals);
+    s
+}
+
+/// Appends [`fmt_decimals`]`(x, decimals)` to `out` without a heap
+/// allocation of its own where the rounding is sure ([`rounded`]): a
+/// chart's polylines write thousands of coordinates.
+pub fn push_decimals(out: &mut String, x: f64, decimals: usize) {
+    let Some((negative, digits)) = rounded(x, decimals) else {
+        let s = format!("{x:.decimals$}");
+        let s = if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            s.as_str()
+        };
+        out.push_str(if s == "-0" || s.is_empty() { "0" } else { s });
+        return;
     };
-    if s == "-0" || s.is_empty() {
-        "0".into()
-    } else {
-        s.to_string()
+    let unit = POW10_U64[decimals];
+    let (int, mut frac, mut places) = (digits / unit, digits % unit, decimals);
+    // Trailing zeros dropped, and the point with them.
+    while places > 0 && frac % 10 == 0 {
+        frac /= 10;
+        places -= 1;
+    }
+    // What rounds to zero is written `0`, never `-0`.
+    if negative && (int != 0 || places > 0) {
+        out.push('-');
+    }
+    push_digits(out, int, 1);
+    if places > 0 {
+        out.push('.');
+        push_digits(out, frac, places);
     }
 }
 
-/// `format!("{x:.decimals$}")`, the same text: where `x` scaled by
-/// 10^decimals is surely not within 10⁻⁶ of a rounding tie, rounded in
-/// integers (a chart writes thousands of coordinates; the exact decimal
-/// conversion was an eighth of a page request), else by `format!`.
-fn fixed(x: f64, decimals: usize) -> String {
-    const SURE: f64 = 1e-6;
-    if decimals <= 6 {
-        let scale = 10f64.powi(decimals as i32);
-        let y = x * scale;
-        if y.abs() < 1e15 {
-            // x·scale exactly = y + err; its part past the integer below y.
-            let err = x.mul_add(scale, -y);
-            let below = y.floor();
-            let frac = (y - below) + err;
-            if (frac - 0.5).abs() > SURE {
-                let r = if frac > 0.5 { below + 1.0 } else { below };
-                let digits = r.abs() as u64;
-                let unit = 10u64.pow(decimals as u32);
-                let sign = if x.is_sign_negative() { "-" } else { "" };
-                return if decimals == 0 {
-                    format!("{sign}{digits}")
-                } else {
-                    format!("{sign}{}.{:0decimals$}", digits / unit, digits % unit)
-                };
-            }
-        }
+/// 10^k for k ≤ 6, the decimals [`rounded`] is sure of.
+const POW10_U64: [u64; 7] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000];
+
+/// Appends the decimal digits of `v`, zero-padded to at least `width`
+/// (≤ 20) digits.
+fn push_digits(out: &mut String, mut v: u64, width: usize) {
+    let mut buf = [b'0'; 20];
+    let mut start = buf.len();
+    while v > 0 {
+        start -= 1;
+        buf[start] = b'0' + (v % 10) as u8;
+        v /= 10;
     }
-    format!("{x:.decimals$}")
+    start = start.min(buf.len() - width);
+    out.push_str(std::str::from_utf8(&buf[start..]).expect("decimal digits are ASCII"));
+}
+
+/// |x| scaled by 10^`decimals` and rounded half to even as the exact
+/// decimal value of `x` rounds (what `format!` writes), with the sign of
+/// `x`: where that scaled value is surely not within 10⁻⁶ of a rounding
+/// tie, for at most 6 decimals and |x|·10^decimals < 10¹⁵; else `None`.
+fn rounded(x: f64, decimals: usize) -> Option<(bool, u64)> {
+    const SURE: f64 = 1e-6;
+    if decimals >= POW10_U64.len() {
+        return None;
+    }
+    let scale = POW10_U64[decimals] as f64;
+    let y = x * scale;
+    if !(y.abs() < 1e15) {
+        return None;
+    }
+    // x·scale exactly = y + err; its part past the integer below y.
+    let err = x.mul_add(scale, -y);
+    // ⌊y⌋ through an integer (|y| < 10¹⁵ < 2⁶³; the library's floor is a
+    // call on the baseline x86-64 target).
+    let truncated = y as i64 as f64;
+    let below = if truncated > y { truncated - 1.0 } else { truncated };
+    let frac = (y - below) + err;
+    if (frac - 0.5).abs() <= SURE {
+        return None;
+    }
+    let r = if frac > 0.5 { below + 1.0 } else { below };
+    Some((x.is_sign_negative(), r.abs() as u64))
+}
+
+/// `format!("{x:.decimals$}")`, the same text: where [`rounded`] is sure,
+/// rounded in integers (a chart writes thousands of coordinates; the exact
+/// decimal conversion was an eighth of a page request), else by `format!`.
+fn fixed(x: f64, decimals: usize) -> String {
+    let Some((negative, digits)) = rounded(x, decimals) else {
+        return format!("{x:.decimals$}");
+    };
+    let sign = if negative { "-" } else { "" };
+    if decimals == 0 {
+        format!("{sign}{digits}")
+    } else {
+        let unit = 10u64.pow(decimals as u32);
+        format!("{sign}{}.{:0decimals$}", digits / unit, digits % unit)
+    }
 }
 
 /// A coordinate in an SVG picture: two decimals at most (a hundredth of a
 /// pixel), as [`fmt_decimals`] writes it.
 pub fn svg_num(x: f64) -> String {
     fmt_decimals(x, 2)
+}
+
+/// Appends [`svg_num`]`(x)` to `out`.
+pub fn push_svg_num(out: &mut String, x: f64) {
+    push_decimals(out, x, 2);
 }
 
 /// `x` to `decimals` places, without a negative zero: `decimals(-0.00001,
@@ -368,14 +428,16 @@ pub fn per_unit(numerator: &str, denominator: &str) -> String {
 mod tests {
     use super::*;
 
-    #[test]
-    fn fixed_writes_what_format_writes() {
+    /// Finite numbers to write: ties at every number of decimals and their
+    /// neighbours, awkward ones, then 20 000 coordinates (hundreds of
+    /// pixels), lengths and doubles of any size.
+    fn numbers() -> Vec<f64> {
         let mut seed = 3u64;
         let mut next = || {
             seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             seed
         };
-        let mut special = vec![
+        let mut xs = vec![
             0.0,
             -0.0,
             0.125,
@@ -390,29 +452,64 @@ mod tests {
             1e14,
             -1e16,
             1.0 / 3.0,
+            -0.004,
+            10.0,
+            -100.0,
         ];
-        // Exact ties at every number of decimals, and their neighbours.
         for d in 0..=6 {
             let t = 0.5 / 10f64.powi(d);
-            special.extend([t, -t, 3.0 + t, t.next_up(), t.next_down()]);
+            xs.extend([t, -t, 3.0 + t, t.next_up(), t.next_down()]);
         }
+        for _ in 0..20_000 {
+            let bits = next();
+            let x = match bits % 3 {
+                0 => ((bits >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 2000.0,
+                1 => ((bits >> 20) % 2_000_000) as f64 / 1000.0 - 1000.0,
+                _ => f64::from_bits(bits >> 2),
+            };
+            if x.is_finite() {
+                xs.push(x);
+            }
+        }
+        xs
+    }
+
+    #[test]
+    fn fixed_writes_what_format_writes() {
+        let xs = numbers();
         for d in 0..=8usize {
-            for &x in &special {
+            for &x in &xs {
                 assert_eq!(fixed(x, d), format!("{x:.d$}"), "{x:e} to {d}");
             }
-            for _ in 0..20_000 {
-                let bits = next();
-                // Coordinates (hundreds of pixels), lengths, and any double.
-                let x = match bits % 3 {
-                    0 => ((bits >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 2000.0,
-                    1 => ((bits >> 20) % 2_000_000) as f64 / 1000.0 - 1000.0,
-                    _ => f64::from_bits(bits >> 2),
-                };
-                if x.is_finite() {
-                    assert_eq!(fixed(x, d), format!("{x:.d$}"), "{x:e} to {d}");
-                }
+        }
+    }
+
+    /// What the pictures wrote before their numbers were appended in
+    /// place: `format!`, trailing zeros and the point trimmed, `-0` as `0`.
+    #[test]
+    fn decimals_appended_are_the_trimmed_format() {
+        let trimmed = |x: f64, d: usize| {
+            let s = format!("{x:.d$}");
+            let s = if s.contains('.') {
+                s.trim_end_matches('0').trim_end_matches('.').to_string()
+            } else {
+                s
+            };
+            if s == "-0" { "0".to_string() } else { s }
+        };
+        let xs = numbers();
+        for d in 0..=8usize {
+            let mut out = String::from("x=");
+            for &x in &xs {
+                assert_eq!(fmt_decimals(x, d), trimmed(x, d), "{x:e} to {d}");
+                out.truncate(2);
+                push_decimals(&mut out, x, d);
+                assert_eq!(out[2..], trimmed(x, d), "{x:e} to {d}");
             }
         }
+        assert_eq!(fmt_decimals(-0.004, 2), "0");
+        assert_eq!(fmt_decimals(12.50, 2), "12.5");
+        assert_eq!(fmt_decimals(-100.0, 2), "-100");
     }
 
     #[test]

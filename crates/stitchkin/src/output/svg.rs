@@ -14,7 +14,7 @@
 
 use std::fmt::Write;
 
-use crate::format::svg_num as n;
+use crate::format::{push_svg_num, svg_num as n};
 
 /// Line colours, distinguishable and print-safe (Tableau 10).
 pub const PALETTE: [&str; 10] = [
@@ -767,19 +767,19 @@ impl Chart {
         let sx = |x: f64| p.sx(x);
         let sy = |y: f64| p.sy(y);
         for a in &self.areas {
-            let pts: Vec<String> = a
-                .upper
-                .iter()
-                .chain(a.lower.iter().rev())
-                .filter(|(x, y)| x.is_finite() && y.is_finite())
-                .map(|&(x, y)| format!("{},{}", n(sx(x)), n(sy(y))))
-                .collect();
-            if pts.len() >= 3 {
+            let (pts, count) = points_attr(
+                a.upper
+                    .iter()
+                    .chain(a.lower.iter().rev())
+                    .filter(|(x, y)| x.is_finite() && y.is_finite())
+                    .map(|&(x, y)| (sx(x), sy(y))),
+            );
+            if count >= 3 {
                 let _ = writeln!(
                     s,
                     r#"<polygon class="area" clip-path="url(#{id})" fill="{}" fill-opacity="0.15" stroke="none" points="{}"><title>{}</title></polygon>"#,
                     escape(&a.color),
-                    pts.join(" "),
+                    pts,
                     escape(&a.label)
                 );
             }
@@ -821,19 +821,19 @@ impl Chart {
         let sx = |x: f64| p.sx(x);
         let sy = |y: f64| p.sy(y);
         for se in &self.series {
-            let pts: Vec<String> = se
-                .points
-                .iter()
-                .filter(|(x, y)| x.is_finite() && y.is_finite())
-                .map(|&(x, y)| format!("{},{}", n(sx(x)), n(sy(y))))
-                .collect();
+            let (pts, _) = points_attr(
+                se.points
+                    .iter()
+                    .filter(|(x, y)| x.is_finite() && y.is_finite())
+                    .map(|&(x, y)| (sx(x), sy(y))),
+            );
             let dash = if se.dashed { r#" stroke-dasharray="6 4""# } else { "" };
             let _ = writeln!(
                 s,
                 r#"<polyline class="series" data-name="{}" clip-path="url(#{id})" fill="none" stroke="{}" stroke-width="1.6"{dash} points="{}"/>"#,
                 escape(&se.name),
                 escape(&se.color),
-                pts.join(" ")
+                pts
             );
             if se.mark_start
                 && let Some(&(x, y)) = se.points.iter().find(|(x, y)| x.is_finite() && y.is_finite())
@@ -1078,8 +1078,21 @@ impl Oblique {
 }
 
 /// A page point as SVG `x,y`.
-fn pt(q: (f64, f64)) -> String {
-    format!("{},{}", n(q.0), n(q.1))
+/// The `points` of a polyline or polygon through `pts` (px), `x,y x,y …`,
+/// each number as [`n`] writes it, and how many points it holds.
+fn points_attr(pts: impl IntoIterator<Item = (f64, f64)>) -> (String, usize) {
+    let mut s = String::new();
+    let mut count = 0;
+    for (x, y) in pts {
+        if count > 0 {
+            s.push(' ');
+        }
+        push_svg_num(&mut s, x);
+        s.push(',');
+        push_svg_num(&mut s, y);
+        count += 1;
+    }
+    (s, count)
 }
 
 /// A line from `a` to `b`, px.
@@ -1187,11 +1200,10 @@ impl Surface {
             ("wall", [p(x0, y1, z0), p(x1, y1, z0), p(x1, y1, z1), p(x0, y1, z1)]),
             ("wall", [p(x0, y0, z0), p(x0, y1, z0), p(x0, y1, z1), p(x0, y0, z1)]),
         ] {
-            let pts: Vec<String> = corners.iter().map(|&q| pt(q)).collect();
             let _ = writeln!(
                 s,
                 r##"<polygon class="{class}" points="{}" fill="#fafafa" stroke="#999"/>"##,
-                pts.join(" ")
+                points_attr(corners).0
             );
         }
         for &t in &x.3 {
@@ -1277,13 +1289,13 @@ impl Surface {
         let z = |i: usize, j: usize| self.z_values.get(j).and_then(|r| r.get(i)).copied().unwrap_or(f64::NAN);
         let (ni, nj) = (self.xs.len(), self.ys.len().min(self.z_values.len()));
         let edge = |s: &mut String, j: usize| {
-            let mut run: Vec<String> = Vec::new();
-            let flush = |s: &mut String, run: &mut Vec<String>| {
+            let mut run: Vec<(f64, f64)> = Vec::new();
+            let flush = |s: &mut String, run: &mut Vec<(f64, f64)>| {
                 if run.len() >= 2 {
                     let _ = writeln!(
                         s,
                         r##"<polyline class="mesh" fill="none" stroke="#333" stroke-width="0.8" points="{}"/>"##,
-                        run.join(" ")
+                        points_attr(run.iter().copied()).0
                     );
                 }
                 run.clear();
@@ -1291,7 +1303,7 @@ impl Surface {
             for i in 0..ni {
                 let v = z(i, j);
                 if v.is_finite() {
-                    run.push(pt(p(self.xs[i], self.ys[j], v)));
+                    run.push(p(self.xs[i], self.ys[j], v));
                 } else {
                     flush(s, &mut run);
                 }
@@ -1310,15 +1322,11 @@ impl Surface {
                         continue;
                     }
                     let fill = ramp((vs.iter().sum::<f64>() / 4.0 - zl) / (zh - zl).max(1e-12));
-                    let pts: Vec<String> = c
-                        .iter()
-                        .zip(&vs)
-                        .map(|(&(a, b), &v)| pt(p(self.xs[a], self.ys[b], v)))
-                        .collect();
+                    let (pts, _) = points_attr(c.iter().zip(&vs).map(|(&(a, b), &v)| p(self.xs[a], self.ys[b], v)));
                     let _ = writeln!(
                         s,
                         r#"<polygon class="facet" points="{}" fill="{fill}" stroke="{fill}" stroke-width="0.5"/>"#,
-                        pts.join(" ")
+                        pts
                     );
                 }
                 for i in (0..ni).step_by(every).chain(std::iter::once(ni - 1)) {
