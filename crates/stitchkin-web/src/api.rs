@@ -654,11 +654,12 @@ impl App {
         };
         // The measured curve and its thread, checked before any work.
         let (measured, measured_thread) = self.measured(q)?;
+        // What the page shows and charts: no analogs, no point columns, and
+        // lean (no link angles, no per-guide wrap or tension columns, no
+        // best lag; none of them is read below).
         let opts = CycleOptions {
-            step_deg: step,
-            analogs: false,
             points: Some(Vec::new()),
-            ..Default::default()
+            ..CycleOptions::for_figures(step)
         };
         let table = run_cycle(model, &params, &opts).map_err(|e| library_error(&e))?;
         // The measured curve beside its thread, on the cycle's grid.
