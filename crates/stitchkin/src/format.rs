@@ -220,7 +220,8 @@ fn rounded(x: f64, decimals: usize) -> Option<(bool, u64)> {
     }
     let scale = POW10_U64[decimals] as f64;
     let y = x * scale;
-    if !(y.abs() < 1e15) {
+    // NaN, infinities and 10¹⁵ or more go to the exact conversion.
+    if y.is_nan() || y.abs() >= 1e15 {
         return None;
     }
     // x·scale exactly = y + err; its part past the integer below y.
