@@ -185,6 +185,12 @@ pub fn push_decimals(out: &mut String, x: f64, decimals: usize) {
     if negative && (int != 0 || places > 0) {
         out.push('-');
     }
+    push_point_digits(out, int, frac, places);
+}
+
+/// Appends `int`, then, with `places` > 0, a point and `frac` zero-padded to
+/// `places` digits.
+fn push_point_digits(out: &mut String, int: u64, frac: u64, places: usize) {
     push_digits(out, int, 1);
     if places > 0 {
         out.push('.');
@@ -245,13 +251,13 @@ fn fixed(x: f64, decimals: usize) -> String {
     let Some((negative, digits)) = rounded(x, decimals) else {
         return format!("{x:.decimals$}");
     };
-    let sign = if negative { "-" } else { "" };
-    if decimals == 0 {
-        format!("{sign}{digits}")
-    } else {
-        let unit = 10u64.pow(decimals as u32);
-        format!("{sign}{}.{:0decimals$}", digits / unit, digits % unit)
+    let mut s = String::with_capacity(24);
+    if negative {
+        s.push('-');
     }
+    let unit = POW10_U64[decimals];
+    push_point_digits(&mut s, digits / unit, digits % unit, decimals);
+    s
 }
 
 /// A coordinate in an SVG picture: two decimals at most (a hundredth of a

@@ -146,42 +146,28 @@ impl<T: Real> PathColumns<T> {
                 }
             });
         let (analogs, lean) = (self.analogs, self.lean);
-        type Row<'r, T> = (
-            (
-                ((&'r ThreadPath, &'r PathTrack<T>), &'r PathTrack<T>),
-                &'r Option<PathCourse>,
-            ),
-            &'r mut PathValues,
-        );
-        let add = |((((path, track), at0), course), v): Row<'_, T>| {
-            let piece = Piece {
-                track,
-                at0,
-                pose,
-                n,
-                wraps: course.as_ref().map(|c| c.last_wraps(n, path.nodes.len())),
-            };
-            v.add(threads, path, piece, analogs, lean)
-        };
-        let paths = threads
+        // The wrap angles are most of a full table's work, and the paths are
+        // independent: one per core. A lean table computes none of them, and
+        // its paths stay on this core (one piece: rayon does not split it).
+        let min_len = if lean { usize::MAX } else { 1 };
+        threads
             .paths
-            .iter()
+            .par_iter()
             .zip(&self.work.tracks)
             .zip(&self.at0)
-            .zip(&self.courses);
-        if lean {
-            paths.zip(&mut self.paths).for_each(add);
-        } else {
-            // The wrap angles are most of a full table's work, and the
-            // paths are independent: one per core.
-            let paths = threads
-                .paths
-                .par_iter()
-                .zip(&self.work.tracks)
-                .zip(&self.at0)
-                .zip(&self.courses);
-            paths.zip(&mut self.paths).for_each(add);
-        }
+            .zip(&self.courses)
+            .zip(&mut self.paths)
+            .with_min_len(min_len)
+            .for_each(|((((path, track), at0), course), v)| {
+                let piece = Piece {
+                    track,
+                    at0,
+                    pose,
+                    n,
+                    wraps: course.as_ref().map(|c| c.last_wraps(n, path.nodes.len())),
+                };
+                v.add(threads, path, piece, analogs, lean)
+            });
         Ok(())
     }
 
