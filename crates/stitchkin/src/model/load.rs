@@ -38,6 +38,9 @@ pub(super) struct Loader<'a> {
     point_index: HashMap<String, usize>,
     /// The units the file's parameters and expressions are written in.
     pub(super) units: ModelUnits,
+    /// The one quantity 0 every omitted coordinate, offset or radius reads
+    /// (so two pieces of thread around one pin are one piece).
+    zero: Option<QuantityId>,
 }
 
 /// What loading a part of the model gives: the part, or the place in the file
@@ -61,6 +64,7 @@ impl<'a> Loader<'a> {
             points: Vec::new(),
             point_index: HashMap::new(),
             units: ModelUnits::default(),
+            zero: None,
         }
     }
 
@@ -573,9 +577,14 @@ impl<'a> Loader<'a> {
     }
 
     fn zero(&mut self) -> QuantityId {
+        if let Some(id) = self.zero {
+            return id;
+        }
         self.exprs.push(Expr::Num(0.0));
         self.expr_paths.push(KeyPath::root());
-        self.exprs.len() - 1
+        let id = self.exprs.len() - 1;
+        self.zero = Some(id);
+        id
     }
 
     fn coords(
