@@ -199,6 +199,31 @@ impl<T: Real> Step<T> {
             Step::Newton(_) => None,
         }
     }
+
+    /// Calls `f` with every point a closed-form step reads; false for a
+    /// numerical group (its closures read points of their own).
+    fn each_input(&self, mut f: impl FnMut(usize)) -> bool {
+        match self {
+            Step::Crank { center, .. } => f(*center),
+            Step::Rrr { p1, p2, .. } => [*p1, *p2].into_iter().for_each(f),
+            Step::Rrp {
+                from, through, toward, ..
+            }
+            | Step::PointOnLine {
+                from, through, toward, ..
+            } => [Some(*from), Some(*through), *toward].into_iter().flatten().for_each(f),
+            Step::Rpr { from, pivot, .. } => [*from, *pivot].into_iter().for_each(f),
+            Step::Rssr { from, .. } | Step::Offset { from, .. } => f(*from),
+            Step::Rigid { base, .. } => base.iter().copied().for_each(f),
+            Step::Rigid3 { frame, .. } => frame.iter().copied().for_each(f),
+            Step::CamFollower(c) => [Some(c.center), Some(c.marker), c.pivot]
+                .into_iter()
+                .flatten()
+                .for_each(f),
+            Step::Newton(_) => return false,
+        }
+        true
+    }
 }
 
 /// A derived quantity, evaluated from a solved pose.
@@ -383,11 +408,82 @@ impl<T: Real> Mechanism<T> {
     /// can fail at any φ, so their loops do not vectorise, and one copy
     /// keeps each group's loop body inlined.)
     pub fn solve(&self, phis: &[Phi<T>], pose: &mut Pose<T>) -> Result<(), AssemblyError> {
+        self.solve_steps(phis, pose, None)
+    }
+
+    /// Solves `pose` as [`Self::reset_pose`] and [`Self::solve`] would,
+    /// where it holds `before`'s solution over the same `phis` (a study's
+    /// previous setting): a group whose definition is the same as
+    /// `before`'s and whose points it reads did not move keeps its track,
+    /// bit for bit what solving it again gives. `moved` says, per point,
+    /// whether its track differs from `before`'s. Without a `before` (or one
+    /// of another structure) everything is solved and has moved. On an
+    /// error `pose` holds no whole solution: solve the next setting
+    /// without a `before`.
+    pub fn solve_since(
+        &self,
+        before: Option<&Mechanism<T>>,
+        phis: &[Phi<T>],
+        pose: &mut Pose<T>,
+        moved: &mut Vec<bool>,
+    ) -> Result<(), AssemblyError> {
+        moved.clear();
+        let comparable = before.filter(|b| {
+            b.n_points == self.n_points
+                && b.steps.len() == self.steps.len()
+                && b.fixed.len() == self.fixed.len()
+                && b.fixed.iter().zip(&self.fixed).all(|(p, q)| p.0 == q.0)
+                && b.steps
+                    .iter()
+                    .zip(&self.steps)
+                    .all(|(p, q)| std::mem::discriminant(p) == std::mem::discriminant(q))
+                && pose.n == phis.len()
+                && pose.tracks.len() == self.n_points
+                && pose.tracks.iter().all(|t| t.len() == pose.n)
+        });
+        let Some(before) = comparable else {
+            self.reset_pose(pose, phis.len());
+            moved.resize(self.n_points, true);
+            return self.solve(phis, pose);
+        };
+        moved.resize(self.n_points, false);
+        for ((slot, p), (_, q)) in self.fixed.iter().zip(&before.fixed) {
+            if p != q {
+                moved[*slot] = true;
+                pose.tracks[*slot].iter_mut().for_each(|t| *t = *p);
+            }
+        }
+        self.solve_steps(phis, pose, Some((before, moved)))
+    }
+
+    /// [`Self::solve`], skipping (with `since`) the groups whose track
+    /// stays `before`'s and marking the points that move.
+    fn solve_steps(
+        &self,
+        phis: &[Phi<T>],
+        pose: &mut Pose<T>,
+        mut since: Option<(&Mechanism<T>, &mut Vec<bool>)>,
+    ) -> Result<(), AssemblyError> {
         let n = pose.n;
         assert_eq!(phis.len(), n, "one φ per pose position");
         let tracks = &mut pose.tracks;
         let mut newton = 0;
         for (i, step) in self.steps.iter().enumerate() {
+            if let Some((before, moved)) = &mut since {
+                let mut inputs_moved = false;
+                let closed_form = step.each_input(|s| inputs_moved |= moved[s]);
+                if closed_form && !inputs_moved && *step == before.steps[i] {
+                    continue;
+                }
+                match step {
+                    Step::Newton(g) => {
+                        // Numerical groups start afresh at every setting.
+                        pose.newton[newton] = g.new_state();
+                        g.outs.iter().for_each(|&s| moved[s] = true);
+                    }
+                    _ => moved[step.out().expect("a closed-form group has an output point")] = true,
+                }
+            }
             let r = match step {
                 Step::Newton(g) => {
                     let st = &mut pose.newton[newton];

@@ -110,6 +110,11 @@ struct Fast {
     params: Params,
     pose: Pose<f64>,
     pose0: Pose<f64>,
+    /// The last setting's machine where `pose` and `work` hold its whole
+    /// solution: the next setting solves only what its change moves.
+    before: Option<Machine<f64>>,
+    /// Per point of the mechanism, whether it moved from `before`'s.
+    moved: Vec<bool>,
     work: ThreadWork<f64>,
     work0: ThreadWork<f64>,
     /// Take-up of every path over the cycle, mm.
@@ -382,6 +387,8 @@ impl Fast {
             params: base.clone(),
             pose: mech.new_pose(0),
             pose0: mech.new_pose(1),
+            before: None,
+            moved: Vec::new(),
             work: ThreadWork::only_paths(wanted),
             work0: ThreadWork::default(),
             p: Vec::new(),
@@ -408,15 +415,40 @@ impl Fast {
         shared: Option<&Prepared>,
         out: &mut Figures,
     ) -> Result<(), Error> {
+        let machine = model.machine::<f64>(&self.params)?;
+        // What the last setting left is used once; it is kept again only
+        // where this setting's solution is whole.
+        let before = self.before.take();
+        machine.mechanism.solve_since(
+            before.as_ref().map(|b| &b.mechanism),
+            &self.table,
+            &mut self.pose,
+            &mut self.moved,
+        )?;
+        if let Some(threads) = &machine.threads {
+            if let Some(t0) = before.as_ref().and_then(|b| b.threads.as_ref()) {
+                threads.keep_unmoved(t0, &self.moved, &mut self.work);
+            }
+            self.take_up_figures(&machine.mechanism, threads, out)?;
+        }
+        let rest = self.stitch_and_measures(model, opts, shared, &machine, out);
+        self.before = Some(machine);
+        rest
+    }
+
+    /// The figures past the take-up, from the setting's solved `machine`.
+    fn stitch_and_measures(
+        &mut self,
+        model: &Model,
+        opts: &CycleOptions,
+        shared: Option<&Prepared>,
+        machine: &Machine<f64>,
+        out: &mut Figures,
+    ) -> Result<(), Error> {
         let Machine {
             mechanism: mech,
             threads,
-        } = model.machine::<f64>(&self.params)?;
-        mech.reset_pose(&mut self.pose, self.phis.len());
-        mech.solve(&self.table, &mut self.pose)?;
-        if let Some(threads) = &threads {
-            self.take_up_figures(&mech, threads, out)?;
-        }
+        } = machine;
         // This setting's own P′, where the sweep changes the stitch.
         let own;
         let shared = match &self.own_stitch {
@@ -441,10 +473,10 @@ impl Fast {
             self.tensions(model, threads, shared)?;
         }
         if self.mu && !model.dyads.is_empty() {
-            self.transmission_figures(model, &mech, out)?;
+            self.transmission_figures(model, mech, out)?;
         }
         if self.measures && !model.measure_names.is_empty() {
-            self.measure_figures(model, &mech, out)?;
+            self.measure_figures(model, mech, out)?;
         }
         if self.strokes {
             self.stroke_figures(model, opts, out)?;

@@ -256,6 +256,9 @@ pub struct ThreadWork<T: Real> {
     /// evaluation).
     only: Vec<bool>,
     skip: Vec<bool>,
+    /// The pieces whose lengths stay those the last evaluation left
+    /// ([`Threads::keep_unmoved`]), for the next evaluation only.
+    keep: Vec<bool>,
 }
 
 impl<T: Real> Default for ThreadWork<T> {
@@ -266,6 +269,7 @@ impl<T: Real> Default for ThreadWork<T> {
             keep_constants: false,
             only: Vec::new(),
             skip: Vec::new(),
+            keep: Vec::new(),
         }
     }
 }
@@ -357,7 +361,17 @@ impl<T: Real> Threads<T> {
                 })
                 .collect();
         }
+        // Pieces kept from the last evaluation: asked for this one only.
+        let keep = std::mem::take(&mut work.keep);
+        let keep = if project.is_none() && keep.len() == self.spans.len() {
+            keep
+        } else {
+            Vec::new()
+        };
         for (i, span) in self.spans.iter().enumerate() {
+            if keep.get(i) == Some(&true) {
+                continue;
+            }
             let buf = &mut work.spans[i];
             let kept = buf.constant.filter(|_| keep_constants);
             buf.reset();
@@ -433,6 +447,9 @@ impl<T: Real> Threads<T> {
                 }
             }
         }
+        // Its buffer back for the next marking.
+        work.keep = keep;
+        work.keep.clear();
         sum_paths(&self.paths, |s| matches!(self.spans[s], Span::Straight { .. }), n, work);
         let only = &work.only;
         for (i, ((path, track), up)) in self.paths.iter().zip(&mut work.tracks).zip(&self.split_up).enumerate() {
@@ -445,6 +462,32 @@ impl<T: Real> Threads<T> {
             }
         }
         Ok(())
+    }
+
+    /// Marks the pieces whose lengths the next [`Self::evaluate_into`]
+    /// into `work` keeps from the last: where `work` holds `before`'s
+    /// pieces over a pose of the same positions (a study's previous
+    /// setting), a piece defined as `before`'s whose ends and guide did
+    /// not move (`moved`, per point: [`crate::mechanism::Mechanism::solve_since`])
+    /// has the same lengths. Without a projection only.
+    pub fn keep_unmoved(&self, before: &Threads<T>, moved: &[bool], work: &mut ThreadWork<T>) {
+        work.keep.clear();
+        if before.spans.len() != self.spans.len() || work.spans.len() != self.spans.len() {
+            return;
+        }
+        let still = |s: &usize| !moved.get(*s).copied().unwrap_or(true);
+        work.keep
+            .extend(self.spans.iter().zip(&before.spans).map(|(span, was)| {
+                span == was
+                    && match span {
+                        Span::Straight { a, b, .. } => still(a) && still(b),
+                        Span::Pin { a, b, c, .. } => still(a) && still(b) && still(c),
+                        Span::Cam { a, b, cam, .. } => {
+                            let (c, c0) = (&self.cams[*cam], before.cams.get(*cam));
+                            Some(c) == c0 && still(a) && still(b) && still(&c.center) && still(&c.marker)
+                        }
+                    }
+            }));
     }
 
     /// Every path at the `k`-th φ of `pose` alone: ξ (and u·N for a path
@@ -746,6 +789,8 @@ impl Threads<f64> {
         assert_eq!(an.len(), n, "analogs of the same cycle");
         let j = Jets { pose, an, n };
         work.spans.resize_with(self.spans.len(), SpanBuf::default);
+        // Every piece is computed anew: none is kept from before.
+        work.keep.clear();
         for (i, span) in self.spans.iter().enumerate() {
             let buf = &mut work.spans[i];
             buf.reset();

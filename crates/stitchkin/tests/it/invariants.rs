@@ -150,3 +150,93 @@ fn rssr_branch_stays_on_its_side() {
     }
     assert!(checked >= 10, "only {checked} generated chains assembled");
 }
+
+/// A setting solved from the one before (`Mechanism::solve_since`,
+/// `Threads::keep_unmoved`: only what the change moves is solved again)
+/// gives the bits of solving it afresh, for every preset and every ranged
+/// parameter stepped across its range, forward and back; and what it says
+/// did not move did not.
+#[test]
+fn a_setting_solved_from_the_last_is_the_setting_solved_afresh() {
+    use stitchkin::thread::ThreadWork;
+    let phis: Vec<f64> = (0..90).map(|k| 4.0 * k as f64).collect();
+    let table = Phi::table(&phis);
+    let mut still_points = 0;
+    for preset in stitchkin::presets::ALL {
+        let m = Model::preset(preset.name).unwrap();
+        let base = m.defaults();
+        let ranged: Vec<(String, [f64; 2])> = m
+            .params()
+            .iter()
+            .filter(|q| q.range.is_some_and(|[a, b]| a < b) && !q.is_derived())
+            .map(|q| (q.name.clone(), q.range.unwrap()))
+            .collect();
+        // Each parameter across its range and back, from the setting before.
+        let mut settings = Vec::new();
+        for (name, [lo, hi]) in &ranged {
+            for f in [0.5, 0.0, 0.3, 1.0, 0.7, 0.5] {
+                let mut p = base.clone();
+                m.set(&mut p, name, lo + f * (hi - lo)).unwrap();
+                settings.push((name.clone(), p));
+            }
+        }
+        let mut before: Option<stitchkin::model::Machine<f64>> = None;
+        let (mut pose, mut moved, mut work) = (None, Vec::new(), ThreadWork::<f64>::default());
+        for (name, p) in &settings {
+            let Ok(machine) = m.machine::<f64>(p) else {
+                before = None;
+                continue;
+            };
+            let mech = &machine.mechanism;
+            let pose = pose.get_or_insert_with(|| mech.new_pose(phis.len()));
+            let mut fresh = mech.new_pose(phis.len());
+            let afresh = mech.solve(&table, &mut fresh);
+            let since = mech.solve_since(before.as_ref().map(|b| &b.mechanism), &table, pose, &mut moved);
+            assert_eq!(since.is_ok(), afresh.is_ok(), "{} {name}", preset.name);
+            if since.is_err() {
+                before = None;
+                continue;
+            }
+            for slot in 0..mech.n_points() {
+                assert_eq!(
+                    pose.track(slot),
+                    fresh.track(slot),
+                    "{} {name} point {slot}",
+                    preset.name
+                );
+            }
+            if let Some(b) = &before {
+                let mut was = b.mechanism.new_pose(phis.len());
+                b.mechanism.solve(&table, &mut was).unwrap();
+                for slot in 0..mech.n_points() {
+                    if !moved[slot] {
+                        assert_eq!(
+                            was.track(slot),
+                            fresh.track(slot),
+                            "{} {name} point {slot} moved",
+                            preset.name
+                        );
+                        still_points += 1;
+                    }
+                }
+            }
+            if let Some(threads) = &machine.threads {
+                if let Some(t0) = before.as_ref().and_then(|b| b.threads.as_ref()) {
+                    threads.keep_unmoved(t0, &moved, &mut work);
+                }
+                let kept = threads.evaluate_into(pose, None, &mut work);
+                let afresh = threads.evaluate(&fresh, None);
+                assert_eq!(kept.is_ok(), afresh.is_ok(), "{} {name} paths", preset.name);
+                match afresh {
+                    Ok(tracks) => assert_eq!(work.tracks, tracks, "{} {name} paths", preset.name),
+                    Err(_) => {
+                        before = None;
+                        continue;
+                    }
+                }
+            }
+            before = Some(machine);
+        }
+    }
+    assert!(still_points > 1000, "only {still_points} points stayed where they were");
+}
