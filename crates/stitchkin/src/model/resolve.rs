@@ -556,9 +556,13 @@ impl<T: Real> Resolver<'_, T> {
             .collect::<Resolved<Vec<_>>>()?;
         // The paths' structure is the model's (ThreadsDef::layout); only
         // the distinct pieces take this setting's values.
+        let mut still = vec![false; self.model.point_names.len()];
+        for (slot, _) in fixed {
+            still[*slot] = true;
+        }
         let mut spans: Vec<Span<T>> = Vec::with_capacity(t.layout.pieces.len());
         for &(pi, si) in &t.layout.pieces {
-            spans.push(self.resolve_span(&t.paths[pi], si, fixed)?);
+            spans.push(self.resolve_span(&t.paths[pi], si, &still)?);
         }
         let paths = t.layout.paths.clone();
         let convention = match t.convention {
@@ -603,19 +607,16 @@ impl<T: Real> Resolver<'_, T> {
         })
     }
 
-    /// Piece `si` of path `p`.
-    fn resolve_span(&self, p: &PathDef, si: usize, fixed: &[(usize, V3<T>)]) -> Resolved<Span<T>> {
+    /// Piece `si` of path `p`; `still[slot]`: whether the point is fixed.
+    fn resolve_span(&self, p: &PathDef, si: usize, still: &[bool]) -> Resolved<Span<T>> {
         let q = self.q;
         Ok(match &p.spans[si] {
-            SpanDef::Straight { a, b, constant } => {
-                let still = |slot: &usize| fixed.iter().any(|(s, _)| s == slot);
-                Span::Straight {
-                    a: *a,
-                    b: *b,
-                    constant: *constant,
-                    fixed: [still(a), still(b)],
-                }
-            }
+            SpanDef::Straight { a, b, constant } => Span::Straight {
+                a: *a,
+                b: *b,
+                constant: *constant,
+                fixed: [still[*a], still[*b]],
+            },
             SpanDef::Pin {
                 a,
                 b,
