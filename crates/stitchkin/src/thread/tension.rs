@@ -357,6 +357,22 @@ impl Inputs {
     }
 }
 
+/// Across a guide with capstan factor `e` and hold `h` at its bound, from
+/// the tension `t` on one side (and its derivative `dt` in a part's
+/// pivot's): the tension on the other side, which pulls the thread through
+/// (`pulls`: [`holding`] of `t`, plus `h`) or gives it (the inverse), and
+/// its derivative.
+#[inline]
+fn across(t: f64, dt: f64, e: f64, h: f64, pulls: bool) -> (f64, f64) {
+    if pulls {
+        let (g, dg) = holding(t, e);
+        (g + h, dt * dg)
+    } else {
+        let slope = if t - h >= 0.0 { e } else { SLACK_PUSH };
+        ((t - h) / slope, dt / slope)
+    }
+}
+
 /// A part's spans placed from its pivot's tension ([`Stepper::spread`]).
 struct Spread {
     /// The thread the other spans hold, mm, and its derivative in the
@@ -775,34 +791,17 @@ impl Stepper {
             t_first: t_k,
             dt_first: 1.0,
         };
-        // Rightward: span j + 1 from span j across node j.
+        // Rightward: span j + 1 from span j across node j (span j + 1
+        // pulls where the thread moves toward the stitch).
         let (mut t, mut dt) = (t_k, 1.0);
         for j in k..b {
-            let (e, h) = (at.e[j], at.h[j]);
-            if self.dir[j] > 0 {
-                let (g, dg) = holding(t, e);
-                t = g + h;
-                dt *= dg;
-            } else {
-                let slope = if t - h >= 0.0 { e } else { SLACK_PUSH };
-                t = (t - h) / slope;
-                dt /= slope;
-            }
+            (t, dt) = across(t, dt, at.e[j], at.h[j], self.dir[j] > 0);
             self.hold_at(at, j + 1, t, dt, &mut spread)?;
         }
         // Leftward: span j from span j + 1.
         let (mut t, mut dt) = (t_k, 1.0);
         for j in (a..k).rev() {
-            let (e, h) = (at.e[j], at.h[j]);
-            if self.dir[j] < 0 {
-                let (g, dg) = holding(t, e);
-                t = g + h;
-                dt *= dg;
-            } else {
-                let slope = if t - h >= 0.0 { e } else { SLACK_PUSH };
-                t = (t - h) / slope;
-                dt /= slope;
-            }
+            (t, dt) = across(t, dt, at.e[j], at.h[j], self.dir[j] < 0);
             self.hold_at(at, j, t, dt, &mut spread)?;
             (spread.t_first, spread.dt_first) = (t, dt);
         }
