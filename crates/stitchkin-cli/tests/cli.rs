@@ -863,6 +863,18 @@ fn malformed_files_name_file_line_column_and_fix() {
     assert!(e.contains("cannot read model file"), "{e}");
 }
 
+/// A thread whose balance fails over coarse φ steps is told to take a
+/// finer one.
+#[test]
+fn a_tension_lost_over_coarse_steps_names_the_finer_step() {
+    let e = fails(&["run", "--preset", "altin504", "--step", "45"]);
+    assert!(
+        e.contains("thread path `upper`") && e.contains("at a φ step of 45.000°"),
+        "{e}"
+    );
+    assert!(e.contains("a finer step, such as the default 1°"), "{e}");
+}
+
 #[test]
 fn a_failed_run_leaves_no_output_file() {
     let d = scratch("atomic");

@@ -270,15 +270,30 @@ pub fn tension_course(
     })
 }
 
+/// A φ step coarser than this, deg, is named where the thread's balance
+/// fails: the balance is followed step by step, and the stitch's events
+/// last a few degrees (docs/thread-physics.md §5).
+const COARSE_STEP_DEG: f64 = 5.0;
+
 /// Solves the tension of the stitch thread `th` fed through `input` over
 /// the model-φ grid `phis` ([`tension_course`]).
 pub fn solve_thread(th: &RequiredThread, input: PathInput<'_>, phis: &[f64], cz: f64) -> Result<Solved, Error> {
     let tc = tension_course(th, input, phis, cz)?;
     let tensions = solve(&tc.chain, &tc.course()).map_err(|e| {
+        // Over coarse steps the balance jumps across what happens between.
+        let step_deg = phis.get(1).map_or(0.0, |p| p - phis[0]);
+        let message = if step_deg > COARSE_STEP_DEG {
+            format!(
+                "{}; at a φ step of {step_deg:.3}° the thread's balance is followed in jumps past what happens between steps: a finer step, such as the default 1°, follows it",
+                e.message
+            )
+        } else {
+            e.message
+        };
         Error::Thread(ThreadError {
             path: input.path.name.clone(),
             phi_deg: Some(wrap_deg(phis[e.k.min(phis.len() - 1)])),
-            message: e.message,
+            message,
         })
     })?;
     Ok(read_off(th, input.physics, input.path, phis, tensions, &tc.set_ks))
