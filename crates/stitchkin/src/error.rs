@@ -375,6 +375,9 @@ pub struct ThreadError {
     /// Main-shaft angle where it fails, degrees.
     pub phi_deg: Option<f64>,
     pub message: String,
+    /// What to change, where the failure knows better than the usual fix
+    /// (check the path's node order and guides).
+    pub help: Option<String>,
 }
 
 /// A stitch process that cannot be evaluated: an organ inside the material,
@@ -465,7 +468,11 @@ impl Error {
             Error::Assembly(_) => Some(
                 "check the dimensions and the branch of that group, or the φ range (`stitchkin check` shows where assembly is lost)",
             ),
-            Error::Thread(_) => Some("check the path's node order and the guides' positions at that φ"),
+            Error::Thread(t) => Some(
+                t.help
+                    .as_deref()
+                    .unwrap_or("check the path's node order and the guides' positions at that φ"),
+            ),
             Error::Stitch(_) => Some(
                 "check the [stitch] table: organ motions, moments and the stitch frame (docs/model-format.md §13.11)",
             ),

@@ -459,6 +459,7 @@ pub fn path_error(e: PathError, phi_deg: f64) -> Error {
         path: e.path,
         phi_deg: Some(wrap_deg(phi_deg)),
         message: e.message,
+        help: None,
     })
 }
 

@@ -282,18 +282,16 @@ pub fn solve_thread(th: &RequiredThread, input: PathInput<'_>, phis: &[f64], cz:
     let tensions = solve(&tc.chain, &tc.course()).map_err(|e| {
         // Over coarse steps the balance jumps across what happens between.
         let step_deg = phis.get(1).map_or(0.0, |p| p - phis[0]);
-        let message = if step_deg > COARSE_STEP_DEG {
+        let help = (step_deg > COARSE_STEP_DEG).then(|| {
             format!(
-                "{}; at a φ step of {step_deg:.3}° the thread's balance is followed in jumps past what happens between steps: a finer step, such as the default 1°, follows it",
-                e.message
+                "at a φ step of {step_deg:.3}° the thread's balance is followed in jumps past what happens between steps: a finer step, such as the default 1°, follows it"
             )
-        } else {
-            e.message
-        };
+        });
         Error::Thread(ThreadError {
             path: input.path.name.clone(),
             phi_deg: Some(wrap_deg(phis[e.k.min(phis.len() - 1)])),
-            message,
+            message: e.message,
+            help,
         })
     })?;
     Ok(read_off(th, input.physics, input.path, phis, tensions, &tc.set_ks))

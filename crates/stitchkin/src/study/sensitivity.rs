@@ -707,6 +707,7 @@ pub fn take_up_derivatives(
             path: String::new(),
             phi_deg: None,
             message: format!("model `{}` has no thread paths", model.name()),
+            help: Some("describe the thread paths in a [thread] table (docs/model-format.md §13)".into()),
         }));
     };
     let at0 = tracks_at_phi0(&mech, th)?;

@@ -442,7 +442,7 @@ struct Stepper {
     pivot_from: Vec<f64>,
     /// Whether a step is first solved part by part (else by Newton's
     /// method alone).
-    by_parts: bool,
+    parts_first: bool,
 }
 
 impl Stepper {
@@ -477,7 +477,7 @@ impl Stepper {
             held: zeros.clone(),
             pivot_from: zeros.clone(),
             x_start: zeros,
-            by_parts: true,
+            parts_first: true,
         }
     }
 
@@ -567,7 +567,7 @@ impl Stepper {
             self.rho[i + 1] = 0.5 * (m[i] + m[i + 1]) / ea;
         }
         self.x_start.copy_from_slice(&self.x);
-        if !(self.by_parts && self.by_parts(m, at)) {
+        if !(self.parts_first && self.by_parts(m, at)) {
             self.x.copy_from_slice(&self.x_start);
             if !self.newton(m, at) {
                 self.x.fill(0.0);
@@ -617,10 +617,9 @@ impl Stepper {
                 }
                 a = b + 1;
             }
-            // Each span's tension, as its part left it in `t`.
-            let tension = |i: usize| self.t[i];
+            // Each span's tension is as its part left it in `t`.
             let mut changed = false;
-            let t0 = tension(0);
+            let t0 = self.t[0];
             if self.passing && self.x[0] < 0.0 {
                 self.passing = false;
                 changed = true;
@@ -630,7 +629,7 @@ impl Stepper {
             }
             let mut t_i = t0;
             for i in 0..s - 1 {
-                let t_j = tension(i + 1);
+                let t_j = self.t[i + 1];
                 let (e, h, x) = (at.e[i], at.h[i], self.x[i + 1]);
                 let d = match self.dir[i] {
                     1 if x < 0.0 => 0,
@@ -702,28 +701,28 @@ impl Stepper {
             let (mut lo, mut hi) = (0.0, if regulated { f64::INFINITY } else { total });
             // From the pivot's thread moved as in the last step.
             let out = if k + 1 < m.len() { self.x_start[k + 1] } else { 0.0 };
-            let mut h = m[k] + self.x_start[k] - out;
-            if !(h > lo && h < hi) {
-                h = m[k];
+            let mut m_k = m[k] + self.x_start[k] - out;
+            if !(m_k > lo && m_k < hi) {
+                m_k = m[k];
             }
             let mut solved = false;
             for _ in 0..PART_ITERATIONS {
-                let (t_k, dt_k) = law.tension(at.l[k], h);
+                let (t_k, dt_k) = law.tension(at.l[k], m_k);
                 let spread = self.spread(at, a, b, k, t_k);
                 let feasible = spread.is_some();
                 let next = match spread {
                     None => {
-                        hi = h;
+                        hi = m_k;
                         0.5 * (lo + hi)
                     }
                     Some(spread) => {
-                        // f rises with h; its error as a force on the
+                        // f rises with m_k; its error as a force on the
                         // pivot (where conservation puts it) is `f_n`.
                         let (f, df, f_n) = if regulated {
                             let f = self.pass - spread.t_first;
                             (f, -spread.dt_first * dt_k, f)
                         } else {
-                            let f = h + spread.others - total;
+                            let f = m_k + spread.others - total;
                             (f, 1.0 + spread.d_others * dt_k, f * dt_k)
                         };
                         if f_n.abs() <= PART_TOL_N {
@@ -731,38 +730,38 @@ impl Stepper {
                             break;
                         }
                         if f > 0.0 {
-                            hi = h;
+                            hi = m_k;
                         } else {
-                            lo = h;
+                            lo = m_k;
                         }
-                        let next = h - f / df;
+                        let next = m_k - f / df;
                         if next > lo && next < hi {
                             next
                         } else if hi.is_finite() {
                             0.5 * (lo + hi)
                         } else {
-                            2.0 * h
+                            2.0 * m_k
                         }
                     }
                 };
-                if next == h {
+                if next == m_k {
                     // Rounding-bound: the answer where `held` is whole.
                     solved = feasible;
                     break;
                 }
-                h = next;
+                m_k = next;
             }
-            // `held` is that of the last h tried, the answer.
+            // `held` is that of the last m_k tried, the answer.
             if !solved {
                 return false;
             }
-            self.held[k] = h;
+            self.held[k] = m_k;
         }
         // The fluxes: into the part from the left (the regulator's: all the
         // part holds beyond its thread), and none out at its right; the
         // pivot keeps what conservation leaves it.
         self.x[a] = if regulated {
-            (a..=b).filter(|&j| j != k).map(|j| self.held[j] - m[j]).sum::<f64>() + self.held[k] - m[k]
+            (a..=b).map(|j| self.held[j] - m[j]).sum()
         } else {
             0.0
         };
@@ -1081,7 +1080,7 @@ fn solve_steps(chain: &Chain, course: &Course<'_>, by_parts: bool) -> Result<Ten
     let s = course.len_mm.len() / n;
     let nodes = s - 1;
     let mut st = Stepper::new(chain, s);
-    st.by_parts = by_parts;
+    st.parts_first = by_parts;
     // The start: the thread just drawn through every guide from the
     // regulator at φ_0, T_0 at the passing tension and each next span at
     // the capstan bound of the guide before it (as the stitch's own pull
