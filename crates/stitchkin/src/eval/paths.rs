@@ -11,7 +11,7 @@ use rayon::prelude::*;
 use crate::error::Error;
 use crate::mechanism::{Mechanism, Pose};
 use crate::scalar::Real;
-use crate::thread::{Convention, PathTrack, SplitPoint, ThreadPath, ThreadWork, Threads};
+use crate::thread::{Convention, PathTrack, SplitPoint, ThreadPath, ThreadWork, Threads, Turns};
 
 use super::{
     Column, CycleOptions, FLAT_MIN_DEG, FLAT_SLOPE_MM_PER_DEG, PathSummary, extremes, path_error, take_up_name,
@@ -54,10 +54,12 @@ impl PathCourse {
         n: usize,
     ) {
         let mut gaps = Vec::new();
+        let mut turns = Turns::default();
         for k in 0..n {
             threads.gap_lengths(path, pose, work, k, &mut gaps);
             self.gaps_mm.extend_from_slice(&gaps);
-            self.wraps_rad.extend(threads.wrap_angles(path, pose, k));
+            self.wraps_rad
+                .extend_from_slice(threads.wrap_angles(path, pose, k, &mut turns));
         }
     }
 
@@ -242,30 +244,37 @@ impl PathValues {
         if lean {
             return;
         }
-        // Each position's wrap angles and tensions stand alone: on every core.
-        let per_phi: Vec<(Vec<f64>, Option<Vec<f64>>)> = (0..n)
-            .into_par_iter()
-            .map(|k| {
-                let m = path.nodes.len();
-                let theta = match wraps {
-                    Some(w) => w[k * m..(k + 1) * m].to_vec(),
-                    None => threads.wrap_angles(path, pose, k),
-                };
-                let tension = threads
-                    .tension_n
-                    .map(|t0| crate::thread::capstan(&theta, &path.friction, t0));
-                (theta, tension)
-            })
-            .collect();
-        for (theta, tension) in per_phi {
-            for (col, t) in self.wrap_deg.iter_mut().zip(&theta) {
+        // Each position's wrap angles and tensions stand alone: on every core,
+        // into rows of `m` (the course's angles where it holds them).
+        let m = path.nodes.len();
+        let computed: Vec<f64>;
+        let theta = match wraps {
+            Some(w) => w,
+            None => {
+                let mut rows = vec![0.0; n * m];
+                rows.par_chunks_mut(m.max(1))
+                    .enumerate()
+                    .for_each_init(Turns::default, |turns, (k, row)| {
+                        row.copy_from_slice(threads.wrap_angles(path, pose, k, turns));
+                    });
+                computed = rows;
+                &computed
+            }
+        };
+        for row in theta.chunks_exact(m.max(1)).take(n) {
+            for (col, t) in self.wrap_deg.iter_mut().zip(row) {
                 col.push(t.to_degrees());
             }
-            if let Some(t) = tension {
-                self.eye_tension_n.push(*t.last().unwrap_or(&0.0));
-                for (m, ti) in self.max_tension_n.iter_mut().zip(&t) {
-                    *m = m.max(*ti);
+            if let Some(t0) = threads.tension_n {
+                // The capstan law from the regulator (thread::capstan).
+                let mut t = t0;
+                for (i, (max, theta_i)) in self.max_tension_n.iter_mut().zip(row).enumerate() {
+                    if i > 0 {
+                        t *= (path.friction[i] * theta_i).exp();
+                    }
+                    *max = max.max(t);
                 }
+                self.eye_tension_n.push(t);
             }
         }
     }

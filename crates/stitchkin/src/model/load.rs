@@ -1576,7 +1576,9 @@ impl<'a> Loader<'a> {
             let def = self.path_def(tp, &pp, default_mu, &cams, same_body)?;
             paths.push(def);
         }
-        let layout = Arc::new(super::ThreadLayout::new(&paths));
+        let layout = Arc::new(super::ThreadLayout::new(&paths, |slot| {
+            matches!(self.points.get(slot), Some((_, PointKind::Fixed { .. })))
+        }));
         let physics = self.thread_physics(t, &paths, f.stitch.is_some())?;
         Ok(Some(ThreadsDef {
             convention,

@@ -414,7 +414,8 @@ pub(crate) struct ThreadLayout {
 }
 
 impl ThreadLayout {
-    pub(crate) fn new(paths: &[PathDef]) -> ThreadLayout {
+    /// The layout of `paths`; `fixed(slot)`: whether a point never moves.
+    pub(crate) fn new(paths: &[PathDef], fixed: impl Fn(usize) -> bool) -> ThreadLayout {
         let mut pieces: Vec<(usize, usize)> = Vec::new();
         let mut out = Vec::with_capacity(paths.len());
         for (pi, p) in paths.iter().enumerate() {
@@ -433,6 +434,12 @@ impl ThreadLayout {
                 }
                 ids.push(id);
             }
+            // An eyelet between two eyelets, all three fixed.
+            let m = p.nodes.len();
+            let eyelet = |i: usize| pin_span[i].is_none() && fixed(p.nodes[i]);
+            let fixed_turn = (0..m)
+                .map(|i| i > 0 && i + 1 < m && eyelet(i - 1) && eyelet(i) && eyelet(i + 1))
+                .collect();
             out.push(ThreadPath {
                 name: p.name.clone(),
                 label: p.label.clone(),
@@ -441,6 +448,7 @@ impl ThreadLayout {
                 friction: p.friction.clone(),
                 spans: ids,
                 pin_span,
+                fixed_turn,
             });
         }
         ThreadLayout {

@@ -95,6 +95,9 @@ pub struct ThreadPath {
     pub spans: Vec<usize>,
     /// For each node that is a pin, the index of its span.
     pub pin_span: Vec<Option<usize>>,
+    /// For each node, whether the thread's turn there never changes over a
+    /// cycle: an eyelet at a fixed point between two fixed points.
+    pub fixed_turn: Vec<bool>,
 }
 
 /// How P(φ) is signed.
@@ -595,15 +598,23 @@ impl<T: Real> Threads<T> {
     }
 
     /// The angle the thread turns through at each node of `path` at the
-    /// `k`-th φ, rad: at an eyelet the angle between the pieces before and
-    /// after it (from where the thread leaves a guide it bears on), at a pin
-    /// or cam the wrap angle (0 when it does not bear).
-    pub fn wrap_angles(&self, path: &ThreadPath, pose: &Pose<T>, k: usize) -> Vec<f64> {
+    /// `k`-th φ, rad, into `turns.theta`: at an eyelet the angle between
+    /// the pieces before and after it (from where the thread leaves a guide
+    /// it bears on), at a pin or cam the wrap angle (0 when it does not
+    /// bear). A turn between fixed points ([`ThreadPath::fixed_turn`]) is
+    /// computed at the first φ asked of `turns` and kept.
+    pub fn wrap_angles<'w>(&self, path: &ThreadPath, pose: &Pose<T>, k: usize, turns: &'w mut Turns) -> &'w [f64] {
         let m = path.nodes.len();
         let at = |i: usize| pose.point(path.nodes[i], k).map(|v| v.re());
-        let mut theta = vec![0.0; m];
+        let Turns {
+            theta,
+            touch,
+            fixed_kept,
+        } = turns;
+        theta.resize(m, 0.0);
+        touch.clear();
+        touch.resize(m, None);
         // Where the thread meets and leaves each guide that bears on it.
-        let mut touch: Vec<Option<[V3<f64>; 2]>> = vec![None; m];
         for i in 0..m {
             let Some(s) = path.pin_span[i] else { continue };
             let (p, q) = (pose.point(path.nodes[i - 1], k), pose.point(path.nodes[i + 1], k));
@@ -648,7 +659,7 @@ impl<T: Real> Threads<T> {
             (None, _) => at(i + 1),
         };
         for i in 1..m.saturating_sub(1) {
-            if path.pin_span[i].is_some() {
+            if path.pin_span[i].is_some() || (*fixed_kept && path.fixed_turn[i]) {
                 continue;
             }
             let p = at(i);
@@ -657,6 +668,7 @@ impl<T: Real> Threads<T> {
             let c = u.dot(&w);
             theta[i] = if c.is_finite() { c.clamp(-1.0, 1.0).acos() } else { 0.0 };
         }
+        *fixed_kept = true;
         theta
     }
 }
@@ -711,6 +723,17 @@ pub fn capstan(theta: &[f64], friction: &[f64], t0: f64) -> Vec<f64> {
         t[i] = t[i - 1] * (friction[i] * theta[i]).exp();
     }
     t
+}
+
+/// The buffers of [`Threads::wrap_angles`] for one path of one setting,
+/// taken φ after φ: the angles at the last φ and the turns between fixed
+/// points, which are computed once.
+#[derive(Debug, Clone, Default)]
+pub struct Turns {
+    theta: Vec<f64>,
+    touch: Vec<Option<[V3<f64>; 2]>>,
+    /// Whether `theta` holds the fixed turns.
+    fixed_kept: bool,
 }
 
 impl ThreadPath {
@@ -1102,6 +1125,55 @@ mod tests {
             covered >= 2,
             "only {covered} presets with threads have closed-form analogs"
         );
+    }
+
+    /// The turns kept from the first φ ([`ThreadPath::fixed_turn`]) are
+    /// those computed afresh at every φ, bit for bit, on every preset; and
+    /// on the MF-7923D they are the eyelets among the fixed guides (G8
+    /// rides on the needle bar).
+    #[test]
+    fn fixed_turns_kept_equal_turns_computed_at_every_phi() {
+        use crate::mechanism::Phi;
+        use crate::model::Model;
+        let mut kept = 0;
+        for preset in crate::presets::ALL {
+            let model = Model::preset(preset.name).unwrap();
+            let crate::model::Machine {
+                mechanism: mech,
+                threads,
+            } = model.machine::<f64>(&model.defaults()).unwrap();
+            let Some(threads) = &threads else { continue };
+            let phis_deg: Vec<f64> = (0..90).map(|k| model.phi_start_deg() + 4.0 * k as f64).collect();
+            let phis = Phi::<f64>::table(&phis_deg);
+            let mut pose = mech.new_pose(phis.len());
+            mech.solve(&phis, &mut pose).unwrap();
+            for path in threads.paths.iter() {
+                kept += path.fixed_turn.iter().filter(|&&f| f).count();
+                let mut turns = Turns::default();
+                for k in 0..phis.len() {
+                    let fresh = threads.wrap_angles(path, &pose, k, &mut Turns::default()).to_vec();
+                    let reused = threads.wrap_angles(path, &pose, k, &mut turns);
+                    assert_eq!(
+                        reused,
+                        fresh.as_slice(),
+                        "{} {} at φ {}",
+                        preset.name,
+                        path.name,
+                        phis_deg[k]
+                    );
+                }
+            }
+        }
+        assert!(kept > 0, "no preset has a turn between fixed guides");
+        let model = Model::preset("mf7923d").unwrap();
+        let machine = model.machine::<f64>(&model.defaults()).unwrap();
+        let threads = machine.threads.unwrap();
+        let n1_a = threads.paths.iter().find(|p| p.name == "n1_A").unwrap();
+        let fixed: Vec<&str> = (0..n1_a.nodes.len())
+            .filter(|&i| n1_a.fixed_turn[i])
+            .map(|i| n1_a.node_names[i].as_str())
+            .collect();
+        assert_eq!(fixed, ["G1_1", "G2_1", "G6_1"]);
     }
 
     #[test]
