@@ -168,9 +168,10 @@ pub struct Tensions {
     /// stitch is set.
     pub lock_strain: f64,
     /// Cycles run from the start (the thread just drawn through every
-    /// guide from the regulator).
+    /// guide from the regulator at the set), and φ steps balanced in all.
     pub cycles: usize,
-    /// Whether the state at the cycle's start repeated within
+    pub steps: usize,
+    /// Whether the state at a step repeated the last cycle's within
     /// [`SETTLE_MM`].
     pub settled: bool,
     /// The largest change of a span's thread over the last cycle, mm.
@@ -1067,31 +1068,38 @@ fn solve_tridiagonal(sub: &[f64], diag: &mut [f64], sup: &[f64], d: &mut [f64], 
     }
 }
 
-/// The periodic steady state of `chain` over `course`: the thread starts as
-/// if just drawn through every guide from the regulator, and whole cycles are run until the
-/// state at the cycle's start repeats (at most [`MAX_CYCLES`]).
+/// The periodic steady state of `chain` over `course`: the thread starts,
+/// at the step where the stitch is set, as if just drawn through every
+/// guide from the regulator, and whole cycles are run until the state at a
+/// step repeats the last cycle's (at most [`MAX_CYCLES`]).
 pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionError> {
-    solve_steps(chain, course, true)
+    solve_steps(chain, course, true, course.set_k)
 }
 
-/// [`solve`], each step first part by part or by Newton's method alone.
-fn solve_steps(chain: &Chain, course: &Course<'_>, by_parts: bool) -> Result<Tensions, TensionError> {
+/// [`solve`] with the cycles started at step `k_s`, each step first part
+/// by part or by Newton's method alone.
+fn solve_steps(chain: &Chain, course: &Course<'_>, by_parts: bool, k_s: usize) -> Result<Tensions, TensionError> {
     let n = rows(course)?;
     let s = course.len_mm.len() / n;
     let nodes = s - 1;
+    let k_s = k_s % n;
     let mut st = Stepper::new(chain, s);
     st.parts_first = by_parts;
     // The start: the thread just drawn through every guide from the
-    // regulator at φ_0, T_0 at the passing tension and each next span at
-    // the capstan bound of the guide before it (as the stitch's own pull
-    // leaves it).
+    // regulator at φ_{k_s}, T_0 at the passing tension and each next span at
+    // the capstan bound of the guide before it, as the stitch's own pull
+    // leaves it when the take-up sets the stitch. Started there, the first
+    // cycle is already the periodic one wherever the set draws the thread
+    // through every guide (the Altin's looper threads: 361 steps instead of
+    // about 510); elsewhere the cycles forget the start as they would from
+    // any other step (docs/benchmarks.md, 2026-11-29).
     let mut t0 = chain.pass_n;
     let mut m = Vec::with_capacity(s);
     for i in 0..s {
         if i > 0 {
-            t0 = course.factor[i - 1] * t0 + course.hold_n[i - 1];
+            t0 = course.factor[k_s * nodes + i - 1] * t0 + course.hold_n[k_s * nodes + i - 1];
         }
-        m.push(st.laws[i].thread_at(course.len_mm[i], t0));
+        m.push(st.laws[i].thread_at(course.len_mm[k_s * s + i], t0));
     }
     let mut out = Tensions {
         spans: s,
@@ -1108,6 +1116,7 @@ fn solve_steps(chain: &Chain, course: &Course<'_>, by_parts: bool) -> Result<Ten
         drawn_per_cycle_mm: 0.0,
         lock_strain: 0.0,
         cycles: 0,
+        steps: 0,
         settled: false,
         change_mm: f64::INFINITY,
     };
@@ -1119,15 +1128,17 @@ fn solve_steps(chain: &Chain, course: &Course<'_>, by_parts: bool) -> Result<Ten
     for cycle in 0..MAX_CYCLES {
         out.cycles = cycle + 1;
         let mut drawn = 0.0;
-        for k in 0..n {
+        // The cycle's steps from the start: j-th after it, at φ_k.
+        for j in 0..n {
+            let k = (k_s + j) % n;
             let at = At {
                 l: &course.len_mm[k * s..(k + 1) * s],
                 e: &course.factor[k * nodes..(k + 1) * nodes],
                 h: &course.hold_n[k * nodes..(k + 1) * nodes],
             };
             // The finished stitch leaves with the strain it has (the first
-            // cycle starts after the set when it is set at φ_0).
-            if k == course.set_k && !(cycle == 0 && k == 0) {
+            // cycle starts just after the set).
+            if k == course.set_k && !(cycle == 0 && j == 0) {
                 let prev = if k == 0 { n - 1 } else { k - 1 };
                 let l_prev = course.len_mm[prev * s + last];
                 let t = st.laws[last].tension(l_prev, m[last]).0.max(0.0);
@@ -1145,6 +1156,7 @@ fn solve_steps(chain: &Chain, course: &Course<'_>, by_parts: bool) -> Result<Ten
                 }
             }
             st.moved.fill(0.0);
+            out.steps += 1;
             if !st.balance(&mut m, at) {
                 // In halves from the previous position (the finished
                 // stitch's length already gone from the last span's reach).
@@ -1173,12 +1185,12 @@ fn solve_steps(chain: &Chain, course: &Course<'_>, by_parts: bool) -> Result<Ten
             before.copy_from_slice(&m);
             if cycle > 0 && change <= SETTLE_MM {
                 // The rest of the cycle is the last one's, already recorded.
-                out.drawn_per_cycle_mm = drawn + out.drawn_mm[k + 1..].iter().sum::<f64>();
+                out.drawn_per_cycle_mm = drawn + (j + 1..n).map(|j| out.drawn_mm[(k_s + j) % n]).sum::<f64>();
                 out.change_mm = change;
                 out.settled = true;
                 return Ok(out);
             }
-            if k + 1 == n {
+            if j + 1 == n {
                 out.change_mm = change;
             }
         }
@@ -1470,8 +1482,8 @@ mod tests {
             let slack_bound = if preset == "mf7923d" { 1e-4 } else { 0.1 };
             for (name, c) in crate::eval::tension::courses(&model, &p, 1.0).unwrap() {
                 let course = c.course();
-                let parts = solve_steps(&c.chain, &course, true).unwrap();
-                let newton = solve_steps(&c.chain, &course, false).unwrap();
+                let parts = solve_steps(&c.chain, &course, true, course.set_k).unwrap();
+                let newton = solve_steps(&c.chain, &course, false, course.set_k).unwrap();
                 let at = format!("{preset} {params:?} {name}");
                 verify(&c.chain, &course, &parts).unwrap_or_else(|e| panic!("{at}: {e}"));
                 assert_eq!(parts.settled, newton.settled, "{at}");
@@ -1483,6 +1495,44 @@ mod tests {
                 assert!(d_drawn < 1e-8, "{at}: drawn");
             }
         }
+    }
+
+    /// The periodic state is the cycle's, not the start's: started at the
+    /// set (as [`solve`] starts) or at φ_0, every thread of the presets
+    /// whose set is not at φ_0 (the Altin's) and of two at φ_0 settles to
+    /// the same tensions (10⁻⁹ N), slack and thread moved (10⁻⁸ mm); and
+    /// the Altin's looper threads, whose set draws the thread through
+    /// every guide, settle in their first cycle from the set.
+    #[test]
+    fn the_periodic_state_does_not_depend_on_where_the_cycles_start() {
+        let mut from_set = 0;
+        for preset in ["altin504", "mf7923d", "lockstitch"] {
+            let model = crate::Model::preset(preset).unwrap();
+            for (name, c) in crate::eval::tension::courses(&model, &model.defaults(), 1.0).unwrap() {
+                let course = c.course();
+                let set = solve_steps(&c.chain, &course, true, course.set_k).unwrap();
+                let zero = solve_steps(&c.chain, &course, true, 0).unwrap();
+                let at = format!("{preset} {name} (set at step {})", course.set_k);
+                assert!(set.settled && zero.settled, "{at}");
+                let most = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                assert!(most(&set.tension_n, &zero.tension_n) < 1e-9, "{at}: tensions");
+                assert!(most(&set.slack_mm, &zero.slack_mm) < 1e-8, "{at}: slack");
+                assert!(most(&set.moved_mm, &zero.moved_mm) < 1e-8, "{at}: moved");
+                assert!(
+                    (set.drawn_per_cycle_mm - zero.drawn_per_cycle_mm).abs() < 1e-8,
+                    "{at}: drawn"
+                );
+                assert_eq!(set.slip, zero.slip, "{at}: slip");
+                if preset == "altin504" && name != "needle" {
+                    assert!(course.set_k != 0, "{at}");
+                    // Settled at the first step of the second cycle.
+                    assert_eq!(set.steps, 361, "{at}");
+                    assert!(zero.steps > 361, "{at}: from φ_0 {} steps", zero.steps);
+                    from_set += 1;
+                }
+            }
+        }
+        assert_eq!(from_set, 2, "the Altin's two looper threads");
     }
 
     /// The stitch's span goes slack while the head stays taut: the loop
