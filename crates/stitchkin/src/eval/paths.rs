@@ -11,7 +11,7 @@ use rayon::prelude::*;
 use crate::error::Error;
 use crate::mechanism::{Mechanism, Pose};
 use crate::scalar::Real;
-use crate::thread::{Convention, PathTrack, SplitPoint, ThreadPath, ThreadWork, Threads, Turns};
+use crate::thread::{Convention, PathTrack, SplitPoint, ThreadPath, ThreadWork, Threads, Turns, capstan};
 
 use super::{
     Column, CycleOptions, FLAT_MIN_DEG, FLAT_SLOPE_MM_PER_DEG, PathSummary, extremes, path_error, take_up_name,
@@ -266,15 +266,12 @@ impl PathValues {
                 col.push(t.to_degrees());
             }
             if let Some(t0) = threads.tension_n {
-                // The capstan law from the regulator (thread::capstan).
-                let mut t = t0;
-                for (i, (max, theta_i)) in self.max_tension_n.iter_mut().zip(row).enumerate() {
-                    if i > 0 {
-                        t *= (path.friction[i] * theta_i).exp();
-                    }
+                let mut eye = t0;
+                for (max, t) in self.max_tension_n.iter_mut().zip(capstan(row, &path.friction, t0)) {
                     *max = max.max(t);
+                    eye = t;
                 }
-                self.eye_tension_n.push(t);
+                self.eye_tension_n.push(eye);
             }
         }
     }

@@ -717,12 +717,17 @@ impl<T: Real> Threads<T> {
 /// Amontons friction, `T_{i+1} = T_i · exp(μ_i · θ_i)`, from `t0` (N) at the
 /// first node, the thread drawn toward the last node; θ_i the angle it
 /// turns through at node i (rad), μ_i the friction there.
-pub fn capstan(theta: &[f64], friction: &[f64], t0: f64) -> Vec<f64> {
-    let mut t = vec![t0; theta.len()];
-    for i in 1..theta.len() {
-        t[i] = t[i - 1] * (friction[i] * theta[i]).exp();
-    }
-    t
+pub fn capstan<'a>(theta: &'a [f64], friction: &'a [f64], t0: f64) -> impl Iterator<Item = f64> + 'a {
+    theta
+        .iter()
+        .zip(friction)
+        .enumerate()
+        .scan(t0, |t, (i, (theta_i, mu_i))| {
+            if i > 0 {
+                *t *= (mu_i * theta_i).exp();
+            }
+            Some(*t)
+        })
 }
 
 /// The buffers of [`Threads::wrap_angles`] for one path of one setting,

@@ -168,8 +168,9 @@ pub struct Tensions {
     /// stitch is set.
     pub lock_strain: f64,
     /// Cycles run from the start (the thread just drawn through every
-    /// guide from the regulator at the set), and φ steps balanced in all.
+    /// guide from the regulator at the set).
     pub cycles: usize,
+    /// φ steps balanced in all those cycles.
     pub steps: usize,
     /// Whether the state at a step repeated the last cycle's within
     /// [`SETTLE_MM`].
@@ -1456,6 +1457,11 @@ mod tests {
         );
     }
 
+    /// The largest difference between two arrays' entries.
+    fn most_apart(a: &[f64], b: &[f64]) -> f64 {
+        a.iter().zip(b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max)
+    }
+
     /// Solved part by part or by Newton's method alone, every preset's
     /// threads meet the laws and carry the same tensions, within the
     /// balance's tolerance; the thread they draw agrees to 10⁻⁸ mm. Where
@@ -1487,10 +1493,15 @@ mod tests {
                 let at = format!("{preset} {params:?} {name}");
                 verify(&c.chain, &course, &parts).unwrap_or_else(|e| panic!("{at}: {e}"));
                 assert_eq!(parts.settled, newton.settled, "{at}");
-                let most = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-                assert!(most(&parts.tension_n, &newton.tension_n) < 1e-8, "{at}: tensions");
-                assert!(most(&parts.slack_mm, &newton.slack_mm) < slack_bound, "{at}: slack");
-                assert!(most(&parts.moved_mm, &newton.moved_mm) < slack_bound, "{at}: moved");
+                assert!(most_apart(&parts.tension_n, &newton.tension_n) < 1e-8, "{at}: tensions");
+                assert!(
+                    most_apart(&parts.slack_mm, &newton.slack_mm) < slack_bound,
+                    "{at}: slack"
+                );
+                assert!(
+                    most_apart(&parts.moved_mm, &newton.moved_mm) < slack_bound,
+                    "{at}: moved"
+                );
                 let d_drawn = (parts.drawn_per_cycle_mm - newton.drawn_per_cycle_mm).abs();
                 assert!(d_drawn < 1e-8, "{at}: drawn");
             }
@@ -1514,10 +1525,9 @@ mod tests {
                 let zero = solve_steps(&c.chain, &course, true, 0).unwrap();
                 let at = format!("{preset} {name} (set at step {})", course.set_k);
                 assert!(set.settled && zero.settled, "{at}");
-                let most = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-                assert!(most(&set.tension_n, &zero.tension_n) < 1e-9, "{at}: tensions");
-                assert!(most(&set.slack_mm, &zero.slack_mm) < 1e-8, "{at}: slack");
-                assert!(most(&set.moved_mm, &zero.moved_mm) < 1e-8, "{at}: moved");
+                assert!(most_apart(&set.tension_n, &zero.tension_n) < 1e-9, "{at}: tensions");
+                assert!(most_apart(&set.slack_mm, &zero.slack_mm) < 1e-8, "{at}: slack");
+                assert!(most_apart(&set.moved_mm, &zero.moved_mm) < 1e-8, "{at}: moved");
                 assert!(
                     (set.drawn_per_cycle_mm - zero.drawn_per_cycle_mm).abs() < 1e-8,
                     "{at}: drawn"
