@@ -614,7 +614,8 @@ impl Stepper {
     /// the part's thread fixes it ([`Self::solve_part`]). Which nodes hold
     /// starts as at the last step and is corrected where the answer
     /// contradicts it (a holding node beyond its bound slips, a slipping
-    /// node whose flux turned holds) until nothing does, at most
+    /// node whose flux turned holds, a slipping node across which a part
+    /// would give endless thread holds) until nothing does, at most
     /// 2·S + [`EXTRA_ROUNDS`] times. True with `self.x` the step's fluxes and every
     /// row balanced within [`TOL_N`] ([`Self::residual`]); false leaves the
     /// step to Newton's method.
@@ -703,8 +704,8 @@ impl Stepper {
     /// gives, it would multiply the rounding of one by 10⁶ at every slack
     /// span passed (a slack span that is not a source, the slackest at the
     /// step's start, is one the answer drains or a guide beside it holds).
-    /// Where the regulator passes and no span is slack, T_0 at its passing
-    /// tension fixes the part without a search.
+    /// Where the regulator passes and none of the part's sources is slack,
+    /// T_0 at its passing tension fixes the part without a search.
     fn solve_part(&mut self, m: &[f64], at: At<'_>, a: usize, b: usize) -> bool {
         let total: f64 = m[a..=b].iter().sum();
         let regulated = a == 0 && self.passing;
