@@ -169,7 +169,7 @@ pub struct Tensions {
     pub lock_strain: f64,
     /// Cycles run from the start (the thread just drawn through every
     /// guide from the regulator at the end of the take-up's hardest pull,
-    /// [`start_step`]).
+    /// docs/thread-physics.md §1.7).
     pub cycles: usize,
     /// φ steps balanced in all those cycles.
     pub steps: usize,
@@ -323,19 +323,6 @@ const PART_TOL_N: f64 = 1e-3 * TOL_N;
 /// A step is halved at most this many times (2^−12 of it).
 const MAX_HALVINGS: u32 = 12;
 
-/// The tension law of each of the chain's `spans` spans.
-fn laws(chain: &Chain, spans: usize) -> Vec<Law> {
-    (0..spans)
-        .map(|i| Law {
-            ea: chain.ea_n,
-            spring: chain
-                .spring
-                .filter(|s| s.span == i)
-                .map(|s| (s.take_up_mm, s.force_n[0], s.force_n[1])),
-        })
-        .collect()
-}
-
 /// One φ's inputs: reaches, capstan factors, holds.
 #[derive(Clone, Copy)]
 struct At<'a> {
@@ -475,7 +462,15 @@ struct Stepper {
 
 impl Stepper {
     fn new(chain: &Chain, spans: usize) -> Stepper {
-        let laws = laws(chain, spans);
+        let laws = (0..spans)
+            .map(|i| Law {
+                ea: chain.ea_n,
+                spring: chain
+                    .spring
+                    .filter(|s| s.span == i)
+                    .map(|s| (s.take_up_mm, s.force_n[0], s.force_n[1])),
+            })
+            .collect();
         let zeros = vec![0.0; spans];
         Stepper {
             laws,
@@ -616,9 +611,9 @@ impl Stepper {
     /// contradicts it (a holding node beyond its bound slips, a slipping
     /// node whose flux turned holds, a slipping node across which a part
     /// would give endless thread holds) until nothing does, at most
-    /// 2·S + [`EXTRA_ROUNDS`] times. True with `self.x` the step's fluxes and every
-    /// row balanced within [`TOL_N`] ([`Self::residual`]); false leaves the
-    /// step to Newton's method.
+    /// 2·S + [`EXTRA_ROUNDS`] times. True with `self.x` the step's fluxes
+    /// and every row balanced within [`TOL_N`] ([`Self::residual`]); false
+    /// leaves the step to Newton's method.
     fn by_parts(&mut self, m: &[f64], at: At<'_>) -> bool {
         let s = m.len();
         self.passing = self.branch[0].forward;
@@ -1116,11 +1111,12 @@ fn solve_tridiagonal(sub: &[f64], diag: &mut [f64], sup: &[f64], d: &mut [f64], 
 }
 
 /// The periodic steady state of `chain` over `course`: the thread starts,
-/// at the step [`start_step`] picks, as if just drawn through every guide
-/// from the regulator, and whole cycles are run until the state at a step
-/// repeats the last cycle's (at most [`MAX_CYCLES`]).
+/// at the end of the take-up's hardest pull (docs/thread-physics.md §1.7),
+/// as if just drawn through every guide from the regulator, and whole
+/// cycles are run until the state at a step repeats the last cycle's (at
+/// most [`MAX_CYCLES`]).
 pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionError> {
-    solve_steps(chain, course, true, start_step(chain, course)?)
+    solve_steps(chain, course, true, None)
 }
 
 /// The φ over which [`start_step`] weighs how hard a draw ends, deg.
@@ -1162,19 +1158,18 @@ fn drawn_state(chain: &Chain, laws: &[Law], course: &Course<'_>, k: usize, m: &m
 /// set where no run is that long. The periodic state does not depend on the
 /// start; a start that misses only takes more cycles (the lockstitch's
 /// needle thread: 361 steps from the end of its take-up's pull against
-/// 635 from the set; docs/thread-physics.md §1.7).
-fn start_step(chain: &Chain, course: &Course<'_>) -> Result<usize, TensionError> {
-    let n = rows(course)?;
-    let s = course.len_mm.len() / n;
-    let laws = laws(chain, s);
+/// 635 from the set; docs/thread-physics.md §1.7). `laws` are the chain's
+/// spans', `n` the course's positions.
+fn start_step(chain: &Chain, laws: &[Law], course: &Course<'_>, n: usize) -> usize {
+    let s = laws.len();
     let (mut before, mut now) = (vec![0.0; s], vec![0.0; s]);
-    let mut t_before = drawn_state(chain, &laws, course, n - 1, &mut before);
+    let mut t_before = drawn_state(chain, laws, course, n - 1, &mut before);
     // Per step: whether it continues a draw, and the thread the regulator
     // passes into it, mm.
     let mut draws = vec![false; n];
     let mut pull_mm = vec![0.0; n];
     for k in 0..n {
-        let t_now = drawn_state(chain, &laws, course, k, &mut now);
+        let t_now = drawn_state(chain, laws, course, k, &mut now);
         let set_mm = if k == course.set_k {
             course.set_mm / (1.0 + t_before / chain.ea_n)
         } else {
@@ -1207,18 +1202,24 @@ fn start_step(chain: &Chain, course: &Course<'_>) -> Result<usize, TensionError>
             }
         }
     }
-    Ok(start.1)
+    start.1
 }
 
-/// [`solve`] with the cycles started at step `k_s`, each step first part
-/// by part or by Newton's method alone.
-fn solve_steps(chain: &Chain, course: &Course<'_>, by_parts: bool, k_s: usize) -> Result<Tensions, TensionError> {
+/// [`solve`] with the cycles started at step `k_s` (`None`: where
+/// [`start_step`] picks), each step first part by part or by Newton's
+/// method alone.
+fn solve_steps(
+    chain: &Chain,
+    course: &Course<'_>,
+    by_parts: bool,
+    k_s: Option<usize>,
+) -> Result<Tensions, TensionError> {
     let n = rows(course)?;
     let s = course.len_mm.len() / n;
     let nodes = s - 1;
-    let k_s = k_s % n;
     let mut st = Stepper::new(chain, s);
     st.parts_first = by_parts;
+    let k_s = k_s.map_or_else(|| start_step(chain, &st.laws, course, n), |k| k % n);
     // The start: the thread just drawn through every guide from the
     // regulator at φ_{k_s}. Where the take-up has really drawn it so there
     // ([`start_step`]), the first cycle is already the periodic one;
@@ -1642,8 +1643,8 @@ mod tests {
             let slack_bound = if preset == "mf7923d" { 1e-4 } else { 0.1 };
             for (name, c) in crate::eval::tension::courses(&model, &p, 1.0).unwrap() {
                 let course = c.course();
-                let parts = solve_steps(&c.chain, &course, true, course.set_k).unwrap();
-                let newton = solve_steps(&c.chain, &course, false, course.set_k).unwrap();
+                let parts = solve_steps(&c.chain, &course, true, Some(course.set_k)).unwrap();
+                let newton = solve_steps(&c.chain, &course, false, Some(course.set_k)).unwrap();
                 let at = format!("{preset} {params:?} {name}");
                 verify(&c.chain, &course, &parts).unwrap_or_else(|e| panic!("{at}: {e}"));
                 assert_eq!(parts.settled, newton.settled, "{at}");
@@ -1667,12 +1668,12 @@ mod tests {
     /// every thread of the presets whose set is not at φ_0 (the Altin's)
     /// and of two at φ_0 settles to the same tensions (10⁻⁹ N), slack and
     /// thread moved (10⁻⁸ mm), each guide slipping the same way wherever it
-    /// passes more than rounding (10⁻⁸ mm). Where the picked start ends a draw through
-    /// every guide the first cycle is already the periodic one (361 steps
-    /// at 1°): the Altin's three threads, the lockstitch's and the
-    /// MF-7923D's n1 and n2, which take 467 to 635 steps from the set but
-    /// for the Altin's loopers (their set draws the thread through every
-    /// guide too).
+    /// passes more than rounding (10⁻⁸ mm). Where the picked start ends a
+    /// draw through every guide the first cycle is already the periodic
+    /// one (361 steps at 1°): the Altin's three threads, the lockstitch's
+    /// and the MF-7923D's n1 and n2, which take 467 to 635 steps from the
+    /// set but for the Altin's loopers (their set draws the thread through
+    /// every guide too).
     #[test]
     fn the_periodic_state_does_not_depend_on_where_the_cycles_start() {
         let mut in_one_cycle = Vec::new();
@@ -1681,8 +1682,8 @@ mod tests {
             for (name, c) in crate::eval::tension::courses(&model, &model.defaults(), 1.0).unwrap() {
                 let course = c.course();
                 let picked = solve(&c.chain, &course).unwrap();
-                let set = solve_steps(&c.chain, &course, true, course.set_k).unwrap();
-                let zero = solve_steps(&c.chain, &course, true, 0).unwrap();
+                let set = solve_steps(&c.chain, &course, true, Some(course.set_k)).unwrap();
+                let zero = solve_steps(&c.chain, &course, true, Some(0)).unwrap();
                 let at = format!("{preset} {name} (set at step {})", course.set_k);
                 for (other, from) in [(&set, "set"), (&zero, "φ_0")] {
                     let at = format!("{at}, picked start against {from}");
@@ -1740,7 +1741,7 @@ mod tests {
             for (name, c) in crate::eval::tension::courses(&model, &params, 1.0).unwrap() {
                 let course = c.course();
                 let picked = solve(&c.chain, &course).unwrap();
-                let set = solve_steps(&c.chain, &course, true, course.set_k).unwrap();
+                let set = solve_steps(&c.chain, &course, true, Some(course.set_k)).unwrap();
                 let at = format!("m = {m} mm, {name}");
                 assert!(picked.settled && set.settled, "{at}");
                 let thread = most_apart(&picked.slack_mm, &set.slack_mm)
