@@ -785,16 +785,12 @@ impl Stepper {
                             lo = m_k;
                         }
                         let next = m_k - f / df;
-                        if next > lo
-                            && next < hi
-                            && f_n.abs() <= LINEAR_N
-                            && self.finish(at, a..=b, k, next, t_k, total)
-                        {
-                            m_k = next;
-                            solved = true;
-                            break;
-                        }
                         if next > lo && next < hi {
+                            if f_n.abs() <= LINEAR_N && self.finish(at, a..=b, k, next, t_k, total) {
+                                m_k = next;
+                                solved = true;
+                                break;
+                            }
                             next
                         } else if hi.is_finite() {
                             0.5 * (lo + hi)
