@@ -36,6 +36,26 @@ use super::spec::{EventKind, HookSpec, NeedleSpec};
 /// for a case of radius 11 mm wrapped a full turn.
 const ARC_STEP_DEG: f64 = 0.5;
 
+/// The most steps of the outline a hull from its deciding points takes:
+/// a turn short of a full one.
+const MAX_ARC_STEPS: usize = (360.0 / ARC_STEP_DEG) as usize;
+
+/// ⌊x⌋ and ⌈x⌉ as integers (for the few arc indices a hull decides).
+fn floor_i(x: f64) -> isize {
+    let t = x as isize;
+    if t as f64 > x { t - 1 } else { t }
+}
+
+fn ceil_i(x: f64) -> isize {
+    let t = x as isize;
+    if (t as f64) < x { t + 1 } else { t }
+}
+
+/// The steps of the case's outline over a turn of `turn_rad`.
+fn arc_steps(turn_rad: f64) -> usize {
+    (turn_rad.to_degrees() / ARC_STEP_DEG).ceil().max(1.0) as usize
+}
+
 /// Perimeter of the convex hull of points in a plane (y, z), mm; fewer
 /// than two distinct points have perimeter 0.
 pub fn hull_perimeter(points: &mut [[f64; 2]]) -> f64 {
@@ -150,13 +170,146 @@ impl HookGeometry {
     /// from the catch) and the case outline it has swept, back to root `r2`
     /// (both roots in the hook plane), mm.
     pub fn loop_length(&self, turn_rad: f64, r1: [f64; 2], r2: [f64; 2], buf: &mut Vec<[f64; 2]>) -> f64 {
+        let steps = arc_steps(turn_rad);
+        let extra = [r1, r2, self.at(self.beak_radius, self.psi(turn_rad))];
+        let hull = self
+            .pruned_hull_perimeter(turn_rad, steps, extra, buf)
+            .unwrap_or_else(|| self.full_hull_perimeter(turn_rad, steps, extra, buf));
+        hull - (r2[0] - r1[0]).hypot(r2[1] - r1[1])
+    }
+
+    /// The perimeter of the hull of the case's arc (`steps` + 1 points
+    /// over `turn_rad`) and the `extra` points, every point of the arc
+    /// taken: its x-monotone runs merged with the extra points.
+    fn full_hull_perimeter(&self, turn_rad: f64, steps: usize, extra: [[f64; 2]; 3], buf: &mut Vec<[f64; 2]>) -> f64 {
         // The swept outline, in the order the beak passes it.
-        let steps = (turn_rad.to_degrees() / ARC_STEP_DEG).ceil().max(1.0) as usize;
         let arc = self.case_arc(turn_rad, steps);
-        let mut extra = [r1, r2, self.at(self.beak_radius, self.psi(turn_rad))];
+        let mut extra = extra;
         extra.sort_by(by_x_then_y);
         merge_arc_runs(&arc, &extra, buf);
-        perimeter(&convex_hull_sorted(buf)) - (r2[0] - r1[0]).hypot(r2[1] - r1[1])
+        perimeter(&convex_hull_sorted(buf))
+    }
+
+    /// [`Self::full_hull_perimeter`] from the few points of the arc that
+    /// decide the hull (docs/stitch-formation.md §4.7). The arc's points
+    /// lie on the case's circle (centre C, radius R, spacing Δ), so an
+    /// extra point p at distance d from C and angle θ_p can only hide the
+    /// points within acos(R/d) of θ_p (its cap: past them p lies behind
+    /// the circle's tangent), and surely hides those within
+    /// acos(R·cos(Δ/2)/d) − Δ/2 of it (p lies past both edges at the
+    /// point), so also those within acos(R/d) − Δ/2, a few less. The points
+    /// outside every cap stay on the hull, one after the other: a run of
+    /// them counts as its chain, k·2R·sin(Δ/2) for k steps, and enters the
+    /// hull by its two ends. The points at the caps' edges, on either side
+    /// of each extra point's angle and at the arc's ends go to the hull as
+    /// they are; the hidden ones are left out. A run spans at most 60°, and
+    /// no extra point's angle falls inside it, so nothing but its own chain
+    /// lies past its chord. `None` where the arc is too short for this to
+    /// pay or turns nearly a full turn (the arc would meet itself).
+    fn pruned_hull_perimeter(
+        &self,
+        turn_rad: f64,
+        steps: usize,
+        extra: [[f64; 2]; 3],
+        buf: &mut Vec<[f64; 2]>,
+    ) -> Option<f64> {
+        use std::f64::consts::{FRAC_PI_3, TAU};
+        const KEPT: u8 = 0;
+        const EDGE: u8 = 1;
+        const HIDDEN: u8 = 2;
+        let delta = turn_rad / steps as f64;
+        // (A turn that is not a number has one step.)
+        if !(16..=MAX_ARC_STEPS).contains(&steps) || turn_rad >= TAU - 4.0 * delta {
+            return None;
+        }
+        let (c, r) = (self.centre, self.case_radius);
+        // Where each arc point stands: kept, at an edge (to the hull as it
+        // is) or hidden. Bounds are widened (edges) or narrowed (hidden) by
+        // `EPS` of a step, far above the angles' rounding.
+        const EPS: f64 = 1e-6;
+        let mut states = [KEPT; MAX_ARC_STEPS + 1];
+        let state = &mut states[..=steps];
+        let mut mark = |lo: isize, hi: isize, to: u8, within: (isize, isize)| {
+            let (lo, hi) = (lo.max(within.0), hi.min(within.1));
+            if lo <= hi {
+                for s in &mut state[lo as usize..=hi as usize] {
+                    *s = (*s).max(to);
+                }
+            }
+        };
+        let last = steps as isize;
+        // Each extra point's hidden points, at each of three turns of its angle.
+        let mut hidden = [(1, 0); 9];
+        for (p, hidden) in extra.iter().zip(hidden.chunks_exact_mut(3)) {
+            let w = [p[0] - c[0], p[1] - c[1]];
+            let d = w[0].hypot(w[1]);
+            // The point's angle from the catch in the beak's sense, and its
+            // cap's half width, in steps. The points it surely hides lie
+            // within acos(R·cos(Δ/2)/d) − Δ/2 of it; acos(R/d) − Δ/2 is
+            // less (both acos fall with their argument), so it hides no
+            // more than p does.
+            let sigma = self.sense * (w[1].atan2(w[0]) - self.psi_catch);
+            let sigma = sigma - TAU * floor_i(sigma / TAU) as f64;
+            let cap = if d > r { Some((r / d).acos() / delta) } else { None };
+            for (s, hidden) in [sigma - TAU, sigma, sigma + TAU].into_iter().zip(hidden) {
+                let at = s / delta;
+                // The points on either side of its own angle (also where it
+                // lies inside the circle).
+                mark(floor_i(at - EPS), ceil_i(at + EPS), EDGE, (0, last));
+                if let Some(alpha) = cap {
+                    mark(ceil_i(at - alpha - EPS), floor_i(at + alpha + EPS), EDGE, (0, last));
+                    let h = alpha - 0.5;
+                    *hidden = (ceil_i(at - h + EPS), floor_i(at + h - EPS));
+                }
+            }
+        }
+        for (lo, hi) in hidden {
+            mark(lo, hi, HIDDEN, (1, last - 1));
+        }
+        state[0] = EDGE;
+        state[steps] = EDGE;
+        let point = |j: usize| {
+            let (s, co) = (self.psi_catch + self.sense * j as f64 * delta).sin_cos();
+            [c[0] + r * co, c[1] + r * s]
+        };
+        let link = 2.0 * r * (0.5 * delta).sin();
+        let longest = ((FRAC_PI_3 / delta) as usize).max(2);
+        buf.clear();
+        buf.reserve(64);
+        buf.extend_from_slice(&extra);
+        let mut chains = 0.0;
+        let mut j = 0;
+        while j <= steps {
+            match state[j] {
+                HIDDEN => j += 1,
+                EDGE => {
+                    buf.push(point(j));
+                    j += 1;
+                }
+                _ => {
+                    // A run of kept points, j..=end, as runs of at most `longest` steps.
+                    let mut end = j;
+                    while end < steps && state[end + 1] == KEPT {
+                        end += 1;
+                    }
+                    let mut a = j;
+                    let mut pa = point(a);
+                    buf.push(pa);
+                    while a < end {
+                        let b = (a + longest).min(end);
+                        let pb = point(b);
+                        if b - a > 1 {
+                            chains += (b - a) as f64 * link - (pb[0] - pa[0]).hypot(pb[1] - pa[1]);
+                        }
+                        buf.push(pb);
+                        (a, pa) = (b, pb);
+                    }
+                    j = end + 1;
+                }
+            }
+        }
+        buf.sort_by(by_x_then_y);
+        Some(perimeter(&convex_hull_sorted(buf)) + chains)
     }
 }
 
@@ -517,17 +670,98 @@ mod tests {
             let turn = 12.0 * rnd();
             let (r1, r2) = ([8.0 * rnd() - 4.0, 4.0 * rnd()], [8.0 * rnd() - 4.0, 4.0 * rnd()]);
             let mut buf = Vec::new();
-            let merged = hook.loop_length(turn, r1, r2, &mut buf);
-            let steps = (turn.to_degrees() / ARC_STEP_DEG).ceil().max(1.0) as usize;
-            let mut all = vec![r1, r2, hook.at(hook.beak_radius, hook.psi(turn))];
+            let steps = arc_steps(turn);
+            let beak = hook.at(hook.beak_radius, hook.psi(turn));
+            let merged = hook.full_hull_perimeter(turn, steps, [r1, r2, beak], &mut buf);
+            let mut all = vec![r1, r2, beak];
             all.extend(hook.case_arc(turn, steps));
-            let sorted = hull_perimeter(&mut all) - (r2[0] - r1[0]).hypot(r2[1] - r1[1]);
+            let sorted = hull_perimeter(&mut all);
             assert_eq!(merged, sorted, "turn {turn}");
             // The turned points stay on the case's circle at their angles.
             let arc = hook.case_arc(turn, steps);
             let exact = hook.at(hook.case_radius, hook.psi(turn));
             assert!((arc[steps][0] - exact[0]).hypot(arc[steps][1] - exact[1]) < 1e-11);
         }
+    }
+
+    /// The hull from the arc's deciding points is the hull of every point
+    /// of the arc, for arcs up to nearly a full turn either way round, the
+    /// roots inside, on and outside the case, near it and far from it.
+    /// The two differ only in rounding: the arc's points placed by sine and
+    /// cosine instead of by rotation, and a run's chain summed as k equal
+    /// links.
+    #[test]
+    fn the_hull_from_the_deciding_points_is_the_hull_of_the_whole_arc() {
+        let mut seed = 987654321u64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut pruned = 0;
+        let mut worst: f64 = 0.0;
+        for case in 0..4000 {
+            let hook = HookGeometry {
+                centre: [10.0 * rnd() - 5.0, -10.0 * rnd()],
+                beak_radius: 6.0 + 8.0 * rnd(),
+                case_radius: 6.0 + 2.0 * rnd(),
+                psi_catch: 7.0 * rnd() - 0.5,
+                sense: if rnd() < 0.5 { 1.0 } else { -1.0 },
+            };
+            let turn = 6.3 * rnd();
+            // A root anywhere in a box around the case, or on its circle,
+            // or just outside it.
+            let mut root = |k: usize| -> [f64; 2] {
+                let a = 7.0 * rnd();
+                let radius = match (case + k) % 4 {
+                    0 => hook.case_radius,
+                    1 => hook.case_radius * (1.0 + 1e-4 * rnd()),
+                    2 => hook.case_radius * rnd(),
+                    _ => hook.case_radius * (1.0 + 3.0 * rnd()),
+                };
+                [hook.centre[0] + radius * a.cos(), hook.centre[1] + radius * a.sin()]
+            };
+            let (r1, r2) = (root(0), root(1));
+            let steps = arc_steps(turn);
+            let extra = [r1, r2, hook.at(hook.beak_radius, hook.psi(turn))];
+            let mut buf = Vec::new();
+            let full = hook.full_hull_perimeter(turn, steps, extra, &mut buf);
+            if let Some(fast) = hook.pruned_hull_perimeter(turn, steps, extra, &mut buf) {
+                pruned += 1;
+                worst = worst.max((fast - full).abs());
+                assert!((fast - full).abs() < 1e-9, "turn {turn}: {fast} against {full}");
+                // It takes far fewer points than the whole arc.
+                assert!(buf.len() < steps / 2 + 40, "{} points of {steps}", buf.len());
+            }
+        }
+        assert!(pruned > 3000, "{pruned}");
+        assert!(worst < 1e-9, "{worst}");
+        // A root inside the case but outside the arc's polygon, between two
+        // of its points in the middle of a run: it is on the hull.
+        let hook = HookGeometry {
+            centre: [0.0, 0.0],
+            beak_radius: 13.5,
+            case_radius: 11.0,
+            psi_catch: 0.0,
+            sense: 1.0,
+        };
+        let turn = 2.5;
+        let steps = arc_steps(turn);
+        let delta = turn / steps as f64;
+        // Beside the catch, away from the far root's cap (21.5°…158.5°).
+        let a = 15.5 * delta;
+        let rho = 11.0 * (1.0 + (0.5 * delta).cos()) / 2.0;
+        let extra = [[rho * a.cos(), rho * a.sin()], [0.0, 30.0], hook.at(13.5, turn)];
+        let mut buf = Vec::new();
+        let full = hook.full_hull_perimeter(turn, steps, extra, &mut buf);
+        let fast = hook
+            .pruned_hull_perimeter(turn, steps, extra, &mut buf)
+            .expect("a long arc");
+        assert!((fast - full).abs() < 1e-9, "{fast} against {full}");
+        let inner = [8.0 * 1.25f64.cos(), 8.0 * 1.25f64.sin()];
+        let without = hook.full_hull_perimeter(turn, steps, [inner, extra[1], extra[2]], &mut buf);
+        assert!(full > without + 1e-8, "{full} {without}");
     }
 
     #[test]
