@@ -648,17 +648,21 @@ mod tests {
         assert_eq!(hull_perimeter(&mut one), 0.0);
     }
 
-    /// The merged runs give the hull the sort gives, to the bit, for arcs
-    /// of every length either way round and roots anywhere.
-    #[test]
-    fn merging_the_arc_runs_is_sorting_them() {
-        let mut seed = 12345u64;
-        let mut rnd = move || {
+    /// Numbers in [0, 1) from `seed` (xorshift), the same on every run.
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
             seed ^= seed << 13;
             seed ^= seed >> 7;
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        }
+    }
+
+    /// The merged runs give the hull the sort gives, to the bit, for arcs
+    /// of every length either way round and roots anywhere.
+    #[test]
+    fn merging_the_arc_runs_is_sorting_them() {
+        let mut rnd = uniform(12345u64);
         for _ in 0..200 {
             let hook = HookGeometry {
                 centre: [10.0 * rnd() - 5.0, -10.0 * rnd()],
@@ -692,13 +696,7 @@ mod tests {
     /// links.
     #[test]
     fn the_hull_from_the_deciding_points_is_the_hull_of_the_whole_arc() {
-        let mut seed = 987654321u64;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = uniform(987654321u64);
         let mut pruned = 0;
         let mut worst: f64 = 0.0;
         for case in 0..4000 {
