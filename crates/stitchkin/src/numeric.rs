@@ -138,6 +138,18 @@ impl PeriodicCubic {
     }
 }
 
+/// Numbers in [0, 1) from `seed` (xorshift), the same on every run: the
+/// random cases of the tests.
+#[cfg(test)]
+pub(crate) fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

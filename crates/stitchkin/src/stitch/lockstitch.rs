@@ -636,6 +636,7 @@ impl LockstitchThread {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::numeric::uniform;
     use approx::assert_relative_eq;
 
     #[test]
@@ -646,16 +647,6 @@ mod tests {
         assert_relative_eq!(hull_perimeter(&mut two), 10.0, epsilon = 1e-12);
         let mut one = vec![[1.0, 1.0], [1.0, 1.0]];
         assert_eq!(hull_perimeter(&mut one), 0.0);
-    }
-
-    /// Numbers in [0, 1) from `seed` (xorshift), the same on every run.
-    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
-        move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        }
     }
 
     /// The merged runs give the hull the sort gives, to the bit, for arcs

@@ -77,6 +77,11 @@ pub fn sum_sq_diff(p: &[f64], pprime: &[f64], w: &[f64]) -> f64 {
     (s[0] + s[1]) + (s[2] + s[3])
 }
 
+/// Values of a curve within this of its largest, mm, count as its largest
+/// ([`mismatch`]'s phase of the maxima): far above the rounding of P'
+/// (10⁻¹¹ mm) and far below anything measured.
+const PLATEAU_MM: f64 = 1e-9;
+
 /// The mismatch of `p` against `pprime` on the uniform grid `phi_deg` (one
 /// cycle, step `phi_deg[1] − phi_deg[0]`). `compared[k]` is false inside a
 /// regulator window; `eps_mm` is the tolerance ε of the intervals; `lag`
@@ -110,10 +115,14 @@ pub fn mismatch(
         .iter()
         .max_by(|&&a, &&b| d[a].abs().total_cmp(&d[b].abs()).then(b.cmp(&a)))
         .unwrap();
+    // Where a curve is largest: the first compared position within
+    // [`PLATEAU_MM`] of its largest value. P' can be level over a stretch
+    // of the cycle (the MF-7923D's n2 over 180–225°), equal along it only
+    // to the rounding of the thread's balance; the first of the level is
+    // where its largest value is reached.
     let argmax = |v: &[f64]| {
-        *ks.iter()
-            .max_by(|&&a, &&b| v[a].total_cmp(&v[b]).then(b.cmp(&a)))
-            .unwrap()
+        let top = ks.iter().map(|&k| v[k]).fold(f64::MIN, f64::max);
+        *ks.iter().find(|&&k| v[k] >= top - PLATEAU_MM).unwrap()
     };
     let (pp_max, pp_min) = ks.iter().fold((f64::MIN, f64::MAX), |(hi, lo), &k| {
         (hi.max(pprime[k]), lo.min(pprime[k]))
@@ -401,6 +410,21 @@ mod tests {
         let p: Vec<f64> = phi.iter().map(|f| 10.0 * (f - 30.0).to_radians().sin() + 1.0).collect();
         let m = mismatch(&phi, &p, &pp, &vec![true; phi.len()], 0.5, true).unwrap();
         assert!((m.phase_shift_max_deg - 30.0).abs() < 1e-9, "{m:?}");
+        // P' level at its top from 60° to 120° with rounding along it: its
+        // largest value is reached at 60°, wherever the rounding peaks.
+        let level: Vec<f64> = phi
+            .iter()
+            .enumerate()
+            .map(|(k, f)| {
+                if (60.0..=120.0).contains(f) {
+                    10.0 + 1e-12 * ((k * 7) % 5) as f64
+                } else {
+                    10.0 * f.to_radians().sin()
+                }
+            })
+            .collect();
+        let on_level = mismatch(&phi, &p, &level, &vec![true; phi.len()], 0.5, false).unwrap();
+        assert!((on_level.phase_shift_max_deg - 60.0).abs() < 1e-9, "{on_level:?}");
         // P(φ + 30°) = P'(φ): the best lag is +30°.
         assert!((m.best_lag_deg.unwrap() - 30.0).abs() < 1e-9, "{m:?}");
         assert!((m.range_pprime_mm - 20.0).abs() < 1e-9);

@@ -322,6 +322,9 @@ const EXTRA_ROUNDS: usize = 8;
 /// on a span, N (a thousandth of the balance's tolerance).
 const PART_ITERATIONS: usize = 100;
 const PART_TOL_N: f64 = 1e-3 * TOL_N;
+/// Newton's iterations at most of a taut part's balance
+/// ([`Stepper::taut_part`]): it converges in a few from the last step's.
+const TAUT_ITERATIONS: usize = 50;
 /// A part's balance within this, N, is finished by one linear step
 /// ([`Stepper::finish`]), which leaves its equation within `LINEAR_TOL_N`
 /// (a hundredth of the balance's tolerance; the rounding of a span's thread
@@ -409,6 +412,21 @@ struct Branch {
     backward: bool,
 }
 
+/// How a step is balanced first; each falls back as [`Stepper::balance`]
+/// says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum First {
+    /// Part by part ([`Stepper::by_parts`]), a part whose spans stay taut
+    /// in closed form ([`Stepper::taut_part`]), as [`solve`] does.
+    Parts,
+    /// Part by part, every part by its search (what the closed form is
+    /// checked against).
+    #[cfg(test)]
+    PartsSearched,
+    /// Newton's method on the whole chain.
+    Newton,
+}
+
 /// The balance of one step and its buffers.
 ///
 /// The unknowns are x[0], the thread the regulator passes, and x[i + 1],
@@ -462,9 +480,12 @@ struct Stepper {
     x_start: Vec<f64>,
     /// The thread of each span whose tension picks a part's pivot.
     pivot_from: Vec<f64>,
-    /// Whether a step is first solved part by part (else by Newton's
-    /// method alone).
-    parts_first: bool,
+    /// A taut part's spans' tensions as affine functions of its pivot's,
+    /// T_j = α_j·T_k + β_j ([`Self::taut_part`]): α_j, and β_j in N.
+    alpha: Vec<f64>,
+    beta: Vec<f64>,
+    /// How a step is balanced first.
+    first: First,
     /// The node across which the last [`Self::spread`] that found no
     /// balance met a span that would take endless thread.
     endless: Option<usize>,
@@ -505,8 +526,10 @@ impl Stepper {
             d_held: zeros.clone(),
             d_t: zeros.clone(),
             pivot_from: zeros.clone(),
+            alpha: zeros.clone(),
+            beta: zeros.clone(),
             x_start: zeros,
-            parts_first: true,
+            first: First::Parts,
             endless: None,
             newton_steps: 0,
         }
@@ -598,7 +621,7 @@ impl Stepper {
             self.rho[i + 1] = 0.5 * (m[i] + m[i + 1]) / ea;
         }
         self.x_start.copy_from_slice(&self.x);
-        if !(self.parts_first && self.by_parts(m, at)) {
+        if !(self.first != First::Newton && self.by_parts(m, at)) {
             self.newton_steps += 1;
             self.x.copy_from_slice(&self.x_start);
             if !self.newton(m, at) {
@@ -755,6 +778,12 @@ impl Stepper {
             if !(m_k > lo && m_k < hi) {
                 m_k = m[k];
             }
+            if !regulated
+                && self.first == First::Parts
+                && self.taut_part(at, a, b, k, total, law.tension(at.l[k], m_k).0)
+            {
+                return self.part_fluxes(m, at, a, b, k, false);
+            }
             let mut solved = false;
             for _ in 0..PART_ITERATIONS {
                 let (t_k, dt_k) = law.tension(at.l[k], m_k);
@@ -812,9 +841,15 @@ impl Stepper {
             }
             self.held[k] = m_k;
         }
-        // The fluxes: into the part from the left (the regulator's: all the
-        // part holds beyond its thread), and none out at its right; the
-        // pivot keeps what conservation leaves it.
+        self.part_fluxes(m, at, a, b, k, regulated)
+    }
+
+    /// The fluxes of the part of spans `a..=b` with pivot `k`, each span
+    /// holding `held`: into the part from the left (the regulator's, where
+    /// it passes: all the part holds beyond its thread), and none out at
+    /// its right; the pivot keeps what conservation leaves it, and its
+    /// tension follows. False where that leaves it no thread.
+    fn part_fluxes(&mut self, m: &[f64], at: At<'_>, a: usize, b: usize, k: usize, regulated: bool) -> bool {
         self.x[a] = if regulated {
             (a..=b).map(|j| self.held[j] - m[j]).sum()
         } else {
@@ -831,6 +866,100 @@ impl Stepper {
         self.held[k] = m[k] + self.x[k] - out;
         self.t[k] = self.laws[k].tension(at.l[k], self.held[k]).0;
         self.held[k] > 0.0
+    }
+
+    /// The balance of the part of spans `a..=b` (none of them with a check
+    /// spring) where every span of it is taut, from the pivot `k`'s tension
+    /// `t_guess`, N: into `t` and `held`; false where the part has a spring
+    /// or its balance lies where a span is slack (the search of
+    /// [`Self::solve_part`] then).
+    ///
+    /// With every guide crossed from a taut side, each span's tension is
+    /// affine in the pivot's, T_j = α_j·T_k + β_j: across a guide toward the
+    /// side that pulls, T' = E·T + H; toward the side that gives,
+    /// T' = (T − H)/E (the capstan bound, [`across`]). That holds for T_k ≥
+    /// T_min, where every tension crossed from is at least 0 (or H). There
+    /// the part's thread, G(T_k) = Σ_j ℓ_j·EA/(EA + T_j) − its thread in
+    /// all, falls and is convex in T_k, so its root is the part's balance
+    /// and Newton's method from below it climbs to it without overshoot
+    /// (a step from above lands below, or at T_min). The same equation as
+    /// the search's, the spans' tensions written out once instead of
+    /// spread afresh at every iteration.
+    fn taut_part(&mut self, at: At<'_>, a: usize, b: usize, k: usize, total: f64, t_guess: f64) -> bool {
+        if self.laws[a..=b].iter().any(|law| law.spring.is_some()) {
+            return false;
+        }
+        let mut t_min = f64::NEG_INFINITY;
+        // Across node j from a side at α·T + β: the other side's (α, β),
+        // and the least T_k where that crossing is from a taut side.
+        let cross = |(alpha, beta): (f64, f64), e: f64, h: f64, pulls: bool, t_min: &mut f64| {
+            if pulls {
+                *t_min = t_min.max(-beta / alpha);
+                (e * alpha, e * beta + h)
+            } else {
+                *t_min = t_min.max((h - beta) / alpha);
+                (alpha / e, (beta - h) / e)
+            }
+        };
+        (self.alpha[k], self.beta[k]) = (1.0, 0.0);
+        let mut ab = (1.0, 0.0);
+        for j in k..b {
+            ab = cross(ab, at.e[j], at.h[j], self.dir[j] > 0, &mut t_min);
+            (self.alpha[j + 1], self.beta[j + 1]) = ab;
+        }
+        ab = (1.0, 0.0);
+        for j in (a..k).rev() {
+            ab = cross(ab, at.e[j], at.h[j], self.dir[j] < 0, &mut t_min);
+            (self.alpha[j], self.beta[j]) = ab;
+        }
+        // G(T_k) and its slope; the pivot's force error |G|/|dm_k/dT_k|.
+        let ea = self.laws[k].ea;
+        let part = a..=b;
+        let g = |t: f64| {
+            let (mut g, mut dg) = (-total, 0.0);
+            for j in part.clone() {
+                let inv = 1.0 / (ea + self.alpha[j] * t + self.beta[j]);
+                let held = at.l[j] * ea * inv;
+                g += held;
+                dg -= held * inv * self.alpha[j];
+            }
+            (g, dg)
+        };
+        let mut t = if t_guess.is_finite() { t_guess.max(t_min) } else { t_min };
+        let mut solved = false;
+        for _ in 0..TAUT_ITERATIONS {
+            let (g_t, dg_t) = g(t);
+            let f_n = g_t * (ea + t) * (ea + t) / (ea * at.l[k]);
+            if f_n.abs() <= PART_TOL_N {
+                solved = true;
+                break;
+            }
+            let mut next = t - g_t / dg_t;
+            if next.is_nan() || next < t_min {
+                if t == t_min {
+                    // The root lies below T_min: a span goes slack.
+                    return false;
+                }
+                next = t_min;
+            }
+            if (next - t).abs() <= PART_TOL_N {
+                // The rounding of G alone moves T_k by more than the
+                // balance's error once it is this close.
+                t = next;
+                solved = true;
+                break;
+            }
+            t = next;
+        }
+        if !(solved && t.is_finite()) {
+            return false;
+        }
+        for j in a..=b {
+            let t_j = self.alpha[j] * t + self.beta[j];
+            self.t[j] = t_j;
+            self.held[j] = at.l[j] * ea / (ea + t_j);
+        }
+        true
     }
 
     /// The last Newton step of the balance of the part of spans `part`
@@ -1167,7 +1296,7 @@ fn solve_tridiagonal(sub: &[f64], diag: &mut [f64], sup: &[f64], d: &mut [f64], 
 /// cycles are run until the state at a step repeats the last cycle's (at
 /// most [`MAX_CYCLES`]).
 pub fn solve(chain: &Chain, course: &Course<'_>) -> Result<Tensions, TensionError> {
-    solve_steps(chain, course, true, None)
+    solve_steps(chain, course, First::Parts, None)
 }
 
 /// The φ over which [`start_step`] weighs how hard a draw ends, deg.
@@ -1257,19 +1386,13 @@ fn start_step(chain: &Chain, laws: &[Law], course: &Course<'_>, n: usize) -> usi
 }
 
 /// [`solve`] with the cycles started at step `k_s` (`None`: where
-/// [`start_step`] picks), each step first part by part or by Newton's
-/// method alone.
-fn solve_steps(
-    chain: &Chain,
-    course: &Course<'_>,
-    by_parts: bool,
-    k_s: Option<usize>,
-) -> Result<Tensions, TensionError> {
+/// [`start_step`] picks), each step balanced first as `first` says.
+fn solve_steps(chain: &Chain, course: &Course<'_>, first: First, k_s: Option<usize>) -> Result<Tensions, TensionError> {
     let n = rows(course)?;
     let s = course.len_mm.len() / n;
     let nodes = s - 1;
     let mut st = Stepper::new(chain, s);
-    st.parts_first = by_parts;
+    st.first = first;
     let k_s = k_s.map_or_else(|| start_step(chain, &st.laws, course, n), |k| k % n);
     // The start: the thread just drawn through every guide from the
     // regulator at φ_{k_s}. Where the take-up has really drawn it so there
@@ -1469,6 +1592,7 @@ pub fn verify(chain: &Chain, course: &Course<'_>, t: &Tensions) -> Result<(), St
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::numeric::uniform;
     use proptest::prelude::*;
 
     /// A course of `n` positions over φ = 2πk/n: `reach(i, φ)` for each of
@@ -1735,8 +1859,8 @@ mod tests {
             let slack_bound = if preset == "mf7923d" { 1e-4 } else { 0.1 };
             for (name, c) in crate::eval::tension::courses(&model, &p, 1.0).unwrap() {
                 let course = c.course();
-                let parts = solve_steps(&c.chain, &course, true, Some(course.set_k)).unwrap();
-                let newton = solve_steps(&c.chain, &course, false, Some(course.set_k)).unwrap();
+                let parts = solve_steps(&c.chain, &course, First::Parts, Some(course.set_k)).unwrap();
+                let newton = solve_steps(&c.chain, &course, First::Newton, Some(course.set_k)).unwrap();
                 let at = format!("{preset} {params:?} {name}");
                 verify(&c.chain, &course, &parts).unwrap_or_else(|e| panic!("{at}: {e}"));
                 assert_eq!(parts.settled, newton.settled, "{at}");
@@ -1753,6 +1877,72 @@ mod tests {
                 assert!(d_drawn < 1e-8, "{at}: drawn");
             }
         }
+    }
+
+    /// A taut part's balance in closed form ([`Stepper::taut_part`]) is the
+    /// search's: on random parts of 2–9 spans (capstan factors 1–4, clamps
+    /// on some guides, each guide slipping either way, the pivot anywhere,
+    /// the spans' threads from −0.3 to 2 N) the two give every span's
+    /// thread within 10⁻¹⁰ mm and tension within 10⁻⁹ N, the closed form
+    /// settles most of them, and where it declines the search's balance
+    /// has a span slack.
+    #[test]
+    fn a_taut_part_in_closed_form_balances_as_the_search() {
+        let mut uniform = uniform(11);
+        let (mut closed, mut declined) = (0, 0);
+        for case in 0..3000 {
+            let s = 2 + case % 8;
+            let ea = 20.0 + 400.0 * uniform();
+            let chain = Chain {
+                ea_n: ea,
+                pass_n: 1.0,
+                spring: None,
+            };
+            let l: Vec<f64> = (0..s).map(|_| 5.0 + 100.0 * uniform()).collect();
+            let e: Vec<f64> = (0..s - 1).map(|_| 1.0 + 3.0 * uniform()).collect();
+            let h: Vec<f64> = (0..s - 1)
+                .map(|_| if uniform() < 0.3 { 0.2 * uniform() } else { 0.0 })
+                .collect();
+            let m: Vec<f64> = l.iter().map(|l| l / (1.0 + (-0.3 + 2.3 * uniform()) / ea)).collect();
+            let at = At { l: &l, e: &e, h: &h };
+            let dir: Vec<i8> = (0..s - 1).map(|_| if uniform() < 0.5 { 1 } else { -1 }).collect();
+            let solved = |first: First| {
+                let mut st = Stepper::new(&chain, s);
+                st.first = first;
+                st.dir.copy_from_slice(&dir);
+                st.pivot_from.copy_from_slice(&m);
+                let ok = st.solve_part(&m, at, 0, s - 1);
+                (ok, st.held.clone(), st.t.clone())
+            };
+            let (ok_c, held_c, t_c) = solved(First::Parts);
+            let (ok_s, held_s, t_s) = solved(First::PartsSearched);
+            // Whether the closed form took the part: the same call, kept.
+            let mut st = Stepper::new(&chain, s);
+            st.dir.copy_from_slice(&dir);
+            let total: f64 = m.iter().sum();
+            let took = st.taut_part(at, 0, s - 1, 0, total, 0.5);
+            let at_case = format!("case {case}: {s} spans, dir {dir:?}");
+            assert_eq!(ok_c, ok_s, "{at_case}");
+            if took {
+                closed += 1;
+            } else {
+                declined += 1;
+                if ok_s {
+                    assert!(
+                        t_s.iter().any(|&t| t < 1e-6),
+                        "{at_case}: declined a part the search finds taut: {t_s:?}"
+                    );
+                }
+            }
+            if ok_s {
+                assert!(
+                    most_apart(&held_c, &held_s) < 1e-10,
+                    "{at_case}: threads {held_c:?} {held_s:?}"
+                );
+                assert!(most_apart(&t_c, &t_s) < 1e-9, "{at_case}: tensions {t_c:?} {t_s:?}");
+            }
+        }
+        assert!(closed > 2 * declined, "closed {closed}, declined {declined}");
     }
 
     /// The periodic state is the cycle's, not the start's: started where
@@ -1774,8 +1964,8 @@ mod tests {
             for (name, c) in crate::eval::tension::courses(&model, &model.defaults(), 1.0).unwrap() {
                 let course = c.course();
                 let picked = solve(&c.chain, &course).unwrap();
-                let set = solve_steps(&c.chain, &course, true, Some(course.set_k)).unwrap();
-                let zero = solve_steps(&c.chain, &course, true, Some(0)).unwrap();
+                let set = solve_steps(&c.chain, &course, First::Parts, Some(course.set_k)).unwrap();
+                let zero = solve_steps(&c.chain, &course, First::Parts, Some(0)).unwrap();
                 let at = format!("{preset} {name} (set at step {})", course.set_k);
                 for (other, from) in [(&set, "set"), (&zero, "φ_0")] {
                     let at = format!("{at}, picked start against {from}");
@@ -1833,7 +2023,7 @@ mod tests {
             for (name, c) in crate::eval::tension::courses(&model, &params, 1.0).unwrap() {
                 let course = c.course();
                 let picked = solve(&c.chain, &course).unwrap();
-                let set = solve_steps(&c.chain, &course, true, Some(course.set_k)).unwrap();
+                let set = solve_steps(&c.chain, &course, First::Parts, Some(course.set_k)).unwrap();
                 let at = format!("m = {m} mm, {name}");
                 assert!(picked.settled && set.settled, "{at}");
                 let thread = most_apart(&picked.slack_mm, &set.slack_mm)
