@@ -117,6 +117,11 @@ struct Fast {
     moved: Vec<bool>,
     work: ThreadWork<f64>,
     work0: ThreadWork<f64>,
+    /// Per path, its course over the cycle for the thread's tension where
+    /// one was solved: kept from setting to setting while none of the
+    /// path's pieces moves (a sweep over the stitch alone), else empty
+    /// until a tension needs it.
+    courses: Vec<crate::eval::PathCourse>,
     /// Take-up of every path over the cycle, mm.
     p: Vec<Vec<f64>>,
     /// Which kinds of figures are asked for.
@@ -175,8 +180,7 @@ struct TensionPlan {
     /// Whether the regulator's window is computed (P' and the compared
     /// positions follow the tension).
     computed: bool,
-    /// The path's course and this setting's tension, P' and weights.
-    course: crate::eval::PathCourse,
+    /// This setting's tension, P' and weights.
     solved: Option<crate::eval::tension::Solved>,
     pprime: Vec<f64>,
     weight: Vec<f64>,
@@ -391,6 +395,7 @@ impl Fast {
             moved: Vec::new(),
             work: ThreadWork::only_paths(wanted),
             work0: ThreadWork::default(),
+            courses: Vec::new(),
             p: Vec::new(),
             mu: kinds.mu,
             measures: kinds.measures,
@@ -426,8 +431,19 @@ impl Fast {
             &mut self.moved,
         )?;
         if let Some(threads) = &machine.threads {
-            if let Some(t0) = before.as_ref().and_then(|b| b.threads.as_ref()) {
-                threads.keep_unmoved(t0, &self.moved, &mut self.work);
+            let kept = match before.as_ref().and_then(|b| b.threads.as_ref()) {
+                Some(t0) => {
+                    threads.keep_unmoved(t0, &self.moved, &mut self.work);
+                    true
+                }
+                None => false,
+            };
+            // A course stays only where every piece of its path does.
+            self.courses.resize_with(threads.paths.len(), Default::default);
+            for (course, path) in self.courses.iter_mut().zip(threads.paths.iter()) {
+                if !(kept && threads.path_kept(path, &self.work)) {
+                    course.clear();
+                }
             }
             self.take_up_figures(&machine.mechanism, threads, out)?;
         }
@@ -506,12 +522,14 @@ impl Fast {
                 continue;
             };
             let th = &shared.required.threads[tp.thread];
-            tp.course.clear();
-            tp.course.extend(threads, &threads.paths[pi], &self.pose, &self.work, n);
+            let course = &mut self.courses[pi];
+            if course.gaps_mm.is_empty() {
+                course.extend(threads, &threads.paths[pi], &self.pose, &self.work, n);
+            }
             let input = crate::eval::tension::PathInput {
                 physics: ph,
                 path: &threads.paths[pi],
-                course: &tp.course,
+                course,
             };
             let solved = crate::eval::tension::solve_thread(th, input, &self.phis, cz)?;
             if tp.computed {
@@ -896,7 +914,6 @@ impl StitchPlan {
                 .map(|_| TensionPlan {
                     thread: i,
                     computed,
-                    course: Default::default(),
                     solved: None,
                     pprime: Vec::new(),
                     weight: Vec::new(),

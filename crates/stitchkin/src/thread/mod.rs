@@ -493,6 +493,15 @@ impl<T: Real> Threads<T> {
             }));
     }
 
+    /// Whether every piece of `path` is marked to keep its lengths in the
+    /// next evaluation into `work` ([`Self::keep_unmoved`]): then its
+    /// nodes, guides and pieces are the last setting's over the same
+    /// positions, and so is everything read off the path over the cycle
+    /// (its gaps and turns, `eval::PathCourse`).
+    pub fn path_kept(&self, path: &ThreadPath, work: &ThreadWork<T>) -> bool {
+        work.keep.len() == self.spans.len() && path.spans.iter().all(|&s| work.keep[s])
+    }
+
     /// Every path at the `k`-th φ of `pose` alone: ξ (and u·N for a path
     /// split at B), one value each; no guide contacts.
     pub fn evaluate_at(&self, pose: &Pose<T>, k: usize) -> Result<Vec<PathTrack<T>>, PathError> {
