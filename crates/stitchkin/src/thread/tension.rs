@@ -912,7 +912,8 @@ impl Stepper {
             ab = cross(ab, at.e[j], at.h[j], self.dir[j] < 0, &mut t_min);
             (self.alpha[j], self.beta[j]) = ab;
         }
-        // G(T_k) and its slope; the pivot's force error |G|/|dm_k/dT_k|.
+        // G(T_k) and its slope (the chain has one EA); the balance's error
+        // as a force on the pivot is G·dT_k/dm_k.
         let ea = self.laws[k].ea;
         let part = a..=b;
         let g = |t: f64| {
