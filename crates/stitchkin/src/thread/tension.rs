@@ -470,6 +470,9 @@ struct Stepper {
     dir: Vec<i8>,
     /// Whether the regulator is taken to pass thread there.
     passing: bool,
+    /// The regulator's and the nodes' choices of each round of the
+    /// part-by-part solve so far, `passing` then `dir`, round after round.
+    chosen: Vec<i8>,
     /// The thread each span holds in the part-by-part solve, mm.
     held: Vec<f64>,
     /// The derivatives of each span's thread and tension in the part's
@@ -522,6 +525,7 @@ impl Stepper {
             moved: zeros.clone(),
             dir: vec![0; spans - 1],
             passing: false,
+            chosen: Vec::with_capacity((2 * spans + EXTRA_ROUNDS) * spans),
             held: zeros.clone(),
             d_held: zeros.clone(),
             d_t: zeros.clone(),
@@ -660,6 +664,8 @@ impl Stepper {
         // A law counts as broken beyond a tenth of the balance's tolerance.
         let eps = 0.1 * TOL_N;
         self.pivot_from.copy_from_slice(m);
+        self.chosen.clear();
+        let mut one_at_a_time = false;
         let mut retried = false;
         'rounds: for _ in 0..2 * s + EXTRA_ROUNDS {
             let mut a = 0;
@@ -700,9 +706,31 @@ impl Stepper {
                     0 if t_i - holding(t_j, e).0 - h > eps => -1,
                     d => d,
                 };
-                changed |= d != self.dir[i];
-                self.dir[i] = d;
                 t_i = t_j;
+                if d != self.dir[i] {
+                    if one_at_a_time && changed {
+                        continue;
+                    }
+                    changed = true;
+                    self.dir[i] = d;
+                }
+            }
+            if changed && !one_at_a_time {
+                // Every contradiction corrected at once can cycle (a slack
+                // chain whose guides turn each other, four rounds round):
+                // once a round's choice repeats an earlier round's, one
+                // correction a round, the first along the chain.
+                let now = self.dir.len();
+                let mut chosen = std::mem::take(&mut self.chosen);
+                if chosen
+                    .chunks_exact(now + 1)
+                    .any(|c| c[0] == self.passing as i8 && c[1..] == self.dir[..])
+                {
+                    one_at_a_time = true;
+                }
+                chosen.push(self.passing as i8);
+                chosen.extend_from_slice(&self.dir);
+                self.chosen = chosen;
             }
             if !changed {
                 let x = std::mem::take(&mut self.x);
@@ -1878,6 +1906,91 @@ mod tests {
                 assert!(d_drawn < 1e-8, "{at}: drawn");
             }
         }
+    }
+
+    /// A chain slack from end to end whose guides, each correction of a
+    /// round made at once, turn each other round in four rounds (the
+    /// lockstitch with a catch rise of 1.8 mm, its needle thread at
+    /// φ ≈ 55° of the first cycle) is balanced part by part, one correction
+    /// a round once a round's choice repeats. It carries the tensions
+    /// Newton's method finds, and its slack is split within the range the
+    /// balance allows a chain slack throughout
+    /// ([`by_parts_and_by_newton_agree`]).
+    #[test]
+    fn a_slack_chain_whose_guides_turn_each_other_is_balanced_part_by_part() {
+        let chain = Chain {
+            ea_n: 85.0,
+            pass_n: 0.7,
+            spring: Some(CheckSpring {
+                span: 0,
+                take_up_mm: 8.0,
+                force_n: [0.25, 0.35],
+            }),
+        };
+        let m0 = [
+            50.712652923027896,
+            21.231223056092986,
+            10.296369556105514,
+            47.08589444367569,
+            63.798678661397815,
+            39.98837601621525,
+            7.984891941054592,
+        ];
+        let l = [
+            42.62545405445439,
+            21.30029898348718,
+            10.308576716808577,
+            46.964485105654994,
+            63.9495580408018,
+            40.0,
+            7.842955050927766,
+        ];
+        let e = [
+            1.146396840144705,
+            1.6084075283992094,
+            1.223833347820292,
+            1.0689342179729784,
+            1.1287471027225853,
+            1.0,
+        ];
+        let h = [0.0; 6];
+        // The fluxes and slips of the step before.
+        let x_before = [
+            0.0,
+            0.034886048929237745,
+            -0.042896823734892564,
+            -0.054010591830660815,
+            0.047948808640789764,
+            -0.11714799394869146,
+            -0.13799308416724898,
+        ];
+        let slips = [0, 1, -1, -1, 1, -1, -1];
+        let at = At { l: &l, e: &e, h: &h };
+        let balanced = |first: First| {
+            let mut st = Stepper::new(&chain, m0.len());
+            st.first = first;
+            st.x.copy_from_slice(&x_before);
+            for (b, d) in st.branch.iter_mut().zip(slips) {
+                *b = Branch {
+                    forward: d > 0,
+                    backward: d < 0,
+                };
+            }
+            let mut m = m0;
+            assert!(st.balance(&mut m, at), "{first:?}: no balance");
+            let t: Vec<f64> = (0..m.len())
+                .map(|i| st.laws[i].tension(l[i], m[i]).0.max(0.0))
+                .collect();
+            (m, t, st.newton_steps)
+        };
+        let (parts, t_parts, newton_steps) = balanced(First::Parts);
+        assert_eq!(newton_steps, 0, "left to Newton's method");
+        let (newton, t_newton, _) = balanced(First::Newton);
+        assert!(
+            most_apart(&t_parts, &t_newton) < 1e-8,
+            "{t_parts:?} against {t_newton:?}"
+        );
+        assert!(most_apart(&parts, &newton) < 0.1, "{parts:?} against {newton:?}");
     }
 
     /// A taut part's balance in closed form ([`Stepper::taut_part`]) is the
