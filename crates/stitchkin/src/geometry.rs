@@ -237,9 +237,53 @@ pub fn turn(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 }
 
+/// How far `phi_deg` lies after `phi0_deg` in the cycle, [0, 360) deg:
+/// `(phi_deg − phi0_deg).rem_euclid(360)`, bit for bit, without its
+/// division where the two are less than two turns apart (a cycle's grid
+/// against an angle of the cycle given in either turn).
+#[inline]
+pub fn since_deg(phi_deg: f64, phi0_deg: f64) -> f64 {
+    let d = phi_deg - phi0_deg;
+    if d.abs() < 360.0 {
+        // fmod(d, 360) is d itself here.
+        if d < 0.0 { d + 360.0 } else { d }
+    } else if (360.0..720.0).contains(&d) {
+        // fmod(d, 360) is d − 360, exact (Sterbenz).
+        d - 360.0
+    } else if d > -720.0 && d < -360.0 {
+        // fmod(d, 360) is d + 360 < 0, exact; rem_euclid adds a turn.
+        (d + 360.0) + 360.0
+    } else {
+        d.rem_euclid(360.0)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn since_is_the_euclidean_remainder_bit_for_bit() {
+        let mut x = 0.123_456_789f64;
+        for _ in 0..20_000 {
+            // A scrambled walk over ±900° with exact ties at the turn.
+            x = (x * 7919.0 + 0.618_033_988_7).fract();
+            for (phi, phi0) in [
+                (x * 1800.0 - 900.0, 37.5),
+                (x * 720.0, 359.0),
+                (x * 2880.0 - 1440.0, -0.25),
+                (360.0, 0.0),
+                (720.0, 0.0),
+                (-360.0, 0.0),
+                (-720.0, 0.0),
+                (-0.0, 0.0),
+                (0.0, 360.0),
+            ] {
+                let (a, b) = (since_deg(phi, phi0), (phi - phi0).rem_euclid(360.0));
+                assert_eq!(a.to_bits(), b.to_bits(), "φ = {phi}, φ0 = {phi0}");
+            }
+        }
+    }
 
     #[test]
     fn hull_of_a_square_with_inner_and_edge_points() {

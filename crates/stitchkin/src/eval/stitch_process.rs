@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use super::{Column, wrap_deg};
 use crate::error::Error;
+use crate::geometry::since_deg;
 use crate::model::stitch_setup::StitchSetup;
 use crate::model::{Model, Params};
 use crate::stitch::checks::{Check, bound_curve, catch_and_stab, hook_clearance, takeup_gives, thread_bound};
@@ -253,7 +254,7 @@ pub fn prepare_assumed(model: &Model, params: &Params, phis: Vec<f64>) -> Result
 /// P' of `setup` on the model-φ grid `phis`.
 fn prepare_setup(model: &Model, setup: StitchSetup, phis: Vec<f64>) -> Result<Option<Prepared>, Error> {
     let phi0_deg = model.take_up_phi0_deg();
-    let to_c = |phi: f64| (phi - setup.cyclogram_zero_deg).rem_euclid(360.0);
+    let to_c = |phi: f64| since_deg(phi, setup.cyclogram_zero_deg);
     // φ0 rides at the end of the grid, for S(φ0) of P'_B.
     let mut grid: Vec<f64> = phis.iter().map(|&p| to_c(p)).collect();
     grid.push(to_c(phi0_deg));
@@ -453,7 +454,7 @@ impl Accounting {
     /// (no window).
     fn computed(th: &RequiredThread, sol: &Solved, phis: &[f64], phi0_deg: f64, cz: f64) -> Accounting {
         let n = phis.len();
-        let since = |phi: f64| (phi - phi0_deg).rem_euclid(360.0);
+        let since = |phi: f64| since_deg(phi, phi0_deg);
         // The draw since φ0, in the cycle's order from φ0 (the step ending
         // at φ0 belongs to the end of the cycle).
         let mut order: Vec<usize> = (0..n).collect();

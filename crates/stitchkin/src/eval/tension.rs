@@ -9,6 +9,7 @@ use serde::Serialize;
 use super::paths::PathCourse;
 use super::{Column, wrap_deg};
 use crate::error::{Error, ThreadError};
+use crate::geometry::since_deg;
 use crate::mechanism::Phi;
 use crate::model::{Machine, Model, Params};
 use crate::stitch::checks::Check;
@@ -188,11 +189,11 @@ pub fn tension_course(
     // Between the lock and the moment the stitch is pulled tight the
     // finished stitch's thread is still the stitch's (its final geometry):
     // the contour to the newest anchor plus L_s.
-    let open_span = (tight - lock).rem_euclid(360.0);
-    let unset = |phi: f64| (phi - lock).rem_euclid(360.0) < open_span;
+    let open_span = since_deg(tight, lock);
+    let unset = |phi: f64| since_deg(phi, lock) < open_span;
     let set_k = (0..n)
         .min_by(|&a, &b| {
-            let d = |k: usize| (phis[k] - tight).rem_euclid(360.0);
+            let d = |k: usize| since_deg(phis[k], tight);
             d(a).total_cmp(&d(b))
         })
         .unwrap_or(0);
@@ -201,7 +202,7 @@ pub fn tension_course(
     let from = |phi: f64| {
         (0..n)
             .min_by(|&a, &b| {
-                let d = |k: usize| (phis[k] - phi).rem_euclid(360.0);
+                let d = |k: usize| since_deg(phis[k], phi);
                 d(a).total_cmp(&d(b))
             })
             .unwrap_or(0)
@@ -230,7 +231,8 @@ pub fn tension_course(
     let mut len_mm = Vec::with_capacity(n * s);
     let mut factor = Vec::with_capacity(n * (s - 1));
     let mut hold_n = vec![0.0; n * (s - 1)];
-    let eye_mu = path.friction[nodes - 1];
+    // The eye's capstan factor where the thread turns back up through it.
+    let eye_factor = (path.friction[nodes - 1] * std::f64::consts::PI).exp();
     for k in 0..n {
         len_mm.extend_from_slice(&course.gaps_mm[k * (nodes - 1)..(k + 1) * (nodes - 1)]);
         len_mm.push(th.eta_mm[k] + if unset(phis[k]) { l_s } else { 0.0 });
@@ -242,11 +244,7 @@ pub fn tension_course(
         // stitch while the eye is in the material, and runs on down to the
         // material above it (a looper's eye: no turn).
         let in_material = th.eye_in_material.as_ref().is_some_and(|e| e[k]);
-        factor.push(if in_material {
-            (eye_mu * std::f64::consts::PI).exp()
-        } else {
-            1.0
-        });
+        factor.push(if in_material { eye_factor } else { 1.0 });
         for c in &physics.clamps {
             hold_n[k * (s - 1) + c.node - 1] = c.hold_at(phis[k]);
         }

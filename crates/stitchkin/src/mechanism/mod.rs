@@ -335,7 +335,7 @@ fn each<T: Real>(
 }
 
 /// A model with every parameter resolved: ready to solve at any φ.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Mechanism<T: Real> {
     pub(crate) fixed: Vec<(usize, V3<T>)>,
     pub(crate) steps: Vec<Step<T>>,

@@ -790,6 +790,19 @@ struct OrganScratch {
     phis: Vec<Phi<f64>>,
     /// The fixed points whose analogs are zero in `analogs`.
     fixed: Vec<usize>,
+    /// The last sampling: a setting that leaves the mechanism as it was
+    /// (a study over the stitch alone: the material, the hook's timing)
+    /// takes its samples as they are.
+    last: Option<LastSampling>,
+}
+
+/// The mechanism, cyclogram zero and points of the last organ sampling, and
+/// its samples.
+struct LastSampling {
+    mech: Mechanism<f64>,
+    zero_deg: f64,
+    slots: Vec<usize>,
+    tracks: Vec<Option<PointSamples>>,
 }
 
 thread_local! {
@@ -811,6 +824,14 @@ fn sample_points(
     zero_deg: f64,
     slots: &[usize],
 ) -> Result<Vec<Option<PointSamples>>, Error> {
+    // The same mechanism moves the same points the same way.
+    let kept = ORGAN_SCRATCH.with_borrow(|scratch| {
+        let last = scratch.as_ref()?.last.as_ref()?;
+        (last.zero_deg == zero_deg && last.slots == slots && last.mech == *mech).then(|| last.tracks.clone())
+    });
+    if let Some(tracks) = kept {
+        return Ok(tracks);
+    }
     let phis_deg = organ_phis_deg(zero_deg);
     let n = phis_deg.len();
     let mut tracks = vec![None; mech.n_points()];
@@ -821,7 +842,9 @@ fn sample_points(
             zero_deg,
             phis: Phi::table(&phis_deg),
             fixed: Vec::new(),
+            last: None,
         });
+        s.last = None;
         if s.zero_deg != zero_deg || s.phis.len() != n {
             (s.zero_deg, s.phis) = (zero_deg, Phi::table(&phis_deg));
         }
@@ -855,6 +878,16 @@ fn sample_points(
             }
         }
     }
+    ORGAN_SCRATCH.with_borrow_mut(|scratch| {
+        if let Some(s) = scratch {
+            s.last = Some(LastSampling {
+                mech: mech.clone(),
+                zero_deg,
+                slots: slots.to_vec(),
+                tracks: tracks.clone(),
+            });
+        }
+    });
     Ok(tracks)
 }
 

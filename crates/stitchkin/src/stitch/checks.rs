@@ -25,6 +25,8 @@
 
 use serde::Serialize;
 
+use crate::geometry::since_deg;
+
 /// The catch clearance a looper point must keep above the eye, mm.
 pub const CATCH_CLEARANCE_MM: [f64; 2] = [1.0, 3.0];
 
@@ -367,20 +369,6 @@ impl Given {
     }
 }
 
-/// How far `phi_deg` lies after `phi0_deg` in the cycle, [0, 360) deg:
-/// `(phi_deg − phi0_deg).rem_euclid(360)`, bit for bit, without its
-/// division where the two are less than a turn apart (a cycle's grid).
-#[inline]
-fn since_deg(phi_deg: f64, phi0_deg: f64) -> f64 {
-    let d = phi_deg - phi0_deg;
-    if d.abs() < 360.0 {
-        // fmod(d, 360) is d itself here.
-        if d < 0.0 { d + 360.0 } else { d }
-    } else {
-        d.rem_euclid(360.0)
-    }
-}
-
 /// `takeup_gives`: the take-up gives thread while the stitch draws it. The
 /// value is the most thread the take-up gives in the stitch's drawing
 /// phase ([`Given`]), mm, against at least [`TAKEUP_SHARE`] of P′'s peak.
@@ -500,25 +488,6 @@ pub fn catch_and_stab(thread: &str, m: &NeedleMoments, from_c: impl Fn(f64) -> f
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn since_is_the_euclidean_remainder_bit_for_bit() {
-        let mut x = 0.123_456_789f64;
-        for _ in 0..20_000 {
-            // A scrambled walk over ±900° with exact ties at the turn.
-            x = (x * 7919.0 + 0.618_033_988_7).fract();
-            for (phi, phi0) in [
-                (x * 1800.0 - 900.0, 37.5),
-                (x * 720.0, 359.0),
-                (360.0, 0.0),
-                (-0.0, 0.0),
-                (0.0, 360.0),
-            ] {
-                let (a, b) = (since_deg(phi, phi0), (phi - phi0).rem_euclid(360.0));
-                assert_eq!(a.to_bits(), b.to_bits(), "φ = {phi}, φ0 = {phi0}");
-            }
-        }
-    }
 
     #[test]
     fn the_bound_margin_is_the_least_local_minimum_of_a_given_stretch() {

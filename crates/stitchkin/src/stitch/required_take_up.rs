@@ -9,6 +9,7 @@
 
 use crate::Error;
 use crate::error::StitchError;
+use crate::geometry::since_deg;
 
 use super::consumption::{StitchGeometry, consumption};
 use super::feed::Feed;
@@ -540,7 +541,7 @@ fn regulator_shift(window: Option<[f64; 2]>, l_s: f64, lock: f64, phi0: f64, phi
 /// φ − φ0 in [0, 360), deg: where φ comes in a cycle that starts at φ0 (an
 /// angle within 1e-9° short of a whole turn counts as φ0 itself).
 fn since_phi0(phi: f64, phi0: f64) -> f64 {
-    let t = (phi - phi0).rem_euclid(360.0);
+    let t = since_deg(phi, phi0);
     if t > 360.0 - 1e-9 { 0.0 } else { t }
 }
 

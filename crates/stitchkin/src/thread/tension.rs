@@ -40,6 +40,8 @@ use std::ops::RangeInclusive;
 
 use serde::Serialize;
 
+use crate::geometry::since_deg;
+
 /// Cycles run at most to reach the periodic steady state.
 pub const MAX_CYCLES: usize = 60;
 
@@ -90,8 +92,8 @@ impl ClampAt {
         match self.closed_deg {
             None => self.hold_n,
             Some([from, to]) => {
-                let (a, len) = (from.rem_euclid(360.0), (to - from).rem_euclid(360.0));
-                let closed = len == 0.0 || (phi_deg - a).rem_euclid(360.0) <= len;
+                let (a, len) = (since_deg(from, 0.0), since_deg(to, from));
+                let closed = len == 0.0 || since_deg(phi_deg, a) <= len;
                 if closed { self.hold_n } else { 0.0 }
             }
         }
