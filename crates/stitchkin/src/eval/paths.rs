@@ -11,7 +11,9 @@ use rayon::prelude::*;
 use crate::error::Error;
 use crate::mechanism::{Mechanism, Pose};
 use crate::scalar::Real;
-use crate::thread::{Convention, PathTrack, SplitPoint, ThreadPath, ThreadWork, Threads, Turns, capstan};
+use crate::thread::{
+    Convention, PathTrack, SplitPoint, ThreadPath, ThreadWork, Threads, Turns, capstan, capstan_factor,
+};
 
 use super::{
     Column, CycleOptions, FLAT_MIN_DEG, FLAT_SLOPE_MM_PER_DEG, PathSummary, extremes, path_error, take_up_name,
@@ -40,6 +42,12 @@ pub struct PathCourse {
     pub gaps_mm: Vec<f64>,
     /// n × nodes, rad ([`Threads::wrap_angles`]).
     pub wraps_rad: Vec<f64>,
+    /// The capstan factors e^{μ_j·θ_j} of the guides between the
+    /// regulator and the eye (nodes 1 … nodes − 2), n × (nodes − 2), with
+    /// the friction they were taken at ([`Self::keep_capstan`]); empty
+    /// until a study keeps them.
+    capstan: Vec<f64>,
+    capstan_mu: Vec<f64>,
 }
 
 impl PathCourse {
@@ -72,6 +80,42 @@ impl PathCourse {
     pub fn clear(&mut self) {
         self.gaps_mm.clear();
         self.wraps_rad.clear();
+        self.capstan.clear();
+        self.capstan_mu.clear();
+    }
+
+    /// Takes the guides' capstan factors at the path's `friction` (one per
+    /// node) once and keeps them while the course and the friction stay:
+    /// a study over the stitch alone solves the tension over the same
+    /// course at every setting.
+    pub fn keep_capstan(&mut self, friction: &[f64]) {
+        let nodes = friction.len();
+        if nodes < 2 || self.wraps_rad.len() % nodes != 0 {
+            return;
+        }
+        let guides = &friction[1..nodes - 1];
+        let n = self.wraps_rad.len() / nodes;
+        if self.capstan_mu == guides && self.capstan.len() == n * guides.len() {
+            return;
+        }
+        self.capstan.clear();
+        for k in 0..n {
+            for (j, &mu) in guides.iter().enumerate() {
+                self.capstan.push(capstan_factor(mu, self.wraps_rad[k * nodes + j + 1]));
+            }
+        }
+        self.capstan_mu.clear();
+        self.capstan_mu.extend_from_slice(guides);
+    }
+
+    /// The capstan factors of the guides between the regulator and the eye
+    /// at position `k`, kept at `friction` ([`Self::keep_capstan`]), or
+    /// `None` when none are kept for it.
+    pub fn kept_capstan(&self, friction: &[f64], k: usize) -> Option<&[f64]> {
+        let guides = friction.len().checked_sub(2)?;
+        (!self.capstan.is_empty() && self.capstan_mu == friction[1..friction.len() - 1])
+            .then(|| self.capstan.get(k * guides..(k + 1) * guides))
+            .flatten()
     }
 }
 
@@ -413,4 +457,35 @@ fn convention_words<T: Real>(threads: &Threads<T>) -> String {
         );
     }
     words
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The kept capstan factors are those taken afresh, and are not read at
+    /// another friction or past the rows they were taken for.
+    #[test]
+    fn kept_capstan_factors_are_the_guides_own() {
+        let nodes = 4;
+        let wraps_rad: Vec<f64> = (0..3 * nodes).map(|i| 0.1 * i as f64).collect();
+        let mut course = PathCourse {
+            gaps_mm: vec![1.0; 3 * (nodes - 1)],
+            wraps_rad,
+            ..Default::default()
+        };
+        let friction = [0.0, 0.2, 0.3, 0.15];
+        assert!(course.kept_capstan(&friction, 0).is_none(), "nothing kept yet");
+        course.keep_capstan(&friction);
+        for k in 0..3 {
+            let fresh: Vec<f64> = (1..nodes - 1)
+                .map(|j| capstan_factor(friction[j], course.wraps_rad[k * nodes + j]))
+                .collect();
+            assert_eq!(course.kept_capstan(&friction, k), Some(&fresh[..]), "row {k}");
+        }
+        assert!(course.kept_capstan(&friction, 3).is_none(), "past the rows");
+        assert!(course.kept_capstan(&[0.0, 0.25, 0.3, 0.15], 0).is_none(), "another friction");
+        course.clear();
+        assert!(course.kept_capstan(&friction, 0).is_none(), "cleared");
+    }
 }

@@ -15,7 +15,7 @@ use crate::model::{Machine, Model, Params};
 use crate::stitch::checks::Check;
 use crate::stitch::spec::RequiredThread;
 use crate::thread::tension::{Chain, CheckSpring, Course, Tensions, ThreadPhysics, solve};
-use crate::thread::{ThreadPath, ThreadWork};
+use crate::thread::{ThreadPath, ThreadWork, capstan_factor};
 
 /// The least breaking margin (breaking force over the peak tension) the
 /// check `tension_margin` asks for: what the published figures imply for
@@ -232,13 +232,18 @@ pub fn tension_course(
     let mut factor = Vec::with_capacity(n * (s - 1));
     let mut hold_n = vec![0.0; n * (s - 1)];
     // The eye's capstan factor where the thread turns back up through it.
-    let eye_factor = (path.friction[nodes - 1] * std::f64::consts::PI).exp();
+    let eye_factor = capstan_factor(path.friction[nodes - 1], std::f64::consts::PI);
     for k in 0..n {
         len_mm.extend_from_slice(&course.gaps_mm[k * (nodes - 1)..(k + 1) * (nodes - 1)]);
         len_mm.push(th.eta_mm[k] + if unset(phis[k]) { l_s } else { 0.0 });
         // The guides between the regulator and the eye…
-        for j in 1..nodes - 1 {
-            factor.push((path.friction[j] * course.wraps_rad[k * nodes + j]).exp());
+        match course.kept_capstan(&path.friction, k) {
+            Some(kept) => factor.extend_from_slice(kept),
+            None => {
+                for j in 1..nodes - 1 {
+                    factor.push(capstan_factor(path.friction[j], course.wraps_rad[k * nodes + j]));
+                }
+            }
         }
         // …and the eye: the thread turns back up through it toward the
         // stitch while the eye is in the material, and runs on down to the

@@ -526,6 +526,7 @@ impl Fast {
             if course.gaps_mm.is_empty() {
                 course.extend(threads, &threads.paths[pi], &self.pose, &self.work, n);
             }
+            course.keep_capstan(&threads.paths[pi].friction);
             let input = crate::eval::tension::PathInput {
                 physics: ph,
                 path: &threads.paths[pi],

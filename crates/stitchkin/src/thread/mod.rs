@@ -722,6 +722,14 @@ impl<T: Real> Threads<T> {
     }
 }
 
+/// The capstan factor e^{μ·θ} of a node of friction `mu` that the thread
+/// turns through `theta_rad`: the tension it passes on over the tension
+/// that holds it back at slip (Euler–Eytelwein).
+#[inline]
+pub fn capstan_factor(mu: f64, theta_rad: f64) -> f64 {
+    (mu * theta_rad).exp()
+}
+
 /// Tension after each node by the capstan (Euler–Eytelwein) law with
 /// Amontons friction, `T_{i+1} = T_i · exp(μ_i · θ_i)`, from `t0` (N) at the
 /// first node, the thread drawn toward the last node; θ_i the angle it
@@ -733,7 +741,7 @@ pub fn capstan<'a>(theta: &'a [f64], friction: &'a [f64], t0: f64) -> impl Itera
         .enumerate()
         .scan(t0, |t, (i, (theta_i, mu_i))| {
             if i > 0 {
-                *t *= (mu_i * theta_i).exp();
+                *t *= capstan_factor(*mu_i, *theta_i);
             }
             Some(*t)
         })
