@@ -484,7 +484,10 @@ mod tests {
             assert_eq!(course.kept_capstan(&friction, k), Some(&fresh[..]), "row {k}");
         }
         assert!(course.kept_capstan(&friction, 3).is_none(), "past the rows");
-        assert!(course.kept_capstan(&[0.0, 0.25, 0.3, 0.15], 0).is_none(), "another friction");
+        assert!(
+            course.kept_capstan(&[0.0, 0.25, 0.3, 0.15], 0).is_none(),
+            "another friction"
+        );
         course.clear();
         assert!(course.kept_capstan(&friction, 0).is_none(), "cleared");
     }
