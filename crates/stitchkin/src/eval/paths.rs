@@ -90,7 +90,7 @@ impl PathCourse {
     /// course at every setting.
     pub fn keep_capstan(&mut self, friction: &[f64]) {
         let nodes = friction.len();
-        if nodes < 2 || self.wraps_rad.len() % nodes != 0 {
+        if nodes < 2 || !self.wraps_rad.len().is_multiple_of(nodes) {
             return;
         }
         let guides = &friction[1..nodes - 1];
