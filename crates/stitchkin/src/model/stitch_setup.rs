@@ -1177,6 +1177,35 @@ fn compared_paths(d: &StitchDef) -> Vec<Option<String>> {
 mod tests {
     use super::*;
 
+    /// The organs' samples kept from the last setting are taken again only
+    /// where the mechanism is the same: a setting that moves it (the
+    /// MF-7923D's needle crank r2) samples afresh, and a return to the
+    /// first setting, or a setting over the stitch alone (m), gives what a
+    /// thread that sampled nothing before gives.
+    #[test]
+    fn kept_organ_samples_follow_the_mechanism() {
+        let model = crate::Model::preset("mf7923d").unwrap();
+        let with = |name: &str, value: f64| {
+            let mut p = model.defaults();
+            model.set(&mut p, name, value).unwrap();
+            p
+        };
+        let (base, moved, thin) = (model.defaults(), with("r2", 16.5), with("m", 1.5));
+        let fresh = |p: &crate::Params| {
+            let (model, p) = (model.clone(), p.clone());
+            std::thread::spawn(move || model.stitch_setup(&p).unwrap().unwrap())
+                .join()
+                .unwrap()
+        };
+        let (base_fresh, moved_fresh, thin_fresh) = (fresh(&base), fresh(&moved), fresh(&thin));
+        assert_ne!(base_fresh, moved_fresh, "r2 moves the needles");
+        let setup = |p: &crate::Params| model.stitch_setup(p).unwrap().unwrap();
+        assert_eq!(setup(&base), base_fresh);
+        assert_eq!(setup(&moved), moved_fresh, "a moved mechanism is sampled afresh");
+        assert_eq!(setup(&base), base_fresh, "and back");
+        assert_eq!(setup(&thin), thin_fresh, "the stitch alone: the samples kept");
+    }
+
     /// Every preset organ that is a mechanism point, sampled at
     /// ORGAN_STEP_DEG and joined by Hermite segments, against the mechanism
     /// solved halfway between the samples: within 10⁻⁶ mm (a linear table
