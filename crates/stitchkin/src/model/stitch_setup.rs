@@ -1184,14 +1184,14 @@ mod tests {
     /// thread that sampled nothing before gives.
     #[test]
     fn kept_organ_samples_follow_the_mechanism() {
-        let model = crate::Model::preset("mf7923d").unwrap();
+        let model = Model::preset("mf7923d").unwrap();
         let with = |name: &str, value: f64| {
             let mut p = model.defaults();
             model.set(&mut p, name, value).unwrap();
             p
         };
         let (base, moved, thin) = (model.defaults(), with("r2", 16.5), with("m", 1.5));
-        let fresh = |p: &crate::Params| {
+        let fresh = |p: &Params| {
             let (model, p) = (model.clone(), p.clone());
             std::thread::spawn(move || model.stitch_setup(&p).unwrap().unwrap())
                 .join()
@@ -1199,7 +1199,7 @@ mod tests {
         };
         let (base_fresh, moved_fresh, thin_fresh) = (fresh(&base), fresh(&moved), fresh(&thin));
         assert_ne!(base_fresh, moved_fresh, "r2 moves the needles");
-        let setup = |p: &crate::Params| model.stitch_setup(p).unwrap().unwrap();
+        let setup = |p: &Params| model.stitch_setup(p).unwrap().unwrap();
         assert_eq!(setup(&base), base_fresh);
         assert_eq!(setup(&moved), moved_fresh, "a moved mechanism is sampled afresh");
         assert_eq!(setup(&base), base_fresh, "and back");
