@@ -722,17 +722,13 @@ impl Stepper {
                 // chain whose guides turn each other, four rounds round):
                 // once a round's choice repeats an earlier round's, one
                 // correction a round, the first along the chain.
-                let now = self.dir.len();
-                let mut chosen = std::mem::take(&mut self.chosen);
-                if chosen
-                    .chunks_exact(now + 1)
-                    .any(|c| c[0] == self.passing as i8 && c[1..] == self.dir[..])
-                {
-                    one_at_a_time = true;
-                }
-                chosen.push(self.passing as i8);
-                chosen.extend_from_slice(&self.dir);
-                self.chosen = chosen;
+                let passing = self.passing as i8;
+                one_at_a_time = self
+                    .chosen
+                    .chunks_exact(self.dir.len() + 1)
+                    .any(|c| c[0] == passing && c[1..] == self.dir[..]);
+                self.chosen.push(passing);
+                self.chosen.extend_from_slice(&self.dir);
             }
             if !changed {
                 let x = std::mem::take(&mut self.x);
