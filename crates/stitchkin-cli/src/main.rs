@@ -5,6 +5,10 @@
 //! holds the arguments and helpers they share, `picture` writes SVG or PNG.
 //! This file parses the command line and dispatches.
 
+// The arguments' doc comments are the `--help` text, which names the model
+// file's tables as a user writes them ([stitch], [[cams]]): not links.
+#![allow(rustdoc::broken_intra_doc_links)]
+
 mod commands;
 mod common;
 mod picture;

@@ -161,7 +161,8 @@ pub fn fmt_decimals(x: f64, decimals: usize) -> String {
 }
 
 /// Appends [`fmt_decimals`]`(x, decimals)` to `out` without a heap
-/// allocation of its own where the rounding is sure ([`rounded`]): a
+/// allocation of its own where the rounding is sure (the digits fit an
+/// integer and no tie is near): a
 /// chart's polylines write thousands of coordinates.
 pub fn push_decimals(out: &mut String, x: f64, decimals: usize) {
     let Some((negative, digits)) = rounded(x, decimals) else {

@@ -123,7 +123,7 @@ impl<T: Real> Plane<T> {
 }
 
 /// Projection onto a plane of motion and back, chosen once per group so the
-/// per-φ loops carry no branch for it (see [`Plane::with`]).
+/// per-φ loops carry no branch for it (see [`with_plane!`](crate::with_plane)).
 pub trait PlaneMap<T: Real>: Copy {
     fn project(&self, p: &V3<T>) -> V2<T>;
     fn lift(&self, q: V2<T>, lift: T) -> V3<T>;

@@ -83,7 +83,7 @@ pub struct StitchSummary {
     pub phi0_deg: f64,
     /// Where each thread's per-stitch length passes its tension regulator,
     /// in words, with how it was chosen (each thread's window:
-    /// [`StitchThreadSummary::regulator_window_deg`]).
+    /// [`crate::stitch::spec::RequiredThread::regulator_window_deg`]).
     pub regulator: String,
     /// ε of the slack and strain intervals, mm.
     pub tolerance_mm: f64,
@@ -345,7 +345,7 @@ fn transfers(ty: StitchType) -> Vec<String> {
 }
 
 /// What follows a stitch thread's name in the name of each column the
-/// stitch process adds (`THREAD.SUFFIX`): its own ([`thread_columns`]),
+/// stitch process adds (`THREAD.SUFFIX`): its own (P′, η and γ),
 /// D = P − P′ and the thread's tension ([`super::tension::tension_columns`]).
 /// A test holds every preset's stitch columns to it.
 pub const COLUMN_SUFFIXES: [&str; 16] = [

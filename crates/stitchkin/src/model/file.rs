@@ -2,7 +2,7 @@
 //!
 //! These types are the single source of truth for the file format: they are
 //! deserialized from TOML, and `stitchkin schema` derives the JSON Schema from
-//! them. Nothing here is checked beyond its TOML shape; [`super::load`] turns
+//! them. Nothing here is checked beyond its TOML shape; loading turns
 //! a [`ModelFile`] into a validated, compiled [`super::Model`].
 
 use indexmap::IndexMap;
@@ -522,7 +522,7 @@ pub enum Group {
         joints: [String; 2],
         lengths: [Value; 2],
         out: String,
-        /// `left` or `right` of the directed line joints[0] → joints[1].
+        /// `left` or `right` of the directed line `joints[0]` → `joints[1]`.
         branch: Branch,
         /// Frame whose local xy-plane is the plane of motion; default world.
         #[serde(default)]
@@ -607,7 +607,7 @@ pub enum Group {
         branch: Branch,
     },
     /// Planar rigid point: `out` at `distance` from `base[0]`, at
-    /// `angle_deg` (counter-clockwise) from the link vector base[0] → base[1].
+    /// `angle_deg` (counter-clockwise) from the link vector `base[0]` → `base[1]`.
     RigidPoint {
         #[serde(default)]
         name: Option<String>,

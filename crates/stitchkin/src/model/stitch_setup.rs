@@ -1,4 +1,4 @@
-//! The `[stitch]` table: checked on load into a [`StitchDef`], resolved with
+//! The `[stitch]` table: checked on load into a stitch definition, resolved with
 //! parameter values into a [`StitchSpec`] whose organ motions are sampled
 //! from the solved mechanism (`docs/stitch-formation.md` §9).
 

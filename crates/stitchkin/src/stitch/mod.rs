@@ -12,7 +12,7 @@
 //! - [`mismatch`]: P against P' (§8);
 //! - [`checks`]: what no real machine can do (the thread bound at B, the
 //!   catch clearance, the stab before the drop);
-//! - [`reference`]: the stand-in cases of the independent numpy reference.
+//! - [`mod@reference`]: the stand-in cases of the independent numpy reference.
 
 pub mod checks;
 pub mod consumption;

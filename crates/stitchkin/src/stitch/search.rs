@@ -28,7 +28,7 @@ fn above(v: f64) -> bool {
 
 /// Where `f` changes side (below zero / at or above zero) in [a, b], f(a)
 /// and f(b) on different sides: the first φ at or above zero if f rises,
-/// found by the Illinois regula falsi to [`TOL_DEG`].
+/// found by the Illinois regula falsi to a bracket 10⁻¹⁰° wide.
 pub fn crossing(f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
     let (mut lo, mut hi) = (a, b);
     let (mut f_lo, mut f_hi) = (f(lo), f(hi));
@@ -145,8 +145,8 @@ fn max_on(f: impl Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
 }
 
 /// The largest value of the periodic `f` over one cycle: (φ in [0, 360),
-/// f(φ)), scanned at [`SCAN_STEP_DEG`] and polished as [`max_on`] does,
-/// across 0° as well.
+/// f(φ)), scanned at [`SCAN_STEP_DEG`] and polished by a Brent's search
+/// between the best sample's neighbours, across 0° as well.
 pub fn max_on_cycle(f: impl Fn(f64) -> f64) -> (f64, f64) {
     let (mut best, mut v_best) = (0.0, f(0.0));
     for k in 1..SCAN_N {
@@ -188,7 +188,8 @@ pub fn extremes_in(scan: &[f64], f: impl Fn(f64) -> f64) -> ((f64, f64), (f64, f
     (polish(hi, 1.0), polish(lo, -1.0))
 }
 
-/// The smallest `f` on [a, b]: (φ, f(φ)), as [`max_on`].
+/// The smallest `f` on [a, b]: (φ, f(φ)), scanned at the scan angles
+/// inside and at both ends, then polished by a Brent's search.
 pub fn min_on(f: impl Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
     let (x, v) = max_on(|phi| -f(phi), a, b);
     (x, -v)

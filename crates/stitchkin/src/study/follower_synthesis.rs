@@ -537,7 +537,7 @@ type MovedCam = (CamFollower<f64>, V2<f64>, V2<f64>);
 /// circle changes; a lift that fails there is not helped (`None`).
 ///
 /// Passing is taken to be monotone in Δ and found by bisection. `Ok(None)`
-/// when no base circle up to [`MAX_BASE_MM`] passes.
+/// when no base circle up to 1 000 mm passes.
 pub fn least_passing_base(
     cam: &CamFollower<f64>,
     c: V2<f64>,

@@ -2,7 +2,7 @@
 //! parameters.
 //!
 //! A technician reads a nomogram as "for 4 mm material set z = −4.7 mm".
-//! [`nomogram`] runs [`tune`](super::tune::tune) at every point of a grid of
+//! [`nomogram`] runs [`super::tune::tune`] at every point of a grid of
 //! the material thickness m and, optionally, the stitch length t (both set
 //! through [`set_stitch_value`]). For each grid point it keeps the
 //! recommended setting, how flat the optimum is, and the match before and

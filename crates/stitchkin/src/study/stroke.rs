@@ -12,7 +12,7 @@
 //!    exact first analog ds/dφ, computed through the same closed-form groups
 //!    in second-order dual numbers (ds/dφ and d²s/dφ² together), by Newton's
 //!    method safeguarded by bisection inside the two neighbouring grid
-//!    intervals ([`Refiner::refine`]).
+//!    intervals.
 //!
 //! The extremes of every transmission angle (seed 002 eq. 15: 30° < μ <
 //! 150°) are refined the same way, and across a sweep of settings the value

@@ -1,5 +1,5 @@
 //! The match of the take-up P with the thread the stitch needs, P′
-//! ([`crate::eval::stitch`]), as one screen of text: per thread the score
+//! ([`crate::eval::stitch_process`]), as one screen of text: per thread the score
 //! and the figures, P against P′ as sparklines, the physical checks,
 //! measured curves, notes and, in detail, every metric.
 
