@@ -9,10 +9,12 @@
 //! name replaced by another of the file's or by a very long one, a table
 //! header or a bracket inserted, the text cut short, a byte that is not
 //! UTF-8. Each mutant is loaded from its bytes and, when it loads, run for a
-//! cycle.
+//! cycle, and the match screen a user would see (`match --details`) is read
+//! for a number that is not finite.
 
 use std::time::{Duration, Instant};
 
+use stitchkin::output::text;
 use stitchkin::{CycleOptions, Model, Preset, run_cycle};
 
 /// A small, fast, seeded generator (xorshift64*): the same seed gives the
@@ -224,8 +226,34 @@ pub struct Outcome {
     pub ran: bool,
 }
 
-/// Loads `bytes` and, when they load, runs a cycle at a 10° step; checks
-/// every rule above.
+/// The first number on a screen of text that is not finite, as Rust
+/// writes it (`NaN`, `inf`, `-inf`, with whatever unit follows), if any:
+/// `inf` inside a word (information) is not one. The screen echoes the
+/// model file's own words (its title, notes, the thread's name), where a
+/// mutant may have written `inf` for a number (`tex inf`): `inf` counts
+/// only where the file has no such word. The file writes NaN as TOML
+/// does, `nan`, so `NaN` always counts.
+pub fn non_finite_word<'a>(text: &'a str, file: &str) -> Option<&'a str> {
+    let letter = |c: Option<char>| c.is_some_and(char::is_alphabetic);
+    let words = |t: &'a str, word: &'static str| {
+        t.match_indices(word).filter_map(move |(at, _)| {
+            let end = at + word.len();
+            let (before, after) = (t[..at].chars().next_back(), t[end..].chars().next());
+            let start = if before == Some('-') { at - 1 } else { at };
+            (!letter(before) && !letter(after)).then(|| &t[start..end])
+        })
+    };
+    let file_has_inf = file.match_indices("inf").any(|(at, _)| {
+        let (before, after) = (file[..at].chars().next_back(), file[at + 3..].chars().next());
+        !letter(before) && !letter(after)
+    });
+    words(text, "NaN")
+        .next()
+        .or_else(|| if file_has_inf { None } else { words(text, "inf").next() })
+}
+
+/// Loads `bytes` and, when they load, runs a cycle at a 10° step and reads
+/// the match screen a user would see; checks every rule above.
 pub fn check(bytes: &[u8], limit: Duration) -> Result<Outcome, Finding> {
     let started = Instant::now();
     let result = std::panic::catch_unwind(|| -> Result<Outcome, Finding> {
@@ -246,6 +274,15 @@ pub fn check(bytes: &[u8], limit: Duration) -> Result<Outcome, Finding> {
             Ok(table) => {
                 if let Some(c) = table.columns.iter().find(|c| c.values.iter().any(|v| !v.is_finite())) {
                     return Err(Finding::NotFinite(c.name.clone()));
+                }
+                // What `match --details` shows: every metric, the tension,
+                // the checks.
+                let screen = match &table.stitch {
+                    Some(st) => text::matching::screen(&model, &table, st, &[], true),
+                    None => text::matching::paths_screen(&model, &table, &[], true),
+                };
+                if let Some(word) = non_finite_word(&screen, &String::from_utf8_lossy(bytes)) {
+                    return Err(Finding::NotFinite(format!("`{word}` on the match screen")));
                 }
                 true
             }

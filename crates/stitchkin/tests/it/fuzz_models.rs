@@ -5,7 +5,7 @@
 
 use std::time::Duration;
 
-use crate::mutate::{Rng, check, mutate, seeds};
+use crate::mutate::{Rng, check, mutate, non_finite_word, seeds};
 
 #[test]
 fn mutants_of_the_presets_fail_cleanly_or_run() {
@@ -30,4 +30,21 @@ fn mutants_of_the_presets_fail_cleanly_or_run() {
         loaded > runs / 10 && ran > 0,
         "only {loaded} of {runs} loaded, {ran} ran"
     );
+}
+
+#[test]
+fn a_number_that_is_not_finite_is_found_on_a_screen() {
+    let file = "ea_n = 85";
+    assert_eq!(non_finite_word("n3  NaN N  at 137.0°", file), Some("NaN"));
+    assert_eq!(non_finite_word("margin inf×, slack 2 mm", file), Some("inf"));
+    assert_eq!(non_finite_word("slack -inf mm", file), Some("-inf"));
+    assert_eq!(non_finite_word("regulator window NaN°…48°", file), Some("NaN"));
+    assert_eq!(
+        non_finite_word("information: 3.84×, 2.73 N at 106.0°, infinite", file),
+        None
+    );
+    // The file's own words echoed: a mutant's `tex inf` is not a result.
+    let file = "thread = \"tex inf spun polyester\"";
+    assert_eq!(non_finite_word("thread tension (tex inf spun polyester)", file), None);
+    assert_eq!(non_finite_word("tex inf spun polyester: peak NaN N", file), Some("NaN"));
 }
