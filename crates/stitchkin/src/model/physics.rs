@@ -325,11 +325,17 @@ impl Model {
         let q = self.quantities(&params.values)?;
         t.physics
             .iter()
-            .map(|d| d.as_ref().map(|d| self.resolve_physics(d, &q)).transpose())
+            .map(|d| {
+                d.as_ref()
+                    .map(|d| self.resolve_physics(d, &q, &params.values))
+                    .transpose()
+            })
             .collect()
     }
 
-    fn resolve_physics(&self, d: &PhysicsDef, q: &[f64]) -> Result<ThreadPhysics, Error> {
+    /// One path's physics from the quantities `q`; `values` are the
+    /// parameters they were evaluated with (named in an error).
+    fn resolve_physics(&self, d: &PhysicsDef, q: &[f64], values: &[f64]) -> Result<ThreadPhysics, Error> {
         let positive = |(i, p): &(QuantityId, KeyPath), what: &str, help: &str| {
             let v = q[*i];
             if v > 0.0 {
@@ -353,7 +359,11 @@ impl Model {
             "the regulator's hold",
             "the tension past the discs at which thread passes, e.g. 0.9 N",
         )?;
-        let spring = d.spring.as_ref().map(|s| self.resolve_spring(s, q)).transpose()?;
+        let spring = d
+            .spring
+            .as_ref()
+            .map(|s| self.resolve_spring(s, q, values))
+            .transpose()?;
         let clamps = d
             .clamps
             .iter()
@@ -384,7 +394,12 @@ impl Model {
         })
     }
 
-    fn resolve_spring(&self, s: &SpringDef, q: &[f64]) -> Result<SpringAt, Box<crate::error::ModelError>> {
+    fn resolve_spring(
+        &self,
+        s: &SpringDef,
+        q: &[f64],
+        values: &[f64],
+    ) -> Result<SpringAt, Box<crate::error::ModelError>> {
         let take_up_mm = q[s.take_up];
         if take_up_mm <= 0.0 {
             return Err(self.error_at(
@@ -398,14 +413,41 @@ impl Model {
             SpringForce::Rate { preload, rate } => [q[preload], q[preload] + q[rate] * take_up_mm],
         };
         if !(force_n[0] >= 0.0 && force_n[1] > force_n[0]) {
+            // The parameters the two ends are written with, where the file
+            // sets them by name: what a user moved to get here.
+            let mut used = Vec::new();
+            let ends = match s.force {
+                SpringForce::Ends([a, b]) => [a, b],
+                SpringForce::Rate { preload, rate } => [preload, rate],
+            };
+            for q in ends {
+                self.exprs[q].params(&mut used);
+            }
+            used.dedup();
+            let names: Vec<String> = used
+                .iter()
+                .map(|&i| match (&self.params[i], values.get(i)) {
+                    (p, Some(&v)) if !p.is_derived() => {
+                        format!("{} = {} {}", p.name, crate::format::fmt_decimals(v, 3), p.unit.as_str())
+                    }
+                    (p, _) => p.name.clone(),
+                })
+                .collect();
+            let from = if names.is_empty() {
+                String::new()
+            } else {
+                format!(" (from {})", names.join(", "))
+            };
             return Err(self.error_at(
                 &s.path,
                 format!(
-                    "the check spring's force runs {} → {} N over its travel; it must start at 0 N or more and rise",
-                    force_n[0], force_n[1]
+                    "the check spring's force runs {} → {} N over its travel{from}; it must start at 0 N or more and rise",
+                    crate::format::fmt_decimals(force_n[0], 3),
+                    crate::format::fmt_decimals(force_n[1], 3)
                 ),
                 Some(
-                    "e.g. force_n = [0.25, 0.45] (the makers' 0.25–0.5 N), or preload_n ≥ 0 with rate_n_per_mm > 0"
+                    "the force at the end of its travel above the one at its start, e.g. force_n = [0.25, 0.45] \
+                     (the makers' 0.25–0.5 N), or preload_n ≥ 0 with rate_n_per_mm > 0"
                         .into(),
                 ),
             ));

@@ -191,6 +191,27 @@ fn a_check_spring_takes_up_slack_a_rigid_guide_leaves() {
     );
 }
 
+/// A check spring whose ends are settings, moved so that its force falls
+/// over its travel, is refused at the spring, saying which settings gave
+/// which force, rounded as a person reads them.
+#[test]
+fn a_check_spring_set_to_fall_names_the_settings_that_did_it() {
+    let model = Model::preset("lockstitch").unwrap();
+    let mut params = model.defaults();
+    model.set(&mut params, "spring_start", 0.574_186_094_452_398_7).unwrap();
+    model.set(&mut params, "spring_end", 0.414_116_219_341_611_47).unwrap();
+    let e = run_cycle(&model, &params, &CycleOptions::for_figures(10.0))
+        .expect_err("a falling spring force")
+        .to_string();
+    assert!(
+        e.contains("thread.physics.check_spring")
+            && e.contains("runs 0.574 → 0.414 N over its travel")
+            && e.contains("spring_start = 0.574 N, spring_end = 0.414 N")
+            && e.contains("the force at the end of its travel above the one at its start"),
+        "{e}"
+    );
+}
+
 /// Bad thread physics is refused at its place in the file, with what to
 /// give instead: EA ≤ 0, a negative friction or hold, a check spring with
 /// negative travel, a clamp outside the path.
