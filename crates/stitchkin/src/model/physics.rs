@@ -423,6 +423,7 @@ impl Model {
             for q in ends {
                 self.exprs[q].params(&mut used);
             }
+            used.sort_unstable();
             used.dedup();
             let names: Vec<String> = used
                 .iter()

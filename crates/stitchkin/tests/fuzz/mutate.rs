@@ -234,22 +234,22 @@ pub struct Outcome {
 /// only where the file has no such word. The file writes NaN as TOML
 /// does, `nan`, so `NaN` always counts.
 pub fn non_finite_word<'a>(text: &'a str, file: &str) -> Option<&'a str> {
-    let letter = |c: Option<char>| c.is_some_and(char::is_alphabetic);
-    let words = |t: &'a str, word: &'static str| {
-        t.match_indices(word).filter_map(move |(at, _)| {
-            let end = at + word.len();
-            let (before, after) = (t[..at].chars().next_back(), t[end..].chars().next());
-            let start = if before == Some('-') { at - 1 } else { at };
-            (!letter(before) && !letter(after)).then(|| &t[start..end])
-        })
-    };
-    let file_has_inf = file.match_indices("inf").any(|(at, _)| {
-        let (before, after) = (file[..at].chars().next_back(), file[at + 3..].chars().next());
-        !letter(before) && !letter(after)
-    });
+    let file_has_inf = words(file, "inf").next().is_some();
     words(text, "NaN")
         .next()
         .or_else(|| if file_has_inf { None } else { words(text, "inf").next() })
+}
+
+/// Each place `word` stands alone in `t` (no letter on either side), with
+/// a minus sign before it taken along.
+fn words<'t>(t: &'t str, word: &'static str) -> impl Iterator<Item = &'t str> {
+    let letter = |c: Option<char>| c.is_some_and(char::is_alphabetic);
+    t.match_indices(word).filter_map(move |(at, _)| {
+        let end = at + word.len();
+        let (before, after) = (t[..at].chars().next_back(), t[end..].chars().next());
+        let start = if before == Some('-') { at - 1 } else { at };
+        (!letter(before) && !letter(after)).then(|| &t[start..end])
+    })
 }
 
 /// Loads `bytes` and, when they load, runs a cycle at a 10° step and reads
