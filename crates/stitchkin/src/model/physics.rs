@@ -37,6 +37,17 @@ pub(crate) enum SpringForce {
     Rate { preload: QuantityId, rate: QuantityId },
 }
 
+impl SpringForce {
+    /// The two quantities the force is written with: its ends, or its
+    /// preload and rate.
+    fn quantities(&self) -> [QuantityId; 2] {
+        match *self {
+            SpringForce::Ends(ends) => ends,
+            SpringForce::Rate { preload, rate } => [preload, rate],
+        }
+    }
+}
+
 #[derive(Debug, Clone)]
 pub(crate) struct ClampDef {
     pub node: usize,
@@ -301,10 +312,7 @@ impl Model {
             let mut qs = vec![d.ea.0, d.breaking.0, d.regulator.0];
             if let Some(sp) = &d.spring {
                 qs.push(sp.take_up);
-                match sp.force {
-                    SpringForce::Ends([a, b]) => qs.extend([a, b]),
-                    SpringForce::Rate { preload, rate } => qs.extend([preload, rate]),
-                }
+                qs.extend(sp.force.quantities());
             }
             qs.extend(d.clamps.iter().map(|c| c.hold));
             for q in qs {
@@ -416,11 +424,7 @@ impl Model {
             // The parameters the two ends are written with, where the file
             // sets them by name: what a user moved to get here.
             let mut used = Vec::new();
-            let ends = match s.force {
-                SpringForce::Ends([a, b]) => [a, b],
-                SpringForce::Rate { preload, rate } => [preload, rate],
-            };
-            for q in ends {
+            for q in s.force.quantities() {
                 self.exprs[q].params(&mut used);
             }
             used.sort_unstable();
